@@ -1,0 +1,27 @@
+//! Disk B-spline curves (DBSC): a centre B-spline with a B-spline radius (wu-2021).
+//!
+//! ⟨D⟩(t) = Σ N_{i,p}(t) ⟨p_i; r_i⟩ with centre q(t) = Σ N_{i,p} p_i and radius
+//! r(t) = Σ N_{i,p} r_i. The control disks are blended as points (x, y, r) of R^{2,1}, the
+//! cyclographic space of re-skinning-cnc, so one B-spline of `DVec3` carries both.
+//!
+//! Side convention: the `+` envelope is on the left of the direction of travel (wu-2021
+//! eq. 9, with q′⊥ the counter-clockwise rotation of q′), the `−` envelope on the right.
+
+mod curve;
+
+pub use curve::{DiskBSpline, EnvelopePoint, Side};
+
+use crate::spline::SplineError;
+
+/// Errors of disk B-spline construction and evaluation.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DbscError {
+    #[error("control disk {index}: radius {radius} must be positive")]
+    Radius { index: usize, radius: f64 },
+    #[error("control disk {index}: coordinate is not finite")]
+    NotFinite { index: usize },
+    #[error(transparent)]
+    Spline(#[from] SplineError),
+    #[error("{0}")]
+    Invalid(String),
+}

@@ -1,0 +1,1 @@
+//! The design file model (format v1, TOML or JSON), its validation, and import.

@@ -1,0 +1,1 @@
+//! Output writers: G-code, laser SVG, DXF, previews.

@@ -1,0 +1,188 @@
+//! Circular arcs: centre, radius, start angle and signed sweep.
+
+use super::DVec2;
+use std::f64::consts::PI;
+
+/// The arc of the circle (`center`, `radius`) from angle `start` through the signed angle
+/// `sweep` (counter-clockwise when positive; |sweep| ≤ 2π, a full circle when |sweep| = 2π).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Arc {
+    pub center: DVec2,
+    pub radius: f64,
+    pub start: f64,
+    pub sweep: f64,
+}
+
+impl Arc {
+    pub const fn new(center: DVec2, radius: f64, start: f64, sweep: f64) -> Self {
+        Arc {
+            center,
+            radius,
+            start,
+            sweep,
+        }
+    }
+
+    /// The arc of the circle (`center`, radius ‖p0 − center‖) from `p0` to the direction of
+    /// `p1`, counter-clockwise when `ccw`. Equal directions give a full circle.
+    pub fn from_center_points(center: DVec2, p0: DVec2, p1: DVec2, ccw: bool) -> Self {
+        let a0 = (p0 - center).to_angle();
+        let a1 = (p1 - center).to_angle();
+        let mut sweep = a1 - a0;
+        if ccw {
+            while sweep <= 0.0 {
+                sweep += 2.0 * PI;
+            }
+        } else {
+            while sweep >= 0.0 {
+                sweep -= 2.0 * PI;
+            }
+        }
+        Arc::new(center, p0.distance(center), a0, sweep)
+    }
+
+    /// The arc from `p0` to `p1` with bulge `b = tan(θ/4)` (θ the signed sweep), as in
+    /// polyline formats (DXF LWPOLYLINE, cavalier_contours). `b` must be non-zero.
+    pub fn from_bulge(p0: DVec2, p1: DVec2, b: f64) -> Self {
+        let chord = p1 - p0;
+        let c = chord.length();
+        let sweep = 4.0 * b.atan();
+        // Sagitta geometry: the centre lies on the chord's bisector at signed distance
+        // d = (c/2)·(1 − b²)/(2b) to the left of p0→p1.
+        let d = 0.5 * c * (1.0 - b * b) / (2.0 * b);
+        let mid = 0.5 * (p0 + p1);
+        let left = if c > 0.0 {
+            DVec2::new(-chord.y, chord.x) / c
+        } else {
+            DVec2::ZERO
+        };
+        let center = mid + d * left;
+        let radius = center.distance(p0);
+        Arc::new(center, radius, (p0 - center).to_angle(), sweep)
+    }
+
+    /// The bulge tan(sweep/4) of the arc.
+    pub fn bulge(&self) -> f64 {
+        (self.sweep / 4.0).tan()
+    }
+
+    pub fn end_angle(&self) -> f64 {
+        self.start + self.sweep
+    }
+
+    pub fn is_ccw(&self) -> bool {
+        self.sweep > 0.0
+    }
+
+    /// Point at parameter `t` in [0, 1].
+    pub fn eval(&self, t: f64) -> DVec2 {
+        let a = self.start + t * self.sweep;
+        self.center + self.radius * DVec2::new(a.cos(), a.sin())
+    }
+
+    /// Unit tangent along the direction of travel at parameter `t`.
+    pub fn tangent(&self, t: f64) -> DVec2 {
+        let a = self.start + t * self.sweep;
+        let s = self.sweep.signum();
+        s * DVec2::new(-a.sin(), a.cos())
+    }
+
+    pub fn p0(&self) -> DVec2 {
+        self.eval(0.0)
+    }
+
+    pub fn p1(&self) -> DVec2 {
+        self.eval(1.0)
+    }
+
+    pub fn length(&self) -> f64 {
+        self.radius * self.sweep.abs()
+    }
+
+    pub fn reversed(&self) -> Self {
+        Arc::new(
+            self.center,
+            self.radius,
+            self.start + self.sweep,
+            -self.sweep,
+        )
+    }
+
+    /// True when the direction of `p − center` lies within the swept angle.
+    pub fn contains_angle_of(&self, p: DVec2) -> bool {
+        if self.sweep.abs() >= 2.0 * PI {
+            return true;
+        }
+        let a = (p - self.center).to_angle();
+        let mut d = (a - self.start) * self.sweep.signum();
+        d = d.rem_euclid(2.0 * PI);
+        d <= self.sweep.abs()
+    }
+
+    /// Euclidean distance from `p` to the arc.
+    pub fn distance(&self, p: DVec2) -> f64 {
+        if self.contains_angle_of(p) {
+            ((p - self.center).length() - self.radius).abs()
+        } else {
+            self.p0().distance(p).min(self.p1().distance(p))
+        }
+    }
+
+    /// Number of chords needed so that the sagitta of each is at most `tol`.
+    /// A chord over angle φ has sagitta r(1 − cos(φ/2)).
+    pub fn chords_for_tolerance(&self, tol: f64) -> usize {
+        if self.radius <= tol {
+            return 1;
+        }
+        let max_phi = 2.0 * (1.0 - tol / self.radius).clamp(-1.0, 1.0).acos();
+        if max_phi <= 0.0 {
+            return 1;
+        }
+        ((self.sweep.abs() / max_phi).ceil() as usize).clamp(1, 1 << 20)
+    }
+
+    /// Points along the arc with sagitta ≤ `tol`, first and last included.
+    pub fn flatten(&self, tol: f64) -> Vec<DVec2> {
+        let n = self.chords_for_tolerance(tol);
+        (0..=n).map(|i| self.eval(i as f64 / n as f64)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bulge_round_trip() {
+        let p0 = DVec2::new(1.0, 2.0);
+        let p1 = DVec2::new(4.0, -1.0);
+        for &b in &[0.1, 0.5, 1.0, 2.0, -0.3, -1.0, -3.0] {
+            let a = Arc::from_bulge(p0, p1, b);
+            assert!((a.p0() - p0).length() < 1e-12);
+            assert!((a.p1() - p1).length() < 1e-12, "b={b}");
+            assert!((a.bulge() - b).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn semicircle_from_center_points() {
+        let a = Arc::from_center_points(DVec2::ZERO, DVec2::X, -DVec2::X, true);
+        assert!((a.sweep - PI).abs() < 1e-15);
+        assert!((a.eval(0.5) - DVec2::Y).length() < 1e-15);
+        assert!((a.length() - PI).abs() < 1e-15);
+        let cw = Arc::from_center_points(DVec2::ZERO, DVec2::X, -DVec2::X, false);
+        assert!((cw.eval(0.5) + DVec2::Y).length() < 1e-15);
+    }
+
+    #[test]
+    fn flatten_sagitta_within_tolerance() {
+        let a = Arc::new(DVec2::new(3.0, 1.0), 10.0, 0.3, 4.0);
+        let tol = 1e-3;
+        let pts = a.flatten(tol);
+        for w in pts.windows(2) {
+            let mid = 0.5 * (w[0] + w[1]);
+            let sag = a.radius - mid.distance(a.center);
+            assert!(sag <= tol * (1.0 + 1e-9));
+        }
+    }
+}

@@ -1,0 +1,212 @@
+//! Cubic Bézier curves.
+
+use super::DVec2;
+
+/// The cubic Bézier curve with control points `p0..p3`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CubicBez {
+    pub p0: DVec2,
+    pub p1: DVec2,
+    pub p2: DVec2,
+    pub p3: DVec2,
+}
+
+impl CubicBez {
+    pub const fn new(p0: DVec2, p1: DVec2, p2: DVec2, p3: DVec2) -> Self {
+        CubicBez { p0, p1, p2, p3 }
+    }
+
+    /// The cubic Hermite arc from `w0` with tangent `v0` to `w1` with tangent `v1`
+    /// (Bézier form b1 = w0 + v0/3, b2 = w1 − v1/3; re-skinning-cnc eq. 11).
+    pub fn hermite(w0: DVec2, v0: DVec2, w1: DVec2, v1: DVec2) -> Self {
+        CubicBez::new(w0, w0 + v0 / 3.0, w1 - v1 / 3.0, w1)
+    }
+
+    pub fn points(&self) -> [DVec2; 4] {
+        [self.p0, self.p1, self.p2, self.p3]
+    }
+
+    /// Point at `t` by de Casteljau.
+    pub fn eval(&self, t: f64) -> DVec2 {
+        let mt = 1.0 - t;
+        let a = self.p0 * mt + self.p1 * t;
+        let b = self.p1 * mt + self.p2 * t;
+        let c = self.p2 * mt + self.p3 * t;
+        let d = a * mt + b * t;
+        let e = b * mt + c * t;
+        d * mt + e * t
+    }
+
+    /// First derivative at `t`.
+    pub fn deriv(&self, t: f64) -> DVec2 {
+        let mt = 1.0 - t;
+        let d0 = self.p1 - self.p0;
+        let d1 = self.p2 - self.p1;
+        let d2 = self.p3 - self.p2;
+        3.0 * (d0 * mt * mt + d1 * 2.0 * mt * t + d2 * t * t)
+    }
+
+    /// Second derivative at `t`.
+    pub fn deriv2(&self, t: f64) -> DVec2 {
+        let a = self.p2 - 2.0 * self.p1 + self.p0;
+        let b = self.p3 - 2.0 * self.p2 + self.p1;
+        6.0 * (a * (1.0 - t) + b * t)
+    }
+
+    /// The two halves at `t` (de Casteljau subdivision).
+    pub fn split(&self, t: f64) -> (CubicBez, CubicBez) {
+        let mt = 1.0 - t;
+        let a = self.p0 * mt + self.p1 * t;
+        let b = self.p1 * mt + self.p2 * t;
+        let c = self.p2 * mt + self.p3 * t;
+        let d = a * mt + b * t;
+        let e = b * mt + c * t;
+        let f = d * mt + e * t;
+        (
+            CubicBez::new(self.p0, a, d, f),
+            CubicBez::new(f, e, c, self.p3),
+        )
+    }
+
+    /// The sub-curve on [t0, t1].
+    pub fn subsegment(&self, t0: f64, t1: f64) -> CubicBez {
+        let (_, right) = self.split(t0);
+        if t0 >= 1.0 {
+            return right;
+        }
+        let (left, _) = right.split((t1 - t0) / (1.0 - t0));
+        left
+    }
+
+    pub fn reversed(&self) -> Self {
+        CubicBez::new(self.p3, self.p2, self.p1, self.p0)
+    }
+
+    /// Axis-aligned box of the control polygon (contains the curve).
+    pub fn control_bbox(&self) -> (DVec2, DVec2) {
+        let pts = self.points();
+        let mut lo = pts[0];
+        let mut hi = pts[0];
+        for p in &pts[1..] {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        (lo, hi)
+    }
+
+    /// Largest distance of the inner control points from the chord p0p3: the curve lies
+    /// within 3/4 of it from the chord, so it bounds the flatness of the curve.
+    pub fn flatness(&self) -> f64 {
+        let l = super::Line::new(self.p0, self.p3);
+        l.distance(self.p1).max(l.distance(self.p2))
+    }
+
+    /// Points along the curve such that the chords deviate from the curve by at most `tol`,
+    /// by recursive subdivision until the control polygon is flat (distance of the curve to
+    /// a chord ≤ ¾ · control-point distance to that chord). First and last point included.
+    pub fn flatten(&self, tol: f64) -> Vec<DVec2> {
+        let mut out = vec![self.p0];
+        self.flatten_into(tol, 0, &mut out);
+        out
+    }
+
+    fn flatten_into(&self, tol: f64, depth: u32, out: &mut Vec<DVec2>) {
+        if depth >= 24 || 0.75 * self.flatness() <= tol {
+            out.push(self.p3);
+        } else {
+            let (a, b) = self.split(0.5);
+            a.flatten_into(tol, depth + 1, out);
+            b.flatten_into(tol, depth + 1, out);
+        }
+    }
+
+    /// Arc length by adaptive Gauss–Legendre quadrature to relative accuracy `tol`.
+    pub fn arclen(&self, tol: f64) -> f64 {
+        fn gl5(c: &CubicBez, a: f64, b: f64) -> f64 {
+            const X: [f64; 5] = [
+                0.0,
+                -0.538_469_310_105_683,
+                0.538_469_310_105_683,
+                -0.906_179_845_938_664,
+                0.906_179_845_938_664,
+            ];
+            const W: [f64; 5] = [
+                0.568_888_888_888_889,
+                0.478_628_670_499_366,
+                0.478_628_670_499_366,
+                0.236_926_885_056_189,
+                0.236_926_885_056_189,
+            ];
+            let h = 0.5 * (b - a);
+            let m = 0.5 * (a + b);
+            (0..5)
+                .map(|i| W[i] * c.deriv(m + h * X[i]).length())
+                .sum::<f64>()
+                * h
+        }
+        fn rec(c: &CubicBez, a: f64, b: f64, whole: f64, tol: f64, depth: u32) -> f64 {
+            let m = 0.5 * (a + b);
+            let l = gl5(c, a, m);
+            let r = gl5(c, m, b);
+            if depth > 20 || (l + r - whole).abs() <= tol * (l + r).abs().max(1e-300) {
+                l + r
+            } else {
+                rec(c, a, m, l, tol, depth + 1) + rec(c, m, b, r, tol, depth + 1)
+            }
+        }
+        let whole = gl5(self, 0.0, 1.0);
+        rec(self, 0.0, 1.0, whole, tol, 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn split_halves_match_curve() {
+        let c = CubicBez::new(
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(3.0, -1.0),
+            DVec2::new(4.0, 1.0),
+        );
+        let (a, b) = c.split(0.3);
+        for i in 0..=10 {
+            let s = i as f64 / 10.0;
+            assert!((a.eval(s) - c.eval(0.3 * s)).length() < 1e-14);
+            assert!((b.eval(s) - c.eval(0.3 + 0.7 * s)).length() < 1e-14);
+        }
+        let sub = c.subsegment(0.2, 0.7);
+        assert!((sub.eval(0.5) - c.eval(0.45)).length() < 1e-14);
+    }
+
+    #[test]
+    fn derivative_matches_finite_difference() {
+        let c = CubicBez::new(
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(3.0, -1.0),
+            DVec2::new(4.0, 1.0),
+        );
+        let h = 1e-6;
+        for i in 1..10 {
+            let t = i as f64 / 10.0;
+            let fd = (c.eval(t + h) - c.eval(t - h)) / (2.0 * h);
+            assert!((fd - c.deriv(t)).length() < 1e-8);
+            let fd2 = (c.deriv(t + h) - c.deriv(t - h)) / (2.0 * h);
+            assert!((fd2 - c.deriv2(t)).length() < 1e-7);
+        }
+    }
+
+    #[test]
+    fn arclen_of_straight_cubic() {
+        let c = CubicBez::new(
+            DVec2::ZERO,
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(3.0, 0.0),
+        );
+        assert!((c.arclen(1e-12) - 3.0).abs() < 1e-12);
+    }
+}

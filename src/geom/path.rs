@@ -1,0 +1,167 @@
+//! Paths: connected sequences of lines, arcs and cubic Béziers, open or closed.
+
+use super::{Arc, CubicBez, DVec2, Line};
+
+/// One piece of a [`Path`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PathSeg {
+    Line(Line),
+    Arc(Arc),
+    Cubic(CubicBez),
+}
+
+impl PathSeg {
+    pub fn start(&self) -> DVec2 {
+        match self {
+            PathSeg::Line(l) => l.p0,
+            PathSeg::Arc(a) => a.p0(),
+            PathSeg::Cubic(c) => c.p0,
+        }
+    }
+
+    pub fn end(&self) -> DVec2 {
+        match self {
+            PathSeg::Line(l) => l.p1,
+            PathSeg::Arc(a) => a.p1(),
+            PathSeg::Cubic(c) => c.p3,
+        }
+    }
+
+    pub fn eval(&self, t: f64) -> DVec2 {
+        match self {
+            PathSeg::Line(l) => l.eval(t),
+            PathSeg::Arc(a) => a.eval(t),
+            PathSeg::Cubic(c) => c.eval(t),
+        }
+    }
+
+    pub fn reversed(&self) -> Self {
+        match self {
+            PathSeg::Line(l) => PathSeg::Line(l.reversed()),
+            PathSeg::Arc(a) => PathSeg::Arc(a.reversed()),
+            PathSeg::Cubic(c) => PathSeg::Cubic(c.reversed()),
+        }
+    }
+
+    /// Length; cubic lengths to relative accuracy `tol`.
+    pub fn length(&self, tol: f64) -> f64 {
+        match self {
+            PathSeg::Line(l) => l.length(),
+            PathSeg::Arc(a) => a.length(),
+            PathSeg::Cubic(c) => c.arclen(tol),
+        }
+    }
+
+    /// Points with chord deviation ≤ `tol`, first and last included.
+    pub fn flatten(&self, tol: f64) -> Vec<DVec2> {
+        match self {
+            PathSeg::Line(l) => vec![l.p0, l.p1],
+            PathSeg::Arc(a) => a.flatten(tol),
+            PathSeg::Cubic(c) => c.flatten(tol),
+        }
+    }
+}
+
+/// A connected path; `closed` joins the last end back to the first start.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Path {
+    pub segs: Vec<PathSeg>,
+    pub closed: bool,
+}
+
+impl Path {
+    pub fn new(segs: Vec<PathSeg>, closed: bool) -> Self {
+        Path { segs, closed }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.segs.is_empty()
+    }
+
+    pub fn start(&self) -> Option<DVec2> {
+        self.segs.first().map(PathSeg::start)
+    }
+
+    pub fn end(&self) -> Option<DVec2> {
+        self.segs.last().map(PathSeg::end)
+    }
+
+    /// The path traversed backwards.
+    pub fn reversed(&self) -> Path {
+        Path::new(
+            self.segs.iter().rev().map(PathSeg::reversed).collect(),
+            self.closed,
+        )
+    }
+
+    /// Total length; cubic lengths to relative accuracy `tol`.
+    pub fn length(&self, tol: f64) -> f64 {
+        self.segs.iter().map(|s| s.length(tol)).sum()
+    }
+
+    /// A polyline within `tol` of the path. Closed paths do not repeat the first point.
+    pub fn flatten(&self, tol: f64) -> Vec<DVec2> {
+        let mut out: Vec<DVec2> = Vec::new();
+        for s in &self.segs {
+            let pts = s.flatten(tol);
+            let skip = usize::from(!out.is_empty());
+            out.extend_from_slice(&pts[skip..]);
+        }
+        if self.closed && out.len() > 1 && out.first() == out.last() {
+            out.pop();
+        }
+        out
+    }
+
+    /// Largest gap between the end of one segment and the start of the next (and, closed,
+    /// between the last end and the first start): 0 for a connected path.
+    pub fn max_gap(&self) -> f64 {
+        let mut g: f64 = 0.0;
+        for w in self.segs.windows(2) {
+            g = g.max(w[0].end().distance(w[1].start()));
+        }
+        if self.closed {
+            if let (Some(a), Some(b)) = (self.end(), self.start()) {
+                g = g.max(a.distance(b));
+            }
+        }
+        g
+    }
+}
+
+/// Signed area of a closed polygon (shoelace formula): positive when counter-clockwise.
+pub fn polygon_area(pts: &[DVec2]) -> f64 {
+    let n = pts.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let mut s = 0.0;
+    for i in 0..n {
+        s += super::cross(pts[i], pts[(i + 1) % n]);
+    }
+    0.5 * s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_square_area_and_length() {
+        let p = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.0, 1.0),
+        ];
+        assert_eq!(polygon_area(&p), 1.0);
+        let segs = (0..4)
+            .map(|i| PathSeg::Line(Line::new(p[i], p[(i + 1) % 4])))
+            .collect();
+        let path = Path::new(segs, true);
+        assert_eq!(path.length(1e-9), 4.0);
+        assert_eq!(path.max_gap(), 0.0);
+        assert_eq!(path.flatten(1e-3).len(), 4);
+        assert_eq!(polygon_area(&path.reversed().flatten(1e-3)), -1.0);
+    }
+}

@@ -1,0 +1,1 @@
+//! Machine profiles (machines/*.toml) and G-code dialects.

@@ -1,0 +1,3 @@
+fn main() {
+    use glam as _;
+}

@@ -1,0 +1,1 @@
+//! Simulation backend: G-code interpreter, motion model, checks, time estimate, report.

@@ -1,0 +1,1 @@
+//! Skinning: intersection-free outlines from circle sequences and disk B-splines.

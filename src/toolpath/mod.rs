@@ -1,0 +1,8 @@
+//! Machine-independent toolpaths: operations made of cuts, cuts made of moves.
+//!
+//! This stage turns outlines into ordered cuts (profiles, channels, backboards, holes,
+//! fills, V-carving); `emit` turns them into a machine's dialect.
+
+pub mod model;
+
+pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

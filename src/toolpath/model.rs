@@ -1,0 +1,65 @@
+//! The toolpath model, independent of any G-code dialect.
+//!
+//! Coordinates are in the design's units; z = 0 is the stock surface, negative z is into the
+//! material (lasers stay at z = 0). `power` is a fraction in [0, 1] of the machine's maximum
+//! laser power or spindle speed; the emitter scales it to the profile's S range.
+
+use glam::{DVec2, DVec3};
+
+/// What a move does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MoveKind {
+    /// Positioning with the tool off (G0). Routers travel at safe z only.
+    Rapid,
+    /// A straight cutting move (G1), including plunges and retracts along z.
+    Line,
+    /// A helical or planar arc about `center` (xy), clockwise (G2) or not (G3).
+    Arc { center: DVec2, ccw: bool },
+    /// Wait in place (G4), for example spindle spin-up or a pierce.
+    Dwell { seconds: f64 },
+}
+
+/// One move to `to` (the previous move's end, or the cut's start, is where it begins).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    pub kind: MoveKind,
+    pub to: DVec3,
+    /// Feed in units per minute (ignored for rapids and dwells).
+    pub feed: f64,
+    /// Laser power or spindle speed as a fraction of the machine's maximum.
+    pub power: f64,
+}
+
+/// A maximal run of moves between two retracts: one contour, hatch line group or hole.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cut {
+    /// The stroke (or circle sequence) this cut came from, if any.
+    pub source: Option<String>,
+    pub start: DVec3,
+    pub moves: Vec<Move>,
+}
+
+/// The kinds of operation a design can ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OperationKind {
+    Profile,
+    Channel,
+    Backboard,
+    Holes,
+    Fill,
+    VCarve,
+}
+
+/// An operation: one kind of work with one tool, its cuts in machine order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Operation {
+    pub name: String,
+    pub kind: OperationKind,
+    pub cuts: Vec<Cut>,
+}
+
+/// A whole job.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Toolpath {
+    pub operations: Vec<Operation>,
+}
