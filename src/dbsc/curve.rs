@@ -186,7 +186,7 @@ impl DiskBSpline {
         let (q2, r2) = d[2];
         let l = q1.length_squared();
         let disc = l - r1 * r1;
-        if !(disc > 0.0) || l == 0.0 {
+        if disc.is_nan() || disc <= 0.0 || l == 0.0 {
             return None;
         }
         let sg = side.sign();

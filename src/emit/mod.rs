@@ -1,1 +1,2 @@
 //! Output writers: G-code, laser SVG, DXF, previews.
+pub mod outline;

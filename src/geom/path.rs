@@ -120,10 +120,10 @@ impl Path {
         for w in self.segs.windows(2) {
             g = g.max(w[0].end().distance(w[1].start()));
         }
-        if self.closed {
-            if let (Some(a), Some(b)) = (self.end(), self.start()) {
-                g = g.max(a.distance(b));
-            }
+        if self.closed
+            && let (Some(a), Some(b)) = (self.end(), self.start())
+        {
+            g = g.max(a.distance(b));
         }
         g
     }

