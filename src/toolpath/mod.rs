@@ -4,6 +4,8 @@
 //! fills, V-carving); `emit` turns them into a machine's dialect.
 
 pub mod biarc;
+pub mod cut;
 pub mod model;
+pub mod region;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

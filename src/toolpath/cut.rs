@@ -1,0 +1,360 @@
+//! Turning one contour (lines and arcs) into a cut: passes stepping down to the final
+//! depth, lead-in and lead-out arcs on the waste side, and holding tabs on through-cuts.
+
+use super::model::{Cut, Move, MoveKind};
+use crate::geom::{Arc, DVec2, Line, Path, PathSeg, perp};
+use glam::DVec3;
+
+/// Holding tabs: short bridges left standing on the last passes of a through-cut.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tabs {
+    /// Number of tabs, spread evenly along the contour.
+    pub count: usize,
+    /// Length of each tab along the contour (add the tool diameter: this is the tool centre's
+    /// lift length).
+    pub width: f64,
+    /// Height of the tabs above the final depth.
+    pub height: f64,
+}
+
+/// How the tool enters and leaves the contour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lead {
+    /// Straight onto the contour.
+    None,
+    /// A quarter arc of the given radius tangent to the contour, on the waste side.
+    Arc(f64),
+    /// A straight line of the given length along the normal, on the waste side.
+    Line(f64),
+}
+
+/// Parameters of one cut.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CutOptions {
+    pub feed: f64,
+    pub plunge_feed: f64,
+    /// Laser power or spindle speed, fraction of the machine's maximum.
+    pub power: f64,
+    /// The z of each pass, in order (≤ 0; lasers use 0 for every pass).
+    pub levels: Vec<f64>,
+    pub tabs: Option<Tabs>,
+    pub lead: Lead,
+    /// True when the waste (the side the lead may use) is left of the travel direction.
+    pub waste_left: bool,
+}
+
+/// Depth levels stepping down by at most `step_down` to `depth` (depth > 0 is below the
+/// surface): ⌈depth / step_down⌉ equal passes. A zero depth gives one pass at z = 0.
+pub fn step_levels(depth: f64, step_down: f64) -> Vec<f64> {
+    if depth <= 0.0 || step_down <= 0.0 {
+        return vec![0.0];
+    }
+    let n = (depth / step_down - 1e-9).ceil().max(1.0) as usize;
+    (1..=n).map(|i| -depth * i as f64 / n as f64).collect()
+}
+
+fn seg_tangent(s: &PathSeg, t: f64) -> DVec2 {
+    match s {
+        PathSeg::Line(l) => (l.p1 - l.p0).normalize_or_zero(),
+        PathSeg::Arc(a) => a.tangent(t),
+        PathSeg::Cubic(c) => c.deriv(t).normalize_or_zero(),
+    }
+}
+
+/// The piece of a line or arc between arc lengths `s0` and `s1` from its start.
+fn sub_seg(s: &PathSeg, s0: f64, s1: f64, len: f64) -> PathSeg {
+    let (t0, t1) = if len > 0.0 {
+        (s0 / len, s1 / len)
+    } else {
+        (0.0, 1.0)
+    };
+    match s {
+        PathSeg::Line(l) => PathSeg::Line(Line::new(l.eval(t0), l.eval(t1))),
+        PathSeg::Arc(a) => PathSeg::Arc(Arc::new(
+            a.center,
+            a.radius,
+            a.start + t0 * a.sweep,
+            (t1 - t0) * a.sweep,
+        )),
+        PathSeg::Cubic(c) => PathSeg::Cubic(c.subsegment(t0, t1)),
+    }
+}
+
+/// The path's segments cut at the given increasing arc lengths, each piece with the arc
+/// length at its start.
+fn split_at_lengths(path: &Path, marks: &[f64]) -> Vec<(PathSeg, f64)> {
+    let mut out = Vec::new();
+    let mut s_start = 0.0;
+    let mut mi = 0;
+    for seg in &path.segs {
+        let len = seg.length(1e-9);
+        let mut local = 0.0;
+        while mi < marks.len() && marks[mi] < s_start + len {
+            let m = marks[mi] - s_start;
+            if m > local {
+                out.push((sub_seg(seg, local, m, len), s_start + local));
+                local = m;
+            }
+            mi += 1;
+        }
+        if len - local > 0.0 {
+            out.push((sub_seg(seg, local, len, len), s_start + local));
+        }
+        s_start += len;
+    }
+    out
+}
+
+fn move_along(seg: &PathSeg, z: f64, feed: f64, power: f64) -> Move {
+    let end = seg.end();
+    let to = DVec3::new(end.x, end.y, z);
+    let kind = match seg {
+        PathSeg::Arc(a) => MoveKind::Arc {
+            center: a.center,
+            ccw: a.sweep > 0.0,
+        },
+        _ => MoveKind::Line,
+    };
+    Move {
+        kind,
+        to,
+        feed,
+        power,
+    }
+}
+
+/// The cut that runs the closed contour `path` (lines and arcs) once per level.
+///
+/// The cut starts at the lead-in's start on the surface (z = 0); each level plunges at the
+/// contour start with the plunge feed, runs the contour (lifting to the tab top over tab
+/// spans when the level is below it), and the last level runs the lead-out. Open paths are
+/// run back and forth (even passes reversed) so the tool never travels without cutting.
+pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Option<Cut> {
+    let start = path.start()?;
+    let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
+    if total <= 0.0 {
+        return None;
+    }
+    let t0 = seg_tangent(&path.segs[0], 0.0);
+    let last = &path.segs[path.segs.len() - 1];
+    let t1 = seg_tangent(last, 1.0);
+    let end = last.end();
+    let side = if opts.waste_left { 1.0 } else { -1.0 };
+    let mv = |kind, p: DVec2, z: f64, feed: f64| Move {
+        kind,
+        to: DVec3::new(p.x, p.y, z),
+        feed,
+        power: opts.power,
+    };
+
+    // Lead-in geometry: from `entry` to `start`, tangent to the contour at `start`.
+    let (entry, lead_in): (DVec2, Option<PathSeg>) = match opts.lead {
+        Lead::None => (start, None),
+        Lead::Line(l) => {
+            let e = start + side * l * perp(t0);
+            (e, Some(PathSeg::Line(Line::new(e, start))))
+        }
+        Lead::Arc(r) => {
+            // Centre on the waste side at distance r; the arc arrives at `start` along t0.
+            let c = start + side * r * perp(t0);
+            let e = c - r * t0;
+            let a = Arc::from_center_points(c, e, start, side < 0.0);
+            (e, Some(PathSeg::Arc(a)))
+        }
+    };
+    let lead_out: Option<PathSeg> = match opts.lead {
+        Lead::None => None,
+        Lead::Line(l) => Some(PathSeg::Line(Line::new(end, end + side * l * perp(t1)))),
+        Lead::Arc(r) => {
+            let c = end + side * r * perp(t1);
+            let x = c + r * t1;
+            Some(PathSeg::Arc(Arc::from_center_points(c, end, x, side < 0.0)))
+        }
+    };
+
+    // Tab spans along the contour's arc length.
+    let tab_spans: Vec<(f64, f64)> = match opts.tabs {
+        Some(t) if t.count > 0 && path.closed => (0..t.count)
+            .map(|k| {
+                let mid = (k as f64 + 0.5) * total / t.count as f64;
+                (
+                    (mid - t.width / 2.0).max(0.0),
+                    (mid + t.width / 2.0).min(total),
+                )
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    let final_z = opts.levels.iter().copied().fold(0.0, f64::min);
+    let tab_top = opts.tabs.map(|t| final_z + t.height);
+    let marks: Vec<f64> = tab_spans.iter().flat_map(|&(a, b)| [a, b]).collect();
+    let pieces = split_at_lengths(path, &marks);
+    let in_tab = |s_mid: f64| tab_spans.iter().any(|&(a, b)| s_mid > a && s_mid < b);
+
+    let mut moves = Vec::new();
+    let n_levels = opts.levels.len();
+    for (li, &z) in opts.levels.iter().enumerate() {
+        let forward = path.closed || li % 2 == 0;
+        let here = if forward { start } else { end };
+        if li == 0 {
+            if let Some(l) = &lead_in {
+                moves.push(mv(MoveKind::Line, entry, z, opts.plunge_feed));
+                moves.push(move_along(l, z, opts.feed, opts.power));
+            } else {
+                moves.push(mv(MoveKind::Line, here, z, opts.plunge_feed));
+            }
+        } else {
+            moves.push(mv(MoveKind::Line, here, z, opts.plunge_feed));
+        }
+        let mut cur_z = z;
+        let run: Vec<(PathSeg, f64)> = if forward {
+            pieces.clone()
+        } else {
+            pieces
+                .iter()
+                .rev()
+                .map(|(s, _)| (s.reversed(), 0.0))
+                .collect()
+        };
+        for (seg, s0) in &run {
+            let len = seg.length(1e-9);
+            let want_z = match tab_top {
+                Some(top) if forward && z < top && in_tab(s0 + len / 2.0) => top,
+                _ => z,
+            };
+            if want_z != cur_z {
+                let p = seg.start();
+                let feed = if want_z > cur_z {
+                    opts.feed
+                } else {
+                    opts.plunge_feed
+                };
+                moves.push(mv(MoveKind::Line, p, want_z, feed));
+                cur_z = want_z;
+            }
+            moves.push(move_along(seg, cur_z, opts.feed, opts.power));
+        }
+        if cur_z != z {
+            let p = if forward { end } else { start };
+            moves.push(mv(MoveKind::Line, p, z, opts.plunge_feed));
+        }
+        if li + 1 == n_levels
+            && let Some(l) = &lead_out
+            && (forward || !path.closed)
+        {
+            moves.push(move_along(l, z, opts.feed, opts.power));
+        }
+    }
+    Some(Cut {
+        source,
+        start: DVec3::new(entry.x, entry.y, 0.0),
+        moves,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square_path(s: f64) -> Path {
+        let p = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(s, 0.0),
+            DVec2::new(s, s),
+            DVec2::new(0.0, s),
+        ];
+        Path::new(
+            (0..4)
+                .map(|i| PathSeg::Line(Line::new(p[i], p[(i + 1) % 4])))
+                .collect(),
+            true,
+        )
+    }
+
+    fn opts() -> CutOptions {
+        CutOptions {
+            feed: 1000.0,
+            plunge_feed: 300.0,
+            power: 1.0,
+            levels: step_levels(6.0, 2.5),
+            tabs: None,
+            lead: Lead::None,
+            waste_left: false,
+        }
+    }
+
+    #[test]
+    fn levels_step_evenly_to_depth() {
+        assert_eq!(step_levels(6.0, 2.5), vec![-2.0, -4.0, -6.0]);
+        assert_eq!(step_levels(5.0, 2.5), vec![-2.5, -5.0]);
+        assert_eq!(step_levels(0.0, 1.0), vec![0.0]);
+    }
+
+    #[test]
+    fn passes_cut_the_contour_once_per_level() {
+        let c = contour_cut(&square_path(10.0), &opts(), None).unwrap();
+        // Per level: one plunge plus four sides.
+        assert_eq!(c.moves.len(), 3 * 5);
+        let cutting: f64 = c
+            .moves
+            .windows(2)
+            .filter(|w| w[1].to.z == w[0].to.z)
+            .map(|w| (w[1].to - w[0].to).length())
+            .sum();
+        // Three levels × perimeter 40 at constant z.
+        assert!((cutting - 120.0).abs() < 1e-9);
+        assert_eq!(c.moves.last().unwrap().to.z, -6.0);
+    }
+
+    #[test]
+    fn tabs_lift_only_on_deep_passes_and_only_over_tabs() {
+        let mut o = opts();
+        o.tabs = Some(Tabs {
+            count: 4,
+            width: 2.0,
+            height: 3.0,
+        });
+        let c = contour_cut(&square_path(10.0), &o, None).unwrap();
+        // Tab top −3: the −2 pass is above it; the −4 and −6 passes lift to −3 over 4 tabs.
+        let at_top: Vec<&Move> = c
+            .moves
+            .iter()
+            .filter(|m| m.to.z == -3.0 && matches!(m.kind, MoveKind::Line))
+            .collect();
+        // Per deep pass and tab: lift, run across the tab at −3.
+        assert_eq!(at_top.len(), 2 * 4 * 2);
+        // The lifted runs are exactly the tab width.
+        let mut lifted = 0.0;
+        let mut prev = c.start;
+        for m in &c.moves {
+            if m.to.z == -3.0 && prev.z == -3.0 {
+                lifted += (m.to - prev).length();
+            }
+            prev = m.to;
+        }
+        assert!((lifted - 2.0 * 4.0 * 2.0).abs() < 1e-9, "{lifted}");
+    }
+
+    #[test]
+    fn arc_lead_in_is_tangent_and_on_the_waste_side() {
+        let mut o = opts();
+        o.lead = Lead::Arc(2.0);
+        o.waste_left = false;
+        // Counter-clockwise square: the right of travel is outside.
+        let c = contour_cut(&square_path(10.0), &o, None).unwrap();
+        // Entry is outside the square (y < 0 below the first side).
+        assert!(c.start.y < 0.0, "{:?}", c.start);
+        match c.moves[1].kind {
+            MoveKind::Arc { center, .. } => {
+                assert!((center - DVec2::new(0.0, -2.0)).length() < 1e-12);
+                // Tangent at the contour start is +x: the radius there is vertical.
+                assert!((c.moves[1].to.truncate() - DVec2::ZERO).length() < 1e-12);
+            }
+            other => panic!("expected an arc lead-in, got {other:?}"),
+        }
+        // A lead-out arc ends the cut, also outside.
+        let last = c.moves.last().unwrap();
+        assert!(matches!(last.kind, MoveKind::Arc { .. }));
+        assert!(last.to.y < 0.0);
+    }
+}

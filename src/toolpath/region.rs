@@ -1,0 +1,321 @@
+//! Regions: sets of closed contours made of lines and arcs, the shapes toolpaths are cut
+//! around. Contours are cavalier_contours polylines (arcs as bulges, b = tan(θ/4)) oriented
+//! like cavalier's `Shape`: material counter-clockwise, holes clockwise.
+//!
+//! - Conversion from geometric paths: cubics become biarc chains within a tolerance
+//!   ([`super::biarc`]), so arcs stay arcs all the way to G2/G3.
+//! - Offsets: cavalier_contours' shape offset (exact for lines and arcs, islands handled).
+//! - Union of overlapping regions (letters drawn with crossing strokes): geo's BooleanOps on
+//!   the contours flattened within the tolerance; the result is lines only.
+//!
+//! Complexity: offsets O(n log n) in the number of segments (cavalier's spatial index);
+//! union O((n + k) log n) (i_overlay sweep).
+
+use super::biarc::fit_cubic;
+use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
+use cavalier_contours::shape_algorithms::{Shape, ShapeOffsetOptions};
+
+/// Closed contours of a region: counter-clockwise material, clockwise holes.
+#[derive(Clone, Debug, Default)]
+pub struct Region {
+    pub contours: Vec<Polyline<f64>>,
+}
+
+/// Largest arc sweep per polyline vertex: cavalier_contours keeps |bulge| ≤ 1 (a half
+/// circle), so longer arcs are split.
+const MAX_SWEEP_PER_VERTEX: f64 = std::f64::consts::PI;
+
+/// Append the line/arc `seg` (starting where the polyline currently ends) as vertices.
+fn push_seg(pl: &mut Polyline<f64>, seg: &PathSeg) {
+    match seg {
+        PathSeg::Line(l) => pl.add(l.p0.x, l.p0.y, 0.0),
+        PathSeg::Arc(a) => {
+            let n = (a.sweep.abs() / MAX_SWEEP_PER_VERTEX).ceil().max(1.0) as usize;
+            let part = a.sweep / n as f64;
+            let bulge = (part / 4.0).tan();
+            for i in 0..n {
+                let p = a.eval(i as f64 / n as f64);
+                pl.add(p.x, p.y, bulge);
+            }
+        }
+        PathSeg::Cubic(_) => {}
+    }
+}
+
+/// A closed polyline from a closed path; cubics become biarcs within `tol`.
+pub fn pline_from_path(path: &Path, tol: f64) -> Polyline<f64> {
+    let mut pl = Polyline::new_closed();
+    for seg in &path.segs {
+        match seg {
+            PathSeg::Cubic(c) => {
+                for s in fit_cubic(c, tol) {
+                    push_seg(&mut pl, &s);
+                }
+            }
+            other => push_seg(&mut pl, other),
+        }
+    }
+    pl.set_is_closed(path.closed);
+    pl.remove_repeat_pos(1e-9).unwrap_or(pl)
+}
+
+/// A closed polyline through `points` (no arcs).
+pub fn pline_from_points(points: &[DVec2], closed: bool) -> Polyline<f64> {
+    let mut pl = Polyline::with_capacity(points.len(), closed);
+    for p in points {
+        pl.add(p.x, p.y, 0.0);
+    }
+    pl
+}
+
+/// The lines and arcs of a polyline as a path.
+pub fn path_from_pline(pl: &Polyline<f64>) -> Path {
+    let mut segs = Vec::with_capacity(pl.vertex_count());
+    for (v1, v2) in pl.iter_segments() {
+        let p0 = DVec2::new(v1.x, v1.y);
+        let p1 = DVec2::new(v2.x, v2.y);
+        if p0 == p1 {
+            continue;
+        }
+        if v1.bulge == 0.0 {
+            segs.push(PathSeg::Line(Line::new(p0, p1)));
+        } else {
+            segs.push(PathSeg::Arc(Arc::from_bulge(p0, p1, v1.bulge)));
+        }
+    }
+    Path::new(segs, pl.is_closed())
+}
+
+/// Points of a polyline within `tol` (arcs flattened by sagitta).
+pub fn flatten_pline(pl: &Polyline<f64>, tol: f64) -> Vec<DVec2> {
+    path_from_pline(pl).flatten(tol)
+}
+
+impl Region {
+    /// A region from closed contours in any orientation and nesting: contours at even
+    /// nesting depth become material (counter-clockwise), odd depth holes (clockwise).
+    /// Contours must not cross each other (outlines from the skin stage do not).
+    pub fn from_contours(contours: Vec<Polyline<f64>>) -> Region {
+        let depth: Vec<usize> = contours
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let Some(v) = c.iter_vertexes().next() else {
+                    return 0;
+                };
+                contours
+                    .iter()
+                    .enumerate()
+                    .filter(|(j, o)| *j != i && o.winding_number(cavalier_contours::core::math::Vector2::new(v.x, v.y)) != 0)
+                    .count()
+            })
+            .collect();
+        let contours = contours
+            .into_iter()
+            .zip(depth)
+            .filter(|(c, _)| c.vertex_count() > 1)
+            .map(|(mut c, d)| {
+                let ccw = c.area() > 0.0;
+                if ccw != (d % 2 == 0) {
+                    c.invert_direction_mut();
+                }
+                c
+            })
+            .collect();
+        Region { contours }
+    }
+
+    /// A region from closed paths (cubics fitted by biarcs within `tol`).
+    pub fn from_paths(paths: &[Path], tol: f64) -> Region {
+        Region::from_contours(paths.iter().map(|p| pline_from_path(p, tol)).collect())
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.contours.is_empty()
+    }
+
+    /// Signed area: material minus holes.
+    pub fn area(&self) -> f64 {
+        self.contours.iter().map(|c| c.area()).sum()
+    }
+
+    /// The region grown by `delta` (shrunk when negative): every boundary moves `delta` along
+    /// its outward normal; arcs stay arcs, convex corners get round joins (cavalier_contours
+    /// shape offset). `eps` is the position tolerance for joining offset slices.
+    pub fn offset(&self, delta: f64, eps: f64) -> Region {
+        if self.contours.is_empty() || delta == 0.0 {
+            return self.clone();
+        }
+        let shape = Shape::from_plines(self.contours.iter().cloned());
+        let opts = ShapeOffsetOptions {
+            pos_equal_eps: eps * 0.1,
+            offset_dist_eps: eps,
+            slice_join_eps: eps,
+        };
+        // cavalier offsets to the left of travel: inward for counter-clockwise material.
+        let out = shape.parallel_offset(-delta, &opts);
+        Region {
+            contours: out
+                .ccw_plines
+                .into_iter()
+                .chain(out.cw_plines)
+                .map(|ip| ip.polyline)
+                .collect(),
+        }
+    }
+
+    /// The union of several regions, through polygons flattened within `tol`.
+    pub fn union(regions: &[Region], tol: f64) -> Region {
+        let polys: Vec<geo::MultiPolygon<f64>> = regions.iter().map(|r| r.to_geo(tol)).collect();
+        let merged = geo::algorithm::bool_ops::unary_union(polys.iter());
+        Region::from_geo(&merged)
+    }
+
+    /// The region as geo polygons (contours flattened within `tol`).
+    pub fn to_geo(&self, tol: f64) -> geo::MultiPolygon<f64> {
+        let ring = |c: &Polyline<f64>| {
+            let mut pts: Vec<geo::Coord<f64>> = flatten_pline(c, tol)
+                .into_iter()
+                .map(|p| geo::Coord { x: p.x, y: p.y })
+                .collect();
+            if let Some(&f) = pts.first() {
+                pts.push(f);
+            }
+            geo::LineString::new(pts)
+        };
+        let outers: Vec<&Polyline<f64>> = self.contours.iter().filter(|c| c.area() > 0.0).collect();
+        let holes: Vec<&Polyline<f64>> = self.contours.iter().filter(|c| c.area() <= 0.0).collect();
+        let mut polys: Vec<geo::Polygon<f64>> = outers
+            .iter()
+            .map(|o| geo::Polygon::new(ring(o), vec![]))
+            .collect();
+        for h in holes {
+            let Some(v) = h.iter_vertexes().next() else {
+                continue;
+            };
+            // The smallest outer contour that contains the hole owns it.
+            let owner = outers
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| o.winding_number(cavalier_contours::core::math::Vector2::new(v.x, v.y)) != 0)
+                .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
+                .map(|(i, _)| i);
+            if let Some(i) = owner {
+                polys[i].interiors_push(ring(h));
+            }
+        }
+        geo::MultiPolygon::new(polys)
+    }
+
+    /// A region from geo polygons (lines only).
+    pub fn from_geo(mp: &geo::MultiPolygon<f64>) -> Region {
+        let mut contours = Vec::new();
+        let conv = |ls: &geo::LineString<f64>| {
+            let mut pts: Vec<DVec2> = ls.coords().map(|c| DVec2::new(c.x, c.y)).collect();
+            if pts.len() > 1 && pts.first() == pts.last() {
+                pts.pop();
+            }
+            pline_from_points(&pts, true)
+        };
+        for p in &mp.0 {
+            contours.push(conv(p.exterior()));
+            for h in p.interiors() {
+                contours.push(conv(h));
+            }
+        }
+        Region::from_contours(contours)
+    }
+
+    /// True when `p` is inside the material (non-zero total winding).
+    pub fn contains(&self, p: DVec2) -> bool {
+        let v = cavalier_contours::core::math::Vector2::new(p.x, p.y);
+        self.contours.iter().map(|c| c.winding_number(v)).sum::<i32>() != 0
+    }
+
+    /// The contours as paths (lines and arcs).
+    pub fn paths(&self) -> Vec<Path> {
+        self.contours.iter().map(path_from_pline).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::CubicBez;
+    use std::f64::consts::PI;
+
+    fn square(x0: f64, y0: f64, s: f64) -> Polyline<f64> {
+        pline_from_points(
+            &[
+                DVec2::new(x0, y0),
+                DVec2::new(x0 + s, y0),
+                DVec2::new(x0 + s, y0 + s),
+                DVec2::new(x0, y0 + s),
+            ],
+            true,
+        )
+    }
+
+    #[test]
+    fn outward_offset_of_square_has_rounded_corners_area() {
+        // Square side a grown by d: a² + 4ad + πd² (Steiner formula).
+        let r = Region::from_contours(vec![square(0.0, 0.0, 10.0)]);
+        let g = r.offset(2.0, 1e-6);
+        assert_eq!(g.contours.len(), 1);
+        assert!((g.area() - (100.0 + 80.0 + PI * 4.0)).abs() < 1e-6, "{}", g.area());
+        // Inward: (a − 2d)².
+        let s = r.offset(-2.0, 1e-6);
+        assert!((s.area() - 36.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn nesting_orients_holes_clockwise() {
+        // Given both clockwise, the inner one becomes a hole.
+        let mut outer = square(0.0, 0.0, 10.0);
+        outer.invert_direction_mut();
+        let mut inner = square(3.0, 3.0, 4.0);
+        inner.invert_direction_mut();
+        let r = Region::from_contours(vec![outer, inner]);
+        assert!((r.area() - 84.0).abs() < 1e-12);
+        assert!(r.contains(DVec2::new(1.0, 1.0)));
+        assert!(!r.contains(DVec2::new(5.0, 5.0)));
+        // Growing the ring shrinks the hole: hole side 4 − 2·1.
+        let g = r.offset(1.0, 1e-6);
+        let holes: Vec<f64> = g.contours.iter().map(|c| c.area()).filter(|a| *a < 0.0).collect();
+        assert_eq!(holes.len(), 1);
+        assert!((holes[0] + 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn union_of_overlapping_squares() {
+        let a = Region::from_contours(vec![square(0.0, 0.0, 10.0)]);
+        let b = Region::from_contours(vec![square(5.0, 5.0, 10.0)]);
+        let u = Region::union(&[a, b], 1e-3);
+        assert_eq!(u.contours.len(), 1);
+        assert!((u.area() - 175.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn circle_from_cubics_keeps_arcs() {
+        // Four standard quarter-circle cubics of radius 10: the biarc fit within 1e-3 yields
+        // arcs whose polyline area is within the fit tolerance of π r².
+        let k = 0.552_284_749_8 * 10.0;
+        let q = |a: f64| {
+            let (s, c) = a.sin_cos();
+            let rot = |v: DVec2| DVec2::new(c * v.x - s * v.y, s * v.x + c * v.y);
+            PathSeg::Cubic(CubicBez::new(
+                rot(DVec2::new(10.0, 0.0)),
+                rot(DVec2::new(10.0, k)),
+                rot(DVec2::new(k, 10.0)),
+                rot(DVec2::new(0.0, 10.0)),
+            ))
+        };
+        let path = Path::new((0..4).map(|i| q(i as f64 * PI / 2.0)).collect(), true);
+        let pl = pline_from_path(&path, 1e-3);
+        assert!(pl.iter_vertexes().any(|v| v.bulge != 0.0));
+        // Quarter-circle cubic error 2.7e-4·r; biarc error ≤ 1e-3; perimeter 2πr.
+        let tol_area = 2.0 * PI * 10.0 * (2.8e-3 + 1e-3);
+        assert!((pl.area() - PI * 100.0).abs() < tol_area);
+    }
+}
