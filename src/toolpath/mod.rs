@@ -6,6 +6,7 @@
 pub mod biarc;
 pub mod cut;
 pub mod model;
+pub mod order;
 pub mod region;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

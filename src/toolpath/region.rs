@@ -107,7 +107,12 @@ impl Region {
                 contours
                     .iter()
                     .enumerate()
-                    .filter(|(j, o)| *j != i && o.winding_number(cavalier_contours::core::math::Vector2::new(v.x, v.y)) != 0)
+                    .filter(|(j, o)| {
+                        *j != i
+                            && o.winding_number(cavalier_contours::core::math::Vector2::new(
+                                v.x, v.y,
+                            )) != 0
+                    })
                     .count()
             })
             .collect();
@@ -198,7 +203,9 @@ impl Region {
             let owner = outers
                 .iter()
                 .enumerate()
-                .filter(|(_, o)| o.winding_number(cavalier_contours::core::math::Vector2::new(v.x, v.y)) != 0)
+                .filter(|(_, o)| {
+                    o.winding_number(cavalier_contours::core::math::Vector2::new(v.x, v.y)) != 0
+                })
                 .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
                 .map(|(i, _)| i);
             if let Some(i) = owner {
@@ -230,7 +237,11 @@ impl Region {
     /// True when `p` is inside the material (non-zero total winding).
     pub fn contains(&self, p: DVec2) -> bool {
         let v = cavalier_contours::core::math::Vector2::new(p.x, p.y);
-        self.contours.iter().map(|c| c.winding_number(v)).sum::<i32>() != 0
+        self.contours
+            .iter()
+            .map(|c| c.winding_number(v))
+            .sum::<i32>()
+            != 0
     }
 
     /// The contours as paths (lines and arcs).
@@ -263,7 +274,11 @@ mod tests {
         let r = Region::from_contours(vec![square(0.0, 0.0, 10.0)]);
         let g = r.offset(2.0, 1e-6);
         assert_eq!(g.contours.len(), 1);
-        assert!((g.area() - (100.0 + 80.0 + PI * 4.0)).abs() < 1e-6, "{}", g.area());
+        assert!(
+            (g.area() - (100.0 + 80.0 + PI * 4.0)).abs() < 1e-6,
+            "{}",
+            g.area()
+        );
         // Inward: (a − 2d)².
         let s = r.offset(-2.0, 1e-6);
         assert!((s.area() - 36.0).abs() < 1e-9);
@@ -282,7 +297,12 @@ mod tests {
         assert!(!r.contains(DVec2::new(5.0, 5.0)));
         // Growing the ring shrinks the hole: hole side 4 − 2·1.
         let g = r.offset(1.0, 1e-6);
-        let holes: Vec<f64> = g.contours.iter().map(|c| c.area()).filter(|a| *a < 0.0).collect();
+        let holes: Vec<f64> = g
+            .contours
+            .iter()
+            .map(|c| c.area())
+            .filter(|a| *a < 0.0)
+            .collect();
         assert_eq!(holes.len(), 1);
         assert!((holes[0] + 4.0).abs() < 1e-9);
     }

@@ -1,0 +1,336 @@
+//! Cut ordering: inner contours before the contours that enclose them, always; then short
+//! travel by nearest neighbour (with the entry point of each closed contour chosen as its
+//! point nearest to the tool) improved by 2-opt moves that respect the precedence.
+//!
+//! Complexity: precedence O(n² · m) for n contours of m points (containment tests);
+//! nearest neighbour O(n² · m); 2-opt O(n²) per sweep, at most `MAX_2OPT_SWEEPS` sweeps.
+
+use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+
+/// Upper bound on 2-opt improvement sweeps (each O(n²)); improvement stalls far earlier.
+const MAX_2OPT_SWEEPS: usize = 50;
+
+/// Travel figures of an ordering.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrderStats {
+    /// Travel (tool up) length in the input order, each path entered at its own start.
+    pub travel_input: f64,
+    /// Travel length in the chosen order.
+    pub travel_ordered: f64,
+}
+
+fn point_in_polygon(poly: &[DVec2], p: DVec2) -> bool {
+    let mut inside = false;
+    let n = poly.len();
+    for i in 0..n {
+        let a = poly[i];
+        let b = poly[(i + 1) % n];
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// `before[j]` lists the paths that must come before path j: those inside closed path j.
+pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
+    let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
+    (0..paths.len())
+        .map(|j| {
+            if !paths[j].closed || polys[j].len() < 3 {
+                return Vec::new();
+            }
+            (0..paths.len())
+                .filter(|&i| {
+                    i != j
+                        && !polys[i].is_empty()
+                        && polys[i].iter().all(|&p| point_in_polygon(&polys[j], p))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The point of a line or arc nearest to `p`, as (parameter, distance).
+fn nearest_on_seg(s: &PathSeg, p: DVec2) -> (f64, f64) {
+    match s {
+        PathSeg::Line(l) => {
+            let t = l.nearest_t(p);
+            (t, l.eval(t).distance(p))
+        }
+        PathSeg::Arc(a) => {
+            // Angle of p relative to the arc start along the sweep, clamped to the arc.
+            let ang = (p - a.center).to_angle();
+            let rel = ((ang - a.start) * a.sweep.signum()).rem_euclid(2.0 * std::f64::consts::PI);
+            let t = if rel <= a.sweep.abs() {
+                rel / a.sweep.abs()
+            } else if a.eval(0.0).distance(p) < a.eval(1.0).distance(p) {
+                0.0
+            } else {
+                1.0
+            };
+            (t, a.eval(t).distance(p))
+        }
+        PathSeg::Cubic(c) => {
+            // Coarse search: cubics are fitted to arcs before ordering; this is a fallback.
+            (0..=64)
+                .map(|i| i as f64 / 64.0)
+                .map(|t| (t, c.eval(t).distance(p)))
+                .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a })
+        }
+    }
+}
+
+fn split_seg(s: &PathSeg, t: f64) -> (PathSeg, PathSeg) {
+    match s {
+        PathSeg::Line(l) => {
+            let m = l.eval(t);
+            (
+                PathSeg::Line(Line::new(l.p0, m)),
+                PathSeg::Line(Line::new(m, l.p1)),
+            )
+        }
+        PathSeg::Arc(a) => (
+            PathSeg::Arc(Arc::new(a.center, a.radius, a.start, t * a.sweep)),
+            PathSeg::Arc(Arc::new(
+                a.center,
+                a.radius,
+                a.start + t * a.sweep,
+                (1.0 - t) * a.sweep,
+            )),
+        ),
+        PathSeg::Cubic(c) => {
+            let (x, y) = c.split(t);
+            (PathSeg::Cubic(x), PathSeg::Cubic(y))
+        }
+    }
+}
+
+/// The closed path started at its point nearest to `p` (splitting a segment there; a split
+/// within `eps` of a segment end uses that end).
+pub fn rotate_to_nearest(path: &Path, p: DVec2, eps: f64) -> Path {
+    if !path.closed || path.segs.is_empty() {
+        return path.clone();
+    }
+    let (best, (t, _)) = path
+        .segs
+        .iter()
+        .map(|s| nearest_on_seg(s, p))
+        .enumerate()
+        .fold(
+            (0, (0.0, f64::INFINITY)),
+            |a, b| if b.1.1 < a.1.1 { b } else { a },
+        );
+    let seg = &path.segs[best];
+    let len = seg.length(1e-9);
+    let mut segs = Vec::with_capacity(path.segs.len() + 1);
+    if t * len <= eps {
+        segs.extend_from_slice(&path.segs[best..]);
+        segs.extend_from_slice(&path.segs[..best]);
+    } else if (1.0 - t) * len <= eps {
+        segs.extend_from_slice(&path.segs[best + 1..]);
+        segs.extend_from_slice(&path.segs[..=best]);
+    } else {
+        let (a, b) = split_seg(seg, t);
+        segs.push(b);
+        segs.extend_from_slice(&path.segs[best + 1..]);
+        segs.extend_from_slice(&path.segs[..best]);
+        segs.push(a);
+    }
+    Path::new(segs, true)
+}
+
+fn ends(p: &Path) -> (DVec2, DVec2) {
+    (
+        p.start().unwrap_or(DVec2::ZERO),
+        p.end().unwrap_or(DVec2::ZERO),
+    )
+}
+
+fn travel(order: &[Path], home: DVec2) -> f64 {
+    let mut pos = home;
+    let mut sum = 0.0;
+    for p in order {
+        let (s, e) = ends(p);
+        sum += pos.distance(s);
+        pos = e;
+    }
+    sum
+}
+
+/// Order `paths` for cutting from `home`: every path inside a closed path comes first;
+/// closed paths start at their point nearest the tool; open paths may run reversed.
+/// `tol` is the flattening tolerance for containment tests and the snapping distance for
+/// entry points.
+pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<Path>, OrderStats) {
+    let n = paths.len();
+    let before = precedence(paths, tol);
+    let travel_input = travel(paths, home);
+    // Nearest neighbour among the paths whose predecessors are all done.
+    let mut done = vec![false; n];
+    let mut order: Vec<(usize, Path)> = Vec::with_capacity(n);
+    let mut pos = home;
+    for _ in 0..n {
+        let mut best: Option<(usize, f64, Path)> = None;
+        for i in 0..n {
+            if done[i] || before[i].iter().any(|&k| !done[k]) {
+                continue;
+            }
+            let cand = if paths[i].closed {
+                rotate_to_nearest(&paths[i], pos, tol)
+            } else {
+                let (s, e) = ends(&paths[i]);
+                if e.distance(pos) < s.distance(pos) {
+                    paths[i].reversed()
+                } else {
+                    paths[i].clone()
+                }
+            };
+            let d = ends(&cand).0.distance(pos);
+            if best.as_ref().is_none_or(|b| d < b.1) {
+                best = Some((i, d, cand));
+            }
+        }
+        // Precedence is acyclic (containment is a strict partial order), so some path is
+        // always available; the fallback keeps a malformed input from looping.
+        let Some((i, _, p)) = best else { break };
+        done[i] = true;
+        pos = ends(&p).1;
+        order.push((i, p));
+    }
+    // 2-opt: reverse order[a..=b] when it shortens travel and no precedence pair lies inside.
+    let pos_of = |order: &[(usize, Path)]| {
+        let mut v = vec![0usize; n];
+        for (k, (i, _)) in order.iter().enumerate() {
+            v[*i] = k;
+        }
+        v
+    };
+    for _ in 0..MAX_2OPT_SWEEPS {
+        let mut improved = false;
+        let m = order.len();
+        for a in 0..m {
+            for b in a + 1..m {
+                let prev_end = if a == 0 {
+                    home
+                } else {
+                    ends(&order[a - 1].1).1
+                };
+                let (sa, _) = ends(&order[a].1);
+                let (_, eb) = ends(&order[b].1);
+                let next_start = (b + 1 < m).then(|| ends(&order[b + 1].1).0);
+                // After reversal the block is entered at b's reversed start (its end for
+                // open paths, its start for closed ones) and left at a's reversed end.
+                let rev_start = |p: &Path| if p.closed { ends(p).0 } else { ends(p).1 };
+                let rev_end = |p: &Path| if p.closed { ends(p).1 } else { ends(p).0 };
+                let old = prev_end.distance(sa) + next_start.map_or(0.0, |s| eb.distance(s));
+                let new = prev_end.distance(rev_start(&order[b].1))
+                    + next_start.map_or(0.0, |s| rev_end(&order[a].1).distance(s));
+                if new + 1e-12 < old {
+                    let p = pos_of(&order);
+                    let blocked = order[a..=b]
+                        .iter()
+                        .any(|(j, _)| before[*j].iter().any(|&k| p[k] >= a && p[k] <= b));
+                    if !blocked {
+                        order[a..=b].reverse();
+                        for item in &mut order[a..=b] {
+                            if !item.1.closed {
+                                item.1 = item.1.reversed();
+                            }
+                        }
+                        improved = true;
+                    }
+                }
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    let out: Vec<Path> = order.into_iter().map(|(_, p)| p).collect();
+    let travel_ordered = travel(&out, home);
+    (
+        out,
+        OrderStats {
+            travel_input,
+            travel_ordered,
+        },
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn square(c: DVec2, s: f64) -> Path {
+        let p = [
+            c + DVec2::new(-s, -s),
+            c + DVec2::new(s, -s),
+            c + DVec2::new(s, s),
+            c + DVec2::new(-s, s),
+        ];
+        Path::new(
+            (0..4)
+                .map(|i| PathSeg::Line(Line::new(p[i], p[(i + 1) % 4])))
+                .collect(),
+            true,
+        )
+    }
+
+    fn contains(outer: &Path, inner: &Path) -> bool {
+        let poly = outer.flatten(1e-3);
+        inner
+            .flatten(1e-3)
+            .iter()
+            .all(|&p| point_in_polygon(&poly, p))
+    }
+
+    #[test]
+    fn inner_before_outer_even_when_outer_is_nearer() {
+        let outer = square(DVec2::new(50.0, 50.0), 40.0);
+        let inner = square(DVec2::new(50.0, 50.0), 5.0);
+        let (o, _) = order_paths(&[outer.clone(), inner], DVec2::ZERO, 1e-3);
+        assert!(contains(&o[1], &o[0]));
+    }
+
+    #[test]
+    fn rotation_keeps_the_contour() {
+        let sq = square(DVec2::ZERO, 1.0);
+        let r = rotate_to_nearest(&sq, DVec2::new(0.3, -5.0), 1e-9);
+        assert!((r.start().unwrap() - DVec2::new(0.3, -1.0)).length() < 1e-12);
+        assert!((r.length(1e-9) - 8.0).abs() < 1e-12);
+        assert_eq!(r.max_gap(), 0.0);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        #[test]
+        fn ordering_is_a_permutation_respecting_precedence(
+            centers in proptest::collection::vec((0.0f64..200.0, 0.0f64..200.0), 1..25)
+        ) {
+            // Nested squares at some centres, loose squares elsewhere.
+            let mut paths = Vec::new();
+            for (k, &(x, y)) in centers.iter().enumerate() {
+                paths.push(square(DVec2::new(x, y), 2.0));
+                if k % 3 == 0 {
+                    paths.push(square(DVec2::new(x, y), 4.0));
+                }
+            }
+            let (o, stats) = order_paths(&paths, DVec2::ZERO, 1e-3);
+            prop_assert_eq!(o.len(), paths.len());
+            let total_in: f64 = paths.iter().map(|p| p.length(1e-9)).sum();
+            let total_out: f64 = o.iter().map(|p| p.length(1e-9)).sum();
+            prop_assert!((total_in - total_out).abs() < 1e-6 * total_in);
+            for i in 0..o.len() {
+                for j in 0..i {
+                    prop_assert!(!contains(&o[j], &o[i]) || !o[j].closed, "{j} encloses later {i}");
+                }
+            }
+            prop_assert!((stats.travel_ordered - travel(&o, DVec2::ZERO)).abs() < 1e-9);
+        }
+    }
+}
