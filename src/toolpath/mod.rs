@@ -6,6 +6,7 @@
 pub mod biarc;
 pub mod cut;
 pub mod model;
+pub mod ops;
 pub mod order;
 pub mod region;
 

@@ -1,0 +1,346 @@
+//! The geometry of each operation: which paths the tool centre follows.
+//!
+//! Every function here is pure geometry on [`Region`]s and polylines; [`super::plan`] turns
+//! the paths into cuts with depths, feeds and ordering.
+
+use super::region::{Region, flatten_pline, pline_from_points};
+use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use geo::Buffer;
+
+/// Where a profile runs relative to the outline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ProfileSide {
+    /// On the line (lasers engraving or scoring; or a V-bit tracing).
+    On,
+    /// Outside, by the tool radius or half the kerf: the part keeps its size.
+    Outside,
+    /// Inside, by the tool radius: the hole keeps its size.
+    Inside,
+}
+
+/// Profile paths of a region: the contours moved by the tool radius to the given side,
+/// oriented for climb milling with a clockwise spindle (material on the right of travel).
+/// `eps` is the offset joining tolerance.
+pub fn profile(region: &Region, side: ProfileSide, tool_radius: f64, eps: f64) -> Vec<Path> {
+    let moved = match side {
+        ProfileSide::On => region.clone(),
+        ProfileSide::Outside => region.offset(tool_radius, eps),
+        ProfileSide::Inside => region.offset(-tool_radius, eps),
+    };
+    // Region contours have material on their left; reversing puts it on the right.
+    moved.paths().iter().map(Path::reversed).collect()
+}
+
+/// A hole at a point: a circular path for the tool centre, or a plain drill when the tool
+/// is as wide as the hole.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Hole {
+    Circle(Path),
+    Drill(DVec2),
+}
+
+/// Holes of `diameter` at `points` for a tool of radius `tool_radius` (half the kerf for
+/// lasers): the centre circle has radius d/2 − r, run clockwise (climb inside a hole).
+pub fn holes(points: &[DVec2], diameter: f64, tool_radius: f64) -> Vec<Hole> {
+    points
+        .iter()
+        .map(|&c| {
+            let r = diameter / 2.0 - tool_radius;
+            if r <= 1e-9 * diameter.max(1.0) {
+                Hole::Drill(c)
+            } else {
+                let a = Arc::new(c, r, 0.0, -2.0 * std::f64::consts::PI);
+                // Two half arcs: a full circle as one arc has coincident ends.
+                let (h1, h2) = (
+                    Arc::new(c, r, 0.0, a.sweep / 2.0),
+                    Arc::new(c, r, a.sweep / 2.0, a.sweep / 2.0),
+                );
+                Hole::Circle(Path::new(vec![PathSeg::Arc(h1), PathSeg::Arc(h2)], true))
+            }
+        })
+        .collect()
+}
+
+/// Hatch lines inside a region: lines at `angle` (radians) `spacing` apart, clipped to the
+/// region (even–odd over all contours, so holes stay clear), every other line reversed when
+/// `alternate`. Contours are flattened within `tol`. Lines start half a spacing in from the
+/// region's extent so the first and last lines are not tangent to it.
+pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f64) -> Vec<Path> {
+    if spacing <= 0.0 {
+        return Vec::new();
+    }
+    let (s, c) = angle.sin_cos();
+    // Rotate by −angle so hatch lines are horizontal.
+    let to_local = |p: DVec2| DVec2::new(c * p.x + s * p.y, -s * p.x + c * p.y);
+    let to_world = |p: DVec2| DVec2::new(c * p.x - s * p.y, s * p.x + c * p.y);
+    let polys: Vec<Vec<DVec2>> = region
+        .contours
+        .iter()
+        .map(|pl| flatten_pline(pl, tol).into_iter().map(to_local).collect())
+        .collect();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in polys.iter().flatten() {
+        lo = lo.min(p.y);
+        hi = hi.max(p.y);
+    }
+    if lo > hi {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    let mut k = 0usize;
+    let mut y = lo + spacing / 2.0;
+    while y < hi {
+        let mut xs: Vec<f64> = Vec::new();
+        for poly in &polys {
+            let n = poly.len();
+            for i in 0..n {
+                let a = poly[i];
+                let b = poly[(i + 1) % n];
+                // Half-open rule: count an edge when y is in [min, max).
+                if (a.y <= y) != (b.y <= y) {
+                    xs.push(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
+                }
+            }
+        }
+        xs.sort_by(f64::total_cmp);
+        let reverse = alternate && k % 2 == 1;
+        let mut pairs: Vec<(f64, f64)> = xs.chunks_exact(2).map(|w| (w[0], w[1])).collect();
+        if reverse {
+            pairs.reverse();
+        }
+        for (x0, x1) in pairs {
+            if x1 - x0 <= 0.0 {
+                continue;
+            }
+            let (a, b) = if reverse { (x1, x0) } else { (x0, x1) };
+            let p0 = to_world(DVec2::new(a, y));
+            let p1 = to_world(DVec2::new(b, y));
+            out.push(Path::new(vec![PathSeg::Line(Line::new(p0, p1))], false));
+        }
+        k += 1;
+        y = lo + spacing / 2.0 + k as f64 * spacing;
+    }
+    out
+}
+
+/// Concentric clearing: offsets of the region inward by `first`, then by `stepover` more
+/// each time until nothing is left (at most `max_rings`), outermost ring first; the
+/// ordering stage decides the cut order.
+pub fn concentric(
+    region: &Region,
+    first: f64,
+    stepover: f64,
+    max_rings: usize,
+    eps: f64,
+) -> Vec<Path> {
+    let mut out = Vec::new();
+    if stepover <= 0.0 {
+        return out;
+    }
+    let mut d = first;
+    for _ in 0..max_rings {
+        let r = region.offset(-d, eps);
+        if r.is_empty() {
+            break;
+        }
+        out.extend(r.paths().iter().map(Path::reversed));
+        d += stepover;
+    }
+    out
+}
+
+/// The region swept by a disk of radius `half_width` along the polyline `spine` (a
+/// channel's footprint), with round ends; the arcs of the buffer are flattened within
+/// `tol`.
+pub fn swept_region(spine: &[DVec2], closed: bool, half_width: f64, tol: f64) -> Region {
+    if spine.len() < 2 || half_width <= 0.0 {
+        return Region::default();
+    }
+    let mut coords: Vec<geo::Coord<f64>> = spine
+        .iter()
+        .map(|p| geo::Coord { x: p.x, y: p.y })
+        .collect();
+    if closed {
+        coords.push(coords[0]);
+    }
+    let ls = geo::LineString::new(coords);
+    // geo's (i_overlay's) round joins take the angle step φ = L/R (L the chord length); a
+    // chord over φ has sagitta R(1 − cos(φ/2)) ≈ Rφ²/8, so φ = √(8·tol/R) keeps it ≤ tol.
+    let phi = (8.0 * tol / half_width).sqrt().min(1.0);
+    let style = geo::algorithm::buffer::BufferStyle::new(half_width)
+        .line_join(geo::algorithm::buffer::LineJoin::Round(phi))
+        .line_cap(geo::algorithm::buffer::LineCap::Round(phi));
+    Region::from_geo(&ls.buffer_with_style(style))
+}
+
+/// A closed contour around the union of `regions` grown by `margin`, with every inner
+/// (concave) corner rounded to at least `min_inner_radius` (a closing: grow by
+/// margin + ρ, shrink by ρ). Only outer boundaries are kept: a backboard has no holes.
+pub fn backboard(
+    regions: &[Region],
+    margin: f64,
+    min_inner_radius: f64,
+    tol: f64,
+    eps: f64,
+) -> Region {
+    let union = Region::union(regions, tol);
+    let grown = union
+        .offset(margin + min_inner_radius, eps)
+        .offset(-min_inner_radius, eps);
+    Region {
+        contours: grown
+            .contours
+            .into_iter()
+            .filter(|c| cavalier_contours::polyline::PlineSource::area(c) > 0.0)
+            .collect(),
+    }
+}
+
+/// The V-carve depth at half-width `r` for a V-bit of included angle `angle`:
+/// z = −r·cot(θ/2), capped at `max_depth` (DESIGN "Toolpaths").
+pub fn vcarve_depth(r: f64, angle: f64, max_depth: f64) -> f64 {
+    -(r / (angle / 2.0).tan()).min(max_depth)
+}
+
+/// Points of a spine with half-widths, as one open path at varying depth for a V-bit:
+/// (xy, z) per point.
+pub fn vcarve_spine(spine: &[(DVec2, f64)], angle: f64, max_depth: f64) -> Vec<glam::DVec3> {
+    spine
+        .iter()
+        .map(|&(p, r)| glam::DVec3::new(p.x, p.y, vcarve_depth(r, angle, max_depth)))
+        .collect()
+}
+
+/// The part of an outline deeper than a V-bit's cap: points farther than
+/// max_depth·tan(θ/2) from the boundary, cleared flat at the cap.
+pub fn vcarve_flat_region(outline: &Region, angle: f64, max_depth: f64, eps: f64) -> Region {
+    outline.offset(-max_depth * (angle / 2.0).tan(), eps)
+}
+
+/// An open polyline path through points.
+pub fn polyline_path(points: &[DVec2], closed: bool) -> Path {
+    let pl = pline_from_points(points, closed);
+    super::region::path_from_pline(&pl)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cavalier_contours::polyline::PlineSourceMut;
+    use std::f64::consts::PI;
+
+    fn square_region(s: f64) -> Region {
+        Region::from_contours(vec![pline_from_points(
+            &[
+                DVec2::new(0.0, 0.0),
+                DVec2::new(s, 0.0),
+                DVec2::new(s, s),
+                DVec2::new(0.0, s),
+            ],
+            true,
+        )])
+    }
+
+    #[test]
+    fn profile_outside_is_at_tool_radius() {
+        let r = square_region(10.0);
+        let paths = profile(&r, ProfileSide::Outside, 1.5, 1e-6);
+        assert_eq!(paths.len(), 1);
+        // Every point of the offset is 1.5 from the square (distance to its boundary).
+        let sq = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(10.0, 0.0),
+            DVec2::new(10.0, 10.0),
+            DVec2::new(0.0, 10.0),
+        ];
+        for p in paths[0].flatten(1e-4) {
+            let d = (0..4)
+                .map(|i| Line::new(sq[i], sq[(i + 1) % 4]).distance(p))
+                .fold(f64::INFINITY, f64::min);
+            assert!((d - 1.5).abs() < 1e-3, "{p} at {d}");
+        }
+        // Climb: clockwise around material.
+        assert!(crate::geom::path::polygon_area(&paths[0].flatten(1e-3)) < 0.0);
+    }
+
+    #[test]
+    fn hatch_lines_lie_inside_and_cover_area() {
+        // A square with a square hole: hatch length ≈ area / spacing.
+        let outer = pline_from_points(
+            &[
+                DVec2::new(0.0, 0.0),
+                DVec2::new(20.0, 0.0),
+                DVec2::new(20.0, 20.0),
+                DVec2::new(0.0, 20.0),
+            ],
+            true,
+        );
+        let hole = pline_from_points(
+            &[
+                DVec2::new(5.0, 5.0),
+                DVec2::new(15.0, 5.0),
+                DVec2::new(15.0, 15.0),
+                DVec2::new(5.0, 15.0),
+            ],
+            true,
+        );
+        let r = Region::from_contours(vec![outer, hole]);
+        for angle in [0.0, 0.3, PI / 4.0, 1.2] {
+            let lines = hatch(&r, angle, 0.5, true, 1e-3);
+            let total: f64 = lines.iter().map(|p| p.length(1e-9)).sum();
+            assert!(
+                (total * 0.5 - 300.0).abs() < 0.05 * 300.0,
+                "angle {angle}: {total}"
+            );
+            for l in &lines {
+                for i in 1..10 {
+                    let p = l.segs[0].eval(i as f64 / 10.0);
+                    assert!(r.contains(p), "hatch point {p} outside");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn concentric_rings_never_cross_and_shrink() {
+        let r = square_region(20.0);
+        let rings = concentric(&r, 1.0, 1.0, 100, 1e-6);
+        // Side 20 shrinks by 2 per ring: sides 18, 16, …, 2; the tenth ring vanishes.
+        assert_eq!(rings.len(), 9);
+        let areas: Vec<f64> = rings
+            .iter()
+            .map(|p| crate::geom::path::polygon_area(&p.flatten(1e-3)).abs())
+            .collect();
+        assert!(areas.windows(2).all(|w| w[1] < w[0]));
+    }
+
+    #[test]
+    fn backboard_closes_gaps_and_has_no_holes() {
+        let a = square_region(10.0);
+        let mut b = square_region(10.0);
+        for c in &mut b.contours {
+            c.translate_mut(13.0, 0.0);
+        }
+        let bb = backboard(&[a, b], 2.0, 1.0, 1e-3, 1e-6);
+        assert_eq!(bb.contours.len(), 1, "the 3 mm gap closes at margin 2");
+        assert!(bb.area() > 23.0 * 10.0);
+    }
+
+    #[test]
+    fn vcarve_depth_closed_form() {
+        // 90° bit: depth equals half-width.
+        assert!((vcarve_depth(1.5, PI / 2.0, 10.0) + 1.5).abs() < 1e-12);
+        // 60° bit: depth = r·cot(30°) = r√3, capped.
+        assert!((vcarve_depth(1.0, PI / 3.0, 10.0) + 3f64.sqrt()).abs() < 1e-12);
+        assert_eq!(vcarve_depth(10.0, PI / 3.0, 2.0), -2.0);
+    }
+
+    #[test]
+    fn swept_region_area_of_straight_channel() {
+        // Stadium: length·w + π(w/2)².
+        let r = swept_region(&[DVec2::ZERO, DVec2::new(30.0, 0.0)], false, 2.0, 1e-3);
+        let expect = 30.0 * 4.0 + PI * 4.0;
+        assert!((r.area() - expect).abs() < 0.01 * expect, "{}", r.area());
+    }
+}
