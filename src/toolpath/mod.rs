@@ -8,6 +8,7 @@ pub mod cut;
 pub mod model;
 pub mod ops;
 pub mod order;
+pub mod plan;
 pub mod region;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

@@ -164,8 +164,8 @@ fn travel(order: &[Path], home: DVec2) -> f64 {
 /// Order `paths` for cutting from `home`: every path inside a closed path comes first;
 /// closed paths start at their point nearest the tool; open paths may run reversed.
 /// `tol` is the flattening tolerance for containment tests and the snapping distance for
-/// entry points.
-pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<Path>, OrderStats) {
+/// entry points. Each result carries the index of its input path.
+pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>, OrderStats) {
     let n = paths.len();
     let before = precedence(paths, tol);
     let travel_input = travel(paths, home);
@@ -250,10 +250,12 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<Path>, OrderSt
             break;
         }
     }
-    let out: Vec<Path> = order.into_iter().map(|(_, p)| p).collect();
-    let travel_ordered = travel(&out, home);
+    let travel_ordered = travel(
+        &order.iter().map(|(_, p)| p.clone()).collect::<Vec<_>>(),
+        home,
+    );
     (
-        out,
+        order,
         OrderStats {
             travel_input,
             travel_ordered,
@@ -294,7 +296,8 @@ mod tests {
         let outer = square(DVec2::new(50.0, 50.0), 40.0);
         let inner = square(DVec2::new(50.0, 50.0), 5.0);
         let (o, _) = order_paths(&[outer.clone(), inner], DVec2::ZERO, 1e-3);
-        assert!(contains(&o[1], &o[0]));
+        assert_eq!(o[0].0, 1);
+        assert!(contains(&o[1].1, &o[0].1));
     }
 
     #[test]
@@ -321,7 +324,10 @@ mod tests {
                 }
             }
             let (o, stats) = order_paths(&paths, DVec2::ZERO, 1e-3);
-            prop_assert_eq!(o.len(), paths.len());
+            let mut idx: Vec<usize> = o.iter().map(|(i, _)| *i).collect();
+            idx.sort();
+            prop_assert_eq!(idx, (0..paths.len()).collect::<Vec<_>>());
+            let o: Vec<Path> = o.into_iter().map(|(_, p)| p).collect();
             let total_in: f64 = paths.iter().map(|p| p.length(1e-9)).sum();
             let total_out: f64 = o.iter().map(|p| p.length(1e-9)).sum();
             prop_assert!((total_in - total_out).abs() < 1e-6 * total_in);

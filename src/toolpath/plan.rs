@@ -1,0 +1,314 @@
+//! From operation geometry to an ordered [`Toolpath`]: depths and passes, feeds and power,
+//! tabs and leads, and the cut order.
+//!
+//! Operations run in a fixed order that keeps the work held until the end: holes, fills,
+//! V-carving, channels, profiles, backboard. Within an operation, inner contours are cut
+//! before the contours that enclose them, then travel is shortened ([`super::order`]).
+
+use super::cut::{CutOptions, Lead, Tabs, contour_cut, step_levels};
+use super::model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};
+use super::order::{OrderStats, order_paths};
+use crate::geom::{DVec2, Path};
+use glam::DVec3;
+
+/// What the tool centre follows in one operation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// Closed or open paths of lines and arcs, cut at the operation's depth levels.
+    Paths(Vec<Path>),
+    /// Points to drill (routers: plunge, peck) or pierce (lasers: dwell).
+    Points(Vec<DVec2>),
+    /// Polylines with their own z (V-carving), cut in one pass each.
+    Polylines3(Vec<Vec<DVec3>>),
+}
+
+/// One operation's geometry and settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OpSpec {
+    pub name: String,
+    pub kind: OperationKind,
+    pub geometry: Geometry,
+    /// Source stroke names per path or point (same length as the geometry, or empty).
+    pub sources: Vec<String>,
+    /// Final depth below the surface (0 for lasers).
+    pub depth: f64,
+    /// Largest depth per pass (routers); ignored when depth is 0.
+    pub step_down: f64,
+    /// Number of passes at the same level (lasers cutting thick stock); at least 1.
+    pub repeat: usize,
+    pub feed: f64,
+    pub plunge_feed: f64,
+    pub power: f64,
+    pub tabs: Option<Tabs>,
+    pub lead: Lead,
+    /// Dwell at each drilled or pierced point, seconds.
+    pub dwell: f64,
+}
+
+/// Position in the fixed operation order.
+fn rank(kind: OperationKind) -> usize {
+    match kind {
+        OperationKind::Holes => 0,
+        OperationKind::Fill => 1,
+        OperationKind::VCarve => 2,
+        OperationKind::Channel => 3,
+        OperationKind::Profile => 4,
+        OperationKind::Backboard => 5,
+    }
+}
+
+/// Travel figures of one planned operation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanStats {
+    pub operation: String,
+    pub order: OrderStats,
+}
+
+fn levels(spec: &OpSpec) -> Vec<f64> {
+    let base = step_levels(spec.depth, spec.step_down);
+    let mut out = Vec::new();
+    for z in base {
+        for _ in 0..spec.repeat.max(1) {
+            out.push(z);
+        }
+    }
+    out
+}
+
+/// Plan every operation; the tool starts at `home`. `tol` is the geometric tolerance used
+/// for containment tests and snapping entry points.
+pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats>) {
+    let mut order: Vec<&OpSpec> = specs.iter().collect();
+    order.sort_by_key(|s| rank(s.kind));
+    let mut pos = home;
+    let mut ops = Vec::new();
+    let mut stats = Vec::new();
+    for spec in order {
+        let mut cuts: Vec<Cut> = Vec::new();
+        let source_of = |i: usize| spec.sources.get(i).cloned();
+        match &spec.geometry {
+            Geometry::Paths(paths) => {
+                let (ordered, st) = order_paths(paths, pos, tol);
+                let opts = CutOptions {
+                    feed: spec.feed,
+                    plunge_feed: spec.plunge_feed,
+                    power: spec.power,
+                    levels: levels(spec),
+                    tabs: spec.tabs,
+                    lead: spec.lead,
+                    waste_left: true,
+                };
+                for (i, p) in &ordered {
+                    if let Some(c) = contour_cut(p, &opts, source_of(*i)) {
+                        cuts.push(c);
+                    }
+                }
+                stats.push(PlanStats {
+                    operation: spec.name.clone(),
+                    order: st,
+                });
+            }
+            Geometry::Points(points) => {
+                // Nearest neighbour over points.
+                let mut left: Vec<(usize, DVec2)> = points.iter().copied().enumerate().collect();
+                let mut here = pos;
+                let travel_input = travel_points(points, pos);
+                let mut travel_ordered = 0.0;
+                while !left.is_empty() {
+                    let (k, _) = left
+                        .iter()
+                        .enumerate()
+                        .min_by(|a, b| a.1.1.distance(here).total_cmp(&b.1.1.distance(here)))
+                        .map(|(k, v)| (k, *v))
+                        .unwrap_or((0, (0, here)));
+                    let (i, p) = left.swap_remove(k);
+                    travel_ordered += here.distance(p);
+                    here = p;
+                    cuts.push(drill_cut(p, spec, source_of(i)));
+                }
+                stats.push(PlanStats {
+                    operation: spec.name.clone(),
+                    order: OrderStats {
+                        travel_input,
+                        travel_ordered,
+                    },
+                });
+            }
+            Geometry::Polylines3(lines) => {
+                for (i, l) in lines.iter().enumerate() {
+                    if let Some(c) = polyline3_cut(l, spec, source_of(i)) {
+                        cuts.push(c);
+                    }
+                }
+            }
+        }
+        if let Some(last) = cuts.last().and_then(|c| c.moves.last()) {
+            pos = last.to.truncate();
+        }
+        ops.push(Operation {
+            name: spec.name.clone(),
+            kind: spec.kind,
+            cuts,
+        });
+    }
+    (Toolpath { operations: ops }, stats)
+}
+
+fn travel_points(points: &[DVec2], home: DVec2) -> f64 {
+    let mut pos = home;
+    let mut t = 0.0;
+    for p in points {
+        t += pos.distance(*p);
+        pos = *p;
+    }
+    t
+}
+
+/// A drilled (router) or pierced (laser) point: plunge in steps to depth, dwell, retract
+/// to the surface.
+fn drill_cut(p: DVec2, spec: &OpSpec, source: Option<String>) -> Cut {
+    let mut moves = Vec::new();
+    for z in levels(spec) {
+        moves.push(Move {
+            kind: MoveKind::Line,
+            to: DVec3::new(p.x, p.y, z),
+            feed: spec.plunge_feed,
+            power: spec.power,
+        });
+        if spec.dwell > 0.0 {
+            moves.push(Move {
+                kind: MoveKind::Dwell {
+                    seconds: spec.dwell,
+                },
+                to: DVec3::new(p.x, p.y, z),
+                feed: spec.plunge_feed,
+                power: spec.power,
+            });
+        }
+    }
+    Cut {
+        source,
+        start: DVec3::new(p.x, p.y, 0.0),
+        moves,
+    }
+}
+
+/// A polyline with its own z per point, in one pass.
+fn polyline3_cut(l: &[DVec3], spec: &OpSpec, source: Option<String>) -> Option<Cut> {
+    let first = *l.first()?;
+    let mut moves = vec![Move {
+        kind: MoveKind::Line,
+        to: first,
+        feed: spec.plunge_feed,
+        power: spec.power,
+    }];
+    for &p in &l[1..] {
+        moves.push(Move {
+            kind: MoveKind::Line,
+            to: p,
+            feed: spec.feed,
+            power: spec.power,
+        });
+    }
+    Some(Cut {
+        source,
+        start: DVec3::new(first.x, first.y, 0.0),
+        moves,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::{Line, PathSeg};
+
+    fn square(c: DVec2, s: f64) -> Path {
+        let p = [
+            c + DVec2::new(-s, -s),
+            c + DVec2::new(s, -s),
+            c + DVec2::new(s, s),
+            c + DVec2::new(-s, s),
+        ];
+        Path::new(
+            (0..4)
+                .map(|i| PathSeg::Line(Line::new(p[i], p[(i + 1) % 4])))
+                .collect(),
+            true,
+        )
+    }
+
+    fn spec(kind: OperationKind, geometry: Geometry) -> OpSpec {
+        OpSpec {
+            name: format!("{kind:?}"),
+            kind,
+            geometry,
+            sources: vec![],
+            depth: 3.0,
+            step_down: 1.0,
+            repeat: 1,
+            feed: 800.0,
+            plunge_feed: 200.0,
+            power: 1.0,
+            tabs: None,
+            lead: Lead::None,
+            dwell: 0.5,
+        }
+    }
+
+    #[test]
+    fn operations_run_holes_first_backboard_last() {
+        let specs = vec![
+            spec(
+                OperationKind::Backboard,
+                Geometry::Paths(vec![square(DVec2::ZERO, 50.0)]),
+            ),
+            spec(
+                OperationKind::Profile,
+                Geometry::Paths(vec![square(DVec2::ZERO, 10.0)]),
+            ),
+            spec(
+                OperationKind::Holes,
+                Geometry::Points(vec![DVec2::new(1.0, 1.0)]),
+            ),
+        ];
+        let (tp, stats) = plan(&specs, DVec2::ZERO, 1e-3);
+        let kinds: Vec<OperationKind> = tp.operations.iter().map(|o| o.kind).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                OperationKind::Holes,
+                OperationKind::Profile,
+                OperationKind::Backboard
+            ]
+        );
+        assert_eq!(stats.len(), 3);
+        // The drill pecks to 3 mm in three steps with a dwell at each.
+        let drill = &tp.operations[0].cuts[0];
+        let zs: Vec<f64> = drill
+            .moves
+            .iter()
+            .filter(|m| matches!(m.kind, MoveKind::Line))
+            .map(|m| m.to.z)
+            .collect();
+        assert_eq!(zs, vec![-1.0, -2.0, -3.0]);
+    }
+
+    #[test]
+    fn sources_follow_their_paths_through_ordering() {
+        let mut s = spec(
+            OperationKind::Profile,
+            Geometry::Paths(vec![
+                square(DVec2::new(100.0, 0.0), 5.0),
+                square(DVec2::ZERO, 5.0),
+            ]),
+        );
+        s.sources = vec!["far".into(), "near".into()];
+        let (tp, _) = plan(&[s], DVec2::ZERO, 1e-3);
+        let src: Vec<Option<String>> = tp.operations[0]
+            .cuts
+            .iter()
+            .map(|c| c.source.clone())
+            .collect();
+        assert_eq!(src, vec![Some("near".into()), Some("far".into())]);
+    }
+}
