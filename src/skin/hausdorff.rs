@@ -1,0 +1,872 @@
+//! Hausdorff distance between a skin segment and its envelope segment (kruppa-2023 eqs.
+//! 20–21) with guaranteed lower and upper bounds.
+//!
+//! Method: branch and bound with second-order enclosures. For a C² curve y on [t0, t1] every
+//! point lies within (t1 − t0)²·M₂/8 of its chord (M₂ ≥ sup‖y″‖), because the interpolation
+//! error e(λ) = ∫ G(λ, μ) y″ dμ has a non-negative Green's function with ∫G ≤ Δt²/8. So
+//! * the distance of a point x to y restricted to [t0, t1] is at least
+//!   dist(x, chord) − Δt² M₂/8 (lower bound) and at most ‖x − y(t_i)‖ (upper bound);
+//! * for a piece [s0, s1] of the other curve x whose ends have near points y(t0), y(t1),
+//!   sup_s d(x(s), y) ≤ max(‖x(s0) − y(t0)‖, ‖x(s1) − y(t1)‖) + (Δs² M₂ˣ + Δt² M₂ʸ)/8, since
+//!   the norm of the linearly matched difference is convex; near jumps of the nearest point
+//!   the constant matching y(t0) (or y(t1)) is used instead.
+//!
+//! M₂ of a cubic on [s0, s1] is max(‖C″(s0)‖, ‖C″(s1)‖) (C″ is linear, its norm convex).
+//! M₂ of the envelope q± = q + r m± is enclosed by interval arithmetic on second-order jets of
+//! m± = (−r′q′ + σ s q′⊥)/‖q′‖², s = √(‖q′‖² − r′²) (wu-2021 eq. 9), fed with ranges of the
+//! span polynomials q′, q″, q‴, r, r′, r″, r‴ taken from their Bernstein coefficients on the
+//! sub-interval (convex hull property). Every bound is rigorous up to floating-point
+//! rounding; refinement stops when upper − lower ≤ the requested gap.
+
+use crate::dbsc::{Bern, DiskBSpline, Side, SpanPoly};
+use crate::geom::{CubicBez, DVec2, Line};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// Initial pieces per curve piece before refinement: enough to separate the branches of a
+/// looping envelope without wasting work on smooth ones.
+const INITIAL_SPLITS: usize = 8;
+
+/// Cap on branch-and-bound nodes per directed distance: the bounds stay valid when it is
+/// hit, only the gap may stay wider than asked (reported through the result).
+const MAX_NODES: usize = 20_000;
+
+/// Cap on nodes of one point-to-curve distance.
+const MAX_POINT_NODES: usize = 4_000;
+
+/// Errors of the Hausdorff bounds.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HausdorffError {
+    #[error("gap {0} must be positive and finite")]
+    Gap(f64),
+    #[error("envelope interval [{t_a}, {t_b}] is empty or outside the domain [{lo}, {hi}]")]
+    Interval {
+        t_a: f64,
+        t_b: f64,
+        lo: f64,
+        hi: f64,
+    },
+    #[error("no real envelope at t = {t} (‖q′‖ ≤ |r′|)")]
+    NoEnvelope { t: f64 },
+}
+
+/// Guaranteed bounds lower ≤ D_H ≤ upper.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct HausdorffBounds {
+    pub lower: f64,
+    pub upper: f64,
+}
+
+impl HausdorffBounds {
+    pub fn gap(&self) -> f64 {
+        self.upper - self.lower
+    }
+}
+
+/// A parametric plane curve for the bounds: pieces on which it is C², evaluation, and an
+/// upper bound of ‖x″‖ on a parameter interval inside one piece.
+pub trait BoundedCurve {
+    /// Parameter intervals on which the curve is C² (in order, contiguous).
+    fn pieces(&self) -> Vec<(f64, f64)>;
+    fn point(&self, t: f64) -> Result<DVec2, HausdorffError>;
+    /// Upper bound of sup ‖x″(t)‖ on [t0, t1] ⊂ one piece (may be +∞).
+    fn d2_bound(&self, t0: f64, t1: f64) -> f64;
+    /// Upper bound of sup ‖x″‖ on [t0, t1], which may cross pieces.
+    fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
+        let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let mut m: f64 = 0.0;
+        for (p0, p1) in self.pieces() {
+            let (u0, u1) = (a.max(p0), b.min(p1));
+            if u1 >= u0 {
+                m = m.max(self.d2_bound(u0, u1));
+            }
+        }
+        m
+    }
+}
+
+impl BoundedCurve for CubicBez {
+    fn pieces(&self) -> Vec<(f64, f64)> {
+        vec![(0.0, 1.0)]
+    }
+    fn point(&self, t: f64) -> Result<DVec2, HausdorffError> {
+        Ok(self.eval(t))
+    }
+    fn d2_bound(&self, t0: f64, t1: f64) -> f64 {
+        self.deriv2(t0).length().max(self.deriv2(t1).length())
+    }
+}
+
+/// One side's envelope of a DBSC on [t_a, t_b].
+#[derive(Clone, Debug)]
+pub struct EnvelopeSegment<'a> {
+    curve: &'a DiskBSpline,
+    side: Side,
+    spans: Vec<SpanPoly>,
+    t_a: f64,
+    t_b: f64,
+}
+
+impl<'a> EnvelopeSegment<'a> {
+    pub fn new(
+        curve: &'a DiskBSpline,
+        side: Side,
+        t_a: f64,
+        t_b: f64,
+    ) -> Result<Self, HausdorffError> {
+        let (lo, hi) = curve.domain();
+        if !(t_a < t_b && t_a >= lo && t_b <= hi) {
+            return Err(HausdorffError::Interval { t_a, t_b, lo, hi });
+        }
+        let spans = curve
+            .breakpoints()
+            .windows(2)
+            .filter(|w| w[1] > t_a && w[0] < t_b && w[1] > w[0])
+            .map(|w| SpanPoly::new(curve, w[0], w[1]))
+            .collect();
+        Ok(EnvelopeSegment {
+            curve,
+            side,
+            spans,
+            t_a,
+            t_b,
+        })
+    }
+}
+
+impl BoundedCurve for EnvelopeSegment<'_> {
+    fn pieces(&self) -> Vec<(f64, f64)> {
+        self.spans
+            .iter()
+            .map(|s| (s.a.max(self.t_a), s.b.min(self.t_b)))
+            .collect()
+    }
+    fn point(&self, t: f64) -> Result<DVec2, HausdorffError> {
+        self.curve
+            .envelope(self.side, t)
+            .map(|e| e.point)
+            .ok_or(HausdorffError::NoEnvelope { t })
+    }
+    fn d2_bound(&self, t0: f64, t1: f64) -> f64 {
+        let Some(sp) = self
+            .spans
+            .iter()
+            .find(|s| t0 >= s.a && t1 <= s.b)
+            .or_else(|| self.spans.iter().find(|s| t0 >= s.a && t0 <= s.b))
+        else {
+            return f64::INFINITY;
+        };
+        envelope_d2_bound(sp, self.side.sign(), t0.max(sp.a), t1.min(sp.b))
+    }
+}
+
+/// A closed real interval.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Iv {
+    lo: f64,
+    hi: f64,
+}
+
+impl Iv {
+    fn new(lo: f64, hi: f64) -> Iv {
+        Iv { lo, hi }
+    }
+    fn pt(x: f64) -> Iv {
+        Iv::new(x, x)
+    }
+    fn add(self, o: Iv) -> Iv {
+        Iv::new(self.lo + o.lo, self.hi + o.hi)
+    }
+    fn sub(self, o: Iv) -> Iv {
+        Iv::new(self.lo - o.hi, self.hi - o.lo)
+    }
+    fn mul(self, o: Iv) -> Iv {
+        let p = [
+            self.lo * o.lo,
+            self.lo * o.hi,
+            self.hi * o.lo,
+            self.hi * o.hi,
+        ];
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Iv::new(lo, hi)
+    }
+    fn scale(self, k: f64) -> Iv {
+        self.mul(Iv::pt(k))
+    }
+    /// 1/x; NaN-free only when 0 ∉ x (callers check `positive`).
+    fn recip(self) -> Iv {
+        Iv::new(1.0 / self.hi, 1.0 / self.lo)
+    }
+    fn sqrt(self) -> Iv {
+        Iv::new(self.lo.max(0.0).sqrt(), self.hi.max(0.0).sqrt())
+    }
+    fn positive(self) -> bool {
+        self.lo > 0.0
+    }
+    fn mag(self) -> f64 {
+        self.lo.abs().max(self.hi.abs())
+    }
+    fn clip_unit(self) -> Iv {
+        Iv::new(self.lo.max(-1.0), self.hi.min(1.0))
+    }
+}
+
+/// A second-order jet (f, f′, f″) of interval enclosures.
+#[derive(Clone, Copy, Debug)]
+struct Jet {
+    v: Iv,
+    d1: Iv,
+    d2: Iv,
+}
+
+impl Jet {
+    fn add(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v.add(o.v),
+            d1: self.d1.add(o.d1),
+            d2: self.d2.add(o.d2),
+        }
+    }
+    fn sub(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v.sub(o.v),
+            d1: self.d1.sub(o.d1),
+            d2: self.d2.sub(o.d2),
+        }
+    }
+    fn scale(self, k: f64) -> Jet {
+        Jet {
+            v: self.v.scale(k),
+            d1: self.d1.scale(k),
+            d2: self.d2.scale(k),
+        }
+    }
+    /// (fg)′ = f′g + fg′, (fg)″ = f″g + 2f′g′ + fg″.
+    fn mul(self, o: Jet) -> Jet {
+        Jet {
+            v: self.v.mul(o.v),
+            d1: self.d1.mul(o.v).add(self.v.mul(o.d1)),
+            d2: self
+                .d2
+                .mul(o.v)
+                .add(self.d1.mul(o.d1).scale(2.0))
+                .add(self.v.mul(o.d2)),
+        }
+    }
+    /// g = 1/f: g′ = −f′ g², g″ = 2 f′² g³ − f″ g². Requires f > 0.
+    fn recip(self) -> Jet {
+        let g = self.v.recip();
+        let g2 = g.mul(g);
+        Jet {
+            v: g,
+            d1: self.d1.mul(g2).scale(-1.0),
+            d2: self
+                .d1
+                .mul(self.d1)
+                .mul(g2.mul(g))
+                .scale(2.0)
+                .sub(self.d2.mul(g2)),
+        }
+    }
+    /// g = √f: g′ = f′/(2g), g″ = (f″ − 2g′²)/(2g). Requires f > 0.
+    fn sqrt(self) -> Jet {
+        let g = self.v.sqrt();
+        let inv2g = g.scale(2.0).recip();
+        let g1 = self.d1.mul(inv2g);
+        Jet {
+            v: g,
+            d1: g1,
+            d2: self.d2.sub(g1.mul(g1).scale(2.0)).mul(inv2g),
+        }
+    }
+}
+
+/// Ranges of the t-derivatives 0..=3 of a span polynomial on [t0, t1].
+fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
+    let h = sp.b - sp.a;
+    let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
+    let mut p = b.sub(u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0));
+    let w = t1 - t0;
+    let mut out = [Iv::pt(0.0); 4];
+    let mut f = 1.0;
+    for (k, o) in out.iter_mut().enumerate() {
+        if k > 0 {
+            p = p.deriv();
+            f /= w;
+        }
+        let (lo, hi) = p.range();
+        *o = Iv::new(lo * f, hi * f);
+        if w <= 0.0 && k > 0 {
+            // A point interval: derivatives from the span polynomial at that point.
+            let mut q = b.clone();
+            for _ in 0..k {
+                q = q.deriv();
+            }
+            let v = q.eval(u0.clamp(0.0, 1.0)) / h.powi(k as i32);
+            *o = Iv::pt(v);
+        }
+    }
+    out
+}
+
+/// Upper bound of ‖q±″‖ on [t0, t1] inside one span, by interval jets of
+/// q±″ = q″ + r″ m + 2 r′ m′ + r m″ with m = (−r′q′ + σ s q′⊥)/L. +∞ when the enclosure of
+/// s² = ‖q′‖² − r′² is not positive.
+fn envelope_d2_bound(sp: &SpanPoly, sigma: f64, t0: f64, t1: f64) -> f64 {
+    let x = deriv_ranges(&sp.x, sp, t0, t1);
+    let y = deriv_ranges(&sp.y, sp, t0, t1);
+    let r = deriv_ranges(&sp.r, sp, t0, t1);
+    let jet = |d: &[Iv; 4]| Jet {
+        v: d[1],
+        d1: d[2],
+        d2: d[3],
+    };
+    let (ax, ay, b) = (jet(&x), jet(&y), jet(&r));
+    let l = ax.mul(ax).add(ay.mul(ay));
+    let s2 = l.sub(b.mul(b));
+    if !s2.v.positive() || !l.v.positive() {
+        return f64::INFINITY;
+    }
+    let s = s2.sqrt();
+    let inv_l = l.recip();
+    // m = (−b a + σ s a⊥)/L with a⊥ = (−ay, ax).
+    let mx = b.mul(ax).scale(-1.0).sub(s.mul(ay).scale(sigma)).mul(inv_l);
+    let my = b.mul(ay).scale(-1.0).add(s.mul(ax).scale(sigma)).mul(inv_l);
+    let comp = |q2: Iv, m: Jet| {
+        q2.add(r[2].mul(m.v.clip_unit()))
+            .add(r[1].mul(m.d1).scale(2.0))
+            .add(r[0].mul(m.d2))
+    };
+    let (cx, cy) = (comp(x[2], mx), comp(y[2], my));
+    let v = (cx.mag().powi(2) + cy.mag().powi(2)).sqrt();
+    if v.is_finite() { v } else { f64::INFINITY }
+}
+
+/// A node: parameter interval with a key for the heap.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    key: f64,
+    t0: f64,
+    t1: f64,
+    p0: DVec2,
+    p1: DVec2,
+    /// For directed nodes: near-point data at the ends (distance bound and parameter).
+    u0: f64,
+    u1: f64,
+    n0: f64,
+    n1: f64,
+}
+
+impl PartialEq for Node {
+    fn eq(&self, o: &Self) -> bool {
+        self.key == o.key
+    }
+}
+impl Eq for Node {}
+impl PartialOrd for Node {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Node {
+    fn cmp(&self, o: &Self) -> Ordering {
+        self.key.total_cmp(&o.key)
+    }
+}
+
+/// Bounds of d(x, Y) and a parameter of Y where the upper bound is attained.
+#[derive(Clone, Copy, Debug)]
+struct PointDist {
+    lower: f64,
+    upper: f64,
+    t: f64,
+}
+
+fn initial_grid(c: &dyn BoundedCurve) -> Vec<f64> {
+    let mut ts = Vec::new();
+    for (a, b) in c.pieces() {
+        for i in 0..INITIAL_SPLITS {
+            ts.push(a + (b - a) * i as f64 / INITIAL_SPLITS as f64);
+        }
+        if ts.last() != Some(&b) {
+            ts.push(b);
+        }
+    }
+    ts.dedup();
+    ts
+}
+
+/// d(x, Y) to within `tol` by best-first branch and bound on Y's chords.
+fn point_distance(
+    x: DVec2,
+    y: &dyn BoundedCurve,
+    grid: &[(f64, DVec2)],
+    hint: Option<f64>,
+    tol: f64,
+) -> Result<PointDist, HausdorffError> {
+    let mut best = PointDist {
+        lower: 0.0,
+        upper: f64::INFINITY,
+        t: grid.first().map(|g| g.0).unwrap_or(0.0),
+    };
+    let upd = |t: f64, p: DVec2, best: &mut PointDist| {
+        let d = x.distance(p);
+        if d < best.upper {
+            best.upper = d;
+            best.t = t;
+        }
+    };
+    if let Some(h) = hint {
+        upd(h, y.point(h)?, &mut best);
+    }
+    let mut heap: BinaryHeap<Node> = BinaryHeap::new();
+    let lb = |t0: f64, t1: f64, p0: DVec2, p1: DVec2| {
+        let e = (t1 - t0).powi(2) * y.d2_bound(t0, t1) / 8.0;
+        Line::new(p0, p1).distance(x) - e
+    };
+    let pieces = y.pieces();
+    for w in grid.windows(2) {
+        let (t0, p0) = w[0];
+        let (t1, p1) = w[1];
+        upd(t0, p0, &mut best);
+        upd(t1, p1, &mut best);
+        if t1 <= t0 || !pieces.iter().any(|&(a, b)| t0 >= a && t1 <= b) {
+            continue;
+        }
+        let key = lb(t0, t1, p0, p1);
+        heap.push(node(-key, t0, t1, p0, p1));
+    }
+    let mut count = 0;
+    while let Some(nd) = heap.pop() {
+        let l = -nd.key;
+        if l >= best.upper - tol || count >= MAX_POINT_NODES {
+            // Pruned nodes had lower bounds ≥ upper − tol; the heap's minimum is l.
+            best.lower = l.min(best.upper - tol).max(0.0);
+            return Ok(best);
+        }
+        count += 1;
+        let tm = 0.5 * (nd.t0 + nd.t1);
+        let pm = y.point(tm)?;
+        upd(tm, pm, &mut best);
+        for (a, pa, b, pb) in [(nd.t0, nd.p0, tm, pm), (tm, pm, nd.t1, nd.p1)] {
+            let key = lb(a, b, pa, pb);
+            if key < best.upper - tol {
+                heap.push(node(-key, a, b, pa, pb));
+            }
+        }
+    }
+    best.lower = (best.upper - tol).max(0.0);
+    Ok(best)
+}
+
+fn node(key: f64, t0: f64, t1: f64, p0: DVec2, p1: DVec2) -> Node {
+    Node {
+        key,
+        t0,
+        t1,
+        p0,
+        p1,
+        u0: 0.0,
+        u1: 0.0,
+        n0: 0.0,
+        n1: 0.0,
+    }
+}
+
+/// The directed Hausdorff distance h(X → Y) = sup_x d(x, Y), bounded to `gap`; stops early
+/// once the answer relative to `threshold` is decided (lower > threshold or upper ≤ it).
+fn directed(
+    xc: &dyn BoundedCurve,
+    yc: &dyn BoundedCurve,
+    gap: f64,
+    threshold: Option<f64>,
+) -> Result<HausdorffBounds, HausdorffError> {
+    let ygrid: Vec<(f64, DVec2)> = initial_grid(yc)
+        .into_iter()
+        .map(|t| yc.point(t).map(|p| (t, p)))
+        .collect::<Result<_, _>>()?;
+    let ptol = 0.25 * gap;
+    let mut lower: f64 = 0.0;
+    let mut heap: BinaryHeap<Node> = BinaryHeap::new();
+    let xs = initial_grid(xc);
+    let mut ends: Vec<(f64, DVec2, PointDist)> = Vec::with_capacity(xs.len());
+    let mut hint = None;
+    for &s in &xs {
+        let p = xc.point(s)?;
+        let d = point_distance(p, yc, &ygrid, hint, ptol)?;
+        hint = Some(d.t);
+        lower = lower.max(d.lower);
+        ends.push((s, p, d));
+    }
+    let xpieces = xc.pieces();
+    let key = |s0: f64, s1: f64, a: &PointDist, b: &PointDist, p0: DVec2, p1: DVec2| {
+        let ex = (s1 - s0).powi(2) * xc.d2_bound(s0, s1) / 8.0;
+        let ey = (b.t - a.t).powi(2) * yc.d2_bound_any(a.t, b.t) / 8.0;
+        let linear = a.upper.max(b.upper) + ex + ey;
+        // Constant matching: ‖x(s) − y(t_i)‖ is convex along the chord of x, so at most
+        // its larger end value, and ‖x(s1) − y(t0)‖ ≤ ‖x(s0) − y(t0)‖ + ‖x(s1) − x(s0)‖.
+        let c = a.upper.min(b.upper) + p1.distance(p0) + ex;
+        linear.min(c)
+    };
+    for w in ends.windows(2) {
+        let ((s0, p0, d0), (s1, p1, d1)) = (w[0], w[1]);
+        if s1 <= s0 || !xpieces.iter().any(|&(a, b)| s0 >= a && s1 <= b) {
+            continue;
+        }
+        let mut nd = node(key(s0, s1, &d0, &d1, p0, p1), s0, s1, p0, p1);
+        (nd.u0, nd.u1, nd.n0, nd.n1) = (d0.t, d1.t, d0.upper, d1.upper);
+        heap.push(nd);
+    }
+    let mut count = 0;
+    while let Some(nd) = heap.pop() {
+        let upper = nd.key;
+        let decided = threshold.is_some_and(|e| lower > e || upper <= e);
+        if upper <= lower + gap || decided || count >= MAX_NODES {
+            return Ok(HausdorffBounds {
+                lower,
+                upper: upper.max(lower),
+            });
+        }
+        count += 1;
+        let sm = 0.5 * (nd.t0 + nd.t1);
+        let pm = xc.point(sm)?;
+        let dm = point_distance(pm, yc, &ygrid, Some(0.5 * (nd.u0 + nd.u1)), ptol)?;
+        lower = lower.max(dm.lower);
+        let d0 = PointDist {
+            lower: 0.0,
+            upper: nd.n0,
+            t: nd.u0,
+        };
+        let d1 = PointDist {
+            lower: 0.0,
+            upper: nd.n1,
+            t: nd.u1,
+        };
+        let mut a = node(key(nd.t0, sm, &d0, &dm, nd.p0, pm), nd.t0, sm, nd.p0, pm);
+        (a.u0, a.u1, a.n0, a.n1) = (d0.t, dm.t, d0.upper, dm.upper);
+        let mut b = node(key(sm, nd.t1, &dm, &d1, pm, nd.p1), sm, nd.t1, pm, nd.p1);
+        (b.u0, b.u1, b.n0, b.n1) = (dm.t, d1.t, dm.upper, d1.upper);
+        heap.push(a);
+        heap.push(b);
+    }
+    Ok(HausdorffBounds {
+        lower,
+        upper: lower,
+    })
+}
+
+/// Bounds lower ≤ D_H(X, Y) ≤ upper of the Hausdorff distance (kruppa-2023 eq. 21) of two
+/// bounded curves, refined until upper − lower ≤ `gap` (or a node cap is reached: the bounds
+/// stay valid, the gap may be wider).
+pub fn hausdorff_curves(
+    x: &dyn BoundedCurve,
+    y: &dyn BoundedCurve,
+    gap: f64,
+) -> Result<HausdorffBounds, HausdorffError> {
+    bounds_impl(x, y, gap, None)
+}
+
+fn bounds_impl(
+    x: &dyn BoundedCurve,
+    y: &dyn BoundedCurve,
+    gap: f64,
+    threshold: Option<f64>,
+) -> Result<HausdorffBounds, HausdorffError> {
+    if !(gap > 0.0 && gap.is_finite()) {
+        return Err(HausdorffError::Gap(gap));
+    }
+    let a = directed(x, y, gap, threshold)?;
+    if threshold.is_some_and(|e| a.lower > e) {
+        return Ok(a);
+    }
+    let b = directed(y, x, gap, threshold)?;
+    Ok(HausdorffBounds {
+        lower: a.lower.max(b.lower),
+        upper: a.upper.max(b.upper),
+    })
+}
+
+/// D_H between a skin segment and the `side` envelope of `curve` on [t_a, t_b]
+/// (kruppa-2023 eq. 20), with upper − lower ≤ `gap`.
+pub fn hausdorff_skin_envelope(
+    skin: &CubicBez,
+    curve: &DiskBSpline,
+    side: Side,
+    t_a: f64,
+    t_b: f64,
+    gap: f64,
+) -> Result<HausdorffBounds, HausdorffError> {
+    let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
+    bounds_impl(skin, &env, gap, None)
+}
+
+/// Like [`hausdorff_skin_envelope`] but stops as soon as D_H ≤ `eps` or D_H > `eps` is
+/// decided by the bounds (or their gap is ≤ `gap`): the test of kruppa-2023 Sec. 4.2.
+pub fn hausdorff_within(
+    skin: &CubicBez,
+    curve: &DiskBSpline,
+    side: Side,
+    t_a: f64,
+    t_b: f64,
+    eps: f64,
+    gap: f64,
+) -> Result<HausdorffBounds, HausdorffError> {
+    let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
+    bounds_impl(skin, &env, gap, Some(eps))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Circle;
+    use proptest::prelude::*;
+
+    fn open(p: usize, d: &[(f64, f64, f64)]) -> DiskBSpline {
+        let disks: Vec<Circle> = d
+            .iter()
+            .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
+            .collect();
+        DiskBSpline::open(p, &disks, None).unwrap()
+    }
+
+    fn line_cubic(a: DVec2, b: DVec2) -> CubicBez {
+        CubicBez::new(a, a.lerp(b, 1.0 / 3.0), a.lerp(b, 2.0 / 3.0), b)
+    }
+
+    /// An exact circular arc, for closed-form tests.
+    struct ArcCurve {
+        c: DVec2,
+        r: f64,
+        a0: f64,
+        a1: f64,
+    }
+    impl BoundedCurve for ArcCurve {
+        fn pieces(&self) -> Vec<(f64, f64)> {
+            vec![(0.0, 1.0)]
+        }
+        fn point(&self, t: f64) -> Result<DVec2, HausdorffError> {
+            let a = self.a0 + t * (self.a1 - self.a0);
+            Ok(self.c + self.r * DVec2::new(a.cos(), a.sin()))
+        }
+        fn d2_bound(&self, _: f64, _: f64) -> f64 {
+            self.r * (self.a1 - self.a0).powi(2)
+        }
+    }
+
+    #[test]
+    fn offset_line_closed_forms() {
+        // Straight stroke of constant radius 1: the left envelope is y = 1, x ∈ [0, 3].
+        let c = open(
+            3,
+            &[
+                (0.0, 0.0, 1.0),
+                (1.0, 0.0, 1.0),
+                (2.0, 0.0, 1.0),
+                (3.0, 0.0, 1.0),
+            ],
+        );
+        let gap = 1e-6;
+        for (scale, shift) in [(1.0, 0.0), (1.0, 0.01), (1.0, -0.3)] {
+            let s = line_cubic(
+                DVec2::new(0.0, 1.0 + shift),
+                DVec2::new(3.0 * scale, 1.0 + shift),
+            );
+            let h = hausdorff_skin_envelope(&s, &c, Side::Left, 0.0, 1.0, gap).unwrap();
+            let want = f64::abs(shift);
+            assert!(
+                h.lower <= want + 1e-12 && want <= h.upper + 1e-12,
+                "{h:?} {want}"
+            );
+            assert!(h.gap() <= gap);
+        }
+        // Overhang: the cubic runs on to x = 3.4; D_H = √(0.4² + d²).
+        let d = 0.05;
+        let s = line_cubic(DVec2::new(0.0, 1.0 + d), DVec2::new(3.4, 1.0 + d));
+        let h = hausdorff_skin_envelope(&s, &c, Side::Left, 0.0, 1.0, gap).unwrap();
+        let want = (0.4f64 * 0.4 + d * d).sqrt();
+        assert!(
+            h.lower <= want + 1e-12 && want <= h.upper + 1e-12,
+            "{h:?} {want}"
+        );
+        assert!(h.gap() <= gap);
+        // Right side of a linearly growing stroke: the envelope is the outer common tangent
+        // of the end circles, a straight segment.
+        let c = open(1, &[(0.0, 0.0, 1.0), (4.0, 0.0, 2.0)]);
+        let (e0, e1) = (
+            c.envelope(Side::Right, 0.0).unwrap().point,
+            c.envelope(Side::Right, 1.0).unwrap().point,
+        );
+        let n = crate::geom::perp(e1 - e0).normalize();
+        let s = line_cubic(e0 + 0.02 * n, e1 + 0.02 * n);
+        let h = hausdorff_skin_envelope(&s, &c, Side::Right, 0.0, 1.0, gap).unwrap();
+        assert!(h.lower <= 0.02 + 1e-12 && 0.02 <= h.upper + 1e-12, "{h:?}");
+        assert!(h.gap() <= gap);
+    }
+
+    #[test]
+    fn quarter_circle_bezier_error() {
+        // The standard cubic for a quarter of the unit circle, k = 4(√2 − 1)/3, deviates
+        // radially by at most ≈ 2.7253e-4 r. The Hausdorff distance to the arc is that
+        // maximum radial deviation; it is computed here independently by golden-section
+        // search of ‖B(t)‖ on [0, 1/2] (unimodal by symmetry).
+        for r in [1.0, 7.5] {
+            let k = 4.0 * (2f64.sqrt() - 1.0) / 3.0 * r;
+            let b = CubicBez::new(
+                DVec2::new(r, 0.0),
+                DVec2::new(r, k),
+                DVec2::new(k, r),
+                DVec2::new(0.0, r),
+            );
+            let f = |t: f64| b.eval(t).length() - r;
+            let (mut lo, mut hi) = (0.0, 0.5);
+            let g = (5f64.sqrt() - 1.0) / 2.0;
+            for _ in 0..200 {
+                let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+                if f(m1) < f(m2) {
+                    lo = m1;
+                } else {
+                    hi = m2;
+                }
+            }
+            let want = f(0.5 * (lo + hi));
+            assert!((want / r - 2.7253e-4).abs() < 1e-7);
+            let arc = ArcCurve {
+                c: DVec2::ZERO,
+                r,
+                a0: 0.0,
+                a1: std::f64::consts::FRAC_PI_2,
+            };
+            let gap = 1e-3 * want;
+            let h = hausdorff_curves(&b, &arc, gap).unwrap();
+            assert!(
+                h.lower <= want * (1.0 + 1e-9) && want <= h.upper * (1.0 + 1e-9),
+                "{h:?} {want}"
+            );
+            assert!(h.gap() <= gap);
+        }
+    }
+
+    #[test]
+    fn bad_arguments_are_errors() {
+        let c = open(1, &[(0.0, 0.0, 1.0), (4.0, 0.0, 1.0)]);
+        let s = line_cubic(DVec2::ZERO, DVec2::X);
+        assert_eq!(
+            hausdorff_skin_envelope(&s, &c, Side::Left, 0.0, 1.0, 0.0),
+            Err(HausdorffError::Gap(0.0))
+        );
+        assert!(matches!(
+            hausdorff_skin_envelope(&s, &c, Side::Left, 0.5, 0.5, 1e-3),
+            Err(HausdorffError::Interval { .. })
+        ));
+        let g = open(1, &[(0.0, 0.0, 1.0), (1.0, 0.0, 4.0)]);
+        assert!(matches!(
+            hausdorff_skin_envelope(&s, &g, Side::Left, 0.0, 1.0, 1e-3),
+            Err(HausdorffError::NoEnvelope { .. })
+        ));
+    }
+
+    #[test]
+    fn envelope_second_derivative_bound_holds() {
+        // The interval bound must dominate finite-difference second derivatives.
+        let c = open(
+            3,
+            &[
+                (0.0, 0.0, 0.5),
+                (2.0, 1.0, 0.9),
+                (3.0, -1.0, 0.4),
+                (5.0, 0.5, 0.7),
+                (6.0, 0.0, 0.5),
+            ],
+        );
+        for side in [Side::Left, Side::Right] {
+            let e = EnvelopeSegment::new(&c, side, 0.0, 1.0).unwrap();
+            for (a, b) in e.pieces() {
+                let m = e.d2_bound(a, b);
+                let h = 1e-4;
+                for i in 1..20 {
+                    let t = a + (b - a) * i as f64 / 20.0;
+                    let f = |t: f64| e.point(t).unwrap();
+                    let d2 = (f(t + h) - 2.0 * f(t) + f(t - h)) / (h * h);
+                    assert!(d2.length() <= m * (1.0 + 1e-6) + 1e-4, "{d2} > {m}");
+                }
+            }
+        }
+    }
+
+    /// Independent estimate: dense sampling of both directed distances with nearest points
+    /// from dense samples refined by golden-section search.
+    fn dense_estimate(x: &dyn BoundedCurve, y: &dyn BoundedCurve) -> f64 {
+        let sample = |c: &dyn BoundedCurve| -> Vec<(f64, DVec2)> {
+            let (a, b) = (c.pieces()[0].0, c.pieces().last().unwrap().1);
+            (0..=400)
+                .map(|i| {
+                    let t = a + (b - a) * i as f64 / 400.0;
+                    (t, c.point(t).unwrap())
+                })
+                .collect()
+        };
+        let (xs, ys) = (sample(x), sample(y));
+        let near = |p: DVec2, c: &dyn BoundedCurve, s: &[(f64, DVec2)]| {
+            let i = (0..s.len())
+                .min_by(|&i, &j| p.distance(s[i].1).total_cmp(&p.distance(s[j].1)))
+                .unwrap();
+            let (mut lo, mut hi) = (s[i.saturating_sub(1)].0, s[(i + 1).min(s.len() - 1)].0);
+            let g = (5f64.sqrt() - 1.0) / 2.0;
+            let f = |t: f64| p.distance(c.point(t).unwrap());
+            for _ in 0..60 {
+                let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+                if f(m1) < f(m2) {
+                    hi = m2;
+                } else {
+                    lo = m1;
+                }
+            }
+            f(0.5 * (lo + hi)).min(p.distance(s[i].1))
+        };
+        let a = xs.iter().map(|&(_, p)| near(p, y, &ys)).fold(0.0, f64::max);
+        let b = ys.iter().map(|&(_, p)| near(p, x, &xs)).fold(0.0, f64::max);
+        a.max(b)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+
+        #[test]
+        fn bounds_bracket_dense_estimate(
+            d in proptest::collection::vec((-3.0f64..3.0, -3.0f64..3.0, 0.2f64..0.6), 4),
+            jitter in proptest::collection::vec((-0.2f64..0.2, -0.2f64..0.2), 2),
+            side_left in any::<bool>(),
+        ) {
+            // A gently curved stroke (centres along x), a cubic near its envelope.
+            let disks: Vec<(f64, f64, f64)> = d
+                .iter()
+                .enumerate()
+                .map(|(i, &(x, y, r))| (4.0 * i as f64 + 0.3 * x, 0.5 * y, r))
+                .collect();
+            let c = open(3, &disks);
+            let side = if side_left { Side::Left } else { Side::Right };
+            let env = EnvelopeSegment::new(&c, side, 0.0, 1.0).unwrap();
+            let p = |t: f64| env.point(t).unwrap();
+            let (a, b) = (p(0.0), p(1.0));
+            let s = CubicBez::new(
+                a,
+                p(1.0 / 3.0) + DVec2::new(jitter[0].0, jitter[0].1),
+                p(2.0 / 3.0) + DVec2::new(jitter[1].0, jitter[1].1),
+                b,
+            );
+            let gap = 1e-3;
+            let h = hausdorff_curves(&s, &env, gap).unwrap();
+            let est = dense_estimate(&s, &env);
+            // The dense estimate is ≤ the truth up to its sampling resolution.
+            prop_assert!(h.lower <= est + 1e-7, "{:?} est {}", h, est);
+            prop_assert!(est <= h.upper + 1e-9, "{:?} est {}", h, est);
+            prop_assert!(h.gap() <= gap, "{:?}", h);
+            // Early-exit decisions agree with the full bounds.
+            let eps = 0.5 * (h.lower + h.upper) + 0.01;
+            let w = hausdorff_within(&s, &c, side, 0.0, 1.0, eps, gap).unwrap();
+            prop_assert!(w.upper <= eps || w.lower > eps || w.gap() <= gap);
+            prop_assert!(w.lower <= h.upper + 1e-12 && h.lower <= w.upper + 1e-12);
+        }
+    }
+}
