@@ -1,0 +1,106 @@
+//! Toolpath benches: offsetting an outline with arcs (cavalier_contours, via
+//! `Region::offset`) against geo's `Buffer` of the same outline flattened, in the same run;
+//! plus hatch filling and ordering. Accuracy of both offsets (largest deviation of the
+//! result's vertices from distance δ to the source) is printed once per size.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use geo::Buffer;
+use skinpath::geom::{DVec2, Line, Path};
+use skinpath::toolpath::ops::hatch;
+use skinpath::toolpath::order::order_paths;
+use skinpath::toolpath::region::{Region, flatten_pline, pline_from_points};
+use std::hint::black_box;
+
+/// A wavy closed outline with `n` vertices (a flower of radius 40 ± 8 mm).
+fn flower(n: usize) -> Vec<DVec2> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64 * std::f64::consts::TAU;
+            let r = 40.0 + 8.0 * (7.0 * t).sin();
+            DVec2::new(r * t.cos(), r * t.sin())
+        })
+        .collect()
+}
+
+fn polygon_distance(poly: &[DVec2], p: DVec2) -> f64 {
+    (0..poly.len())
+        .map(|i| Line::new(poly[i], poly[(i + 1) % poly.len()]).distance(p))
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn bench_offsets(c: &mut Criterion) {
+    let delta = 1.5;
+    let mut g = c.benchmark_group("offset_outward_1.5mm");
+    for &n in &[100usize, 1000, 10_000] {
+        let pts = flower(n);
+        let region = Region::from_contours(vec![pline_from_points(&pts, true)]);
+        let mut ring: Vec<geo::Coord<f64>> =
+            pts.iter().map(|p| geo::Coord { x: p.x, y: p.y }).collect();
+        ring.push(ring[0]);
+        let poly = geo::Polygon::new(geo::LineString::new(ring), vec![]);
+
+        // Accuracy, once: vertices of each result against distance δ.
+        let cav = region.offset(delta, 1e-6);
+        let cav_err = cav
+            .contours
+            .iter()
+            .flat_map(|c| flatten_pline(c, 1e-4))
+            .map(|p| (polygon_distance(&pts, p) - delta).abs())
+            .fold(0.0, f64::max);
+        let geo_res = poly.buffer(delta);
+        let geo_err = geo_res
+            .0
+            .iter()
+            .flat_map(|p| {
+                p.exterior()
+                    .coords()
+                    .map(|c| DVec2::new(c.x, c.y))
+                    .collect::<Vec<_>>()
+            })
+            .map(|p| (polygon_distance(&pts, p) - delta).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "n={n}: max |dist − δ| cavalier (arcs) {cav_err:.2e} mm, geo buffer {geo_err:.2e} mm"
+        );
+
+        g.bench_with_input(BenchmarkId::new("cavalier_region_offset", n), &n, |b, _| {
+            b.iter(|| black_box(region.offset(delta, 1e-6)))
+        });
+        g.bench_with_input(BenchmarkId::new("geo_buffer", n), &n, |b, _| {
+            b.iter(|| black_box(poly.buffer(delta)))
+        });
+    }
+    g.finish();
+}
+
+fn bench_hatch_and_order(c: &mut Criterion) {
+    let pts = flower(2000);
+    let region = Region::from_contours(vec![pline_from_points(&pts, true)]);
+    c.bench_function("hatch_0.2mm_flower", |b| {
+        b.iter(|| black_box(hatch(&region, 0.5, 0.2, true, 1e-3)))
+    });
+    let squares: Vec<Path> = (0..400)
+        .map(|i| {
+            let c = DVec2::new((i * 37 % 200) as f64, (i * 91 % 200) as f64);
+            skinpath::toolpath::ops::polyline_path(
+                &[
+                    c,
+                    c + DVec2::new(3.0, 0.0),
+                    c + DVec2::new(3.0, 3.0),
+                    c + DVec2::new(0.0, 3.0),
+                ],
+                true,
+            )
+        })
+        .collect();
+    c.bench_function("order_400_contours", |b| {
+        b.iter(|| black_box(order_paths(&squares, DVec2::ZERO, 1e-3)))
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10);
+    targets = bench_offsets, bench_hatch_and_order
+}
+criterion_main!(benches);
