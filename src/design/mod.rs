@@ -1,1 +1,95 @@
 //! The design file model (format v1, TOML or JSON), its validation, and import.
+//!
+//! The library never reads files: [`load`] takes the text and the file name (whose
+//! extension, `.toml` or `.json`, picks the format; [`from_str`] takes the format
+//! explicitly). Parsing uses serde with unknown keys rejected; TOML and JSON errors carry
+//! line:column. The version is checked before anything else.
+//!
+//! # Format v1
+//!
+//! ```toml
+//! version = 1                 # required; other versions are rejected
+//! units = "mm"                # or "inch"; default "mm"
+//!
+//! [outline]                   # optional
+//! method = "skin"             # "skin" | "envelope" | "re" | "mph"
+//! tolerance = 0.05            # > 0, design units
+//!
+//! [[stroke]]
+//! name = "s1"                 # unique among strokes and circle sequences
+//! degree = 3                  # default 3
+//! closed = false              # default false
+//! disks = [[0.0, 0.0, 2.0], [10.0, 5.0, 3.0], [20.0, 0.0, 2.0], [30.0, 4.0, 1.5]]  # [x, y, r]
+//! knots = [0, 0, 0, 0, 1, 1, 1, 1]   # optional
+//!
+//! [stroke.attributes]         # optional; one value per control disk (wu-2021 eq. 18)
+//! power = [20.0, 60.0, 60.0, 20.0]   # percent, 0..=100
+//! depth = [1.0, 2.0, 2.0, 1.0]       # >= 0
+//! feed = [800.0, 600.0, 600.0, 800.0]  # > 0, units per minute
+//!
+//! [[stroke]]                  # a stroke fitted to data points instead of control disks
+//! name = "s2"
+//! points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0], [15.0, 2.0, 1.2]]
+//! fit = "interpolate"         # or "approximate"; default "interpolate"
+//! parametrization = "chord"   # or "centripetal"; default "chord" (wu-2021 eq. 16)
+//! # control_disks = 4         # required for (and only for) fit = "approximate"
+//!
+//! [[circles]]                 # a circle sequence skinned directly
+//! name = "c1"
+//! closed = false
+//! circles = [[0.0, 0.0, 2.0], [6.0, 1.0, 2.5], [12.0, 0.0, 2.0]]
+//!
+//! [[operation]]               # toolpath operations: plain data for the toolpath stage
+//! kind = "channel"            # profile | channel | backboard | holes | fill | vcarve
+//! strokes = ["s1"]            # default: all strokes and circle sequences
+//! width = 6.0
+//! depth = 8.0
+//! ```
+//!
+//! Knots. An open stroke's `knots` is the full knot vector: disks + degree + 1 values,
+//! finite, non-decreasing, no value more than degree + 1 times, non-empty domain
+//! [u_p, u_n]. Without `knots` it is clamped uniform on [0, 1]. A closed stroke's `knots`
+//! lists the n + 1 strictly increasing breakpoints u_0 < … < u_n of one period (n = number of
+//! disks; the period is u_n − u_0 and the knot spacing repeats around the wrap), exactly what
+//! [`DiskBSpline::closed`](crate::dbsc::DiskBSpline::closed) takes; without `knots` the
+//! breakpoints are uniform on [0, 1].
+//!
+//! Counts. A stroke of degree p needs at least p + 1 disks (or points); an open circle
+//! sequence at least 2 circles, a closed one 3. An approximation needs
+//! p + 1 ≤ `control_disks` ≤ points. Attribute channels have one value per control disk:
+//! `disks.len()`, `points.len()` for an interpolation (one control disk per point), or
+//! `control_disks` for an approximation.
+//!
+//! Values. All numbers finite, radii > 0, no disk, point or circle equal to the one before it
+//! (for closed lists also the last to the first).
+//!
+//! Operations. Common keys: `strokes`, `passes` (≥ 1), `step_down`, `depth`, `feed` (> 0),
+//! `power` (percent), `tabs = { count, width, height }`, `lead_in` (≥ 0). Per kind:
+//! profile `side` = "on" | "outside" | "inside"; channel `width` (required); backboard
+//! `margin`, `min_inner_radius`; holes `diameter` (required), `at` = "ends" | "start" |
+//! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),
+//! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
+//! required), `max_depth`. A per-kind key on another kind is an error, and so is a name in
+//! `strokes` that no stroke or circle sequence has.
+//!
+//! Errors ([`DesignError`]) read `file: stroke 1 "s2", disk 3: radius -1 must be positive`,
+//! or `file:12:5: unknown field ...` for syntax errors; indices are 0-based.
+
+mod build;
+mod error;
+mod load;
+mod model;
+mod validate;
+
+pub use build::attribute_curve;
+pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
+pub use load::{Format, from_str, line_col, load};
+pub use model::{
+    Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, Operation,
+    OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
+    VERSION,
+};
+pub use validate::validate;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,93 @@
+//! From the validated model to geometry: disk B-spline curves, circle sequences and
+//! attribute curves (wu-2021 eq. 18).
+
+use super::error::{DesignError, ErrorKind, Item};
+use super::model::{CircleSeq, Design, Stroke};
+use crate::dbsc::DiskBSpline;
+use crate::geom::Circle;
+use crate::spline::{BSpline, SplineError};
+
+fn circles(list: &[[f64; 3]]) -> Vec<Circle> {
+    list.iter().map(|&v| Circle::from_xyr(v)).collect()
+}
+
+impl Stroke {
+    /// The stroke's disk B-spline curve. `file` and `index` name the stroke in errors.
+    ///
+    /// `disks` strokes: [`DiskBSpline::open`] on `knots` (default clamped uniform on [0, 1])
+    /// or [`DiskBSpline::closed`] on the period's breakpoints `knots` (default uniform).
+    pub fn to_dbsc(&self, file: &str, index: usize) -> Result<DiskBSpline, DesignError> {
+        let item = || Item::Stroke {
+            index,
+            name: self.name.clone(),
+        };
+        let build = |m: String| DesignError::at(file, item(), None, ErrorKind::Build(m));
+        match (&self.disks, &self.points) {
+            (Some(d), None) => {
+                let disks = circles(d);
+                let curve = if self.closed {
+                    DiskBSpline::closed(self.degree, &disks, self.knots.as_deref())
+                } else {
+                    DiskBSpline::open(self.degree, &disks, self.knots.clone())
+                };
+                curve.map_err(|e| build(e.to_string()))
+            }
+            (None, Some(_)) => Err(build(
+                "fitting `points` is not available in this build".to_string(),
+            )),
+            _ => Err(build("needs either `disks` or `points`".to_string())),
+        }
+    }
+}
+
+impl CircleSeq {
+    /// The circles in order.
+    pub fn to_circles(&self) -> Vec<Circle> {
+        circles(&self.circles)
+    }
+}
+
+impl Design {
+    /// Every `[[stroke]]` as a disk B-spline curve, in file order.
+    pub fn strokes(&self) -> Result<Vec<DiskBSpline>, DesignError> {
+        self.stroke
+            .iter()
+            .enumerate()
+            .map(|(i, s)| s.to_dbsc(&self.file, i))
+            .collect()
+    }
+
+    /// Every `[[circles]]` sequence as circles, in file order.
+    pub fn circle_sequences(&self) -> Vec<Vec<Circle>> {
+        self.circles.iter().map(CircleSeq::to_circles).collect()
+    }
+
+    /// The index of the stroke or circle sequence called `name`.
+    pub fn find(&self, name: &str) -> Option<Item> {
+        if let Some(index) = self.stroke.iter().position(|s| s.name == name) {
+            return Some(Item::Stroke {
+                index,
+                name: name.to_string(),
+            });
+        }
+        self.circles
+            .iter()
+            .position(|c| c.name == name)
+            .map(|index| Item::Circles {
+                index,
+                name: name.to_string(),
+            })
+    }
+}
+
+/// An attribute channel as a scalar B-spline on the knots of `curve`:
+/// a(t) = Σ N_{i,p}(t) A_i (wu-2021 eq. 18, with the attribute constant over each control
+/// disk), `values` holding one A_i per control disk. Closed curves give a periodic channel.
+pub fn attribute_curve(curve: &DiskBSpline, values: &[f64]) -> Result<BSpline<f64>, SplineError> {
+    let c = curve.curve();
+    if curve.is_closed() {
+        BSpline::closed_with_breaks(c.degree(), values.to_vec(), &c.breakpoints())
+    } else {
+        BSpline::new(c.degree(), c.knots().to_vec(), values.to_vec())
+    }
+}

@@ -1,0 +1,211 @@
+//! Errors of design loading and validation: each names the file, the item (stroke, circle
+//! sequence, operation) and the part (disk, knot, point, attribute value) at fault.
+
+use std::fmt;
+
+/// The top-level item of a design an error is about.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Item {
+    /// `[[stroke]]` number `index` (0-based) with its `name`.
+    Stroke { index: usize, name: String },
+    /// `[[circles]]` number `index` (0-based) with its `name`.
+    Circles { index: usize, name: String },
+    /// `[[operation]]` number `index` (0-based) with its `kind`.
+    Operation { index: usize, kind: String },
+    /// The `[outline]` table.
+    Outline,
+}
+
+impl fmt::Display for Item {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Item::Stroke { index, name } => write!(f, "stroke {index} \"{name}\""),
+            Item::Circles { index, name } => write!(f, "circles {index} \"{name}\""),
+            Item::Operation { index, kind } => write!(f, "operation {index} ({kind})"),
+            Item::Outline => write!(f, "outline"),
+        }
+    }
+}
+
+/// The part of an item an error is about.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Part {
+    /// Control disk `i` of a stroke's `disks`.
+    Disk(usize),
+    /// Data point `i` of a stroke's `points`.
+    Point(usize),
+    /// Circle `i` of a circle sequence.
+    Circle(usize),
+    /// Knot `i` of a stroke's `knots`.
+    Knot(usize),
+    /// Value `index` of attribute channel `channel`.
+    Attribute { channel: String, index: usize },
+    /// A key of the item.
+    Key(String),
+}
+
+impl fmt::Display for Part {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Part::Disk(i) => write!(f, "disk {i}"),
+            Part::Point(i) => write!(f, "point {i}"),
+            Part::Circle(i) => write!(f, "circle {i}"),
+            Part::Knot(i) => write!(f, "knot {i}"),
+            Part::Attribute { channel, index } => write!(f, "attribute {channel} value {index}"),
+            Part::Key(k) => write!(f, "key `{k}`"),
+        }
+    }
+}
+
+/// What went wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ErrorKind {
+    /// Syntax error, wrong type or unknown key, at a 1-based line and column when known.
+    Parse {
+        line: Option<usize>,
+        column: Option<usize>,
+        message: String,
+    },
+    /// The file name has no `.toml` or `.json` extension.
+    UnknownFormat,
+    /// No top-level `version` key.
+    MissingVersion,
+    /// A `version` other than 1.
+    Version(String),
+    /// A number that is NaN or infinite.
+    NotFinite,
+    /// A radius that is not positive.
+    Radius(f64),
+    /// A disk or circle equal to the one before it.
+    Repeated,
+    /// Fewer disks/points/circles than the curve needs.
+    TooFew {
+        what: &'static str,
+        need: usize,
+        got: usize,
+    },
+    /// A knot vector of the wrong length.
+    KnotCount { got: usize, expected: usize },
+    /// A knot smaller than the one before it (or, for closed breakpoints, not larger).
+    KnotDecreasing { prev: f64, next: f64 },
+    /// Any other knot-vector problem (multiplicity, empty domain).
+    Knots(String),
+    /// An attribute channel with one value per control disk expected.
+    AttributeCount { got: usize, expected: usize },
+    /// Two items with the same name.
+    DuplicateName { first: String },
+    /// An operation names a stroke that does not exist.
+    UnknownStroke(String),
+    /// A value outside its allowed range, or keys that do not go together.
+    Invalid(String),
+    /// Building the curve failed (disk B-spline construction or fitting).
+    Build(String),
+    /// Serialising the design failed.
+    Serialize(String),
+}
+
+impl fmt::Display for ErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ErrorKind::Parse { message, .. } => write!(f, "{message}"),
+            ErrorKind::UnknownFormat => {
+                write!(f, "unknown design format: expected a .toml or .json file")
+            }
+            ErrorKind::MissingVersion => write!(f, "missing `version = 1`"),
+            ErrorKind::Version(v) => write!(
+                f,
+                "unsupported design file version {v}: this skinpath reads version 1"
+            ),
+            ErrorKind::NotFinite => write!(f, "number is not finite"),
+            ErrorKind::Radius(r) => write!(f, "radius {r} must be positive"),
+            ErrorKind::Repeated => write!(f, "repeats the one before it"),
+            ErrorKind::TooFew { what, need, got } => {
+                write!(f, "needs at least {need} {what}, got {got}")
+            }
+            ErrorKind::KnotCount { got, expected } => {
+                write!(f, "knot vector has {got} knots, expected {expected}")
+            }
+            ErrorKind::KnotDecreasing { prev, next } => {
+                write!(f, "knot {next} does not follow {prev} in order")
+            }
+            ErrorKind::Knots(m) => write!(f, "{m}"),
+            ErrorKind::AttributeCount { got, expected } => write!(
+                f,
+                "has {got} values, expected {expected} (one per control disk)"
+            ),
+            ErrorKind::DuplicateName { first } => {
+                write!(f, "name already used by {first}")
+            }
+            ErrorKind::UnknownStroke(n) => write!(f, "names unknown stroke \"{n}\""),
+            ErrorKind::Invalid(m) => write!(f, "{m}"),
+            ErrorKind::Build(m) => write!(f, "{m}"),
+            ErrorKind::Serialize(m) => write!(f, "cannot write design: {m}"),
+        }
+    }
+}
+
+/// Where and what: the content of a [`DesignError`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ErrorInfo {
+    /// The file name given to the loader.
+    pub file: String,
+    pub item: Option<Item>,
+    pub part: Option<Part>,
+    pub kind: ErrorKind,
+}
+
+/// An error of a design file: `file: item, part: what` (boxed to keep `Result`s small;
+/// the fields of [`ErrorInfo`] are reachable through `Deref`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub struct DesignError(pub Box<ErrorInfo>);
+
+impl std::ops::Deref for DesignError {
+    type Target = ErrorInfo;
+    fn deref(&self) -> &ErrorInfo {
+        &self.0
+    }
+}
+
+impl DesignError {
+    /// An error about the whole file.
+    pub fn file(file: &str, kind: ErrorKind) -> Self {
+        DesignError(Box::new(ErrorInfo {
+            file: file.to_string(),
+            item: None,
+            part: None,
+            kind,
+        }))
+    }
+
+    /// An error about one item (and optionally one of its parts).
+    pub fn at(file: &str, item: Item, part: Option<Part>, kind: ErrorKind) -> Self {
+        DesignError(Box::new(ErrorInfo {
+            file: file.to_string(),
+            item: Some(item),
+            part,
+            kind,
+        }))
+    }
+}
+
+impl fmt::Display for DesignError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let ErrorKind::Parse {
+            line: Some(l),
+            column: Some(c),
+            ..
+        } = &self.kind
+        {
+            write!(f, ":{l}:{c}")?;
+        }
+        write!(f, ": ")?;
+        match (&self.item, &self.part) {
+            (Some(i), Some(p)) => write!(f, "{i}, {p}: ")?,
+            (Some(i), None) => write!(f, "{i}: ")?,
+            (None, Some(p)) => write!(f, "{p}: ")?,
+            (None, None) => {}
+        }
+        write!(f, "{}", self.kind)
+    }
+}

@@ -1,0 +1,397 @@
+//! The serde model of a design file (format v1). Field names are the file's keys; see the
+//! module docs of [`crate::design`] for the format.
+
+use serde::{Deserialize, Serialize};
+
+/// The only design format version this crate reads and writes.
+pub const VERSION: u32 = 1;
+
+/// Default degree of a stroke's B-splines.
+pub const DEFAULT_DEGREE: usize = 3;
+
+fn default_degree() -> usize {
+    DEFAULT_DEGREE
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+/// A whole design: strokes, circle sequences, operations and outline settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Design {
+    /// Format version; always [`VERSION`].
+    pub version: u32,
+    /// Length unit of every coordinate, radius and length parameter.
+    #[serde(default)]
+    pub units: Units,
+    /// How outlines are computed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outline: Option<Outline>,
+    /// The `[[stroke]]` tables: disk B-spline strokes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stroke: Vec<Stroke>,
+    /// The `[[circles]]` tables: circle sequences skinned directly.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub circles: Vec<CircleSeq>,
+    /// The `[[operation]]` tables: toolpath operations (plain data for the toolpath stage).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operation: Vec<Operation>,
+    /// The file name the design was loaded from (not part of the file).
+    #[serde(skip)]
+    pub file: String,
+}
+
+/// Length unit of a design.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Units {
+    #[default]
+    Mm,
+    Inch,
+}
+
+impl Units {
+    /// Millimetres per unit.
+    pub fn mm_per_unit(self) -> f64 {
+        match self {
+            Units::Mm => 1.0,
+            Units::Inch => 25.4,
+        }
+    }
+}
+
+/// `[outline]`: the outline method and its tolerance.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Outline {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<OutlineMethod>,
+    /// Approximation tolerance in design units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+}
+
+/// How a stroke's outline is computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OutlineMethod {
+    /// DBSC skinning (kruppa-2023).
+    #[default]
+    Skin,
+    /// The raw envelope (wu-2021 eq. 9), loops and all.
+    Envelope,
+    /// Rational-envelope skins (re-skinning-cnc).
+    Re,
+    /// Minkowski-Pythagorean-hodograph skins (re-mph-skinning-flexible).
+    Mph,
+}
+
+/// A `[[stroke]]`: either control disks (`disks`, optional `knots`) or data `points` to fit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stroke {
+    pub name: String,
+    #[serde(default = "default_degree")]
+    pub degree: usize,
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub closed: bool,
+    /// Control disks `[x, y, r]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub disks: Option<Vec<[f64; 3]>>,
+    /// Open: the full knot vector (disks + degree + 1 knots). Closed: the disks + 1
+    /// breakpoints of one period.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub knots: Option<Vec<f64>>,
+    /// Data points `[x, y, r]` the stroke interpolates or approximates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub points: Option<Vec<[f64; 3]>>,
+    /// How `points` are fitted (default: interpolate).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<Fit>,
+    /// Parameters of the `points` (default: chord length).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parametrization: Option<Parametrization>,
+    /// Number of control disks of an approximation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_disks: Option<usize>,
+    /// Values on the control disks, blended like the radius (wu-2021 eq. 18).
+    #[serde(default, skip_serializing_if = "Attributes::is_empty")]
+    pub attributes: Attributes,
+}
+
+impl Stroke {
+    /// A stroke with control disks and default settings (degree 3, open, uniform knots).
+    pub fn from_disks(name: &str, disks: Vec<[f64; 3]>) -> Self {
+        Stroke {
+            name: name.to_string(),
+            degree: DEFAULT_DEGREE,
+            closed: false,
+            disks: Some(disks),
+            knots: None,
+            points: None,
+            fit: None,
+            parametrization: None,
+            control_disks: None,
+            attributes: Attributes::default(),
+        }
+    }
+
+    /// The number of control disks the stroke's curve has: `disks.len()`, `points.len()`
+    /// for an interpolation, `control_disks` for an approximation. Attribute channels
+    /// have this many values.
+    pub fn control_disk_count(&self) -> usize {
+        match (&self.disks, &self.points) {
+            (Some(d), _) => d.len(),
+            (None, Some(p)) => match self.fit.unwrap_or_default() {
+                Fit::Interpolate => p.len(),
+                Fit::Approximate => self.control_disks.unwrap_or(0),
+            },
+            (None, None) => 0,
+        }
+    }
+}
+
+/// How data points become a stroke.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Fit {
+    /// The centre passes through every point, the radius takes every point's radius.
+    #[default]
+    Interpolate,
+    /// Least squares with `control_disks` control disks.
+    Approximate,
+}
+
+/// Parameter values of data points.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Parametrization {
+    /// Cumulative chord length (wu-2021 eq. 16).
+    #[default]
+    Chord,
+    /// Cumulative square root of chord length.
+    Centripetal,
+}
+
+/// `[stroke.attributes]`: one value per control disk for each channel.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Attributes {
+    /// Laser power in percent of the machine's maximum (0–100).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub power: Option<Vec<f64>>,
+    /// Cut depth (positive, design units).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<Vec<f64>>,
+    /// Feed rate (design units per minute, positive).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feed: Option<Vec<f64>>,
+}
+
+impl Attributes {
+    pub fn is_empty(&self) -> bool {
+        self.power.is_none() && self.depth.is_none() && self.feed.is_none()
+    }
+
+    /// The channels present, by name.
+    pub fn channels(&self) -> Vec<(&'static str, &[f64])> {
+        let mut out = Vec::new();
+        for (name, v) in [
+            ("power", &self.power),
+            ("depth", &self.depth),
+            ("feed", &self.feed),
+        ] {
+            if let Some(v) = v {
+                out.push((name, v.as_slice()));
+            }
+        }
+        out
+    }
+}
+
+/// A `[[circles]]` table: a circle sequence to skin directly.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CircleSeq {
+    pub name: String,
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub closed: bool,
+    /// Circles `[x, y, r]` in order.
+    pub circles: Vec<[f64; 3]>,
+}
+
+/// The kind of an `[[operation]]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OperationKind {
+    /// Cut on, outside or inside the outline.
+    Profile,
+    /// A neon channel along the spine.
+    Channel,
+    /// One contour around all outlines at a margin.
+    Backboard,
+    /// Holes at stroke ends.
+    Holes,
+    /// Hatch or concentric fill inside the outline.
+    Fill,
+    /// V-bit carving along the spine, depth from the radius.
+    Vcarve,
+}
+
+impl OperationKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            OperationKind::Profile => "profile",
+            OperationKind::Channel => "channel",
+            OperationKind::Backboard => "backboard",
+            OperationKind::Holes => "holes",
+            OperationKind::Fill => "fill",
+            OperationKind::Vcarve => "vcarve",
+        }
+    }
+}
+
+/// Where a profile cut runs relative to the outline.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ProfileSide {
+    #[default]
+    On,
+    Outside,
+    Inside,
+}
+
+/// Where holes go.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum HoleAt {
+    /// Both ends of every open stroke.
+    #[default]
+    Ends,
+    /// The start of every open stroke.
+    Start,
+    /// The end of every open stroke.
+    End,
+}
+
+/// Fill pattern.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FillPattern {
+    #[default]
+    Hatch,
+    Concentric,
+}
+
+/// Holding tabs left on a through cut.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tabs {
+    /// Tabs per contour.
+    pub count: u32,
+    /// Tab length along the contour.
+    pub width: f64,
+    /// Tab height above the cut's bottom.
+    pub height: f64,
+}
+
+/// An `[[operation]]`: plain data, consumed by the toolpath stage. Which keys apply to which
+/// kind is checked by validation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Operation {
+    pub kind: OperationKind,
+    /// The strokes and circle sequences it applies to, by name (default: all).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strokes: Option<Vec<String>>,
+    // Common to all kinds.
+    /// Number of passes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passes: Option<u32>,
+    /// Depth per pass.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step_down: Option<f64>,
+    /// Total depth (positive, downwards).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<f64>,
+    /// Feed rate, design units per minute.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feed: Option<f64>,
+    /// Laser power in percent (0–100).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub power: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tabs: Option<Tabs>,
+    /// Lead-in length.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lead_in: Option<f64>,
+    // profile
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side: Option<ProfileSide>,
+    // channel
+    /// Channel width.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<f64>,
+    // backboard
+    /// Distance of the backboard contour from the outlines.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
+    /// Smallest concave corner radius of the backboard contour.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_inner_radius: Option<f64>,
+    // holes
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub diameter: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<HoleAt>,
+    // fill
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pattern: Option<FillPattern>,
+    /// fill: hatch angle in degrees from +x; vcarve: the V-bit's included angle in degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle: Option<f64>,
+    /// Distance between hatch lines or concentric rings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
+    /// A second hatch at angle + 90°.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cross_hatch: Option<bool>,
+    /// Alternate the direction of consecutive hatch lines.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alternate: Option<bool>,
+    // vcarve
+    /// Depth cap of a V-carve (flat bottom beyond it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_depth: Option<f64>,
+}
+
+impl Operation {
+    /// An operation of `kind` with every parameter unset.
+    pub fn new(kind: OperationKind) -> Self {
+        Operation {
+            kind,
+            strokes: None,
+            passes: None,
+            step_down: None,
+            depth: None,
+            feed: None,
+            power: None,
+            tabs: None,
+            lead_in: None,
+            side: None,
+            width: None,
+            margin: None,
+            min_inner_radius: None,
+            diameter: None,
+            at: None,
+            pattern: None,
+            angle: None,
+            spacing: None,
+            cross_hatch: None,
+            alternate: None,
+            max_depth: None,
+        }
+    }
+}

@@ -1,0 +1,621 @@
+//! Tests of the design format: every validation error names its culprit, TOML and JSON round
+//! trips, geometry built from designs, and the example designs.
+
+use super::*;
+use crate::dbsc::{DiskBSpline, Side};
+use crate::geom::{Circle, DVec2};
+
+const FILE: &str = "sign.toml";
+
+/// A valid design with two strokes (the second is the one tests break), circles and an
+/// operation. `{S2}` is replaced by the body of stroke "b".
+const TEMPLATE: &str = r#"version = 1
+units = "mm"
+
+[[stroke]]
+name = "a"
+disks = [[0.0, 0.0, 2.0], [10.0, 5.0, 3.0], [20.0, 0.0, 2.0], [30.0, 4.0, 1.5]]
+
+[[stroke]]
+name = "b"
+{S2}
+
+[[circles]]
+name = "c"
+circles = [[0.0, 20.0, 2.0], [6.0, 21.0, 2.5], [12.0, 20.0, 2.0]]
+"#;
+
+const GOOD_B: &str = "disks = [[0.0, 10.0, 2.0], [10.0, 15.0, 3.0], [20.0, 10.0, 2.0], \
+                      [30.0, 14.0, 1.5], [40.0, 10.0, 1.0]]";
+
+fn with_b(body: &str) -> String {
+    TEMPLATE.replace("{S2}", body)
+}
+
+fn err_of(text: &str) -> String {
+    match from_str(text, Format::Toml, FILE) {
+        Ok(_) => panic!("expected an error for:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// The message names the file, stroke 1 "b" and the given part.
+fn assert_names(msg: &str, part: &str, what: &str) {
+    assert!(msg.starts_with(FILE), "{msg}");
+    assert!(msg.contains("stroke 1 \"b\""), "{msg}");
+    assert!(msg.contains(part), "missing `{part}` in: {msg}");
+    assert!(msg.contains(what), "missing `{what}` in: {msg}");
+}
+
+#[test]
+fn template_is_valid() {
+    let d = from_str(&with_b(GOOD_B), Format::Toml, FILE).unwrap();
+    assert_eq!(d.stroke.len(), 2);
+    assert_eq!(d.stroke[1].degree, DEFAULT_DEGREE);
+    assert_eq!(d.file, FILE);
+    assert_eq!(d.strokes().unwrap().len(), 2);
+    assert_eq!(d.circle_sequences()[0].len(), 3);
+}
+
+#[test]
+fn non_finite_disk() {
+    let b = GOOD_B.replace("[20.0, 10.0, 2.0]", "[20.0, nan, 2.0]");
+    assert_names(&err_of(&with_b(&b)), "disk 2", "not finite");
+    let b = GOOD_B.replace("[30.0, 14.0, 1.5]", "[30.0, 14.0, inf]");
+    assert_names(&err_of(&with_b(&b)), "disk 3", "not finite");
+}
+
+#[test]
+fn non_positive_radius() {
+    let b = GOOD_B.replace("[10.0, 15.0, 3.0]", "[10.0, 15.0, 0.0]");
+    assert_names(&err_of(&with_b(&b)), "disk 1", "radius 0 must be positive");
+    let b = GOOD_B.replace("[40.0, 10.0, 1.0]", "[40.0, 10.0, -1.5]");
+    assert_names(&err_of(&with_b(&b)), "disk 4", "radius -1.5");
+}
+
+#[test]
+fn too_few_disks_for_degree() {
+    let msg = err_of(&with_b(&format!("degree = 5\n{GOOD_B}")));
+    assert_names(&msg, "stroke 1", "needs at least 6 disks, got 5");
+    // Closed strokes need degree + 1 disks too.
+    let b = "closed = true\ndisks = [[0.0, 0.0, 1.0], [10.0, 0.0, 1.0], [5.0, 8.0, 1.0]]";
+    assert_names(
+        &err_of(&with_b(b)),
+        "stroke 1",
+        "needs at least 4 disks, got 3",
+    );
+    let msg = err_of(&with_b("degree = 0\ndisks = [[0.0, 0.0, 1.0]]"));
+    assert_names(&msg, "key `degree`", "at least 1");
+}
+
+#[test]
+fn knot_vector_wrong_length() {
+    // 5 disks, degree 3: 9 knots expected.
+    let b = format!("{GOOD_B}\nknots = [0, 0, 0, 0, 1, 1, 1, 1]");
+    assert_names(&err_of(&with_b(&b)), "key `knots`", "8 knots, expected 9");
+    let b = format!("{GOOD_B}\nclosed = true\nknots = [0, 1, 2, 3, 4]");
+    assert_names(&err_of(&with_b(&b)), "key `knots`", "5 knots, expected 6");
+}
+
+#[test]
+fn knot_vector_decreasing() {
+    let b = format!("{GOOD_B}\nknots = [0, 0, 0, 0, 0.6, 0.4, 1, 1, 1]");
+    assert_names(&err_of(&with_b(&b)), "knot 5", "0.4 does not follow 0.6");
+    // Closed breakpoints must increase strictly.
+    let b = format!("{GOOD_B}\nclosed = true\nknots = [0, 1, 2, 2, 3, 4]");
+    assert_names(&err_of(&with_b(&b)), "knot 3", "2 does not follow 2");
+}
+
+#[test]
+fn knot_not_finite_or_too_multiple() {
+    let b = format!("{GOOD_B}\nknots = [0, 0, 0, 0, inf, 1, 1, 1, 1]");
+    assert_names(&err_of(&with_b(&b)), "knot 4", "not finite");
+    let b = format!("{GOOD_B}\nknots = [0, 0, 0, 0, 0, 1, 1, 1, 1]");
+    assert_names(&err_of(&with_b(&b)), "knot 0", "repeated 5 times");
+}
+
+#[test]
+fn repeated_consecutive_disks() {
+    let b = GOOD_B.replace("[20.0, 10.0, 2.0]", "[10.0, 15.0, 3.0]");
+    assert_names(&err_of(&with_b(&b)), "disk 2", "repeats the one before it");
+    // A closed list whose last disk repeats the first.
+    let b = "closed = true\ndegree = 2\ndisks = [[0.0, 0.0, 1.0], [10.0, 0.0, 1.0], \
+             [5.0, 8.0, 1.0], [0.0, 0.0, 1.0]]";
+    assert_names(&err_of(&with_b(b)), "disk 0", "repeats");
+}
+
+#[test]
+fn unknown_keys_with_line_and_column() {
+    // Line 10 of the template is the body of stroke "b".
+    let msg = err_of(&with_b(&format!("colour = \"red\"\n{GOOD_B}")));
+    assert!(msg.starts_with("sign.toml:10:1:"), "{msg}");
+    assert!(msg.contains("colour"), "{msg}");
+    let text = with_b(&format!(
+        "{GOOD_B}\n[stroke.attributes]\n  speed = [1, 2, 3, 4, 5]"
+    ));
+    let msg = err_of(&text);
+    assert!(msg.starts_with("sign.toml:12:3:"), "{msg}");
+    assert!(msg.contains("speed"), "{msg}");
+    let msg = err_of(&format!("frobnicate = 3\n{}", with_b(GOOD_B)));
+    assert!(msg.starts_with("sign.toml:1:1:"), "{msg}");
+    // A disk with two numbers: the error points into that array.
+    let b = GOOD_B.replace("[40.0, 10.0, 1.0]", "[40.0, 10.0]");
+    let msg = err_of(&with_b(&b));
+    assert!(msg.starts_with("sign.toml:10:"), "{msg}");
+}
+
+#[test]
+fn duplicate_names() {
+    let text = with_b(GOOD_B).replace("name = \"b\"", "name = \"a\"");
+    let msg = err_of(&text);
+    assert!(msg.starts_with(FILE), "{msg}");
+    assert!(msg.contains("stroke 1 \"a\""), "{msg}");
+    assert!(msg.contains("already used by stroke 0 \"a\""), "{msg}");
+    let text = with_b(GOOD_B).replace("name = \"c\"", "name = \"b\"");
+    let msg = err_of(&text);
+    assert!(msg.contains("circles 0 \"b\""), "{msg}");
+    assert!(msg.contains("already used by stroke 1 \"b\""), "{msg}");
+}
+
+#[test]
+fn attribute_counts_and_values() {
+    let b = format!("{GOOD_B}\n[stroke.attributes]\npower = [10, 20, 30, 40]");
+    assert_names(
+        &err_of(&with_b(&b)),
+        "attributes.power",
+        "has 4 values, expected 5",
+    );
+    let b = format!("{GOOD_B}\n[stroke.attributes]\nfeed = [100, 200, 0, 400, 500]");
+    assert_names(&err_of(&with_b(&b)), "attribute feed value 2", "positive");
+    let b = format!("{GOOD_B}\n[stroke.attributes]\npower = [10, 20, 30, 140, 50]");
+    assert_names(&err_of(&with_b(&b)), "attribute power value 3", "0..=100");
+    let b = format!("{GOOD_B}\n[stroke.attributes]\ndepth = [1, 1, nan, 1, 1]");
+    assert_names(
+        &err_of(&with_b(&b)),
+        "attribute depth value 2",
+        "not finite",
+    );
+    // Approximations count control disks, not points.
+    let b = "points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0], [15.0, 2.0, 1.2], \
+             [20.0, 0.0, 1.0]]\nfit = \"approximate\"\ncontrol_disks = 4\n\
+             [stroke.attributes]\ndepth = [1, 2, 2, 1, 1]";
+    assert_names(&err_of(&with_b(b)), "attributes.depth", "expected 4");
+}
+
+#[test]
+fn operation_unknown_stroke_and_keys() {
+    let op = "\n[[operation]]\nkind = \"channel\"\nwidth = 6.0\nstrokes = [\"a\", \"zz\"]\n";
+    let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+    assert!(msg.starts_with(FILE), "{msg}");
+    assert!(msg.contains("operation 0 (channel)"), "{msg}");
+    assert!(msg.contains("unknown stroke \"zz\""), "{msg}");
+    // Circle sequences can be named too.
+    let op = "\n[[operation]]\nkind = \"channel\"\nwidth = 6.0\nstrokes = [\"a\", \"c\"]\n";
+    assert!(from_str(&format!("{}{op}", with_b(GOOD_B)), Format::Toml, FILE).is_ok());
+    let op = "\n[[operation]]\nkind = \"holes\"\ndiameter = 3\n\
+              [[operation]]\nkind = \"profile\"\nwidth = 6.0\n";
+    let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+    assert!(msg.contains("operation 1 (profile), key `width`"), "{msg}");
+    let op = "\n[[operation]]\nkind = \"vcarve\"\nmax_depth = 3\n";
+    let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+    assert!(msg.contains("operation 0 (vcarve), key `angle`"), "{msg}");
+    let op = "\n[[operation]]\nkind = \"vcarve\"\nangle = 190\n";
+    let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+    assert!(msg.contains("key `angle`"), "{msg}");
+    let op = "\n[[operation]]\nkind = \"fill\"\nspacing = -0.2\n";
+    let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+    assert!(msg.contains("operation 0 (fill), key `spacing`"), "{msg}");
+    let op = "\n[[operation]]\nkind = \"backboard\"\nlaser = true\n";
+    let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+    assert!(msg.starts_with("sign.toml:18:1:"), "{msg}");
+    let op = "\n[[operation]]\nkind = \"profile\"\ntabs = { count = 0, width = 2, height = 1 }\n";
+    let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+    assert!(msg.contains("key `tabs`"), "{msg}");
+}
+
+#[test]
+fn versions() {
+    let text = with_b(GOOD_B).replace("version = 1", "version = 2");
+    let msg = err_of(&text);
+    assert_eq!(
+        msg,
+        "sign.toml: unsupported design file version 2: this skinpath reads version 1"
+    );
+    // Checked before unknown keys of a newer format.
+    let msg = err_of(&format!("{text}\n[future]\nx = 1\n"));
+    assert!(msg.contains("version 2"), "{msg}");
+    let msg = err_of(&with_b(GOOD_B).replace("version = 1", ""));
+    assert_eq!(msg, "sign.toml: missing `version = 1`");
+    let e = load(r#"{"version": "1"}"#, "x.json").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("x.json: unsupported design file version \"1\"")
+    );
+}
+
+#[test]
+fn circles_errors() {
+    let text = with_b(GOOD_B).replace("[6.0, 21.0, 2.5]", "[6.0, 21.0, -2.5]");
+    let msg = err_of(&text);
+    assert!(
+        msg.contains("sign.toml: circles 0 \"c\", circle 1: radius -2.5"),
+        "{msg}"
+    );
+    let text = with_b(GOOD_B).replace(
+        "circles = [[0.0, 20.0, 2.0], [6.0, 21.0, 2.5], [12.0, 20.0, 2.0]]",
+        "closed = true\ncircles = [[0.0, 20.0, 2.0], [6.0, 21.0, 2.5]]",
+    );
+    let msg = err_of(&text);
+    assert!(
+        msg.contains("circles 0 \"c\": needs at least 3 circles, got 2"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn points_stroke_errors() {
+    let pts = "points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0], [15.0, 2.0, 1.2]]";
+    assert_names(
+        &err_of(&with_b(&format!("{GOOD_B}\n{pts}"))),
+        "stroke 1",
+        "not both",
+    );
+    assert_names(&err_of(&with_b("degree = 2")), "stroke 1", "needs `disks`");
+    let b = format!("{pts}\nfit = \"approximate\"");
+    assert_names(&err_of(&with_b(&b)), "key `control_disks`", "needs");
+    let b = format!("{pts}\nfit = \"approximate\"\ncontrol_disks = 5");
+    assert_names(&err_of(&with_b(&b)), "key `control_disks`", "between");
+    let b = format!("{pts}\ncontrol_disks = 4");
+    assert_names(&err_of(&with_b(&b)), "key `control_disks`", "approximate");
+    let b = format!("{pts}\nknots = [0, 0, 0, 0, 1, 1, 1, 1]");
+    assert_names(&err_of(&with_b(&b)), "key `knots`", "a fit chooses");
+    let b = format!("{GOOD_B}\nparametrization = \"centripetal\"");
+    assert_names(&err_of(&with_b(&b)), "key `parametrization`", "points");
+    let b = pts.replace("[10.0, 0.0, 1.0]", "[5.0, 3.0, 1.5]");
+    assert_names(&err_of(&with_b(&b)), "point 2", "repeats");
+    let b = "points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0]]";
+    assert_names(&err_of(&with_b(b)), "stroke 1", "at least 4 points, got 3");
+}
+
+#[test]
+fn file_level_errors() {
+    let e = load("version = 1", "design.yaml").unwrap_err();
+    assert_eq!(e.kind, ErrorKind::UnknownFormat);
+    assert!(e.to_string().starts_with("design.yaml: "));
+    let e = load(
+        "{\n  \"version\": 1,\n  \"stroke\": [\n    {\"nam\": \"x\"}\n  ]\n}",
+        "d.json",
+    )
+    .unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.starts_with("d.json:4:"), "{msg}");
+    assert!(msg.contains("nam"), "{msg}");
+    let e = load("{\"version\": 1,", "d.json").unwrap_err();
+    assert!(e.to_string().starts_with("d.json:1:"), "{e}");
+    let text = format!("{}\n[outline]\ntolerance = 0.0\n", with_b(GOOD_B));
+    assert!(err_of(&text).contains("sign.toml: outline, key `tolerance`"));
+    let text = format!("{}\n[outline]\nmethod = \"spline\"\n", with_b(GOOD_B));
+    assert!(err_of(&text).starts_with("sign.toml:17:10:"));
+}
+
+#[test]
+fn line_col_counts_characters() {
+    let text = "ab\ncdé\nxyz";
+    assert_eq!(line_col(text, 0), (1, 1));
+    assert_eq!(line_col(text, 2), (1, 3));
+    assert_eq!(line_col(text, 3), (2, 1));
+    // 'é' is two bytes; the 'x' after the newline is line 3 column 1.
+    let x = text.find('x').unwrap();
+    assert_eq!(line_col(text, x), (3, 1));
+    assert_eq!(line_col(text, x - 1), (2, 4));
+    assert_eq!(line_col(text, 10_000), (3, 4));
+}
+
+/// A design using every key of the format.
+fn full_design() -> Design {
+    let mut s1 = Stroke::from_disks(
+        "s1",
+        vec![
+            [0.0, 0.0, 2.0],
+            [10.0, 5.0, 3.0],
+            [20.0, 0.0, 2.0],
+            [30.0, 4.0, 1.5],
+        ],
+    );
+    s1.knots = Some(vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+    s1.attributes = Attributes {
+        power: Some(vec![10.0, 20.0, 30.0, 40.5]),
+        depth: Some(vec![1.0, 1.5, 2.0, 0.25]),
+        feed: Some(vec![500.0, 600.0, 700.0, 800.0]),
+    };
+    let mut s2 = Stroke::from_disks(
+        "ring",
+        vec![
+            [0.0, 0.0, 1.0],
+            [10.0, 0.1, 1.1],
+            [10.0, 10.0, 1.2],
+            [0.3, 10.0, 1.0 / 3.0],
+        ],
+    );
+    s2.closed = true;
+    s2.degree = 2;
+    s2.knots = Some(vec![0.0, 0.1, 0.5, 0.7, 1.0]);
+    let mut s3 = Stroke::from_disks("fit", vec![]);
+    s3.disks = None;
+    s3.points = Some(vec![
+        [0.0, 0.0, 1.0],
+        [5.0, 3.0, 1.5],
+        [10.0, 0.0, 1.0],
+        [15.0, 2.0, 1.2],
+        [20.0, 1.0, 0.8],
+    ]);
+    s3.fit = Some(Fit::Approximate);
+    s3.parametrization = Some(Parametrization::Centripetal);
+    s3.control_disks = Some(4);
+    let mut ops = Vec::new();
+    let mut p = Operation::new(OperationKind::Profile);
+    p.side = Some(ProfileSide::Outside);
+    p.passes = Some(3);
+    p.step_down = Some(1.0);
+    p.depth = Some(3.0);
+    p.feed = Some(900.0);
+    p.tabs = Some(Tabs {
+        count: 4,
+        width: 3.0,
+        height: 1.0,
+    });
+    p.lead_in = Some(2.0);
+    ops.push(p);
+    let mut c = Operation::new(OperationKind::Channel);
+    c.width = Some(6.0);
+    c.depth = Some(8.0);
+    c.strokes = Some(vec!["s1".into(), "c1".into()]);
+    ops.push(c);
+    let mut b = Operation::new(OperationKind::Backboard);
+    b.margin = Some(5.0);
+    b.min_inner_radius = Some(1.5);
+    ops.push(b);
+    let mut h = Operation::new(OperationKind::Holes);
+    h.diameter = Some(4.0);
+    h.at = Some(HoleAt::Ends);
+    ops.push(h);
+    let mut f = Operation::new(OperationKind::Fill);
+    f.pattern = Some(FillPattern::Hatch);
+    f.angle = Some(45.0);
+    f.spacing = Some(0.1);
+    f.cross_hatch = Some(true);
+    f.alternate = Some(false);
+    f.power = Some(35.0);
+    ops.push(f);
+    let mut v = Operation::new(OperationKind::Vcarve);
+    v.angle = Some(60.0);
+    v.max_depth = Some(4.0);
+    ops.push(v);
+    Design {
+        version: VERSION,
+        units: Units::Inch,
+        outline: Some(Outline {
+            method: Some(OutlineMethod::Mph),
+            tolerance: Some(0.01),
+        }),
+        stroke: vec![s1, s2, s3],
+        circles: vec![CircleSeq {
+            name: "c1".into(),
+            closed: true,
+            circles: vec![[0.0, 0.0, 2.0], [6.0, 1.0, 2.5], [12.0, 0.0, 2.0]],
+        }],
+        operation: ops,
+        file: "round.trip".into(),
+    }
+}
+
+#[test]
+fn toml_round_trip() {
+    let d = full_design();
+    validate(&d).unwrap();
+    let text = d.to_toml_string().unwrap();
+    let back = from_str(&text, Format::Toml, "round.trip").unwrap();
+    assert_eq!(back, d, "{text}");
+    // Twice: the text is a fixed point.
+    assert_eq!(back.to_toml_string().unwrap(), text);
+}
+
+#[test]
+fn json_round_trip() {
+    let d = full_design();
+    let text = d.to_json_string().unwrap();
+    let back = from_str(&text, Format::Json, "round.trip").unwrap();
+    assert_eq!(back, d, "{text}");
+    // Across formats: TOML → model → JSON → model.
+    let via = from_str(&d.to_toml_string().unwrap(), Format::Toml, "round.trip").unwrap();
+    let again = from_str(&via.to_json_string().unwrap(), Format::Json, "round.trip").unwrap();
+    assert_eq!(again, d);
+}
+
+#[test]
+fn defaults_are_filled_in() {
+    let d = from_str(
+        "version = 1\n[[stroke]]\nname = \"s\"\ndisks = [[0,0,1],[1,1,1],[2,0,1],[3,1,1]]\n",
+        Format::Toml,
+        FILE,
+    )
+    .unwrap();
+    assert_eq!(d.units, Units::Mm);
+    assert_eq!(d.stroke[0].degree, 3);
+    assert!(!d.stroke[0].closed);
+    assert!(d.operation.is_empty() && d.outline.is_none());
+    // Integers in the file are read as floats.
+    assert_eq!(d.stroke[0].disks.as_ref().unwrap()[1], [1.0, 1.0, 1.0]);
+}
+
+fn disks(v: &[[f64; 3]]) -> Vec<Circle> {
+    v.iter().map(|&a| Circle::from_xyr(a)).collect()
+}
+
+#[test]
+fn strokes_match_direct_construction() {
+    let d = full_design();
+    let built = d.stroke[0].to_dbsc(FILE, 0).unwrap();
+    let direct = DiskBSpline::open(
+        3,
+        &disks(d.stroke[0].disks.as_ref().unwrap()),
+        d.stroke[0].knots.clone(),
+    )
+    .unwrap();
+    assert_eq!(built, direct);
+    // Clamped: the curve starts and ends on its end disks.
+    let c = built.circle_at(0.0);
+    assert!((c.c - DVec2::new(0.0, 0.0)).length() < 1e-12 && (c.r - 2.0).abs() < 1e-12);
+    let c = built.circle_at(1.0);
+    assert!((c.c - DVec2::new(30.0, 4.0)).length() < 1e-12 && (c.r - 1.5).abs() < 1e-12);
+}
+
+#[test]
+fn closed_breakpoints_are_affine_invariant() {
+    // Breakpoints [0, .1, .5, .7, 1] and their image under u ↦ 3u + 2 give the same curve
+    // at corresponding parameters, and the closed curve meets itself at the seam.
+    let d = full_design();
+    let mut s = d.stroke[1].clone();
+    let a = s.to_dbsc(FILE, 1).unwrap();
+    s.knots = Some(vec![2.0, 2.3, 3.5, 4.1, 5.0]);
+    let b = s.to_dbsc(FILE, 1).unwrap();
+    for i in 0..=40 {
+        let t = i as f64 / 40.0;
+        let (ca, cb) = (a.circle_at(t), b.circle_at(3.0 * t + 2.0));
+        assert!((ca.c - cb.c).length() < 1e-9 && (ca.r - cb.r).abs() < 1e-9);
+    }
+    let (c0, c1) = (a.circle_at(0.0), a.circle_at(1.0 - 1e-12));
+    assert!((c0.c - c1.c).length() < 1e-9);
+    assert_eq!(a.breakpoints(), vec![0.0, 0.1, 0.5, 0.7, 1.0]);
+}
+
+#[test]
+fn attribute_curve_blends_like_the_disks() {
+    // wu-2021 eq. 18: attributes blend with the same basis as the disks, so a channel
+    // holding each control disk's x (or r) reproduces q(t).x (or r(t)); constant values
+    // stay constant (partition of unity). Open, closed, uniform and explicit knots.
+    let d = full_design();
+    for (i, s) in d.stroke.iter().take(2).enumerate() {
+        let curve = s.to_dbsc(FILE, i).unwrap();
+        let ds = s.disks.as_ref().unwrap();
+        let xs: Vec<f64> = ds.iter().map(|v| v[0]).collect();
+        let rs: Vec<f64> = ds.iter().map(|v| v[2]).collect();
+        let ax = attribute_curve(&curve, &xs).unwrap();
+        let ar = attribute_curve(&curve, &rs).unwrap();
+        let ac = attribute_curve(&curve, &vec![7.5; ds.len()]).unwrap();
+        let (lo, hi) = curve.domain();
+        for k in 0..=50 {
+            let t = lo + (hi - lo) * k as f64 / 50.0;
+            assert!((ax.eval(t) - curve.center(t).x).abs() < 1e-12);
+            assert!((ar.eval(t) - curve.radius(t)).abs() < 1e-12);
+            assert!((ac.eval(t) - 7.5).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn find_names() {
+    let d = full_design();
+    assert_eq!(
+        d.find("ring"),
+        Some(Item::Stroke {
+            index: 1,
+            name: "ring".into()
+        })
+    );
+    assert_eq!(
+        d.find("c1"),
+        Some(Item::Circles {
+            index: 0,
+            name: "c1".into()
+        })
+    );
+    assert_eq!(d.find("nope"), None);
+}
+
+/// The example designs shipped in examples/.
+const EXAMPLES: &[(&str, &str)] = &[
+    ("brush.toml", include_str!("../../examples/brush.toml")),
+    ("ring_o.toml", include_str!("../../examples/ring_o.toml")),
+    ("loop.toml", include_str!("../../examples/loop.toml")),
+    (
+        "seahorse.toml",
+        include_str!("../../examples/seahorse.toml"),
+    ),
+    ("snake.toml", include_str!("../../examples/snake.toml")),
+    ("gclef.toml", include_str!("../../examples/gclef.toml")),
+    (
+        "neon_word.toml",
+        include_str!("../../examples/neon_word.toml"),
+    ),
+    (
+        "calligraphy.toml",
+        include_str!("../../examples/calligraphy.toml"),
+    ),
+    ("circles.toml", include_str!("../../examples/circles.toml")),
+];
+
+/// Samples per knot span when scanning an example's envelope.
+const SCAN_PER_SPAN: usize = 64;
+
+#[test]
+fn examples_load_and_have_sign_sizes() {
+    for (name, text) in EXAMPLES {
+        let d = load(text, name).unwrap_or_else(|e| panic!("{e}"));
+        let mut lo = DVec2::splat(f64::INFINITY);
+        let mut hi = DVec2::splat(f64::NEG_INFINITY);
+        let mut grow = |c: Circle| {
+            lo = lo.min(c.c - DVec2::splat(c.r));
+            hi = hi.max(c.c + DVec2::splat(c.r));
+        };
+        for curve in d.strokes().unwrap_or_else(|e| panic!("{e}")) {
+            let (a, b) = curve.domain();
+            for k in 0..=200 {
+                grow(curve.circle_at(a + (b - a) * k as f64 / 200.0));
+            }
+        }
+        for seq in d.circle_sequences() {
+            seq.into_iter().for_each(&mut grow);
+        }
+        let size = (hi - lo).max_element();
+        assert!((50.0..=300.0).contains(&size), "{name}: size {size} mm");
+    }
+}
+
+/// min over samples of τ±(t) / (‖q′‖²) on both sides, and whether the envelope exists.
+fn min_tau(curve: &DiskBSpline) -> (f64, bool) {
+    let bp = curve.breakpoints();
+    let mut worst = f64::INFINITY;
+    let mut exists = true;
+    for w in bp.windows(2) {
+        for k in 0..SCAN_PER_SPAN {
+            let t = w[0] + (w[1] - w[0]) * (k as f64 + 0.5) / SCAN_PER_SPAN as f64;
+            let q1 = curve.derivs(t, 1)[1].0.length_squared();
+            for side in [Side::Left, Side::Right] {
+                match curve.tau(side, t) {
+                    Some(tau) => worst = worst.min(tau / q1),
+                    None => exists = false,
+                }
+            }
+        }
+    }
+    (worst, exists)
+}
+
+#[test]
+fn examples_envelopes_are_loop_free_except_loop_toml() {
+    for (name, text) in EXAMPLES {
+        let d = load(text, name).unwrap();
+        let curves = d.strokes().unwrap();
+        let taus: Vec<(f64, bool)> = curves.iter().map(min_tau).collect();
+        for (i, &(tau, exists)) in taus.iter().enumerate() {
+            assert!(exists, "{name}: stroke {i} has no envelope somewhere");
+            if *name != "loop.toml" {
+                assert!(tau > 0.0, "{name}: stroke {i} envelope loops (tau {tau})");
+            }
+        }
+        if *name == "loop.toml" {
+            assert!(taus.iter().any(|&(t, _)| t < 0.0), "loop.toml has no loop");
+        }
+    }
+}

@@ -1,0 +1,525 @@
+//! Validation of a parsed design: every error names the file, the item and the index.
+
+use super::error::{DesignError, ErrorKind, Item, Part};
+use super::model::{Design, Fit, Operation, OperationKind, Stroke, VERSION};
+use crate::spline::SplineError;
+use std::collections::HashMap;
+
+type Result<T> = std::result::Result<T, DesignError>;
+
+/// Check everything the format promises beyond its syntax (see the module docs of
+/// [`crate::design`]). Returns the first error found, in file order.
+pub fn validate(d: &Design) -> Result<()> {
+    let file = d.file.as_str();
+    if d.version != VERSION {
+        return Err(DesignError::file(
+            file,
+            ErrorKind::Version(d.version.to_string()),
+        ));
+    }
+    if let Some(o) = &d.outline
+        && let Some(t) = o.tolerance
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(DesignError::at(
+            file,
+            Item::Outline,
+            Some(Part::Key("tolerance".into())),
+            ErrorKind::Invalid(format!("tolerance {t} must be positive")),
+        ));
+    }
+    let mut names: HashMap<&str, Item> = HashMap::new();
+    for (index, s) in d.stroke.iter().enumerate() {
+        let item = Item::Stroke {
+            index,
+            name: s.name.clone(),
+        };
+        check_name(file, &s.name, item.clone(), &mut names)?;
+        check_stroke(file, s, &item)?;
+    }
+    for (index, c) in d.circles.iter().enumerate() {
+        let item = Item::Circles {
+            index,
+            name: c.name.clone(),
+        };
+        check_name(file, &c.name, item.clone(), &mut names)?;
+        let need = if c.closed { 3 } else { 2 };
+        check_xyr_list(file, &item, &c.circles, Part::Circle, c.closed)?;
+        if c.circles.len() < need {
+            return Err(DesignError::at(
+                file,
+                item,
+                None,
+                ErrorKind::TooFew {
+                    what: "circles",
+                    need,
+                    got: c.circles.len(),
+                },
+            ));
+        }
+    }
+    for (index, op) in d.operation.iter().enumerate() {
+        let item = Item::Operation {
+            index,
+            kind: op.kind.as_str().to_string(),
+        };
+        check_operation(file, op, &item, &names)?;
+    }
+    Ok(())
+}
+
+fn check_name<'a>(
+    file: &str,
+    name: &'a str,
+    item: Item,
+    names: &mut HashMap<&'a str, Item>,
+) -> Result<()> {
+    if name.is_empty() {
+        return Err(DesignError::at(
+            file,
+            item,
+            Some(Part::Key("name".into())),
+            ErrorKind::Invalid("name must not be empty".into()),
+        ));
+    }
+    if let Some(first) = names.get(name) {
+        return Err(DesignError::at(
+            file,
+            item,
+            None,
+            ErrorKind::DuplicateName {
+                first: first.to_string(),
+            },
+        ));
+    }
+    names.insert(name, item);
+    Ok(())
+}
+
+/// Finite numbers, positive radii, no element equal to its predecessor (cyclically when
+/// `closed`).
+fn check_xyr_list(
+    file: &str,
+    item: &Item,
+    list: &[[f64; 3]],
+    part: fn(usize) -> Part,
+    closed: bool,
+) -> Result<()> {
+    let err = |i: usize, kind| Err(DesignError::at(file, item.clone(), Some(part(i)), kind));
+    for (i, v) in list.iter().enumerate() {
+        if !v.iter().all(|x| x.is_finite()) {
+            return err(i, ErrorKind::NotFinite);
+        }
+        if v[2] <= 0.0 {
+            return err(i, ErrorKind::Radius(v[2]));
+        }
+    }
+    for i in 1..list.len() {
+        if list[i] == list[i - 1] {
+            return err(i, ErrorKind::Repeated);
+        }
+    }
+    if closed && list.len() > 1 && list.first() == list.last() {
+        return err(0, ErrorKind::Repeated);
+    }
+    Ok(())
+}
+
+fn invalid(file: &str, item: &Item, key: &str, msg: String) -> DesignError {
+    DesignError::at(
+        file,
+        item.clone(),
+        Some(Part::Key(key.into())),
+        ErrorKind::Invalid(msg),
+    )
+}
+
+fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
+    if s.degree < 1 {
+        return Err(invalid(
+            file,
+            item,
+            "degree",
+            "degree must be at least 1".into(),
+        ));
+    }
+    let need = s.degree + 1;
+    match (&s.disks, &s.points) {
+        (Some(_), Some(_)) => {
+            return Err(DesignError::at(
+                file,
+                item.clone(),
+                None,
+                ErrorKind::Invalid("give either `disks` or `points`, not both".into()),
+            ));
+        }
+        (None, None) => {
+            return Err(DesignError::at(
+                file,
+                item.clone(),
+                None,
+                ErrorKind::Invalid("needs `disks` (control disks) or `points` to fit".into()),
+            ));
+        }
+        (Some(disks), None) => {
+            for key in ["fit", "parametrization", "control_disks"] {
+                let set = match key {
+                    "fit" => s.fit.is_some(),
+                    "parametrization" => s.parametrization.is_some(),
+                    _ => s.control_disks.is_some(),
+                };
+                if set {
+                    return Err(invalid(
+                        file,
+                        item,
+                        key,
+                        format!("`{key}` applies to `points` strokes only"),
+                    ));
+                }
+            }
+            check_xyr_list(file, item, disks, Part::Disk, s.closed)?;
+            if disks.len() < need {
+                return Err(DesignError::at(
+                    file,
+                    item.clone(),
+                    None,
+                    ErrorKind::TooFew {
+                        what: "disks",
+                        need,
+                        got: disks.len(),
+                    },
+                ));
+            }
+            if let Some(k) = &s.knots {
+                check_knots(file, item, k, s.degree, disks.len(), s.closed)?;
+            }
+        }
+        (None, Some(points)) => {
+            if s.knots.is_some() {
+                return Err(invalid(
+                    file,
+                    item,
+                    "knots",
+                    "`knots` applies to `disks` strokes; a fit chooses its own".into(),
+                ));
+            }
+            check_xyr_list(file, item, points, Part::Point, s.closed)?;
+            if points.len() < need {
+                return Err(DesignError::at(
+                    file,
+                    item.clone(),
+                    None,
+                    ErrorKind::TooFew {
+                        what: "points",
+                        need,
+                        got: points.len(),
+                    },
+                ));
+            }
+            match (s.fit.unwrap_or_default(), s.control_disks) {
+                (Fit::Interpolate, Some(_)) => {
+                    return Err(invalid(
+                        file,
+                        item,
+                        "control_disks",
+                        "`control_disks` applies to fit = \"approximate\" only".into(),
+                    ));
+                }
+                (Fit::Approximate, None) => {
+                    return Err(invalid(
+                        file,
+                        item,
+                        "control_disks",
+                        "fit = \"approximate\" needs `control_disks`".into(),
+                    ));
+                }
+                (Fit::Approximate, Some(n)) if n < need || n > points.len() => {
+                    return Err(invalid(
+                        file,
+                        item,
+                        "control_disks",
+                        format!(
+                            "control_disks = {n} must lie between degree + 1 = {need} and the \
+                             number of points {}",
+                            points.len()
+                        ),
+                    ));
+                }
+                _ => {}
+            }
+        }
+    }
+    let expected = s.control_disk_count();
+    for (channel, values) in s.attributes.channels() {
+        let at = |index: usize| Part::Attribute {
+            channel: channel.to_string(),
+            index,
+        };
+        if values.len() != expected {
+            return Err(DesignError::at(
+                file,
+                item.clone(),
+                Some(Part::Key(format!("attributes.{channel}"))),
+                ErrorKind::AttributeCount {
+                    got: values.len(),
+                    expected,
+                },
+            ));
+        }
+        for (i, &v) in values.iter().enumerate() {
+            let bad = if !v.is_finite() {
+                Some(ErrorKind::NotFinite)
+            } else {
+                match channel {
+                    "power" if !(0.0..=100.0).contains(&v) => Some(ErrorKind::Invalid(format!(
+                        "power {v} outside 0..=100 (percent)"
+                    ))),
+                    "depth" if v < 0.0 => Some(ErrorKind::Invalid(format!(
+                        "depth {v} must not be negative"
+                    ))),
+                    "feed" if v <= 0.0 => {
+                        Some(ErrorKind::Invalid(format!("feed {v} must be positive")))
+                    }
+                    _ => None,
+                }
+            };
+            if let Some(kind) = bad {
+                return Err(DesignError::at(file, item.clone(), Some(at(i)), kind));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Open strokes: the full knot vector (n + p + 1 knots, finite, non-decreasing, multiplicity
+/// at most p + 1, non-empty domain). Closed strokes: the n + 1 breakpoints of one period,
+/// finite and strictly increasing.
+fn check_knots(
+    file: &str,
+    item: &Item,
+    knots: &[f64],
+    degree: usize,
+    n: usize,
+    closed: bool,
+) -> Result<()> {
+    let at = |part: Option<Part>, kind| Err(DesignError::at(file, item.clone(), part, kind));
+    for (i, k) in knots.iter().enumerate() {
+        if !k.is_finite() {
+            return at(Some(Part::Knot(i)), ErrorKind::NotFinite);
+        }
+    }
+    if closed {
+        if knots.len() != n + 1 {
+            return at(
+                Some(Part::Key("knots".into())),
+                ErrorKind::KnotCount {
+                    got: knots.len(),
+                    expected: n + 1,
+                },
+            );
+        }
+        for i in 1..knots.len() {
+            if knots[i] <= knots[i - 1] {
+                return at(
+                    Some(Part::Knot(i)),
+                    ErrorKind::KnotDecreasing {
+                        prev: knots[i - 1],
+                        next: knots[i],
+                    },
+                );
+            }
+        }
+        return Ok(());
+    }
+    match crate::spline::knots::validate(knots, degree, n) {
+        Ok(()) => Ok(()),
+        Err(SplineError::KnotCount { got, expected }) => at(
+            Some(Part::Key("knots".into())),
+            ErrorKind::KnotCount { got, expected },
+        ),
+        Err(SplineError::KnotDecreasing { index, prev, next }) => at(
+            Some(Part::Knot(index)),
+            ErrorKind::KnotDecreasing { prev, next },
+        ),
+        Err(SplineError::KnotMultiplicity { value, mult, max }) => {
+            let first = knots.iter().position(|&k| k == value).unwrap_or(0);
+            at(
+                Some(Part::Knot(first)),
+                ErrorKind::Knots(format!(
+                    "knot {value} repeated {mult} times, more than degree + 1 = {max}"
+                )),
+            )
+        }
+        Err(e) => at(
+            Some(Part::Key("knots".into())),
+            ErrorKind::Knots(e.to_string()),
+        ),
+    }
+}
+
+/// Which operation kinds a per-kind key applies to.
+fn applies(key: &str) -> &'static [OperationKind] {
+    use OperationKind::*;
+    match key {
+        "side" => &[Profile],
+        "width" => &[Channel],
+        "margin" | "min_inner_radius" => &[Backboard],
+        "diameter" | "at" => &[Holes],
+        "pattern" | "spacing" | "cross_hatch" | "alternate" => &[Fill],
+        "angle" => &[Fill, Vcarve],
+        "max_depth" => &[Vcarve],
+        _ => &[Profile, Channel, Backboard, Holes, Fill, Vcarve],
+    }
+}
+
+fn check_operation(
+    file: &str,
+    op: &Operation,
+    item: &Item,
+    names: &HashMap<&str, Item>,
+) -> Result<()> {
+    let set = [
+        ("side", op.side.is_some()),
+        ("width", op.width.is_some()),
+        ("margin", op.margin.is_some()),
+        ("min_inner_radius", op.min_inner_radius.is_some()),
+        ("diameter", op.diameter.is_some()),
+        ("at", op.at.is_some()),
+        ("pattern", op.pattern.is_some()),
+        ("spacing", op.spacing.is_some()),
+        ("cross_hatch", op.cross_hatch.is_some()),
+        ("alternate", op.alternate.is_some()),
+        ("angle", op.angle.is_some()),
+        ("max_depth", op.max_depth.is_some()),
+    ];
+    for (key, present) in set {
+        if present && !applies(key).contains(&op.kind) {
+            return Err(invalid(
+                file,
+                item,
+                key,
+                format!("`{key}` does not apply to a {} operation", op.kind.as_str()),
+            ));
+        }
+    }
+    let required: &[(&str, bool)] = match op.kind {
+        OperationKind::Channel => &[("width", op.width.is_some())],
+        OperationKind::Holes => &[("diameter", op.diameter.is_some())],
+        OperationKind::Fill => &[("spacing", op.spacing.is_some())],
+        OperationKind::Vcarve => &[("angle", op.angle.is_some())],
+        _ => &[],
+    };
+    for &(key, present) in required {
+        if !present {
+            return Err(invalid(
+                file,
+                item,
+                key,
+                format!("a {} operation needs `{key}`", op.kind.as_str()),
+            ));
+        }
+    }
+    let positive = |key: &str, v: Option<f64>, allow_zero: bool| -> Result<()> {
+        match v {
+            Some(x) if !x.is_finite() => Err(DesignError::at(
+                file,
+                item.clone(),
+                Some(Part::Key(key.into())),
+                ErrorKind::NotFinite,
+            )),
+            Some(x) if x < 0.0 || (x == 0.0 && !allow_zero) => Err(invalid(
+                file,
+                item,
+                key,
+                format!(
+                    "{key} = {x} must be {}",
+                    if allow_zero {
+                        "non-negative"
+                    } else {
+                        "positive"
+                    }
+                ),
+            )),
+            _ => Ok(()),
+        }
+    };
+    positive("step_down", op.step_down, false)?;
+    positive("depth", op.depth, false)?;
+    positive("feed", op.feed, false)?;
+    positive("power", op.power, true)?;
+    positive("lead_in", op.lead_in, true)?;
+    positive("width", op.width, false)?;
+    positive("margin", op.margin, false)?;
+    positive("min_inner_radius", op.min_inner_radius, true)?;
+    positive("diameter", op.diameter, false)?;
+    positive("spacing", op.spacing, false)?;
+    positive("max_depth", op.max_depth, false)?;
+    if let Some(p) = op.power
+        && p > 100.0
+    {
+        return Err(invalid(
+            file,
+            item,
+            "power",
+            format!("power = {p} outside 0..=100 (percent)"),
+        ));
+    }
+    if op.passes == Some(0) {
+        return Err(invalid(
+            file,
+            item,
+            "passes",
+            "passes must be at least 1".into(),
+        ));
+    }
+    if let Some(a) = op.angle {
+        let ok = match op.kind {
+            OperationKind::Vcarve => a > 0.0 && a < 180.0,
+            _ => a.is_finite(),
+        };
+        if !ok {
+            return Err(invalid(
+                file,
+                item,
+                "angle",
+                format!("angle = {a} out of range (vcarve: 0 < angle < 180 degrees)"),
+            ));
+        }
+    }
+    if let Some(t) = &op.tabs {
+        let ok = t.count >= 1
+            && t.width.is_finite()
+            && t.width > 0.0
+            && t.height.is_finite()
+            && t.height > 0.0;
+        if !ok {
+            return Err(invalid(
+                file,
+                item,
+                "tabs",
+                "tabs need count >= 1 and positive width and height".into(),
+            ));
+        }
+    }
+    if let Some(list) = &op.strokes {
+        if list.is_empty() {
+            return Err(invalid(
+                file,
+                item,
+                "strokes",
+                "`strokes` names no stroke (leave it out for all strokes)".into(),
+            ));
+        }
+        for name in list {
+            if !names.contains_key(name.as_str()) {
+                return Err(DesignError::at(
+                    file,
+                    item.clone(),
+                    None,
+                    ErrorKind::UnknownStroke(name.clone()),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
