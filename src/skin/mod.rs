@@ -4,7 +4,9 @@ pub mod admissible;
 pub mod bezier;
 pub mod hausdorff;
 pub mod intersect;
+pub mod mat_offset;
 pub mod outline;
+pub mod re;
 pub mod touching;
 
 pub use admissible::{AdmissibilityOptions, Condition, SkinError, check_admissible};

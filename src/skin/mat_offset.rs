@@ -1,0 +1,1 @@
+//! MAT offsets of RE skins (in progress).

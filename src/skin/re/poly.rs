@@ -1,0 +1,457 @@
+//! Univariate polynomials on [0, 1]: power basis for algebra, Bernstein basis for root
+//! isolation and positivity certificates (re-mph-skinning-flexible Sec. 4.1–4.2: roots of f
+//! "by Bézier–Bernstein representation"; positivity (17) proved on Bernstein coefficients).
+
+/// A polynomial in the power basis, coefficients in ascending order (`c[k]` of tᵏ).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Poly {
+    pub c: Vec<f64>,
+}
+
+/// Deepest subdivision level for root isolation and positivity proofs: 2⁻⁴⁰ of the unit
+/// interval is below the parameter resolution any caller asks for.
+const MAX_DEPTH: u32 = 40;
+
+impl Poly {
+    pub fn new(c: Vec<f64>) -> Self {
+        Poly { c }
+    }
+
+    pub fn constant(a: f64) -> Self {
+        Poly { c: vec![a] }
+    }
+
+    /// Nominal degree (`len − 1`; trailing zeros are kept).
+    pub fn degree(&self) -> usize {
+        self.c.len().saturating_sub(1)
+    }
+
+    /// Value at `t` (Horner).
+    pub fn eval(&self, t: f64) -> f64 {
+        self.c.iter().rev().fold(0.0, |acc, &a| acc * t + a)
+    }
+
+    pub fn deriv(&self) -> Poly {
+        if self.c.len() <= 1 {
+            return Poly::constant(0.0);
+        }
+        Poly::new(
+            self.c
+                .iter()
+                .enumerate()
+                .skip(1)
+                .map(|(k, &a)| k as f64 * a)
+                .collect(),
+        )
+    }
+
+    pub fn add(&self, o: &Poly) -> Poly {
+        let n = self.c.len().max(o.c.len());
+        Poly::new(
+            (0..n)
+                .map(|k| self.c.get(k).copied().unwrap_or(0.0) + o.c.get(k).copied().unwrap_or(0.0))
+                .collect(),
+        )
+    }
+
+    pub fn sub(&self, o: &Poly) -> Poly {
+        self.add(&o.scale(-1.0))
+    }
+
+    pub fn scale(&self, s: f64) -> Poly {
+        Poly::new(self.c.iter().map(|a| a * s).collect())
+    }
+
+    pub fn mul(&self, o: &Poly) -> Poly {
+        if self.c.is_empty() || o.c.is_empty() {
+            return Poly::constant(0.0);
+        }
+        let mut c = vec![0.0; self.c.len() + o.c.len() - 1];
+        for (i, a) in self.c.iter().enumerate() {
+            for (j, b) in o.c.iter().enumerate() {
+                c[i + j] += a * b;
+            }
+        }
+        Poly::new(c)
+    }
+
+    /// Bernstein coefficients on [0, 1] of the same degree:
+    /// bᵢ = Σ_{k≤i} C(i,k)/C(n,k) aₖ.
+    pub fn to_bernstein(&self) -> Vec<f64> {
+        let n = self.degree();
+        (0..=n)
+            .map(|i| (0..=i).map(|k| binom(i, k) / binom(n, k) * self.c[k]).sum())
+            .collect()
+    }
+
+    /// From Bernstein coefficients on [0, 1]: aₖ = C(n,k) Σ_{i≤k} (−1)^{k−i} C(k,i) bᵢ.
+    pub fn from_bernstein(b: &[f64]) -> Poly {
+        if b.is_empty() {
+            return Poly::constant(0.0);
+        }
+        let n = b.len() - 1;
+        Poly::new(
+            (0..=n)
+                .map(|k| {
+                    let s: f64 = (0..=k)
+                        .map(|i| {
+                            let sg = if (k - i) % 2 == 0 { 1.0 } else { -1.0 };
+                            sg * binom(k, i) * b[i]
+                        })
+                        .sum();
+                    binom(n, k) * s
+                })
+                .collect(),
+        )
+    }
+
+    /// Largest |coefficient| (a scale for relative tests).
+    pub fn norm_inf(&self) -> f64 {
+        self.c.iter().fold(0.0, |m, a| m.max(a.abs()))
+    }
+
+    /// Real roots in [0, 1] to parameter accuracy `tol`, ascending, by Bernstein subdivision
+    /// (the variation-diminishing property: no sign change of the Bernstein coefficients on
+    /// an interval ⇒ no root there) and bisection on intervals whose coefficients change sign
+    /// exactly once (then exactly one simple root lies inside). Roots of even multiplicity
+    /// are found where subdivision reaches width `tol` with coefficients that still change
+    /// sign or vanish within `zero_tol` (absolute, in units of the polynomial's values).
+    pub fn roots_01(&self, tol: f64, zero_tol: f64) -> Vec<f64> {
+        let b = self.to_bernstein();
+        let mut out = Vec::new();
+        bern_roots(&b, 0.0, 1.0, tol.max(1e-15), zero_tol, 0, &mut out);
+        out.sort_by(f64::total_cmp);
+        // Leaves of one multiple root come in chains `tol` apart: report each chain's middle.
+        let mut merged: Vec<f64> = Vec::new();
+        let mut start = 0;
+        for k in 0..out.len() {
+            let last_of_chain = k + 1 == out.len() || out[k + 1] - out[k] > 2.0 * tol;
+            if last_of_chain {
+                merged.push(0.5 * (out[start] + out[k]));
+                start = k + 1;
+            }
+        }
+        merged
+    }
+}
+
+/// Binomial coefficient as f64.
+pub fn binom(n: usize, k: usize) -> f64 {
+    if k > n {
+        return 0.0;
+    }
+    let k = k.min(n - k);
+    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+}
+
+/// Value of a Bernstein polynomial at local parameter `s` (de Casteljau).
+pub fn bern_eval(b: &[f64], s: f64) -> f64 {
+    let mut w = b.to_vec();
+    let n = w.len();
+    for r in 1..n {
+        for i in 0..n - r {
+            w[i] = (1.0 - s) * w[i] + s * w[i + 1];
+        }
+    }
+    w.first().copied().unwrap_or(0.0)
+}
+
+/// De Casteljau split of Bernstein coefficients at local parameter `s`.
+pub fn bern_split(b: &[f64], s: f64) -> (Vec<f64>, Vec<f64>) {
+    let n = b.len();
+    let mut w = b.to_vec();
+    let mut left = Vec::with_capacity(n);
+    let mut right = vec![0.0; n];
+    for r in 0..n {
+        left.push(w[0]);
+        right[n - 1 - r] = w[n - 1 - r];
+        for i in 0..n.saturating_sub(r + 1) {
+            w[i] = (1.0 - s) * w[i] + s * w[i + 1];
+        }
+    }
+    (left, right)
+}
+
+fn sign_changes(b: &[f64]) -> usize {
+    let mut n = 0;
+    let mut last = 0.0;
+    for &x in b {
+        if x != 0.0 {
+            if last != 0.0 && (x > 0.0) != (last > 0.0) {
+                n += 1;
+            }
+            last = x;
+        }
+    }
+    n
+}
+
+fn bern_roots(b: &[f64], a: f64, c: f64, tol: f64, zero_tol: f64, depth: u32, out: &mut Vec<f64>) {
+    let (Some(&first), Some(&last)) = (b.first(), b.last()) else {
+        return;
+    };
+    if first == 0.0 {
+        out.push(a);
+    }
+    if last == 0.0 {
+        out.push(c);
+    }
+    let inner = if b.len() > 2 {
+        &b[1..b.len() - 1]
+    } else {
+        &[][..]
+    };
+    let all_pos = b.iter().all(|&x| x >= 0.0) && inner.iter().any(|&x| x > 0.0);
+    let all_neg = b.iter().all(|&x| x <= 0.0) && inner.iter().any(|&x| x < 0.0);
+    let changes = sign_changes(b);
+    if changes == 0
+        && (all_pos || all_neg || b.iter().all(|&x| x != 0.0))
+        && b.iter().all(|&x| x.abs() > zero_tol)
+    {
+        return;
+    }
+    if changes == 1 && first != 0.0 && last != 0.0 && (first > 0.0) != (last > 0.0) {
+        // Exactly one simple root: bisection on the Bernstein form.
+        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+        let neg_at_lo = first < 0.0;
+        while (hi - lo) * (c - a) > tol {
+            let m = 0.5 * (lo + hi);
+            let v = bern_eval(b, m);
+            if v == 0.0 {
+                lo = m;
+                hi = m;
+                break;
+            }
+            if (v < 0.0) == neg_at_lo {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        out.push(a + 0.5 * (lo + hi) * (c - a));
+        return;
+    }
+    if c - a <= tol || depth >= MAX_DEPTH {
+        let m = bern_eval(b, 0.5);
+        if changes > 0 || m.abs() <= zero_tol {
+            out.push(0.5 * (a + c));
+        }
+        return;
+    }
+    let (l, r) = bern_split(b, 0.5);
+    let m = 0.5 * (a + c);
+    // A coefficient exactly zero at the split point is reported by both halves; merged later.
+    bern_roots(&l, a, m, tol, zero_tol, depth + 1, out);
+    bern_roots(&r, m, c, tol, zero_tol, depth + 1, out);
+}
+
+/// Outcome of a positivity proof on [0, 1].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Positivity {
+    /// Every Bernstein coefficient on every piece of a subdivision is > 0: p > 0 on [0, 1].
+    Proven { pieces: usize },
+    /// p(t) ≤ 0 at this parameter (a witness).
+    Fails { t: f64, value: f64 },
+    /// Neither proved nor refuted down to the subdivision limit.
+    Undecided,
+}
+
+/// Proves p > 0 on [0, 1] by Bernstein subdivision: a polynomial whose Bernstein
+/// coefficients on an interval are all positive is positive there (convex hull property).
+/// Refutes it with a witness when the end coefficient of a piece (a curve value) is ≤ 0.
+/// `max_depth` bounds the subdivision (pieces ≥ 2^−max_depth wide).
+pub fn prove_positive(p: &Poly, max_depth: u32) -> Positivity {
+    let b = p.to_bernstein();
+    let mut stack = vec![(b, 0.0f64, 1.0f64, 0u32)];
+    let mut pieces = 0;
+    while let Some((b, a, c, d)) = stack.pop() {
+        let (Some(&first), Some(&last)) = (b.first(), b.last()) else {
+            return Positivity::Undecided;
+        };
+        if first <= 0.0 {
+            return Positivity::Fails { t: a, value: first };
+        }
+        if last <= 0.0 {
+            return Positivity::Fails { t: c, value: last };
+        }
+        if b.iter().all(|&x| x > 0.0) {
+            pieces += 1;
+            continue;
+        }
+        if d >= max_depth {
+            return Positivity::Undecided;
+        }
+        let (l, r) = bern_split(&b, 0.5);
+        let m = 0.5 * (a + c);
+        stack.push((r, m, c, d + 1));
+        stack.push((l, a, m, d + 1));
+    }
+    Positivity::Proven { pieces }
+}
+
+/// Real roots in [0, 1] of the cubic a₀ + a₁t + a₂t² + a₃t³ in closed form (Cardano /
+/// trigonometric form; re-mph-skinning-flexible Sec. 4.1: "the formula of Cardano"),
+/// falling back to the quadratic or linear formula when the leading coefficients vanish
+/// relative to `eps` × the largest coefficient. Ascending; roots within `eps` outside
+/// [0, 1] are clamped in.
+pub fn cubic_roots_01(p: &Poly, eps: f64) -> Vec<f64> {
+    let a = |k: usize| p.c.get(k).copied().unwrap_or(0.0);
+    let scale = p.norm_inf();
+    if scale == 0.0 {
+        return Vec::new();
+    }
+    let (a0, a1, a2, a3) = (a(0), a(1), a(2), a(3));
+    let mut roots = Vec::new();
+    if a3.abs() <= eps * scale {
+        if a2.abs() <= eps * scale {
+            if a1.abs() > eps * scale {
+                roots.push(-a0 / a1);
+            }
+        } else {
+            let disc = a1 * a1 - 4.0 * a2 * a0;
+            if disc >= 0.0 {
+                let q = -0.5 * (a1 + a1.signum() * disc.sqrt());
+                if q != 0.0 {
+                    roots.push(q / a2);
+                    roots.push(a0 / q);
+                } else {
+                    roots.push(0.0);
+                }
+            }
+        }
+    } else {
+        // Depressed cubic t = s − b/3: s³ + p s + q = 0.
+        let (b, c, d) = (a2 / a3, a1 / a3, a0 / a3);
+        let pp = c - b * b / 3.0;
+        let qq = 2.0 * b * b * b / 27.0 - b * c / 3.0 + d;
+        let disc = qq * qq / 4.0 + pp * pp * pp / 27.0;
+        let shift = -b / 3.0;
+        if disc > 0.0 {
+            let sq = disc.sqrt();
+            let u = (-qq / 2.0 + sq).cbrt();
+            let v = (-qq / 2.0 - sq).cbrt();
+            roots.push(u + v + shift);
+        } else if pp == 0.0 {
+            roots.push(shift);
+        } else {
+            let m = 2.0 * (-pp / 3.0).sqrt();
+            let arg = (3.0 * qq / (pp * m)).clamp(-1.0, 1.0);
+            let th = arg.acos() / 3.0;
+            for k in 0..3 {
+                roots.push(m * (th - 2.0 * std::f64::consts::PI * k as f64 / 3.0).cos() + shift);
+            }
+        }
+        // One Newton step on the original cubic polishes cancellation errors.
+        let dp = p.deriv();
+        for r in roots.iter_mut() {
+            let d = dp.eval(*r);
+            if d != 0.0 {
+                *r -= p.eval(*r) / d;
+            }
+        }
+    }
+    let mut out: Vec<f64> = roots
+        .into_iter()
+        .filter(|r| r.is_finite() && *r >= -eps && *r <= 1.0 + eps)
+        .map(|r| r.clamp(0.0, 1.0))
+        .collect();
+    out.sort_by(f64::total_cmp);
+    out.dedup_by(|x, y| (*x - *y).abs() <= eps);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn from_roots(rs: &[f64], lead: f64) -> Poly {
+        rs.iter().fold(Poly::constant(lead), |p, &r| {
+            p.mul(&Poly::new(vec![-r, 1.0]))
+        })
+    }
+
+    #[test]
+    fn bernstein_round_trip_and_values() {
+        let p = Poly::new(vec![0.3, -2.0, 5.0, 1.5, -0.7]);
+        let b = p.to_bernstein();
+        for i in 0..=10 {
+            let t = i as f64 / 10.0;
+            assert!((bern_eval(&b, t) - p.eval(t)).abs() < 1e-13);
+        }
+        let q = Poly::from_bernstein(&b);
+        for (a, c) in p.c.iter().zip(&q.c) {
+            assert!((a - c).abs() < 1e-12);
+        }
+        let (l, r) = bern_split(&b, 0.3);
+        for i in 0..=10 {
+            let s = i as f64 / 10.0;
+            assert!((bern_eval(&l, s) - p.eval(0.3 * s)).abs() < 1e-13);
+            assert!((bern_eval(&r, s) - p.eval(0.3 + 0.7 * s)).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn double_root_is_found() {
+        let p = from_roots(&[0.4, 0.4, 0.9], 2.0);
+        let r = p.roots_01(1e-10, 1e-12);
+        assert_eq!(r.len(), 2, "{r:?}");
+        assert!((r[0] - 0.4).abs() < 1e-5);
+        assert!((r[1] - 0.9).abs() < 1e-9);
+    }
+
+    #[test]
+    fn positivity_proof_and_refutation() {
+        // (t − 0.5)² + 1e-4 > 0: needs subdivision near 0.5.
+        let p = from_roots(&[0.5, 0.5], 1.0).add(&Poly::constant(1e-4));
+        assert!(matches!(prove_positive(&p, 30), Positivity::Proven { .. }));
+        let q = from_roots(&[0.5, 0.5], 1.0).add(&Poly::constant(-1e-4));
+        match prove_positive(&q, 30) {
+            Positivity::Fails { t, value } => {
+                assert!(value <= 0.0 && q.eval(t) <= 0.0);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn subdivision_roots_match_planted(
+            rs in proptest::collection::vec(0.02f64..0.98, 1..5),
+            lead in prop_oneof![-3.0f64..-0.5, 0.5f64..3.0],
+            extra in 1.2f64..3.0,
+        ) {
+            let mut rs = rs;
+            rs.sort_by(f64::total_cmp);
+            prop_assume!(rs.windows(2).all(|w| w[1] - w[0] > 1e-3));
+            // An extra root outside [0, 1] must not be reported.
+            let mut all = rs.clone();
+            all.push(extra);
+            let p = from_roots(&all, lead);
+            let found = p.roots_01(1e-12, 0.0);
+            prop_assert_eq!(found.len(), rs.len());
+            for (a, b) in found.iter().zip(&rs) {
+                prop_assert!((a - b).abs() < 1e-8, "{} vs {}", a, b);
+            }
+        }
+
+        #[test]
+        fn cardano_matches_subdivision(
+            c in proptest::collection::vec(-5.0f64..5.0, 4),
+        ) {
+            let p = Poly::new(c);
+            prop_assume!(p.c[3].abs() > 1e-3);
+            let a = cubic_roots_01(&p, 1e-12);
+            let b = p.roots_01(1e-12, 1e-12);
+            // Compare only roots not too close to the interval ends or to each other.
+            let interior = |v: &Vec<f64>| v.iter().copied().filter(|t| *t > 1e-6 && *t < 1.0 - 1e-6).collect::<Vec<_>>();
+            let (ai, bi) = (interior(&a), interior(&b));
+            prop_assume!(ai.windows(2).all(|w| w[1] - w[0] > 1e-4));
+            prop_assume!(p.deriv().roots_01(1e-9, 0.0).iter().all(|t| p.eval(*t).abs() > 1e-6));
+            prop_assert_eq!(ai.len(), bi.len(), "{:?} {:?}", a, b);
+            for (x, y) in ai.iter().zip(&bi) {
+                prop_assert!((x - y).abs() < 1e-7);
+            }
+        }
+    }
+}
