@@ -8,9 +8,11 @@
 //! eq. 9, with q′⊥ the counter-clockwise rotation of q′), the `−` envelope on the right.
 
 mod curve;
+mod fit;
 mod loops;
 
 pub use curve::{DiskBSpline, EnvelopePoint, Side};
+pub use fit::{DbscFitError, disk_parameters};
 pub(crate) use loops::{Bern, SpanPoly};
 pub use loops::{EnvelopeLoop, LoopError, LoopReport, brent, find_loops, lemma1};
 

