@@ -2,11 +2,13 @@
 
 pub mod admissible;
 pub mod bezier;
+pub mod dbsc_skin;
 pub mod hausdorff;
 pub mod intersect;
 pub mod mat_offset;
 pub mod outline;
 pub mod re;
+pub mod region_mesh;
 pub mod touching;
 
 pub use admissible::{AdmissibilityOptions, Condition, SkinError, check_admissible};

@@ -1,0 +1,902 @@
+//! Approximation of a disk B-spline curve by skinning curves (kruppa-2023 Sec. 4).
+//!
+//! * Initialisation (eq. 19): the knot circles ⟨q(u); r(u)⟩ at the distinct knots of the
+//!   domain; they must form an admissible sequence (Def. 4.1), otherwise the span is named
+//!   in [`DbscSkinError::NotAdmissible`] (the limitation of Fig. 13).
+//! * Error (eqs. 20–21): per segment and side the Hausdorff distance between the skin arc
+//!   and the envelope arc on the same knot span, with guaranteed bounds
+//!   ([`super::hausdorff`]); a side meets ε when the upper bound is ≤ ε.
+//! * Phase 1 (eqs. 22–25): for a segment missing ε, insert u* = (1 − w_i) u_i + w_i u_{i+1}
+//!   only if the sequence with u* and its symmetric pair u** = w_{i+1} u_{i+1} +
+//!   (1 − w_{i+1}) u_{i+2} is admissible; otherwise halve both weights, down to
+//!   [`DbscSkinOptions::min_weight`], and mark the segment STOPPED. Segments within ε are
+//!   FINISHED. Repeat until every segment is FINISHED or STOPPED.
+//! * Phase 2: the same with plain midpoint insertion u* and no pair check.
+//! * Phase 3 (Sec. 4.3): where both sides miss ε, insert c* at the midpoint when the radical
+//!   centre of (c_i, c*, c_{i+1}) lies inside c*, on the side whose touching point on c* is
+//!   not covered by c_i ∪ c_{i+1} only (circle marks LEFT/RIGHT; the others BOTH). The left
+//!   skin skins the LEFT and BOTH circles, the right skin the RIGHT and BOTH circles. An
+//!   insertion is kept only if the resulting outline stays free of self-intersections.
+
+use super::hausdorff::{
+    HausdorffBounds, HausdorffError, hausdorff_skin_envelope, hausdorff_within,
+};
+use super::intersect::path_self_intersections;
+use super::intersect::paths_intersections;
+use super::outline::outline_from_skins;
+use super::touching::triplet_touching;
+use super::{AdmissibilityOptions, SkinError, Skins, TouchingPoints, check_admissible};
+use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, find_loops};
+use crate::geom::{Circle, CubicBez, DVec2, Path};
+
+/// Options of [`skin_dbsc`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DbscSkinOptions {
+    /// ε of kruppa-2023 Sec. 4.2 (model units).
+    pub eps: f64,
+    /// Hausdorff bounds are refined to a gap of `gap_fraction · ε`.
+    pub gap_fraction: f64,
+    /// Parameter tolerance of loop detection (kruppa-2023 Sec. 3).
+    pub loop_tol: f64,
+    /// Phase 1 stops halving the weights of eq. 25 below this value ("too close").
+    pub min_weight: f64,
+    /// Upper limit of circles, a guard against runaway refinement.
+    pub max_circles: usize,
+    /// Run phase 3 (two-sided skinning).
+    pub two_sided: bool,
+    /// Tolerance of the self-intersection test of the outline (model units).
+    pub intersect_tol: f64,
+}
+
+impl Default for DbscSkinOptions {
+    fn default() -> Self {
+        DbscSkinOptions {
+            eps: crate::geom::tol::SKIN_EPSILON,
+            gap_fraction: 0.1,
+            loop_tol: 1e-10,
+            // 1/64: c* within 1.6 % of the span end, i.e. almost a repeated knot circle.
+            min_weight: 1.0 / 64.0,
+            max_circles: 20_000,
+            two_sided: true,
+            intersect_tol: 1e-9,
+        }
+    }
+}
+
+/// Phase of kruppa-2023 Sec. 4 that ended refinement of a segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Phase {
+    One,
+    Two,
+    Three,
+}
+
+/// Which skins use a circle (kruppa-2023 Sec. 4.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum CircleUse {
+    Both,
+    Left,
+    Right,
+}
+
+impl CircleUse {
+    fn on(self, side: Side) -> bool {
+        matches!(
+            (self, side),
+            (CircleUse::Both, _) | (CircleUse::Left, Side::Left) | (CircleUse::Right, Side::Right)
+        )
+    }
+}
+
+/// Report of one segment [t0, t1] between consecutive circles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentReport {
+    pub t0: f64,
+    pub t1: f64,
+    pub error_left: HausdorffBounds,
+    pub error_right: HausdorffBounds,
+    pub met_left: bool,
+    pub met_right: bool,
+    /// The phase in which insertion into this segment became impossible while ε was still
+    /// missed (`None` when ε is met on both sides).
+    pub stopped_in: Option<Phase>,
+    /// Envelope loops overlapping the segment.
+    pub loops: Vec<EnvelopeLoop>,
+}
+
+/// Result of [`skin_dbsc`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct DbscSkin {
+    pub closed: bool,
+    /// Parameters of the circles used, increasing.
+    pub params: Vec<f64>,
+    pub circles: Vec<Circle>,
+    pub uses: Vec<CircleUse>,
+    /// Left skin: one arc per consecutive pair of LEFT/BOTH circles.
+    pub left: Vec<CubicBez>,
+    pub left_params: Vec<f64>,
+    pub right: Vec<CubicBez>,
+    pub right_params: Vec<f64>,
+    /// The outline contours (skin outline assembly): open strokes one counter-clockwise
+    /// contour with end caps, closed strokes the outer and the inner contour.
+    pub outline: Vec<Path>,
+    pub report: Vec<SegmentReport>,
+}
+
+/// Errors of [`skin_dbsc`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DbscSkinError {
+    #[error(
+        "knot circles at t = {params:?} (circles {circles:?}, spans [{t0}, {t1}]) are not admissible: {source}"
+    )]
+    NotAdmissible {
+        circles: Vec<usize>,
+        params: Vec<f64>,
+        t0: f64,
+        t1: f64,
+        source: SkinError,
+    },
+    #[error("invalid option: {0}")]
+    Options(&'static str),
+    #[error(transparent)]
+    Skin(#[from] SkinError),
+    #[error(transparent)]
+    Hausdorff(#[from] HausdorffError),
+    #[error(transparent)]
+    Loops(#[from] LoopError),
+}
+
+/// Refinement state of a segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mark {
+    Open,
+    Finished,
+    Stopped(Phase),
+}
+
+struct State<'a> {
+    c: &'a DiskBSpline,
+    closed: bool,
+    hi: f64,
+    opts: DbscSkinOptions,
+    params: Vec<f64>,
+    uses: Vec<CircleUse>,
+    /// Per segment: mark and weight of eq. 25.
+    marks: Vec<Mark>,
+    weights: Vec<f64>,
+}
+
+fn adm_opts() -> AdmissibilityOptions {
+    AdmissibilityOptions::default()
+}
+
+impl State<'_> {
+    fn circles_of(&self, ps: &[f64]) -> Vec<Circle> {
+        ps.iter().map(|&t| self.c.circle_at(t)).collect()
+    }
+
+    /// End parameter of segment i.
+    fn seg_end(&self, i: usize) -> f64 {
+        self.params.get(i + 1).copied().unwrap_or(self.hi)
+    }
+
+    fn n_segments(&self) -> usize {
+        if self.closed {
+            self.params.len()
+        } else {
+            self.params.len() - 1
+        }
+    }
+
+    fn admissible_with(&self, extra: &[f64]) -> bool {
+        let mut ps: Vec<f64> = self.params.clone();
+        ps.extend_from_slice(extra);
+        ps.sort_by(f64::total_cmp);
+        ps.dedup();
+        check_admissible(&self.circles_of(&ps), self.closed, &adm_opts()).is_ok()
+    }
+
+    fn insert(&mut self, i: usize, u: f64) {
+        self.params.insert(i + 1, u);
+        self.uses.insert(i + 1, CircleUse::Both);
+        self.marks[i] = Mark::Open;
+        self.marks.insert(i + 1, Mark::Open);
+        self.weights[i] = 0.5;
+        self.weights.insert(i + 1, 0.5);
+    }
+
+    /// Parameters of the circles used on `side`.
+    fn side_params(&self, side: Side) -> Vec<f64> {
+        self.params
+            .iter()
+            .zip(&self.uses)
+            .filter(|(_, u)| u.on(side))
+            .map(|(&t, _)| t)
+            .collect()
+    }
+
+    fn skin_side(&self, side: Side) -> Result<(Vec<f64>, Vec<CubicBez>), SkinError> {
+        let ps = self.side_params(side);
+        let arcs = skin_side_arcs(
+            &self.circles_of(&ps),
+            self.closed,
+            side,
+            self.uses.iter().all(|u| *u == CircleUse::Both),
+        )?;
+        Ok((ps, arcs))
+    }
+
+    /// Errors of every side segment, mapped onto the segments of `params`.
+    fn errors(&self, full: bool) -> Result<Vec<[HausdorffBounds; 2]>, DbscSkinError> {
+        let mut out = vec![
+            [HausdorffBounds {
+                lower: 0.0,
+                upper: 0.0
+            }; 2];
+            self.n_segments()
+        ];
+        for (k, side) in [Side::Left, Side::Right].into_iter().enumerate() {
+            let (ps, arcs) = self.skin_side(side)?;
+            let mut j = 0;
+            for (a, arc) in arcs.iter().enumerate() {
+                let t0 = ps[a];
+                let t1 = ps.get(a + 1).copied().unwrap_or(self.hi);
+                let gap = self.opts.gap_fraction * self.opts.eps;
+                let h = if full {
+                    hausdorff_skin_envelope(arc, self.c, side, t0, t1, gap)?
+                } else {
+                    hausdorff_within(arc, self.c, side, t0, t1, self.opts.eps, gap)?
+                };
+                while j < out.len() && self.params[j] < t1 {
+                    out[j][k] = h;
+                    j += 1;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn met(&self, h: &HausdorffBounds) -> bool {
+        h.upper <= self.opts.eps
+    }
+
+    /// One pass of phase 1 (`paired`) or phase 2; returns whether anything was inserted.
+    fn pass(&mut self, paired: bool) -> Result<bool, DbscSkinError> {
+        let phase = if paired { Phase::One } else { Phase::Two };
+        let err = self.errors(false)?;
+        // Marks from the errors of this pass (segments are re-opened by neighbours'
+        // insertions, which move their touching points).
+        for (i, e) in err.iter().enumerate() {
+            if self.met(&e[0]) && self.met(&e[1]) {
+                self.marks[i] = Mark::Finished;
+            } else if self.marks[i] == Mark::Finished {
+                self.marks[i] = Mark::Open;
+            }
+        }
+        let mut inserted = false;
+        let mut i = 0;
+        while i < self.marks.len() {
+            if self.marks[i] != Mark::Open || self.params.len() >= self.opts.max_circles {
+                i += 1;
+                continue;
+            }
+            let (u0, u1) = (self.params[i], self.seg_end(i));
+            // The next segment (u_{i+1}, u_{i+2}) of eq. 24; for closed strokes the last
+            // segment's successor is the first one, starting at u_0 ≡ hi.
+            let next = if i + 1 < self.n_segments() {
+                Some((u1, self.seg_end(i + 1), i + 1))
+            } else if self.closed && self.n_segments() > 1 {
+                Some((self.params[0], self.seg_end(0), 0))
+            } else {
+                None
+            };
+            let mut found = None;
+            if paired {
+                let mut w = self.weights[i];
+                let mut w2 = next.map_or(0.5, |n| self.weights[n.2]);
+                while w >= self.opts.min_weight && w2 >= self.opts.min_weight {
+                    let us = (1.0 - w) * u0 + w * u1;
+                    let mut extra = vec![us];
+                    if let Some((a, b, _)) = next {
+                        extra.push(w2 * a + (1.0 - w2) * b);
+                    }
+                    if us > u0 && us < u1 && self.admissible_with(&extra) {
+                        found = Some(us);
+                        break;
+                    }
+                    w *= 0.5;
+                    w2 *= 0.5;
+                }
+                // The halved partner weight is kept for that segment (kruppa-2023 Sec. 4.2).
+                if let Some((_, _, k)) = next {
+                    self.weights[k] = w2.max(self.opts.min_weight);
+                }
+            } else {
+                let us = 0.5 * (u0 + u1);
+                if us > u0 && us < u1 && self.admissible_with(&[us]) {
+                    found = Some(us);
+                }
+            }
+            match found {
+                Some(us) => {
+                    self.insert(i, us);
+                    inserted = true;
+                    i += 2;
+                }
+                None => {
+                    self.marks[i] = Mark::Stopped(phase);
+                    i += 1;
+                }
+            }
+        }
+        Ok(inserted)
+    }
+
+    fn outline(&self) -> Result<SidedOutline, SkinError> {
+        let (left_params, left) = self.skin_side(Side::Left)?;
+        let (right_params, right) = self.skin_side(Side::Right)?;
+        let contours = assemble_outline(&self.circles_of(&self.params), &left, &right, self.closed);
+        Ok(SidedOutline {
+            left_params,
+            left,
+            right_params,
+            right,
+            contours,
+        })
+    }
+
+    fn self_intersects(&self) -> bool {
+        match self.outline() {
+            Ok(o) => outline_intersects(&o.contours, self.opts.intersect_tol),
+            Err(_) => true,
+        }
+    }
+
+    /// The neighbours of the segment (u0, u1) in the circle sequence of `side`.
+    fn side_neighbours(&self, side: Side, u0: f64, u1: f64) -> Option<(Circle, Circle)> {
+        let sp = self.side_params(side);
+        let prev = sp.iter().rev().find(|&&p| p <= u0).copied();
+        let next = sp.iter().find(|&&p| p >= u1).copied();
+        let (prev, next) = if self.closed {
+            (prev.or(sp.last().copied())?, next.or(sp.first().copied())?)
+        } else {
+            (prev?, next?)
+        };
+        Some((self.c.circle_at(prev), self.c.circle_at(next)))
+    }
+
+    /// kruppa-2023 Sec. 4.3 step 2 for one side: the radical centre of (a, c*, b) lies inside
+    /// c* (so c* cannot join both skins) and the `side` touching point on c* is not covered
+    /// by the neighbours a, b of that side (so that skin can use c*).
+    fn one_sided_usable(&self, side: Side, u0: f64, u1: f64, m: &Circle) -> bool {
+        let Some((a, b)) = self.side_neighbours(side, u0, u1) else {
+            return false;
+        };
+        if radical_centre(&a, m, &b).is_none_or(|s| m.power(s) >= 0.0) {
+            return false;
+        }
+        let Some(tt) = triplet_touching(&a, m, &b, adm_opts().rel_tol) else {
+            return false;
+        };
+        let p = match side {
+            Side::Left => tt.points.left,
+            Side::Right => tt.points.right,
+        };
+        !(a.power(p) < 0.0 || b.power(p) < 0.0)
+    }
+
+    /// Phase 3 (kruppa-2023 Sec. 4.3): two-sided insertion where both sides miss ε.
+    fn phase3(&mut self) -> Result<(), DbscSkinError> {
+        loop {
+            let err = self.errors(false)?;
+            let mut inserted = false;
+            let mut i = err.len();
+            while i > 0 {
+                i -= 1;
+                let both_miss = !self.met(&err[i][0]) && !self.met(&err[i][1]);
+                if !both_miss || self.params.len() >= self.opts.max_circles {
+                    continue;
+                }
+                if self.marks[i] == Mark::Stopped(Phase::Three) {
+                    continue;
+                }
+                let (u0, u1) = (self.params[i], self.seg_end(i));
+                let us = 0.5 * (u0 + u1);
+                if !(us > u0 && us < u1) {
+                    continue;
+                }
+                let m = self.c.circle_at(us);
+                let usable: Vec<Side> = [Side::Left, Side::Right]
+                    .into_iter()
+                    .filter(|&side| self.one_sided_usable(side, u0, u1, &m))
+                    .collect();
+                let use_ = match usable.as_slice() {
+                    [Side::Left] => CircleUse::Left,
+                    [Side::Right] => CircleUse::Right,
+                    _ => {
+                        self.marks[i] = Mark::Stopped(Phase::Three);
+                        continue;
+                    }
+                };
+                let saved = (
+                    self.params.clone(),
+                    self.uses.clone(),
+                    self.marks.clone(),
+                    self.weights.clone(),
+                );
+                self.insert(i, us);
+                self.uses[i + 1] = use_;
+                if self.self_intersects() {
+                    (self.params, self.uses, self.marks, self.weights) = saved;
+                    self.marks[i] = Mark::Stopped(Phase::Three);
+                } else {
+                    inserted = true;
+                }
+            }
+            if !inserted {
+                return Ok(());
+            }
+        }
+    }
+}
+
+/// Skins of both sides with their circle parameters and the outline contours.
+struct SidedOutline {
+    left_params: Vec<f64>,
+    left: Vec<CubicBez>,
+    right_params: Vec<f64>,
+    right: Vec<CubicBez>,
+    contours: Vec<Path>,
+}
+
+/// Outline contours of (possibly two-sided) skins by the skin outline assembly
+/// ([`outline_from_skins`]). Adapter: that assembly reads the touching points of the first
+/// and last circle (end caps) and the touching polygons (orientation of closed contours);
+/// with two-sided skins the sides have different circle counts, so each side's touching
+/// points are taken from its own arcs' start points and the shorter list is padded with its
+/// last point (a repeated vertex changes no polygon area).
+fn assemble_outline(
+    circles: &[Circle],
+    left: &[CubicBez],
+    right: &[CubicBez],
+    closed: bool,
+) -> Vec<Path> {
+    let ends = |arcs: &[CubicBez]| -> Vec<DVec2> {
+        let mut v: Vec<DVec2> = arcs.iter().map(|a| a.p0).collect();
+        if !closed && let Some(last) = arcs.last() {
+            v.push(last.p3);
+        }
+        v
+    };
+    let (lp, rp) = (ends(left), ends(right));
+    let n = lp.len().max(rp.len());
+    let pick = |v: &[DVec2], i: usize| v.get(i).or(v.last()).copied().unwrap_or(DVec2::ZERO);
+    let mut touching: Vec<TouchingPoints> = (0..n)
+        .map(|i| TouchingPoints {
+            left: pick(&lp, i),
+            right: pick(&rp, i),
+        })
+        .collect();
+    if !closed && let (Some(l), Some(r), Some(t)) = (lp.last(), rp.last(), touching.last_mut()) {
+        // The last circle's touching points end both skins.
+        *t = TouchingPoints {
+            left: *l,
+            right: *r,
+        };
+    }
+    let skins = Skins {
+        left: left.to_vec(),
+        right: right.to_vec(),
+        touching,
+        closed,
+    };
+    outline_from_skins(circles, skins).contours
+}
+
+/// Whether outline contours intersect themselves or each other (skin intersection tests).
+fn outline_intersects(contours: &[Path], tol: f64) -> bool {
+    contours
+        .iter()
+        .any(|c| !path_self_intersections(c, tol).is_empty())
+        || contours.iter().enumerate().any(|(i, a)| {
+            contours[i + 1..]
+                .iter()
+                .any(|b| !paths_intersections(a, b, tol).is_empty())
+        })
+}
+
+/// The radical centre of three circles (equal powers), `None` for collinear centres.
+fn radical_centre(a: &Circle, b: &Circle, c: &Circle) -> Option<DVec2> {
+    // pow_a(x) = pow_b(x): 2 (c_b − c_a)·x = ‖c_b‖² − r_b² − ‖c_a‖² + r_a².
+    let row = |p: &Circle, q: &Circle| {
+        (
+            2.0 * (q.c - p.c),
+            q.c.length_squared() - q.r * q.r - p.c.length_squared() + p.r * p.r,
+        )
+    };
+    let (n1, d1) = row(a, b);
+    let (n2, d2) = row(a, c);
+    let det = crate::geom::cross(n1, n2);
+    if det.abs() <= 1e-14 * n1.length() * n2.length() {
+        return None;
+    }
+    Some(DVec2::new(d1 * n2.y - d2 * n1.y, n1.x * d2 - n2.x * d1) / det)
+}
+
+/// One side's skin arcs of a circle sequence (adapter over [`super::skin_circles`]): the
+/// sequence of one side of a two-sided skin may break admissibility of the other side, so
+/// the check is made only when `check` (no circle is one-sided).
+fn skin_side_arcs(
+    circles: &[Circle],
+    closed: bool,
+    side: Side,
+    check: bool,
+) -> Result<Vec<CubicBez>, SkinError> {
+    let opts = super::SkinOptions {
+        admissibility: adm_opts(),
+        check_admissibility: check,
+    };
+    let s = super::skin_circles(circles, closed, &opts)?;
+    Ok(match side {
+        Side::Left => s.left,
+        Side::Right => s.right,
+    })
+}
+
+/// Skins a DBSC within ε where its envelopes allow (kruppa-2023 Sec. 4, phases 1–3; module
+/// docs). The outline never self-intersects: phases 1–2 keep the circle sequence admissible
+/// and phase 3 keeps an insertion only when the outline stays free of intersections.
+pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, DbscSkinError> {
+    if !(opts.eps > 0.0 && opts.eps.is_finite()) {
+        return Err(DbscSkinError::Options("eps must be positive and finite"));
+    }
+    if !(opts.gap_fraction > 0.0 && opts.gap_fraction < 1.0) {
+        return Err(DbscSkinError::Options("gap_fraction must be in (0, 1)"));
+    }
+    if !(opts.min_weight > 0.0 && opts.min_weight < 0.5) {
+        return Err(DbscSkinError::Options("min_weight must be in (0, 1/2)"));
+    }
+    let closed = c.is_closed();
+    let (_, hi) = c.domain();
+    let mut params = c.breakpoints();
+    if closed {
+        params.pop();
+    }
+    let n = params.len();
+    let mut st = State {
+        c,
+        closed,
+        hi,
+        opts: *opts,
+        uses: vec![CircleUse::Both; n],
+        marks: vec![Mark::Open; if closed { n } else { n.saturating_sub(1) }],
+        weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
+        params,
+    };
+    // Initialisation (eq. 19): the knot circles must be admissible.
+    let cs = st.circles_of(&st.params);
+    if let Err(e) = check_admissible(&cs, closed, &adm_opts()) {
+        return Err(not_admissible(&st.params, hi, closed, e));
+    }
+    while st.pass(true)? {}
+    for m in st.marks.iter_mut() {
+        if *m == Mark::Stopped(Phase::One) {
+            *m = Mark::Open;
+        }
+    }
+    while st.pass(false)? {}
+    if opts.two_sided {
+        st.phase3()?;
+    }
+    // Final report with tight bounds.
+    let err = st.errors(true)?;
+    let loops = find_loops(c, opts.loop_tol)?;
+    let o = st.outline()?;
+    let mut report = Vec::with_capacity(err.len());
+    for (i, e) in err.iter().enumerate() {
+        let (t0, t1) = (st.params[i], st.seg_end(i));
+        let (ml, mr) = (st.met(&e[0]), st.met(&e[1]));
+        let stopped_in = if ml && mr {
+            None
+        } else {
+            Some(match st.marks[i] {
+                Mark::Stopped(p) => p,
+                _ if opts.two_sided => Phase::Three,
+                _ => Phase::Two,
+            })
+        };
+        let lp: Vec<EnvelopeLoop> = loops
+            .loops
+            .iter()
+            .filter(|l| overlaps(l.t_a, l.t_b, t0, t1))
+            .copied()
+            .collect();
+        report.push(SegmentReport {
+            t0,
+            t1,
+            error_left: e[0],
+            error_right: e[1],
+            met_left: ml,
+            met_right: mr,
+            stopped_in,
+            loops: lp,
+        });
+    }
+    Ok(DbscSkin {
+        closed,
+        circles: st.circles_of(&st.params),
+        params: st.params,
+        uses: st.uses,
+        left: o.left,
+        left_params: o.left_params,
+        right: o.right,
+        right_params: o.right_params,
+        outline: o.contours,
+        report,
+    })
+}
+
+/// Whether the loop interval [a, b] (wrapping when a > b) overlaps [t0, t1].
+fn overlaps(a: f64, b: f64, t0: f64, t1: f64) -> bool {
+    if a <= b {
+        a < t1 && b > t0
+    } else {
+        a < t1 || b > t0
+    }
+}
+
+fn not_admissible(params: &[f64], hi: f64, closed: bool, e: SkinError) -> DbscSkinError {
+    let circles = match &e {
+        SkinError::Inadmissible { circles, .. } => circles.clone(),
+        SkinError::InvalidCircle { index } | SkinError::NoTouchingPoints { index } => vec![*index],
+        _ => Vec::new(),
+    };
+    let ps: Vec<f64> = circles
+        .iter()
+        .filter_map(|&i| params.get(i).copied())
+        .collect();
+    let lo_i = circles.iter().copied().min().unwrap_or(0);
+    let hi_i = circles.iter().copied().max().unwrap_or(0);
+    let t0 = params.get(lo_i).copied().unwrap_or(0.0);
+    let t1 = if closed && hi_i + 1 >= params.len() {
+        hi
+    } else {
+        params.get(hi_i).copied().unwrap_or(hi)
+    };
+    DbscSkinError::NotAdmissible {
+        circles,
+        params: ps,
+        t0,
+        t1,
+        source: e,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::path::polygon_area;
+
+    fn open(p: usize, d: &[(f64, f64, f64)]) -> DiskBSpline {
+        let disks: Vec<Circle> = d
+            .iter()
+            .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
+            .collect();
+        DiskBSpline::open(p, &disks, None).unwrap()
+    }
+
+    /// A gentle S stroke, 30 mm long, radii 1–2 mm: no envelope loops.
+    fn s_stroke() -> Vec<(f64, f64, f64)> {
+        vec![
+            (0.0, 0.0, 1.0),
+            (6.0, 3.0, 1.5),
+            (12.0, 0.0, 2.0),
+            (18.0, -3.0, 1.5),
+            (24.0, 0.0, 1.2),
+            (30.0, 2.0, 1.0),
+        ]
+    }
+
+    /// A stroke with a sharp left bend: the left envelope has a loop.
+    fn bend_stroke() -> Vec<(f64, f64, f64)> {
+        vec![
+            (0.0, 0.0, 0.8),
+            (4.0, 0.0, 0.8),
+            (5.0, 1.0, 0.8),
+            (4.0, 2.0, 0.8),
+            (0.0, 2.2, 0.8),
+        ]
+    }
+
+    fn opts(eps: f64) -> DbscSkinOptions {
+        DbscSkinOptions {
+            eps,
+            ..DbscSkinOptions::default()
+        }
+    }
+
+    fn area(s: &DbscSkin) -> f64 {
+        s.outline
+            .iter()
+            .map(|c| polygon_area(&c.flatten(1e-5)))
+            .sum()
+    }
+
+    fn transform(d: &[(f64, f64, f64)], rot: f64, scale: f64) -> Vec<(f64, f64, f64)> {
+        let (sn, cs) = rot.sin_cos();
+        d.iter()
+            .map(|&(x, y, r)| {
+                (
+                    scale * (cs * x - sn * y),
+                    scale * (sn * x + cs * y),
+                    scale * r,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn loop_free_stroke_meets_eps_everywhere() {
+        let c = open(3, &s_stroke());
+        assert!(find_loops(&c, 1e-10).unwrap().loops.is_empty());
+        let eps = 0.01;
+        let s = skin_dbsc(&c, &opts(eps)).unwrap();
+        assert!(s.circles.len() > c.breakpoints().len());
+        for r in &s.report {
+            assert!(r.met_left && r.met_right, "{r:?}");
+            assert!(r.error_left.upper <= eps && r.error_right.upper <= eps);
+            assert!(r.stopped_in.is_none() && r.loops.is_empty());
+            assert!(r.error_left.gap() <= 0.1 * eps + 1e-15);
+        }
+        assert!(!outline_intersects(&s.outline, 1e-9));
+        // Independent check of the error: skin arc points lie within ε (+ gap) of the
+        // envelope samples' polyline hull, sampled densely.
+        for (k, arc) in s.left.iter().enumerate() {
+            let (t0, t1) = (s.left_params[k], s.left_params[k + 1]);
+            let env: Vec<DVec2> = (0..=200)
+                .map(|i| {
+                    c.envelope(Side::Left, t0 + (t1 - t0) * i as f64 / 200.0)
+                        .unwrap()
+                        .point
+                })
+                .collect();
+            for i in 0..=50 {
+                let p = arc.eval(i as f64 / 50.0);
+                let d = env
+                    .windows(2)
+                    .map(|w| crate::geom::Line::new(w[0], w[1]).distance(p))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(d <= eps * 1.01, "segment {k}: {d}");
+            }
+        }
+        // Every circle of the result is a circle of the DBSC at its parameter.
+        for (t, k) in s.params.iter().zip(&s.circles) {
+            assert_eq!(c.circle_at(*t), *k);
+        }
+    }
+
+    #[test]
+    fn looping_stroke_gives_clean_outline_and_names_loops() {
+        let c = open(3, &bend_stroke());
+        let loops = find_loops(&c, 1e-10).unwrap();
+        assert_eq!(loops.loops.len(), 1);
+        let lp = loops.loops[0];
+        let s = skin_dbsc(&c, &opts(0.01)).unwrap();
+        assert!(!outline_intersects(&s.outline, 1e-9));
+        for o in &s.outline {
+            assert!(path_self_intersections(o, 1e-9).is_empty());
+        }
+        let named: Vec<&SegmentReport> = s.report.iter().filter(|r| !r.loops.is_empty()).collect();
+        assert!(!named.is_empty());
+        for r in &named {
+            assert!(overlaps(lp.t_a, lp.t_b, r.t0, r.t1));
+        }
+        // The skin cannot follow the swallowtail: some looping segment misses ε on the
+        // looping side and the report says which phase stopped it.
+        assert!(named.iter().any(|r| !r.met_left && r.stopped_in.is_some()));
+        // Segments away from the loop are accurate.
+        for r in s.report.iter().filter(|r| r.loops.is_empty()) {
+            if r.t1 < lp.t_a - 0.1 || r.t0 > lp.t_b + 0.1 {
+                assert!(r.met_left && r.met_right, "{r:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn reversed_rotated_scaled_agree() {
+        for d in [s_stroke(), bend_stroke()] {
+            let eps = 0.01;
+            let base = skin_dbsc(&open(3, &d), &opts(eps)).unwrap();
+            let a0 = area(&base);
+            // Rotation and uniform scaling (with ε scaled) give the same circle parameters.
+            let k = 2.5;
+            let t = skin_dbsc(&open(3, &transform(&d, 0.7, k)), &opts(k * eps)).unwrap();
+            assert_eq!(t.params.len(), base.params.len());
+            for (a, b) in t.params.iter().zip(&base.params) {
+                assert!((a - b).abs() < 1e-12);
+            }
+            assert!(
+                (area(&t) - k * k * a0).abs() < 1e-4 * k * k * a0.abs(),
+                "{} {}",
+                area(&t),
+                k * k * a0
+            );
+            // Reversal: the same region within the accuracy (met segments reach ε on both
+            // runs; the area differs by at most ε times the perimeter).
+            let rev: Vec<(f64, f64, f64)> = d.iter().rev().copied().collect();
+            let r = skin_dbsc(&open(3, &rev), &opts(eps)).unwrap();
+            assert!(!outline_intersects(&r.outline, 1e-9));
+            let perim: f64 = base.outline.iter().map(|c| c.length(1e-9)).sum();
+            assert!(
+                (area(&r) - a0).abs() <= 2.0 * eps * perim,
+                "{} {}",
+                area(&r),
+                a0
+            );
+            let missed = |s: &DbscSkin| {
+                s.report
+                    .iter()
+                    .filter(|x| !(x.met_left && x.met_right))
+                    .count()
+            };
+            assert_eq!(missed(&base) == 0, missed(&r) == 0);
+        }
+    }
+
+    #[test]
+    fn inadmissible_knot_circles_name_the_span() {
+        // Degree 1: the knot circles are the control disks; the middle one is covered.
+        let c = open(
+            1,
+            &[
+                (0.0, 0.0, 2.0),
+                (0.5, 0.0, 0.2),
+                (1.0, 0.0, 2.0),
+                (5.0, 0.0, 1.0),
+            ],
+        );
+        match skin_dbsc(&c, &opts(0.01)) {
+            Err(DbscSkinError::NotAdmissible {
+                circles,
+                params,
+                t0,
+                t1,
+                ..
+            }) => {
+                assert!(!circles.is_empty());
+                assert_eq!(params.len(), circles.len());
+                assert!(t0 <= t1);
+                // The covered circle is at parameter 1/3.
+                assert!(
+                    params.iter().any(|&t| (t - 1.0 / 3.0).abs() < 1e-12),
+                    "{params:?}"
+                );
+            }
+            other => panic!("expected NotAdmissible, got {other:?}"),
+        }
+        assert!(matches!(
+            skin_dbsc(&open(3, &s_stroke()), &opts(0.0)),
+            Err(DbscSkinError::Options(_))
+        ));
+    }
+
+    #[test]
+    fn closed_stroke_meets_eps() {
+        let disks: Vec<Circle> = (0..6)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / 6.0;
+                Circle::new(
+                    DVec2::new(10.0 * a.cos(), 7.0 * a.sin()),
+                    1.0 + 0.3 * (i % 2) as f64,
+                )
+            })
+            .collect();
+        let c = DiskBSpline::closed(3, &disks, None).unwrap();
+        let s = skin_dbsc(&c, &opts(0.01)).unwrap();
+        assert_eq!(s.outline.len(), 2);
+        assert!(!outline_intersects(&s.outline, 1e-9));
+        for r in &s.report {
+            assert!(r.met_left && r.met_right, "{r:?}");
+        }
+    }
+}
