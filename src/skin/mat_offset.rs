@@ -1,1 +1,835 @@
-//! MAT offsets of RE skins (in progress).
+//! MAT offsets of RE/MPH skins (re-skinning-cnc eq. 13 and Sec. 4).
+//!
+//! The outline of a skin is the envelope y + r m± of its MAT ȳ = (y, r). Its inner
+//! δ-offsets are x±δ(t) = y(t) + (r(t) − δ) m±(t) (eq. 13), and they are trimmed exactly
+//! where r(t) < δ: at a root of r = δ both offsets meet in the MAT point y(t), so each
+//! maximal parameter run with r > δ closes into one contour — no curve–curve intersection.
+//! For RE curves r² = f² ‖x′‖² is a polynomial, so the trim points are polynomial roots.
+//!
+//! Outer offsets are y + (r + δ) m±; their local loops lie where τ = o′·y′ < 0
+//! (kruppa-2023 Sec. 3 with r + δ in place of r) and are cut at the loop's self-crossing.
+
+use super::re::poly::{Positivity, prove_positive};
+use super::re::{Branch, ReCurve, ReSkin};
+use crate::geom::{Arc, CubicBez, DVec2, Line, Path, PathSeg};
+use thiserror::Error;
+
+/// Errors of MAT offsetting; each names the segment (circle pair) involved.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum MatOffsetError {
+    #[error("offset distance {0} must be finite and positive")]
+    BadDelta(f64),
+    #[error("segment {segment}: f ≤ 0 at t = {t} (r ≤ 0: the envelopes cross; eliminate first)")]
+    NonPositiveRadius { segment: usize, t: f64 },
+    #[error("segment {segment}: singular point of x or y at t = {t}")]
+    Singular { segment: usize, t: f64 },
+    #[error("the skin has no segments")]
+    Empty,
+}
+
+/// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrimPoint {
+    pub segment: usize,
+    pub t: f64,
+    pub point: DVec2,
+}
+
+/// A local loop of an outer offset that was cut out: the offset crosses itself at
+/// parameters `t0` (on segment `seg0`) and `t1` (on `seg1`), at `point`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoopCut {
+    pub branch: Branch,
+    pub seg0: usize,
+    pub t0: f64,
+    pub seg1: usize,
+    pub t1: f64,
+    pub point: DVec2,
+}
+
+/// One piece of an offset contour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Piece {
+    /// The exact curve y + (r + d) m± of `segment` traversed from `t0` to `t1` (t1 < t0
+    /// for backwards traversal).
+    Curve {
+        segment: usize,
+        branch: Branch,
+        t0: f64,
+        t1: f64,
+    },
+    /// An offset cap arc of an end circle.
+    Arc(Arc),
+}
+
+/// A closed offset contour.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OffsetContour {
+    pub pieces: Vec<Piece>,
+}
+
+/// The offset of a skin at signed distance `d` (−δ inner, +δ outer) with its exact pieces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MatOffset {
+    pub d: f64,
+    pub curves: Vec<ReCurve>,
+    pub contours: Vec<OffsetContour>,
+    pub trims: Vec<TrimPoint>,
+    pub loops: Vec<LoopCut>,
+}
+
+fn check_delta(delta: f64) -> Result<(), MatOffsetError> {
+    if delta.is_finite() && delta > 0.0 {
+        Ok(())
+    } else {
+        Err(MatOffsetError::BadDelta(delta))
+    }
+}
+
+/// Subdivision depth of the f > 0 proof before offsetting.
+const F_PROOF_DEPTH: u32 = 30;
+
+fn check_f(skin: &ReSkin) -> Result<(), MatOffsetError> {
+    if skin.segments.is_empty() {
+        return Err(MatOffsetError::Empty);
+    }
+    for (segment, seg) in skin.segments.iter().enumerate() {
+        if let Positivity::Fails { t, .. } = prove_positive(&seg.curve.f, F_PROOF_DEPTH) {
+            return Err(MatOffsetError::NonPositiveRadius { segment, t });
+        }
+    }
+    Ok(())
+}
+
+/// A parameter run on consecutive segments: (segment, t0, t1) with t1 > t0.
+type Run = Vec<(usize, f64, f64)>;
+
+/// Splits per-segment kept intervals into maximal runs, joining across segment ends (and
+/// across the closing join of a closed skin).
+fn runs(kept: &[Vec<(f64, f64)>], closed: bool) -> Vec<Run> {
+    let mut out: Vec<Run> = Vec::new();
+    let mut cur: Run = Vec::new();
+    for (s, iv) in kept.iter().enumerate() {
+        for &(a, b) in iv {
+            let joins = cur
+                .last()
+                .is_some_and(|&(ps, _, pb)| ps + 1 == s && pb == 1.0 && a == 0.0);
+            if !joins && !cur.is_empty() {
+                out.push(std::mem::take(&mut cur));
+            }
+            cur.push((s, a, b));
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    let n = kept.len();
+    if closed && out.len() > 1 {
+        let first_starts = out
+            .first()
+            .and_then(|r| r.first())
+            .is_some_and(|&(s, a, _)| s == 0 && a == 0.0);
+        let last_ends = out
+            .last()
+            .and_then(|r| r.last())
+            .is_some_and(|&(s, _, b)| s + 1 == n && b == 1.0);
+        if first_starts && last_ends {
+            let first = out.remove(0);
+            if let Some(last) = out.last_mut() {
+                last.extend(first);
+            }
+        }
+    }
+    out
+}
+
+fn cap(center: DVec2, from: DVec2, to: DVec2) -> Piece {
+    Piece::Arc(Arc::from_center_points(center, from, to, false))
+}
+
+/// Builds the contours of runs: each run is its `Plus` offset forward, the end cap when it
+/// reaches the end of an open skin, its `Minus` offset backwards, the start cap.
+fn contours_of_runs(
+    skin: &ReSkin,
+    d: f64,
+    side_runs: &[Run],
+    full_loop: bool,
+) -> Result<Vec<OffsetContour>, MatOffsetError> {
+    let nseg = skin.segments.len();
+    let point = |s: usize, b: Branch, t: f64| -> Result<DVec2, MatOffsetError> {
+        let fr = skin.segments[s]
+            .curve
+            .frame(t)
+            .ok_or(MatOffsetError::Singular { segment: s, t })?;
+        Ok(fr.offset(b, d).0)
+    };
+    let mut out = Vec::new();
+    if full_loop {
+        // Closed skin without trims: the two sides are separate loops.
+        for (b, fwd) in [(Branch::Plus, true), (Branch::Minus, false)] {
+            let mut pieces: Vec<Piece> = (0..nseg)
+                .map(|segment| Piece::Curve {
+                    segment,
+                    branch: b,
+                    t0: if fwd { 0.0 } else { 1.0 },
+                    t1: if fwd { 1.0 } else { 0.0 },
+                })
+                .collect();
+            if !fwd {
+                pieces.reverse();
+            }
+            out.push(OffsetContour { pieces });
+        }
+        return Ok(out);
+    }
+    for run in side_runs {
+        let mut pieces = Vec::new();
+        for &(segment, t0, t1) in run {
+            pieces.push(Piece::Curve {
+                segment,
+                branch: Branch::Plus,
+                t0,
+                t1,
+            });
+        }
+        let (Some(&(ls, _, lb)), Some(&(fs, fa, _))) = (run.last(), run.first()) else {
+            continue;
+        };
+        if !skin.closed && ls + 1 == nseg && lb == 1.0 {
+            let c = skin.circles[skin.segments[ls].j];
+            pieces.push(cap(
+                c.c,
+                point(ls, Branch::Plus, 1.0)?,
+                point(ls, Branch::Minus, 1.0)?,
+            ));
+        }
+        for &(segment, t0, t1) in run.iter().rev() {
+            pieces.push(Piece::Curve {
+                segment,
+                branch: Branch::Minus,
+                t0: t1,
+                t1: t0,
+            });
+        }
+        if !skin.closed && fs == 0 && fa == 0.0 {
+            let c = skin.circles[skin.segments[0].i];
+            pieces.push(cap(
+                c.c,
+                point(0, Branch::Minus, 0.0)?,
+                point(0, Branch::Plus, 0.0)?,
+            ));
+        }
+        out.push(OffsetContour { pieces });
+    }
+    Ok(out)
+}
+
+/// Inner δ-offset of an RE/MPH skin (re-skinning-cnc eq. 13): x±δ = y + (r − δ) m±,
+/// trimmed exactly at the roots of r(t) = δ (found as roots of the polynomial
+/// f²‖x′‖² − δ² in [0, 1] by Bernstein subdivision to parameter accuracy `tol`). The cap
+/// arcs of an open skin are offset to radius r − δ (and vanish with their circle when
+/// r ≤ δ). Requires f > 0 (no envelope crossing; see `re::eliminate`).
+pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, MatOffsetError> {
+    check_delta(delta)?;
+    check_f(skin)?;
+    let mut trims = Vec::new();
+    let mut kept: Vec<Vec<(f64, f64)>> = Vec::new();
+    for (s, seg) in skin.segments.iter().enumerate() {
+        let p = seg
+            .curve
+            .r_sq()
+            .sub(&super::re::poly::Poly::constant(delta * delta));
+        let roots = p.roots_01(tol, 0.0);
+        let mut cuts = vec![0.0];
+        for &t in &roots {
+            if t > 0.0 && t < 1.0 {
+                let fr = seg
+                    .curve
+                    .frame(t)
+                    .ok_or(MatOffsetError::Singular { segment: s, t })?;
+                trims.push(TrimPoint {
+                    segment: s,
+                    t,
+                    point: fr.y,
+                });
+                cuts.push(t);
+            }
+        }
+        cuts.push(1.0);
+        let mut iv = Vec::new();
+        for w in cuts.windows(2) {
+            let m = 0.5 * (w[0] + w[1]);
+            if w[1] > w[0] && p.eval(m) > 0.0 {
+                iv.push((w[0], w[1]));
+            }
+        }
+        kept.push(iv);
+    }
+    let all_kept = kept.iter().all(|iv| iv.len() == 1 && iv[0] == (0.0, 1.0));
+    let rs = runs(&kept, skin.closed);
+    let contours = contours_of_runs(skin, -delta, &rs, skin.closed && all_kept)?;
+    Ok(MatOffset {
+        d: -delta,
+        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        contours,
+        trims,
+        loops: Vec::new(),
+    })
+}
+
+/// Samples per segment for bracketing the roots of τ (then refined by bisection); a loop
+/// narrower than 1/TAU_SAMPLES of a segment's parameter range can be missed.
+const TAU_SAMPLES: usize = 128;
+/// Polyline samples per segment used to seed the loop-crossing search.
+const CROSS_SAMPLES: usize = 256;
+
+/// Outer δ-offset: y + (r + δ) m± on both sides with end caps of radius r + δ, and the
+/// local loops removed: τ = o′·y′ (o the offset) is bracketed on a grid and its roots
+/// refined to `tol`; each τ < 0 interval is cut out at the offset's self-crossing around
+/// it (seeded on a polyline, refined by Newton on o(a) = o(b) to `tol`).
+pub fn outer_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, MatOffsetError> {
+    check_delta(delta)?;
+    check_f(skin)?;
+    let nseg = skin.segments.len();
+    let mut loops = Vec::new();
+    let mut side_kept: Vec<Vec<Vec<(f64, f64)>>> = Vec::new();
+    for b in [Branch::Plus, Branch::Minus] {
+        let mut kept: Vec<Vec<(f64, f64)>> = vec![vec![(0.0, 1.0)]; nseg];
+        for (lo, hi) in negative_tau_intervals(skin, b, delta, tol)? {
+            if let Some(cut) = loop_crossing(skin, b, delta, lo, hi, tol) {
+                remove_interval(&mut kept, (cut.seg0, cut.t0), (cut.seg1, cut.t1));
+                loops.push(cut);
+            }
+        }
+        side_kept.push(kept);
+    }
+    // Contours: plus side runs forward, cap, minus side backwards, cap.
+    let point = |s: usize, b: Branch, t: f64| -> Result<DVec2, MatOffsetError> {
+        let fr = skin.segments[s]
+            .curve
+            .frame(t)
+            .ok_or(MatOffsetError::Singular { segment: s, t })?;
+        Ok(fr.offset(b, delta).0)
+    };
+    let side_pieces = |kept: &Vec<Vec<(f64, f64)>>, b: Branch, fwd: bool| -> Vec<Piece> {
+        let mut v: Vec<Piece> = Vec::new();
+        for (segment, iv) in kept.iter().enumerate() {
+            for &(t0, t1) in iv {
+                v.push(Piece::Curve {
+                    segment,
+                    branch: b,
+                    t0,
+                    t1,
+                });
+            }
+        }
+        if !fwd {
+            v.reverse();
+            for p in v.iter_mut() {
+                if let Piece::Curve { t0, t1, .. } = p {
+                    std::mem::swap(t0, t1);
+                }
+            }
+        }
+        v
+    };
+    let plus = side_pieces(&side_kept[0], Branch::Plus, true);
+    let minus = side_pieces(&side_kept[1], Branch::Minus, false);
+    let contours = if skin.closed {
+        vec![
+            OffsetContour { pieces: plus },
+            OffsetContour { pieces: minus },
+        ]
+    } else {
+        let last = nseg - 1;
+        let ce = skin.circles[skin.segments[last].j];
+        let cs = skin.circles[skin.segments[0].i];
+        let mut pieces = plus;
+        pieces.push(cap(
+            ce.c,
+            point(last, Branch::Plus, 1.0)?,
+            point(last, Branch::Minus, 1.0)?,
+        ));
+        pieces.extend(minus);
+        pieces.push(cap(
+            cs.c,
+            point(0, Branch::Minus, 0.0)?,
+            point(0, Branch::Plus, 0.0)?,
+        ));
+        vec![OffsetContour { pieces }]
+    };
+    Ok(MatOffset {
+        d: delta,
+        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        contours,
+        trims: Vec::new(),
+        loops,
+    })
+}
+
+/// Global parameter of (segment, t).
+fn gparam(s: usize, t: f64) -> f64 {
+    s as f64 + t
+}
+
+fn from_gparam(g: f64, nseg: usize) -> (usize, f64) {
+    let s = (g.floor().max(0.0) as usize).min(nseg - 1);
+    (s, (g - s as f64).clamp(0.0, 1.0))
+}
+
+fn tau(skin: &ReSkin, b: Branch, d: f64, g: f64) -> Option<f64> {
+    let (s, t) = from_gparam(g, skin.segments.len());
+    let fr = skin.segments[s].curve.frame(t)?;
+    Some(fr.offset(b, d).1.dot(fr.y1))
+}
+
+fn offset_point(skin: &ReSkin, b: Branch, d: f64, g: f64) -> Option<(DVec2, DVec2)> {
+    let (s, t) = from_gparam(g, skin.segments.len());
+    skin.segments[s].curve.frame(t).map(|fr| fr.offset(b, d))
+}
+
+/// Global parameter intervals where τ < 0, ends refined by bisection to `tol`.
+fn negative_tau_intervals(
+    skin: &ReSkin,
+    b: Branch,
+    d: f64,
+    tol: f64,
+) -> Result<Vec<(f64, f64)>, MatOffsetError> {
+    let nseg = skin.segments.len();
+    let n = nseg * TAU_SAMPLES;
+    let g_of = |i: usize| i as f64 / TAU_SAMPLES as f64;
+    let val = |g: f64| -> Result<f64, MatOffsetError> {
+        let (s, t) = from_gparam(g, nseg);
+        tau(skin, b, d, g).ok_or(MatOffsetError::Singular { segment: s, t })
+    };
+    let refine = |mut lo: f64, mut hi: f64, neg_at_lo: bool| -> Result<f64, MatOffsetError> {
+        while hi - lo > tol {
+            let m = 0.5 * (lo + hi);
+            if (val(m)? < 0.0) == neg_at_lo {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        Ok(0.5 * (lo + hi))
+    };
+    let mut out = Vec::new();
+    let mut start: Option<f64> = None;
+    let mut prev = val(0.0)?;
+    if prev < 0.0 {
+        start = Some(0.0);
+    }
+    for i in 1..=n {
+        let g = g_of(i);
+        let v = val(g)?;
+        if prev >= 0.0 && v < 0.0 {
+            start = Some(refine(g_of(i - 1), g, false)?);
+        } else if prev < 0.0 && v >= 0.0 {
+            let end = refine(g_of(i - 1), g, true)?;
+            out.push((start.take().unwrap_or(0.0), end));
+        }
+        prev = v;
+    }
+    if let Some(s) = start {
+        out.push((s, nseg as f64));
+    }
+    Ok(out)
+}
+
+/// Newton iterations for the loop crossing o(a) = o(b).
+const NEWTON_ITERS: usize = 30;
+
+/// The self-crossing o(a) = o(b) of the offset around a τ < 0 interval [lo, hi]: seeded
+/// by the polyline crossing nearest to the interval, refined by Newton's method.
+fn loop_crossing(skin: &ReSkin, b: Branch, d: f64, lo: f64, hi: f64, tol: f64) -> Option<LoopCut> {
+    let nseg = skin.segments.len();
+    let step = 1.0 / CROSS_SAMPLES as f64;
+    let pt = |g: f64| offset_point(skin, b, d, g).map(|p| p.0);
+    // Walk outwards from the interval: before-part [a−step, a] and after-part [c, c+step].
+    let max_k = (nseg * CROSS_SAMPLES) as i64;
+    let mut best: Option<(f64, f64)> = None;
+    'outer: for i in 0..max_k {
+        let a1 = lo - i as f64 * step;
+        let a0 = a1 - step;
+        if a0 < 0.0 {
+            break;
+        }
+        let (pa0, pa1) = (pt(a0)?, pt(a1)?);
+        for j in 0..max_k {
+            let c0 = hi + j as f64 * step;
+            let c1 = c0 + step;
+            if c1 > nseg as f64 {
+                break;
+            }
+            let (pc0, pc1) = (pt(c0)?, pt(c1)?);
+            if let Some((u, v)) = seg_cross(pa0, pa1, pc0, pc1) {
+                best = Some((a0 + u * step, c0 + v * step));
+                break 'outer;
+            }
+        }
+    }
+    let (mut ga, mut gc) = best?;
+    for _ in 0..NEWTON_ITERS {
+        let (pa, da) = offset_point(skin, b, d, ga)?;
+        let (pc, dc) = offset_point(skin, b, d, gc)?;
+        let r = pa - pc;
+        // J = [da, −dc]; solve J (δa, δc) = −r.
+        let det = crate::geom::cross(da, -dc);
+        if det == 0.0 {
+            break;
+        }
+        let da_step = crate::geom::cross(-r, -dc) / det;
+        let dc_step = crate::geom::cross(da, -r) / det;
+        ga += da_step;
+        gc += dc_step;
+        if da_step.abs().max(dc_step.abs()) <= tol {
+            break;
+        }
+    }
+    let (s0, t0) = from_gparam(ga, nseg);
+    let (s1, t1) = from_gparam(gc, nseg);
+    Some(LoopCut {
+        branch: b,
+        seg0: s0,
+        t0,
+        seg1: s1,
+        t1,
+        point: pt(ga)?,
+    })
+}
+
+/// Parameters (u, v) ∈ [0, 1]² where segments p0p1 and q0q1 cross, if they do.
+fn seg_cross(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f64, f64)> {
+    let r = p1 - p0;
+    let s = q1 - q0;
+    let den = crate::geom::cross(r, s);
+    if den == 0.0 {
+        return None;
+    }
+    let u = crate::geom::cross(q0 - p0, s) / den;
+    let v = crate::geom::cross(q0 - p0, r) / den;
+    ((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)).then_some((u, v))
+}
+
+/// Removes the global interval from (s0, t0) to (s1, t1) from per-segment kept intervals.
+fn remove_interval(kept: &mut [Vec<(f64, f64)>], a: (usize, f64), c: (usize, f64)) {
+    let (ga, gc) = (gparam(a.0, a.1), gparam(c.0, c.1));
+    for (s, iv) in kept.iter_mut().enumerate() {
+        let mut out = Vec::new();
+        for &(t0, t1) in iv.iter() {
+            let (g0, g1) = (gparam(s, t0), gparam(s, t1));
+            if g1 <= ga || g0 >= gc {
+                out.push((t0, t1));
+                continue;
+            }
+            if g0 < ga {
+                out.push((t0, ga - s as f64));
+            }
+            if g1 > gc {
+                out.push((gc - s as f64, t1));
+            }
+        }
+        *iv = out;
+    }
+}
+
+/// Samples at which a fitted piece is compared with the exact curve.
+const CHECK_SAMPLES: usize = 8;
+/// Deepest bisection of a piece when fitting.
+const MAX_FIT_DEPTH: u32 = 30;
+
+impl MatOffset {
+    /// Point and derivative (w.r.t. the curve's own parameter t) of an exact piece.
+    pub fn curve_point(&self, segment: usize, branch: Branch, t: f64) -> Option<(DVec2, DVec2)> {
+        self.curves
+            .get(segment)?
+            .frame(t)
+            .map(|fr| fr.offset(branch, self.d))
+    }
+
+    /// Point of piece `p` at local s ∈ [0, 1].
+    pub fn piece_point(&self, p: &Piece, s: f64) -> Option<DVec2> {
+        match *p {
+            Piece::Curve {
+                segment,
+                branch,
+                t0,
+                t1,
+            } => self
+                .curve_point(segment, branch, t0 + s * (t1 - t0))
+                .map(|q| q.0),
+            Piece::Arc(a) => Some(a.eval(s)),
+        }
+    }
+
+    /// The contours as paths of cubic Béziers (Hermite fits of the exact curve, bisected
+    /// until the parametric distance at CHECK_SAMPLES interior points is ≤ `tol`) and true
+    /// arcs for caps.
+    pub fn to_cubic_paths(&self, tol: f64) -> Vec<Path> {
+        self.to_paths(tol, true)
+    }
+
+    /// The contours as paths of line segments within `tol` (same test) and true arcs.
+    pub fn to_line_paths(&self, tol: f64) -> Vec<Path> {
+        self.to_paths(tol, false)
+    }
+
+    fn to_paths(&self, tol: f64, cubic: bool) -> Vec<Path> {
+        self.contours
+            .iter()
+            .map(|c| {
+                let mut segs = Vec::new();
+                for p in &c.pieces {
+                    match *p {
+                        Piece::Arc(a) => {
+                            if a.radius > 0.0 {
+                                segs.push(PathSeg::Arc(a));
+                            }
+                        }
+                        Piece::Curve {
+                            segment,
+                            branch,
+                            t0,
+                            t1,
+                        } => {
+                            self.fit(segment, branch, t0, t1, tol, cubic, 0, &mut segs);
+                        }
+                    }
+                }
+                Path::new(segs, true)
+            })
+            .collect()
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn fit(
+        &self,
+        s: usize,
+        b: Branch,
+        t0: f64,
+        t1: f64,
+        tol: f64,
+        cubic: bool,
+        depth: u32,
+        out: &mut Vec<PathSeg>,
+    ) {
+        let (Some((p0, d0)), Some((p1, d1))) =
+            (self.curve_point(s, b, t0), self.curve_point(s, b, t1))
+        else {
+            return;
+        };
+        let h = t1 - t0;
+        let seg = if cubic {
+            PathSeg::Cubic(CubicBez::hermite(p0, d0 * h, p1, d1 * h))
+        } else {
+            PathSeg::Line(Line::new(p0, p1))
+        };
+        let ok = depth >= MAX_FIT_DEPTH
+            || (1..CHECK_SAMPLES).all(|k| {
+                let u = k as f64 / CHECK_SAMPLES as f64;
+                match self.curve_point(s, b, t0 + u * h) {
+                    Some((q, _)) => match seg {
+                        PathSeg::Line(l) => l.distance(q) <= tol,
+                        _ => seg.eval(u).distance(q) <= tol,
+                    },
+                    None => true,
+                }
+            });
+        if ok {
+            out.push(seg);
+        } else {
+            let m = 0.5 * (t0 + t1);
+            self.fit(s, b, t0, m, tol, cubic, depth + 1, out);
+            self.fit(s, b, m, t1, tol, cubic, depth + 1, out);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::re::skin::tests::{test_touches, transform};
+    use super::super::re::{Interp, Touch};
+    use super::*;
+    use crate::geom::Circle;
+
+    fn gentle() -> Vec<Circle> {
+        vec![
+            Circle::new(DVec2::new(0.0, 0.0), 1.2),
+            Circle::new(DVec2::new(3.0, 0.6), 0.7),
+            Circle::new(DVec2::new(6.0, 0.4), 1.4),
+            Circle::new(DVec2::new(9.0, -0.5), 0.5),
+            Circle::new(DVec2::new(11.5, -0.4), 0.9),
+        ]
+    }
+
+    fn skin_of(cs: &[Circle], interp: Interp) -> ReSkin {
+        let touches: Vec<Touch> = test_touches(cs, &[]);
+        ReSkin::build(cs, &touches, false, interp, 1e-9).unwrap()
+    }
+
+    /// Dense envelope samples (both branches and the caps): the outline.
+    fn outline(skin: &ReSkin) -> Vec<DVec2> {
+        let mut v = Vec::new();
+        for seg in &skin.segments {
+            for b in [Branch::Plus, Branch::Minus] {
+                for i in 0..=4000 {
+                    v.push(seg.curve.envelope(b, i as f64 / 4000.0).unwrap());
+                }
+            }
+        }
+        // Cap arcs only (the rest of the end circles is inside the outline).
+        let last = skin.segments.len() - 1;
+        let e = |s: usize, b, t| skin.segments[s].curve.envelope(b, t).unwrap();
+        let caps = [
+            Arc::from_center_points(
+                skin.circles[0].c,
+                e(0, Branch::Minus, 0.0),
+                e(0, Branch::Plus, 0.0),
+                false,
+            ),
+            Arc::from_center_points(
+                skin.circles[skin.segments[last].j].c,
+                e(last, Branch::Plus, 1.0),
+                e(last, Branch::Minus, 1.0),
+                false,
+            ),
+        ];
+        for a in caps {
+            for i in 0..=2000 {
+                v.push(a.eval(i as f64 / 2000.0));
+            }
+        }
+        v
+    }
+
+    fn no_envelope_loops(skin: &ReSkin) -> bool {
+        skin.segments.iter().all(|s| {
+            (0..=200).all(|i| {
+                let fr = s.curve.frame(i as f64 / 200.0).unwrap();
+                [Branch::Plus, Branch::Minus]
+                    .iter()
+                    .all(|&b| fr.offset(b, 0.0).1.dot(fr.y1) > 0.0)
+            })
+        })
+    }
+
+    /// Nearest distance from p to the outline sample set.
+    fn dist(pts: &[DVec2], p: DVec2) -> f64 {
+        pts.iter()
+            .map(|q| q.distance(p))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn inner_offset_is_trimmed_at_r_eq_delta_and_at_distance_delta() {
+        for (rot, scale, rev) in [(0.0, 1.0, false), (1.1, 2.5, true)] {
+            for interp in [Interp::Cubic, Interp::PhQuintic] {
+                let cs = transform(&gentle(), rot, scale, DVec2::new(-2.0, 7.0), rev);
+                let skin = skin_of(&cs, interp);
+                assert!(no_envelope_loops(&skin), "test precondition");
+                let delta = 0.6 * scale; // larger than the 0.5 and smaller than the others
+                let off = inner_offset(&skin, delta, 1e-12).unwrap();
+                assert!(!off.trims.is_empty());
+                for tp in &off.trims {
+                    let fr = skin.segments[tp.segment].curve.frame(tp.t).unwrap();
+                    assert!(
+                        (fr.r - delta).abs() < 1e-9 * scale,
+                        "r = {} vs δ = {delta}",
+                        fr.r
+                    );
+                    let (a, b) = (
+                        fr.offset(Branch::Plus, -delta).0,
+                        fr.offset(Branch::Minus, -delta).0,
+                    );
+                    assert!((a - b).length() < 1e-8 * scale);
+                }
+                assert_eq!(off.contours.len(), off.trims.len() / 2 + 1);
+                // Distance to the outline: δ within the sampling error of the outline.
+                let pts = outline(&skin);
+                let sample_err = 2e-3 * scale;
+                for c in &off.contours {
+                    for p in &c.pieces {
+                        for k in 0..=50 {
+                            let q = off.piece_point(p, k as f64 / 50.0).unwrap();
+                            let dd = dist(&pts, q);
+                            assert!(
+                                dd > delta - 1e-9 * scale && dd < delta + sample_err,
+                                "{dd} vs {delta} at {p:?} k={k} {interp:?} {rot}"
+                            );
+                        }
+                    }
+                }
+                // Paths: closed, within tolerance of the exact pieces.
+                for (path, c) in off.to_cubic_paths(1e-4 * scale).iter().zip(&off.contours) {
+                    assert!(path.max_gap() < 1e-8 * scale, "gap {}", path.max_gap());
+                    let flat = path.flatten(1e-5 * scale);
+                    for p in &c.pieces {
+                        for k in 0..=20 {
+                            let q = off.piece_point(p, k as f64 / 20.0).unwrap();
+                            let dd = flat
+                                .windows(2)
+                                .map(|w| Line::new(w[0], w[1]).distance(q))
+                                .fold(f64::INFINITY, f64::min);
+                            assert!(dd < 1.1e-4 * scale, "{dd}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn small_delta_keeps_one_contour_and_caps() {
+        let skin = skin_of(&gentle(), Interp::Cubic);
+        let off = inner_offset(&skin, 0.1, 1e-12).unwrap();
+        assert!(off.trims.is_empty());
+        assert_eq!(off.contours.len(), 1);
+        let arcs = off.contours[0]
+            .pieces
+            .iter()
+            .filter(|p| matches!(p, Piece::Arc(_)))
+            .count();
+        assert_eq!(arcs, 2);
+        for p in &off.contours[0].pieces {
+            if let Piece::Arc(a) = p {
+                assert!(a.radius > 0.0 && a.sweep < 0.0);
+            }
+        }
+        let path = &off.to_line_paths(1e-4)[0];
+        assert!(path.max_gap() < 1e-9);
+        assert!(matches!(
+            inner_offset(&skin, -1.0, 1e-9),
+            Err(MatOffsetError::BadDelta(_))
+        ));
+    }
+
+    #[test]
+    fn outer_offset_is_at_distance_delta_and_loops_are_cut() {
+        let cs = gentle();
+        let skin = skin_of(&cs, Interp::Cubic);
+        let pts = outline(&skin);
+        for delta in [0.2, 1.5] {
+            let off = outer_offset(&skin, delta, 1e-12).unwrap();
+            assert_eq!(off.contours.len(), 1);
+            for lc in &off.loops {
+                // The crossing is a true self-crossing of the offset curve.
+                let a = off.curve_point(lc.seg0, lc.branch, lc.t0).unwrap().0;
+                let b = off.curve_point(lc.seg1, lc.branch, lc.t1).unwrap().0;
+                assert!((a - b).length() < 1e-8, "{a} {b}");
+            }
+            // Every kept point is at distance ≥ δ from the outline (no gouge) and ≈ δ.
+            for p in &off.contours[0].pieces {
+                for k in 0..=40 {
+                    let q = off.piece_point(p, k as f64 / 40.0).unwrap();
+                    let dd = dist(&pts, q);
+                    assert!(dd > delta - 1e-6 && dd < delta + 2e-3, "δ={delta}: {dd}");
+                }
+            }
+            let path = &off.to_cubic_paths(1e-4)[0];
+            assert!(path.max_gap() < 1e-7, "gap {}", path.max_gap());
+        }
+        // Large δ on this bent outline must produce loops on the concave side.
+        let off = outer_offset(&skin, 1.5, 1e-12).unwrap();
+        assert!(!off.loops.is_empty());
+    }
+}
