@@ -8,8 +8,10 @@
 //! eq. 9, with q′⊥ the counter-clockwise rotation of q′), the `−` envelope on the right.
 
 mod curve;
+mod fit;
 
 pub use curve::{DiskBSpline, EnvelopePoint, Side};
+pub use fit::{DbscFitError, disk_parameters};
 
 use crate::spline::SplineError;
 
