@@ -619,3 +619,75 @@ fn examples_envelopes_are_loop_free_except_loop_toml() {
         }
     }
 }
+
+#[test]
+fn examples_round_trip_and_reverse() {
+    for (name, text) in EXAMPLES {
+        let d = load(text, name).unwrap();
+        let back = from_str(&d.to_toml_string().unwrap(), Format::Toml, name).unwrap();
+        assert_eq!(back, d, "{name}");
+        let back = from_str(&d.to_json_string().unwrap(), Format::Json, name).unwrap();
+        assert_eq!(back, d, "{name}");
+        // Reversing a stroke swaps its sides; loops stay loops and loop-free stays so.
+        for curve in d.strokes().unwrap() {
+            let rev = DiskBSpline::from_curve(curve.curve().reversed());
+            let (a, b) = (min_tau(&curve), min_tau(&rev));
+            assert_eq!(a.1, b.1, "{name}");
+            assert_eq!(a.0 > 0.0, b.0 > 0.0, "{name}: {} vs {}", a.0, b.0);
+        }
+    }
+}
+
+/// Relative error, in units of f64::EPSILON, that serde_json's fast float parser may add.
+const JSON_ULPS: f64 = 2.0;
+
+/// Finite numbers over many magnitudes, as a design might hold them.
+fn coord() -> impl proptest::strategy::Strategy<Value = f64> {
+    use proptest::prelude::*;
+    prop_oneof![-1e4f64..1e4, -1e-3f64..1e-3, (-1e9f64..1e9)]
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// Any valid disk list survives TOML bit for bit, and JSON to within serde_json's
+    /// default float parser (which can be one ulp off without its `float_roundtrip`
+    /// feature).
+    #[test]
+    fn random_designs_round_trip(
+        pts in proptest::collection::vec((coord(), coord(), 1e-3f64..1e3), 4..12),
+        closed in proptest::prelude::any::<bool>(),
+    ) {
+        let disks: Vec<[f64; 3]> = pts.iter().map(|&(x, y, r)| [x, y, r]).collect();
+        proptest::prop_assume!(disks.windows(2).all(|w| w[0] != w[1]));
+        let mut s = Stroke::from_disks("p", disks.clone());
+        s.closed = closed;
+        s.attributes.depth = Some(disks.iter().map(|d| d[2]).collect());
+        let d = Design {
+            version: VERSION,
+            units: Units::Mm,
+            outline: None,
+            stroke: vec![s],
+            circles: vec![CircleSeq { name: "q".into(), closed, circles: disks }],
+            operation: vec![],
+            file: "p.toml".into(),
+        };
+        validate(&d).unwrap();
+        let t = from_str(&d.to_toml_string().unwrap(), Format::Toml, "p.toml").unwrap();
+        proptest::prop_assert_eq!(&t, &d);
+        let mut j = from_str(&d.to_json_string().unwrap(), Format::Json, "p.toml").unwrap();
+        let flat = |d: &Design| -> Vec<f64> {
+            let s = &d.stroke[0];
+            let mut v: Vec<f64> = s.disks.iter().flatten().flatten().copied().collect();
+            v.extend(s.attributes.depth.iter().flatten());
+            v.extend(d.circles[0].circles.iter().flatten());
+            v
+        };
+        for (a, b) in flat(&j).into_iter().zip(flat(&d)) {
+            proptest::prop_assert!((a - b).abs() <= JSON_ULPS * f64::EPSILON * b.abs(), "{a} {b}");
+        }
+        j.stroke = d.stroke.clone();
+        j.circles = d.circles.clone();
+        proptest::prop_assert_eq!(&j, &d);
+    }
+}
