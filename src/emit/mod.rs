@@ -1,2 +1,105 @@
 //! Output writers: G-code, laser SVG, DXF, previews.
 pub mod outline;
+//!
+//! Every writer takes a [`Toolpath`](crate::toolpath::Toolpath) in millimetres and a machine
+//! [`Profile`](crate::machine::Profile), validates the moves first (finite coordinates,
+//! power in 0..1, arcs whose start and end lie on one circle) and returns the file's text; the
+//! caller writes it (atomically).
+
+pub mod dxf;
+pub mod gcode;
+pub mod geometry;
+pub mod laser_svg;
+pub mod preview_svg;
+
+pub use dxf::{DxfOptions, dxf};
+pub use gcode::{GcodeOptions, gcode};
+pub use geometry::{Contour, Seg};
+pub use laser_svg::{LaserSvgOptions, Page, laser_svg};
+pub use preview_svg::{PreviewOptions, preview_svg};
+
+use std::fmt;
+
+/// Where in a toolpath something is: operation index and name, cut index, move index (the
+/// cut's start when `mv` is `None`). Indices are 0-based.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Location {
+    pub op: usize,
+    pub op_name: String,
+    pub cut: usize,
+    pub mv: Option<usize>,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "operation {} ({:?}), cut {}",
+            self.op, self.op_name, self.cut
+        )?;
+        match self.mv {
+            Some(m) => write!(f, ", move {m}"),
+            None => write!(f, ", start"),
+        }
+    }
+
+/// Why a toolpath could not be written.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EmitError {
+    /// A move the writer cannot express faithfully.
+    #[error("{at}: {reason}")]
+    InvalidMove { at: Location, reason: String },
+    /// A coordinate outside the machine's travel.
+    #[error(
+        "{at}: {axis} = {value} is outside the work area [{min}, {max}] of profile {profile:?}"
+    )]
+    OutOfWorkArea {
+        at: Location,
+        axis: char,
+        value: f64,
+        min: f64,
+        max: f64,
+        profile: String,
+    },
+    /// The profile is for another kind of output.
+    #[error("profile {profile:?} cannot be used for {output}: {reason}")]
+    WrongProfile {
+        output: &'static str,
+        reason: String,
+    /// An option out of range.
+    #[error("option {name}: {reason}")]
+    InvalidOption { name: &'static str, reason: String },
+    /// A template that failed to render (names the template).
+    #[error("profile {profile:?}, {key}: {reason}")]
+    Template {
+        key: &'static str,
+
+/// Checks that `tol` is a usable positive tolerance.
+pub(crate) fn check_tolerance(name: &'static str, tol: f64) -> Result<(), EmitError> {
+    if tol.is_finite() && tol > 0.0 {
+        Ok(())
+    } else {
+        Err(EmitError::InvalidOption {
+            name,
+            reason: format!("must be a positive number, got {tol}"),
+        })
+
+/// `s` escaped for XML text and attribute values.
+pub(crate) fn xml_escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c if (c as u32) < 0x20 && c != '\n' && c != '\t' => out.push(' '),
+            c => out.push(c),
+    out
+
+/// A number for SVG/DXF text at f64 precision: shortest round-trip form, `-0` as `0`.
+pub(crate) fn fnum(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        "0".to_string()
+        format!("{v}")

@@ -1,1 +1,88 @@
 //! Machine profiles (machines/*.toml) and G-code dialects.
+//!
+//! A [`Profile`] is data, not code: the shipped ones are embedded in the binary
+//! ([`builtin_profiles`]) and a user's own loads with [`Profile::from_toml`].
+
+pub mod dialect;
+pub mod profile;
+pub mod template;
+
+pub use dialect::Dialect;
+pub use profile::{
+    ArcFormat, Axes, GcodeSettings, LaserMode, LaserSettings, MachineKind, OperationColors,
+    PowerRange, Profile, ProfileError, Range, RapidOff, RouterSettings, SvgSettings, Tool,
+    ToolKind, Units, WorkArea,
+};
+
+/// The shipped profiles' file names and texts (embedded, so the binary works from anywhere).
+pub const BUILTIN_SOURCES: [(&str, &str); 7] = [
+    (
+        "grbl-laser.toml",
+        include_str!("../../machines/grbl-laser.toml"),
+    ),
+    (
+        "grbl-router.toml",
+        include_str!("../../machines/grbl-router.toml"),
+    ),
+    (
+        "marlin-laser.toml",
+        include_str!("../../machines/marlin-laser.toml"),
+    ),
+    (
+        "linuxcnc-router.toml",
+        include_str!("../../machines/linuxcnc-router.toml"),
+    ),
+    (
+        "smoothie-laser.toml",
+        include_str!("../../machines/smoothie-laser.toml"),
+    ),
+    (
+        "svg-laser.toml",
+        include_str!("../../machines/svg-laser.toml"),
+    ),
+    (
+        "svg-laser-lightburn.toml",
+        include_str!("../../machines/svg-laser-lightburn.toml"),
+    ),
+];
+
+/// The shipped profiles, parsed and validated.
+pub fn builtin_profiles() -> Result<Vec<Profile>, ProfileError> {
+    BUILTIN_SOURCES
+        .iter()
+        .map(|(file, text)| Profile::from_toml(text, file))
+        .collect()
+}
+
+/// The shipped profile called `name` (its `name` key, which is also its file stem).
+pub fn builtin_profile(name: &str) -> Option<Result<Profile, ProfileError>> {
+    BUILTIN_SOURCES
+        .iter()
+        .find(|(file, _)| file.strip_suffix(".toml") == Some(name))
+        .map(|(file, text)| Profile::from_toml(text, file))
+}
+
+/// `v` rounded to `decimals` places, without trailing zeros, a trailing point or `-0`:
+/// `format_number(-0.0004, 3) == "0"`, `format_number(12.5, 3) == "12.5"`.
+/// Non-finite input prints as "0" (callers reject non-finite values before formatting).
+pub fn format_number(v: f64, decimals: u32) -> String {
+    if !v.is_finite() {
+        return "0".to_string();
+    }
+    let mut s = format!("{:.*}", decimals as usize, v);
+    if s.contains('.') {
+        while s.ends_with('0') {
+            s.pop();
+        }
+        if s.ends_with('.') {
+            s.pop();
+        }
+    }
+    if s == "-0" || s.is_empty() {
+        s = "0".to_string();
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests;

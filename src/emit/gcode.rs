@@ -1,0 +1,701 @@
+//! G-code for lasers and routers, following a machine [`Profile`].
+//!
+//! The program: header comments, `G17 G21|G20 G90 G94`, the profile's preamble, the cuts,
+//! tool off (`M5`), the postamble and the program end. Modal words (motion G, F, S, unchanged
+//! axes) are written only when they change; coordinates are rounded to the profile's
+//! decimals and never print as `-0`. Lasers: the beam is off on every rapid, by the
+//! controller (GRBL `M4` in laser mode, Smoothie), by `S0` (GRBL `M3`) or by `M5` (Marlin),
+//! as the profile says. Routers: every XY rapid happens at safe Z, descents below the
+//! clearance height are `G1` plunges at the plunge feed, the spindle starts (with its dwell)
+//! before the first descent. Arcs are `G2`/`G3` with `I J`, or with `R` (split into pieces of
+//! at most [`R_MAX_SWEEP`]), or flattened to lines within the caller's tolerance.
+
+use super::geometry::{arc_of, split_arc, validate};
+use super::{EmitError, Location, check_tolerance};
+use crate::machine::{
+    ArcFormat, Dialect, GcodeSettings, LaserMode, LaserSettings, MachineKind, Profile, RapidOff,
+    RouterSettings, Units, format_number, template,
+};
+use crate::toolpath::{Cut, Move, MoveKind, Toolpath};
+use glam::{DVec2, DVec3};
+
+/// Largest sweep of one `R`-format arc: 120°. The centre recomputed from `R` gets
+/// ill-conditioned as the sweep nears 180° (the chord nears the diameter) and `R` cannot
+/// express a full circle, so longer arcs are split into equal pieces.
+pub const R_MAX_SWEEP: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
+/// Options of [`gcode`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct GcodeOptions {
+    /// Job name, for the header comment and the `{job}` placeholder.
+    pub job: String,
+    /// Units of the toolpath's coordinates and feeds (the model is in mm by default).
+    pub input_units: Units,
+    /// Tolerance in input units: chord error when arcs are flattened, and the largest
+    /// start/end radius mismatch accepted on an arc move.
+    pub tolerance: f64,
+    /// Reject coordinates outside the profile's work area.
+    pub check_work_area: bool,
+}
+
+impl Default for GcodeOptions {
+    fn default() -> Self {
+        GcodeOptions {
+            job: "skinpath".to_string(),
+            input_units: Units::Mm,
+            tolerance: crate::geom::tol::FLATTEN,
+            check_work_area: true,
+        }
+    }
+}
+
+/// The G-code program for `tp` on the machine `profile`.
+pub fn gcode(tp: &Toolpath, profile: &Profile, opts: &GcodeOptions) -> Result<String, EmitError> {
+    check_tolerance("tolerance", opts.tolerance)?;
+    let wrong = |reason: &str| EmitError::WrongProfile {
+        profile: profile.name.clone(),
+        output: "G-code",
+        reason: reason.to_string(),
+    };
+    let g = profile
+        .gcode
+        .as_ref()
+        .ok_or_else(|| wrong("it has no [gcode] table"))?;
+    let tool = match profile.kind {
+        MachineKind::Laser => Tool::Laser(
+            profile
+                .laser
+                .as_ref()
+                .ok_or_else(|| wrong("a laser profile needs [laser]"))?,
+        ),
+        MachineKind::Router => Tool::Router(
+            profile
+                .router
+                .as_ref()
+                .ok_or_else(|| wrong("a router profile needs [router]"))?,
+        ),
+        MachineKind::Svg => return Err(wrong("it is an SVG profile")),
+    };
+    validate(tp, opts.tolerance)?;
+    let scale = opts.input_units.mm_per_unit() / profile.units.mm_per_unit();
+    let mut w = Writer {
+        p: profile,
+        g,
+        tool,
+        opts,
+        scale,
+        out: String::new(),
+        motion: None,
+        printed: [None; 3],
+        cur: None,
+        feed: None,
+        s: None,
+        on: false,
+        rpm: None,
+        at: Location {
+            op: 0,
+            op_name: String::new(),
+            cut: 0,
+            mv: None,
+        },
+    };
+    w.program(tp)?;
+    Ok(w.out)
+}
+
+#[derive(Clone, Copy)]
+enum Tool<'a> {
+    Laser(&'a LaserSettings),
+    Router(&'a RouterSettings),
+}
+
+struct Writer<'a> {
+    p: &'a Profile,
+    g: &'a GcodeSettings,
+    tool: Tool<'a>,
+    opts: &'a GcodeOptions,
+    /// Input units → machine units.
+    scale: f64,
+    out: String,
+    /// Modal motion G number last written.
+    motion: Option<u8>,
+    /// Axis values as last written (rounded), for modal omission.
+    printed: [Option<f64>; 3],
+    /// Exact machine position (unrounded), once known.
+    cur: Option<DVec3>,
+    feed: Option<String>,
+    /// Last `S` word written (string form).
+    s: Option<String>,
+    /// Laser `M3`/`M4` in force (lasers) or spindle running (routers).
+    on: bool,
+    rpm: Option<String>,
+    at: Location,
+}
+
+impl Writer<'_> {
+    fn dialect(&self) -> Dialect {
+        self.p.dialect
+    }
+
+    fn line(&mut self, s: &str) {
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+
+    fn comment(&mut self, s: &str) {
+        if self.g.comments {
+            let c = self.dialect().comment(s);
+            self.line(&c);
+        }
+    }
+
+    fn num(&self, v: f64) -> String {
+        format_number(v, self.g.decimals)
+    }
+
+    /// Rounded value as the controller will read it.
+    fn round(&self, v: f64) -> f64 {
+        let f = 10f64.powi(self.g.decimals as i32);
+        (v * f).round() / f
+    }
+
+    fn feed_str(&self, f: f64) -> String {
+        format_number(f, self.g.decimals.saturating_sub(2))
+    }
+
+    fn s_str(&self, power: f64) -> String {
+        let r = self.p.power;
+        let mut v = power * r.max;
+        if power > 0.0 && v < r.min {
+            v = r.min;
+        }
+        let dec = if r.max >= 100.0 { 0 } else { 3 };
+        format_number(v.min(r.max), dec)
+    }
+
+    fn render(&self, key: &'static str, t: &str) -> Result<String, EmitError> {
+        let safe_z = match self.tool {
+            Tool::Router(r) => self.num(r.safe_z),
+            Tool::Laser(_) => "0".to_string(),
+        };
+        template::render(t, |name| match name {
+            "name" => self.p.name.clone(),
+            "job" => super::super::machine::dialect::sanitize_comment(&self.opts.job),
+            "units" => self.p.units.gcode().to_string(),
+            "safe_z" => safe_z.clone(),
+            "path_tolerance" => format_number(self.g.path_tolerance.unwrap_or(0.0), 6),
+            "power_max" => format_number(self.p.power.max, 3),
+            _ => String::new(),
+        })
+        .map_err(|reason| EmitError::Template {
+            profile: self.p.name.clone(),
+            key,
+            reason,
+        })
+    }
+
+    fn template_lines(&mut self, key: &'static str, t: &str) -> Result<(), EmitError> {
+        let text = self.render(key, t)?;
+        for l in text.lines() {
+            let l = l.trim();
+            if !l.is_empty() {
+                self.line(l);
+            }
+        }
+        Ok(())
+    }
+
+    fn program(&mut self, tp: &Toolpath) -> Result<(), EmitError> {
+        let job = self.opts.job.clone();
+        self.comment(&format!("skinpath job {job}"));
+        let desc = format!("machine {} units {:?}", self.p.name, self.p.units);
+        self.comment(&desc.to_lowercase());
+        let setup = format!("G17 {} G90 G94", self.p.units.gcode());
+        self.line(&setup);
+        let pre = self.g.preamble.clone();
+        self.template_lines("gcode.preamble", &pre)?;
+        if let Tool::Router(r) = self.tool {
+            // Position unknown: go to safe Z before anything else.
+            self.rapid_z(r.safe_z)?;
+        }
+        for (oi, op) in tp.operations.iter().enumerate() {
+            self.at.op = oi;
+            self.at.op_name = op.name.clone();
+            self.comment(&format!("op {oi} {} {:?}", op.name, op.kind).to_lowercase());
+            for (ci, cut) in op.cuts.iter().enumerate() {
+                self.at.cut = ci;
+                self.at.mv = None;
+                self.cut(cut)?;
+            }
+        }
+        self.finish()
+    }
+
+    fn finish(&mut self) -> Result<(), EmitError> {
+        match self.tool {
+            Tool::Router(r) => {
+                self.at.mv = None;
+                self.rapid_z(r.safe_z)?;
+                self.line("M5");
+            }
+            Tool::Laser(l) => {
+                if l.rapid_off == RapidOff::S0 && self.s.as_deref().is_some_and(|s| s != "0") {
+                    self.line("S0");
+                    self.s = Some("0".into());
+                }
+                self.line("M5");
+            }
+        }
+        self.on = false;
+        let post = self.g.postamble.clone();
+        self.template_lines("gcode.postamble", &post)?;
+        if !self.g.program_end.is_empty() {
+            let end = self.g.program_end.clone();
+            self.line(&end);
+        }
+        Ok(())
+    }
+
+    /// Machine coordinates of an input point, checked against the work area.
+    fn machine(&self, p: DVec3) -> Result<DVec3, EmitError> {
+        let q = p * self.scale;
+        self.check(q)?;
+        Ok(q)
+    }
+
+    fn check(&self, q: DVec3) -> Result<(), EmitError> {
+        if !self.opts.check_work_area {
+            return Ok(());
+        }
+        let slack = 0.5 * 10f64.powi(-(self.g.decimals as i32));
+        let wa = self.p.work_area;
+        let laser = matches!(self.tool, Tool::Laser(_));
+        for (axis, v, r) in [('X', q.x, wa.x), ('Y', q.y, wa.y), ('Z', q.z, wa.z)] {
+            // A laser that never leaves z = 0 writes no Z at all.
+            if laser && axis == 'Z' && q.z == 0.0 {
+                continue;
+            }
+            if !r.contains(v, slack) {
+                return Err(EmitError::OutOfWorkArea {
+                    at: self.at.clone(),
+                    axis,
+                    value: v,
+                    min: r.min(),
+                    max: r.max(),
+                    profile: self.p.name.clone(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn cut(&mut self, cut: &Cut) -> Result<(), EmitError> {
+        if let Some(src) = &cut.source {
+            self.comment(&format!("cut {} {src}", self.at.cut));
+        }
+        let start = self.machine(cut.start)?;
+        let first_power = cut
+            .moves
+            .iter()
+            .find(|m| matches!(m.kind, MoveKind::Line | MoveKind::Arc { .. }))
+            .map(|m| m.power);
+        self.travel(start, first_power)?;
+        let mut pos = start;
+        for (mi, m) in cut.moves.iter().enumerate() {
+            self.at.mv = Some(mi);
+            match m.kind {
+                MoveKind::Rapid => {
+                    let to = self.machine(m.to)?;
+                    let next = cut.moves[mi + 1..]
+                        .iter()
+                        .take_while(|n| !matches!(n.kind, MoveKind::Rapid))
+                        .find(|n| matches!(n.kind, MoveKind::Line | MoveKind::Arc { .. }))
+                        .map(|n| n.power);
+                    self.travel(to, next)?;
+                    pos = to;
+                }
+                MoveKind::Dwell { seconds } => {
+                    let d = self.dialect().dwell(seconds);
+                    self.line(&d);
+                }
+                MoveKind::Line => {
+                    let to = self.machine(m.to)?;
+                    self.tool_on(m)?;
+                    let mut feed = m.feed * self.scale;
+                    if let Tool::Router(r) = self.tool {
+                        let d = to - pos;
+                        if d.z < 0.0 && d.truncate().length() <= 1e-12 {
+                            feed = feed.min(r.plunge_feed);
+                        }
+                    }
+                    self.cutting_line(pos, to, feed, m.power);
+                    pos = to;
+                }
+                MoveKind::Arc { center, ccw } => {
+                    let to = self.machine(m.to)?;
+                    let c = center * self.scale;
+                    self.tool_on(m)?;
+                    self.arc(pos, to, c, ccw, m.feed * self.scale, m.power)?;
+                    pos = to;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Moves to `to` with the tool safe: laser off on the rapid, router at safe Z; a router
+    /// then starts its spindle at `power` and descends (G0 to clearance, G1 plunge below).
+    fn travel(&mut self, to: DVec3, power: Option<f64>) -> Result<(), EmitError> {
+        match self.tool {
+            Tool::Laser(l) => {
+                self.beam_off_for_rapid(l);
+                self.rapid(to, true);
+            }
+            Tool::Router(r) => {
+                let xy_moves = self.cur.is_none_or(|c| {
+                    self.round(c.x) != self.round(to.x) || self.round(c.y) != self.round(to.y)
+                });
+                if xy_moves {
+                    self.rapid_z(r.safe_z)?;
+                    self.rapid(DVec3::new(to.x, to.y, r.safe_z), false);
+                }
+                if let Some(p) = power {
+                    self.spindle(p)?;
+                }
+                let cz = self.cur.map_or(r.safe_z, |c| c.z);
+                if to.z >= r.clearance_z || to.z >= cz {
+                    if self.round(to.z) != self.round(cz) {
+                        self.rapid(to, false);
+                    }
+                } else {
+                    if cz > r.clearance_z {
+                        let c = DVec3::new(to.x, to.y, r.clearance_z);
+                        self.rapid(c, false);
+                    }
+                    if self.on {
+                        self.move_line(1, to, &[("F", self.feed_str(r.plunge_feed))]);
+                    } else {
+                        return Err(EmitError::InvalidMove {
+                            at: self.at.clone(),
+                            reason: "descent below the clearance height with no cutting \
+                                     move to set the spindle speed"
+                                .to_string(),
+                        });
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn beam_off_for_rapid(&mut self, l: &LaserSettings) {
+        match l.rapid_off {
+            RapidOff::Firmware => {}
+            RapidOff::S0 => {
+                if self.s.as_deref().is_some_and(|s| s != "0") {
+                    self.line("S0");
+                    self.s = Some("0".into());
+                }
+            }
+            RapidOff::M5 => {
+                if self.on {
+                    self.line("M5");
+                    self.on = false;
+                    // Power after the next M3/M4 is not ours to assume: write S again.
+                    self.s = None;
+                }
+            }
+        }
+    }
+
+    fn rapid_z(&mut self, z: f64) -> Result<(), EmitError> {
+        let here = self.cur.unwrap_or(DVec3::new(0.0, 0.0, f64::NAN));
+        if self.printed[2] == Some(self.round(z)) {
+            return Ok(());
+        }
+        let to = DVec3::new(here.x, here.y, z);
+        self.check(DVec3::new(
+            self.p.work_area.x.min(),
+            self.p.work_area.y.min(),
+            z,
+        ))?;
+        self.move_words(0, [None, None, Some(z)], &[]);
+        self.cur = self.cur.map(|_| to);
+        self.printed[2] = Some(self.round(z));
+        Ok(())
+    }
+
+    /// A G0 to `to` (Z written only when it changes; lasers at z = 0 never write Z).
+    fn rapid(&mut self, to: DVec3, laser: bool) {
+        let z = if laser && to.z == 0.0 && self.printed[2].is_none() {
+            None
+        } else {
+            Some(to.z)
+        };
+        self.move_words(0, [Some(to.x), Some(to.y), z], &[]);
+        self.cur = Some(to);
+    }
+
+    fn move_line(&mut self, g: u8, to: DVec3, extra: &[(&str, String)]) {
+        let laser = matches!(self.tool, Tool::Laser(_));
+        let z = if laser && to.z == 0.0 && self.printed[2].is_none() {
+            None
+        } else {
+            Some(to.z)
+        };
+        self.move_words(g, [Some(to.x), Some(to.y), z], extra);
+        self.cur = Some(to);
+    }
+
+    /// Writes a motion line with the axis words that changed and `extra` words; returns
+    /// false (writing nothing) when no axis changes and `g` is not an arc.
+    fn move_words(&mut self, g: u8, axes: [Option<f64>; 3], extra: &[(&str, String)]) -> bool {
+        let mut words = Vec::new();
+        let mut moved = false;
+        for (i, (letter, v)) in ["X", "Y", "Z"].iter().zip(axes).enumerate() {
+            if let Some(v) = v {
+                let r = self.round(v);
+                if self.printed[i] != Some(r) || (g >= 2 && i < 2) {
+                    words.push(format!("{letter}{}", self.num(v)));
+                    moved |= self.printed[i] != Some(r) || g >= 2;
+                    self.printed[i] = Some(r);
+                }
+            }
+        }
+        if !moved {
+            return false;
+        }
+        let mut line = String::new();
+        if self.motion != Some(g) || !self.dialect().modal_motion() {
+            line.push_str(&format!("G{g}"));
+            self.motion = Some(g);
+        }
+        for w in words {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(&w);
+        }
+        for (letter, v) in extra {
+            match *letter {
+                "F" => {
+                    if self.feed.as_deref() == Some(v.as_str()) {
+                        continue;
+                    }
+                    self.feed = Some(v.clone());
+                }
+                "S" => {
+                    if self.s.as_deref() == Some(v.as_str()) {
+                        continue;
+                    }
+                    self.s = Some(v.clone());
+                }
+                _ => {}
+            }
+            line.push(' ');
+            line.push_str(letter);
+            line.push_str(v);
+        }
+        self.line(&line);
+        true
+    }
+
+    /// Turns the laser on (or sets its power when power is not inline), or checks the
+    /// spindle speed, before the cutting move `m`.
+    fn tool_on(&mut self, m: &Move) -> Result<(), EmitError> {
+        match self.tool {
+            Tool::Laser(l) => {
+                let s = self.s_str(m.power);
+                let word = match l.mode {
+                    LaserMode::Dynamic => "M4",
+                    LaserMode::Constant => "M3",
+                };
+                let suffix = if l.on_suffix.is_empty() {
+                    String::new()
+                } else {
+                    format!(" {}", l.on_suffix)
+                };
+                if l.inline_power {
+                    if l.needs_on_command && !self.on {
+                        let zero = if self.s.is_none() { " S0" } else { "" };
+                        self.line(&format!("{word}{suffix}{zero}"));
+                        if !zero.is_empty() {
+                            self.s = Some("0".into());
+                        }
+                        self.on = true;
+                        self.pierce(l);
+                    }
+                } else if !self.on || self.s.as_deref() != Some(s.as_str()) {
+                    self.line(&format!("{word}{suffix} S{s}"));
+                    self.s = Some(s);
+                    if !self.on {
+                        self.on = true;
+                        self.pierce(l);
+                    }
+                }
+            }
+            Tool::Router(_) => self.spindle(m.power)?,
+        }
+        Ok(())
+    }
+
+    fn pierce(&mut self, l: &LaserSettings) {
+        if l.pierce_dwell > 0.0 {
+            let d = self.dialect().dwell(l.pierce_dwell);
+            self.line(&d);
+        }
+    }
+
+    /// Spindle on at `power` (M3 S rpm), with the spin-up dwell when it was off or speeds up.
+    fn spindle(&mut self, power: f64) -> Result<(), EmitError> {
+        let Tool::Router(r) = self.tool else {
+            return Ok(());
+        };
+        if power <= 0.0 {
+            return Err(EmitError::InvalidMove {
+                at: self.at.clone(),
+                reason: "a router cutting move needs a spindle speed (power > 0)".to_string(),
+            });
+        }
+        let s = self.s_str(power);
+        if self.on && self.rpm.as_deref() == Some(s.as_str()) {
+            return Ok(());
+        }
+        let faster = match (&self.rpm, self.on) {
+            (Some(old), true) => s.parse::<f64>().ok() > old.parse::<f64>().ok(),
+            _ => true,
+        };
+        self.line(&format!("M3 S{s}"));
+        self.rpm = Some(s.clone());
+        self.s = Some(s);
+        self.on = true;
+        if faster && r.spindle_dwell > 0.0 {
+            let d = self.dialect().dwell(r.spindle_dwell);
+            self.line(&d);
+        }
+        Ok(())
+    }
+
+    /// The largest feed along direction `d` that keeps every axis within its maximum.
+    fn clamp_feed(&self, d: DVec3, feed: f64) -> f64 {
+        let m = self.p.max_feed;
+        let len = d.length();
+        if len <= 0.0 {
+            return feed;
+        }
+        let mut limit = feed;
+        for (c, max) in [(d.x, m.x), (d.y, m.y), (d.z, m.z)] {
+            let share = c.abs() / len;
+            if share > 1e-12 && max > 0.0 {
+                limit = limit.min(max / share);
+            }
+        }
+        limit
+    }
+
+    fn power_words(&self, power: f64, feed: f64) -> Vec<(&'static str, String)> {
+        let mut extra = vec![("F", self.feed_str(feed))];
+        if let Tool::Laser(l) = self.tool
+            && l.inline_power
+        {
+            extra.push(("S", self.s_str(power)));
+        }
+        extra
+    }
+
+    fn cutting_line(&mut self, from: DVec3, to: DVec3, feed: f64, power: f64) {
+        let feed = self.clamp_feed(to - from, feed);
+        let extra = self.power_words(power, feed);
+        self.move_line(1, to, &extra);
+    }
+
+    fn arc(
+        &mut self,
+        from: DVec3,
+        to: DVec3,
+        center: DVec2,
+        ccw: bool,
+        feed: f64,
+        power: f64,
+    ) -> Result<(), EmitError> {
+        let a = arc_of(from.truncate(), to.truncate(), center, ccw);
+        // The direction turns along an arc: the slower of X and Y bounds it.
+        let feed = feed.min(self.p.max_feed.x.min(self.p.max_feed.y));
+        let g = if ccw { 3 } else { 2 };
+        // A tiny arc whose ends round to one point would read as a full circle: write a line.
+        let same_printed =
+            self.round(from.x) == self.round(to.x) && self.round(from.y) == self.round(to.y);
+        if same_printed && a.sweep.abs() < std::f64::consts::PI {
+            self.cutting_line(from, to, feed, power);
+            return Ok(());
+        }
+        match self.g.arcs {
+            ArcFormat::Ij => {
+                let (sx, sy) = self.start_printed(from);
+                let mut extra = vec![
+                    ("I", self.num(center.x - sx)),
+                    ("J", self.num(center.y - sy)),
+                ];
+                extra.extend(self.power_words(power, feed));
+                self.arc_words(g, to, &extra);
+            }
+            ArcFormat::R => {
+                let pts = split_arc(from.truncate(), to.truncate(), center, a.sweep, R_MAX_SWEEP);
+                let n = pts.len() as f64;
+                let mut prev = from;
+                for (i, p) in pts.iter().enumerate() {
+                    let z = from.z + (to.z - from.z) * (i as f64 + 1.0) / n;
+                    let end = DVec3::new(p.x, p.y, z);
+                    self.check(end)?;
+                    let (sx, sy) = self.start_printed(prev);
+                    let r = center.distance(DVec2::new(sx, sy));
+                    let mut extra = vec![("R", self.num(r))];
+                    extra.extend(self.power_words(power, feed));
+                    if self.round(prev.x) == self.round(end.x)
+                        && self.round(prev.y) == self.round(end.y)
+                    {
+                        let words = self.power_words(power, feed);
+                        self.move_line(1, end, &words);
+                    } else {
+                        self.arc_words(g, end, &extra);
+                    }
+                    prev = end;
+                }
+            }
+            ArcFormat::None => {
+                let tol = self.opts.tolerance * self.scale;
+                let pts = a.flatten(tol);
+                let n = (pts.len() - 1).max(1) as f64;
+                let mut prev = from;
+                for (i, p) in pts.iter().enumerate().skip(1) {
+                    let z = from.z + (to.z - from.z) * i as f64 / n;
+                    let end = if i + 1 == pts.len() {
+                        to
+                    } else {
+                        DVec3::new(p.x, p.y, z)
+                    };
+                    self.check(end)?;
+                    self.cutting_line(prev, end, feed, power);
+                    prev = end;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The start point as the controller knows it (last written, rounded).
+    fn start_printed(&self, from: DVec3) -> (f64, f64) {
+        (
+            self.printed[0].unwrap_or(self.round(from.x)),
+            self.printed[1].unwrap_or(self.round(from.y)),
+        )
+    }
+
+    fn arc_words(&mut self, g: u8, to: DVec3, extra: &[(&str, String)]) {
+        // I/J/R go right after the axes; F and S last.
+        self.move_line(g, to, extra);
+    }
+}
+
+#[cfg(test)]
+mod tests;

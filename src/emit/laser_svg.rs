@@ -1,0 +1,238 @@
+//! SVG for laser-cutter upload: mm page (width/height in mm, viewBox in mm, so one user unit
+//! is one millimetre), hairline strokes, one colour per operation kind from the profile, one
+//! `<path>` per cut in cut order, arcs as SVG `A` commands. The design's y axis points up, SVG's
+//! down: y is flipped about the page.
+
+use super::geometry::{Contour, Seg, contours, split_arc, validate};
+use super::{EmitError, check_tolerance, fnum, xml_escape};
+use crate::machine::{OperationColors, Profile};
+use crate::toolpath::{OperationKind, Toolpath};
+use glam::DVec2;
+use std::f64::consts::PI;
+use std::fmt::Write;
+
+/// Largest sweep of one SVG `A` command: 120°, so the large-arc flag is always 0 and a full
+/// circle (which one `A` cannot draw) becomes three pieces.
+pub const SVG_MAX_SWEEP: f64 = 2.0 * PI / 3.0;
+
+/// Smallest page side, mm (an empty toolpath still makes a valid SVG).
+const MIN_PAGE: f64 = 1.0;
+
+/// The page the drawing sits on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Page {
+    /// The drawing's bounding box grown by `margin` mm on each side.
+    Bounds { margin: f64 },
+    /// The profile's work area (the bed): design coordinates keep their place on the bed,
+    /// with the design's origin at the bed's bottom-left corner.
+    WorkArea,
+}
+
+/// Options of [`laser_svg`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct LaserSvgOptions {
+    pub page: Page,
+    /// Job name for `<title>`.
+    pub job: String,
+    /// Largest start/end radius mismatch accepted on an arc move (mm).
+    pub tolerance: f64,
+}
+
+impl Default for LaserSvgOptions {
+    fn default() -> Self {
+        LaserSvgOptions {
+            page: Page::Bounds { margin: 1.0 },
+            job: "skinpath".to_string(),
+            tolerance: crate::geom::tol::FLATTEN,
+        }
+    }
+}
+
+/// The stroke colour of an operation kind.
+pub fn color_of(colors: &OperationColors, kind: OperationKind) -> &str {
+    match kind {
+        OperationKind::Profile => &colors.profile,
+        OperationKind::Channel => &colors.channel,
+        OperationKind::Backboard => &colors.backboard,
+        OperationKind::Holes => &colors.holes,
+        OperationKind::Fill => &colors.fill,
+        OperationKind::VCarve => &colors.vcarve,
+    }
+}
+
+/// Maps design coordinates (mm, y up) to page coordinates (mm, y down).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PageFrame {
+    /// Design x at the page's left edge.
+    pub x0: f64,
+    /// Design y at the page's top edge.
+    pub y1: f64,
+    pub width: f64,
+    pub height: f64,
+}
+
+impl PageFrame {
+    pub fn map(&self, p: DVec2) -> DVec2 {
+        DVec2::new(p.x - self.x0, self.y1 - p.y)
+    }
+
+    /// The frame of the bounding box of `points` and `contours` grown by `margin`.
+    pub fn around(cs: &[Contour], extra: &[DVec2], margin: f64) -> PageFrame {
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let mut add = |p: DVec2| {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        };
+        for p in extra {
+            add(*p);
+        }
+        for c in cs {
+            add(c.start);
+            let mut from = c.start;
+            for s in &c.segs {
+                if let Seg::Arc { center, sweep, .. } = *s {
+                    let r = from.distance(center);
+                    let a = crate::geom::Arc::new(center, r, (from - center).to_angle(), sweep);
+                    for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
+                        let q = center + r * d;
+                        if a.contains_angle_of(q) {
+                            add(q);
+                        }
+                    }
+                }
+                add(s.to());
+                from = s.to();
+            }
+        }
+        if !lo.is_finite() {
+            lo = DVec2::ZERO;
+            hi = DVec2::ZERO;
+        }
+        let lo = lo - DVec2::splat(margin);
+        let hi = hi + DVec2::splat(margin);
+        PageFrame {
+            x0: lo.x,
+            y1: hi.y,
+            width: (hi.x - lo.x).max(MIN_PAGE),
+            height: (hi.y - lo.y).max(MIN_PAGE),
+        }
+    }
+}
+
+/// The `d` attribute of a path through `cs` (each contour a subpath), at f64 precision.
+/// Arcs are split into pieces of at most [`SVG_MAX_SWEEP`]; the sweep flag is 0 for a
+/// counter-clockwise design arc because the page flips y.
+pub fn path_data(cs: &[&Contour], frame: &PageFrame, close_tol: f64) -> String {
+    let mut d = String::new();
+    for c in cs {
+        let p = frame.map(c.start);
+        let _ = write!(d, "{}M {} {}", sep(&d), fnum(p.x), fnum(p.y));
+        let mut from = c.start;
+        for s in &c.segs {
+            match *s {
+                Seg::Line { to } => {
+                    let q = frame.map(to);
+                    let _ = write!(d, " L {} {}", fnum(q.x), fnum(q.y));
+                }
+                Seg::Arc { to, center, sweep } => {
+                    let r = from.distance(center);
+                    let flag = if sweep > 0.0 { 0 } else { 1 };
+                    for e in split_arc(from, to, center, sweep, SVG_MAX_SWEEP) {
+                        let q = frame.map(e);
+                        let _ = write!(
+                            d,
+                            " A {} {} 0 0 {flag} {} {}",
+                            fnum(r),
+                            fnum(r),
+                            fnum(q.x),
+                            fnum(q.y)
+                        );
+                    }
+                }
+            }
+            from = s.to();
+        }
+        if c.is_closed(close_tol) {
+            d.push_str(" Z");
+        }
+    }
+    d
+}
+
+fn sep(d: &str) -> &'static str {
+    if d.is_empty() { "" } else { " " }
+}
+
+/// The laser-cutter SVG of `tp` with the colours and stroke width of `profile`'s `[svg]`.
+pub fn laser_svg(
+    tp: &Toolpath,
+    profile: &Profile,
+    opts: &LaserSvgOptions,
+) -> Result<String, EmitError> {
+    check_tolerance("tolerance", opts.tolerance)?;
+    let svg = profile
+        .svg
+        .as_ref()
+        .ok_or_else(|| EmitError::WrongProfile {
+            profile: profile.name.clone(),
+            output: "laser SVG",
+            reason: "it has no [svg] table".to_string(),
+        })?;
+    validate(tp, opts.tolerance)?;
+    let cs = contours(tp);
+    let frame = match opts.page {
+        Page::Bounds { margin } => {
+            if !(margin.is_finite() && margin >= 0.0) {
+                return Err(EmitError::InvalidOption {
+                    name: "page margin",
+                    reason: format!("must be >= 0, got {margin}"),
+                });
+            }
+            PageFrame::around(&cs, &[], margin)
+        }
+        Page::WorkArea => {
+            let wa = profile.work_area;
+            PageFrame {
+                x0: wa.x.min(),
+                y1: wa.y.max(),
+                width: wa.x.max() - wa.x.min(),
+                height: wa.y.max() - wa.y.min(),
+            }
+        }
+    };
+    let mut out = String::new();
+    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n");
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{w}mm\" \
+         height=\"{h}mm\" viewBox=\"0 0 {w} {h}\">",
+        w = fnum(frame.width),
+        h = fnum(frame.height)
+    );
+    let _ = writeln!(out, "<title>{}</title>", xml_escape(&opts.job));
+    let sw = fnum(svg.stroke_width);
+    for (oi, op) in tp.operations.iter().enumerate() {
+        let color = color_of(&svg.colors, op.kind);
+        let _ = writeln!(
+            out,
+            "<g id=\"op{oi}\" data-name=\"{}\" data-kind=\"{:?}\" fill=\"none\" stroke=\"{color}\" \
+             stroke-width=\"{sw}\">",
+            xml_escape(&op.name),
+            op.kind
+        );
+        for ci in 0..op.cuts.len() {
+            let parts: Vec<&Contour> = cs.iter().filter(|c| c.op == oi && c.cut == ci).collect();
+            if parts.is_empty() {
+                continue;
+            }
+            let d = path_data(&parts, &frame, opts.tolerance);
+            let _ = writeln!(
+                out,
+                "<path id=\"op{oi}-cut{ci}\" stroke=\"{color}\" d=\"{d}\"/>"
+            );
+        }
+        out.push_str("</g>\n");
+    }
+    out.push_str("</svg>\n");
+    Ok(out)
+}

@@ -1,0 +1,624 @@
+//! Machine profiles: what a machine can do and how its controller wants to be spoken to.
+//!
+//! Profiles are data (`machines/*.toml`), parsed with `deny_unknown_fields` and a `version`
+//! field, then validated; every error names the file and the key.
+
+use super::dialect::Dialect;
+use super::template;
+use serde::Deserialize;
+use std::fmt;
+
+/// The only profile format version this build reads.
+pub const PROFILE_VERSION: u32 = 1;
+
+/// What kind of machine (or file) a profile describes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MachineKind {
+    /// A laser driven by G-code.
+    Laser,
+    /// A router or mill driven by G-code (spindle, Z axis).
+    Router,
+    /// A laser cutter fed with SVG (or DXF) files by its own software.
+    Svg,
+}
+
+/// Length units of the machine's coordinates and feeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Units {
+    Mm,
+    Inch,
+}
+
+impl Units {
+    /// Millimetres per unit.
+    pub fn mm_per_unit(self) -> f64 {
+        match self {
+            Units::Mm => 1.0,
+            Units::Inch => 25.4,
+        }
+    }
+
+    /// The G-code word that selects these units.
+    pub fn gcode(self) -> &'static str {
+        match self {
+            Units::Mm => "G21",
+            Units::Inch => "G20",
+        }
+    }
+}
+
+/// How arcs are written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ArcFormat {
+    /// G2/G3 with the centre as I J offsets from the start (centre format).
+    Ij,
+    /// G2/G3 with a radius R (no full circles; long arcs are split).
+    R,
+    /// No arcs: flattened to G1 lines within the caller's tolerance.
+    None,
+}
+
+/// A closed interval `[min, max]` of one axis.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+pub struct Range(pub f64, pub f64);
+
+impl Range {
+    pub fn min(&self) -> f64 {
+        self.0
+    }
+    pub fn max(&self) -> f64 {
+        self.1
+    }
+    /// True when `v` lies in the range, with slack `tol`.
+    pub fn contains(&self, v: f64, tol: f64) -> bool {
+        v >= self.0 - tol && v <= self.1 + tol
+    }
+}
+
+/// The travel of each axis, in the profile's units.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorkArea {
+    pub x: Range,
+    pub y: Range,
+    pub z: Range,
+}
+
+/// A value per axis (maximum feed in units/min, acceleration in units/s²).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axes {
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+}
+
+/// The controller's power word range: laser `S` (GRBL `$30`, Marlin 0..255, Smoothie 0..1)
+/// or spindle rpm.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PowerRange {
+    /// Smallest non-zero value the machine runs at (spindle minimum rpm; 0 for lasers).
+    pub min: f64,
+    pub max: f64,
+}
+
+/// What a tool is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToolKind {
+    /// Flat end mill.
+    Endmill,
+    /// Ball nose end mill.
+    Ballnose,
+    /// V-bit (engraving cutter) with an included angle.
+    Vbit,
+    /// A laser beam with a kerf.
+    Beam,
+}
+
+/// One tool the machine holds.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tool {
+    pub name: String,
+    pub kind: ToolKind,
+    /// Cutter diameter (end mills, V-bit shank at full depth); unused for beams.
+    #[serde(default)]
+    pub diameter: f64,
+    /// Kerf width of a beam (the width of the cut line).
+    #[serde(default)]
+    pub kerf: f64,
+    /// Included angle of a V-bit, in degrees.
+    #[serde(default)]
+    pub angle: f64,
+    /// Flat tip diameter of a V-bit (0 for a sharp tip).
+    #[serde(default)]
+    pub tip_diameter: f64,
+}
+
+impl Tool {
+    /// Compensation radius: half the kerf for a beam, half the diameter otherwise.
+    pub fn radius(&self) -> f64 {
+        match self.kind {
+            ToolKind::Beam => 0.5 * self.kerf,
+            _ => 0.5 * self.diameter,
+        }
+    }
+}
+
+/// Laser spindle-mode command.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LaserMode {
+    /// `M4`: GRBL dynamic power (scaled with speed); G0 never fires in laser mode.
+    Dynamic,
+    /// `M3`: constant power.
+    Constant,
+}
+
+/// How the emitter makes sure the beam is off during a rapid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RapidOff {
+    /// The controller never fires on G0 (GRBL `M4` in laser mode, Smoothie's laser module).
+    Firmware,
+    /// Set `S0` before the rapid (GRBL `M3`).
+    S0,
+    /// Turn the laser off with `M5` before the rapid and on again at the next cut (Marlin).
+    M5,
+}
+
+/// Laser specifics.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LaserSettings {
+    pub mode: LaserMode,
+    /// Power as an `S` word on each cutting move (GRBL, Smoothie, Marlin `M3 I`); otherwise
+    /// power is set on the `M3`/`M4` line and changes need a new `M3`/`M4`.
+    pub inline_power: bool,
+    /// Extra words on the laser-on line, e.g. `"I"` for Marlin's inline mode.
+    #[serde(default)]
+    pub on_suffix: String,
+    /// Whether the dialect needs an `M3`/`M4` at all (Smoothie fires on `G1 S` alone).
+    #[serde(default = "default_true")]
+    pub needs_on_command: bool,
+    pub rapid_off: RapidOff,
+    /// Wait after the beam comes on at a cut start, in seconds (0 = none).
+    #[serde(default)]
+    pub pierce_dwell: f64,
+}
+
+fn default_true() -> bool {
+    true
+}
+
+/// Router specifics.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RouterSettings {
+    /// Height for every XY rapid.
+    pub safe_z: f64,
+    /// Height down to which a rapid may descend before plunging at `plunge_feed`.
+    pub clearance_z: f64,
+    /// Feed for plunges (units/min); a cut's pure downward moves never go faster.
+    pub plunge_feed: f64,
+    /// Wait after the spindle starts or changes speed, in seconds.
+    pub spindle_dwell: f64,
+}
+
+/// G-code output specifics.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GcodeSettings {
+    /// Decimals of coordinates (3 for mm, 4 for inch).
+    pub decimals: u32,
+    pub arcs: ArcFormat,
+    /// Path blending tolerance for LinuxCNC `G64 P` (placeholder `{path_tolerance}`).
+    #[serde(default)]
+    pub path_tolerance: Option<f64>,
+    /// Lines after the `G17 G2x G90 G94` setup line (placeholders allowed).
+    #[serde(default)]
+    pub preamble: String,
+    /// Lines after the tool is off, before `program_end` (placeholders allowed).
+    #[serde(default)]
+    pub postamble: String,
+    /// The program end word: `M2`, `M30`, or empty where the controller has none (Marlin).
+    pub program_end: String,
+    /// Write comments (operation names, sources).
+    #[serde(default = "default_true")]
+    pub comments: bool,
+}
+
+/// Stroke colours per operation kind, `#rrggbb`.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OperationColors {
+    pub profile: String,
+    pub channel: String,
+    pub backboard: String,
+    pub holes: String,
+    pub fill: String,
+    pub vcarve: String,
+}
+
+/// SVG/DXF output specifics.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SvgSettings {
+    /// Stroke width in mm (hairline: 0.01 mm or the shop's own).
+    pub stroke_width: f64,
+    pub colors: OperationColors,
+}
+
+/// A machine profile.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Profile {
+    pub version: u32,
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub kind: MachineKind,
+    pub dialect: Dialect,
+    pub units: Units,
+    pub work_area: WorkArea,
+    /// Maximum feed per axis, units/min.
+    pub max_feed: Axes,
+    /// Acceleration per axis, units/s².
+    pub acceleration: Axes,
+    pub power: PowerRange,
+    #[serde(default)]
+    pub tools: Vec<Tool>,
+    #[serde(default)]
+    pub gcode: Option<GcodeSettings>,
+    #[serde(default)]
+    pub laser: Option<LaserSettings>,
+    #[serde(default)]
+    pub router: Option<RouterSettings>,
+    #[serde(default)]
+    pub svg: Option<SvgSettings>,
+}
+
+/// A profile that failed to load: the file, the key (dotted path) and what is wrong.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub struct ProfileError {
+    pub file: String,
+    /// Dotted key path (`router.safe_z`), or the line's key for syntax errors.
+    pub key: String,
+    /// 1-based line number for syntax and type errors, when known.
+    pub line: Option<usize>,
+    pub message: String,
+}
+
+impl fmt::Display for ProfileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if !self.key.is_empty() {
+            write!(f, ": key `{}`", self.key)?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl Profile {
+    /// Parses and validates a profile; `file_name` is used in error messages only.
+    pub fn from_toml(text: &str, file_name: &str) -> Result<Profile, ProfileError> {
+        let profile: Profile = toml::from_str(text).map_err(|e| {
+            let (line, key) = match e.span() {
+                Some(span) => locate(text, span.start),
+                None => (None, String::new()),
+            };
+            let msg = e.message();
+            let names_field = msg.contains("unknown field") || msg.contains("missing field");
+            let key = if names_field {
+                backticked(msg).unwrap_or(key)
+            } else {
+                key
+            };
+            ProfileError {
+                file: file_name.to_string(),
+                key,
+                line,
+                message: e.message().trim().to_string(),
+            }
+        })?;
+        profile.validate().map_err(|(key, message)| ProfileError {
+            file: file_name.to_string(),
+            key,
+            line: None,
+            message,
+        })?;
+        Ok(profile)
+    }
+
+    /// The G-code settings, for G-code profiles (validated to be present for laser/router).
+    pub fn gcode_settings(&self) -> Option<&GcodeSettings> {
+        self.gcode.as_ref()
+    }
+
+    /// The first tool, if the profile names any.
+    pub fn default_tool(&self) -> Option<&Tool> {
+        self.tools.first()
+    }
+
+    /// Semantic checks after parsing; the error is (key, message).
+    fn validate(&self) -> Result<(), (String, String)> {
+        let err = |k: &str, m: String| Err((k.to_string(), m));
+        if self.version != PROFILE_VERSION {
+            return err(
+                "version",
+                format!(
+                    "unsupported profile version {} (this build reads {PROFILE_VERSION})",
+                    self.version
+                ),
+            );
+        }
+        if self.name.trim().is_empty() {
+            return err("name", "must not be empty".into());
+        }
+        for (axis, r) in [
+            ("x", self.work_area.x),
+            ("y", self.work_area.y),
+            ("z", self.work_area.z),
+        ] {
+            if !(r.0.is_finite() && r.1.is_finite() && r.0 <= r.1) {
+                return err(
+                    &format!("work_area.{axis}"),
+                    format!("needs [min, max] with min <= max, got [{}, {}]", r.0, r.1),
+                );
+            }
+        }
+        if self.work_area.x.0 >= self.work_area.x.1 || self.work_area.y.0 >= self.work_area.y.1 {
+            return err(
+                "work_area",
+                "x and y ranges must have positive length".into(),
+            );
+        }
+        for (table, axes) in [
+            ("max_feed", self.max_feed),
+            ("acceleration", self.acceleration),
+        ] {
+            for (axis, v) in [("x", axes.x), ("y", axes.y), ("z", axes.z)] {
+                if !(v.is_finite() && v >= 0.0) || (axis != "z" && v <= 0.0) {
+                    return err(
+                        &format!("{table}.{axis}"),
+                        format!("must be a positive number, got {v}"),
+                    );
+                }
+            }
+        }
+        let p = self.power;
+        if !(p.min.is_finite()
+            && p.max.is_finite()
+            && p.min >= 0.0
+            && p.max > 0.0
+            && p.min <= p.max)
+        {
+            return err(
+                "power",
+                format!(
+                    "needs 0 <= min <= max and max > 0, got min {} max {}",
+                    p.min, p.max
+                ),
+            );
+        }
+        for (i, t) in self.tools.iter().enumerate() {
+            validate_tool(t).map_err(|(k, m)| (format!("tools[{i}].{k}"), m))?;
+        }
+        let needs = |section: &str, present: bool| -> Result<(), (String, String)> {
+            if present {
+                Ok(())
+            } else {
+                err(
+                    section,
+                    format!("a {:?} profile needs a [{section}] table", self.kind).to_lowercase(),
+                )
+            }
+        };
+        let forbids = |section: &str, present: bool| -> Result<(), (String, String)> {
+            if present {
+                err(
+                    section,
+                    format!(
+                        "a {:?} profile must not have a [{section}] table",
+                        self.kind
+                    )
+                    .to_lowercase(),
+                )
+            } else {
+                Ok(())
+            }
+        };
+        match self.kind {
+            MachineKind::Laser => {
+                needs("gcode", self.gcode.is_some())?;
+                needs("laser", self.laser.is_some())?;
+                forbids("router", self.router.is_some())?;
+            }
+            MachineKind::Router => {
+                needs("gcode", self.gcode.is_some())?;
+                needs("router", self.router.is_some())?;
+                forbids("laser", self.laser.is_some())?;
+            }
+            MachineKind::Svg => {
+                needs("svg", self.svg.is_some())?;
+                forbids("gcode", self.gcode.is_some())?;
+                forbids("router", self.router.is_some())?;
+                if self.units != Units::Mm {
+                    return err("units", "SVG profiles are in mm".into());
+                }
+            }
+        }
+        if self.kind != MachineKind::Svg && self.dialect == Dialect::None {
+            return err("dialect", "a G-code profile needs a dialect".into());
+        }
+        if let Some(g) = &self.gcode {
+            if g.decimals > 6 {
+                return err(
+                    "gcode.decimals",
+                    format!("must be 0..=6, got {}", g.decimals),
+                );
+            }
+            if let Some(t) = g.path_tolerance
+                && !(t.is_finite() && t >= 0.0)
+            {
+                return err("gcode.path_tolerance", format!("must be >= 0, got {t}"));
+            }
+            template::check(&g.preamble).map_err(|m| ("gcode.preamble".to_string(), m))?;
+            template::check(&g.postamble).map_err(|m| ("gcode.postamble".to_string(), m))?;
+            if template::uses(&g.preamble, "path_tolerance") && g.path_tolerance.is_none() {
+                return err(
+                    "gcode.path_tolerance",
+                    "the preamble uses {path_tolerance} but it is not set".into(),
+                );
+            }
+            if !["M2", "M30", ""].contains(&g.program_end.as_str()) {
+                return err(
+                    "gcode.program_end",
+                    format!("must be \"M2\", \"M30\" or \"\", got {:?}", g.program_end),
+                );
+            }
+        }
+        if let Some(l) = &self.laser
+            && !(l.pierce_dwell.is_finite() && l.pierce_dwell >= 0.0)
+        {
+            return err(
+                "laser.pierce_dwell",
+                format!("must be >= 0, got {}", l.pierce_dwell),
+            );
+        }
+        if let Some(r) = &self.router {
+            let z = self.work_area.z;
+            if !(r.safe_z.is_finite() && r.safe_z > 0.0 && z.contains(r.safe_z, 0.0)) {
+                return err(
+                    "router.safe_z",
+                    format!(
+                        "must be above the stock (> 0) and within work_area.z [{}, {}], got {}",
+                        z.0, z.1, r.safe_z
+                    ),
+                );
+            }
+            if !(r.clearance_z.is_finite() && r.clearance_z >= 0.0 && r.clearance_z <= r.safe_z) {
+                return err(
+                    "router.clearance_z",
+                    format!("must be in [0, safe_z], got {}", r.clearance_z),
+                );
+            }
+            if !(r.plunge_feed.is_finite()
+                && r.plunge_feed > 0.0
+                && r.plunge_feed <= self.max_feed.z)
+            {
+                return err(
+                    "router.plunge_feed",
+                    format!(
+                        "must be in (0, max_feed.z = {}], got {}",
+                        self.max_feed.z, r.plunge_feed
+                    ),
+                );
+            }
+            if !(r.spindle_dwell.is_finite() && r.spindle_dwell >= 0.0) {
+                return err(
+                    "router.spindle_dwell",
+                    format!("must be >= 0, got {}", r.spindle_dwell),
+                );
+            }
+        }
+        if let Some(s) = &self.svg {
+            if !(s.stroke_width.is_finite() && s.stroke_width > 0.0) {
+                return err(
+                    "svg.stroke_width",
+                    format!("must be > 0, got {}", s.stroke_width),
+                );
+            }
+            let c = &s.colors;
+            for (k, v) in [
+                ("profile", &c.profile),
+                ("channel", &c.channel),
+                ("backboard", &c.backboard),
+                ("holes", &c.holes),
+                ("fill", &c.fill),
+                ("vcarve", &c.vcarve),
+            ] {
+                if !is_hex_color(v) {
+                    return err(
+                        &format!("svg.colors.{k}"),
+                        format!("must be a colour #rrggbb, got {v:?}"),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn validate_tool(t: &Tool) -> Result<(), (String, String)> {
+    let bad = |k: &str, m: String| Err((k.to_string(), m));
+    if t.name.trim().is_empty() {
+        return bad("name", "must not be empty".into());
+    }
+    let pos = |v: f64| v.is_finite() && v > 0.0;
+    match t.kind {
+        ToolKind::Beam => {
+            if !pos(t.kerf) {
+                return bad("kerf", format!("a beam needs a kerf > 0, got {}", t.kerf));
+            }
+        }
+        ToolKind::Endmill | ToolKind::Ballnose => {
+            if !pos(t.diameter) {
+                return bad("diameter", format!("must be > 0, got {}", t.diameter));
+            }
+        }
+        ToolKind::Vbit => {
+            if !pos(t.diameter) {
+                return bad("diameter", format!("must be > 0, got {}", t.diameter));
+            }
+            if !(t.angle > 0.0 && t.angle < 180.0) {
+                return bad(
+                    "angle",
+                    format!("a V-bit needs 0 < angle < 180, got {}", t.angle),
+                );
+            }
+            if !(t.tip_diameter >= 0.0 && t.tip_diameter < t.diameter) {
+                return bad(
+                    "tip_diameter",
+                    format!("must be in [0, diameter), got {}", t.tip_diameter),
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// True for `#rrggbb`.
+pub fn is_hex_color(s: &str) -> bool {
+    s.len() == 7 && s.starts_with('#') && s[1..].chars().all(|c| c.is_ascii_hexdigit())
+}
+
+/// The first `name` in backticks in a serde message ("unknown field `foo`").
+fn backticked(msg: &str) -> Option<String> {
+    let a = msg.find('`')?;
+    let rest = &msg[a + 1..];
+    let b = rest.find('`')?;
+    Some(rest[..b].to_string())
+}
+
+/// 1-based line of byte offset `at`, and the key written on that line (before `=`), or the
+/// table header.
+fn locate(text: &str, at: usize) -> (Option<usize>, String) {
+    let at = at.min(text.len());
+    let before = text.get(..at).unwrap_or("");
+    let line_no = before.matches('\n').count() + 1;
+    let line = text.lines().nth(line_no - 1).unwrap_or("");
+    let key = match line.split_once('=') {
+        Some((k, _)) => k.trim().to_string(),
+        None => line.trim().trim_matches(['[', ']']).to_string(),
+    };
+    (Some(line_no), key)
+}

@@ -1,0 +1,120 @@
+use super::*;
+
+#[test]
+fn builtin_profiles_load_and_are_named_after_their_files() {
+    let profiles = builtin_profiles().unwrap();
+    assert_eq!(profiles.len(), BUILTIN_SOURCES.len());
+    for (p, (file, _)) in profiles.iter().zip(BUILTIN_SOURCES.iter()) {
+        assert_eq!(format!("{}.toml", p.name), *file);
+        assert!(builtin_profile(&p.name).unwrap().is_ok());
+        match p.kind {
+            MachineKind::Laser | MachineKind::Router => {
+                let g = p.gcode.as_ref().unwrap();
+                let want = if p.units == Units::Mm { 3 } else { 4 };
+                assert_eq!(g.decimals, want, "{}", p.name);
+            }
+            MachineKind::Svg => assert!(p.svg.is_some()),
+        }
+    }
+    assert!(builtin_profile("no-such-machine").is_none());
+    // At least one inch profile and one R-format profile ship.
+    assert!(profiles.iter().any(|p| p.units == Units::Inch));
+    assert!(
+        profiles
+            .iter()
+            .any(|p| p.gcode.as_ref().is_some_and(|g| g.arcs == ArcFormat::R))
+    );
+}
+
+fn grbl_text() -> &'static str {
+    BUILTIN_SOURCES[0].1
+}
+
+fn load_err(text: &str) -> ProfileError {
+    Profile::from_toml(text, "shop.toml").unwrap_err()
+}
+
+#[test]
+fn unknown_key_is_named_with_file_and_line() {
+    let text = grbl_text().replace("[laser]\n", "[laser]\nwattage = 5\n");
+    let e = load_err(&text);
+    assert_eq!(e.file, "shop.toml");
+    assert_eq!(e.key, "wattage");
+    let line = e.line.unwrap();
+    assert!(
+        text.lines().nth(line - 1).unwrap().contains("wattage"),
+        "{e}"
+    );
+    assert!(e.to_string().starts_with("shop.toml:"));
+}
+
+#[test]
+fn wrong_version_is_rejected() {
+    let e = load_err(&grbl_text().replace("version = 1", "version = 2"));
+    assert_eq!(e.key, "version");
+    assert!(e.message.contains('2'));
+}
+
+#[test]
+fn missing_key_and_wrong_type_are_named() {
+    let e = load_err(&grbl_text().replace("name = \"grbl-laser\"\n", ""));
+    assert_eq!(e.key, "name");
+    let e = load_err(&grbl_text().replace("decimals = 3", "decimals = \"three\""));
+    assert_eq!(e.key, "decimals", "{e}");
+    let e = load_err(&grbl_text().replace("arcs = \"ij\"", "arcs = \"spline\""));
+    assert_eq!(e.key, "arcs", "{e}");
+}
+
+#[test]
+fn semantic_errors_name_the_dotted_key() {
+    let router = BUILTIN_SOURCES[1].1;
+    let e = load_err(&router.replace("safe_z = 5.0", "safe_z = 500.0"));
+    assert_eq!(e.key, "router.safe_z");
+    let e = load_err(&router.replace("safe_z = 5.0", "safe_z = -1.0"));
+    assert_eq!(e.key, "router.safe_z");
+    let e = load_err(&router.replace("plunge_feed = 200.0", "plunge_feed = 900.0"));
+    assert_eq!(e.key, "router.plunge_feed");
+    let e = load_err(&router.replace("angle = 60.0", "angle = 200.0"));
+    assert_eq!(e.key, "tools[1].angle");
+    let e = load_err(&router.replace("[router]", "[routerx]"));
+    assert_eq!(e.key, "routerx");
+    let e = load_err(&router.replace("x = [0.0, 300.0]", "x = [300.0, 0.0]"));
+    assert_eq!(e.key, "work_area.x");
+    let e = load_err(&grbl_text().replace("preamble = \"\"", "preamble = \"G0 Z{safez}\""));
+    assert_eq!(e.key, "gcode.preamble");
+    assert!(e.message.contains("safez"));
+    let e = load_err(&grbl_text().replace("program_end = \"M2\"", "program_end = \"M99\""));
+    assert_eq!(e.key, "gcode.program_end");
+    let svg = BUILTIN_SOURCES[5].1;
+    let e = load_err(&svg.replace("fill = \"#000000\"", "fill = \"black\""));
+    assert_eq!(e.key, "svg.colors.fill");
+    let e = load_err(&svg.replace("[svg]\nstroke_width = 0.01\n\n[svg.colors]", "[x]"));
+    assert!(!e.key.is_empty(), "{e}");
+}
+
+#[test]
+fn kind_needs_its_section() {
+    let text = grbl_text();
+    let start = text.find("[laser]").unwrap();
+    let e = load_err(&text[..start]);
+    assert_eq!(e.key, "laser");
+}
+
+#[test]
+fn number_formatting() {
+    assert_eq!(format_number(-0.0004, 3), "0");
+    assert_eq!(format_number(-0.0, 3), "0");
+    assert_eq!(format_number(12.5, 3), "12.5");
+    assert_eq!(format_number(12.0, 3), "12");
+    assert_eq!(format_number(-1.23456, 4), "-1.2346");
+    assert_eq!(format_number(0.0005, 3), "0.001");
+    assert_eq!(format_number(1000.0, 0), "1000");
+    // Round trip: the printed value is within half a unit of the last place.
+    for i in 0..1000 {
+        let v = (i as f64 - 500.0) * 0.123_456_7;
+        let s = format_number(v, 3);
+        let back: f64 = s.parse().unwrap();
+        assert!((back - v).abs() <= 0.0005 + 1e-12, "{v} {s}");
+        assert!(!s.starts_with("-0") || s.starts_with("-0."));
+    }
+}
