@@ -1,5 +1,4 @@
 //! Output writers: G-code, laser SVG, DXF, previews.
-pub mod outline;
 //!
 //! Every writer takes a [`Toolpath`](crate::toolpath::Toolpath) in millimetres and a machine
 //! [`Profile`](crate::machine::Profile), validates the moves first (finite coordinates,
@@ -10,6 +9,7 @@ pub mod dxf;
 pub mod gcode;
 pub mod geometry;
 pub mod laser_svg;
+pub mod outline;
 pub mod preview_svg;
 
 pub use dxf::{DxfOptions, dxf};
@@ -42,6 +42,7 @@ impl fmt::Display for Location {
             None => write!(f, ", start"),
         }
     }
+}
 
 /// Why a toolpath could not be written.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -64,15 +65,21 @@ pub enum EmitError {
     /// The profile is for another kind of output.
     #[error("profile {profile:?} cannot be used for {output}: {reason}")]
     WrongProfile {
+        profile: String,
         output: &'static str,
         reason: String,
+    },
     /// An option out of range.
     #[error("option {name}: {reason}")]
     InvalidOption { name: &'static str, reason: String },
     /// A template that failed to render (names the template).
     #[error("profile {profile:?}, {key}: {reason}")]
     Template {
+        profile: String,
         key: &'static str,
+        reason: String,
+    },
+}
 
 /// Checks that `tol` is a usable positive tolerance.
 pub(crate) fn check_tolerance(name: &'static str, tol: f64) -> Result<(), EmitError> {
@@ -83,6 +90,8 @@ pub(crate) fn check_tolerance(name: &'static str, tol: f64) -> Result<(), EmitEr
             name,
             reason: format!("must be a positive number, got {tol}"),
         })
+    }
+}
 
 /// `s` escaped for XML text and attribute values.
 pub(crate) fn xml_escape(s: &str) -> String {
@@ -96,10 +105,16 @@ pub(crate) fn xml_escape(s: &str) -> String {
             '\'' => out.push_str("&apos;"),
             c if (c as u32) < 0x20 && c != '\n' && c != '\t' => out.push(' '),
             c => out.push(c),
+        }
+    }
     out
+}
 
 /// A number for SVG/DXF text at f64 precision: shortest round-trip form, `-0` as `0`.
 pub(crate) fn fnum(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         "0".to_string()
+    } else {
         format!("{v}")
+    }
+}
