@@ -749,6 +749,45 @@ mod tests {
         }
     }
 
+    proptest! {
+        /// Hostile input (repeated points from a tiny set, unsorted or repeated parameters,
+        /// degree 0, any control count) gives a typed error or a valid fit, never a panic;
+        /// a successful interpolation still passes through its points.
+        #[test]
+        fn hostile_input_never_panics(
+            idx in proptest::collection::vec(0usize..3, 0..12),
+            raw in proptest::collection::vec(0.0f64..1.0, 14),
+            cut in 0usize..3,
+            p in 0usize..=6,
+            n_ctrl in 0usize..14,
+            closed in any::<bool>(),
+            kind in kind_strategy(),
+        ) {
+            let set = [DVec2::new(0.0, 0.0), DVec2::new(1.0, 0.0), DVec2::new(0.0, 1.0)];
+            let pts: Vec<DVec2> = idx.iter().map(|&i| set[i]).collect();
+            let _ = least_squares(&pts, n_ctrl, p, closed, kind);
+            // Mostly the right number of parameters, sometimes one or two too few.
+            let len = (pts.len() + usize::from(closed)).saturating_sub(cut / 2 * cut);
+            let raw = raw[..len].to_vec();
+            let mut sorted = raw.clone();
+            sorted.sort_by(f64::total_cmp);
+            for params in [&raw, &sorted] {
+                let _ = least_squares_with_params(&pts, params, n_ctrl, p, closed);
+                if let Ok(c) = interpolate_with_params(&pts, params, p, closed) {
+                    for (q, &t) in pts.iter().zip(params) {
+                        prop_assert!((c.eval(t) - *q).length() < 1e-6);
+                    }
+                }
+            }
+            if let Ok(c) = interpolate(&pts, p, closed, kind) {
+                let params = parameters(&pts, kind, closed).unwrap();
+                for (q, &t) in pts.iter().zip(&params) {
+                    prop_assert!((c.eval(t) - *q).length() < 1e-6);
+                }
+            }
+        }
+    }
+
     #[test]
     fn parameters_closed_forms() {
         let pts = [
