@@ -10,6 +10,7 @@
 mod curve;
 mod fit;
 
+pub use crate::spline::fit::Parametrization;
 pub use curve::{DiskBSpline, EnvelopePoint, Side};
 pub use fit::{DbscFitError, disk_parameters};
 
