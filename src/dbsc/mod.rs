@@ -11,6 +11,7 @@ mod curve;
 mod fit;
 mod loops;
 
+pub use crate::spline::fit::Parametrization;
 pub use curve::{DiskBSpline, EnvelopePoint, Side};
 pub use fit::{DbscFitError, disk_parameters};
 pub(crate) use loops::{Bern, SpanPoly};
