@@ -31,7 +31,7 @@
 //! name = "s2"
 //! points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0], [15.0, 2.0, 1.2]]
 //! fit = "interpolate"         # or "approximate"; default "interpolate"
-//! parametrization = "chord"   # or "centripetal"; default "chord" (wu-2021 eq. 16)
+//! parametrization = "chord"   # "centripetal" | "uniform"; default "chord" (wu-2021 eq. 16)
 //! # control_disks = 4         # required for (and only for) fit = "approximate"
 //!
 //! [[circles]]                 # a circle sequence skinned directly
