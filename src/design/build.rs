@@ -52,6 +52,37 @@ impl Stroke {
     }
 }
 
+impl Stroke {
+    /// Every attribute channel of the stroke as a scalar B-spline on the knots of `curve`
+    /// (the stroke's own curve from [`Stroke::to_dbsc`]), by [`attribute_curve`].
+    pub fn attribute_curves(
+        &self,
+        curve: &DiskBSpline,
+        file: &str,
+        index: usize,
+    ) -> Result<Vec<(&'static str, BSpline<f64>)>, DesignError> {
+        self.attributes
+            .channels()
+            .into_iter()
+            .map(|(name, values)| {
+                attribute_curve(curve, values)
+                    .map(|c| (name, c))
+                    .map_err(|e| {
+                        DesignError::at(
+                            file,
+                            Item::Stroke {
+                                index,
+                                name: self.name.clone(),
+                            },
+                            Some(super::error::Part::Key(format!("attributes.{name}"))),
+                            ErrorKind::Build(e.to_string()),
+                        )
+                    })
+            })
+            .collect()
+    }
+}
+
 impl Parametrization {
     /// The fitting module's parametrisation.
     pub fn to_fit(self) -> FitParametrization {

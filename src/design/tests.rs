@@ -767,7 +767,10 @@ fn points_strokes_approximate() {
              [20.0, 0.0, 1.0]]\n[stroke.attributes]\npower = [10, 20, 30, 40, 50]";
     let d = from_str(&with_b(b), Format::Toml, FILE).unwrap();
     let curve = &d.strokes().unwrap()[1];
-    let a = attribute_curve(curve, d.stroke[1].attributes.power.as_ref().unwrap()).unwrap();
+    let chans = d.stroke[1].attribute_curves(curve, FILE, 1).unwrap();
+    assert_eq!(chans.len(), 1);
+    let (name, a) = &chans[0];
+    assert_eq!(*name, "power");
     assert!((a.eval(curve.domain().0) - 10.0).abs() < 1e-12);
     assert!((a.eval(curve.domain().1) - 50.0).abs() < 1e-12);
 }
@@ -781,4 +784,19 @@ fn fit_failure_names_the_stroke() {
     let d = from_str(&with_b(b), Format::Toml, FILE).unwrap();
     let msg = d.strokes().unwrap_err().to_string();
     assert_names(&msg, "stroke 1", "fitting `points`");
+}
+
+#[test]
+fn attribute_curves_reject_a_mismatched_curve() {
+    // Attribute counts are validated against the stroke; used with another stroke's curve
+    // the channel no longer fits, and the error names the stroke and the channel.
+    let mut d = full_design();
+    let other = d.stroke[1].to_dbsc(FILE, 1).unwrap();
+    d.stroke[0].attributes.power = Some(vec![1.0; 7]);
+    let e = d.stroke[0].attribute_curves(&other, FILE, 0).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("sign.toml: stroke 0 \"s1\", key `attributes.power`"),
+        "{msg}"
+    );
 }
