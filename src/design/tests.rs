@@ -781,9 +781,9 @@ fn fit_failure_names_the_stroke() {
     // overshoots below zero, which the fit reports.
     let b = "points = [[0.0, 0.0, 1.0], [4.0, 0.0, 1.0], [8.0, 0.0, 6.0], [12.0, 0.0, 1.0], \
              [16.0, 0.0, 1.0], [20.0, 0.0, 6.0], [24.0, 0.0, 1.0]]";
-    let d = from_str(&with_b(b), Format::Toml, FILE).unwrap();
-    let msg = d.strokes().unwrap_err().to_string();
+    let msg = err_of(&with_b(b));
     assert_names(&msg, "stroke 1", "fitting `points`");
+    assert!(msg.contains("non-positive radius"), "{msg}");
 }
 
 #[test]

@@ -8,7 +8,8 @@ use std::collections::HashMap;
 type Result<T> = std::result::Result<T, DesignError>;
 
 /// Check everything the format promises beyond its syntax (see the module docs of
-/// [`crate::design`]). Returns the first error found, in file order.
+/// [`crate::design`]); `points` strokes are fitted to check that the fit succeeds.
+/// Returns the first error found, in file order.
 pub fn validate(d: &Design) -> Result<()> {
     let file = d.file.as_str();
     if d.version != VERSION {
@@ -36,6 +37,11 @@ pub fn validate(d: &Design) -> Result<()> {
         };
         check_name(file, &s.name, item.clone(), &mut names)?;
         check_stroke(file, s, &item)?;
+        if s.points.is_some() {
+            // A fit can still fail (e.g. a control disk of non-positive radius): report it
+            // at load time, so a loaded design always builds.
+            s.to_dbsc(file, index)?;
+        }
     }
     for (index, c) in d.circles.iter().enumerate() {
         let item = Item::Circles {
