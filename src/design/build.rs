@@ -2,9 +2,10 @@
 //! attribute curves (wu-2021 eq. 18).
 
 use super::error::{DesignError, ErrorKind, Item};
-use super::model::{CircleSeq, Design, Stroke};
+use super::model::{CircleSeq, Design, Fit, Parametrization, Stroke};
 use crate::dbsc::DiskBSpline;
 use crate::geom::Circle;
+use crate::spline::fit::Parametrization as FitParametrization;
 use crate::spline::{BSpline, SplineError};
 
 fn circles(list: &[[f64; 3]]) -> Vec<Circle> {
@@ -16,6 +17,9 @@ impl Stroke {
     ///
     /// `disks` strokes: [`DiskBSpline::open`] on `knots` (default clamped uniform on [0, 1])
     /// or [`DiskBSpline::closed`] on the period's breakpoints `knots` (default uniform).
+    /// `points` strokes: [`DiskBSpline::interpolate`] or [`DiskBSpline::approximate`]
+    /// (wu-2021 "Interpolation"/"Approximation", eq. 16 for chord-length parameters). A
+    /// fit whose control disks would get a non-positive radius is an error.
     pub fn to_dbsc(&self, file: &str, index: usize) -> Result<DiskBSpline, DesignError> {
         let item = || Item::Stroke {
             index,
@@ -32,10 +36,60 @@ impl Stroke {
                 };
                 curve.map_err(|e| build(e.to_string()))
             }
-            (None, Some(_)) => Err(build(
-                "fitting `points` is not available in this build".to_string(),
-            )),
+            (None, Some(p)) => {
+                let data = circles(p);
+                let kind = self.parametrization.unwrap_or_default().to_fit();
+                let curve = match (self.fit.unwrap_or_default(), self.control_disks) {
+                    (Fit::Approximate, Some(n)) => {
+                        DiskBSpline::approximate(&data, n, self.degree, self.closed, kind)
+                    }
+                    _ => DiskBSpline::interpolate(&data, self.degree, self.closed, kind),
+                };
+                curve.map_err(|e| build(format!("fitting `points`: {e}")))
+            }
             _ => Err(build("needs either `disks` or `points`".to_string())),
+        }
+    }
+}
+
+impl Stroke {
+    /// Every attribute channel of the stroke as a scalar B-spline on the knots of `curve`
+    /// (the stroke's own curve from [`Stroke::to_dbsc`]), by [`attribute_curve`].
+    pub fn attribute_curves(
+        &self,
+        curve: &DiskBSpline,
+        file: &str,
+        index: usize,
+    ) -> Result<Vec<(&'static str, BSpline<f64>)>, DesignError> {
+        self.attributes
+            .channels()
+            .into_iter()
+            .map(|(name, values)| {
+                attribute_curve(curve, values)
+                    .map(|c| (name, c))
+                    .map_err(|e| {
+                        DesignError::at(
+                            file,
+                            Item::Stroke {
+                                index,
+                                name: self.name.clone(),
+                            },
+                            Some(super::error::Part::Key(format!("attributes.{name}"))),
+                            ErrorKind::Build(e.to_string()),
+                        )
+                    })
+            })
+            .collect()
+    }
+}
+
+impl Parametrization {
+    /// The fitting module's parametrisation.
+    pub fn to_fit(self) -> FitParametrization {
+        match self {
+            Parametrization::Chord => FitParametrization::ChordLength,
+            Parametrization::Centripetal => FitParametrization::Centripetal,
+            Parametrization::Uniform => FitParametrization::Uniform,
         }
     }
 }

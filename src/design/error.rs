@@ -78,6 +78,8 @@ pub enum ErrorKind {
     Radius(f64),
     /// A disk or circle equal to the one before it.
     Repeated,
+    /// A data point with the centre of the one before it (a fit needs a non-zero chord).
+    RepeatedCentre,
     /// Fewer disks/points/circles than the curve needs.
     TooFew {
         what: &'static str,
@@ -119,6 +121,7 @@ impl fmt::Display for ErrorKind {
             ErrorKind::NotFinite => write!(f, "number is not finite"),
             ErrorKind::Radius(r) => write!(f, "radius {r} must be positive"),
             ErrorKind::Repeated => write!(f, "repeats the one before it"),
+            ErrorKind::RepeatedCentre => write!(f, "has the centre of the one before it"),
             ErrorKind::TooFew { what, need, got } => {
                 write!(f, "needs at least {need} {what}, got {got}")
             }

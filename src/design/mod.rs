@@ -31,7 +31,7 @@
 //! name = "s2"
 //! points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0], [15.0, 2.0, 1.2]]
 //! fit = "interpolate"         # or "approximate"; default "interpolate"
-//! parametrization = "chord"   # or "centripetal"; default "chord" (wu-2021 eq. 16)
+//! parametrization = "chord"   # "centripetal" | "uniform"; default "chord" (wu-2021 eq. 16)
 //! # control_disks = 4         # required for (and only for) fit = "approximate"
 //!
 //! [[circles]]                 # a circle sequence skinned directly
@@ -45,6 +45,10 @@
 //! width = 6.0
 //! depth = 8.0
 //! ```
+//!
+//! JSON files use the same keys: `{"version": 1, "units": "mm", "stroke": [{"name": "s1",
+//! "disks": [[0, 0, 2], ...]}], "circles": [...], "operation": [...]}`. Integers are accepted
+//! wherever a number is expected.
 //!
 //! Knots. An open stroke's `knots` is the full knot vector: disks + degree + 1 values,
 //! finite, non-decreasing, no value more than degree + 1 times, non-empty domain
@@ -71,6 +75,12 @@
 //! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
 //! required), `max_depth`. A per-kind key on another kind is an error, and so is a name in
 //! `strokes` that no stroke or circle sequence has.
+//!
+//! Geometry: [`Design::strokes`] gives every stroke as a
+//! [`DiskBSpline`](crate::dbsc::DiskBSpline) (points strokes through
+//! `DiskBSpline::interpolate`/`approximate`), [`Design::circle_sequences`] the circle lists,
+//! and [`Stroke::attribute_curves`] the attribute channels as scalar B-splines on the
+//! stroke's knots (wu-2021 eq. 18).
 //!
 //! Errors ([`DesignError`]) read `file: stroke 1 "s2", disk 3: radius -1 must be positive`,
 //! or `file:12:5: unknown field ...` for syntax errors; indices are 0-based.

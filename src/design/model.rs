@@ -173,6 +173,8 @@ pub enum Parametrization {
     Chord,
     /// Cumulative square root of chord length.
     Centripetal,
+    /// Equally spaced.
+    Uniform,
 }
 
 /// `[stroke.attributes]`: one value per control disk for each channel.

@@ -272,7 +272,10 @@ fn points_stroke_errors() {
     let b = format!("{GOOD_B}\nparametrization = \"centripetal\"");
     assert_names(&err_of(&with_b(&b)), "key `parametrization`", "points");
     let b = pts.replace("[10.0, 0.0, 1.0]", "[5.0, 3.0, 1.5]");
-    assert_names(&err_of(&with_b(&b)), "point 2", "repeats");
+    assert_names(&err_of(&with_b(&b)), "point 2", "centre of the one before");
+    // Same centre, other radius: still a zero chord for the fit.
+    let b = pts.replace("[10.0, 0.0, 1.0]", "[5.0, 3.0, 2.5]");
+    assert_names(&err_of(&with_b(&b)), "point 2", "centre of the one before");
     let b = "points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0]]";
     assert_names(&err_of(&with_b(b)), "stroke 1", "at least 4 points, got 3");
 }
@@ -690,4 +693,110 @@ proptest::proptest! {
         j.circles = d.circles.clone();
         proptest::prop_assert_eq!(&j, &d);
     }
+}
+
+/// Data points of a points stroke as circles.
+fn data(s: &Stroke) -> Vec<Circle> {
+    disks(s.points.as_ref().unwrap())
+}
+
+#[test]
+fn points_strokes_interpolate_their_data() {
+    // The interpolant's disk at the data parameter t_i is data point i (wu-2021
+    // "Interpolation"); the parameters are recomputed independently of the build.
+    let pts = "points = [[0.0, 0.0, 2.0], [30.0, 15.0, 2.5], [60.0, 10.0, 2.2], \
+               [85.0, 30.0, 3.0], [70.0, 60.0, 2.5], [30.0, 55.0, 2.2]]";
+    for closed in [false, true] {
+        for (name, kind) in [
+            ("chord", crate::spline::fit::Parametrization::ChordLength),
+            (
+                "centripetal",
+                crate::spline::fit::Parametrization::Centripetal,
+            ),
+            ("uniform", crate::spline::fit::Parametrization::Uniform),
+        ] {
+            let body = format!("{pts}\nclosed = {closed}\nparametrization = \"{name}\"");
+            let d = from_str(&with_b(&body), Format::Toml, FILE).unwrap();
+            let curve = &d.strokes().unwrap()[1];
+            assert_eq!(curve.is_closed(), closed);
+            assert_eq!(
+                curve.control_disks().len(),
+                d.stroke[1].control_disk_count()
+            );
+            let data = data(&d.stroke[1]);
+            let t = crate::dbsc::disk_parameters(&data, closed, kind).unwrap();
+            for (i, c) in data.iter().enumerate() {
+                let got = curve.circle_at(t[i]);
+                assert!((got.c - c.c).length() < 1e-9, "{name} {closed} point {i}");
+                assert!((got.r - c.r).abs() < 1e-9, "{name} {closed} point {i}");
+            }
+        }
+    }
+}
+
+#[test]
+fn points_strokes_approximate() {
+    let d = full_design();
+    let curves = d.strokes().unwrap();
+    let s = &d.stroke[2];
+    let c = &curves[2];
+    assert_eq!(c.control_disks().len(), 4);
+    // Open approximations keep the end disks (P&T Sec. 9.4.1).
+    let data = data(s);
+    let (lo, hi) = c.domain();
+    for (t, want) in [(lo, data[0]), (hi, data[data.len() - 1])] {
+        let got = c.circle_at(t);
+        assert!((got.c - want.c).length() < 1e-9 && (got.r - want.r).abs() < 1e-9);
+    }
+    // Least squares: no worse than the chord through the end disks at the data.
+    let t =
+        crate::dbsc::disk_parameters(&data, false, s.parametrization.unwrap().to_fit()).unwrap();
+    let err: f64 = data
+        .iter()
+        .zip(&t)
+        .map(|(d, &ti)| (c.circle_at(ti).c - d.c).length_squared())
+        .sum();
+    let line: f64 = data
+        .iter()
+        .zip(&t)
+        .map(|(d, &ti)| (data[0].c.lerp(data[4].c, ti) - d.c).length_squared())
+        .sum();
+    assert!(err < line, "{err} vs {line}");
+    // An interpolation's attribute channels count one value per point.
+    let b = "points = [[0.0, 0.0, 1.0], [5.0, 3.0, 1.5], [10.0, 0.0, 1.0], [15.0, 2.0, 1.2], \
+             [20.0, 0.0, 1.0]]\n[stroke.attributes]\npower = [10, 20, 30, 40, 50]";
+    let d = from_str(&with_b(b), Format::Toml, FILE).unwrap();
+    let curve = &d.strokes().unwrap()[1];
+    let chans = d.stroke[1].attribute_curves(curve, FILE, 1).unwrap();
+    assert_eq!(chans.len(), 1);
+    let (name, a) = &chans[0];
+    assert_eq!(*name, "power");
+    assert!((a.eval(curve.domain().0) - 10.0).abs() < 1e-12);
+    assert!((a.eval(curve.domain().1) - 50.0).abs() < 1e-12);
+}
+
+#[test]
+fn fit_failure_names_the_stroke() {
+    // Radii jumping 1 → 6 → 1 between close points: the interpolant's control radius
+    // overshoots below zero, which the fit reports.
+    let b = "points = [[0.0, 0.0, 1.0], [4.0, 0.0, 1.0], [8.0, 0.0, 6.0], [12.0, 0.0, 1.0], \
+             [16.0, 0.0, 1.0], [20.0, 0.0, 6.0], [24.0, 0.0, 1.0]]";
+    let msg = err_of(&with_b(b));
+    assert_names(&msg, "stroke 1", "fitting `points`");
+    assert!(msg.contains("non-positive radius"), "{msg}");
+}
+
+#[test]
+fn attribute_curves_reject_a_mismatched_curve() {
+    // Attribute counts are validated against the stroke; used with another stroke's curve
+    // the channel no longer fits, and the error names the stroke and the channel.
+    let mut d = full_design();
+    let other = d.stroke[1].to_dbsc(FILE, 1).unwrap();
+    d.stroke[0].attributes.power = Some(vec![1.0; 7]);
+    let e = d.stroke[0].attribute_curves(&other, FILE, 0).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.starts_with("sign.toml: stroke 0 \"s1\", key `attributes.power`"),
+        "{msg}"
+    );
 }

@@ -8,7 +8,8 @@ use std::collections::HashMap;
 type Result<T> = std::result::Result<T, DesignError>;
 
 /// Check everything the format promises beyond its syntax (see the module docs of
-/// [`crate::design`]). Returns the first error found, in file order.
+/// [`crate::design`]); `points` strokes are fitted to check that the fit succeeds.
+/// Returns the first error found, in file order.
 pub fn validate(d: &Design) -> Result<()> {
     let file = d.file.as_str();
     if d.version != VERSION {
@@ -36,6 +37,11 @@ pub fn validate(d: &Design) -> Result<()> {
         };
         check_name(file, &s.name, item.clone(), &mut names)?;
         check_stroke(file, s, &item)?;
+        if s.points.is_some() {
+            // A fit can still fail (e.g. a control disk of non-positive radius): report it
+            // at load time, so a loaded design always builds.
+            s.to_dbsc(file, index)?;
+        }
     }
     for (index, c) in d.circles.iter().enumerate() {
         let item = Item::Circles {
@@ -44,7 +50,7 @@ pub fn validate(d: &Design) -> Result<()> {
         };
         check_name(file, &c.name, item.clone(), &mut names)?;
         let need = if c.closed { 3 } else { 2 };
-        check_xyr_list(file, &item, &c.circles, Part::Circle, c.closed)?;
+        check_xyr_list(file, &item, &c.circles, Part::Circle, c.closed, false)?;
         if c.circles.len() < need {
             return Err(DesignError::at(
                 file,
@@ -97,13 +103,14 @@ fn check_name<'a>(
 }
 
 /// Finite numbers, positive radii, no element equal to its predecessor (cyclically when
-/// `closed`).
+/// `closed`); with `centres`, no centre equal to its predecessor's.
 fn check_xyr_list(
     file: &str,
     item: &Item,
     list: &[[f64; 3]],
     part: fn(usize) -> Part,
     closed: bool,
+    centres: bool,
 ) -> Result<()> {
     let err = |i: usize, kind| Err(DesignError::at(file, item.clone(), Some(part(i)), kind));
     for (i, v) in list.iter().enumerate() {
@@ -114,13 +121,23 @@ fn check_xyr_list(
             return err(i, ErrorKind::Radius(v[2]));
         }
     }
+    let same = |a: &[f64; 3], b: &[f64; 3]| {
+        if centres { a[..2] == b[..2] } else { a == b }
+    };
+    let kind = || {
+        if centres {
+            ErrorKind::RepeatedCentre
+        } else {
+            ErrorKind::Repeated
+        }
+    };
     for i in 1..list.len() {
-        if list[i] == list[i - 1] {
-            return err(i, ErrorKind::Repeated);
+        if same(&list[i], &list[i - 1]) {
+            return err(i, kind());
         }
     }
-    if closed && list.len() > 1 && list.first() == list.last() {
-        return err(0, ErrorKind::Repeated);
+    if closed && list.len() > 1 && same(&list[0], &list[list.len() - 1]) {
+        return err(0, kind());
     }
     Ok(())
 }
@@ -177,7 +194,7 @@ fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
                     ));
                 }
             }
-            check_xyr_list(file, item, disks, Part::Disk, s.closed)?;
+            check_xyr_list(file, item, disks, Part::Disk, s.closed, false)?;
             if disks.len() < need {
                 return Err(DesignError::at(
                     file,
@@ -203,7 +220,7 @@ fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
                     "`knots` applies to `disks` strokes; a fit chooses its own".into(),
                 ));
             }
-            check_xyr_list(file, item, points, Part::Point, s.closed)?;
+            check_xyr_list(file, item, points, Part::Point, s.closed, true)?;
             if points.len() < need {
                 return Err(DesignError::at(
                     file,
