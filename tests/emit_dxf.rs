@@ -13,8 +13,11 @@ fn load(text: &str) -> ::dxf::Drawing {
     ::dxf::Drawing::load(&mut text.as_bytes()).unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
-/// Every polyline of the drawing: layer, closed flag, vertices with bulges.
-fn polylines(d: &::dxf::Drawing) -> Vec<(String, bool, Vec<(DVec2, f64)>)> {
+/// A polyline read back: layer, closed flag, vertices with bulges.
+type Poly = (String, bool, Vec<(DVec2, f64)>);
+
+/// Every polyline of the drawing.
+fn polylines(d: &::dxf::Drawing) -> Vec<Poly> {
     d.entities()
         .filter_map(|e| match &e.specific {
             ::dxf::entities::EntityType::Polyline(p) => Some((

@@ -334,6 +334,14 @@ impl Writer<'_> {
                 MoveKind::Arc { center, ccw } => {
                     let to = self.machine(m.to)?;
                     let c = center * self.scale;
+                    // The arc's own extremes must be inside the work area, not just its ends.
+                    let a = arc_of(pos.truncate(), to.truncate(), c, ccw);
+                    for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
+                        let q = c + a.radius * d;
+                        if a.contains_angle_of(q) {
+                            self.check(q.extend(to.z))?;
+                        }
+                    }
                     self.tool_on(m)?;
                     self.arc(pos, to, c, ccw, m.feed * self.scale, m.power)?;
                     pos = to;
