@@ -5,6 +5,7 @@ mod emit_common;
 
 use emit_common::*;
 use glam::{DVec2, DVec3};
+use proptest::prelude::*;
 use skinpath::emit::{DxfOptions, dxf};
 use skinpath::geom::Arc;
 use skinpath::toolpath::Toolpath;
@@ -143,4 +144,26 @@ fn lone_full_circle_is_closed() {
     let (len, _) = measure(true, &polys[0].2);
     assert!((len - 2.0 * std::f64::consts::PI * 2.0).abs() < 1e-12);
     let _ = DVec3::ZERO;
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Random chains of lines and tangent arcs (sweeps up to a full turn) round-trip.
+    #[test]
+    fn random_chains_round_trip(
+        start in (-50.0f64..50.0, -50.0f64..50.0),
+        steps in prop::collection::vec(
+            (0u8..3, 0.5f64..20.0, -3.1f64..3.1, 0.01f64..6.2, any::<bool>()), 1..12),
+    ) {
+        let s = DVec2::new(start.0, start.1);
+        let tp = Toolpath {
+            operations: vec![op(
+                "random",
+                skinpath::toolpath::OperationKind::Profile,
+                vec![cut(s.extend(0.0), chain(s, &steps, 0.0))],
+            )],
+        };
+        check(&tp);
+    }
 }

@@ -562,26 +562,7 @@ proptest! {
             (0u8..3, 0.5f64..20.0, -3.1f64..3.1, 0.01f64..6.2, any::<bool>()), 1..12),
         depth in -3.0f64..-0.1,
     ) {
-        let mut moves = Vec::new();
-        let mut pos = DVec2::new(start.0, start.1);
-        let mut heading: f64 = 0.0;
-        for (kind, len, turn, sweep, ccw) in steps {
-            heading += turn;
-            let dir = DVec2::new(heading.cos(), heading.sin());
-            if kind == 0 {
-                pos += len * dir;
-                moves.push(line(pos.x, pos.y, 0.0, 0.7));
-            } else {
-                // Arc of radius `len` tangent to the heading, turning left or right.
-                let left = DVec2::new(-dir.y, dir.x);
-                let c = if ccw { pos + len * left } else { pos - len * left };
-                let a0 = (pos - c).to_angle();
-                let a1 = a0 + if ccw { sweep } else { -sweep };
-                pos = c + len * DVec2::new(a1.cos(), a1.sin());
-                moves.push(arc(pos.x, pos.y, 0.0, c, ccw, 0.7));
-                heading += if ccw { sweep } else { -sweep };
-            }
-        }
+        let moves = chain(DVec2::new(start.0, start.1), &steps, 0.0);
         let base = Toolpath {
             operations: vec![op(
                 "random",
