@@ -104,6 +104,41 @@ fn job_round_trips() {
 }
 
 #[test]
+fn extents_include_arc_bulges() {
+    // Holes at (30, 40) and (70, 40) of radius 3, the S-curve and the outline: the drawing
+    // spans x 20..80 and y 20..60 (outline), and the S-curve's semicircle reaches y = 40
+    // while its 270° arc reaches x = 61 — all inside the outline.
+    let d = load(&dxf(&job(&[0.0], 1.0), &DxfOptions::default()).unwrap());
+    let (lo, hi) = (
+        d.header.minimum_drawing_extents.clone(),
+        d.header.maximum_drawing_extents.clone(),
+    );
+    assert_eq!((lo.x, lo.y), (20.0, 20.0));
+    assert_eq!((hi.x, hi.y), (80.0, 60.0));
+    // A lone circle: the extents are the circle's box, not its start point.
+    let tp = Toolpath {
+        operations: vec![op(
+            "hole",
+            skinpath::toolpath::OperationKind::Holes,
+            vec![circle(DVec2::new(5.0, 5.0), 2.0, 0.0, true, 1.0)],
+        )],
+    };
+    let d = load(&dxf(&tp, &DxfOptions::default()).unwrap());
+    let (lo, hi) = (
+        d.header.minimum_drawing_extents.clone(),
+        d.header.maximum_drawing_extents.clone(),
+    );
+    assert!(
+        (lo.x - 3.0).abs() < 1e-12 && (lo.y - 3.0).abs() < 1e-12,
+        "{lo:?}"
+    );
+    assert!(
+        (hi.x - 7.0).abs() < 1e-12 && (hi.y - 7.0).abs() < 1e-12,
+        "{hi:?}"
+    );
+}
+
+#[test]
 fn passes_and_reversed_directions_round_trip() {
     let mut tp = job(&[0.0, -1.0], 1.0);
     // Reverse every cut: arcs change direction, starts become ends.
