@@ -5,6 +5,7 @@ mod emit_common;
 
 use emit_common::*;
 use glam::{DVec2, DVec3};
+use proptest::prelude::*;
 use skinpath::emit::{DxfOptions, dxf};
 use skinpath::geom::Arc;
 use skinpath::toolpath::Toolpath;
@@ -13,8 +14,11 @@ fn load(text: &str) -> ::dxf::Drawing {
     ::dxf::Drawing::load(&mut text.as_bytes()).unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
-/// Every polyline of the drawing: layer, closed flag, vertices with bulges.
-fn polylines(d: &::dxf::Drawing) -> Vec<(String, bool, Vec<(DVec2, f64)>)> {
+/// A polyline read back: layer, closed flag, vertices with bulges.
+type Poly = (String, bool, Vec<(DVec2, f64)>);
+
+/// Every polyline of the drawing.
+fn polylines(d: &::dxf::Drawing) -> Vec<Poly> {
     d.entities()
         .filter_map(|e| match &e.specific {
             ::dxf::entities::EntityType::Polyline(p) => Some((
@@ -100,6 +104,41 @@ fn job_round_trips() {
 }
 
 #[test]
+fn extents_include_arc_bulges() {
+    // Holes at (30, 40) and (70, 40) of radius 3, the S-curve and the outline: the drawing
+    // spans x 20..80 and y 20..60 (outline), and the S-curve's semicircle reaches y = 40
+    // while its 270° arc reaches x = 61 — all inside the outline.
+    let d = load(&dxf(&job(&[0.0], 1.0), &DxfOptions::default()).unwrap());
+    let (lo, hi) = (
+        d.header.minimum_drawing_extents.clone(),
+        d.header.maximum_drawing_extents.clone(),
+    );
+    assert_eq!((lo.x, lo.y), (20.0, 20.0));
+    assert_eq!((hi.x, hi.y), (80.0, 60.0));
+    // A lone circle: the extents are the circle's box, not its start point.
+    let tp = Toolpath {
+        operations: vec![op(
+            "hole",
+            skinpath::toolpath::OperationKind::Holes,
+            vec![circle(DVec2::new(5.0, 5.0), 2.0, 0.0, true, 1.0)],
+        )],
+    };
+    let d = load(&dxf(&tp, &DxfOptions::default()).unwrap());
+    let (lo, hi) = (
+        d.header.minimum_drawing_extents.clone(),
+        d.header.maximum_drawing_extents.clone(),
+    );
+    assert!(
+        (lo.x - 3.0).abs() < 1e-12 && (lo.y - 3.0).abs() < 1e-12,
+        "{lo:?}"
+    );
+    assert!(
+        (hi.x - 7.0).abs() < 1e-12 && (hi.y - 7.0).abs() < 1e-12,
+        "{hi:?}"
+    );
+}
+
+#[test]
 fn passes_and_reversed_directions_round_trip() {
     let mut tp = job(&[0.0, -1.0], 1.0);
     // Reverse every cut: arcs change direction, starts become ends.
@@ -140,4 +179,26 @@ fn lone_full_circle_is_closed() {
     let (len, _) = measure(true, &polys[0].2);
     assert!((len - 2.0 * std::f64::consts::PI * 2.0).abs() < 1e-12);
     let _ = DVec3::ZERO;
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Random chains of lines and tangent arcs (sweeps up to a full turn) round-trip.
+    #[test]
+    fn random_chains_round_trip(
+        start in (-50.0f64..50.0, -50.0f64..50.0),
+        steps in prop::collection::vec(
+            (0u8..3, 0.5f64..20.0, -3.1f64..3.1, 0.01f64..6.2, any::<bool>()), 1..12),
+    ) {
+        let s = DVec2::new(start.0, start.1);
+        let tp = Toolpath {
+            operations: vec![op(
+                "random",
+                skinpath::toolpath::OperationKind::Profile,
+                vec![cut(s.extend(0.0), chain(s, &steps, 0.0))],
+            )],
+        };
+        check(&tp);
+    }
 }

@@ -6,6 +6,7 @@ mod emit_common;
 
 use emit_common::*;
 use glam::{DVec2, DVec3};
+use proptest::prelude::*;
 use skinpath::emit::laser_svg::color_of;
 use skinpath::emit::{LaserSvgOptions, Page, PreviewOptions, laser_svg, preview_svg};
 use skinpath::machine::{Profile, builtin_profile};
@@ -161,7 +162,7 @@ fn check_laser_svg(tp: &Toolpath, p: &Profile, opts: &LaserSvgOptions) {
             assert!(
                 arc_circles(tp)
                     .iter()
-                    .any(|(ic, ir)| ic.distance(back) < 1e-9 && (ir - r).abs() < 1e-9),
+                    .any(|(ic, ir)| ic.distance(back) < 1e-6 && (ir - r).abs() < 1e-9),
                 "arc centre {back} radius {r}"
             );
         }
@@ -201,8 +202,8 @@ fn bounds(tp: &Toolpath) -> (DVec2, DVec2) {
                 if let skinpath::toolpath::MoveKind::Arc { center, ccw } = m.kind {
                     let a =
                         skinpath::geom::Arc::from_center_points(center, pos, m.to.truncate(), ccw);
-                    for k in 0..=100_000 {
-                        let q = a.eval(k as f64 / 100_000.0);
+                    for k in 0..=20_000 {
+                        let q = a.eval(k as f64 / 20_000.0);
                         lo = lo.min(q);
                         hi = hi.max(q);
                     }
@@ -213,7 +214,8 @@ fn bounds(tp: &Toolpath) -> (DVec2, DVec2) {
             }
         }
     }
-    // Sampling finds extremes to within r(1 − cos(π/100000)) ≈ 0: snap to 1e-9.
+    // Sampling finds an arc extreme to within r·(sweep/(2·10⁴))²/8 < 1.3e-8·r: the page offset
+    // computed here is that close to the exact one (hence 1e-6 on centres above).
     (lo, hi)
 }
 
@@ -332,4 +334,27 @@ fn preview_has_cuts_rapids_and_start_markers() {
         total += trace(n.attribute("d").unwrap()).length;
     }
     assert!((total - cut_length_xy(&tp)).abs() < 1e-9 * total);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Random chains of lines and tangent arcs: the SVG path traces the same length and its
+    /// arcs lie on the input circles, on a bounds page and on the bed.
+    #[test]
+    fn random_chains_round_trip(
+        start in (100.0f64..200.0, 100.0f64..200.0),
+        steps in prop::collection::vec(
+            (0u8..3, 0.5f64..20.0, -3.1f64..3.1, 0.01f64..6.2, any::<bool>()), 1..12),
+    ) {
+        let s = DVec2::new(start.0, start.1);
+        let tp = Toolpath {
+            operations: vec![op(
+                "random",
+                skinpath::toolpath::OperationKind::Profile,
+                vec![cut(s.extend(0.0), chain(s, &steps, 0.0))],
+            )],
+        };
+        check_laser_svg(&tp, &profile("svg-laser"), &LaserSvgOptions::default());
+    }
 }

@@ -3,7 +3,7 @@
 //! closed flag (70 = 1) on closed contours, `$INSUNITS` = 4 (mm). Arcs are split into pieces
 //! of at most 120° so every bulge stays below tan(30°) and full circles survive.
 
-use super::geometry::{Contour, Seg, contours, split_arc, validate};
+use super::geometry::{Contour, Seg, bounds, contours, split_arc, validate};
 use super::laser_svg::{SVG_MAX_SWEEP, color_of};
 use super::{EmitError, check_tolerance, fnum};
 use crate::machine::OperationColors;
@@ -115,13 +115,7 @@ pub fn dxf(tp: &Toolpath, opts: &DxfOptions) -> Result<String, EmitError> {
     check_tolerance("tolerance", opts.tolerance)?;
     validate(tp, opts.tolerance)?;
     let cs = contours(tp);
-    let mut ext: Option<(DVec2, DVec2)> = None;
-    for c in &cs {
-        for p in std::iter::once(c.start).chain(c.segs.iter().map(|s| s.to())) {
-            ext = Some(ext.map_or((p, p), |(l, h)| (l.min(p), h.max(p))));
-        }
-    }
-    let (lo, hi) = ext.unwrap_or((DVec2::ZERO, DVec2::ZERO));
+    let (lo, hi) = bounds(&cs, &[]).unwrap_or((DVec2::ZERO, DVec2::ZERO));
     let mut o = String::new();
     pair(&mut o, 0, "SECTION");
     pair(&mut o, 2, "HEADER");

@@ -180,7 +180,7 @@ impl Writer<'_> {
         };
         template::render(t, |name| match name {
             "name" => self.p.name.clone(),
-            "job" => super::super::machine::dialect::sanitize_comment(&self.opts.job),
+            "job" => crate::machine::dialect::sanitize_comment(&self.opts.job),
             "units" => self.p.units.gcode().to_string(),
             "safe_z" => safe_z.clone(),
             "path_tolerance" => format_number(self.g.path_tolerance.unwrap_or(0.0), 6),
@@ -334,6 +334,14 @@ impl Writer<'_> {
                 MoveKind::Arc { center, ccw } => {
                     let to = self.machine(m.to)?;
                     let c = center * self.scale;
+                    // The arc's own extremes must be inside the work area, not just its ends.
+                    let a = arc_of(pos.truncate(), to.truncate(), c, ccw);
+                    for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
+                        let q = c + a.radius * d;
+                        if a.contains_angle_of(q) {
+                            self.check(q.extend(to.z))?;
+                        }
+                    }
                     self.tool_on(m)?;
                     self.arc(pos, to, c, ccw, m.feed * self.scale, m.power)?;
                     pos = to;
@@ -637,7 +645,7 @@ impl Writer<'_> {
                     ("J", self.num(center.y - sy)),
                 ];
                 extra.extend(self.power_words(power, feed));
-                self.arc_words(g, to, &extra);
+                self.move_line(g, to, &extra);
             }
             ArcFormat::R => {
                 let pts = split_arc(from.truncate(), to.truncate(), center, a.sweep, R_MAX_SWEEP);
@@ -657,7 +665,7 @@ impl Writer<'_> {
                         let words = self.power_words(power, feed);
                         self.move_line(1, end, &words);
                     } else {
-                        self.arc_words(g, end, &extra);
+                        self.move_line(g, end, &extra);
                     }
                     prev = end;
                 }
@@ -689,11 +697,6 @@ impl Writer<'_> {
             self.printed[0].unwrap_or(self.round(from.x)),
             self.printed[1].unwrap_or(self.round(from.y)),
         )
-    }
-
-    fn arc_words(&mut self, g: u8, to: DVec3, extra: &[(&str, String)]) {
-        // I/J/R go right after the axes; F and S last.
-        self.move_line(g, to, extra);
     }
 }
 

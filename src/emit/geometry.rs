@@ -188,6 +188,37 @@ fn cut_contours(op: usize, kind: OperationKind, ci: usize, cut: &Cut, out: &mut 
     }
 }
 
+/// The exact bounding box (lo, hi) of `cs` and `extra` points, arcs included through their
+/// axis-extreme points; `None` when there is nothing.
+pub fn bounds(cs: &[Contour], extra: &[DVec2]) -> Option<(DVec2, DVec2)> {
+    let mut b: Option<(DVec2, DVec2)> = None;
+    let mut add = |p: DVec2| {
+        b = Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))));
+    };
+    for p in extra {
+        add(*p);
+    }
+    for c in cs {
+        add(c.start);
+        let mut from = c.start;
+        for s in &c.segs {
+            if let Seg::Arc { center, sweep, .. } = *s {
+                let r = from.distance(center);
+                let a = Arc::new(center, r, (from - center).to_angle(), sweep);
+                for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
+                    let q = center + r * d;
+                    if a.contains_angle_of(q) {
+                        add(q);
+                    }
+                }
+            }
+            add(s.to());
+            from = s.to();
+        }
+    }
+    b
+}
+
 /// Splits the arc `from` → `to` about `center` with signed `sweep` into the fewest equal
 /// pieces of at most `max_sweep` each; returns the pieces' end points (the last is `to`).
 pub fn split_arc(from: DVec2, to: DVec2, center: DVec2, sweep: f64, max_sweep: f64) -> Vec<DVec2> {

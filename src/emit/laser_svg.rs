@@ -3,7 +3,7 @@
 //! `<path>` per cut in cut order, arcs as SVG `A` commands. The design's y axis points up, SVG's
 //! down: y is flipped about the page.
 
-use super::geometry::{Contour, Seg, contours, split_arc, validate};
+use super::geometry::{Contour, Seg, bounds, contours, split_arc, validate};
 use super::{EmitError, check_tolerance, fnum, xml_escape};
 use crate::machine::{OperationColors, Profile};
 use crate::toolpath::{OperationKind, Toolpath};
@@ -76,38 +76,9 @@ impl PageFrame {
         DVec2::new(p.x - self.x0, self.y1 - p.y)
     }
 
-    /// The frame of the bounding box of `points` and `contours` grown by `margin`.
+    /// The frame of the bounding box of `cs` and `extra` grown by `margin`.
     pub fn around(cs: &[Contour], extra: &[DVec2], margin: f64) -> PageFrame {
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        let mut add = |p: DVec2| {
-            lo = lo.min(p);
-            hi = hi.max(p);
-        };
-        for p in extra {
-            add(*p);
-        }
-        for c in cs {
-            add(c.start);
-            let mut from = c.start;
-            for s in &c.segs {
-                if let Seg::Arc { center, sweep, .. } = *s {
-                    let r = from.distance(center);
-                    let a = crate::geom::Arc::new(center, r, (from - center).to_angle(), sweep);
-                    for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
-                        let q = center + r * d;
-                        if a.contains_angle_of(q) {
-                            add(q);
-                        }
-                    }
-                }
-                add(s.to());
-                from = s.to();
-            }
-        }
-        if !lo.is_finite() {
-            lo = DVec2::ZERO;
-            hi = DVec2::ZERO;
-        }
+        let (lo, hi) = bounds(cs, extra).unwrap_or((DVec2::ZERO, DVec2::ZERO));
         let lo = lo - DVec2::splat(margin);
         let hi = hi + DVec2::splat(margin);
         PageFrame {

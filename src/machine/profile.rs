@@ -486,13 +486,19 @@ impl Profile {
                 );
             }
         }
-        if let Some(l) = &self.laser
-            && !(l.pierce_dwell.is_finite() && l.pierce_dwell >= 0.0)
-        {
-            return err(
-                "laser.pierce_dwell",
-                format!("must be >= 0, got {}", l.pierce_dwell),
-            );
+        if let Some(l) = &self.laser {
+            if !(l.pierce_dwell.is_finite() && l.pierce_dwell >= 0.0) {
+                return err(
+                    "laser.pierce_dwell",
+                    format!("must be >= 0, got {}", l.pierce_dwell),
+                );
+            }
+            if !l.inline_power && !l.needs_on_command {
+                return err(
+                    "laser.needs_on_command",
+                    "without inline_power the power is set by M3/M4, so it must be true".into(),
+                );
+            }
         }
         if let Some(r) = &self.router {
             let z = self.work_area.z;

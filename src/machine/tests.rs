@@ -85,6 +85,9 @@ fn semantic_errors_name_the_dotted_key() {
     assert!(e.message.contains("safez"));
     let e = load_err(&grbl_text().replace("program_end = \"M2\"", "program_end = \"M99\""));
     assert_eq!(e.key, "gcode.program_end");
+    let smoothie = BUILTIN_SOURCES[4].1;
+    let e = load_err(&smoothie.replace("inline_power = true", "inline_power = false"));
+    assert_eq!(e.key, "laser.needs_on_command");
     let svg = BUILTIN_SOURCES[5].1;
     let e = load_err(&svg.replace("fill = \"#000000\"", "fill = \"black\""));
     assert_eq!(e.key, "svg.colors.fill");

@@ -154,3 +154,33 @@ pub fn arc_circles(tp: &Toolpath) -> Vec<(DVec2, f64)> {
     }
     out
 }
+
+/// A chain of lines and tangent arcs from `start`: each step is (kind, length or radius,
+/// turn of the heading, arc sweep, ccw); kind 0 is a line, anything else an arc.
+pub fn chain(start: DVec2, steps: &[(u8, f64, f64, f64, bool)], z: f64) -> Vec<Move> {
+    let mut moves = Vec::new();
+    let mut pos = start;
+    let mut heading: f64 = 0.0;
+    for &(kind, len, turn, sweep, ccw) in steps {
+        heading += turn;
+        let dir = DVec2::new(heading.cos(), heading.sin());
+        if kind == 0 {
+            pos += len * dir;
+            moves.push(line(pos.x, pos.y, z, 0.7));
+        } else {
+            // Arc of radius `len` tangent to the heading, turning left or right.
+            let left = DVec2::new(-dir.y, dir.x);
+            let c = if ccw {
+                pos + len * left
+            } else {
+                pos - len * left
+            };
+            let a0 = (pos - c).to_angle();
+            let a1 = a0 + if ccw { sweep } else { -sweep };
+            pos = c + len * DVec2::new(a1.cos(), a1.sin());
+            moves.push(arc(pos.x, pos.y, z, c, ccw, 0.7));
+            heading += if ccw { sweep } else { -sweep };
+        }
+    }
+    moves
+}
