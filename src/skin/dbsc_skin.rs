@@ -28,6 +28,8 @@ use super::touching::triplet_touching;
 use super::{AdmissibilityOptions, SkinError, Skins, TouchingPoints, check_admissible};
 use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, find_loops};
 use crate::geom::{Circle, CubicBez, DVec2, Path};
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 /// Options of [`skin_dbsc`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,6 +168,22 @@ struct State<'a> {
     /// Per segment: mark and weight of eq. 25.
     marks: Vec<Mark>,
     weights: Vec<f64>,
+    /// Error bounds by (arc, span, side, mode).
+    cache: RefCell<HashMap<CacheKey, HausdorffBounds>>,
+}
+
+type CacheKey = ([u64; 10], usize, bool);
+
+fn cache_key(arc: &CubicBez, t0: f64, t1: f64, side: usize, full: bool) -> CacheKey {
+    let p = arc.points();
+    let mut k = [0u64; 10];
+    for (i, q) in p.iter().enumerate() {
+        k[2 * i] = q.x.to_bits();
+        k[2 * i + 1] = q.y.to_bits();
+    }
+    k[8] = t0.to_bits();
+    k[9] = t1.to_bits();
+    (k, side, full)
 }
 
 fn adm_opts() -> AdmissibilityOptions {
@@ -244,10 +262,21 @@ impl State<'_> {
                 let t0 = ps[a];
                 let t1 = ps.get(a + 1).copied().unwrap_or(self.hi);
                 let gap = self.opts.gap_fraction * self.opts.eps;
-                let h = if full {
-                    hausdorff_skin_envelope(arc, self.c, side, t0, t1, gap)?
-                } else {
-                    hausdorff_within(arc, self.c, side, t0, t1, self.opts.eps, gap)?
+                // An arc and its span determine the error: reuse it across passes (most
+                // arcs are unchanged by insertions elsewhere).
+                let key = cache_key(arc, t0, t1, k, full);
+                let cached = self.cache.borrow().get(&key).copied();
+                let h = match cached {
+                    Some(h) => h,
+                    None => {
+                        let h = if full {
+                            hausdorff_skin_envelope(arc, self.c, side, t0, t1, gap)?
+                        } else {
+                            hausdorff_within(arc, self.c, side, t0, t1, self.opts.eps, gap)?
+                        };
+                        self.cache.borrow_mut().insert(key, h);
+                        h
+                    }
                 };
                 while j < out.len() && self.params[j] < t1 {
                     out[j][k] = h;
@@ -582,6 +611,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         uses: vec![CircleUse::Both; n],
         marks: vec![Mark::Open; if closed { n } else { n.saturating_sub(1) }],
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
+        cache: RefCell::new(HashMap::new()),
         params,
     };
     // Initialisation (eq. 19): the knot circles must be admissible.
