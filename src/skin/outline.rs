@@ -95,8 +95,9 @@ mod tests {
     /// Relative depth (to the radius) by which a skin may enter a disk: the Hermite arcs
     /// of re-skinning-cnc eqs. 11–12 are tangent to the circles at the touching points but
     /// their curvature there can exceed the circle's, so they can dip in slightly (see
-    /// `skins_can_dip_into_a_disk`).
-    const PENETRATION: f64 = 1e-2;
+    /// `skins_can_dip_into_a_disk`). Observed in the random tests below (radius slope
+    /// ≤ 0.4): at most 2.6e-4·r.
+    const PENETRATION: f64 = 1e-3;
 
     /// The outline invariants: closed contours, orientation, no intersection anywhere
     /// (guaranteed curve test), no skin inside a disk deeper than the tolerance.
@@ -111,6 +112,9 @@ mod tests {
             let hits = path_self_intersections(p, tol);
             prop_assert!(hits.is_empty(), "self-intersections {hits:?}");
         }
+        // The two skins never meet (also covered by the contour check for open input).
+        let h = paths_intersections(&o.skins.path(Side::Left), &o.skins.path(Side::Right), tol);
+        prop_assert!(h.is_empty(), "left/right {h:?}");
         let area = |p: &Path| polygon_area(&p.flatten(1e-3 * scale));
         prop_assert!(area(&o.contours[0]) > 0.0);
         if closed {
@@ -177,6 +181,33 @@ mod tests {
         assert!((a0 - 36.0 * pi).abs() < 0.05 * 36.0 * pi, "{a0}");
         assert!((a1 + 16.0 * pi).abs() < 0.05 * 16.0 * pi, "{a1}");
         check_frames(&cs, true).unwrap();
+    }
+
+    #[test]
+    fn sharp_turns_intersect_exactly_when_inadmissible() {
+        // Three equal circles turning by `turn`: skinned without the admissibility check,
+        // the inadmissible ones (kruppa-2023 Fig. 13) give outlines that the curve checker
+        // finds intersecting; the admissible ones give clean outlines.
+        let opts = SkinOptions {
+            check_admissibility: false,
+            ..Default::default()
+        };
+        let mut seen = [false, false];
+        for turn in [2.0f64, 2.4, 2.7, 2.9] {
+            for r in [0.6f64, 0.9, 1.2] {
+                let cs = [
+                    c(-2.0, 0.0, r),
+                    c(0.0, 0.0, r),
+                    c(2.0 * turn.cos(), 2.0 * turn.sin(), r),
+                ];
+                let adm = crate::skin::check_admissible(&cs, false, &Default::default()).is_ok();
+                let o = outline_circles(&cs, false, &opts).unwrap();
+                let hits = path_self_intersections(&o.contours[0], 1e-9);
+                assert_eq!(hits.is_empty(), adm, "turn {turn} r {r}: {hits:?}");
+                seen[usize::from(adm)] = true;
+            }
+        }
+        assert_eq!(seen, [true, true]);
     }
 
     #[test]

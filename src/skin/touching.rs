@@ -408,6 +408,12 @@ mod tests {
             assert!(q.points.left.distance(rotp(t.points.left)) <= 1e-9 * sc * s);
             assert!(q.points.right.distance(rotp(t.points.right)) <= 1e-9 * sc * s);
         }
+        // Far from the origin (1e4 mm): errors relative to the coordinates.
+        let sh = DVec2::new(1e4, -7e3);
+        let mv = |k: &Circle| Circle::new(k.c + sh, k.r);
+        let q = check_triplet(&mv(&a), &mv(&m), &mv(&b));
+        assert!(q.points.left.distance(t.points.left + sh) <= 1e-9 * 1e4);
+        assert!(q.points.right.distance(t.points.right + sh) <= 1e-9 * 1e4);
     }
 
     #[test]
