@@ -12,9 +12,8 @@
 //!
 //! Closed sequences are cyclic: every circle is an inner circle with two neighbours.
 
+use super::intersect::SeqBvh;
 use crate::geom::{Circle, DVec2, cross};
-use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree};
 use std::f64::consts::PI;
 
 /// Which admissibility condition a sequence violates.
@@ -147,23 +146,16 @@ pub fn check_admissible(
             });
         }
     }
-    // Condition 1 (and strict disjointness): neighbours from an R-tree of bounding boxes.
-    let tree = RTree::bulk_load(
-        circles
-            .iter()
-            .enumerate()
-            .map(|(i, c)| GeomWithData::new(rect(c), i))
-            .collect(),
-    );
+    // Condition 1 (and strict disjointness): neighbours from a bounding-volume hierarchy of
+    // the disks' boxes in sequence order.
+    let tree = SeqBvh::new(circles.iter().map(bbox).collect());
+    let mut cand: Vec<usize> = Vec::new();
     let mut nbrs: Vec<usize> = Vec::new();
     for (i, ci) in circles.iter().enumerate() {
         nbrs.clear();
-        let env = AABB::from_corners(
-            [ci.c.x - ci.r, ci.c.y - ci.r],
-            [ci.c.x + ci.r, ci.c.y + ci.r],
-        );
-        for g in tree.locate_in_envelope_intersecting(env) {
-            let j = g.data;
+        cand.clear();
+        tree.query(&bbox(ci), &mut cand);
+        for &j in &cand {
             let cj = &circles[j];
             let scale = ci.r + cj.r + ci.c.distance(cj.c);
             if j != i && ci.c.distance(cj.c) < ci.r + cj.r - tol * scale {
@@ -182,7 +174,6 @@ pub fn check_admissible(
                 }
             }
         }
-        nbrs.sort_unstable();
         if let Some(mut cover) = disk_covered(circles, i, &nbrs, tol) {
             cover.insert(0, i);
             return Err(SkinError::Inadmissible {
@@ -194,8 +185,8 @@ pub fn check_admissible(
     Ok(())
 }
 
-fn rect(c: &Circle) -> Rectangle<[f64; 2]> {
-    Rectangle::from_corners([c.c.x - c.r, c.c.y - c.r], [c.c.x + c.r, c.c.y + c.r])
+fn bbox(c: &Circle) -> (DVec2, DVec2) {
+    (c.c - DVec2::splat(c.r), c.c + DVec2::splat(c.r))
 }
 
 /// Condition 3: the radical centre s of (a, m, b) has positive power with respect to the
@@ -385,6 +376,28 @@ mod tests {
             .collect()
     }
 
+    /// The same violation, with indices mapped, after reversal, rotation and scaling.
+    fn same_in_all_frames(cs: &[Circle], closed: bool) {
+        let o = AdmissibilityOptions::default();
+        let (k, idx) = cond(check_admissible(cs, closed, &o)).unwrap();
+        let n = cs.len();
+        for (rot, s) in [(0.7, 1e-3), (2.0, 1e4)] {
+            let t = transformed(cs, rot, s, DVec2::new(-1.0, 5.0) * s);
+            assert_eq!(
+                cond(check_admissible(&t, closed, &o)),
+                Some((k, idx.clone()))
+            );
+        }
+        let rev: Vec<Circle> = cs.iter().rev().copied().collect();
+        let (kr, mut ir) = cond(check_admissible(&rev, closed, &o)).unwrap();
+        assert_eq!(kr, k);
+        ir.iter_mut().for_each(|i| *i = n - 1 - *i);
+        ir.sort_unstable();
+        let mut want = idx.clone();
+        want.sort_unstable();
+        assert_eq!(ir, want);
+    }
+
     #[test]
     fn straight_row_is_admissible_in_all_frames() {
         let cs: Vec<Circle> = (0..6).map(|i| c(i as f64 * 1.5, 0.0, 1.0)).collect();
@@ -404,6 +417,7 @@ mod tests {
         let (k, idx) = cond(check_admissible(&cs, false, &Default::default())).unwrap();
         assert_eq!(k, Condition::Covered);
         assert_eq!(idx, vec![0, 1]);
+        same_in_all_frames(&cs, false);
         // Covered by the union but by no single disk: a ring of six disks around it.
         let mut ring: Vec<Circle> = (0..6)
             .map(|k| {
@@ -432,6 +446,7 @@ mod tests {
         let (k, idx) = cond(check_admissible(&cs, false, &Default::default())).unwrap();
         assert!(k == Condition::LensOutsideMiddle || k == Condition::RadicalCentreInside);
         assert_eq!(idx, vec![0, 1, 2]);
+        same_in_all_frames(&cs, false);
         // Lens inside a big middle disk is fine.
         assert!(lens_inside(&cs[0], &cs[2], &c(0.0, 0.0, 1.2), 1e-9));
         assert!(!lens_inside(&cs[0], &cs[2], &c(0.5, 0.0, 0.5), 1e-9));
@@ -442,6 +457,9 @@ mod tests {
         // Three overlapping disks around a common point: the radical centre is inside all.
         let cs = [c(-1.0, 0.0, 1.2), c(0.0, 0.8, 1.2), c(1.0, 0.0, 1.2)];
         assert!(!radical_centre_outside(&cs[0], &cs[1], &cs[2], 1e-9));
+        let (k, idx) = cond(check_admissible(&cs, false, &Default::default())).unwrap();
+        assert_eq!((k, idx), (Condition::RadicalCentreInside, vec![0, 1, 2]));
+        same_in_all_frames(&cs, false);
         // Radical centre by a direct 2×2 solve: same answer from its power.
         let m = |k: &Circle, p: DVec2| k.power(p);
         // (0, y) equal power w.r.t. 0 and 2 by symmetry; power to 0 and 1 equal:

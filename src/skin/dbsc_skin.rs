@@ -28,6 +28,8 @@ use super::touching::triplet_touching;
 use super::{AdmissibilityOptions, SkinError, Skins, TouchingPoints, check_admissible};
 use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, find_loops};
 use crate::geom::{Circle, CubicBez, DVec2, Path};
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 /// Options of [`skin_dbsc`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,6 +138,8 @@ pub enum DbscSkinError {
         t1: f64,
         source: SkinError,
     },
+    #[error("skin outline contour {contour} intersects itself at its segment {segment}")]
+    SelfIntersection { contour: usize, segment: usize },
     #[error("invalid option: {0}")]
     Options(&'static str),
     #[error(transparent)]
@@ -164,6 +168,22 @@ struct State<'a> {
     /// Per segment: mark and weight of eq. 25.
     marks: Vec<Mark>,
     weights: Vec<f64>,
+    /// Error bounds by (arc, span, side, mode).
+    cache: RefCell<HashMap<CacheKey, HausdorffBounds>>,
+}
+
+type CacheKey = ([u64; 10], usize, bool);
+
+fn cache_key(arc: &CubicBez, t0: f64, t1: f64, side: usize, full: bool) -> CacheKey {
+    let p = arc.points();
+    let mut k = [0u64; 10];
+    for (i, q) in p.iter().enumerate() {
+        k[2 * i] = q.x.to_bits();
+        k[2 * i + 1] = q.y.to_bits();
+    }
+    k[8] = t0.to_bits();
+    k[9] = t1.to_bits();
+    (k, side, full)
 }
 
 fn adm_opts() -> AdmissibilityOptions {
@@ -242,10 +262,21 @@ impl State<'_> {
                 let t0 = ps[a];
                 let t1 = ps.get(a + 1).copied().unwrap_or(self.hi);
                 let gap = self.opts.gap_fraction * self.opts.eps;
-                let h = if full {
-                    hausdorff_skin_envelope(arc, self.c, side, t0, t1, gap)?
-                } else {
-                    hausdorff_within(arc, self.c, side, t0, t1, self.opts.eps, gap)?
+                // An arc and its span determine the error: reuse it across passes (most
+                // arcs are unchanged by insertions elsewhere).
+                let key = cache_key(arc, t0, t1, k, full);
+                let cached = self.cache.borrow().get(&key).copied();
+                let h = match cached {
+                    Some(h) => h,
+                    None => {
+                        let h = if full {
+                            hausdorff_skin_envelope(arc, self.c, side, t0, t1, gap)?
+                        } else {
+                            hausdorff_within(arc, self.c, side, t0, t1, self.opts.eps, gap)?
+                        };
+                        self.cache.borrow_mut().insert(key, h);
+                        h
+                    }
                 };
                 while j < out.len() && self.params[j] < t1 {
                     out[j][k] = h;
@@ -505,6 +536,15 @@ fn outline_intersects(contours: &[Path], tol: f64) -> bool {
         })
 }
 
+/// (contour, segment) of the first crossing found (for the error message).
+fn first_crossing(contours: &[Path], tol: f64) -> (usize, usize) {
+    contours
+        .iter()
+        .enumerate()
+        .find_map(|(k, c)| path_self_intersections(c, tol).first().map(|h| (k, h.a)))
+        .unwrap_or((0, 0))
+}
+
 /// The radical centre of three circles (equal powers), `None` for collinear centres.
 fn radical_centre(a: &Circle, b: &Circle, c: &Circle) -> Option<DVec2> {
     // pow_a(x) = pow_b(x): 2 (c_b − c_a)·x = ‖c_b‖² − r_b² − ‖c_a‖² + r_a².
@@ -571,6 +611,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         uses: vec![CircleUse::Both; n],
         marks: vec![Mark::Open; if closed { n } else { n.saturating_sub(1) }],
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
+        cache: RefCell::new(HashMap::new()),
         params,
     };
     // Initialisation (eq. 19): the knot circles must be admissible.
@@ -592,6 +633,12 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     let err = st.errors(true)?;
     let loops = find_loops(c, opts.loop_tol)?;
     let o = st.outline()?;
+    // Safety net: never hand out a crossing outline (phases 1–2 rely on admissibility,
+    // phase 3 checks each insertion; this re-checks the final result).
+    if outline_intersects(&o.contours, opts.intersect_tol) {
+        let (contour, segment) = first_crossing(&o.contours, opts.intersect_tol);
+        return Err(DbscSkinError::SelfIntersection { contour, segment });
+    }
     let mut report = Vec::with_capacity(err.len());
     for (i, e) in err.iter().enumerate() {
         let (t0, t1) = (st.params[i], st.seg_end(i));
@@ -897,6 +944,34 @@ mod tests {
         assert!(!outline_intersects(&s.outline, 1e-9));
         for r in &s.report {
             assert!(r.met_left && r.met_right, "{r:?}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
+
+        /// Random strokes either skin to an intersection-free outline or are rejected as
+        /// inadmissible at the knot circles: the safety net (SelfIntersection) never fires.
+        #[test]
+        fn random_strokes_never_cross(
+            d in proptest::collection::vec((-1.0f64..1.0, -4.0f64..4.0, 0.3f64..1.5), 5..8),
+        ) {
+            let pts: Vec<(f64, f64, f64)> = d
+                .iter()
+                .enumerate()
+                .map(|(i, &(x, y, r))| (4.0 * i as f64 + x, y, r))
+                .collect();
+            match skin_dbsc(&open(3, &pts), &opts(0.05)) {
+                Ok(s) => {
+                    proptest::prop_assert!(!outline_intersects(&s.outline, 1e-9));
+                    for r in &s.report {
+                        proptest::prop_assert!(r.error_left.lower <= r.error_left.upper);
+                        proptest::prop_assert_eq!(r.met_left && r.met_right, r.stopped_in.is_none());
+                    }
+                }
+                Err(DbscSkinError::NotAdmissible { .. }) => {}
+                Err(e) => proptest::prop_assert!(false, "{}", e),
+            }
         }
     }
 }

@@ -829,6 +829,37 @@ mod tests {
         a.max(b)
     }
 
+    #[test]
+    fn looping_envelope_bounds_bracket_dense_estimate() {
+        // The inner envelope of a sharp bend has a swallowtail on [0.35, 0.64]; the nearest
+        // points jump between its branches, which the constant-matching bound handles.
+        let c = open(
+            3,
+            &[
+                (0.0, 0.0, 0.8),
+                (4.0, 0.0, 0.8),
+                (5.0, 1.0, 0.8),
+                (4.0, 2.0, 0.8),
+                (0.0, 2.2, 0.8),
+            ],
+        );
+        let env = EnvelopeSegment::new(&c, Side::Left, 0.25, 0.75).unwrap();
+        let (a, b) = (env.point(0.25).unwrap(), env.point(0.75).unwrap());
+        let m = env.point(0.5).unwrap();
+        let s = CubicBez::new(a, a.lerp(m, 0.8), b.lerp(m, 0.8), b);
+        let gap = 1e-3;
+        let h = hausdorff_curves(&s, &env, gap).unwrap();
+        let est = dense_estimate(&s, &env);
+        assert!(
+            h.lower <= est + 1e-7 && est <= h.upper + 1e-9,
+            "{h:?} {est}"
+        );
+        assert!(h.gap() <= gap, "{h:?}");
+        // Symmetric in its arguments.
+        let g = hausdorff_curves(&env, &s, gap).unwrap();
+        assert!(g.lower <= h.upper && h.lower <= g.upper);
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(24))]
 

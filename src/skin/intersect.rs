@@ -19,8 +19,6 @@
 
 use crate::geom::predicates::{line_intersection, segments_intersect};
 use crate::geom::{Arc, CubicBez, DVec2, Line, Path, PathSeg};
-use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree};
 use std::f64::consts::PI;
 
 /// Deepest subdivision: 2⁻⁶⁰ of a curve's size is far below any useful tolerance; a pair
@@ -312,15 +310,83 @@ pub fn cubic_self_intersections(c: &CubicBez, tol: f64) -> Vec<Hit> {
     dedup(s.hits, tol)
 }
 
-fn seg_box(s: &PathSeg, tol: f64) -> Rectangle<[f64; 2]> {
+/// An axis-aligned box (min, max corners).
+pub(crate) type BBox = (DVec2, DVec2);
+
+/// Items per leaf of [`SeqBvh`].
+const BVH_LEAF: usize = 8;
+
+/// Bounding-volume hierarchy over boxes kept in sequence order: blocks of `BVH_LEAF`
+/// consecutive boxes, then pairs of blocks, up to one root. Consecutive circles of a stroke
+/// and consecutive segments of a connected path are spatially close, so the nodes stay
+/// tight and a query costs O(log n + hits) whatever the shape's aspect ratio. (An R-tree
+/// bulk-loaded with rstar's OMT splitting degrades on long thin strokes: the query cost per
+/// circle grew from 2 µs at n = 10³ to 9 µs at n = 10⁵ on the wavy benchmark stroke.)
+pub(crate) struct SeqBvh {
+    boxes: Vec<BBox>,
+    /// `levels[0]` covers leaf blocks; node j of level k covers nodes 2j, 2j+1 of k − 1.
+    levels: Vec<Vec<BBox>>,
+}
+
+fn union(bs: &[BBox]) -> BBox {
+    bs.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), (l, h)| (lo.min(*l), hi.max(*h)),
+    )
+}
+
+fn overlap(a: &BBox, b: &BBox) -> bool {
+    a.0.x <= b.1.x && b.0.x <= a.1.x && a.0.y <= b.1.y && b.0.y <= a.1.y
+}
+
+impl SeqBvh {
+    pub(crate) fn new(boxes: Vec<BBox>) -> SeqBvh {
+        let mut levels = Vec::new();
+        let mut cur: Vec<BBox> = boxes.chunks(BVH_LEAF).map(union).collect();
+        while cur.len() > 1 {
+            let next = cur.chunks(2).map(union).collect();
+            levels.push(cur);
+            cur = next;
+        }
+        levels.push(cur);
+        SeqBvh { boxes, levels }
+    }
+
+    /// Indices (ascending) of the boxes overlapping `q` (closed boxes), appended to `out`.
+    pub(crate) fn query(&self, q: &BBox, out: &mut Vec<usize>) {
+        let top = self.levels.len() - 1;
+        for j in 0..self.levels[top].len() {
+            self.visit(top, j, q, out);
+        }
+    }
+
+    fn visit(&self, k: usize, j: usize, q: &BBox, out: &mut Vec<usize>) {
+        if !overlap(&self.levels[k][j], q) {
+            return;
+        }
+        if k == 0 {
+            let end = ((j + 1) * BVH_LEAF).min(self.boxes.len());
+            out.extend((j * BVH_LEAF..end).filter(|&i| overlap(&self.boxes[i], q)));
+        } else {
+            for c in [2 * j, 2 * j + 1] {
+                if c < self.levels[k - 1].len() {
+                    self.visit(k - 1, c, q, out);
+                }
+            }
+        }
+    }
+}
+
+fn seg_box(s: &PathSeg, tol: f64) -> BBox {
     let (lo, hi) = Piece::of(s).bbox();
-    Rectangle::from_corners([lo.x - tol, lo.y - tol], [hi.x + tol, hi.y + tol])
+    (lo - DVec2::splat(tol), hi + DVec2::splat(tol))
 }
 
 /// All intersections of the segments of `path` with each other within `tol`: cubic
 /// self-intersections, intersections of non-adjacent segments, and points where adjacent
 /// segments (consecutive, and last–first when closed) meet other than at their shared end.
-/// Candidate pairs come from an R-tree of segment boxes. Sorted by segment indices.
+/// Candidate pairs come from a bounding-volume hierarchy of segment boxes ([`SeqBvh`]).
+/// Sorted by segment indices.
 pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
     let segs = &path.segs;
     let n = segs.len();
@@ -332,22 +398,12 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
             }
         }
     }
-    let tree = RTree::bulk_load(
-        segs.iter()
-            .enumerate()
-            .map(|(i, s)| GeomWithData::new(seg_box(s, tol), i))
-            .collect(),
-    );
+    let tree = SeqBvh::new(segs.iter().map(|s| seg_box(s, tol)).collect());
+    let mut js = Vec::new();
     for (i, s) in segs.iter().enumerate() {
-        let r = seg_box(s, tol);
-        let env = AABB::from_corners(r.lower(), r.upper());
-        let mut js: Vec<usize> = tree
-            .locate_in_envelope_intersecting(env)
-            .map(|g| g.data)
-            .filter(|&j| j > i)
-            .collect();
-        js.sort_unstable();
-        for j in js {
+        js.clear();
+        tree.query(&seg_box(s, tol), &mut js);
+        for &j in js.iter().filter(|&&j| j > i) {
             let mut joints = Vec::new();
             let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
             if j == i + 1 && near(s.end(), segs[j].start()) {
@@ -367,23 +423,13 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
 /// All intersections between a segment of `a` and a segment of `b` within `tol`
 /// (`PathHit::a` indexes `a`, `PathHit::b` indexes `b`).
 pub fn paths_intersections(a: &Path, b: &Path, tol: f64) -> Vec<PathHit> {
-    let tree = RTree::bulk_load(
-        b.segs
-            .iter()
-            .enumerate()
-            .map(|(i, s)| GeomWithData::new(seg_box(s, tol), i))
-            .collect(),
-    );
+    let tree = SeqBvh::new(b.segs.iter().map(|s| seg_box(s, tol)).collect());
     let mut out = Vec::new();
+    let mut js = Vec::new();
     for (i, s) in a.segs.iter().enumerate() {
-        let r = seg_box(s, tol);
-        let env = AABB::from_corners(r.lower(), r.upper());
-        let mut js: Vec<usize> = tree
-            .locate_in_envelope_intersecting(env)
-            .map(|g| g.data)
-            .collect();
-        js.sort_unstable();
-        for j in js {
+        js.clear();
+        tree.query(&seg_box(s, tol), &mut js);
+        for &j in &js {
             for hit in pair_hits(s, &b.segs[j], &[], tol) {
                 out.push(PathHit { a: i, b: j, hit });
             }
@@ -410,6 +456,37 @@ mod tests {
                 (CubicBez::new(f(c.p0), f(c.p1), f(c.p2), f(c.p3)), rot, s)
             })
             .collect()
+    }
+
+    #[test]
+    fn bvh_query_matches_brute_force() {
+        // A coherent walk of boxes plus scattered ones; sizes 0 (points) to large.
+        let mut boxes = Vec::new();
+        let mut p = DVec2::ZERO;
+        for i in 0..300 {
+            let f = i as f64;
+            p += DVec2::new((0.37 * f).cos(), (0.21 * f).sin());
+            let h = DVec2::splat(0.5 + 0.4 * (1.3 * f).sin());
+            boxes.push((p - h, p + h));
+            if i % 7 == 0 {
+                let q = DVec2::new((f * 12.9898).sin() * 40.0, (f * 78.233).sin() * 40.0);
+                boxes.push((q, q + DVec2::splat(f * 0.01)));
+            }
+        }
+        let bvh = SeqBvh::new(boxes.clone());
+        for (k, q) in boxes.iter().enumerate().step_by(5) {
+            let q = (q.0 - DVec2::splat(k as f64 * 0.01), q.1);
+            let mut got = Vec::new();
+            bvh.query(&q, &mut got);
+            let want: Vec<usize> = (0..boxes.len())
+                .filter(|&i| overlap(&boxes[i], &q))
+                .collect();
+            assert_eq!(got, want);
+        }
+        let empty = SeqBvh::new(Vec::new());
+        let mut got = Vec::new();
+        empty.query(&boxes[0], &mut got);
+        assert!(got.is_empty());
     }
 
     #[test]

@@ -184,6 +184,33 @@ mod tests {
     }
 
     #[test]
+    fn sharp_turns_intersect_exactly_when_inadmissible() {
+        // Three equal circles turning by `turn`: skinned without the admissibility check,
+        // the inadmissible ones (kruppa-2023 Fig. 13) give outlines that the curve checker
+        // finds intersecting; the admissible ones give clean outlines.
+        let opts = SkinOptions {
+            check_admissibility: false,
+            ..Default::default()
+        };
+        let mut seen = [false, false];
+        for turn in [2.0f64, 2.4, 2.7, 2.9] {
+            for r in [0.6f64, 0.9, 1.2] {
+                let cs = [
+                    c(-2.0, 0.0, r),
+                    c(0.0, 0.0, r),
+                    c(2.0 * turn.cos(), 2.0 * turn.sin(), r),
+                ];
+                let adm = crate::skin::check_admissible(&cs, false, &Default::default()).is_ok();
+                let o = outline_circles(&cs, false, &opts).unwrap();
+                let hits = path_self_intersections(&o.contours[0], 1e-9);
+                assert_eq!(hits.is_empty(), adm, "turn {turn} r {r}: {hits:?}");
+                seen[usize::from(adm)] = true;
+            }
+        }
+        assert_eq!(seen, [true, true]);
+    }
+
+    #[test]
     fn inadmissible_input_names_circles() {
         let cs = [c(0.0, 0.0, 0.3), c(0.5, 0.0, 1.0), c(2.0, 0.0, 1.0)];
         let e = outline_circles(&cs, false, &SkinOptions::default()).unwrap_err();
