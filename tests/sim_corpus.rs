@@ -108,54 +108,93 @@ fn corpus() -> Vec<Case> {
     paths.iter().map(|p| load(p)).collect()
 }
 
+fn check_case(c: &Case) {
+    let name = c.path.file_name().and_then(|n| n.to_str()).unwrap_or("?");
+    let prog = sim::load(Backend::Builtin, &c.src, &c.cfg);
+    let r = sim::check(&prog, &c.cfg, &c.design);
+    let ctx = format!("{name}:\n{r}");
+    for (id, lines) in &c.findings {
+        assert!(
+            r.findings
+                .iter()
+                .any(|f| f.id == id && lines.iter().all(|l| f.lines.contains(l))),
+            "{ctx}\nmissing {id} at {lines:?}"
+        );
+    }
+    for f in r.findings.iter().filter(|f| f.severity == Severity::Error) {
+        assert!(
+            c.findings.iter().any(|(id, _)| id == f.id),
+            "{ctx}\nunexpected {f}"
+        );
+    }
+    if c.clean {
+        assert!(r.findings.is_empty(), "{ctx}");
+    }
+    if let Some(n) = c.motions {
+        assert_eq!(prog.motions.len(), n, "{ctx}");
+    }
+    for (i, want) in &c.ends {
+        let got = prog.motions[*i].to.to_array();
+        for k in 0..3 {
+            assert!(
+                (got[k] - want[k]).abs() < 1e-9,
+                "{ctx}\nmotion {i}: {got:?}"
+            );
+        }
+    }
+    if let Some(l) = c.cut_length {
+        assert!((r.stats.cut_length - l).abs() < 1e-9 * l.max(1.0), "{ctx}");
+    }
+    if let Some(e) = c.exit {
+        assert_eq!(r.exit_code(), e, "{ctx}");
+    }
+    // The JSON report is well formed and carries the findings.
+    let json: serde_json::Value = serde_json::to_value(&r).expect("json");
+    assert_eq!(
+        json["findings"].as_array().map(|a| a.len()),
+        Some(r.findings.len())
+    );
+}
+
 #[test]
 fn corpus_expectations() {
     let cases = corpus();
     assert!(cases.len() >= 14);
     for c in &cases {
-        let name = c.path.file_name().and_then(|n| n.to_str()).unwrap_or("?");
-        let prog = sim::load(Backend::Builtin, &c.src, &c.cfg);
-        let r = sim::check(&prog, &c.cfg, &c.design);
-        let ctx = format!("{name}:\n{r}");
-        for (id, lines) in &c.findings {
-            assert!(
-                r.findings
-                    .iter()
-                    .any(|f| f.id == id && lines.iter().all(|l| f.lines.contains(l))),
-                "{ctx}\nmissing {id} at {lines:?}"
-            );
-        }
-        for f in r.findings.iter().filter(|f| f.severity == Severity::Error) {
-            assert!(
-                c.findings.iter().any(|(id, _)| id == f.id),
-                "{ctx}\nunexpected {f}"
-            );
-        }
-        if c.clean {
-            assert!(r.findings.is_empty(), "{ctx}");
-        }
-        if let Some(n) = c.motions {
-            assert_eq!(prog.motions.len(), n, "{ctx}");
-        }
-        for (i, want) in &c.ends {
-            let got = prog.motions[*i].to.to_array();
-            for k in 0..3 {
-                assert!(
-                    (got[k] - want[k]).abs() < 1e-9,
-                    "{ctx}\nmotion {i}: {got:?}"
-                );
-            }
-        }
-        if let Some(l) = c.cut_length {
-            assert!((r.stats.cut_length - l).abs() < 1e-9 * l.max(1.0), "{ctx}");
-        }
-        if let Some(e) = c.exit {
-            assert_eq!(r.exit_code(), e, "{ctx}");
-        }
-        // JSON round trip of the report is well formed.
-        let json = serde_json::to_string(&r).expect("json");
-        assert!(json.contains("\"findings\""));
+        check_case(c);
     }
+}
+
+/// One test per planted fault (and per feature file), so a failure names its file.
+macro_rules! corpus_case {
+    ($($test:ident => $file:literal),* $(,)?) => {$(
+        #[test]
+        fn $test() {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sim_corpus").join($file);
+            let c = load(&path);
+            assert!(!c.findings.is_empty() || c.clean || c.exit == Some(0));
+            check_case(&c);
+        }
+    )*};
+}
+
+corpus_case! {
+    planted_self_intersection => "fault_self_intersection.nc",
+    planted_crossing_contours => "fault_crossing.nc",
+    planted_gouge => "fault_gouge.nc",
+    planted_out_of_bounds => "fault_out_of_bounds.nc",
+    planted_laser_on_rapid => "fault_laser_on_rapid.nc",
+    planted_rapid_at_cutting_depth => "fault_rapid_at_depth.nc",
+    planted_missing_tool_off => "fault_missing_tool_off.nc",
+    planted_feed_out_of_range => "fault_feed_out_of_range.nc",
+    planted_gouge_wrong_side => "fault_gouge_wrong_side.nc",
+    router_two_depth_passes => "router_multipass.nc",
+    inch_and_relative => "inch_relative.nc",
+    r_format_arcs => "r_arcs.nc",
+    comments_and_checksums => "comments_checksums.gcode",
+    malformed_lines => "malformed.nc",
+    case_and_spacing => "spacing_case.nc",
+    clean_laser_job => "clean_laser.nc",
 }
 
 /// Runs LinuxCNC's standalone interpreter on a numbered copy of `src`: the process part of
