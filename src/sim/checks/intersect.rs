@@ -19,6 +19,10 @@ const MAX_CELLS_PER_AXIS: f64 = (1u64 << 24) as f64;
 /// exact segment touches.
 const COVER_EPS: f64 = 1e-6;
 
+/// Bound on the mean number of cells a segment's cover may take (memory guard, see
+/// [`SegmentSet::contacts`]): 4 keeps the (cell, segment) list within a few times n.
+const MAX_COVER_PER_SEG: f64 = 4.0;
+
 /// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it,
 /// `source` is the caller's tag (a motion index).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -167,7 +171,12 @@ impl SegmentSet {
         let mean = total / n as f64;
         let by_area = (ext.x.max(mean) * ext.y.max(mean) / n as f64).sqrt();
         let floor = ext.max_element() / MAX_CELLS_PER_AXIS;
-        let h = mean.min(by_area).max(floor);
+        let mut h = mean.min(by_area).max(floor);
+        // Long segments packed close (a dense hatch) would cover ~n^1.5 cells at the
+        // area-based size: grow the cells until the covers total at most MAX_COVER_PER_SEG·n.
+        if total / h > MAX_COVER_PER_SEG * n as f64 {
+            h = total / (MAX_COVER_PER_SEG * n as f64);
+        }
         if h.is_nan() || h <= 0.0 {
             return self.brute_force_contacts();
         }
@@ -331,6 +340,20 @@ mod tests {
         assert_eq!(c.len(), 1);
         assert!(!c[0].proper);
         assert_eq!(c[0].point, DVec2::new(2.0, 0.0));
+    }
+
+    #[test]
+    fn dense_hatch_stays_small_and_exact() {
+        // 400 parallel lines 100 long, 0.25 apart, plus one diagonal crossing them all.
+        let mut s = SegmentSet::new();
+        for k in 0..400 {
+            let y = 0.25 * k as f64;
+            s.push_polyline(&pts(&[(0.0, y), (100.0, y)]), &[]);
+        }
+        s.push_polyline(&pts(&[(0.5, -1.0), (99.5, 101.0)]), &[]);
+        let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
+        assert_eq!(got.len(), 400);
+        assert_eq!(got, naive(&s));
     }
 
     #[test]
