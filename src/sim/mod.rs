@@ -1,1 +1,184 @@
 //! Simulation backend: G-code interpreter, motion model, checks, time estimate, report.
+//!
+//! ```text
+//! text ─► interp::interpret (builtin)      ─┐
+//!         linuxcnc::parse_canon (rs274 out) ─┴► Program (motions in mm) ─► checks ─► Report
+//! ```
+//!
+//! [`check`] runs everything on a [`Program`]; [`check_text`] reads G-code (builtin
+//! backend) or rs274 canon output (LinuxCNC backend) first. The library never starts
+//! processes: for [`Backend::LinuxCnc`] the CLI runs `rs274 -n 0 -g` on
+//! [`linuxcnc::number_lines`]`(src)` and passes its standard output here.
+//!
+//! Laser rapids: GRBL in laser mode ($32=1) never fires the beam on G0, so G0 with M3/M4 and
+//! S > 0 is harmless there and reported as a warning (`laser-on-rapid`); with
+//! `grbl_laser_mode = false` (other dialects, or GRBL without laser mode) it is an error.
+//!
+//! Exit status for the CLI: [`Report::exit_code`] (0 clean, 1 error findings, 2 unusable
+//! input).
+
+pub mod checks;
+pub mod config;
+pub mod interp;
+pub mod lexer;
+pub mod linuxcnc;
+pub mod motion;
+pub mod report;
+pub mod time;
+
+pub use checks::{DesignBoundary, KeepSide};
+pub use config::{CheckConfig, MachineKind};
+pub use motion::{Motion, MotionKind, Program, Spindle, ToolState, Units};
+pub use report::{Finding, Report, Severity, Stats};
+pub use time::TimeEstimate;
+
+use glam::DVec3;
+
+/// Which interpreter reads the program.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Backend {
+    /// [`interp::interpret`] on the G-code text.
+    #[default]
+    Builtin,
+    /// [`linuxcnc::parse_canon`] on the output of `rs274 -n 0 -g`.
+    LinuxCnc,
+}
+
+impl Backend {
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Builtin => "builtin",
+            Backend::LinuxCnc => "linuxcnc",
+        }
+    }
+}
+
+/// Reads `text` with `backend` (G-code for Builtin, rs274 canon output for LinuxCnc).
+pub fn load(backend: Backend, text: &str, cfg: &CheckConfig) -> Program {
+    match backend {
+        Backend::Builtin => interp::interpret(text, cfg.in_mm().arc_radius_tolerance),
+        Backend::LinuxCnc => linuxcnc::parse_canon(text),
+    }
+}
+
+/// Reads and checks `text`; see [`load`] and [`check`].
+pub fn check_text(
+    backend: Backend,
+    text: &str,
+    cfg: &CheckConfig,
+    design: &[DesignBoundary],
+) -> Report {
+    let prog = load(backend, text, cfg);
+    let mut r = check(&prog, cfg, design);
+    r.backend = backend.name();
+    if text.contains('\0') {
+        r.usable = false;
+    }
+    r
+}
+
+/// Runs every check and the time estimate on `prog`. `cfg` may be in inch; `design` is in
+/// mm. Interpreter diagnostics come first, then the checks' findings, each check capped at
+/// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
+pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
+    let mm = cfg.in_mm();
+    let mut all = prog.diagnostics.clone();
+    all.extend(checks::run_all(prog, &mm, design));
+    let syntax = prog
+        .diagnostics
+        .iter()
+        .filter(|d| d.id == "gcode-syntax")
+        .count();
+    let usable = prog.words > 0 && syntax <= prog.words;
+    let mut counts: Vec<(&'static str, usize)> = Vec::new();
+    let mut findings = Vec::new();
+    for f in all {
+        let slot = match counts.iter_mut().find(|(id, _)| *id == f.id) {
+            Some(s) => s,
+            None => {
+                counts.push((f.id, 0));
+                let last = counts.len() - 1;
+                &mut counts[last]
+            }
+        };
+        slot.1 += 1;
+        if slot.1 <= mm.max_findings_per_check {
+            findings.push(f);
+        }
+    }
+    let suppressed = counts
+        .into_iter()
+        .filter(|&(_, n)| n > mm.max_findings_per_check)
+        .map(|(id, n)| (id.to_string(), n - mm.max_findings_per_check))
+        .collect();
+    Report {
+        backend: Backend::Builtin.name(),
+        usable,
+        findings,
+        suppressed,
+        stats: stats(prog, &mm),
+    }
+}
+
+/// Move count, cut and rapid lengths (helical lengths for arcs), bounds, time.
+pub fn stats(prog: &Program, cfg: &CheckConfig) -> Stats {
+    let mut s = Stats {
+        time: time::estimate(&prog.motions, cfg),
+        ..Default::default()
+    };
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for m in &prog.motions {
+        match m.kind {
+            MotionKind::Rapid => s.rapid_length += m.length(),
+            MotionKind::Feed => s.cut_length += m.length(),
+            MotionKind::Dwell { .. } => continue,
+        }
+        s.motions += 1;
+        let (a, b) = m.bounds();
+        lo = lo.min(a);
+        hi = hi.max(b);
+    }
+    if s.motions > 0 {
+        s.bbox = Some([lo.to_array(), hi.to_array()]);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+        #[test]
+        fn never_panics_on_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
+            let text = String::from_utf8_lossy(&bytes);
+            let r = check_text(Backend::Builtin, &text, &CheckConfig::default(), &[]);
+            prop_assert!(r.exit_code() <= 2);
+            let c = check_text(Backend::LinuxCnc, &text, &CheckConfig::default(), &[]);
+            prop_assert!(c.exit_code() <= 2);
+        }
+
+        #[test]
+        fn never_panics_on_gcode_like(text in "([GMXYZIJKRFSPN]{1,2}[-+]?[0-9]{0,3}(\\.[0-9]{0,3})?[ ;()*%/\n]?){0,60}") {
+            let r = check_text(Backend::Builtin, &text, &CheckConfig::default(), &[]);
+            prop_assert!(r.exit_code() <= 2);
+            let _ = r.to_string();
+        }
+    }
+
+    #[test]
+    fn unusable_inputs() {
+        let cfg = CheckConfig::default();
+        assert_eq!(check_text(Backend::Builtin, "", &cfg, &[]).exit_code(), 2);
+        assert_eq!(
+            check_text(Backend::Builtin, "\0\u{1}binary\0", &cfg, &[]).exit_code(),
+            2
+        );
+        let ok = check_text(Backend::Builtin, "G0 X1\nM2\n", &cfg, &[]);
+        assert_eq!(ok.exit_code(), 0, "{ok}");
+    }
+}

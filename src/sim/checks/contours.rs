@@ -1,0 +1,119 @@
+//! Cut contours: maximal runs of cutting moves at one depth, flattened for the geometric
+//! checks, and the self-intersection and crossing checks on them.
+
+use super::intersect::SegmentSet;
+use crate::geom::DVec2;
+use crate::sim::config::{CheckConfig, MachineKind};
+use crate::sim::motion::{Motion, MotionKind};
+use crate::sim::report::{Finding, Severity};
+
+/// True when the move removes material: a laser feed with the beam on (M3/M4, S > 0), or a
+/// router feed with an end below `cut_z`.
+pub fn is_cutting(m: &Motion, cfg: &CheckConfig) -> bool {
+    if m.kind != MotionKind::Feed {
+        return false;
+    }
+    match cfg.kind {
+        MachineKind::Laser => m.tool.is_on(),
+        MachineKind::Router => m.from.z.min(m.to.z) < cfg.cut_z,
+    }
+}
+
+/// A cut contour: consecutive cutting moves in the xy plane at constant z in one tool session
+/// (switching the tool off and on starts a new contour). Moves that change
+/// z (plunges, ramps, helices) and dwells end a contour without joining one, so the passes
+/// of a multi-depth cut are separate contours.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Contour {
+    /// Flattened xy points (sagitta ≤ the flatten tolerance).
+    pub points: Vec<DVec2>,
+    /// Motion index of the segment ending at `points[k + 1]`.
+    pub sources: Vec<u32>,
+    pub z: f64,
+    /// Tool session ([`crate::sim::ToolState::session`]) the contour was cut in.
+    pub session: u32,
+}
+
+/// The cut contours of a program, arcs flattened to `cfg.flatten_tolerance` (mm).
+pub fn cut_contours(motions: &[Motion], cfg: &CheckConfig) -> Vec<Contour> {
+    let mut out: Vec<Contour> = Vec::new();
+    let mut cur: Option<Contour> = None;
+    for (k, m) in motions.iter().enumerate() {
+        let planar = m.from.z == m.to.z;
+        if matches!(m.kind, MotionKind::Dwell { .. }) {
+            continue;
+        }
+        if !(is_cutting(m, cfg) && planar) {
+            out.extend(cur.take());
+            continue;
+        }
+        if cur.as_ref().is_some_and(|c| c.session != m.tool.session) {
+            out.extend(cur.take());
+        }
+        let pts = m.flatten_xy(cfg.flatten_tolerance);
+        let c = cur.get_or_insert_with(|| Contour {
+            points: vec![m.from.truncate()],
+            sources: Vec::new(),
+            z: m.from.z,
+            session: m.tool.session,
+        });
+        for p in pts.into_iter().skip(1) {
+            c.points.push(p);
+            c.sources.push(k as u32);
+        }
+    }
+    out.extend(cur);
+    out
+}
+
+/// Self-intersections of each contour and crossings between contours (unless
+/// `cfg.allow_crossings`). Touching or overlapping counts within a contour; between
+/// contours only transversal crossings do (a retraced contour, as in multi-pass laser cuts,
+/// overlaps itself without crossing). One finding per pair of source lines.
+pub fn intersection_findings(
+    contours: &[Contour],
+    motions: &[Motion],
+    cfg: &CheckConfig,
+) -> Vec<Finding> {
+    let mut set = SegmentSet::new();
+    for c in contours {
+        set.push_polyline(&c.points, &c.sources);
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    let mut out = Vec::new();
+    let line_of = |src: u32| motions.get(src as usize).map(|m| m.line).unwrap_or(0);
+    for c in set.contacts() {
+        let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
+            continue;
+        };
+        let same = s.contour == t.contour;
+        if !same && (!c.proper || cfg.allow_crossings) {
+            continue;
+        }
+        let (l1, l2) = (line_of(s.source), line_of(t.source));
+        let key = (same, l1.min(l2), l1.max(l2));
+        if !seen.insert(key) {
+            continue;
+        }
+        let z = contours.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
+        let f = if same {
+            Finding::new(
+                "self-intersection",
+                Severity::Error,
+                format!(
+                    "cut contour {} {} itself",
+                    s.contour,
+                    if c.proper { "crosses" } else { "touches" }
+                ),
+            )
+        } else {
+            Finding::new(
+                "contour-crossing",
+                Severity::Error,
+                format!("cut contours {} and {} cross", s.contour, t.contour),
+            )
+        };
+        out.push(f.lines([key.1, key.2]).at([c.point.x, c.point.y, z]));
+    }
+    out
+}

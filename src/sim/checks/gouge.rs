@@ -1,0 +1,213 @@
+//! Gouge check: the tool centre must stay at least `tool_radius − gouge_tolerance` away from
+//! the design boundary, on the side the profile asks for.
+
+use super::contours::{Contour, is_cutting};
+use crate::geom::predicates::{orient2d, segments_intersect};
+use crate::geom::{DVec2, Line};
+use crate::sim::config::CheckConfig;
+use crate::sim::motion::Motion;
+use crate::sim::report::{Finding, Severity};
+use rstar::primitives::{GeomWithData, Line as RLine};
+use rstar::{AABB, RTree};
+use serde::{Deserialize, Serialize};
+
+/// Where the tool centre belongs relative to a closed design boundary.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum KeepSide {
+    /// Profile outside: the part is the inside of the boundary.
+    #[default]
+    Outside,
+    /// Pocket or hole: the part is the outside.
+    Inside,
+    /// Distance only (open polylines, or no side known).
+    Either,
+}
+
+/// A design boundary (mm, machine coordinates): a polyline, closed when `keep` is not
+/// `Either` (the last point joins the first).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DesignBoundary {
+    pub points: Vec<[f64; 2]>,
+    pub keep: KeepSide,
+}
+
+impl DesignBoundary {
+    pub fn new(points: &[DVec2], keep: KeepSide) -> Self {
+        DesignBoundary {
+            points: points.iter().map(|p| [p.x, p.y]).collect(),
+            keep,
+        }
+    }
+
+    fn segments(&self) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+        let n = self.points.len();
+        let closed = self.keep != KeepSide::Either && n >= 3;
+        let count = if closed { n } else { n.saturating_sub(1) };
+        (0..count).map(move |i| {
+            let a = self.points[i];
+            let b = self.points[(i + 1) % n];
+            (DVec2::from(a), DVec2::from(b))
+        })
+    }
+
+    /// Crossing-number point-in-polygon test with exact orientation signs.
+    fn contains(&self, p: DVec2) -> bool {
+        let mut inside = false;
+        for (a, b) in self.segments() {
+            if (a.y > p.y) != (b.y > p.y) {
+                // p is left of the upward edge a→b (or right of a downward one) ⇔ crossing.
+                let o = orient2d(a, b, p);
+                if (b.y > a.y && o > 0.0) || (b.y < a.y && o < 0.0) {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+}
+
+type Indexed = GeomWithData<RLine<[f64; 2]>, usize>;
+
+/// Distance between segments ab and cd: 0 when they meet (exact test), else the least of the
+/// four end-point-to-segment distances.
+pub fn segment_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
+    if segments_intersect(a, b, c, d) {
+        return 0.0;
+    }
+    let (s, t) = (Line::new(a, b), Line::new(c, d));
+    s.distance(c)
+        .min(s.distance(d))
+        .min(t.distance(a))
+        .min(t.distance(b))
+}
+
+/// Gouges: cutting moves whose flattened xy path (sagitta ≤ `cfg.flatten_tolerance`) comes
+/// closer than `tool_radius − gouge_tolerance` to any boundary, and contours whose start
+/// lies on the wrong side of the nearest boundary. One finding per offending line.
+pub fn gouge_findings(
+    motions: &[Motion],
+    contours: &[Contour],
+    design: &[DesignBoundary],
+    cfg: &CheckConfig,
+) -> Vec<Finding> {
+    let mut items = Vec::new();
+    for (bi, b) in design.iter().enumerate() {
+        for (a, c) in b.segments() {
+            items.push(Indexed::new(RLine::new([a.x, a.y], [c.x, c.y]), bi));
+        }
+    }
+    if items.is_empty() {
+        return Vec::new();
+    }
+    let tree = RTree::bulk_load(items);
+    let clearance = cfg.tool_radius - cfg.gouge_tolerance;
+    let mut out = Vec::new();
+    if clearance > 0.0 {
+        for m in motions.iter().filter(|m| is_cutting(m, cfg)) {
+            let pts = m.flatten_xy(cfg.flatten_tolerance);
+            let mut worst: Option<(f64, DVec2, usize)> = None;
+            for w in pts.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                let lo = a.min(b) - DVec2::splat(clearance);
+                let hi = a.max(b) + DVec2::splat(clearance);
+                let env = AABB::from_corners([lo.x, lo.y], [hi.x, hi.y]);
+                for it in tree.locate_in_envelope_intersecting(env) {
+                    let g = it.geom();
+                    let (c, d) = (DVec2::from(g.from), DVec2::from(g.to));
+                    let dist = segment_distance(a, b, c, d);
+                    if dist < clearance && worst.is_none_or(|(w, _, _)| dist < w) {
+                        let near = Line::new(a, b);
+                        let p = [c, d, a, b]
+                            .into_iter()
+                            .min_by(|x, y| near.distance(*x).total_cmp(&near.distance(*y)))
+                            .unwrap_or(a);
+                        worst = Some((dist, p, it.data));
+                    }
+                }
+            }
+            if let Some((dist, p, bi)) = worst {
+                out.push(
+                    Finding::new(
+                        "gouge",
+                        Severity::Error,
+                        format!(
+                            "tool centre {dist:.4} mm from design boundary {bi} (needs {clearance:.4})"
+                        ),
+                    )
+                    .line(m.line)
+                    .at([p.x, p.y, m.to.z]),
+                );
+            }
+        }
+    }
+    for c in contours {
+        let Some(&p) = c.points.first() else { continue };
+        let Some(near) = tree.nearest_neighbor([p.x, p.y]) else {
+            continue;
+        };
+        let Some(b) = design.get(near.data) else {
+            continue;
+        };
+        let inside = b.contains(p);
+        let wrong = match b.keep {
+            KeepSide::Outside => inside,
+            KeepSide::Inside => !inside,
+            KeepSide::Either => false,
+        };
+        if wrong {
+            let line = c
+                .sources
+                .first()
+                .and_then(|&s| motions.get(s as usize))
+                .map(|m| m.line)
+                .unwrap_or(0);
+            out.push(
+                Finding::new(
+                    "gouge",
+                    Severity::Error,
+                    format!(
+                        "cut contour starts {} design boundary {} but must stay {}",
+                        if inside { "inside" } else { "outside" },
+                        near.data,
+                        if inside { "outside" } else { "inside" }
+                    ),
+                )
+                .line(line)
+                .at([p.x, p.y, c.z]),
+            );
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distance_and_containment() {
+        let sq = DesignBoundary::new(
+            &[
+                DVec2::ZERO,
+                DVec2::new(2.0, 0.0),
+                DVec2::new(2.0, 2.0),
+                DVec2::new(0.0, 2.0),
+            ],
+            KeepSide::Outside,
+        );
+        assert!(sq.contains(DVec2::new(1.0, 1.0)));
+        assert!(!sq.contains(DVec2::new(3.0, 1.0)));
+        assert!(!sq.contains(DVec2::new(1.0, -0.5)));
+        // Parallel segments 0.5 apart; crossing segments.
+        let d = segment_distance(
+            DVec2::new(0.0, 0.5),
+            DVec2::new(1.0, 0.5),
+            DVec2::ZERO,
+            DVec2::new(1.0, 0.0),
+        );
+        assert!((d - 0.5).abs() < 1e-15);
+        let x = segment_distance(DVec2::ZERO, DVec2::ONE, DVec2::Y, DVec2::X);
+        assert_eq!(x, 0.0);
+    }
+}

@@ -1,0 +1,380 @@
+//! Segment contacts among many polylines: a uniform hash grid over the segments plus exact
+//! orientation predicates ([`crate::geom::predicates`]).
+//!
+//! Each segment is entered into every grid cell its (slightly widened) path crosses; pairs
+//! sharing a cell are tested exactly. The cell size is min(mean segment length, √(area/n)),
+//! so each segment covers O(1) cells and each cell holds O(1) segments for the paths CNC
+//! programs are made of; the (cell, segment) list is sorted instead of hashed. Work is
+//! O(n log n + pairs sharing a cell).
+
+use crate::geom::DVec2;
+use crate::geom::predicates::{line_intersection, orient2d, segments_intersect};
+
+/// Cells per axis are capped at 2²⁴ so that cell keys fit in a u64 and grid coordinates keep
+/// ≥ 28 bits of precision for the widening below.
+const MAX_CELLS_PER_AXIS: f64 = (1u64 << 24) as f64;
+
+/// Widening of each segment's cell cover, in cell units: far above the rounding error of
+/// grid coordinates (≤ 2²⁴ · 2⁻⁵² ≈ 4e-9), so the cover is a superset of the cells the
+/// exact segment touches.
+const COVER_EPS: f64 = 1e-6;
+
+/// Bound on the mean number of cells a segment's cover may take (memory guard, see
+/// [`SegmentSet::contacts`]): 4 keeps the (cell, segment) list within a few times n.
+const MAX_COVER_PER_SEG: f64 = 4.0;
+
+/// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it,
+/// `source` is the caller's tag (a motion index).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seg {
+    pub a: DVec2,
+    pub b: DVec2,
+    pub contour: u32,
+    pub index: u32,
+    pub source: u32,
+}
+
+/// Polylines split into segments (zero-length segments dropped).
+#[derive(Clone, Debug, Default)]
+pub struct SegmentSet {
+    pub segs: Vec<Seg>,
+    /// Per contour: number of segments and whether it is closed (last point = first).
+    pub contours: Vec<(u32, bool)>,
+}
+
+/// Two segments that share a point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// Indices into [`SegmentSet::segs`], i < j.
+    pub i: usize,
+    pub j: usize,
+    /// A point they share (the crossing point, or a shared end/overlap point).
+    pub point: DVec2,
+    /// True when the interiors cross transversally (strict orientation signs on both).
+    pub proper: bool,
+}
+
+impl SegmentSet {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a polyline; `sources[k]` tags the segment from `points[k]` to `points[k+1]`.
+    /// Repeated points are skipped. Returns the contour number.
+    pub fn push_polyline(&mut self, points: &[DVec2], sources: &[u32]) -> u32 {
+        let contour = self.contours.len() as u32;
+        let mut count = 0u32;
+        let mut first: Option<DVec2> = None;
+        let mut prev: Option<DVec2> = None;
+        for (k, &p) in points.iter().enumerate() {
+            if let Some(q) = prev {
+                if q != p {
+                    let source = sources.get(k - 1).or(sources.last()).copied().unwrap_or(0);
+                    self.segs.push(Seg {
+                        a: q,
+                        b: p,
+                        contour,
+                        index: count,
+                        source,
+                    });
+                    count += 1;
+                    prev = Some(p);
+                }
+            } else {
+                first = Some(p);
+                prev = Some(p);
+            }
+        }
+        let closed = count >= 2 && first.is_some() && first == prev;
+        self.contours.push((count, closed));
+        contour
+    }
+
+    /// True when segments `s` and `t` of one contour are consecutive (they share an end
+    /// point by construction).
+    fn adjacent(&self, s: &Seg, t: &Seg) -> bool {
+        if s.contour != t.contour {
+            return false;
+        }
+        let (lo, hi) = (s.index.min(t.index), s.index.max(t.index));
+        if hi - lo == 1 {
+            return true;
+        }
+        let (n, closed) = self
+            .contours
+            .get(s.contour as usize)
+            .copied()
+            .unwrap_or((0, false));
+        closed && lo == 0 && hi + 1 == n
+    }
+
+    /// All contacts: non-adjacent pairs that share any point (proper or not), and adjacent
+    /// pairs that fold back onto each other (collinear overlap beyond the shared end).
+    pub fn contacts(&self) -> Vec<Contact> {
+        let mut out = self.adjacent_overlaps();
+        out.extend(self.grid_contacts());
+        out.sort_by_key(|c| (c.i, c.j));
+        out.dedup_by(|p, q| p.i == q.i && p.j == q.j);
+        out
+    }
+
+    /// Consecutive segments ab, bc where c lies on the ray from b through a: the path
+    /// reverses along itself.
+    fn adjacent_overlaps(&self) -> Vec<Contact> {
+        let mut out = Vec::new();
+        let mut start = 0usize;
+        for &(n, closed) in &self.contours {
+            let n = n as usize;
+            let end = start + n;
+            let mut check = |i: usize, j: usize| {
+                let (Some(s), Some(t)) = (self.segs.get(i), self.segs.get(j)) else {
+                    return;
+                };
+                // s ends where t starts.
+                let (a, b, c) = (s.a, s.b, t.b);
+                if orient2d(a, b, c) == 0.0 && (c - b).dot(a - b) > 0.0 {
+                    out.push(Contact {
+                        i: i.min(j),
+                        j: i.max(j),
+                        point: b,
+                        proper: false,
+                    });
+                }
+            };
+            for i in start..end.saturating_sub(1) {
+                check(i, i + 1);
+            }
+            if closed && n >= 2 {
+                check(end - 1, start);
+            }
+            start = end;
+        }
+        out
+    }
+
+    fn grid_contacts(&self) -> Vec<Contact> {
+        let n = self.segs.len();
+        if n < 2 {
+            return Vec::new();
+        }
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let mut total = 0.0;
+        for s in &self.segs {
+            lo = lo.min(s.a).min(s.b);
+            hi = hi.max(s.a).max(s.b);
+            total += s.a.distance(s.b);
+        }
+        if !(lo.is_finite() && hi.is_finite() && total.is_finite()) {
+            return self.brute_force_contacts();
+        }
+        let ext = hi - lo;
+        let mean = total / n as f64;
+        let by_area = (ext.x.max(mean) * ext.y.max(mean) / n as f64).sqrt();
+        let floor = ext.max_element() / MAX_CELLS_PER_AXIS;
+        let mut h = mean.min(by_area).max(floor);
+        // Long segments packed close (a dense hatch) would cover ~n^1.5 cells at the
+        // area-based size: grow the cells until the covers total at most MAX_COVER_PER_SEG·n.
+        if total / h > MAX_COVER_PER_SEG * n as f64 {
+            h = total / (MAX_COVER_PER_SEG * n as f64);
+        }
+        if h.is_nan() || h <= 0.0 {
+            return self.brute_force_contacts();
+        }
+        let ny = (ext.y / h).floor() as u64 + 2;
+        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * n);
+        for (k, s) in self.segs.iter().enumerate() {
+            let a = (s.a - lo) / h;
+            let b = (s.b - lo) / h;
+            cover(a, b, |cx, cy| entries.push((cx * ny + cy, k as u32)));
+        }
+        entries.sort_unstable();
+        let mut out = Vec::new();
+        let mut g = 0;
+        while g < entries.len() {
+            let key = entries[g].0;
+            let mut e = g + 1;
+            while e < entries.len() && entries[e].0 == key {
+                e += 1;
+            }
+            let cell = &entries[g..e];
+            for (x, &(_, i)) in cell.iter().enumerate() {
+                for &(_, j) in &cell[x + 1..] {
+                    if let Some(c) = self.test_pair(i as usize, j as usize) {
+                        out.push(c);
+                    }
+                }
+            }
+            g = e;
+        }
+        out
+    }
+
+    /// Quadratic fallback for degenerate extents (non-finite coordinates).
+    fn brute_force_contacts(&self) -> Vec<Contact> {
+        let mut out = Vec::new();
+        for i in 0..self.segs.len() {
+            for j in i + 1..self.segs.len() {
+                if let Some(c) = self.test_pair(i, j) {
+                    out.push(c);
+                }
+            }
+        }
+        out
+    }
+
+    /// Exact contact test of two segments; same-contour adjacent pairs are skipped (see
+    /// [`Self::adjacent_overlaps`]).
+    pub fn test_pair(&self, i: usize, j: usize) -> Option<Contact> {
+        let (s, t) = (self.segs.get(i)?, self.segs.get(j)?);
+        if s.a.max(s.b).cmplt(t.a.min(t.b)).any() || t.a.max(t.b).cmplt(s.a.min(s.b)).any() {
+            return None;
+        }
+        if self.adjacent(s, t) {
+            return None;
+        }
+        let (i, j) = (i.min(j), i.max(j));
+        let o1 = orient2d(s.a, s.b, t.a);
+        let o2 = orient2d(s.a, s.b, t.b);
+        let o3 = orient2d(t.a, t.b, s.a);
+        let o4 = orient2d(t.a, t.b, s.b);
+        if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+            let point = line_intersection(s.a, s.b, t.a, t.b).unwrap_or(s.a);
+            return Some(Contact {
+                i,
+                j,
+                point,
+                proper: true,
+            });
+        }
+        if !segments_intersect(s.a, s.b, t.a, t.b) {
+            return None;
+        }
+        // A touching or overlapping contact: report an end point that lies on the other.
+        let point = [(o1, t.a), (o2, t.b)]
+            .into_iter()
+            .find(|&(o, _)| o == 0.0)
+            .map(|(_, p)| p)
+            .unwrap_or(if o3 == 0.0 { s.a } else { s.b });
+        Some(Contact {
+            i,
+            j,
+            point,
+            proper: false,
+        })
+    }
+}
+
+/// Calls `f(cx, cy)` for every grid cell the segment from `a` to `b` (grid coordinates,
+/// ≥ 0) may touch: per row, the cells between the segment's x at the row's lower and upper
+/// y, widened by [`COVER_EPS`].
+fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
+    let (ylo, yhi) = (a.y.min(b.y), a.y.max(b.y));
+    let r0 = (ylo - COVER_EPS).floor().max(0.0) as u64;
+    let r1 = (yhi + COVER_EPS).floor().max(0.0) as u64;
+    let dy = b.y - a.y;
+    for r in r0..=r1 {
+        let (xa, xb) = if dy == 0.0 {
+            (a.x, b.x)
+        } else {
+            let y0 = (r as f64).max(ylo);
+            let y1 = ((r + 1) as f64).min(yhi);
+            let x_at = |y: f64| a.x + (y - a.y) * (b.x - a.x) / dy;
+            (x_at(y0), x_at(y1))
+        };
+        let c0 = (xa.min(xb).max(a.x.min(b.x)) - COVER_EPS).floor().max(0.0) as u64;
+        let c1 = (xa.max(xb).min(a.x.max(b.x)) + COVER_EPS).floor().max(0.0) as u64;
+        for c in c0..=c1 {
+            f(c, r);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn naive(set: &SegmentSet) -> Vec<(usize, usize)> {
+        let mut v: Vec<_> = set
+            .brute_force_contacts()
+            .into_iter()
+            .chain(set.adjacent_overlaps())
+            .map(|c| (c.i, c.j))
+            .collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+
+    fn pts(v: &[(f64, f64)]) -> Vec<DVec2> {
+        v.iter().map(|&(x, y)| DVec2::new(x, y)).collect()
+    }
+
+    #[test]
+    fn square_is_simple_bowtie_is_not() {
+        let mut s = SegmentSet::new();
+        s.push_polyline(
+            &pts(&[(0., 0.), (1., 0.), (1., 1.), (0., 1.), (0., 0.)]),
+            &[],
+        );
+        assert!(s.contacts().is_empty());
+        let mut b = SegmentSet::new();
+        b.push_polyline(
+            &pts(&[(0., 0.), (1., 1.), (1., 0.), (0., 1.), (0., 0.)]),
+            &[],
+        );
+        let c = b.contacts();
+        assert_eq!(c.len(), 1);
+        assert!(c[0].proper);
+        assert!((c[0].point - DVec2::splat(0.5)).length() < 1e-15);
+    }
+
+    #[test]
+    fn backtrack_and_touch() {
+        let mut s = SegmentSet::new();
+        s.push_polyline(&pts(&[(0., 0.), (2., 0.), (1., 0.)]), &[]);
+        assert_eq!(s.contacts().len(), 1);
+        // A vertex touching a non-adjacent segment.
+        let mut t = SegmentSet::new();
+        t.push_polyline(&pts(&[(0., 0.), (4., 0.), (4., 2.), (2., 0.)]), &[]);
+        let c = t.contacts();
+        assert_eq!(c.len(), 1);
+        assert!(!c[0].proper);
+        assert_eq!(c[0].point, DVec2::new(2.0, 0.0));
+    }
+
+    #[test]
+    fn dense_hatch_stays_small_and_exact() {
+        // 400 parallel lines 100 long, 0.25 apart, plus one diagonal crossing them all.
+        let mut s = SegmentSet::new();
+        for k in 0..400 {
+            let y = 0.25 * k as f64;
+            s.push_polyline(&pts(&[(0.0, y), (100.0, y)]), &[]);
+        }
+        s.push_polyline(&pts(&[(0.5, -1.0), (99.5, 101.0)]), &[]);
+        let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
+        assert_eq!(got.len(), 400);
+        assert_eq!(got, naive(&s));
+    }
+
+    #[test]
+    fn grid_matches_brute_force_on_a_random_scribble() {
+        // A deterministic pseudo-random walk with many crossings, at several scales.
+        for scale in [1e-3, 1.0, 1e4] {
+            let mut s = SegmentSet::new();
+            let mut state = 12345u64;
+            let mut next = || {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((state >> 11) as f64 / (1u64 << 53) as f64) * scale
+            };
+            for _ in 0..4 {
+                let p: Vec<DVec2> = (0..60).map(|_| DVec2::new(next(), next())).collect();
+                s.push_polyline(&p, &[]);
+            }
+            let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
+            assert_eq!(got, naive(&s));
+            assert!(!got.is_empty());
+        }
+    }
+}

@@ -1,0 +1,209 @@
+//! Per-move machine checks: travel limits, rapids with the tool on or too low, feed and power
+//! ranges, and how the program ends.
+
+use super::contours::is_cutting;
+use crate::sim::config::{CheckConfig, MachineKind};
+use crate::sim::motion::{Motion, MotionKind, Program};
+use crate::sim::report::{Finding, Severity};
+
+/// Slack on the travel limits relative to the coordinates, so that a move ending exactly on a
+/// limit after unit conversion (25.4 · x) is not flagged.
+fn limit_slack(v: f64) -> f64 {
+    crate::geom::tol::scaled(v)
+}
+
+/// Moves (rapids included) that leave the work area [work_min, work_max]; arcs by their
+/// exact bounds.
+pub fn out_of_bounds(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
+    let mut out = Vec::new();
+    for m in motions {
+        let (lo, hi) = m.bounds();
+        let mut bad = Vec::new();
+        for (i, axis) in ["x", "y", "z"].into_iter().enumerate() {
+            if lo[i] < cfg.work_min[i] - limit_slack(cfg.work_min[i]) {
+                bad.push(format!("{axis} {:.3} < {:.3}", lo[i], cfg.work_min[i]));
+            }
+            if hi[i] > cfg.work_max[i] + limit_slack(cfg.work_max[i]) {
+                bad.push(format!("{axis} {:.3} > {:.3}", hi[i], cfg.work_max[i]));
+            }
+        }
+        if !bad.is_empty() {
+            let what = if m.kind == MotionKind::Rapid {
+                "rapid"
+            } else {
+                "move"
+            };
+            out.push(
+                Finding::new(
+                    "out-of-bounds",
+                    Severity::Error,
+                    format!("{what} leaves the work area: {}", bad.join(", ")),
+                )
+                .line(m.line)
+                .at(m.to.to_array()),
+            );
+        }
+    }
+    out
+}
+
+/// Laser: G0 with M3/M4 and S > 0 (a warning in GRBL laser mode, where G0 never fires, an
+/// error elsewhere). Router: a rapid that moves in xy below `safe_z`, or that ends below
+/// `cut_z` (a rapid plunge into the stock).
+pub fn rapids(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
+    let mut out = Vec::new();
+    for m in motions.iter().filter(|m| m.kind == MotionKind::Rapid) {
+        match cfg.kind {
+            MachineKind::Laser => {
+                if m.tool.is_on() {
+                    let (sev, note) = if cfg.grbl_laser_mode {
+                        (
+                            Severity::Warning,
+                            "GRBL laser mode keeps the beam off on G0; other controllers fire it",
+                        )
+                    } else {
+                        (Severity::Error, "the beam fires along the rapid")
+                    };
+                    out.push(
+                        Finding::new(
+                            "laser-on-rapid",
+                            sev,
+                            format!("G0 with the laser on (S{}): {note}", m.tool.s),
+                        )
+                        .line(m.line)
+                        .at(m.to.to_array()),
+                    );
+                }
+            }
+            MachineKind::Router => {
+                let low = m.from.z.min(m.to.z);
+                let xy = m.from.truncate() != m.to.truncate();
+                if xy && low < cfg.safe_z {
+                    let depth = if low < cfg.cut_z {
+                        " (inside the stock)"
+                    } else {
+                        ""
+                    };
+                    out.push(
+                        Finding::new(
+                            "rapid-below-safe-z",
+                            Severity::Error,
+                            format!(
+                                "rapid in xy at z {low:.3}, below safe z {:.3}{depth}",
+                                cfg.safe_z
+                            ),
+                        )
+                        .line(m.line)
+                        .at(m.to.to_array()),
+                    );
+                } else if m.to.z < cfg.cut_z {
+                    out.push(
+                        Finding::new(
+                            "rapid-into-stock",
+                            Severity::Error,
+                            format!(
+                                "rapid plunges to z {:.3}, below the stock top {:.3}",
+                                m.to.z, cfg.cut_z
+                            ),
+                        )
+                        .line(m.line)
+                        .at(m.to.to_array()),
+                    );
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Cutting moves whose feed or S is outside the configured ranges, one finding per run of
+/// consecutive offending moves with the same value.
+pub fn feed_and_power(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
+    let mut out = Vec::new();
+    let mut last_feed: Option<f64> = None;
+    let mut last_power: Option<f64> = None;
+    for m in motions.iter().filter(|m| is_cutting(m, cfg)) {
+        let f = m.feed;
+        if f < cfg.feed_min || f > cfg.feed_max {
+            if last_feed != Some(f) {
+                let msg = if f <= 0.0 {
+                    "cutting move without a feed rate (no F set)".to_string()
+                } else {
+                    format!(
+                        "feed {f:.1} mm/min outside {:.1}..{:.1}",
+                        cfg.feed_min, cfg.feed_max
+                    )
+                };
+                out.push(
+                    Finding::new("feed-out-of-range", Severity::Error, msg)
+                        .line(m.line)
+                        .at(m.from.to_array()),
+                );
+            }
+            last_feed = Some(f);
+        } else {
+            last_feed = None;
+        }
+        let s = m.tool.s;
+        let powered = m.tool.spindle != crate::sim::motion::Spindle::Off;
+        if powered && (s < cfg.power_min || s > cfg.power_max) {
+            if last_power != Some(s) {
+                out.push(
+                    Finding::new(
+                        "power-out-of-range",
+                        Severity::Error,
+                        format!("S{s} outside {}..{}", cfg.power_min, cfg.power_max),
+                    )
+                    .line(m.line)
+                    .at(m.from.to_array()),
+                );
+            }
+            last_power = Some(s);
+        } else {
+            last_power = None;
+        }
+    }
+    out
+}
+
+/// The end of the program: no M2/M30 (a warning: GRBL streams need none, but a missing end
+/// often means a truncated file), the tool still on at the end of a file without M2/M30 (an
+/// error), or M2/M30 reached with the tool on (a warning: controllers stop it there).
+pub fn program_end(prog: &Program) -> Vec<Finding> {
+    let mut out = Vec::new();
+    match prog.end {
+        None => {
+            out.push(
+                Finding::new(
+                    "missing-program-end",
+                    Severity::Warning,
+                    "no M2/M30: the file may be truncated",
+                )
+                .line(prog.last_line),
+            );
+            if prog.final_tool.is_on() {
+                out.push(
+                    Finding::new(
+                        "tool-on-at-end",
+                        Severity::Error,
+                        format!(
+                            "the program ends with the spindle/laser on (S{}) and no M5",
+                            prog.final_tool.s
+                        ),
+                    )
+                    .line(prog.last_line),
+                );
+            }
+        }
+        Some(end) if end.tool_before.is_on() => out.push(
+            Finding::new(
+                "tool-on-at-end",
+                Severity::Warning,
+                "M2/M30 reached with the spindle/laser on (no M5 before it)",
+            )
+            .line(end.line),
+        ),
+        Some(_) => {}
+    }
+    out
+}

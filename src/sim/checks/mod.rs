@@ -1,0 +1,146 @@
+//! The checks run on a [`Program`]: each returns named [`Finding`]s.
+//!
+//! | id | severity | what |
+//! |---|---|---|
+//! | `self-intersection` | error | a cut contour crosses or touches itself |
+//! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`) |
+//! | `gouge` | error | tool centre nearer the design than tool radius − tolerance, or on the wrong side |
+//! | `out-of-bounds` | error | a move leaves the work area |
+//! | `laser-on-rapid` | warning (GRBL laser mode) / error | G0 with M3/M4 and S > 0 |
+//! | `rapid-below-safe-z` | error | router rapid moving in xy below safe z |
+//! | `rapid-into-stock` | error | router rapid ending below the stock top |
+//! | `feed-out-of-range` | error | cutting feed missing or outside the range |
+//! | `power-out-of-range` | error | S outside the range while cutting |
+//! | `tool-on-at-end` | error (no M2/M30) / warning | the program ends with the tool on |
+//! | `missing-program-end` | warning | no M2/M30 |
+//!
+//! Interpreter diagnostics (`gcode-syntax`, `bad-checksum`, `unknown-word`, `unknown-code`,
+//! `unsupported-code`, `invalid-arc`, `invalid-value`, `modal-conflict`, `duplicate-word`,
+//! `no-motion-mode`, `after-program-end`, `canon-error`) join the same list.
+
+pub mod contours;
+pub mod gouge;
+pub mod intersect;
+pub mod machine;
+
+pub use contours::{Contour, cut_contours, is_cutting};
+pub use gouge::{DesignBoundary, KeepSide};
+pub use intersect::{Contact, Seg, SegmentSet};
+
+use super::config::CheckConfig;
+use super::motion::Program;
+use super::report::Finding;
+
+/// Runs every check (`cfg` in mm, see [`CheckConfig::in_mm`]); findings in program order
+/// within each check.
+pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Vec<Finding> {
+    let contours = cut_contours(&prog.motions, cfg);
+    let mut out = Vec::new();
+    out.extend(contours::intersection_findings(
+        &contours,
+        &prog.motions,
+        cfg,
+    ));
+    out.extend(gouge::gouge_findings(&prog.motions, &contours, design, cfg));
+    out.extend(machine::out_of_bounds(&prog.motions, cfg));
+    out.extend(machine::rapids(&prog.motions, cfg));
+    out.extend(machine::feed_and_power(&prog.motions, cfg));
+    out.extend(machine::program_end(prog));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::DVec2;
+    use crate::sim::{Backend, CheckConfig, check_text};
+    use proptest::prelude::*;
+
+    /// A star-shaped polygon about the origin: angles i·2π/n + jitter (gaps stay in
+    /// (0.1, 1.9)·2π/n < π), radii in [1, 10], shifted by `c`.
+    fn star(jitter: &[f64], radii: &[f64], c: DVec2) -> Vec<DVec2> {
+        let n = jitter.len().min(radii.len());
+        (0..n)
+            .map(|i| {
+                let t = std::f64::consts::TAU * (i as f64 + 0.9 * jitter[i]) / n as f64;
+                c + radii[i] * DVec2::new(t.cos(), t.sin())
+            })
+            .collect()
+    }
+
+    fn variants(p: &[DVec2]) -> Vec<Vec<DVec2>> {
+        let rot = DVec2::from_angle(0.7);
+        vec![
+            p.to_vec(),
+            p.iter().rev().copied().collect(),
+            p.iter().map(|&q| 1e3 * rot.rotate(q)).collect(),
+            p.iter().map(|&q| 1e-3 * q).collect(),
+        ]
+    }
+
+    fn gcode(p: &[DVec2]) -> String {
+        let mut s = String::from("G21 G90\n");
+        let first = p.first().copied().unwrap_or_default();
+        s += &format!("G0 X{:.6} Y{:.6}\nM4 S500\n", first.x, first.y);
+        for q in p.iter().skip(1).chain(std::iter::once(&first)) {
+            s += &format!("G1 X{:.6} Y{:.6} F1000\n", q.x, q.y);
+        }
+        s + "M5\nM2\n"
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        #[test]
+        fn star_polygons_are_simple(
+            jitter in proptest::collection::vec(0.0f64..1.0, 3..60),
+            radii in proptest::collection::vec(1.0f64..10.0, 60),
+        ) {
+            let p = star(&jitter, &radii, DVec2::ZERO);
+            for v in variants(&p) {
+                let mut closed = v.clone();
+                closed.push(v[0]);
+                let mut s = SegmentSet::new();
+                s.push_polyline(&closed, &[]);
+                prop_assert!(s.contacts().is_empty());
+            }
+            // Through the whole pipeline: no finding at all (G-code rounded to 1e-6).
+            let q: Vec<DVec2> = p.iter().map(|&x| x + DVec2::splat(20.0)).collect();
+            let r = check_text(Backend::Builtin, &gcode(&q), &CheckConfig::default(), &[]);
+            prop_assert!(r.findings.is_empty(), "{}", r);
+        }
+
+        #[test]
+        fn planted_crossing_is_caught(
+            jitter in proptest::collection::vec(0.0f64..1.0, 4..60),
+            radii in proptest::collection::vec(1.0f64..10.0, 60),
+            pick in 0usize..1000,
+        ) {
+            let p = star(&jitter, &radii, DVec2::ZERO);
+            // Open polyline v0..v_{k}, then a spoke through the midpoint of edge i.
+            let i = pick % (p.len() - 2);
+            let m = 0.5 * (p[i] + p[i + 1]);
+            let rot = DVec2::from_angle(0.7);
+            let transforms: [&dyn Fn(DVec2) -> DVec2; 3] =
+                [&|q| q, &|q| 1e3 * rot.rotate(q), &|q| 1e-3 * q];
+            for reverse in [false, true] {
+                for f in transforms {
+                    let mut poly: Vec<DVec2> = p.iter().map(|&q| f(q)).collect();
+                    if reverse {
+                        poly.reverse();
+                    }
+                    poly.push(f(0.5 * m));
+                    poly.push(f(1.5 * m));
+                    let mut s = SegmentSet::new();
+                    s.push_polyline(&poly, &[]);
+                    let spoke = poly.len() - 2;
+                    let c = s.contacts();
+                    prop_assert!(
+                        c.iter().any(|c| c.j == spoke),
+                        "spoke {} not caught: {:?}", spoke, c
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,134 @@
+//! What the checks need to know about the machine and the job. Plain data: the CLI maps a
+//! machine profile into it, so `sim` does not depend on `machine`.
+
+use super::motion::Units;
+use serde::{Deserialize, Serialize};
+
+/// Laser (cuts where the beam is on) or router/mill (cuts where the tool is below `cut_z`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MachineKind {
+    #[default]
+    Laser,
+    Router,
+}
+
+/// Machine limits and check options. Lengths are in `units` (feeds in units/min,
+/// accelerations in units/s²); [`CheckConfig::in_mm`] converts to the mm the checks use.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CheckConfig {
+    pub units: Units,
+    pub kind: MachineKind,
+    /// Travel limits (min corner, max corner) in machine coordinates.
+    pub work_min: [f64; 3],
+    pub work_max: [f64; 3],
+    /// Router: rapids that move in xy must stay at or above this z.
+    pub safe_z: f64,
+    /// Router: a feed move with an end below this z is in the material (the stock top).
+    pub cut_z: f64,
+    /// Maximum rate per axis (x, y, z), units/min (GRBL $110–$112); rapids run at these.
+    pub max_rate: [f64; 3],
+    /// Allowed programmed feed for cutting moves, units/min.
+    pub feed_min: f64,
+    pub feed_max: f64,
+    /// Allowed S while cutting (laser power or spindle rpm, in S units).
+    pub power_min: f64,
+    pub power_max: f64,
+    /// Acceleration per axis, units/s² (GRBL $120–$122).
+    pub accel: [f64; 3],
+    /// GRBL junction deviation ($11), units.
+    pub junction_deviation: f64,
+    /// Chord tolerance used to split arcs for the time estimate (GRBL $12), units.
+    pub arc_tolerance: f64,
+    /// Chord tolerance for flattening arcs in geometric checks, units.
+    pub flatten_tolerance: f64,
+    /// Tool radius (half the kerf for lasers), units: the gouge check's clearance.
+    pub tool_radius: f64,
+    /// Gouge slack: the tool centre may come `tool_radius − gouge_tolerance` close.
+    pub gouge_tolerance: f64,
+    /// Do not report crossings between different contours.
+    pub allow_crossings: bool,
+    /// GRBL laser mode ($32=1): G0 never fires the beam, so a rapid with M3/M4 and S>0 is
+    /// only a warning (it still is an error on controllers without laser mode).
+    pub grbl_laser_mode: bool,
+    /// Radius tolerance for IJ arcs (|r_start − r_end|), units.
+    pub arc_radius_tolerance: f64,
+    /// At most this many findings per check id are kept (the rest are counted).
+    pub max_findings_per_check: usize,
+}
+
+impl Default for CheckConfig {
+    /// A GRBL-class 300 × 300 mm diode laser: 5000 mm/min and 500 mm/s² per axis,
+    /// junction deviation 0.01 mm and arc tolerance 0.002 mm (GRBL defaults), S 0..1000.
+    fn default() -> Self {
+        CheckConfig {
+            units: Units::Mm,
+            kind: MachineKind::Laser,
+            work_min: [0.0, 0.0, -50.0],
+            work_max: [300.0, 300.0, 50.0],
+            safe_z: 5.0,
+            cut_z: 0.0,
+            max_rate: [5000.0, 5000.0, 1000.0],
+            feed_min: 1.0,
+            feed_max: 5000.0,
+            power_min: 0.0,
+            power_max: 1000.0,
+            accel: [500.0, 500.0, 100.0],
+            junction_deviation: 0.01,
+            arc_tolerance: 0.002,
+            flatten_tolerance: crate::geom::tol::FLATTEN,
+            tool_radius: 0.0,
+            gouge_tolerance: 0.01,
+            allow_crossings: false,
+            grbl_laser_mode: true,
+            arc_radius_tolerance: 0.005,
+            max_findings_per_check: 50,
+        }
+    }
+}
+
+impl CheckConfig {
+    /// A copy with every length, feed and acceleration in millimetres.
+    pub fn in_mm(&self) -> CheckConfig {
+        let k = self.units.to_mm();
+        let s3 = |a: [f64; 3]| a.map(|v| v * k);
+        CheckConfig {
+            units: Units::Mm,
+            work_min: s3(self.work_min),
+            work_max: s3(self.work_max),
+            safe_z: self.safe_z * k,
+            cut_z: self.cut_z * k,
+            max_rate: s3(self.max_rate),
+            feed_min: self.feed_min * k,
+            feed_max: self.feed_max * k,
+            accel: s3(self.accel),
+            junction_deviation: self.junction_deviation * k,
+            arc_tolerance: self.arc_tolerance * k,
+            flatten_tolerance: self.flatten_tolerance * k,
+            tool_radius: self.tool_radius * k,
+            gouge_tolerance: self.gouge_tolerance * k,
+            arc_radius_tolerance: self.arc_radius_tolerance * k,
+            ..self.clone()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toml_partial_and_inch_conversion() {
+        let c: CheckConfig = toml::from_str(
+            "units = \"inch\"\nkind = \"router\"\nsafe_z = 0.25\nwork_max = [10.0, 10.0, 1.0]",
+        )
+        .unwrap_or_default();
+        assert_eq!(c.kind, MachineKind::Router);
+        let mm = c.in_mm();
+        assert!((mm.safe_z - 6.35).abs() < 1e-12);
+        assert!((mm.work_max[0] - 254.0).abs() < 1e-12);
+        assert_eq!(mm.power_max, c.power_max);
+        assert!(toml::from_str::<CheckConfig>("bogus = 1").is_err());
+    }
+}

@@ -1,0 +1,225 @@
+//! Findings and the report: JSON via serde, a human summary via `Display`, and the exit code
+//! the CLI returns.
+
+use serde::Serialize;
+use std::fmt;
+
+/// How bad a finding is. Errors make the check fail (exit code 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Severity {
+    Info,
+    Warning,
+    Error,
+}
+
+impl fmt::Display for Severity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Severity::Info => "info",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        })
+    }
+}
+
+/// One named finding: a stable kebab-case `id` (e.g. `self-intersection`), where (source
+/// lines, 1-based; column when known) and the machine coordinates (mm) involved.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Finding {
+    pub id: &'static str,
+    pub severity: Severity,
+    pub message: String,
+    pub lines: Vec<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub column: Option<usize>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub at: Vec<[f64; 3]>,
+}
+
+impl Finding {
+    pub fn new(id: &'static str, severity: Severity, message: impl Into<String>) -> Self {
+        Finding {
+            id,
+            severity,
+            message: message.into(),
+            lines: Vec::new(),
+            column: None,
+            at: Vec::new(),
+        }
+    }
+
+    pub fn line(mut self, line: usize) -> Self {
+        self.lines.push(line);
+        self
+    }
+
+    pub fn lines(mut self, lines: impl IntoIterator<Item = usize>) -> Self {
+        self.lines.extend(lines);
+        self
+    }
+
+    pub fn column(mut self, column: usize) -> Self {
+        self.column = Some(column);
+        self
+    }
+
+    pub fn at(mut self, p: [f64; 3]) -> Self {
+        self.at.push(p);
+        self
+    }
+}
+
+impl fmt::Display for Finding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} [{}]", self.severity, self.id)?;
+        if !self.lines.is_empty() {
+            let l: Vec<String> = self.lines.iter().map(|l| l.to_string()).collect();
+            write!(f, " line {}", l.join(", "))?;
+            if let Some(c) = self.column {
+                write!(f, ":{c}")?;
+            }
+        }
+        write!(f, ": {}", self.message)?;
+        for p in &self.at {
+            write!(f, " @({:.3}, {:.3}, {:.3})", p[0], p[1], p[2])?;
+        }
+        Ok(())
+    }
+}
+
+/// Totals over the program (mm, seconds).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Stats {
+    pub motions: usize,
+    pub cut_length: f64,
+    pub rapid_length: f64,
+    /// Bounding box of all moves (min, max), None for a program without moves.
+    pub bbox: Option<[[f64; 3]; 2]>,
+    pub time: super::time::TimeEstimate,
+}
+
+/// The result of checking one program.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Report {
+    /// Which backend read the program ("builtin" or "linuxcnc").
+    pub backend: &'static str,
+    /// False when the input is not a G-code program at all (empty, binary, nothing parsed).
+    pub usable: bool,
+    pub findings: Vec<Finding>,
+    /// Findings left out per check id after `max_findings_per_check`.
+    pub suppressed: Vec<(String, usize)>,
+    pub stats: Stats,
+}
+
+impl Report {
+    pub fn errors(&self) -> usize {
+        self.count(Severity::Error)
+    }
+
+    pub fn warnings(&self) -> usize {
+        self.count(Severity::Warning)
+    }
+
+    fn count(&self, s: Severity) -> usize {
+        self.findings.iter().filter(|f| f.severity == s).count()
+    }
+
+    /// Exit status for the CLI: 0 clean (warnings allowed), 1 at least one error finding,
+    /// 2 unusable input.
+    pub fn exit_code(&self) -> i32 {
+        if !self.usable {
+            2
+        } else if self.errors() > 0 {
+            1
+        } else {
+            0
+        }
+    }
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if !self.usable {
+            writeln!(f, "input is not a usable G-code program")?;
+        }
+        for x in &self.findings {
+            writeln!(f, "{x}")?;
+        }
+        for (id, n) in &self.suppressed {
+            writeln!(f, "... {n} more [{id}] findings not shown")?;
+        }
+        let s = &self.stats;
+        writeln!(
+            f,
+            "{} moves, cut {:.1} mm, rapid {:.1} mm, time {} (cutting {}, rapids {}, dwell {})",
+            s.motions,
+            s.cut_length,
+            s.rapid_length,
+            hms(s.time.total),
+            hms(s.time.feed),
+            hms(s.time.rapid),
+            hms(s.time.dwell)
+        )?;
+        if let Some([lo, hi]) = s.bbox {
+            writeln!(
+                f,
+                "bounds x {:.3}..{:.3}  y {:.3}..{:.3}  z {:.3}..{:.3}",
+                lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+            )?;
+        }
+        write!(
+            f,
+            "{} errors, {} warnings ({} backend)",
+            self.errors(),
+            self.warnings(),
+            self.backend
+        )
+    }
+}
+
+/// Seconds as `h:mm:ss.s` (or `m:ss.s` under an hour).
+fn hms(t: f64) -> String {
+    let t = if t.is_finite() { t.max(0.0) } else { 0.0 };
+    let h = (t / 3600.0).floor();
+    let m = ((t - 3600.0 * h) / 60.0).floor();
+    let s = t - 3600.0 * h - 60.0 * m;
+    if h > 0.0 {
+        format!("{h}:{m:02}:{s:04.1}")
+    } else {
+        format!("{m}:{s:04.1}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exit_codes_and_text() {
+        let mut r = Report {
+            backend: "builtin",
+            usable: true,
+            ..Default::default()
+        };
+        assert_eq!(r.exit_code(), 0);
+        r.findings
+            .push(Finding::new("missing-program-end", Severity::Warning, "no M2").line(3));
+        assert_eq!(r.exit_code(), 0);
+        r.findings.push(
+            Finding::new("laser-on-rapid", Severity::Error, "G0 with laser on")
+                .line(7)
+                .at([1.0, 2.0, 0.0]),
+        );
+        assert_eq!(r.exit_code(), 1);
+        let text = r.to_string();
+        assert!(text.contains("error [laser-on-rapid] line 7: G0 with laser on"));
+        assert!(text.contains("1 errors, 1 warnings"));
+        let json = serde_json::to_value(&r).unwrap_or_default();
+        assert_eq!(json["findings"][1]["id"], "laser-on-rapid");
+        assert_eq!(json["findings"][1]["severity"], "error");
+        r.usable = false;
+        assert_eq!(r.exit_code(), 2);
+        assert_eq!(hms(3725.0), "1:02:05.0");
+    }
+}

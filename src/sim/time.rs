@@ -1,0 +1,239 @@
+//! Run time estimate with GRBL's planner model: moves (arcs split into chords of
+//! `arc_tolerance`) run at trapezoidal speed profiles, junction speeds from the junction
+//! deviation, per-axis rate and acceleration limits, a backward and a forward pass.
+//!
+//! Junction speed (GRBL 1.1 planner, "junction deviation"): with unit directions u₀, u₁,
+//! cos θ = −u₀·u₁ and sin(θ/2) = √((1 − cos θ)/2), the corner is taken at
+//! v² = a_j · δ · sin(θ/2) / (1 − sin(θ/2)), a_j the acceleration limit along u₁ − u₀.
+//! Block limits along a unit direction u are min over moving axes of limit_i / |u_i|.
+//! A block of length L from entry speed vᵢ to exit v_f with nominal v and acceleration a
+//! takes (v − vᵢ)/a + (v − v_f)/a + (L − d_a − d_d)/v with d = (v² − v₀²)/(2a) when it
+//! reaches v, otherwise peaks at v_p² = aL + (vᵢ² + v_f²)/2.
+
+use super::config::CheckConfig;
+use super::motion::{Motion, MotionKind};
+use glam::DVec3;
+use serde::Serialize;
+
+/// Cosine bounds beyond which a junction counts as straight or a full reversal (GRBL).
+const COS_STRAIGHT: f64 = 0.999999;
+
+/// Estimated seconds, split by kind of move.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct TimeEstimate {
+    pub total: f64,
+    pub feed: f64,
+    pub rapid: f64,
+    pub dwell: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Block {
+    len: f64,
+    unit: DVec3,
+    /// Nominal speed, mm/s.
+    v: f64,
+    /// Acceleration, mm/s².
+    a: f64,
+    rapid: bool,
+}
+
+/// min over axes with u_i ≠ 0 of `limit_i / |u_i|` (GRBL limit_value_by_axis_maximum).
+fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
+    let mut v = f64::INFINITY;
+    for (i, &lim) in limit.iter().enumerate() {
+        if u[i] != 0.0 {
+            v = v.min(lim / u[i].abs());
+        }
+    }
+    v
+}
+
+/// Estimates the run time of `motions` (mm) under `cfg` (mm, see [`CheckConfig::in_mm`]).
+/// The machine starts and ends at rest and stops for every dwell.
+pub fn estimate(motions: &[Motion], cfg: &CheckConfig) -> TimeEstimate {
+    let mut t = TimeEstimate::default();
+    let mut blocks: Vec<Block> = Vec::new();
+    let rates = cfg.max_rate.map(|r| r / 60.0);
+    for m in motions {
+        match m.kind {
+            MotionKind::Dwell { seconds } => {
+                plan(&blocks, cfg, &mut t);
+                blocks.clear();
+                if seconds.is_finite() {
+                    t.dwell += seconds;
+                }
+            }
+            MotionKind::Rapid | MotionKind::Feed => {
+                let rapid = m.kind == MotionKind::Rapid;
+                let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
+                for w in pts.windows(2) {
+                    let d = w[1] - w[0];
+                    let len = d.length();
+                    if !(len > 0.0 && len.is_finite()) {
+                        continue;
+                    }
+                    let unit = d / len;
+                    let vmax = axis_limited(rates, unit);
+                    let prog = if m.feed > 0.0 { m.feed / 60.0 } else { vmax };
+                    let v = if rapid { vmax } else { prog.min(vmax) };
+                    let a = axis_limited(cfg.accel, unit);
+                    if v > 0.0 && a > 0.0 && v.is_finite() && a.is_finite() {
+                        blocks.push(Block {
+                            len,
+                            unit,
+                            v,
+                            a,
+                            rapid,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    plan(&blocks, cfg, &mut t);
+    t.total = t.feed + t.rapid + t.dwell;
+    t
+}
+
+/// Squared junction speed limit between blocks `p` and `q`.
+fn junction_speed_sqr(p: &Block, q: &Block, cfg: &CheckConfig) -> f64 {
+    let cos = -p.unit.dot(q.unit);
+    let lim = p.v.min(q.v).powi(2);
+    if cos > COS_STRAIGHT {
+        return 0.0;
+    }
+    if cos < -COS_STRAIGHT {
+        return lim;
+    }
+    let ju = (q.unit - p.unit).normalize_or_zero();
+    let aj = axis_limited(cfg.accel, ju);
+    let sin_half = (0.5 * (1.0 - cos)).sqrt();
+    let vj2 = aj * cfg.junction_deviation * sin_half / (1.0 - sin_half);
+    vj2.min(lim)
+}
+
+/// Plans a run of blocks from rest to rest and adds its time.
+fn plan(blocks: &[Block], cfg: &CheckConfig, t: &mut TimeEstimate) {
+    let n = blocks.len();
+    if n == 0 {
+        return;
+    }
+    // e[i] = squared entry speed of block i; e[n] = squared exit speed of the last (0).
+    let mut e = vec![0.0; n + 1];
+    for i in 1..n {
+        e[i] = junction_speed_sqr(&blocks[i - 1], &blocks[i], cfg);
+    }
+    for i in (0..n).rev() {
+        let b = &blocks[i];
+        e[i] = e[i].min(e[i + 1] + 2.0 * b.a * b.len);
+    }
+    for i in 0..n {
+        let b = &blocks[i];
+        e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
+    }
+    for (i, b) in blocks.iter().enumerate() {
+        let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
+        if b.rapid {
+            t.rapid += dt;
+        } else {
+            t.feed += dt;
+        }
+    }
+}
+
+/// Time of a trapezoidal (or triangular) profile over length `len` from `vi` to `vf` with
+/// nominal `v` and acceleration `a` (see the module docs).
+pub fn block_time(len: f64, vi: f64, vf: f64, v: f64, a: f64) -> f64 {
+    let da = (v * v - vi * vi) / (2.0 * a);
+    let dd = (v * v - vf * vf) / (2.0 * a);
+    if da + dd <= len {
+        (v - vi) / a + (v - vf) / a + (len - da - dd) / v
+    } else {
+        let vp = (a * len + 0.5 * (vi * vi + vf * vf)).sqrt().min(v);
+        (vp - vi).max(0.0) / a + (vp - vf).max(0.0) / a
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::interp::interpret;
+
+    fn cfg() -> CheckConfig {
+        CheckConfig {
+            max_rate: [12000.0, 12000.0, 1200.0],
+            accel: [500.0, 500.0, 50.0],
+            ..CheckConfig::default()
+        }
+    }
+
+    fn time(src: &str) -> TimeEstimate {
+        estimate(&interpret(src, 0.005).motions, &cfg())
+    }
+
+    #[test]
+    fn single_trapezoid_and_triangle() {
+        // v = 100 mm/s, a = 500: accelerating takes 10 mm each way; t = v/a + L/v.
+        let t = time("G1 X100 F6000");
+        assert!((t.feed - (0.2 + 1.0)).abs() < 1e-12, "{t:?}");
+        // L = 10 < v²/a: a triangle, t = 2√(L/a).
+        let t = time("G1 X10 F6000");
+        assert!((t.feed - 2.0 * (10.0f64 / 500.0).sqrt()).abs() < 1e-12);
+        // Diagonal: per-axis limits scale by √2 (a = 500√2), feed below the rate limit.
+        let t = time("G1 X100 Y100 F6000");
+        let (l, a, v) = (100.0 * 2f64.sqrt(), 500.0 * 2f64.sqrt(), 100.0);
+        assert!((t.feed - (v / a + l / v)).abs() < 1e-12);
+        // Rapid in z runs at z's rate and acceleration: 20 mm/s, 50 mm/s².
+        let t = time("G0 Z-30");
+        assert!((t.rapid - (20.0 / 50.0 + 30.0 / 20.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn full_circle_at_constant_speed() {
+        // Junctions of the chords allow far more than 50 mm/s, so the circle is one
+        // trapezoid over its (flattened) length. With (near) infinite acceleration the time
+        // is the circumference over the feed, t = 2πr/v, up to the chords' shortfall
+        // (relative ≤ sagitta/r = 2e-4).
+        let l = 2.0 * std::f64::consts::PI * 10.0;
+        let src = "G0 X10\nG4 P0\nG2 X10 Y0 I-10 J0 F3000";
+        let fast = CheckConfig {
+            accel: [1e9; 3],
+            ..cfg()
+        };
+        let t = estimate(&interpret(src, 0.005).motions, &fast);
+        assert!((t.feed - l / 50.0).abs() < 2e-4 * l / 50.0, "{t:?}");
+        // Per-axis acceleration lies between a (along an axis) and a√2 (diagonal), so the
+        // time lies between the two trapezoids L/v + v/a.
+        let t = time(src);
+        let (lo, hi) = (
+            l / 50.0 + 50.0 / (500.0 * 2f64.sqrt()),
+            l / 50.0 + 50.0 / 500.0,
+        );
+        assert!(
+            t.feed > lo && t.feed < hi * (1.0 + 1e-9),
+            "{lo} < {} < {hi}",
+            t.feed
+        );
+    }
+
+    #[test]
+    fn right_angle_corner_speed() {
+        // Corner 90°: sin(θ/2) = √½, a_j = 500√2 along the diagonal junction vector.
+        let t = time("G1 X100 F6000\nY100");
+        let s = 0.5f64.sqrt();
+        let vj = (500.0 * 2f64.sqrt() * 0.01 * s / (1.0 - s)).sqrt();
+        let want = 2.0 * block_time(100.0, 0.0, vj, 100.0, 500.0);
+        assert!((t.feed - want).abs() < 1e-12);
+        // Reversed and rotated copies take the same time.
+        let r = time("G0 X100 Y100\nG4 P0\nG1 X100 Y0 F6000\nX0");
+        assert!((r.feed - want).abs() < 1e-12);
+    }
+
+    #[test]
+    fn dwell_stops_and_adds() {
+        let t = time("G1 X100 F6000\nG4 P2\nG1 X200");
+        assert!((t.feed - 2.4).abs() < 1e-12);
+        assert!((t.total - 4.4).abs() < 1e-12);
+    }
+}
