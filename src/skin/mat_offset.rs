@@ -277,6 +277,22 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     })
 }
 
+/// The outline itself (the envelopes with their end caps, offset distance 0) as a
+/// [`MatOffset`], so it can be evaluated and output like an offset.
+pub fn outline(skin: &ReSkin) -> Result<MatOffset, MatOffsetError> {
+    check_f(skin)?;
+    let kept: Vec<Vec<(f64, f64)>> = vec![vec![(0.0, 1.0)]; skin.segments.len()];
+    let rs = runs(&kept, skin.closed);
+    let contours = contours_of_runs(skin, 0.0, &rs, skin.closed)?;
+    Ok(MatOffset {
+        d: 0.0,
+        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        contours,
+        trims: Vec::new(),
+        loops: Vec::new(),
+    })
+}
+
 /// Samples per segment for bracketing the roots of τ (then refined by bisection); a loop
 /// narrower than 1/TAU_SAMPLES of a segment's parameter range can be missed.
 const TAU_SAMPLES: usize = 128;
@@ -668,7 +684,7 @@ mod tests {
     }
 
     /// Dense envelope samples (both branches and the caps): the outline.
-    fn outline(skin: &ReSkin) -> Vec<DVec2> {
+    fn outline_samples(skin: &ReSkin) -> Vec<DVec2> {
         let mut v = Vec::new();
         for seg in &skin.segments {
             for b in [Branch::Plus, Branch::Minus] {
@@ -745,7 +761,7 @@ mod tests {
                 }
                 assert_eq!(off.contours.len(), off.trims.len() / 2 + 1);
                 // Distance to the outline: δ within the sampling error of the outline.
-                let pts = outline(&skin);
+                let pts = outline_samples(&skin);
                 let sample_err = 2e-3 * scale;
                 for c in &off.contours {
                     for p in &c.pieces {
@@ -804,10 +820,74 @@ mod tests {
     }
 
     #[test]
+    fn closed_ring_offsets() {
+        // A ring of circles travelled counter-clockwise; left = inside of the ring.
+        let cs: Vec<Circle> = (0..8)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 8.0;
+                Circle::new(
+                    6.0 * DVec2::new(a.cos(), a.sin()),
+                    1.0 + 0.3 * (k % 2) as f64,
+                )
+            })
+            .collect();
+        let touches: Vec<Touch> = cs
+            .iter()
+            .map(|c| {
+                let n = c.c.normalize();
+                Touch::Fixed {
+                    plus: c.c - c.r * n,
+                    minus: c.c + c.r * n,
+                }
+            })
+            .collect();
+        let skin = ReSkin::build(&cs, &touches, true, Interp::Cubic, 1e-9).unwrap();
+        // δ below every radius: two loops, no trims.
+        let off = inner_offset(&skin, 0.5, 1e-12).unwrap();
+        assert!(off.trims.is_empty());
+        assert_eq!(off.contours.len(), 2);
+        // δ between the radii 1.0 and 1.3: the ring is cut at every thin circle.
+        let off = inner_offset(&skin, 1.1, 1e-12).unwrap();
+        assert_eq!(off.trims.len(), 8);
+        assert_eq!(off.contours.len(), 4);
+        for (path, c) in off.to_line_paths(1e-5).iter().zip(&off.contours) {
+            assert!(path.max_gap() < 1e-8, "gap {}", path.max_gap());
+            assert!(c.pieces.iter().all(|p| matches!(p, Piece::Curve { .. })));
+        }
+        for tp in &off.trims {
+            let fr = skin.segments[tp.segment].curve.frame(tp.t).unwrap();
+            assert!((fr.r - 1.1).abs() < 1e-9);
+        }
+        let ol = outline(&skin).unwrap();
+        assert_eq!(ol.contours.len(), 2);
+    }
+
+    #[test]
+    fn outline_is_closed_and_touches_circles() {
+        let skin = skin_of(&gentle(), Interp::PhQuintic);
+        let ol = outline(&skin).unwrap();
+        assert_eq!(ol.contours.len(), 1);
+        let path = &ol.to_cubic_paths(1e-6)[0];
+        assert!(path.max_gap() < 1e-9);
+        // Clockwise (left skin forward, end cap, right skin back, start cap).
+        assert!(crate::geom::path::polygon_area(&path.flatten(1e-4)) < 0.0);
+        for (i, c) in skin.circles.iter().enumerate() {
+            let w = skin.touches[i].plus();
+            let d = path
+                .flatten(1e-6)
+                .iter()
+                .map(|p| p.distance(w))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d < 1e-3, "circle {i}: {d}");
+            assert!(c.signed_distance(w).abs() < 1e-12);
+        }
+    }
+
+    #[test]
     fn outer_offset_is_at_distance_delta_and_loops_are_cut() {
         let cs = gentle();
         let skin = skin_of(&cs, Interp::Cubic);
-        let pts = outline(&skin);
+        let pts = outline_samples(&skin);
         for delta in [0.2, 1.5] {
             let off = outer_offset(&skin, delta, 1e-12).unwrap();
             assert_eq!(off.contours.len(), 1);
