@@ -25,6 +25,8 @@ pub enum MatOffsetError {
     Singular { segment: usize, t: f64 },
     #[error("the skin has no segments")]
     Empty,
+    #[error("segment {segment} names a circle the skin does not have")]
+    Inconsistent { segment: usize },
 }
 
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
@@ -99,6 +101,9 @@ fn check_f(skin: &ReSkin) -> Result<(), MatOffsetError> {
         return Err(MatOffsetError::Empty);
     }
     for (segment, seg) in skin.segments.iter().enumerate() {
+        if seg.i >= skin.circles.len() || seg.j >= skin.circles.len() {
+            return Err(MatOffsetError::Inconsistent { segment });
+        }
         if let Positivity::Fails { t, .. } = prove_positive(&seg.curve.f, F_PROOF_DEPTH) {
             return Err(MatOffsetError::NonPositiveRadius { segment, t });
         }
