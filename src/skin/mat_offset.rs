@@ -78,11 +78,22 @@ pub struct MatOffset {
     pub contours: Vec<OffsetContour>,
     pub trims: Vec<TrimPoint>,
     pub loops: Vec<LoopCut>,
-    /// Global parameter intervals (segment index + t) where the outline's own envelope runs
-    /// backwards (τ = x±′·y′ < 0, a local loop of the skin). There the RE curve is not a
-    /// true MAT and the inner offset near the loop is not the offset of the outline:
-    /// callers should refine the circles (re-skinning-cnc Sec. 4) or use the general route.
-    pub envelope_loops: Vec<(Branch, f64, f64)>,
+}
+
+/// Global parameter intervals (segment index + t) where the outline's own envelope runs
+/// backwards (τ = x±′·y′ < 0, a local loop of the skin), ends to `tol`. There the RE curve
+/// is not a true MAT and [`inner_offset`] near the loop is not the offset of the outline:
+/// callers should refine the circles (re-skinning-cnc Sec. 4) or use the general route.
+/// Kept separate from [`inner_offset`] because it costs more than the offset itself.
+pub fn envelope_loops(skin: &ReSkin, tol: f64) -> Result<Vec<(Branch, f64, f64)>, MatOffsetError> {
+    check_f(skin)?;
+    let mut out = Vec::new();
+    for b in [Branch::Plus, Branch::Minus] {
+        for (lo, hi) in negative_tau_intervals(skin, b, 0.0, tol)? {
+            out.push((b, lo, hi));
+        }
+    }
+    Ok(out)
 }
 
 fn check_delta(delta: f64) -> Result<(), MatOffsetError> {
@@ -278,19 +289,12 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     let all_kept = kept.iter().all(|iv| iv.len() == 1 && iv[0] == (0.0, 1.0));
     let rs = runs(&kept, skin.closed);
     let contours = contours_of_runs(skin, -delta, &rs, skin.closed && all_kept)?;
-    let mut envelope_loops = Vec::new();
-    for b in [Branch::Plus, Branch::Minus] {
-        for (lo, hi) in negative_tau_intervals(skin, b, 0.0, tol.max(1e-12))? {
-            envelope_loops.push((b, lo, hi));
-        }
-    }
     Ok(MatOffset {
         d: -delta,
         curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
         contours,
         trims,
         loops: Vec::new(),
-        envelope_loops,
     })
 }
 
@@ -307,7 +311,6 @@ pub fn outline(skin: &ReSkin) -> Result<MatOffset, MatOffsetError> {
         contours,
         trims: Vec::new(),
         loops: Vec::new(),
-        envelope_loops: Vec::new(),
     })
 }
 
@@ -398,7 +401,6 @@ pub fn outer_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
         contours,
         trims: Vec::new(),
         loops,
-        envelope_loops: Vec::new(),
     })
 }
 
@@ -764,7 +766,7 @@ mod tests {
                 assert!(no_envelope_loops(&skin), "test precondition");
                 let delta = 0.6 * scale; // larger than the 0.5 and smaller than the others
                 let off = inner_offset(&skin, delta, 1e-12).unwrap();
-                assert!(off.envelope_loops.is_empty());
+                assert!(envelope_loops(&skin, 1e-10).unwrap().is_empty());
                 assert!(!off.trims.is_empty());
                 for tp in &off.trims {
                     let fr = skin.segments[tp.segment].curve.frame(tp.t).unwrap();
@@ -819,9 +821,9 @@ mod tests {
         // The snake's right envelope runs backwards at the start of segment 2 (τ⁻ < 0).
         let cs = super::super::re::skin::tests::snake();
         let skin = skin_of(&cs, Interp::Cubic);
-        let off = inner_offset(&skin, 0.1, 1e-10).unwrap();
-        assert!(!off.envelope_loops.is_empty());
-        for &(b, lo, hi) in &off.envelope_loops {
+        let loops = envelope_loops(&skin, 1e-10).unwrap();
+        assert!(!loops.is_empty());
+        for &(b, lo, hi) in &loops {
             assert!(hi > lo);
             let g = 0.5 * (lo + hi);
             let (s, t) = (g.floor() as usize, g - g.floor());
