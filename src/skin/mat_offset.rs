@@ -817,6 +817,44 @@ mod tests {
     }
 
     #[test]
+    fn real_touching_points_give_intersection_free_outline() {
+        // Touching points from the Kunkli–Hoffmann construction (skin::touching), outline
+        // checked by the independent curve–curve checker (skin::intersect).
+        for (rot, scale, rev) in [(0.0, 1.0, false), (2.2, 4.0, true)] {
+            let cs = transform(&gentle(), rot, scale, DVec2::new(3.0, 1.0), rev);
+            let tps = crate::skin::touching::touching_points(&cs, false, 1e-9).unwrap();
+            let touches: Vec<Touch> = tps
+                .iter()
+                .map(|t| Touch::Fixed {
+                    plus: t.left,
+                    minus: t.right,
+                })
+                .collect();
+            for interp in [Interp::Cubic, Interp::PhQuintic] {
+                let skin = ReSkin::build(&cs, &touches, false, interp, 1e-9 * scale).unwrap();
+                for (i, tp) in tps.iter().enumerate() {
+                    let s = i.min(skin.segments.len() - 1);
+                    let t = if i == skin.segments.len() { 1.0 } else { 0.0 };
+                    let fr = skin.segments[s].curve.frame(t).unwrap();
+                    assert!((fr.offset(Branch::Plus, 0.0).0 - tp.left).length() < 1e-9 * scale);
+                    assert!((fr.offset(Branch::Minus, 0.0).0 - tp.right).length() < 1e-9 * scale);
+                }
+                assert!(envelope_loops(&skin, 1e-10).unwrap().is_empty());
+                let path = &outline(&skin).unwrap().to_cubic_paths(1e-6 * scale)[0];
+                let hits = crate::skin::intersect::path_self_intersections(path, 1e-9 * scale);
+                assert!(hits.is_empty(), "{interp:?}: {hits:?}");
+                let off = inner_offset(&skin, 0.6 * scale, 1e-12).unwrap();
+                for p in off.to_cubic_paths(1e-6 * scale) {
+                    assert!(
+                        crate::skin::intersect::path_self_intersections(&p, 1e-9 * scale)
+                            .is_empty()
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
     fn envelope_loops_are_reported() {
         // The snake's right envelope runs backwards at the start of segment 2 (τ⁻ < 0).
         let cs = super::super::re::skin::tests::snake();
