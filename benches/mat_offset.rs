@@ -1,5 +1,5 @@
 //! MAT offset + trim of an RE skin (re-skinning-cnc eq. 13) against the general route on
-//! the same outline: polyline approximation of the outline (caps as true arcs) and
+//! the same outline: arc approximation of the outline within TOL (caps as true arcs) and
 //! cavalier_contours `parallel_offset` with self-intersection handling, at equal tolerance.
 //! Prints the time ratio and each route's Hausdorff distance to the exact offset.
 
@@ -72,7 +72,7 @@ fn general_route(skin: &ReSkin) -> Vec<Vec<DVec2>> {
     let Ok(out) = outline(skin) else {
         return Vec::new();
     };
-    let path = &out.to_line_paths(TOL)[0];
+    let path = &out.to_arc_paths(TOL)[0];
     let pl = to_pline(path);
     let area = polygon_area(&path.flatten(TOL));
     let off = if area > 0.0 { DELTA } else { -DELTA };
@@ -203,7 +203,7 @@ fn main() {
         .map(|p| p.flatten(TOL * 0.1))
         .collect();
     println!(
-        "mat_offset: exact offset + trim only {:.3} ms; with cubic output {:.3} ms (Hausdorff {:.2e}, {} cubics vs {} lines)",
+        "mat_offset: exact offset + trim only {:.3} ms; with cubic output {:.3} ms (Hausdorff {:.2e}, {} cubics vs {} arcs)",
         t_trim * 1e3,
         t_cubic * 1e3,
         hausdorff(&ex, &cub),
@@ -214,6 +214,28 @@ fn main() {
             .sum::<usize>(),
         mat_route(&skin).iter().map(|p| p.segs.len()).sum::<usize>(),
     );
+    // Breakdown of the general route: the arc fit of the outline vs cavalier alone.
+    if let Ok(ol) = outline(&skin) {
+        let t_fit = time(20, || ol.to_arc_paths(TOL));
+        let path = &ol.to_arc_paths(TOL)[0];
+        let pl = to_pline(path);
+        let off = if polygon_area(&path.flatten(TOL)) > 0.0 {
+            DELTA
+        } else {
+            -DELTA
+        };
+        let opts = PlineOffsetOptions {
+            handle_self_intersects: true,
+            ..Default::default()
+        };
+        let t_cav = time(20, || pl.parallel_offset_opt(off, &opts).len());
+        println!(
+            "mat_offset: general route = outline arc fit {:.3} ms ({} arcs) + cavalier offset {:.3} ms",
+            t_fit * 1e3,
+            path.segs.len(),
+            t_cav * 1e3
+        );
+    }
     let mut c = Criterion::default().configure_from_args();
     c.bench_function("mat_offset/re_mat_trim", |b| {
         b.iter(|| mat_route(black_box(&skin)))

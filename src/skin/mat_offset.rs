@@ -570,8 +570,38 @@ fn remove_interval(kept: &mut [Vec<(f64, f64)>], a: (usize, f64), c: (usize, f64
     }
 }
 
-/// Samples at which a fitted piece is compared with the exact curve.
-const CHECK_SAMPLES: usize = 8;
+/// Samples at which a fitted piece is compared with the exact curve (interior points
+/// k/CHECK_SAMPLES): the tolerance is verified there, not proved between them.
+const CHECK_SAMPLES: usize = 16;
+
+/// How a piece of exact curve is approximated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FitKind {
+    Line,
+    Cubic,
+    Arc,
+}
+
+/// The circular arc through `p0`, `pm`, `p1` (a line when they are collinear to within
+/// `eps` relative to the chord).
+fn arc3(p0: DVec2, pm: DVec2, p1: DVec2) -> PathSeg {
+    let a = pm - p0;
+    let b = p1 - pm;
+    let cr = crate::geom::cross(a, b);
+    let chord = (p1 - p0).length();
+    // Collinear within 1e-12 of the chord² (sagitta ≪ any tolerance): a line.
+    if cr.abs() <= 1e-12 * chord * chord {
+        return PathSeg::Line(Line::new(p0, p1));
+    }
+    // Centre: intersection of the perpendicular bisectors of p0pm and pmp1.
+    let m1 = 0.5 * (p0 + pm);
+    let m2 = 0.5 * (pm + p1);
+    let d1 = crate::geom::perp(a);
+    let d2 = crate::geom::perp(b);
+    let s = crate::geom::cross(m2 - m1, d2) / crate::geom::cross(d1, d2);
+    let center = m1 + s * d1;
+    PathSeg::Arc(Arc::from_center_points(center, p0, p1, cr > 0.0))
+}
 /// Deepest bisection of a piece when fitting.
 const MAX_FIT_DEPTH: u32 = 30;
 
@@ -603,15 +633,23 @@ impl MatOffset {
     /// until the parametric distance at CHECK_SAMPLES interior points is ≤ `tol`) and true
     /// arcs for caps.
     pub fn to_cubic_paths(&self, tol: f64) -> Vec<Path> {
-        self.to_paths(tol, true)
+        self.to_paths(tol, FitKind::Cubic)
     }
 
     /// The contours as paths of line segments within `tol` (same test) and true arcs.
     pub fn to_line_paths(&self, tol: f64) -> Vec<Path> {
-        self.to_paths(tol, false)
+        self.to_paths(tol, FitKind::Line)
     }
 
-    fn to_paths(&self, tol: f64, cubic: bool) -> Vec<Path> {
+    /// The contours as paths of circular arcs (through the ends and the parameter midpoint
+    /// of each piece, bisected until the distance of CHECK_SAMPLES interior points of the
+    /// exact curve to the arc is ≤ `tol`) and the true cap arcs: ready for G2/G3 and for
+    /// arc-and-line offsetting.
+    pub fn to_arc_paths(&self, tol: f64) -> Vec<Path> {
+        self.to_paths(tol, FitKind::Arc)
+    }
+
+    fn to_paths(&self, tol: f64, kind: FitKind) -> Vec<Path> {
         self.contours
             .iter()
             .map(|c| {
@@ -629,7 +667,7 @@ impl MatOffset {
                             t0,
                             t1,
                         } => {
-                            self.fit(segment, branch, t0, t1, tol, cubic, 0, &mut segs);
+                            self.fit(segment, branch, t0, t1, tol, kind, 0, &mut segs);
                         }
                     }
                 }
@@ -646,7 +684,7 @@ impl MatOffset {
         t0: f64,
         t1: f64,
         tol: f64,
-        cubic: bool,
+        kind: FitKind,
         depth: u32,
         out: &mut Vec<PathSeg>,
     ) {
@@ -656,10 +694,13 @@ impl MatOffset {
             return;
         };
         let h = t1 - t0;
-        let seg = if cubic {
-            PathSeg::Cubic(CubicBez::hermite(p0, d0 * h, p1, d1 * h))
-        } else {
-            PathSeg::Line(Line::new(p0, p1))
+        let seg = match kind {
+            FitKind::Cubic => PathSeg::Cubic(CubicBez::hermite(p0, d0 * h, p1, d1 * h)),
+            FitKind::Line => PathSeg::Line(Line::new(p0, p1)),
+            FitKind::Arc => match self.curve_point(s, b, t0 + 0.5 * h) {
+                Some((pm, _)) => arc3(p0, pm, p1),
+                None => PathSeg::Line(Line::new(p0, p1)),
+            },
         };
         let ok = depth >= MAX_FIT_DEPTH
             || (1..CHECK_SAMPLES).all(|k| {
@@ -667,7 +708,8 @@ impl MatOffset {
                 match self.curve_point(s, b, t0 + u * h) {
                     Some((q, _)) => match seg {
                         PathSeg::Line(l) => l.distance(q) <= tol,
-                        _ => seg.eval(u).distance(q) <= tol,
+                        PathSeg::Arc(a) => a.distance(q) <= tol,
+                        PathSeg::Cubic(_) => seg.eval(u).distance(q) <= tol,
                     },
                     None => true,
                 }
@@ -676,8 +718,8 @@ impl MatOffset {
             out.push(seg);
         } else {
             let m = 0.5 * (t0 + t1);
-            self.fit(s, b, t0, m, tol, cubic, depth + 1, out);
-            self.fit(s, b, m, t1, tol, cubic, depth + 1, out);
+            self.fit(s, b, t0, m, tol, kind, depth + 1, out);
+            self.fit(s, b, m, t1, tol, kind, depth + 1, out);
         }
     }
 }
@@ -798,7 +840,12 @@ mod tests {
                     }
                 }
                 // Paths: closed, within tolerance of the exact pieces.
-                for (path, c) in off.to_cubic_paths(1e-4 * scale).iter().zip(&off.contours) {
+                let mut all = off.to_cubic_paths(1e-4 * scale);
+                all.extend(off.to_arc_paths(1e-4 * scale));
+                all.extend(off.to_line_paths(1e-4 * scale));
+                let nc = off.contours.len();
+                for (q, path) in all.iter().enumerate() {
+                    let c = &off.contours[q % nc];
                     assert!(path.max_gap() < 1e-8 * scale, "gap {}", path.max_gap());
                     let flat = path.flatten(1e-5 * scale);
                     for p in &c.pieces {
