@@ -697,16 +697,24 @@ impl MatOffset {
         let seg = match kind {
             FitKind::Cubic => PathSeg::Cubic(CubicBez::hermite(p0, d0 * h, p1, d1 * h)),
             FitKind::Line => PathSeg::Line(Line::new(p0, p1)),
-            FitKind::Arc => match self.curve_point(s, b, t0 + 0.5 * h) {
-                Some((pm, _)) => arc3(p0, pm, p1),
+            FitKind::Arc => match self
+                .curves
+                .get(s)
+                .and_then(|c| c.offset_point(b, self.d, t0 + 0.5 * h))
+            {
+                Some(pm) => arc3(p0, pm, p1),
                 None => PathSeg::Line(Line::new(p0, p1)),
             },
         };
         let ok = depth >= MAX_FIT_DEPTH
             || (1..CHECK_SAMPLES).all(|k| {
                 let u = k as f64 / CHECK_SAMPLES as f64;
-                match self.curve_point(s, b, t0 + u * h) {
-                    Some((q, _)) => match seg {
+                match self
+                    .curves
+                    .get(s)
+                    .and_then(|c| c.offset_point(b, self.d, t0 + u * h))
+                {
+                    Some(q) => match seg {
                         PathSeg::Line(l) => l.distance(q) <= tol,
                         PathSeg::Arc(a) => a.distance(q) <= tol,
                         PathSeg::Cubic(_) => seg.eval(u).distance(q) <= tol,
