@@ -25,6 +25,8 @@ pub enum MatOffsetError {
     Singular { segment: usize, t: f64 },
     #[error("the skin has no segments")]
     Empty,
+    #[error("segment {segment} names a circle the skin does not have")]
+    Inconsistent { segment: usize },
 }
 
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
@@ -78,6 +80,22 @@ pub struct MatOffset {
     pub loops: Vec<LoopCut>,
 }
 
+/// Global parameter intervals (segment index + t) where the outline's own envelope runs
+/// backwards (τ = x±′·y′ < 0, a local loop of the skin), ends to `tol`. There the RE curve
+/// is not a true MAT and [`inner_offset`] near the loop is not the offset of the outline:
+/// callers should refine the circles (re-skinning-cnc Sec. 4) or use the general route.
+/// Kept separate from [`inner_offset`] because it costs more than the offset itself.
+pub fn envelope_loops(skin: &ReSkin, tol: f64) -> Result<Vec<(Branch, f64, f64)>, MatOffsetError> {
+    check_f(skin)?;
+    let mut out = Vec::new();
+    for b in [Branch::Plus, Branch::Minus] {
+        for (lo, hi) in negative_tau_intervals(skin, b, 0.0, tol)? {
+            out.push((b, lo, hi));
+        }
+    }
+    Ok(out)
+}
+
 fn check_delta(delta: f64) -> Result<(), MatOffsetError> {
     if delta.is_finite() && delta > 0.0 {
         Ok(())
@@ -94,6 +112,9 @@ fn check_f(skin: &ReSkin) -> Result<(), MatOffsetError> {
         return Err(MatOffsetError::Empty);
     }
     for (segment, seg) in skin.segments.iter().enumerate() {
+        if seg.i >= skin.circles.len() || seg.j >= skin.circles.len() {
+            return Err(MatOffsetError::Inconsistent { segment });
+        }
         if let Positivity::Fails { t, .. } = prove_positive(&seg.curve.f, F_PROOF_DEPTH) {
             return Err(MatOffsetError::NonPositiveRadius { segment, t });
         }
@@ -273,6 +294,22 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
         curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
         contours,
         trims,
+        loops: Vec::new(),
+    })
+}
+
+/// The outline itself (the envelopes with their end caps, offset distance 0) as a
+/// [`MatOffset`], so it can be evaluated and output like an offset.
+pub fn outline(skin: &ReSkin) -> Result<MatOffset, MatOffsetError> {
+    check_f(skin)?;
+    let kept: Vec<Vec<(f64, f64)>> = vec![vec![(0.0, 1.0)]; skin.segments.len()];
+    let rs = runs(&kept, skin.closed);
+    let contours = contours_of_runs(skin, 0.0, &rs, skin.closed)?;
+    Ok(MatOffset {
+        d: 0.0,
+        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        contours,
+        trims: Vec::new(),
         loops: Vec::new(),
     })
 }
@@ -533,8 +570,38 @@ fn remove_interval(kept: &mut [Vec<(f64, f64)>], a: (usize, f64), c: (usize, f64
     }
 }
 
-/// Samples at which a fitted piece is compared with the exact curve.
-const CHECK_SAMPLES: usize = 8;
+/// Samples at which a fitted piece is compared with the exact curve (interior points
+/// k/CHECK_SAMPLES): the tolerance is verified there, not proved between them.
+const CHECK_SAMPLES: usize = 16;
+
+/// How a piece of exact curve is approximated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FitKind {
+    Line,
+    Cubic,
+    Arc,
+}
+
+/// The circular arc through `p0`, `pm`, `p1` (a line when they are collinear to within
+/// `eps` relative to the chord).
+fn arc3(p0: DVec2, pm: DVec2, p1: DVec2) -> PathSeg {
+    let a = pm - p0;
+    let b = p1 - pm;
+    let cr = crate::geom::cross(a, b);
+    let chord = (p1 - p0).length();
+    // Collinear within 1e-12 of the chord² (sagitta ≪ any tolerance): a line.
+    if cr.abs() <= 1e-12 * chord * chord {
+        return PathSeg::Line(Line::new(p0, p1));
+    }
+    // Centre: intersection of the perpendicular bisectors of p0pm and pmp1.
+    let m1 = 0.5 * (p0 + pm);
+    let m2 = 0.5 * (pm + p1);
+    let d1 = crate::geom::perp(a);
+    let d2 = crate::geom::perp(b);
+    let s = crate::geom::cross(m2 - m1, d2) / crate::geom::cross(d1, d2);
+    let center = m1 + s * d1;
+    PathSeg::Arc(Arc::from_center_points(center, p0, p1, cr > 0.0))
+}
 /// Deepest bisection of a piece when fitting.
 const MAX_FIT_DEPTH: u32 = 30;
 
@@ -566,15 +633,23 @@ impl MatOffset {
     /// until the parametric distance at CHECK_SAMPLES interior points is ≤ `tol`) and true
     /// arcs for caps.
     pub fn to_cubic_paths(&self, tol: f64) -> Vec<Path> {
-        self.to_paths(tol, true)
+        self.to_paths(tol, FitKind::Cubic)
     }
 
     /// The contours as paths of line segments within `tol` (same test) and true arcs.
     pub fn to_line_paths(&self, tol: f64) -> Vec<Path> {
-        self.to_paths(tol, false)
+        self.to_paths(tol, FitKind::Line)
     }
 
-    fn to_paths(&self, tol: f64, cubic: bool) -> Vec<Path> {
+    /// The contours as paths of circular arcs (through the ends and the parameter midpoint
+    /// of each piece, bisected until the distance of CHECK_SAMPLES interior points of the
+    /// exact curve to the arc is ≤ `tol`) and the true cap arcs: ready for G2/G3 and for
+    /// arc-and-line offsetting.
+    pub fn to_arc_paths(&self, tol: f64) -> Vec<Path> {
+        self.to_paths(tol, FitKind::Arc)
+    }
+
+    fn to_paths(&self, tol: f64, kind: FitKind) -> Vec<Path> {
         self.contours
             .iter()
             .map(|c| {
@@ -592,7 +667,7 @@ impl MatOffset {
                             t0,
                             t1,
                         } => {
-                            self.fit(segment, branch, t0, t1, tol, cubic, 0, &mut segs);
+                            self.fit(segment, branch, t0, t1, tol, kind, 0, &mut segs);
                         }
                     }
                 }
@@ -609,7 +684,7 @@ impl MatOffset {
         t0: f64,
         t1: f64,
         tol: f64,
-        cubic: bool,
+        kind: FitKind,
         depth: u32,
         out: &mut Vec<PathSeg>,
     ) {
@@ -619,18 +694,30 @@ impl MatOffset {
             return;
         };
         let h = t1 - t0;
-        let seg = if cubic {
-            PathSeg::Cubic(CubicBez::hermite(p0, d0 * h, p1, d1 * h))
-        } else {
-            PathSeg::Line(Line::new(p0, p1))
+        let seg = match kind {
+            FitKind::Cubic => PathSeg::Cubic(CubicBez::hermite(p0, d0 * h, p1, d1 * h)),
+            FitKind::Line => PathSeg::Line(Line::new(p0, p1)),
+            FitKind::Arc => match self
+                .curves
+                .get(s)
+                .and_then(|c| c.offset_point(b, self.d, t0 + 0.5 * h))
+            {
+                Some(pm) => arc3(p0, pm, p1),
+                None => PathSeg::Line(Line::new(p0, p1)),
+            },
         };
         let ok = depth >= MAX_FIT_DEPTH
             || (1..CHECK_SAMPLES).all(|k| {
                 let u = k as f64 / CHECK_SAMPLES as f64;
-                match self.curve_point(s, b, t0 + u * h) {
-                    Some((q, _)) => match seg {
+                match self
+                    .curves
+                    .get(s)
+                    .and_then(|c| c.offset_point(b, self.d, t0 + u * h))
+                {
+                    Some(q) => match seg {
                         PathSeg::Line(l) => l.distance(q) <= tol,
-                        _ => seg.eval(u).distance(q) <= tol,
+                        PathSeg::Arc(a) => a.distance(q) <= tol,
+                        PathSeg::Cubic(_) => seg.eval(u).distance(q) <= tol,
                     },
                     None => true,
                 }
@@ -639,8 +726,8 @@ impl MatOffset {
             out.push(seg);
         } else {
             let m = 0.5 * (t0 + t1);
-            self.fit(s, b, t0, m, tol, cubic, depth + 1, out);
-            self.fit(s, b, m, t1, tol, cubic, depth + 1, out);
+            self.fit(s, b, t0, m, tol, kind, depth + 1, out);
+            self.fit(s, b, m, t1, tol, kind, depth + 1, out);
         }
     }
 }
@@ -668,7 +755,7 @@ mod tests {
     }
 
     /// Dense envelope samples (both branches and the caps): the outline.
-    fn outline(skin: &ReSkin) -> Vec<DVec2> {
+    fn outline_samples(skin: &ReSkin) -> Vec<DVec2> {
         let mut v = Vec::new();
         for seg in &skin.segments {
             for b in [Branch::Plus, Branch::Minus] {
@@ -729,6 +816,7 @@ mod tests {
                 assert!(no_envelope_loops(&skin), "test precondition");
                 let delta = 0.6 * scale; // larger than the 0.5 and smaller than the others
                 let off = inner_offset(&skin, delta, 1e-12).unwrap();
+                assert!(envelope_loops(&skin, 1e-10).unwrap().is_empty());
                 assert!(!off.trims.is_empty());
                 for tp in &off.trims {
                     let fr = skin.segments[tp.segment].curve.frame(tp.t).unwrap();
@@ -745,7 +833,7 @@ mod tests {
                 }
                 assert_eq!(off.contours.len(), off.trims.len() / 2 + 1);
                 // Distance to the outline: δ within the sampling error of the outline.
-                let pts = outline(&skin);
+                let pts = outline_samples(&skin);
                 let sample_err = 2e-3 * scale;
                 for c in &off.contours {
                     for p in &c.pieces {
@@ -760,7 +848,12 @@ mod tests {
                     }
                 }
                 // Paths: closed, within tolerance of the exact pieces.
-                for (path, c) in off.to_cubic_paths(1e-4 * scale).iter().zip(&off.contours) {
+                let mut all = off.to_cubic_paths(1e-4 * scale);
+                all.extend(off.to_arc_paths(1e-4 * scale));
+                all.extend(off.to_line_paths(1e-4 * scale));
+                let nc = off.contours.len();
+                for (q, path) in all.iter().enumerate() {
+                    let c = &off.contours[q % nc];
                     assert!(path.max_gap() < 1e-8 * scale, "gap {}", path.max_gap());
                     let flat = path.flatten(1e-5 * scale);
                     for p in &c.pieces {
@@ -775,6 +868,60 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn real_touching_points_give_intersection_free_outline() {
+        // Touching points from the Kunkli–Hoffmann construction (skin::touching), outline
+        // checked by the independent curve–curve checker (skin::intersect).
+        for (rot, scale, rev) in [(0.0, 1.0, false), (2.2, 4.0, true)] {
+            let cs = transform(&gentle(), rot, scale, DVec2::new(3.0, 1.0), rev);
+            let tps = crate::skin::touching::touching_points(&cs, false, 1e-9).unwrap();
+            let touches: Vec<Touch> = tps
+                .iter()
+                .map(|t| Touch::Fixed {
+                    plus: t.left,
+                    minus: t.right,
+                })
+                .collect();
+            for interp in [Interp::Cubic, Interp::PhQuintic] {
+                let skin = ReSkin::build(&cs, &touches, false, interp, 1e-9 * scale).unwrap();
+                for (i, tp) in tps.iter().enumerate() {
+                    let s = i.min(skin.segments.len() - 1);
+                    let t = if i == skin.segments.len() { 1.0 } else { 0.0 };
+                    let fr = skin.segments[s].curve.frame(t).unwrap();
+                    assert!((fr.offset(Branch::Plus, 0.0).0 - tp.left).length() < 1e-9 * scale);
+                    assert!((fr.offset(Branch::Minus, 0.0).0 - tp.right).length() < 1e-9 * scale);
+                }
+                assert!(envelope_loops(&skin, 1e-10).unwrap().is_empty());
+                let path = &outline(&skin).unwrap().to_cubic_paths(1e-6 * scale)[0];
+                let hits = crate::skin::intersect::path_self_intersections(path, 1e-9 * scale);
+                assert!(hits.is_empty(), "{interp:?}: {hits:?}");
+                let off = inner_offset(&skin, 0.6 * scale, 1e-12).unwrap();
+                for p in off.to_cubic_paths(1e-6 * scale) {
+                    assert!(
+                        crate::skin::intersect::path_self_intersections(&p, 1e-9 * scale)
+                            .is_empty()
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn envelope_loops_are_reported() {
+        // The snake's right envelope runs backwards at the start of segment 2 (τ⁻ < 0).
+        let cs = super::super::re::skin::tests::snake();
+        let skin = skin_of(&cs, Interp::Cubic);
+        let loops = envelope_loops(&skin, 1e-10).unwrap();
+        assert!(!loops.is_empty());
+        for &(b, lo, hi) in &loops {
+            assert!(hi > lo);
+            let g = 0.5 * (lo + hi);
+            let (s, t) = (g.floor() as usize, g - g.floor());
+            let fr = skin.segments[s].curve.frame(t).unwrap();
+            assert!(fr.offset(b, 0.0).1.dot(fr.y1) < 0.0);
         }
     }
 
@@ -804,10 +951,74 @@ mod tests {
     }
 
     #[test]
+    fn closed_ring_offsets() {
+        // A ring of circles travelled counter-clockwise; left = inside of the ring.
+        let cs: Vec<Circle> = (0..8)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 8.0;
+                Circle::new(
+                    6.0 * DVec2::new(a.cos(), a.sin()),
+                    1.0 + 0.3 * (k % 2) as f64,
+                )
+            })
+            .collect();
+        let touches: Vec<Touch> = cs
+            .iter()
+            .map(|c| {
+                let n = c.c.normalize();
+                Touch::Fixed {
+                    plus: c.c - c.r * n,
+                    minus: c.c + c.r * n,
+                }
+            })
+            .collect();
+        let skin = ReSkin::build(&cs, &touches, true, Interp::Cubic, 1e-9).unwrap();
+        // δ below every radius: two loops, no trims.
+        let off = inner_offset(&skin, 0.5, 1e-12).unwrap();
+        assert!(off.trims.is_empty());
+        assert_eq!(off.contours.len(), 2);
+        // δ between the radii 1.0 and 1.3: the ring is cut at every thin circle.
+        let off = inner_offset(&skin, 1.1, 1e-12).unwrap();
+        assert_eq!(off.trims.len(), 8);
+        assert_eq!(off.contours.len(), 4);
+        for (path, c) in off.to_line_paths(1e-5).iter().zip(&off.contours) {
+            assert!(path.max_gap() < 1e-8, "gap {}", path.max_gap());
+            assert!(c.pieces.iter().all(|p| matches!(p, Piece::Curve { .. })));
+        }
+        for tp in &off.trims {
+            let fr = skin.segments[tp.segment].curve.frame(tp.t).unwrap();
+            assert!((fr.r - 1.1).abs() < 1e-9);
+        }
+        let ol = outline(&skin).unwrap();
+        assert_eq!(ol.contours.len(), 2);
+    }
+
+    #[test]
+    fn outline_is_closed_and_touches_circles() {
+        let skin = skin_of(&gentle(), Interp::PhQuintic);
+        let ol = outline(&skin).unwrap();
+        assert_eq!(ol.contours.len(), 1);
+        let path = &ol.to_cubic_paths(1e-6)[0];
+        assert!(path.max_gap() < 1e-9);
+        // Clockwise (left skin forward, end cap, right skin back, start cap).
+        assert!(crate::geom::path::polygon_area(&path.flatten(1e-4)) < 0.0);
+        for (i, c) in skin.circles.iter().enumerate() {
+            let w = skin.touches[i].plus();
+            let d = path
+                .flatten(1e-6)
+                .iter()
+                .map(|p| p.distance(w))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d < 1e-3, "circle {i}: {d}");
+            assert!(c.signed_distance(w).abs() < 1e-12);
+        }
+    }
+
+    #[test]
     fn outer_offset_is_at_distance_delta_and_loops_are_cut() {
         let cs = gentle();
         let skin = skin_of(&cs, Interp::Cubic);
-        let pts = outline(&skin);
+        let pts = outline_samples(&skin);
         for delta in [0.2, 1.5] {
             let off = outer_offset(&skin, delta, 1e-12).unwrap();
             assert_eq!(off.contours.len(), 1);

@@ -16,6 +16,10 @@ pub struct EliminateOptions {
     pub u_samples: usize,
     /// Try tuning u of flexible circles first.
     pub try_u: bool,
+    /// The "combined" method (mph Sec. 3.2): also release the right touching point of a
+    /// [`Touch::Fixed`] circle (keeping W⁺, starting from the u that reproduces W⁻) when
+    /// that removes the intersection.
+    pub unfix: bool,
     /// Try the quartic f with free k.
     pub try_k: bool,
     /// Subdivision depth limit of the positivity proof.
@@ -29,6 +33,7 @@ impl Default for EliminateOptions {
         EliminateOptions {
             u_samples: 64,
             try_u: true,
+            unfix: false,
             try_k: true,
             max_depth: 30,
             k_max_rel: 1e6,
@@ -187,16 +192,30 @@ fn tune_u(
 ) -> Result<Option<PairFix>, ReError> {
     let (i, j) = (skin.segments[s].i, skin.segments[s].j);
     for c in [j, i] {
-        let Some(Touch::Flexible { u: u0, .. }) = skin.touches.get(c).copied() else {
-            continue;
+        let u0 = match skin.touches.get(c).copied() {
+            Some(Touch::Flexible { u, .. }) => u,
+            Some(Touch::Fixed { plus, .. }) if opts.unfix => {
+                let (Some(circle), Some(&t)) = (skin.circles.get(c), skin.tangents.get(c)) else {
+                    continue;
+                };
+                let Some(u) = super::tangents::u_of_tangent(circle, plus, t) else {
+                    continue;
+                };
+                u
+            }
+            _ => continue,
         };
+        let mut base = skin.clone();
+        if let Some(Touch::Fixed { plus, .. }) = base.touches.get(c).copied() {
+            base.touches[c] = Touch::Flexible { plus, u: u0 };
+        }
         let n = opts.u_samples.max(1);
         let mut cands: Vec<f64> = (1..=n)
             .map(|k| std::f64::consts::PI * k as f64 / (n + 1) as f64)
             .collect();
         cands.sort_by(|a, b| (a - u0).abs().total_cmp(&(b - u0).abs()));
         for u in cands {
-            let mut trial = skin.clone();
+            let mut trial = base.clone();
             if trial.set_u(c, u).is_err() {
                 continue;
             }
@@ -229,7 +248,7 @@ mod tests {
     /// Two circles far apart with touching points rotated against the travel direction:
     /// long Hermite tangents make f̃ small while f̃′ is strongly negative, so the cubic f
     /// dips below zero (a planted f-root intersection).
-    fn planted(flexible: bool) -> ReSkin {
+    fn planted(flexible: Option<usize>) -> ReSkin {
         let cs = vec![
             Circle::new(DVec2::ZERO, 1.0),
             Circle::new(DVec2::new(2.5, 0.0), 1.0),
@@ -240,12 +259,12 @@ mod tests {
             minus: c.point_at(-a),
         };
         let mut touches = vec![fixed(&cs[0]), fixed(&cs[1])];
-        if flexible {
+        if let Some(c) = flexible {
             // The same touching points, as a flexible circle (u reproduces W⁻).
-            let t = super::super::tangents::tangent_for(&cs[1], 1, &touches[1], 1e-9).unwrap();
-            let u = super::super::tangents::u_of_tangent(&cs[1], cs[1].point_at(a), t).unwrap();
-            touches[1] = Touch::Flexible {
-                plus: cs[1].point_at(a),
+            let t = super::super::tangents::tangent_for(&cs[c], c, &touches[c], 1e-9).unwrap();
+            let u = super::super::tangents::u_of_tangent(&cs[c], cs[c].point_at(a), t).unwrap();
+            touches[c] = Touch::Flexible {
+                plus: cs[c].point_at(a),
                 u,
             };
         }
@@ -254,7 +273,7 @@ mod tests {
 
     #[test]
     fn quartic_k_removes_planted_f_roots() {
-        let mut skin = planted(false);
+        let mut skin = planted(None);
         let before = detect(&skin, 1e-12);
         assert!(
             before.iter().any(|h| h.kind == IntersectionKind::FZero),
@@ -281,34 +300,75 @@ mod tests {
         );
     }
 
+    fn assert_cleared(skin: &ReSkin) {
+        assert!(matches!(
+            prove_positive(&skin.segments[0].curve.f, 30),
+            Positivity::Proven { .. }
+        ));
+        assert!((0..=1000).all(|i| skin.segments[0].curve.f.eval(i as f64 / 1000.0) > 0.0));
+        assert!(
+            detect(skin, 1e-12)
+                .iter()
+                .all(|h| h.kind != IntersectionKind::FZero)
+        );
+    }
+
     #[test]
     fn tuning_u_or_failing_is_reported() {
-        let mut skin = planted(true);
+        let opts = EliminateOptions {
+            try_k: false,
+            ..Default::default()
+        };
+        // Circle 1 flexible: no u of it clears the pair; reported as failed.
+        let mut skin = planted(Some(1));
         assert!(
             detect(&skin, 1e-12)
                 .iter()
                 .any(|h| h.kind == IntersectionKind::FZero)
         );
-        let opts = EliminateOptions {
+        let res = eliminate(&mut skin, &opts).unwrap();
+        assert_eq!(
+            res[0].fix,
+            PairFix::Failed {
+                reason: FailReason::NoUNoK
+            }
+        );
+        // Circle 0 flexible: tuning its u works.
+        let mut skin = planted(Some(0));
+        assert!(
+            detect(&skin, 1e-12)
+                .iter()
+                .any(|h| h.kind == IntersectionKind::FZero)
+        );
+        let res = eliminate(&mut skin, &opts).unwrap();
+        let PairFix::TunedU { circle, u } = res[0].fix else {
+            panic!("{res:?}")
+        };
+        assert_eq!(circle, 0);
+        assert!(u > 0.0 && u < std::f64::consts::PI);
+        assert_cleared(&skin);
+        // The combined method: a fixed circle may be released (W⁺ kept exactly).
+        let mut skin = planted(None);
+        let opts_unfix = EliminateOptions {
             try_k: false,
+            unfix: true,
             ..Default::default()
         };
-        let res = eliminate(&mut skin, &opts).unwrap();
-        match res[0].fix {
-            PairFix::TunedU { circle, u } => {
-                assert_eq!(circle, 1);
-                assert!(u > 0.0 && u < std::f64::consts::PI);
-                assert!(matches!(
-                    prove_positive(&skin.segments[0].curve.f, 30),
-                    Positivity::Proven { .. }
-                ));
-                assert!((0..=1000).all(|i| skin.segments[0].curve.f.eval(i as f64 / 1000.0) > 0.0));
-            }
-            PairFix::Failed { reason } => assert_eq!(reason, FailReason::NoUNoK),
-            other => panic!("{other:?}"),
-        }
+        let res = eliminate(&mut skin, &opts_unfix).unwrap();
+        let PairFix::TunedU { circle, .. } = res[0].fix else {
+            panic!("{res:?}")
+        };
+        assert!(matches!(skin.touches[circle], Touch::Flexible { .. }));
+        assert_cleared(&skin);
+        let w = skin.touches[circle].plus();
+        let t = if circle == skin.segments[0].j {
+            1.0
+        } else {
+            0.0
+        };
+        assert!((skin.segments[0].curve.x(t) - w).length() < 1e-12);
         // With both ways disabled the pair is reported as failed.
-        let mut skin = planted(false);
+        let mut skin = planted(None);
         let opts = EliminateOptions {
             try_k: false,
             try_u: false,

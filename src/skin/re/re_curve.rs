@@ -317,6 +317,36 @@ impl ReCurve {
         })
     }
 
+    /// Only the point y + (r + d) m± of [`Frame::offset`], without second derivatives
+    /// (cheaper, for fitting and sampling). `None` where x′ = 0 or y′ = 0.
+    pub fn offset_point(&self, b: Branch, d: f64, t: f64) -> Option<DVec2> {
+        let x = self.x(t);
+        let x1 = d2(&self.d[0], &self.d[1], t);
+        let x2 = d2(&self.d[2], &self.d[3], t);
+        let f = self.f.eval(t);
+        let f1 = self.df[0].eval(t);
+        let s = x1.length();
+        if s.is_nan() || s <= 0.0 {
+            return None;
+        }
+        let y = x + f * rot_cw(x1);
+        let r = f * s;
+        let m_plus = -rot_cw(x1) / s;
+        let m = match b {
+            Branch::Plus => m_plus,
+            Branch::Minus => {
+                let y1 = x1 + f1 * rot_cw(x1) + f * rot_cw(x2);
+                let l = y1.length_squared();
+                if l.is_nan() || l <= 0.0 {
+                    return None;
+                }
+                let r1 = f1 * s + f * x1.dot(x2) / s;
+                -m_plus - 2.0 * r1 * y1 / l
+            }
+        };
+        Some(y + (r + d) * m)
+    }
+
     /// Envelope point by the rational formula: x⁺ = x(t), x⁻ = y + r m⁻ (mirror image of
     /// x in the tangent line of y).
     pub fn envelope(&self, b: Branch, t: f64) -> Option<DVec2> {
@@ -419,6 +449,11 @@ mod tests {
                     assert!((a - b).length() < 1e-10, "{interp:?} {br:?} t={t}");
                 }
                 assert!((c.envelope(Branch::Plus, t).unwrap() - c.x(t)).length() < 1e-14);
+                for br in [Branch::Plus, Branch::Minus] {
+                    let fr = c.frame(t).unwrap();
+                    let a = c.offset_point(br, -0.3, t).unwrap();
+                    assert!((a - fr.offset(br, -0.3).0).length() < 1e-13);
+                }
             }
         }
     }

@@ -141,8 +141,11 @@ impl ReSkin {
             return Err(ReError::NotFlexible { index: c });
         };
         let touch = Touch::Flexible { plus, u };
-        let circle = self.circles[c];
+        let circle = *self.circles.get(c).ok_or(ReError::BadIndex { index: c })?;
         let t = tangent_for(&circle, c, &touch, f64::INFINITY)?;
+        if c >= self.tangents.len() {
+            return Err(ReError::BadIndex { index: c });
+        }
         self.touches[c] = touch;
         self.tangents[c] = t;
         for s in 0..self.segments.len() {
