@@ -12,7 +12,7 @@
 //!
 //! Closed sequences are cyclic: every circle is an inner circle with two neighbours.
 
-use super::intersect::BoxIndex;
+use super::intersect::SeqBvh;
 use crate::geom::{Circle, DVec2, cross};
 use std::f64::consts::PI;
 
@@ -146,8 +146,9 @@ pub fn check_admissible(
             });
         }
     }
-    // Condition 1 (and strict disjointness): neighbours from a grid index of the disks' boxes.
-    let tree = BoxIndex::new(circles.iter().map(bbox).collect());
+    // Condition 1 (and strict disjointness): neighbours from a bounding-volume hierarchy of
+    // the disks' boxes in sequence order.
+    let tree = SeqBvh::new(circles.iter().map(bbox).collect());
     let mut cand: Vec<usize> = Vec::new();
     let mut nbrs: Vec<usize> = Vec::new();
     for (i, ci) in circles.iter().enumerate() {
