@@ -17,6 +17,7 @@ pub mod dbsc;
 pub mod design;
 pub mod emit;
 pub mod geom;
+pub mod job;
 pub mod machine;
 pub mod sim;
 pub mod skin;

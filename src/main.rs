@@ -1,3 +1,7 @@
-fn main() {
-    use glam as _;
+//! The `skinpath` command: parse arguments, run the subcommand, map errors to exit codes.
+
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::run()
 }

@@ -10,5 +10,6 @@ pub mod ops;
 pub mod order;
 pub mod plan;
 pub mod region;
+pub mod stats;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

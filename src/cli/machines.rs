@@ -1,0 +1,22 @@
+//! `skinpath machines`: the shipped machine profiles.
+
+use anyhow::Result;
+use skinpath::machine::builtin_profiles;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {}
+
+pub fn run(_a: Args) -> Result<u8> {
+    let profiles = builtin_profiles()?;
+    let width = profiles.iter().map(|p| p.name.len()).max().unwrap_or(0);
+    for p in &profiles {
+        println!(
+            "{:width$}  {:7}  {}",
+            p.name,
+            format!("{:?}", p.kind).to_lowercase(),
+            p.description
+        );
+    }
+    println!("\nUse one with --machine NAME, or pass the path of your own profile (.toml).");
+    Ok(0)
+}

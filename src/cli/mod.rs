@@ -1,0 +1,57 @@
+//! The command line: one file per subcommand. This is the only place that touches files,
+//! processes and the terminal; everything else is the library.
+
+mod build;
+mod check;
+mod inspect;
+pub mod io;
+mod machines;
+mod outline;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// skinpath: variable-width strokes to intersection-free outlines and machine-ready
+/// toolpaths.
+#[derive(Parser, Debug)]
+#[command(name = "skinpath", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Outline every stroke of a design: SVG drawing (.svg) or outline JSON (.json).
+    Outline(outline::Args),
+    /// Report on a design: knots, lengths, radii, envelope loops, skin approximation.
+    Inspect(inspect::Args),
+    /// Build machine output (G-code, laser SVG or DXF) from a design for a machine profile.
+    Build(build::Args),
+    /// Check a G-code program (from any tool) for faults; exit 1 when something fails.
+    Check(check::Args),
+    /// List the machine profiles shipped with skinpath.
+    Machines(machines::Args),
+}
+
+/// Exit status for input that cannot be used (bad file, bad design, bad options).
+pub const EXIT_UNUSABLE: u8 = 2;
+
+/// Parse the arguments, run the command, print errors a person can act on.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Outline(a) => outline::run(a),
+        Command::Inspect(a) => inspect::run(a),
+        Command::Build(a) => build::run(a),
+        Command::Check(a) => check::run(a),
+        Command::Machines(a) => machines::run(a),
+    };
+    match result {
+        Ok(code) => ExitCode::from(code),
+        Err(e) => {
+            eprintln!("skinpath: error: {e:#}");
+            ExitCode::from(EXIT_UNUSABLE)
+        }
+    }
+}

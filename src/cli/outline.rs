@@ -1,0 +1,78 @@
+//! `skinpath outline DESIGN -o OUT`: the outline drawing (SVG) or document (JSON).
+
+use super::io;
+use anyhow::{Context, Result, bail};
+use skinpath::design::OutlineMethod;
+use skinpath::job::outline::{OutlineOptions, outline_document};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (.toml or .json).
+    design: PathBuf,
+    /// Output file: .svg for a drawing, .json for the outline document.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Outline method: skin (intersection-free, default) or envelope (the raw boundary).
+    #[arg(long, value_parser = ["skin", "envelope"])]
+    method: Option<String>,
+    /// Flattening tolerance of the drawn contours, in design units.
+    #[arg(long)]
+    tolerance: Option<f64>,
+    /// Skin approximation accuracy ε, in design units.
+    #[arg(long)]
+    epsilon: Option<f64>,
+    /// Also draw the control disks.
+    #[arg(long)]
+    control_disks: bool,
+}
+
+pub fn run(a: Args) -> Result<u8> {
+    let ext = io::extension(&a.output);
+    if ext != "svg" && ext != "json" {
+        bail!(
+            "{}: the output must end in .svg or .json",
+            a.output.display()
+        );
+    }
+    io::refuse_overwriting_inputs(&a.output, &[&a.design])?;
+    let text = io::read_text(&a.design)?;
+    let design = skinpath::design::load(&text, &a.design.display().to_string())?;
+    let mut opts = OutlineOptions::default();
+    if let Some(o) = &design.outline {
+        if let Some(m) = o.method {
+            opts.method = m;
+        }
+        if let Some(t) = o.tolerance {
+            opts.tolerance = t;
+        }
+    }
+    if let Some(m) = a.method.as_deref() {
+        opts.method = if m == "envelope" {
+            OutlineMethod::Envelope
+        } else {
+            OutlineMethod::Skin
+        };
+    }
+    if let Some(t) = a.tolerance {
+        opts.tolerance = t;
+    }
+    if let Some(e) = a.epsilon {
+        opts.epsilon = e;
+    }
+    opts.control_disks = a.control_disks;
+    for (name, v) in [("--tolerance", opts.tolerance), ("--epsilon", opts.epsilon)] {
+        if !(v.is_finite() && v > 0.0) {
+            bail!("{name} must be a positive number, got {v}");
+        }
+    }
+    let doc = outline_document(&design, &opts)?;
+    let body = if ext == "svg" {
+        doc.to_svg()
+    } else {
+        doc.to_json()
+    };
+    io::write_atomic(&a.output, body.as_bytes())
+        .with_context(|| format!("writing {}", a.output.display()))?;
+    Ok(0)
+}

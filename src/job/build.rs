@@ -1,0 +1,550 @@
+//! From a design and a machine profile to an ordered toolpath: each `[[operation]]` of the
+//! design (or, with none, one profile of every outline) becomes operation geometry
+//! ([`crate::toolpath::ops`]) and is planned into cuts ([`crate::toolpath::plan`]).
+//!
+//! Defaults where the design is silent, as a shop CAM would choose them:
+//! - profile side: on the line for lasers, outside for routers (the part keeps its size);
+//! - feed: half the machine's slower XY maximum; power: 100 %;
+//! - router depth per pass: the tool diameter (a conservative full-width step);
+//! - backboard margin 5 mm (scaled to the design's units), inner corner radius = tool radius;
+//! - concentric and pocket stepover: 40 % of the tool diameter.
+
+use super::JobError;
+use super::outline::{ItemOutline, OutlineOptions, design_outlines};
+use crate::dbsc::DiskBSpline;
+use crate::design::{Design, FillPattern, HoleAt, Operation, OperationKind, ProfileSide};
+use crate::geom::{DVec2, Path};
+use crate::machine::{MachineKind, Profile, Tool, ToolKind};
+use crate::toolpath::cut::{Lead, Tabs};
+use crate::toolpath::ops::{self, Hole};
+use crate::toolpath::plan::{Geometry, OpSpec, PlanStats, plan};
+use crate::toolpath::region::Region;
+use crate::toolpath::{OperationKind as TpKind, Toolpath};
+use glam::DVec3;
+
+/// Options of a build.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildOptions {
+    /// Arc fitting and flattening tolerance of the toolpath (design units).
+    pub tolerance: f64,
+    /// Skin approximation ε (design units).
+    pub epsilon: f64,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions {
+            tolerance: crate::geom::tol::FLATTEN * 10.0,
+            epsilon: crate::geom::tol::SKIN_EPSILON,
+        }
+    }
+}
+
+/// Stepover of concentric clearing as a fraction of the tool diameter.
+const STEPOVER: f64 = 0.4;
+/// Default backboard margin in millimetres.
+const BACKBOARD_MARGIN_MM: f64 = 5.0;
+/// Spacing of V-carve samples along the spine, in millimetres: the chord sagitta
+/// s²/(8ρ) stays below 8 µm wherever the spine's curvature radius ρ ≥ 1 mm.
+const VCARVE_STEP_MM: f64 = 0.25;
+
+/// The result of a build.
+#[derive(Clone, Debug)]
+pub struct BuildResult {
+    pub toolpath: Toolpath,
+    pub stats: Vec<PlanStats>,
+    /// Outlines of the design's items (for gouge checks and previews).
+    pub outlines: Vec<ItemOutline>,
+}
+
+struct Ctx<'a> {
+    design: &'a Design,
+    profile: &'a Profile,
+    strokes: Vec<DiskBSpline>,
+    outlines: Vec<ItemOutline>,
+    tol: f64,
+    /// Design units per millimetre.
+    per_mm: f64,
+}
+
+fn op_err(ctx: &Ctx, index: usize, op: &Operation, message: impl Into<String>) -> JobError {
+    JobError::Operation {
+        file: ctx.design.file.clone(),
+        index,
+        kind: op.kind.as_str().to_string(),
+        message: message.into(),
+    }
+}
+
+impl Ctx<'_> {
+    fn laser(&self) -> bool {
+        !matches!(self.profile.kind, MachineKind::Router)
+    }
+
+    /// Names of the items an operation applies to (all when unset).
+    fn selected(&self, op: &Operation) -> Vec<usize> {
+        match &op.strokes {
+            None => (0..self.outlines.len()).collect(),
+            Some(names) => (0..self.outlines.len())
+                .filter(|&i| names.iter().any(|n| *n == self.outlines[i].name))
+                .collect(),
+        }
+    }
+
+    fn region(&self, items: &[usize]) -> Region {
+        let regions: Vec<Region> = items
+            .iter()
+            .map(|&i| Region::from_paths(&self.outlines[i].contours, self.tol))
+            .collect();
+        if regions.len() == 1 {
+            regions.into_iter().next().unwrap_or_default()
+        } else {
+            Region::union(&regions, self.tol)
+        }
+    }
+
+    fn tool(&self, want: &[ToolKind]) -> Option<&Tool> {
+        self.profile
+            .tools
+            .iter()
+            .find(|t| want.contains(&t.kind))
+            .or(self.profile.tools.first())
+    }
+
+    fn default_feed(&self) -> f64 {
+        0.5 * self.profile.max_feed.x.min(self.profile.max_feed.y)
+    }
+
+    fn plunge_feed(&self) -> f64 {
+        self.profile
+            .router
+            .as_ref()
+            .map(|r| r.plunge_feed)
+            .unwrap_or_else(|| self.default_feed())
+    }
+}
+
+fn spec(
+    ctx: &Ctx,
+    name: String,
+    kind: TpKind,
+    op: &Operation,
+    geometry: Geometry,
+    tool: Option<&Tool>,
+) -> OpSpec {
+    let laser = ctx.laser();
+    let depth = if laser { 0.0 } else { op.depth.unwrap_or(0.0) };
+    let passes = op.passes.unwrap_or(1).max(1) as usize;
+    let step_down = op.step_down.unwrap_or_else(|| {
+        if depth > 0.0 && op.passes.is_some() {
+            depth / passes as f64
+        } else {
+            tool.map(|t| t.diameter)
+                .filter(|d| *d > 0.0)
+                .unwrap_or(depth.max(1.0))
+        }
+    });
+    let tool_d = tool.map(|t| 2.0 * t.radius()).unwrap_or(0.0);
+    OpSpec {
+        name,
+        kind,
+        geometry,
+        sources: Vec::new(),
+        depth,
+        step_down,
+        repeat: if laser { passes } else { 1 },
+        feed: op.feed.unwrap_or_else(|| ctx.default_feed()),
+        plunge_feed: ctx.plunge_feed(),
+        power: op.power.map(|p| p / 100.0).unwrap_or(1.0),
+        tabs: op.tabs.as_ref().map(|t| Tabs {
+            count: t.count as usize,
+            width: t.width + tool_d,
+            height: t.height,
+        }),
+        lead: match op.lead_in {
+            Some(l) if l > 0.0 => Lead::Arc(l),
+            _ => Lead::None,
+        },
+        dwell: ctx
+            .profile
+            .laser
+            .as_ref()
+            .map(|l| l.pierce_dwell)
+            .unwrap_or(0.0),
+    }
+}
+
+fn paths_with_sources(
+    ctx: &Ctx,
+    items: &[usize],
+    f: impl Fn(&Region) -> Vec<Path>,
+) -> (Vec<Path>, Vec<String>) {
+    let mut paths = Vec::new();
+    let mut sources = Vec::new();
+    for &i in items {
+        let r = Region::from_paths(&ctx.outlines[i].contours, ctx.tol);
+        for p in f(&r) {
+            paths.push(p);
+            sources.push(ctx.outlines[i].name.clone());
+        }
+    }
+    (paths, sources)
+}
+
+fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
+    let name = &ctx.outlines[item].name;
+    ctx.design
+        .stroke
+        .iter()
+        .position(|s| &s.name == name)
+        .map(|k| &ctx.strokes[k])
+}
+
+/// Parameter samples of a stroke's spine about `step` apart along its length.
+fn spine_params(c: &DiskBSpline, step: f64) -> Vec<f64> {
+    let (lo, hi) = c.domain();
+    let coarse = 256;
+    let len: f64 = (0..coarse)
+        .map(|i| {
+            let a = lo + (hi - lo) * i as f64 / coarse as f64;
+            let b = lo + (hi - lo) * (i + 1) as f64 / coarse as f64;
+            c.center(a).distance(c.center(b))
+        })
+        .sum();
+    let n = ((len / step).ceil() as usize).clamp(8, 1 << 20);
+    (0..=n)
+        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+        .collect()
+}
+
+fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec>, JobError> {
+    let items = ctx.selected(op);
+    let laser = ctx.laser();
+    let name = format!("{} {}", op.kind.as_str(), index + 1);
+    let eps = ctx.tol * 0.1;
+    if !laser && op.depth.is_none() && !matches!(op.kind, OperationKind::Vcarve) {
+        return Err(op_err(ctx, index, op, "a router operation needs `depth`"));
+    }
+    let mill = [ToolKind::Endmill, ToolKind::Ballnose, ToolKind::Beam];
+    let out = match op.kind {
+        OperationKind::Profile => {
+            let tool = ctx.tool(&mill);
+            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let side = match op.side {
+                Some(ProfileSide::On) => ops::ProfileSide::On,
+                Some(ProfileSide::Inside) => ops::ProfileSide::Inside,
+                Some(ProfileSide::Outside) => ops::ProfileSide::Outside,
+                None if laser => ops::ProfileSide::On,
+                None => ops::ProfileSide::Outside,
+            };
+            // Crossing strokes make one outline: profile the union when they overlap.
+            let region = ctx.region(&items);
+            let paths = ops::profile(&region, side, r, eps);
+            vec![spec(
+                ctx,
+                name,
+                TpKind::Profile,
+                op,
+                Geometry::Paths(paths),
+                tool,
+            )]
+        }
+        OperationKind::Channel => {
+            let tool = ctx.tool(&mill);
+            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let width = op
+                .width
+                .ok_or_else(|| op_err(ctx, index, op, "a channel needs `width`"))?;
+            if 2.0 * r > width {
+                return Err(op_err(
+                    ctx,
+                    index,
+                    op,
+                    format!(
+                        "the tool ({:.3} wide) is wider than the channel ({width})",
+                        2.0 * r
+                    ),
+                ));
+            }
+            let regions: Vec<Region> = items
+                .iter()
+                .filter_map(|&i| spine_of(ctx, i))
+                .map(|c| {
+                    let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
+                    ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol)
+                })
+                .collect();
+            // Crossing channels merge into one pocket.
+            let region = Region::union(&regions, ctx.tol);
+            let step = (STEPOVER * 2.0 * r).max(ctx.tol);
+            let paths = if laser {
+                ops::profile(&region, ops::ProfileSide::On, 0.0, eps)
+            } else {
+                ops::concentric(&region, r, step, 10_000, eps)
+            };
+            vec![spec(
+                ctx,
+                name,
+                TpKind::Channel,
+                op,
+                Geometry::Paths(paths),
+                tool,
+            )]
+        }
+        OperationKind::Backboard => {
+            let tool = ctx.tool(&mill);
+            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let regions: Vec<Region> = items
+                .iter()
+                .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
+                .collect();
+            let margin = op.margin.unwrap_or(BACKBOARD_MARGIN_MM * ctx.per_mm);
+            let rho = op.min_inner_radius.unwrap_or(r);
+            let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
+            let paths = ops::profile(&board, ops::ProfileSide::Outside, r, eps);
+            vec![spec(
+                ctx,
+                name,
+                TpKind::Backboard,
+                op,
+                Geometry::Paths(paths),
+                tool,
+            )]
+        }
+        OperationKind::Holes => {
+            let tool = ctx.tool(&mill);
+            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let d = op
+                .diameter
+                .ok_or_else(|| op_err(ctx, index, op, "holes need `diameter`"))?;
+            let at = op.at.unwrap_or_default();
+            let mut points = Vec::new();
+            let mut sources = Vec::new();
+            for &i in &items {
+                let ends: Vec<DVec2> = if let Some(c) = spine_of(ctx, i) {
+                    if c.is_closed() {
+                        continue;
+                    }
+                    let (lo, hi) = c.domain();
+                    vec![c.center(lo), c.center(hi)]
+                } else {
+                    let k = ctx
+                        .design
+                        .circles
+                        .iter()
+                        .position(|s| s.name == ctx.outlines[i].name);
+                    match k.map(|k| &ctx.design.circles[k]) {
+                        Some(seq) if !seq.closed && !seq.circles.is_empty() => {
+                            let f = seq.circles[0];
+                            let l = seq.circles[seq.circles.len() - 1];
+                            vec![DVec2::new(f[0], f[1]), DVec2::new(l[0], l[1])]
+                        }
+                        _ => continue,
+                    }
+                };
+                let chosen: Vec<DVec2> = match at {
+                    HoleAt::Ends => ends,
+                    HoleAt::Start => vec![ends[0]],
+                    HoleAt::End => vec![ends[1]],
+                };
+                for p in chosen {
+                    points.push(p);
+                    sources.push(ctx.outlines[i].name.clone());
+                }
+            }
+            let mut circles = Vec::new();
+            let mut circle_src = Vec::new();
+            let mut drills = Vec::new();
+            let mut drill_src = Vec::new();
+            for (h, s) in ops::holes(&points, d, r).into_iter().zip(sources) {
+                match h {
+                    Hole::Circle(p) => {
+                        circles.push(p);
+                        circle_src.push(s);
+                    }
+                    Hole::Drill(p) => {
+                        drills.push(p);
+                        drill_src.push(s);
+                    }
+                }
+            }
+            let mut v = Vec::new();
+            if !drills.is_empty() {
+                let mut s = spec(
+                    ctx,
+                    format!("{name} drill"),
+                    TpKind::Holes,
+                    op,
+                    Geometry::Points(drills),
+                    tool,
+                );
+                s.sources = drill_src;
+                v.push(s);
+            }
+            if !circles.is_empty() {
+                let mut s = spec(ctx, name, TpKind::Holes, op, Geometry::Paths(circles), tool);
+                s.sources = circle_src;
+                v.push(s);
+            }
+            v
+        }
+        OperationKind::Fill => {
+            let tool = ctx.tool(&mill);
+            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let spacing = op
+                .spacing
+                .ok_or_else(|| op_err(ctx, index, op, "a fill needs `spacing`"))?;
+            let angle = op.angle.unwrap_or(0.0).to_radians();
+            let alternate = op.alternate.unwrap_or(true);
+            let cross = op.cross_hatch.unwrap_or(false);
+            let (paths, sources) = paths_with_sources(ctx, &items, |region| {
+                // Keep the tool inside: hatch the region shrunk by the tool radius.
+                let inner = if r > 0.0 {
+                    region.offset(-r, eps)
+                } else {
+                    region.clone()
+                };
+                match op.pattern.unwrap_or_default() {
+                    FillPattern::Hatch => {
+                        let mut p = ops::hatch(&inner, angle, spacing, alternate, ctx.tol);
+                        if cross {
+                            p.extend(ops::hatch(
+                                &inner,
+                                angle + std::f64::consts::FRAC_PI_2,
+                                spacing,
+                                alternate,
+                                ctx.tol,
+                            ));
+                        }
+                        p
+                    }
+                    FillPattern::Concentric => {
+                        ops::concentric(region, r.max(spacing / 2.0), spacing, 10_000, eps)
+                    }
+                }
+            });
+            let mut s = spec(ctx, name, TpKind::Fill, op, Geometry::Paths(paths), tool);
+            s.sources = sources;
+            vec![s]
+        }
+        OperationKind::Vcarve => {
+            let tool = ctx.tool(&[ToolKind::Vbit]);
+            let angle = op
+                .angle
+                .or(tool.filter(|t| t.kind == ToolKind::Vbit).map(|t| t.angle))
+                .ok_or_else(|| {
+                    op_err(
+                        ctx,
+                        index,
+                        op,
+                        "a V-carve needs `angle` or a V-bit in the machine profile",
+                    )
+                })?
+                .to_radians();
+            let max_depth = op.max_depth.or(op.depth).unwrap_or(f64::INFINITY);
+            let step = VCARVE_STEP_MM * ctx.per_mm;
+            let mut lines = Vec::new();
+            let mut sources = Vec::new();
+            let mut flats = Vec::new();
+            let mut flat_src = Vec::new();
+            for &i in &items {
+                let Some(c) = spine_of(ctx, i) else { continue };
+                let pts: Vec<DVec3> = spine_params(c, step)
+                    .into_iter()
+                    .map(|t| {
+                        let q = c.center(t);
+                        let z = if laser {
+                            0.0
+                        } else {
+                            ops::vcarve_depth(c.radius(t), angle, max_depth)
+                        };
+                        DVec3::new(q.x, q.y, z)
+                    })
+                    .collect();
+                lines.push(pts);
+                sources.push(ctx.outlines[i].name.clone());
+                if !laser && max_depth.is_finite() {
+                    let region = Region::from_paths(&ctx.outlines[i].contours, ctx.tol);
+                    let flat = ops::vcarve_flat_region(&region, angle, max_depth, eps);
+                    let w = 2.0 * max_depth * (angle / 2.0).tan();
+                    for p in ops::concentric(&flat, 0.0, (STEPOVER * w).max(ctx.tol), 10_000, eps) {
+                        flats.push(p);
+                        flat_src.push(ctx.outlines[i].name.clone());
+                    }
+                }
+            }
+            let mut s = spec(
+                ctx,
+                name.clone(),
+                TpKind::VCarve,
+                op,
+                Geometry::Polylines3(lines),
+                tool,
+            );
+            s.sources = sources;
+            let mut v = vec![s];
+            if !flats.is_empty() {
+                let mut f = spec(
+                    ctx,
+                    format!("{name} flat"),
+                    TpKind::VCarve,
+                    op,
+                    Geometry::Paths(flats),
+                    tool,
+                );
+                f.depth = max_depth;
+                f.sources = flat_src;
+                v.push(f);
+            }
+            v
+        }
+    };
+    Ok(out)
+}
+
+/// Plan the whole design for `profile`.
+pub fn build_toolpath(
+    design: &Design,
+    profile: &Profile,
+    opts: &BuildOptions,
+) -> Result<BuildResult, JobError> {
+    if !(opts.tolerance > 0.0 && opts.epsilon > 0.0) {
+        return Err(JobError::Options(format!(
+            "tolerance ({}) and epsilon ({}) must be positive",
+            opts.tolerance, opts.epsilon
+        )));
+    }
+    let outline_opts = OutlineOptions {
+        epsilon: opts.epsilon,
+        tolerance: opts.tolerance,
+        ..OutlineOptions::default()
+    };
+    let outlines = design_outlines(design, &outline_opts)?;
+    let ctx = Ctx {
+        design,
+        profile,
+        strokes: design.strokes()?,
+        outlines,
+        tol: opts.tolerance,
+        per_mm: 1.0 / design.units.mm_per_unit(),
+    };
+    let mut specs = Vec::new();
+    if design.operation.is_empty() {
+        // Any design builds: one profile of every outline.
+        let op = Operation::new(OperationKind::Profile);
+        let mut op = op;
+        if !ctx.laser() {
+            op.depth = Some(3.0 * ctx.per_mm);
+        }
+        specs.extend(operation_specs(&ctx, 0, &op)?);
+    }
+    for (i, op) in design.operation.iter().enumerate() {
+        specs.extend(operation_specs(&ctx, i, op)?);
+    }
+    let (toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
+    Ok(BuildResult {
+        toolpath,
+        stats,
+        outlines: ctx.outlines,
+    })
+}

@@ -1,0 +1,63 @@
+//! Machine profile → checker configuration, and the design boundaries a gouge check
+//! protects. `sim` knows nothing of profiles; this maps one into its plain
+//! [`CheckConfig`].
+
+use super::outline::ItemOutline;
+use crate::geom::path::polygon_area;
+use crate::machine::{Dialect, MachineKind, Profile, Units};
+use crate::sim::{CheckConfig, DesignBoundary, KeepSide};
+
+/// The checker's view of `profile` for a tool of radius `tool_radius` (profile units).
+/// Feeds may range from 1 unit/min up to the fastest axis; S from 0 to the profile's
+/// maximum (a spindle's minimum rpm only applies while it turns, which the profile's
+/// M3/M5 handling ensures).
+pub fn check_config(profile: &Profile, tool_radius: f64) -> CheckConfig {
+    let w = &profile.work_area;
+    let f = &profile.max_feed;
+    let a = &profile.acceleration;
+    CheckConfig {
+        units: match profile.units {
+            Units::Mm => crate::sim::Units::Mm,
+            Units::Inch => crate::sim::Units::Inch,
+        },
+        kind: match profile.kind {
+            MachineKind::Router => crate::sim::MachineKind::Router,
+            _ => crate::sim::MachineKind::Laser,
+        },
+        work_min: [w.x.min(), w.y.min(), w.z.min()],
+        work_max: [w.x.max(), w.y.max(), w.z.max()],
+        safe_z: profile.router.as_ref().map(|r| r.safe_z).unwrap_or(0.0),
+        cut_z: 0.0,
+        max_rate: [f.x, f.y, f.z],
+        feed_min: 1.0,
+        feed_max: f.x.max(f.y).max(f.z),
+        power_min: 0.0,
+        power_max: profile.power.max,
+        accel: [a.x, a.y, a.z],
+        tool_radius,
+        grbl_laser_mode: profile.dialect == Dialect::Grbl && profile.kind == MachineKind::Laser,
+        ..CheckConfig::default()
+    }
+}
+
+/// The outlines as boundaries for the gouge check, flattened within `tol`. With
+/// `parts = true` the outlined shapes are the parts: the tool stays outside outer contours
+/// (counter-clockwise) and inside the holes (clockwise inner contours of closed strokes).
+/// With `parts = false` only the distance counts.
+pub fn design_boundaries(outlines: &[ItemOutline], parts: bool, tol: f64) -> Vec<DesignBoundary> {
+    outlines
+        .iter()
+        .flat_map(|o| o.contours.iter())
+        .map(|p| {
+            let pts = p.flatten(tol);
+            let keep = if !parts {
+                KeepSide::Either
+            } else if polygon_area(&pts) >= 0.0 {
+                KeepSide::Outside
+            } else {
+                KeepSide::Inside
+            };
+            DesignBoundary::new(&pts, keep)
+        })
+        .collect()
+}

@@ -1,0 +1,247 @@
+//! What `skinpath inspect` reports about a design: per stroke its degree, disks, knot
+//! spans, spine length, radius range, spans without an envelope, envelope loops and the
+//! skin approximation report; per circle sequence its size and admissibility.
+
+use super::JobError;
+use super::outline::{OutlineOptions, circles_outline, stroke_outline};
+use crate::dbsc::flatten::flatten_spine;
+use crate::dbsc::{DiskBSpline, Side};
+use crate::design::Design;
+use serde::Serialize;
+
+/// Radius samples per knot span when measuring the radius range (r is a polynomial of
+/// degree p per span; the extremes of the control radii bound it, samples refine it).
+const RADIUS_SAMPLES_PER_SPAN: usize = 64;
+
+#[derive(Clone, Debug, Serialize)]
+pub struct LoopInfo {
+    pub side: Side,
+    pub t: [f64; 2],
+    pub point: Option<[f64; 2]>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SegmentInfo {
+    pub t: [f64; 2],
+    /// Upper bounds of the Hausdorff error, left and right.
+    pub error: [f64; 2],
+    pub met: bool,
+    pub stopped_in: Option<String>,
+    pub loops: usize,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct StrokeInfo {
+    pub name: String,
+    pub degree: usize,
+    pub closed: bool,
+    pub disks: usize,
+    pub knot_spans: usize,
+    pub domain: [f64; 2],
+    pub spine_length: f64,
+    pub radius_range: [f64; 2],
+    pub no_envelope: Vec<[f64; 2]>,
+    pub loops: Vec<LoopInfo>,
+    pub skin_circles: usize,
+    pub segments: Vec<SegmentInfo>,
+    /// Why no skin could be made, when it could not.
+    pub skin_error: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct CirclesInfo {
+    pub name: String,
+    pub closed: bool,
+    pub circles: usize,
+    pub admissible: bool,
+    pub error: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct DesignInfo {
+    pub file: String,
+    pub units: String,
+    pub epsilon: f64,
+    pub strokes: Vec<StrokeInfo>,
+    pub circles: Vec<CirclesInfo>,
+}
+
+fn radius_range(c: &DiskBSpline) -> [f64; 2] {
+    let b = c.breakpoints();
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for w in b.windows(2) {
+        for k in 0..=RADIUS_SAMPLES_PER_SPAN {
+            let r = c.radius(w[0] + (w[1] - w[0]) * k as f64 / RADIUS_SAMPLES_PER_SPAN as f64);
+            lo = lo.min(r);
+            hi = hi.max(r);
+        }
+    }
+    [lo, hi]
+}
+
+/// Inspect every stroke and circle sequence.
+pub fn inspect(design: &Design, opts: &OutlineOptions) -> Result<DesignInfo, JobError> {
+    let strokes = design.strokes()?;
+    let mut out = DesignInfo {
+        file: design.file.clone(),
+        units: format!("{:?}", design.units).to_lowercase(),
+        epsilon: opts.epsilon,
+        strokes: Vec::new(),
+        circles: Vec::new(),
+    };
+    for (s, c) in design.stroke.iter().zip(&strokes) {
+        let spine = flatten_spine(c, opts.tolerance);
+        let spine_length = spine.windows(2).map(|w| w[0].distance(w[1])).sum();
+        let (lo, hi) = c.domain();
+        let mut info = StrokeInfo {
+            name: s.name.clone(),
+            degree: c.degree(),
+            closed: c.is_closed(),
+            disks: c.control_disks().len(),
+            knot_spans: c.breakpoints().len().saturating_sub(1),
+            domain: [lo, hi],
+            spine_length,
+            radius_range: radius_range(c),
+            no_envelope: Vec::new(),
+            loops: Vec::new(),
+            skin_circles: 0,
+            segments: Vec::new(),
+            skin_error: None,
+        };
+        match stroke_outline(design, &s.name, c, opts) {
+            Ok(item) => {
+                if let Some(l) = &item.loops {
+                    info.no_envelope = l.no_envelope.iter().map(|&(a, b)| [a, b]).collect();
+                    info.loops = l
+                        .loops
+                        .iter()
+                        .map(|l| LoopInfo {
+                            side: l.side,
+                            t: [l.t_a, l.t_b],
+                            point: l.cusp_a.map(|p| [p.x, p.y]),
+                        })
+                        .collect();
+                }
+                info.skin_circles = item.circles.len();
+                info.segments = item
+                    .segments
+                    .iter()
+                    .map(|r| SegmentInfo {
+                        t: [r.t0, r.t1],
+                        error: [r.error_left.upper, r.error_right.upper],
+                        met: r.met_left && r.met_right,
+                        stopped_in: r.stopped_in.map(|p| format!("{p:?}").to_lowercase()),
+                        loops: r.loops.len(),
+                    })
+                    .collect();
+            }
+            Err(e) => info.skin_error = Some(e.to_string()),
+        }
+        out.strokes.push(info);
+    }
+    for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
+        let r = circles_outline(design, &seq.name, &circles, seq.closed);
+        out.circles.push(CirclesInfo {
+            name: seq.name.clone(),
+            closed: seq.closed,
+            circles: circles.len(),
+            admissible: r.is_ok(),
+            error: r.err().map(|e| e.to_string()),
+        });
+    }
+    Ok(out)
+}
+
+impl std::fmt::Display for DesignInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "{} ({}), skin epsilon {}",
+            self.file, self.units, self.epsilon
+        )?;
+        for s in &self.strokes {
+            writeln!(
+                f,
+                "stroke \"{}\": degree {}, {} disks, {} knot spans, {}, t in [{}, {}]",
+                s.name,
+                s.degree,
+                s.disks,
+                s.knot_spans,
+                if s.closed { "closed" } else { "open" },
+                s.domain[0],
+                s.domain[1]
+            )?;
+            writeln!(
+                f,
+                "  spine length {:.3}, radius {:.3} .. {:.3}",
+                s.spine_length, s.radius_range[0], s.radius_range[1]
+            )?;
+            if s.no_envelope.is_empty() {
+                writeln!(f, "  envelope exists everywhere")?;
+            }
+            for iv in &s.no_envelope {
+                writeln!(f, "  no envelope for t in [{:.6}, {:.6}]", iv[0], iv[1])?;
+            }
+            if s.loops.is_empty() {
+                writeln!(f, "  envelope loops: none")?;
+            }
+            for l in &s.loops {
+                writeln!(
+                    f,
+                    "  envelope loop: {:?} side, t in [{:.6}, {:.6}]",
+                    l.side, l.t[0], l.t[1]
+                )?;
+            }
+            match &s.skin_error {
+                Some(e) => writeln!(f, "  skin: FAILED: {e}")?,
+                None => {
+                    let missed = s.segments.iter().filter(|g| !g.met).count();
+                    let worst = s
+                        .segments
+                        .iter()
+                        .map(|g| g.error[0].max(g.error[1]))
+                        .fold(0.0, f64::max);
+                    writeln!(
+                        f,
+                        "  skin: {} circles, {} segments, worst error {:.4} ({} segments miss epsilon)",
+                        s.skin_circles,
+                        s.segments.len(),
+                        worst,
+                        missed
+                    )?;
+                    for g in s.segments.iter().filter(|g| !g.met) {
+                        writeln!(
+                            f,
+                            "    t in [{:.6}, {:.6}]: error left {:.4}, right {:.4}, stopped in phase {}{}",
+                            g.t[0],
+                            g.t[1],
+                            g.error[0],
+                            g.error[1],
+                            g.stopped_in.as_deref().unwrap_or("-"),
+                            if g.loops > 0 {
+                                ", envelope loop here"
+                            } else {
+                                ""
+                            }
+                        )?;
+                    }
+                }
+            }
+        }
+        for c in &self.circles {
+            writeln!(
+                f,
+                "circles \"{}\": {} circles, {}, {}",
+                c.name,
+                c.circles,
+                if c.closed { "closed" } else { "open" },
+                match &c.error {
+                    None => "admissible".to_string(),
+                    Some(e) => format!("NOT admissible: {e}"),
+                }
+            )?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,33 @@
+//! Whole jobs on a design: outlines of every stroke and circle sequence ([`outline`]), and
+//! toolpaths for a machine ([`build`]). This is the only library module that walks a whole
+//! design through the pipeline; the CLI adds files and terminals around it.
+
+pub mod build;
+pub mod check;
+pub mod inspect;
+pub mod outline;
+
+use crate::design::DesignError;
+
+/// Errors of a job; each names the design file and the stroke or operation at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum JobError {
+    #[error(transparent)]
+    Design(#[from] DesignError),
+    #[error("{file}: {item} \"{name}\": {message}")]
+    Item {
+        file: String,
+        item: &'static str,
+        name: String,
+        message: String,
+    },
+    #[error("{file}: operation {index} ({kind}): {message}")]
+    Operation {
+        file: String,
+        index: usize,
+        kind: String,
+        message: String,
+    },
+    #[error("{0}")]
+    Options(String),
+}
