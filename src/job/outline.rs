@@ -8,8 +8,9 @@ use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
 use crate::emit::outline::{Contour, Marker, OutlineDoc, RefCircle, StrokeOutline};
 use crate::geom::{Circle, DVec2, Path};
-use crate::skin::dbsc_skin::{DbscSkinOptions, SegmentReport, skin_dbsc};
+use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, SegmentReport, skin_dbsc};
 use crate::skin::{SkinOptions, outline_circles};
+use crate::toolpath::region::Region;
 
 /// Options of an outline job.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,6 +47,9 @@ pub struct ItemOutline {
     pub loops: Option<LoopReport>,
     /// Per-segment approximation report (strokes, skin method only).
     pub segments: Vec<SegmentReport>,
+    /// The stroke overlaps itself (its spine crosses itself): `contours` are the boundary
+    /// of the union, flattened within the outline tolerance.
+    pub self_overlap: bool,
 }
 
 /// Parameter tolerance of loop detection: roots of τ± located to 1e-10 of the parameter.
@@ -69,18 +73,32 @@ pub fn stroke_outline(
 ) -> Result<ItemOutline, JobError> {
     let loops = find_loops(c, LOOP_PARAM_TOL)
         .map_err(|e| item_err(design, "stroke", name, e.to_string()))?;
-    let skin_opts = DbscSkinOptions {
+    let mut skin_opts = DbscSkinOptions {
         eps: opts.epsilon,
         ..DbscSkinOptions::default()
     };
-    let sk =
-        skin_dbsc(c, &skin_opts).map_err(|e| item_err(design, "stroke", name, e.to_string()))?;
+    let fail = |e: DbscSkinError| item_err(design, "stroke", name, e.to_string());
+    let (sk, self_overlap) = match skin_dbsc(c, &skin_opts) {
+        Ok(sk) => (sk, false),
+        // The spine crosses itself: skin it anyway and resolve the overlap by a union.
+        Err(DbscSkinError::SelfIntersection { .. }) => {
+            skin_opts.allow_global_overlap = true;
+            (skin_dbsc(c, &skin_opts).map_err(fail)?, true)
+        }
+        Err(e) => return Err(fail(e)),
+    };
+    let contours = if self_overlap {
+        Region::from_overlapping_paths(&sk.outline, opts.tolerance).paths()
+    } else {
+        sk.outline
+    };
     Ok(ItemOutline {
         name: name.to_string(),
-        contours: sk.outline,
+        contours,
         circles: sk.circles,
         loops: Some(loops),
         segments: sk.report,
+        self_overlap,
     })
 }
 
@@ -99,6 +117,7 @@ pub fn circles_outline(
         circles: circles.to_vec(),
         loops: None,
         segments: Vec::new(),
+        self_overlap: false,
     })
 }
 
@@ -188,11 +207,24 @@ fn stroke_drawing(
     if opts.control_disks {
         circles.extend(c.control_disks().iter().map(|k| refc("control-disk", k)));
     }
+    let mut markers = loop_markers(c, loops);
+    if let Some(item) = item.filter(|i| i.self_overlap) {
+        let at = item
+            .contours
+            .first()
+            .and_then(|p| p.start())
+            .unwrap_or(DVec2::ZERO);
+        markers.push(Marker {
+            kind: "self-overlap".into(),
+            at: [at.x, at.y],
+            message: "the stroke crosses itself: the outline is the boundary of the union".into(),
+        });
+    }
     StrokeOutline {
         name: name.to_string(),
         contours,
         circles,
-        markers: loop_markers(c, loops),
+        markers,
     }
 }
 

@@ -48,6 +48,11 @@ pub struct DbscSkinOptions {
     pub two_sided: bool,
     /// Tolerance of the self-intersection test of the outline (model units).
     pub intersect_tol: f64,
+    /// Return the outline even when it crosses itself. A stroke whose spine crosses itself
+    /// (a G-clef, a loop drawn on purpose) overlaps itself globally: no skin of it can be
+    /// free of crossings, and the caller resolves the overlap (for example by a union of
+    /// the region). Local envelope loops are still avoided.
+    pub allow_global_overlap: bool,
 }
 
 impl Default for DbscSkinOptions {
@@ -61,6 +66,7 @@ impl Default for DbscSkinOptions {
             max_circles: 20_000,
             two_sided: true,
             intersect_tol: 1e-9,
+            allow_global_overlap: false,
         }
     }
 }
@@ -635,7 +641,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     let o = st.outline()?;
     // Safety net: never hand out a crossing outline (phases 1–2 rely on admissibility,
     // phase 3 checks each insertion; this re-checks the final result).
-    if outline_intersects(&o.contours, opts.intersect_tol) {
+    if !opts.allow_global_overlap && outline_intersects(&o.contours, opts.intersect_tol) {
         let (contour, segment) = first_crossing(&o.contours, opts.intersect_tol);
         return Err(DbscSkinError::SelfIntersection { contour, segment });
     }

@@ -177,6 +177,43 @@ impl Region {
         Region::from_geo(&merged)
     }
 
+    /// The region bounded by closed paths that may cross themselves and each other (a
+    /// stroke whose spine crosses itself): the points of non-zero total winding, i.e. the
+    /// union of the lobes, with counter-clockwise material and clockwise holes. The paths
+    /// are flattened within `tol`; the result has lines only.
+    pub fn from_overlapping_paths(paths: &[Path], tol: f64) -> Region {
+        let rings: Vec<geo::LineString<f64>> = paths
+            .iter()
+            .map(|p| {
+                let mut pts: Vec<geo::Coord<f64>> = p
+                    .flatten(tol)
+                    .into_iter()
+                    .map(|q| geo::Coord { x: q.x, y: q.y })
+                    .collect();
+                if let Some(&f) = pts.first() {
+                    pts.push(f);
+                }
+                geo::LineString::new(pts)
+            })
+            .collect();
+        let subject = geo::MultiLineString::new(rings);
+        let polys = geo::MultiPolygon::new(
+            subject
+                .0
+                .into_iter()
+                .map(|r| geo::Polygon::new(r, vec![]))
+                .collect(),
+        );
+        let empty = geo::MultiPolygon::<f64>::new(vec![]);
+        let merged = geo::BooleanOps::boolean_op_with_fill_rule(
+            &polys,
+            &empty,
+            geo::algorithm::bool_ops::OpType::Union,
+            geo::algorithm::bool_ops::FillRule::NonZero,
+        );
+        Region::from_geo(&merged)
+    }
+
     /// The region as geo polygons (contours flattened within `tol`).
     pub fn to_geo(&self, tol: f64) -> geo::MultiPolygon<f64> {
         let ring = |c: &Polyline<f64>| {
@@ -305,6 +342,23 @@ mod tests {
             .collect();
         assert_eq!(holes.len(), 1);
         assert!((holes[0] + 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn figure_eight_resolves_to_two_lobes() {
+        // A bow-tie ring crossing itself at the origin: two triangles of area 1 each
+        // (non-zero winding keeps both lobes, whatever their orientation).
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        let pts = [p(-1.0, -1.0), p(1.0, 1.0), p(1.0, -1.0), p(-1.0, 1.0)];
+        let path = Path::new(
+            (0..4)
+                .map(|i| PathSeg::Line(Line::new(pts[i], pts[(i + 1) % 4])))
+                .collect(),
+            true,
+        );
+        let r = Region::from_overlapping_paths(&[path], 1e-3);
+        assert_eq!(r.contours.len(), 2);
+        assert!((r.area() - 2.0).abs() < 1e-9, "{}", r.area());
     }
 
     #[test]
