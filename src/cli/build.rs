@@ -35,6 +35,14 @@ pub struct Args {
     /// Also write a preview SVG of the toolpath (cuts solid, rapids dashed) here.
     #[arg(long)]
     preview: Option<PathBuf>,
+    /// Where the job goes on the machine: `design` keeps the design's coordinates;
+    /// `lower-left` moves the job's lower-left corner (tool paths included) to the work
+    /// area's lower-left corner plus `--margin`.
+    #[arg(long, value_parser = ["design", "lower-left"], default_value = "design")]
+    place: String,
+    /// Distance from the work area's corner with `--place lower-left`, in design units.
+    #[arg(long, default_value_t = 0.0)]
+    margin: f64,
     /// Write the G-code even when the checker finds errors. It may then gouge the part,
     /// leave the laser or spindle on during a rapid, or leave the machine's travel.
     #[arg(long)]
@@ -90,7 +98,22 @@ pub fn run(a: Args) -> Result<u8> {
     if let Some(e) = a.epsilon {
         opts.epsilon = e;
     }
-    let built = build_toolpath(&design, &profile, &opts)?;
+    let mut built = build_toolpath(&design, &profile, &opts)?;
+    if a.place == "lower-left" {
+        // Design units per profile unit: work area corners are in the profile's units.
+        let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
+        let s = built.toolpath.stats(glam::DVec2::ZERO);
+        let target = glam::DVec2::new(profile.work_area.x.min(), profile.work_area.y.min()) * k
+            + glam::DVec2::splat(a.margin);
+        let d = target - glam::DVec2::new(s.bbox_min[0], s.bbox_min[1]);
+        built.toolpath = built.toolpath.translated(d);
+        for o in &mut built.outlines {
+            for p in &mut o.contours {
+                *p = p.translated(d);
+            }
+        }
+        println!("placed: moved by ({:.3}, {:.3})", d.x, d.y);
+    }
     let units = match design.units {
         skinpath::design::Units::Mm => skinpath::machine::Units::Mm,
         skinpath::design::Units::Inch => skinpath::machine::Units::Inch,
@@ -120,7 +143,16 @@ pub fn run(a: Args) -> Result<u8> {
             )?;
             // Read the program back and check it before it reaches a machine.
             let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
-            let cfg = check_config(&profile, tool_r * profile.units.mm_per_unit().recip());
+            let mut cfg = check_config(&profile, tool_r * profile.units.mm_per_unit().recip());
+            // Pockets, fills, holes and carvings overlap other cuts by design; only a job of
+            // profiles must keep its contours apart.
+            cfg.allow_crossings = design.operation.iter().any(|o| {
+                !matches!(
+                    o.kind,
+                    skinpath::design::OperationKind::Profile
+                        | skinpath::design::OperationKind::Backboard
+                )
+            });
             let only_outside_profiles =
                 design.operation.is_empty() && profile.kind == MachineKind::Router;
             let bounds = if only_outside_profiles {

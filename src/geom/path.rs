@@ -43,6 +43,17 @@ impl PathSeg {
         }
     }
 
+    /// The segment moved by `d`.
+    pub fn translated(&self, d: DVec2) -> Self {
+        match self {
+            PathSeg::Line(l) => PathSeg::Line(Line::new(l.p0 + d, l.p1 + d)),
+            PathSeg::Arc(a) => PathSeg::Arc(Arc::new(a.center + d, a.radius, a.start, a.sweep)),
+            PathSeg::Cubic(c) => {
+                PathSeg::Cubic(CubicBez::new(c.p0 + d, c.p1 + d, c.p2 + d, c.p3 + d))
+            }
+        }
+    }
+
     /// Length; cubic lengths to relative accuracy `tol`.
     pub fn length(&self, tol: f64) -> f64 {
         match self {
@@ -92,6 +103,11 @@ impl Path {
             self.segs.iter().rev().map(PathSeg::reversed).collect(),
             self.closed,
         )
+    }
+
+    /// The path moved by `d`.
+    pub fn translated(&self, d: DVec2) -> Path {
+        Path::new(self.segs.iter().map(|s| s.translated(d)).collect(), self.closed)
     }
 
     /// Total length; cubic lengths to relative accuracy `tol`.

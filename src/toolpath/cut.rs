@@ -5,7 +5,8 @@ use super::model::{Cut, Move, MoveKind};
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg, perp};
 use glam::DVec3;
 
-/// Holding tabs: short bridges left standing on the last passes of a through-cut.
+/// Holding tabs: short bridges left standing on the last passes of a through-cut. On a
+/// cut at the surface (a laser) a tab is a gap with the beam off on every pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tabs {
     /// Number of tabs, spread evenly along the contour.
@@ -158,7 +159,7 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
             // Centre on the waste side at distance r; the arc arrives at `start` along t0.
             let c = start + side * r * perp(t0);
             let e = c - r * t0;
-            let a = Arc::from_center_points(c, e, start, side < 0.0);
+            let a = Arc::from_center_points(c, e, start, side > 0.0);
             (e, Some(PathSeg::Arc(a)))
         }
     };
@@ -168,7 +169,7 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
         Lead::Arc(r) => {
             let c = end + side * r * perp(t1);
             let x = c + r * t1;
-            Some(PathSeg::Arc(Arc::from_center_points(c, end, x, side < 0.0)))
+            Some(PathSeg::Arc(Arc::from_center_points(c, end, x, side > 0.0)))
         }
     };
 
@@ -187,6 +188,8 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
     };
     let final_z = opts.levels.iter().copied().fold(0.0, f64::min);
     let tab_top = opts.tabs.map(|t| final_z + t.height);
+    // Cuts at the surface (lasers) cannot lift: their tabs are bridges with the beam off.
+    let laser_bridges = final_z >= 0.0;
     let marks: Vec<f64> = tab_spans.iter().flat_map(|&(a, b)| [a, b]).collect();
     let pieces = split_at_lengths(path, &marks);
     let in_tab = |s_mid: f64| tab_spans.iter().any(|&(a, b)| s_mid > a && s_mid < b);
@@ -218,8 +221,14 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
         };
         for (seg, s0) in &run {
             let len = seg.length(1e-9);
+            let on_tab = forward && in_tab(s0 + len / 2.0);
+            if laser_bridges && on_tab {
+                // A laser leaves a tab as a bridge: the beam is off across it.
+                moves.push(move_along(seg, cur_z, opts.feed, 0.0));
+                continue;
+            }
             let want_z = match tab_top {
-                Some(top) if forward && z < top && in_tab(s0 + len / 2.0) => top,
+                Some(top) if on_tab && z < top => top,
                 _ => z,
             };
             if want_z != cur_z {
@@ -336,6 +345,29 @@ mod tests {
     }
 
     #[test]
+    fn laser_tabs_are_beam_off_bridges_at_the_surface() {
+        let mut o = opts();
+        o.levels = vec![0.0, 0.0];
+        o.tabs = Some(Tabs {
+            count: 2,
+            width: 3.0,
+            height: 1.0,
+        });
+        let c = contour_cut(&square_path(10.0), &o, None).unwrap();
+        assert!(c.moves.iter().all(|m| m.to.z == 0.0));
+        let mut off = 0.0;
+        let mut prev = c.start;
+        for m in &c.moves {
+            if m.power == 0.0 {
+                off += (m.to - prev).length();
+            }
+            prev = m.to;
+        }
+        // Two passes × two tabs × 3 mm.
+        assert!((off - 12.0).abs() < 1e-9, "{off}");
+    }
+
+    #[test]
     fn arc_lead_in_is_tangent_and_on_the_waste_side() {
         let mut o = opts();
         o.lead = Lead::Arc(2.0);
@@ -345,16 +377,26 @@ mod tests {
         // Entry is outside the square (y < 0 below the first side).
         assert!(c.start.y < 0.0, "{:?}", c.start);
         match c.moves[1].kind {
-            MoveKind::Arc { center, .. } => {
+            MoveKind::Arc { center, ccw } => {
                 assert!((center - DVec2::new(0.0, -2.0)).length() < 1e-12);
                 // Tangent at the contour start is +x: the radius there is vertical.
                 assert!((c.moves[1].to.truncate() - DVec2::ZERO).length() < 1e-12);
+                // A quarter turn that arrives along +x (not the long way round).
+                let a = Arc::from_center_points(center, c.start.truncate(), DVec2::ZERO, ccw);
+                assert!((a.sweep.abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+                assert!((a.tangent(1.0) - DVec2::X).length() < 1e-12);
             }
             other => panic!("expected an arc lead-in, got {other:?}"),
         }
-        // A lead-out arc ends the cut, also outside.
+        // A lead-out arc ends the cut, also outside, leaving along the last side's
+        // direction (−y at the square's start corner) with a quarter turn.
         let last = c.moves.last().unwrap();
-        assert!(matches!(last.kind, MoveKind::Arc { .. }));
+        let MoveKind::Arc { center, ccw } = last.kind else {
+            panic!("expected an arc lead-out, got {:?}", last.kind)
+        };
         assert!(last.to.y < 0.0);
+        let a = Arc::from_center_points(center, DVec2::ZERO, last.to.truncate(), ccw);
+        assert!((a.sweep.abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        assert!((a.tangent(0.0) + DVec2::Y).length() < 1e-12);
     }
 }

@@ -63,3 +63,43 @@ pub struct Operation {
 pub struct Toolpath {
     pub operations: Vec<Operation>,
 }
+
+impl Toolpath {
+    /// The same toolpath moved by `d` in the plane (arc centres move along).
+    pub fn translated(&self, d: DVec2) -> Toolpath {
+        let d3 = DVec3::new(d.x, d.y, 0.0);
+        Toolpath {
+            operations: self
+                .operations
+                .iter()
+                .map(|op| Operation {
+                    name: op.name.clone(),
+                    kind: op.kind,
+                    cuts: op
+                        .cuts
+                        .iter()
+                        .map(|c| Cut {
+                            source: c.source.clone(),
+                            start: c.start + d3,
+                            moves: c
+                                .moves
+                                .iter()
+                                .map(|m| Move {
+                                    kind: match m.kind {
+                                        MoveKind::Arc { center, ccw } => MoveKind::Arc {
+                                            center: center + d,
+                                            ccw,
+                                        },
+                                        k => k,
+                                    },
+                                    to: m.to + d3,
+                                    ..*m
+                                })
+                                .collect(),
+                        })
+                        .collect(),
+                })
+                .collect(),
+        }
+    }
+}

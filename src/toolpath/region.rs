@@ -92,6 +92,36 @@ pub fn flatten_pline(pl: &Polyline<f64>, tol: f64) -> Vec<DVec2> {
     path_from_pline(pl).flatten(tol)
 }
 
+/// A closed ring without repeated points and without spikes: a vertex where the ring turns
+/// back on itself (its two edges collinear and opposite, by the exact orientation
+/// predicate) is removed, repeatedly, until none is left.
+pub fn clean_ring(mut pts: Vec<DVec2>) -> Vec<DVec2> {
+    loop {
+        let n = pts.len();
+        if n < 3 {
+            return pts;
+        }
+        let mut removed = false;
+        let mut out: Vec<DVec2> = Vec::with_capacity(n);
+        for i in 0..n {
+            let p = pts[(i + n - 1) % n];
+            let v = pts[i];
+            let q = pts[(i + 1) % n];
+            let repeated = v == p;
+            let spike = crate::geom::predicates::orient2d(p, v, q) == 0.0 && (p - v).dot(q - v) > 0.0;
+            if (repeated || spike) && !removed {
+                removed = true;
+                continue;
+            }
+            out.push(v);
+        }
+        pts = out;
+        if !removed {
+            return pts;
+        }
+    }
+}
+
 impl Region {
     /// A region from closed contours in any orientation and nesting: contours at even
     /// nesting depth become material (counter-clockwise), odd depth holes (clockwise).
@@ -252,7 +282,9 @@ impl Region {
         geo::MultiPolygon::new(polys)
     }
 
-    /// A region from geo polygons (lines only).
+    /// A region from geo polygons (lines only). Rings are cleaned of repeated points and
+    /// of spikes (zero-width there-and-back excursions a polygon boolean may leave), so no
+    /// tool path retraces itself.
     pub fn from_geo(mp: &geo::MultiPolygon<f64>) -> Region {
         let mut contours = Vec::new();
         let conv = |ls: &geo::LineString<f64>| {
@@ -260,7 +292,7 @@ impl Region {
             if pts.len() > 1 && pts.first() == pts.last() {
                 pts.pop();
             }
-            pline_from_points(&pts, true)
+            pline_from_points(&clean_ring(pts), true)
         };
         for p in &mp.0 {
             contours.push(conv(p.exterior()));
@@ -268,7 +300,7 @@ impl Region {
                 contours.push(conv(h));
             }
         }
-        Region::from_contours(contours)
+        Region::from_contours(contours.into_iter().filter(|c| c.vertex_count() >= 3).collect())
     }
 
     /// True when `p` is inside the material (non-zero total winding).
@@ -359,6 +391,25 @@ mod tests {
         let r = Region::from_overlapping_paths(&[path], 1e-3);
         assert_eq!(r.contours.len(), 2);
         assert!((r.area() - 2.0).abs() < 1e-9, "{}", r.area());
+    }
+
+    #[test]
+    fn spikes_and_repeats_are_cleaned() {
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        // Square with a there-and-back spike from (1,0) to (1,-1), and a repeated corner.
+        let ring = vec![
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(1.0, -1.0),
+            p(1.0, 0.0),
+            p(2.0, 0.0),
+            p(2.0, 2.0),
+            p(2.0, 2.0),
+            p(0.0, 2.0),
+        ];
+        let c = clean_ring(ring);
+        assert_eq!(c.len(), 5, "{c:?}");
+        assert!((crate::geom::path::polygon_area(&c) - 4.0).abs() < 1e-12);
     }
 
     #[test]

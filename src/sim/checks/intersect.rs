@@ -108,6 +108,61 @@ impl SegmentSet {
         closed && lo == 0 && hi + 1 == n
     }
 
+    /// The directions back along the incoming segment and along the outgoing segment of the
+    /// pass of segment `i` through its end point `v`; `None` where the run starts or ends
+    /// at `v`.
+    fn pass_at(&self, i: usize, v: DVec2) -> Option<(DVec2, DVec2)> {
+        let s = self.segs.get(i)?;
+        let same = |k: usize| self.segs.get(k).filter(|t| t.contour == s.contour);
+        let (n, closed) = self.contours.get(s.contour as usize).copied()?;
+        let first = i - s.index as usize;
+        let last = first + n as usize - 1;
+        let prev = if i > first { Some(i - 1) } else { closed.then_some(last) };
+        let next = if i < last { Some(i + 1) } else { closed.then_some(first) };
+        if s.a == v {
+            let p = same(prev?)?;
+            (p.b == v).then_some((p.a - v, s.b - v))
+        } else if s.b == v {
+            let q = same(next?)?;
+            (q.a == v).then_some((s.a - v, q.b - v))
+        } else {
+            None
+        }
+    }
+
+    /// True when segments `i` and `j` meet only at an end point `v` of both, through which
+    /// the path passes twice without the two passes crossing (or where one pass starts or
+    /// ends): the directions of one pass do not separate those of the other around `v`.
+    fn is_revisit(&self, i: usize, j: usize) -> bool {
+        let (Some(s), Some(t)) = (self.segs.get(i), self.segs.get(j)) else {
+            return false;
+        };
+        let Some(v) = [s.a, s.b].into_iter().find(|&p| p == t.a || p == t.b) else {
+            return false;
+        };
+        // Collinear overlaps beyond the shared point are real contacts.
+        let (ds, dt) = (s.b - s.a, t.b - t.a);
+        if orient2d(s.a, s.b, t.a) == 0.0 && orient2d(s.a, s.b, t.b) == 0.0 {
+            let (os, ot) = (if s.a == v { ds } else { -ds }, if t.a == v { dt } else { -dt });
+            if os.dot(ot) > 0.0 {
+                return false;
+            }
+        }
+        let (Some((a1, a2)), Some((b1, b2))) = (self.pass_at(i, v), self.pass_at(j, v)) else {
+            // One of the runs ends at v: a touch at a run end, no crossing.
+            return true;
+        };
+        let ang = |d: DVec2| d.y.atan2(d.x);
+        let tau = std::f64::consts::TAU;
+        let span = (ang(a2) - ang(a1)).rem_euclid(tau);
+        let inside = |b: DVec2| {
+            let x = (ang(b) - ang(a1)).rem_euclid(tau);
+            (x > 0.0 && x < span, x == 0.0 || x == span)
+        };
+        let ((in1, on1), (in2, on2)) = (inside(b1), inside(b2));
+        !on1 && !on2 && in1 == in2
+    }
+
     /// All contacts: non-adjacent pairs that share any point (proper or not), and adjacent
     /// pairs that fold back onto each other (collinear overlap beyond the shared end).
     pub fn contacts(&self) -> Vec<Contact> {
@@ -249,6 +304,12 @@ impl SegmentSet {
         if !segments_intersect(s.a, s.b, t.a, t.b) {
             return None;
         }
+        // The path passing twice through one of its vertices without crossing there (a
+        // closed loop entered by a lead-in and closed at its start) is a revisit, not a
+        // contact.
+        if self.is_revisit(i, j) {
+            return None;
+        }
         // A touching or overlapping contact: report an end point that lies on the other.
         let point = [(o1, t.a), (o2, t.b)]
             .into_iter()
@@ -307,6 +368,24 @@ mod tests {
 
     fn pts(v: &[(f64, f64)]) -> Vec<DVec2> {
         v.iter().map(|&(x, y)| DVec2::new(x, y)).collect()
+    }
+
+    #[test]
+    fn revisited_vertex_is_not_a_contact_but_a_crossing_vertex_is() {
+        // Lead-in to (0,0), a square loop back to (0,0), lead-out: a revisit.
+        let mut s = SegmentSet::new();
+        s.push_polyline(
+            &pts(&[(-1., -1.), (0., 0.), (1., 0.), (1., 1.), (0., 1.), (0., 0.), (-1., -0.5)]),
+            &[],
+        );
+        assert!(s.contacts().is_empty(), "{:?}", s.contacts());
+        // A figure eight whose passes cross at the shared vertex (0,0).
+        let mut x = SegmentSet::new();
+        x.push_polyline(
+            &pts(&[(-1., -1.), (0., 0.), (1., 1.), (1., -1.), (0., 0.), (-1., 1.)]),
+            &[],
+        );
+        assert!(!x.contacts().is_empty());
     }
 
     #[test]
