@@ -25,3 +25,13 @@ pub enum DbscError {
     #[error("{0}")]
     Invalid(String),
 }
+
+pub mod attributes;
+pub mod caps;
+pub mod extend;
+pub mod flatten;
+pub mod interior;
+pub mod no_envelope;
+pub mod tangent;
+pub mod tessellate;
+pub mod transform;
