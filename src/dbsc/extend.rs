@@ -41,6 +41,10 @@ pub const ALPHA1_RANGE: (f64, f64) = (0.02, 3.0);
 /// the range reaches far down; E_R stays bounded there.
 pub const ALPHA2_RANGE: (f64, f64) = (1e-6, 1e2);
 
+/// Relative slack on the control-radius bound for candidates computed on the boundary
+/// itself (their R₁ or R₂ equals the bound up to rounding).
+const BOUNDARY_SLACK: f64 = 1e-12;
+
 /// Samples of the global log-spaced scan before local refinement.
 const SCAN_SAMPLES: usize = 128;
 
@@ -221,12 +225,6 @@ fn minimise(
     if !bv.is_finite() {
         return None;
     }
-    if let Some(p) = prefer
-        && ok(p)
-        && f(p) <= bv * (1.0 + 1e-12) + f64::MIN_POSITIVE
-    {
-        return Some(p);
-    }
     // Golden section on [x_{best−1}, x_{best+1}].
     let (mut a, mut b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(xs.len() - 1)]);
     let gr = 0.5 * (5f64.sqrt() - 1.0);
@@ -253,11 +251,18 @@ fn minimise(
         }
     }
     let x = 0.5 * (a + b);
-    if g(x) <= bv {
-        Some(x.exp())
+    let (best_a, best_v) = if g(x) <= bv {
+        (x.exp(), g(x))
     } else {
-        Some(xs[best].exp())
+        (xs[best].exp(), bv)
+    };
+    if let Some(p) = prefer
+        && ok(p)
+        && f(p) <= best_v * (1.0 + 1e-12) + f64::MIN_POSITIVE
+    {
+        return Some(p);
     }
+    Some(best_a)
 }
 
 /// Extend the clamped cubic DBSC `c` at its end to the disk `target` with G² continuity
@@ -322,15 +327,37 @@ pub fn extend_g2(
                 let rs = radius_controls(r0, r1, r2, target.r, a);
                 rs[1] >= min_r && rs[2] >= min_r
             };
-            minimise(
-                &e2,
-                &ok,
-                alpha1 * ALPHA2_RANGE.0,
-                alpha1 * ALPHA2_RANGE.1,
-                tol,
-                Some(alpha1),
-            )
-            .ok_or(ExtendError::NoPositiveRadius { min: min_r })?
+            let (lo, hi) = (alpha1 * ALPHA2_RANGE.0, alpha1 * ALPHA2_RANGE.1);
+            let scan = minimise(&e2, &ok, lo, hi, tol, Some(alpha1))
+                .ok_or(ExtendError::NoPositiveRadius { min: min_r })?;
+            // The constrained minimum may sit on the feasibility boundary, between scan
+            // samples: R₁ = min (α = 3(min − R₀)/r′) or R₂ = min (a quadratic in α).
+            let mut cands = vec![scan];
+            if r1 != 0.0 {
+                cands.push(3.0 * (min_r - r0) / r1);
+            }
+            let (qa, qb, qc) = (r2 / 6.0, 2.0 * r1 / 3.0, r0 - min_r);
+            if qa != 0.0 {
+                let disc = qb * qb - 4.0 * qa * qc;
+                if disc >= 0.0 {
+                    let sq = disc.sqrt();
+                    cands.push((-qb + sq) / (2.0 * qa));
+                    cands.push((-qb - sq) / (2.0 * qa));
+                }
+            } else if qb != 0.0 {
+                cands.push(-qc / qb);
+            }
+            let near_ok = |a: f64| {
+                let rs = radius_controls(r0, r1, r2, target.r, a);
+                let slack = min_r * BOUNDARY_SLACK;
+                rs[1] >= min_r - slack && rs[2] >= min_r - slack
+            };
+            cands
+                .into_iter()
+                .filter(|&a| a >= lo && a <= hi && near_ok(a))
+                .min_by(|&a, &b| e2(a).total_cmp(&e2(b)).then(a.total_cmp(&b)))
+                .filter(|&a| e2(a) < e2(scan))
+                .unwrap_or(scan)
         }
     };
     let q = centre_controls(p0, p1, p2, target.c, alpha1);
