@@ -31,3 +31,22 @@ pub enum DbscError {
     #[error("{0}")]
     Invalid(String),
 }
+
+pub mod attributes;
+pub mod caps;
+pub mod extend;
+pub mod flatten;
+pub mod interior;
+pub mod no_envelope;
+pub mod tangent;
+pub mod tessellate;
+pub mod transform;
+pub use attributes::{AttributeError, AttributedDbsc};
+pub use caps::{CapError, End, cap, caps};
+pub use extend::{ExtendError, Extension, RadiusFairing, extend_g2};
+pub use flatten::{FlatOutline, flatten, flatten_envelope, flatten_spine};
+pub use interior::interior_point;
+pub use no_envelope::no_envelope_intervals;
+pub use tangent::{envelope_tangent, envelope_tangent_coeffs};
+pub use tessellate::{Mesh, Resolution, TessellateError, tessellate};
+pub use transform::TransformError;
