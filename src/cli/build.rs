@@ -143,7 +143,7 @@ pub fn run(a: Args) -> Result<u8> {
             )?;
             // Read the program back and check it before it reaches a machine.
             let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
-            let mut cfg = check_config(&profile, tool_r * profile.units.mm_per_unit().recip());
+            let mut cfg = check_config(&profile, tool_r);
             // Pockets, fills, holes and carvings overlap other cuts by design; only a job of
             // profiles must keep its contours apart.
             cfg.allow_crossings = design.operation.iter().any(|o| {
@@ -156,7 +156,12 @@ pub fn run(a: Args) -> Result<u8> {
             let only_outside_profiles =
                 design.operation.is_empty() && profile.kind == MachineKind::Router;
             let bounds = if only_outside_profiles {
-                design_boundaries(&built.outlines, true, opts.tolerance)
+                design_boundaries(
+                    &built.outlines,
+                    true,
+                    opts.tolerance,
+                    design.units.mm_per_unit(),
+                )
             } else {
                 Vec::new()
             };

@@ -59,6 +59,7 @@ pub fn run(a: Args) -> Result<u8> {
                 &outlines,
                 a.keep == "outside",
                 cfg.flatten_tolerance.max(1e-3),
+                design.units.mm_per_unit(),
             )
         }
         None => Vec::new(),

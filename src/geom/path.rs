@@ -107,7 +107,10 @@ impl Path {
 
     /// The path moved by `d`.
     pub fn translated(&self, d: DVec2) -> Path {
-        Path::new(self.segs.iter().map(|s| s.translated(d)).collect(), self.closed)
+        Path::new(
+            self.segs.iter().map(|s| s.translated(d)).collect(),
+            self.closed,
+        )
     }
 
     /// Total length; cubic lengths to relative accuracy `tol`.

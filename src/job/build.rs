@@ -65,6 +65,8 @@ struct Ctx<'a> {
     tol: f64,
     /// Design units per millimetre.
     per_mm: f64,
+    /// Design units per profile unit (tool sizes and feeds are in the profile's units).
+    k: f64,
 }
 
 fn op_err(ctx: &Ctx, index: usize, op: &Operation, message: impl Into<String>) -> JobError {
@@ -111,15 +113,20 @@ impl Ctx<'_> {
             .or(self.profile.tools.first())
     }
 
+    /// Compensation radius of `tool` in design units (0 without a tool).
+    fn radius(&self, tool: Option<&Tool>) -> f64 {
+        tool.map(|t| t.radius() * self.k).unwrap_or(0.0)
+    }
+
     fn default_feed(&self) -> f64 {
-        0.5 * self.profile.max_feed.x.min(self.profile.max_feed.y)
+        0.5 * self.profile.max_feed.x.min(self.profile.max_feed.y) * self.k
     }
 
     fn plunge_feed(&self) -> f64 {
         self.profile
             .router
             .as_ref()
-            .map(|r| r.plunge_feed)
+            .map(|r| r.plunge_feed * self.k)
             .unwrap_or_else(|| self.default_feed())
     }
 }
@@ -139,12 +146,12 @@ fn spec(
         if depth > 0.0 && op.passes.is_some() {
             depth / passes as f64
         } else {
-            tool.map(|t| t.diameter)
+            tool.map(|t| t.diameter * ctx.k)
                 .filter(|d| *d > 0.0)
                 .unwrap_or(depth.max(1.0))
         }
     });
-    let tool_d = tool.map(|t| 2.0 * t.radius()).unwrap_or(0.0);
+    let tool_d = 2.0 * ctx.radius(tool);
     OpSpec {
         name,
         kind,
@@ -229,7 +236,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
     let out = match op.kind {
         OperationKind::Profile => {
             let tool = ctx.tool(&mill);
-            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let r = ctx.radius(tool);
             let side = match op.side {
                 Some(ProfileSide::On) => ops::ProfileSide::On,
                 Some(ProfileSide::Inside) => ops::ProfileSide::Inside,
@@ -251,7 +258,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
         }
         OperationKind::Channel => {
             let tool = ctx.tool(&mill);
-            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let r = ctx.radius(tool);
             let width = op
                 .width
                 .ok_or_else(|| op_err(ctx, index, op, "a channel needs `width`"))?;
@@ -280,7 +287,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             let paths = if laser {
                 ops::profile(&region, ops::ProfileSide::On, 0.0, eps)
             } else {
-                ops::concentric(&region, r, step, 10_000, eps)
+                ops::concentric(&region, r, step, r, 10_000, eps)
             };
             vec![spec(
                 ctx,
@@ -293,7 +300,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
         }
         OperationKind::Backboard => {
             let tool = ctx.tool(&mill);
-            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let r = ctx.radius(tool);
             let regions: Vec<Region> = items
                 .iter()
                 .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
@@ -313,7 +320,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
         }
         OperationKind::Holes => {
             let tool = ctx.tool(&mill);
-            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let r = ctx.radius(tool);
             let d = op
                 .diameter
                 .ok_or_else(|| op_err(ctx, index, op, "holes need `diameter`"))?;
@@ -390,7 +397,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
         }
         OperationKind::Fill => {
             let tool = ctx.tool(&mill);
-            let r = tool.map(Tool::radius).unwrap_or(0.0);
+            let r = ctx.radius(tool);
             let spacing = op
                 .spacing
                 .ok_or_else(|| op_err(ctx, index, op, "a fill needs `spacing`"))?;
@@ -418,9 +425,14 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
                         }
                         p
                     }
-                    FillPattern::Concentric => {
-                        ops::concentric(region, r.max(spacing / 2.0), spacing, 10_000, eps)
-                    }
+                    FillPattern::Concentric => ops::concentric(
+                        region,
+                        r.max(spacing / 2.0),
+                        spacing,
+                        r.max(spacing / 2.0),
+                        10_000,
+                        eps,
+                    ),
                 }
             });
             let mut s = spec(ctx, name, TpKind::Fill, op, Geometry::Paths(paths), tool);
@@ -467,7 +479,14 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
                     let region = Region::from_paths(&ctx.outlines[i].contours, ctx.tol);
                     let flat = ops::vcarve_flat_region(&region, angle, max_depth, eps);
                     let w = 2.0 * max_depth * (angle / 2.0).tan();
-                    for p in ops::concentric(&flat, 0.0, (STEPOVER * w).max(ctx.tol), 10_000, eps) {
+                    for p in ops::concentric(
+                        &flat,
+                        0.0,
+                        (STEPOVER * w).max(ctx.tol),
+                        w / 2.0,
+                        10_000,
+                        eps,
+                    ) {
                         flats.push(p);
                         flat_src.push(ctx.outlines[i].name.clone());
                     }
@@ -527,6 +546,7 @@ pub fn build_toolpath(
         outlines,
         tol: opts.tolerance,
         per_mm: 1.0 / design.units.mm_per_unit(),
+        k: profile.units.mm_per_unit() / design.units.mm_per_unit(),
     };
     let mut specs = Vec::new();
     if design.operation.is_empty() {

@@ -43,13 +43,23 @@ pub fn check_config(profile: &Profile, tool_radius: f64) -> CheckConfig {
 /// The outlines as boundaries for the gouge check, flattened within `tol`. With
 /// `parts = true` the outlined shapes are the parts: the tool stays outside outer contours
 /// (counter-clockwise) and inside the holes (clockwise inner contours of closed strokes).
-/// With `parts = false` only the distance counts.
-pub fn design_boundaries(outlines: &[ItemOutline], parts: bool, tol: f64) -> Vec<DesignBoundary> {
+/// With `parts = false` only the distance counts. `mm_per_unit` converts the design's units
+/// to the millimetres the checker works in.
+pub fn design_boundaries(
+    outlines: &[ItemOutline],
+    parts: bool,
+    tol: f64,
+    mm_per_unit: f64,
+) -> Vec<DesignBoundary> {
     outlines
         .iter()
         .flat_map(|o| o.contours.iter())
         .map(|p| {
-            let pts = p.flatten(tol);
+            let pts: Vec<_> = p
+                .flatten(tol)
+                .into_iter()
+                .map(|q| q * mm_per_unit)
+                .collect();
             let keep = if !parts {
                 KeepSide::Either
             } else if polygon_area(&pts) >= 0.0 {

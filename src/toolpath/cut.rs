@@ -124,6 +124,92 @@ fn move_along(seg: &PathSeg, z: f64, feed: f64, power: f64) -> Move {
     }
 }
 
+/// How often a lead that runs into the contour is halved before it is left out.
+const LEAD_HALVINGS: usize = 3;
+
+/// Lead-in (from the entry point to `start`, arriving along `t0`) and lead-out (from `end`,
+/// leaving along `t1`) on the side `side` (+1 left of travel, −1 right).
+fn lead_geometry(
+    lead: Lead,
+    side: f64,
+    start: DVec2,
+    t0: DVec2,
+    end: DVec2,
+    t1: DVec2,
+) -> (DVec2, Option<PathSeg>, Option<PathSeg>) {
+    match lead {
+        Lead::None => (start, None, None),
+        Lead::Line(l) => {
+            let e = start + side * l * perp(t0);
+            (
+                e,
+                Some(PathSeg::Line(Line::new(e, start))),
+                Some(PathSeg::Line(Line::new(end, end + side * l * perp(t1)))),
+            )
+        }
+        Lead::Arc(r) => {
+            // Centres on the waste side at distance r: a quarter turn tangent to the contour.
+            let c = start + side * r * perp(t0);
+            let e = c - r * t0;
+            let c1 = end + side * r * perp(t1);
+            let x = c1 + r * t1;
+            (
+                e,
+                Some(PathSeg::Arc(Arc::from_center_points(
+                    c,
+                    e,
+                    start,
+                    side > 0.0,
+                ))),
+                Some(PathSeg::Arc(Arc::from_center_points(
+                    c1,
+                    end,
+                    x,
+                    side > 0.0,
+                ))),
+            )
+        }
+    }
+}
+
+/// Fraction of a lead, at its contour end, left out of the clearance test: there the lead
+/// touches the contour tangentially by construction.
+const LEAD_TOUCH_FRACTION: f64 = 0.05;
+
+/// True when neither lead meets the contour (exact segment tests on flattenings within
+/// 1e-3 of the lead's length), apart from the tangential touch at the contour end.
+fn leads_clear(leads: &(DVec2, Option<PathSeg>, Option<PathSeg>), path: &Path) -> bool {
+    let tol = |s: &PathSeg| (s.length(1e-9) * 1e-3).max(1e-9);
+    let contour = path.flatten(leads.1.as_ref().map(tol).unwrap_or(1e-3));
+    let mut ring = contour.clone();
+    if path.closed
+        && let Some(&f) = contour.first()
+    {
+        ring.push(f);
+    }
+    let hits = |pts: &[DVec2]| {
+        pts.windows(2).any(|w| {
+            ring.windows(2)
+                .any(|r| crate::geom::predicates::segments_intersect(w[0], w[1], r[0], r[1]))
+        })
+    };
+    let part = |s: &PathSeg, a: f64, b: f64| -> Vec<DVec2> {
+        let n = ((s.length(1e-9) / tol(s)).ceil() as usize).clamp(2, 4096);
+        (0..=n)
+            .map(|i| s.eval(a + (b - a) * i as f64 / n as f64))
+            .collect()
+    };
+    let lead_in_ok = leads
+        .1
+        .as_ref()
+        .is_none_or(|s| !hits(&part(s, 0.0, 1.0 - LEAD_TOUCH_FRACTION)));
+    let lead_out_ok = leads
+        .2
+        .as_ref()
+        .is_none_or(|s| !hits(&part(s, LEAD_TOUCH_FRACTION, 1.0)));
+    lead_in_ok && lead_out_ok
+}
+
 /// The cut that runs the closed contour `path` (lines and arcs) once per level.
 ///
 /// The cut starts at the lead-in's start on the surface (z = 0); each level plunges at the
@@ -140,7 +226,7 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
     let last = &path.segs[path.segs.len() - 1];
     let t1 = seg_tangent(last, 1.0);
     let end = last.end();
-    let side = if opts.waste_left { 1.0 } else { -1.0 };
+    let side: f64 = if opts.waste_left { 1.0 } else { -1.0 };
     let mv = |kind, p: DVec2, z: f64, feed: f64| Move {
         kind,
         to: DVec3::new(p.x, p.y, z),
@@ -148,30 +234,26 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
         power: opts.power,
     };
 
-    // Lead-in geometry: from `entry` to `start`, tangent to the contour at `start`.
-    let (entry, lead_in): (DVec2, Option<PathSeg>) = match opts.lead {
-        Lead::None => (start, None),
-        Lead::Line(l) => {
-            let e = start + side * l * perp(t0);
-            (e, Some(PathSeg::Line(Line::new(e, start))))
+    // Leads on the waste side; where a lead would run into the contour (a concave
+    // stretch tighter than the lead), it is halved until clear, and left out after
+    // `LEAD_HALVINGS` tries.
+    let mut lead = opts.lead;
+    let mut leads = lead_geometry(lead, side, start, t0, end, t1);
+    for _ in 0..LEAD_HALVINGS {
+        if leads_clear(&leads, path) {
+            break;
         }
-        Lead::Arc(r) => {
-            // Centre on the waste side at distance r; the arc arrives at `start` along t0.
-            let c = start + side * r * perp(t0);
-            let e = c - r * t0;
-            let a = Arc::from_center_points(c, e, start, side > 0.0);
-            (e, Some(PathSeg::Arc(a)))
-        }
-    };
-    let lead_out: Option<PathSeg> = match opts.lead {
-        Lead::None => None,
-        Lead::Line(l) => Some(PathSeg::Line(Line::new(end, end + side * l * perp(t1)))),
-        Lead::Arc(r) => {
-            let c = end + side * r * perp(t1);
-            let x = c + r * t1;
-            Some(PathSeg::Arc(Arc::from_center_points(c, end, x, side > 0.0)))
-        }
-    };
+        lead = match lead {
+            Lead::Arc(r) => Lead::Arc(r / 2.0),
+            Lead::Line(l) => Lead::Line(l / 2.0),
+            Lead::None => Lead::None,
+        };
+        leads = lead_geometry(lead, side, start, t0, end, t1);
+    }
+    if !leads_clear(&leads, path) {
+        leads = lead_geometry(Lead::None, side, start, t0, end, t1);
+    }
+    let (entry, lead_in, lead_out) = leads;
 
     // Tab spans along the contour's arc length.
     let tab_spans: Vec<(f64, f64)> = match opts.tabs {
@@ -365,6 +447,44 @@ mod tests {
         }
         // Two passes × two tabs × 3 mm.
         assert!((off - 12.0).abs() < 1e-9, "{off}");
+    }
+
+    #[test]
+    fn leads_shrink_in_tight_concave_corners() {
+        // A fin 0.4 wide and 5 long sticking into the waste next to the contour start: a
+        // lead arc of radius 4 would run into its wall at x = 5.6; radius 0.5 fits.
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        // Clockwise outline (material right of travel, waste left = outside): start in the
+        // middle of the bottom side, next to a notch that sticks down into the waste.
+        let pts = [
+            p(5.0, 0.0),
+            p(0.0, 0.0),
+            p(0.0, 10.0),
+            p(10.0, 10.0),
+            p(10.0, 0.0),
+            p(6.0, 0.0),
+            p(6.0, -5.0),
+            p(5.6, -5.0),
+            p(5.6, 0.0),
+        ];
+        let path = Path::new(
+            (0..pts.len())
+                .map(|i| PathSeg::Line(Line::new(pts[i], pts[(i + 1) % pts.len()])))
+                .collect(),
+            true,
+        );
+        let mut o = opts();
+        o.levels = vec![0.0];
+        o.lead = Lead::Arc(4.0);
+        o.waste_left = true;
+        let c = contour_cut(&path, &o, None).unwrap();
+        let MoveKind::Arc { center, .. } = c.moves[1].kind else {
+            panic!("expected a lead-in arc")
+        };
+        let r = center.distance(p(5.0, 0.0));
+        assert!(r < 4.0 && r >= 0.5 - 1e-12, "lead radius {r}");
+        // The lead stays clear of the fin's wall at x = 5.6.
+        assert!(c.start.x < 5.6 && center.x + r < 5.6);
     }
 
     #[test]

@@ -125,12 +125,16 @@ pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f6
 }
 
 /// Concentric clearing: offsets of the region inward by `first`, then by `stepover` more
-/// each time until nothing is left (at most `max_rings`), outermost ring first; the
-/// ordering stage decides the cut order.
+/// each time, outermost ring first (the ordering stage decides the cut order). A tool that
+/// clears `reach` to each side of its path (its radius) needs no further ring once the
+/// region shrunk by the last ring's offset plus `reach` is empty; this keeps degenerate
+/// sliver rings (a ring collapsing onto a line retraces itself) out of the result. At most
+/// `max_rings` rings.
 pub fn concentric(
     region: &Region,
     first: f64,
     stepover: f64,
+    reach: f64,
     max_rings: usize,
     eps: f64,
 ) -> Vec<Path> {
@@ -145,6 +149,9 @@ pub fn concentric(
             break;
         }
         out.extend(r.paths().iter().map(Path::reversed));
+        if region.offset(-(d + reach), eps).is_empty() {
+            break;
+        }
         d += stepover;
     }
     out
@@ -305,9 +312,12 @@ mod tests {
     #[test]
     fn concentric_rings_never_cross_and_shrink() {
         let r = square_region(20.0);
-        let rings = concentric(&r, 1.0, 1.0, 100, 1e-6);
+        let rings = concentric(&r, 1.0, 1.0, 0.5, 100, 1e-6);
         // Side 20 shrinks by 2 per ring: sides 18, 16, …, 2; the tenth ring vanishes.
         assert_eq!(rings.len(), 9);
+        // A tool reaching 3 to each side has cleared the square once offset + 3 ≥ 10:
+        // the ring at offset 7 is the last.
+        assert_eq!(concentric(&r, 1.0, 1.0, 3.0, 100, 1e-6).len(), 7);
         let areas: Vec<f64> = rings
             .iter()
             .map(|p| crate::geom::path::polygon_area(&p.flatten(1e-3)).abs())

@@ -108,7 +108,8 @@ pub fn clean_ring(mut pts: Vec<DVec2>) -> Vec<DVec2> {
             let v = pts[i];
             let q = pts[(i + 1) % n];
             let repeated = v == p;
-            let spike = crate::geom::predicates::orient2d(p, v, q) == 0.0 && (p - v).dot(q - v) > 0.0;
+            let spike =
+                crate::geom::predicates::orient2d(p, v, q) == 0.0 && (p - v).dot(q - v) > 0.0;
             if (repeated || spike) && !removed {
                 removed = true;
                 continue;
@@ -300,7 +301,12 @@ impl Region {
                 contours.push(conv(h));
             }
         }
-        Region::from_contours(contours.into_iter().filter(|c| c.vertex_count() >= 3).collect())
+        Region::from_contours(
+            contours
+                .into_iter()
+                .filter(|c| c.vertex_count() >= 3)
+                .collect(),
+        )
     }
 
     /// True when `p` is inside the material (non-zero total winding).

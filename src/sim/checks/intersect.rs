@@ -117,8 +117,16 @@ impl SegmentSet {
         let (n, closed) = self.contours.get(s.contour as usize).copied()?;
         let first = i - s.index as usize;
         let last = first + n as usize - 1;
-        let prev = if i > first { Some(i - 1) } else { closed.then_some(last) };
-        let next = if i < last { Some(i + 1) } else { closed.then_some(first) };
+        let prev = if i > first {
+            Some(i - 1)
+        } else {
+            closed.then_some(last)
+        };
+        let next = if i < last {
+            Some(i + 1)
+        } else {
+            closed.then_some(first)
+        };
         if s.a == v {
             let p = same(prev?)?;
             (p.b == v).then_some((p.a - v, s.b - v))
@@ -143,7 +151,10 @@ impl SegmentSet {
         // Collinear overlaps beyond the shared point are real contacts.
         let (ds, dt) = (s.b - s.a, t.b - t.a);
         if orient2d(s.a, s.b, t.a) == 0.0 && orient2d(s.a, s.b, t.b) == 0.0 {
-            let (os, ot) = (if s.a == v { ds } else { -ds }, if t.a == v { dt } else { -dt });
+            let (os, ot) = (
+                if s.a == v { ds } else { -ds },
+                if t.a == v { dt } else { -dt },
+            );
             if os.dot(ot) > 0.0 {
                 return false;
             }
@@ -375,14 +386,29 @@ mod tests {
         // Lead-in to (0,0), a square loop back to (0,0), lead-out: a revisit.
         let mut s = SegmentSet::new();
         s.push_polyline(
-            &pts(&[(-1., -1.), (0., 0.), (1., 0.), (1., 1.), (0., 1.), (0., 0.), (-1., -0.5)]),
+            &pts(&[
+                (-1., -1.),
+                (0., 0.),
+                (1., 0.),
+                (1., 1.),
+                (0., 1.),
+                (0., 0.),
+                (-1., -0.5),
+            ]),
             &[],
         );
         assert!(s.contacts().is_empty(), "{:?}", s.contacts());
         // A figure eight whose passes cross at the shared vertex (0,0).
         let mut x = SegmentSet::new();
         x.push_polyline(
-            &pts(&[(-1., -1.), (0., 0.), (1., 1.), (1., -1.), (0., 0.), (-1., 1.)]),
+            &pts(&[
+                (-1., -1.),
+                (0., 0.),
+                (1., 1.),
+                (1., -1.),
+                (0., 0.),
+                (-1., 1.),
+            ]),
             &[],
         );
         assert!(!x.contacts().is_empty());
