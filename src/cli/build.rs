@@ -167,7 +167,7 @@ pub fn run(a: Args) -> Result<u8> {
             };
             let report = check_text(Backend::Builtin, &g, &cfg, &bounds);
             if report.errors() > 0 {
-                eprint!("{report}");
+                eprintln!("{report}");
                 if !a.write_unchecked {
                     bail!(
                         "the checker found {} error(s) in the program; nothing was written \

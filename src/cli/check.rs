@@ -7,8 +7,10 @@ use anyhow::{Context, Result, bail};
 use skinpath::job::check::{check_config, design_boundaries};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 use skinpath::sim::{Backend, CheckConfig, check_text};
+use std::io::Read;
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -65,7 +67,7 @@ pub fn run(a: Args) -> Result<u8> {
         None => Vec::new(),
     };
     let (backend, input) = if a.backend == "linuxcnc" {
-        (Backend::LinuxCnc, run_rs274(&a.program)?)
+        (Backend::LinuxCnc, run_rs274(&text)?)
     } else {
         (Backend::Builtin, text)
     };
@@ -73,26 +75,55 @@ pub fn run(a: Args) -> Result<u8> {
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print!("{report}");
+        println!("{report}");
     }
     Ok(report.exit_code() as u8)
 }
 
-/// Run LinuxCNC's stand-alone interpreter on the program and return its canonical
-/// commands (`rs274 -n 0 -g PROGRAM`).
-fn run_rs274(program: &std::path::Path) -> Result<String> {
-    let out = Command::new("rs274")
-        .arg("-n")
-        .arg("0")
-        .arg("-g")
-        .arg(program)
-        .output()
-        .context("cannot run rs274 (install the Debian package linuxcnc-uspace)")?;
-    if out.stdout.is_empty() {
-        bail!(
-            "rs274 produced no output: {}",
-            String::from_utf8_lossy(&out.stderr).trim()
-        );
-    }
-    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+/// Longest time rs274 may take: it can loop forever on malformed input.
+const RS274_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// Run LinuxCNC's stand-alone interpreter (`rs274 -n 0 -g`) on a line-numbered copy of the
+/// program text ([`skinpath::sim::linuxcnc::number_lines`], so findings carry the file's
+/// line numbers) and return its canonical commands. Stopped after [`RS274_TIMEOUT`].
+fn run_rs274(text: &str) -> Result<String> {
+    let dir = std::env::temp_dir().join(format!("skinpath-rs274-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let file = dir.join("program.ngc");
+    std::fs::write(&file, skinpath::sim::linuxcnc::number_lines(text))
+        .with_context(|| format!("cannot write {}", file.display()))?;
+    let result = (|| -> Result<String> {
+        let mut child = Command::new("rs274")
+            .args(["-n", "0", "-g"])
+            .arg(&file)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .context("cannot run rs274 (install the Debian package linuxcnc-uspace)")?;
+        let stdout = child.stdout.take().context("rs274 has no output pipe")?;
+        let reader = std::thread::spawn(move || {
+            let mut s = String::new();
+            let _ = std::io::BufReader::new(stdout).read_to_string(&mut s);
+            s
+        });
+        let start = Instant::now();
+        while child.try_wait()?.is_none() {
+            if start.elapsed() > RS274_TIMEOUT {
+                let _ = child.kill();
+                let _ = child.wait();
+                bail!("rs274 did not finish within {} s", RS274_TIMEOUT.as_secs());
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let out = reader
+            .join()
+            .map_err(|_| anyhow::anyhow!("reading rs274 output failed"))?;
+        if out.is_empty() {
+            bail!("rs274 produced no output");
+        }
+        Ok(out)
+    })();
+    let _ = std::fs::remove_dir_all(&dir);
+    result
 }
