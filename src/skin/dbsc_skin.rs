@@ -176,6 +176,8 @@ struct State<'a> {
     weights: Vec<f64>,
     /// Error bounds by (arc, span, side, mode).
     cache: RefCell<HashMap<CacheKey, HausdorffBounds>>,
+    /// Envelope loops of the curve (kruppa-2023 Sec. 3).
+    loops: Vec<EnvelopeLoop>,
 }
 
 type CacheKey = ([u64; 10], usize, bool);
@@ -412,6 +414,15 @@ impl State<'_> {
         if radical_centre(&a, m, &b).is_none_or(|s| m.power(s) >= 0.0) {
             return false;
         }
+        self.touching_uncovered(side, u0, u1, m)
+    }
+
+    /// True when the `side` touching point on `m`, in the triplet with that side's
+    /// neighbours, exists and is not covered by them (so that skin can use `m`).
+    fn touching_uncovered(&self, side: Side, u0: f64, u1: f64, m: &Circle) -> bool {
+        let Some((a, b)) = self.side_neighbours(side, u0, u1) else {
+            return false;
+        };
         let Some(tt) = triplet_touching(&a, m, &b, adm_opts().rel_tol) else {
             return false;
         };
@@ -451,8 +462,31 @@ impl State<'_> {
                     [Side::Left] => CircleUse::Left,
                     [Side::Right] => CircleUse::Right,
                     _ => {
-                        self.marks[i] = Mark::Stopped(Phase::Three);
-                        continue;
+                        // Extension beyond the paper: where the radical-point rule gives no
+                        // side, offer c* to the side that misses ε by less when that side's
+                        // envelope has no loop here (so the skin follows a real boundary)
+                        // and its touching point on c* is not covered by that side's
+                        // neighbours; the outline check below still decides.
+                        let (lo_err, hi_err) = (err[i][0].upper, err[i][1].upper);
+                        let side = if lo_err <= hi_err {
+                            Side::Left
+                        } else {
+                            Side::Right
+                        };
+                        let (dlo, dhi) = self.c.domain();
+                        let narrow = (u1 - u0) < MIN_PHASE3_SPAN * (dhi - dlo);
+                        let looped = self
+                            .loops
+                            .iter()
+                            .any(|l| l.side == side && overlaps(l.t_a, l.t_b, u0, u1));
+                        if narrow || looped || !self.touching_uncovered(side, u0, u1, &m) {
+                            self.marks[i] = Mark::Stopped(Phase::Three);
+                            continue;
+                        }
+                        match side {
+                            Side::Left => CircleUse::Left,
+                            Side::Right => CircleUse::Right,
+                        }
                     }
                 };
                 let saved = (
@@ -476,6 +510,10 @@ impl State<'_> {
         }
     }
 }
+
+/// Phase 3 does not split segments shorter than this fraction of the domain: a guard that
+/// ends one-sided refinement where a side cannot reach ε (no envelope to follow there).
+const MIN_PHASE3_SPAN: f64 = 1e-4;
 
 /// Skins of both sides with their circle parameters and the outline contours.
 struct SidedOutline {
@@ -609,8 +647,10 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         params.pop();
     }
     let n = params.len();
+    let loops = find_loops(c, opts.loop_tol)?;
     let mut st = State {
         c,
+        loops: loops.loops.clone(),
         closed,
         hi,
         opts: *opts,
@@ -637,7 +677,6 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     }
     // Final report with tight bounds.
     let err = st.errors(true)?;
-    let loops = find_loops(c, opts.loop_tol)?;
     let o = st.outline()?;
     // Safety net: never hand out a crossing outline (phases 1–2 rely on admissibility,
     // phase 3 checks each insertion; this re-checks the final result).
