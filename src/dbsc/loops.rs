@@ -29,10 +29,6 @@ use crate::geom::DVec2;
 /// below any parameter tolerance a caller can ask for in f64.
 const MAX_ISOLATION_DEPTH: u32 = 60;
 
-/// Maximum number of Brent iterations; Brent converges superlinearly and falls back to
-/// bisection, so 200 steps exceed 2^-200 of the bracket.
-const MAX_BRENT_ITERATIONS: usize = 200;
-
 /// A polynomial on [0, 1] in Bernstein form.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Bern(pub(crate) Vec<f64>);
@@ -241,74 +237,7 @@ impl SpanPoly {
     }
 }
 
-/// Brent's method (zeroin) on a bracket [a, b] with f(a) f(b) ≤ 0, to an interval of width
-/// `tol`. Returns the best root estimate.
-pub fn brent(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
-    let (mut a, mut b) = (a, b);
-    let (mut fa, mut fb) = (f(a), f(b));
-    if fa == 0.0 {
-        return a;
-    }
-    if fb == 0.0 {
-        return b;
-    }
-    let (mut c, mut fc) = (a, fa);
-    let mut d = b - a;
-    let mut e = d;
-    for _ in 0..MAX_BRENT_ITERATIONS {
-        if (fb > 0.0) == (fc > 0.0) {
-            c = a;
-            fc = fa;
-            d = b - a;
-            e = d;
-        }
-        if fc.abs() < fb.abs() {
-            a = b;
-            b = c;
-            c = a;
-            fa = fb;
-            fb = fc;
-            fc = fa;
-        }
-        let tol1 = 2.0 * f64::EPSILON * b.abs() + 0.5 * tol;
-        let xm = 0.5 * (c - b);
-        if xm.abs() <= tol1 || fb == 0.0 {
-            return b;
-        }
-        if e.abs() >= tol1 && fa.abs() > fb.abs() {
-            let s = fb / fa;
-            let (mut p, mut q);
-            if a == c {
-                p = 2.0 * xm * s;
-                q = 1.0 - s;
-            } else {
-                let qq = fa / fc;
-                let r = fb / fc;
-                p = s * (2.0 * xm * qq * (qq - r) - (b - a) * (r - 1.0));
-                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
-            }
-            if p > 0.0 {
-                q = -q;
-            }
-            p = p.abs();
-            if 2.0 * p < (3.0 * xm * q - (tol1 * q).abs()).min((e * q).abs()) {
-                e = d;
-                d = p / q;
-            } else {
-                d = xm;
-                e = d;
-            }
-        } else {
-            d = xm;
-            e = d;
-        }
-        a = b;
-        fa = fb;
-        b += if d.abs() > tol1 { d } else { tol1.copysign(xm) };
-        fb = f(b);
-    }
-    b
-}
+pub use crate::geom::roots::brent;
 
 /// Roots in (0, 1) of a Bernstein polynomial, isolated by subdivision (variation
 /// diminishing) and refined by Brent to `tol` (in u). Clusters narrower than `tol` whose

@@ -20,10 +20,6 @@ use super::DiskBSpline;
 /// (near-)multiple root and is taken as one root at its midpoint.
 const MAX_DEPTH: usize = 48;
 
-/// Iteration cap of the Brent refinement (it converges in far fewer; the cap only guards
-/// against a non-positive tolerance).
-const MAX_BRENT_ITERS: usize = 200;
-
 /// Relative size below which all Bernstein coefficients of D count as zero on a span
 /// (D ≡ 0: ‖q′‖ = |r′| throughout, no envelope on the whole span).
 const ZERO_REL: f64 = 1e-13;
@@ -174,7 +170,14 @@ fn isolate(
     }
     let (f0, f1) = (coef[0], coef[n - 1]);
     if changes == 1 && f0 != 0.0 && f1 != 0.0 && (f0 > 0.0) != (f1 > 0.0) {
-        out.push(brent(|u| bernstein_eval(full, u), u0, u1, f0, f1, utol));
+        out.push(crate::geom::roots::brent_with(
+            |u| bernstein_eval(full, u),
+            u0,
+            u1,
+            f0,
+            f1,
+            utol,
+        ));
         return;
     }
     if depth >= MAX_DEPTH || u1 - u0 <= utol {
@@ -185,69 +188,6 @@ fn isolate(
     let (l, r) = split_half(coef);
     isolate(full, &l, u0, um, depth + 1, utol, out);
     isolate(full, &r, um, u1, depth + 1, utol, out);
-}
-
-/// Brent's method (zeroin) for a root of `f` in [a, b] with f(a) = fa, f(b) = fb of
-/// opposite signs, to within `tol`.
-pub(crate) fn brent(f: impl Fn(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, tol: f64) -> f64 {
-    let (mut a, mut b, mut fa, mut fb) = (a, b, fa, fb);
-    let (mut c, mut fc) = (a, fa);
-    let mut d = b - a;
-    let mut e = d;
-    for _ in 0..MAX_BRENT_ITERS {
-        if (fb > 0.0) == (fc > 0.0) {
-            c = a;
-            fc = fa;
-            d = b - a;
-            e = d;
-        }
-        if fc.abs() < fb.abs() {
-            a = b;
-            b = c;
-            c = a;
-            fa = fb;
-            fb = fc;
-            fc = fa;
-        }
-        let tol1 = 2.0 * f64::EPSILON * b.abs() + 0.5 * tol.max(0.0);
-        let xm = 0.5 * (c - b);
-        if xm.abs() <= tol1 || fb == 0.0 {
-            return b;
-        }
-        if e.abs() >= tol1 && fa.abs() > fb.abs() {
-            // Inverse quadratic interpolation or secant.
-            let s = fb / fa;
-            let (mut p, mut q);
-            if a == c {
-                p = 2.0 * xm * s;
-                q = 1.0 - s;
-            } else {
-                let qq = fa / fc;
-                let r = fb / fc;
-                p = s * (2.0 * xm * qq * (qq - r) - (b - a) * (r - 1.0));
-                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
-            }
-            if p > 0.0 {
-                q = -q;
-            }
-            p = p.abs();
-            if 2.0 * p < (3.0 * xm * q - (tol1 * q).abs()).min((e * q).abs()) {
-                e = d;
-                d = p / q;
-            } else {
-                d = xm;
-                e = d;
-            }
-        } else {
-            d = xm;
-            e = d;
-        }
-        a = b;
-        fa = fb;
-        b += if d.abs() > tol1 { d } else { tol1.copysign(xm) };
-        fb = f(b);
-    }
-    b
 }
 
 /// The no-envelope pieces of one span [a, b].

@@ -10,6 +10,7 @@ pub mod cubic;
 pub mod line;
 pub mod path;
 pub mod predicates;
+pub mod roots;
 pub mod tol;
 
 pub use arc::Arc;
