@@ -482,7 +482,7 @@ mod tests {
             panic!("expected a lead-in arc")
         };
         let r = center.distance(p(5.0, 0.0));
-        assert!(r < 4.0 && r >= 0.5 - 1e-12, "lead radius {r}");
+        assert!((0.5 - 1e-12..4.0).contains(&r), "lead radius {r}");
         // The lead stays clear of the fin's wall at x = 5.6.
         assert!(c.start.x < 5.6 && center.x + r < 5.6);
     }
