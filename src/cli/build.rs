@@ -144,6 +144,15 @@ pub fn run(a: Args) -> Result<u8> {
             // Read the program back and check it before it reaches a machine.
             let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
             let mut cfg = check_config(&profile, tool_r);
+            // The tool path may come closer to the design than the tool radius by the
+            // errors this build allows itself: arc fitting of the outline and the boundary's
+            // flattening (each `tolerance`, in design units), coordinate rounding and the
+            // checker's own arc flattening.
+            let k = design.units.mm_per_unit() / profile.units.mm_per_unit();
+            let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
+            cfg.gouge_tolerance = cfg
+                .gouge_tolerance
+                .max(2.0 * opts.tolerance * k + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance);
             // Pockets, fills, holes and carvings overlap other cuts by design; only a job of
             // profiles must keep its contours apart.
             cfg.allow_crossings = design.operation.iter().any(|o| {
