@@ -86,6 +86,7 @@ struct Profile {
     safe_z: Option<f64>,
     rapid_off: Option<String>,
     laser_mode: Option<String>,
+    decimals: i64,
     toml: toml::Value,
 }
 
@@ -113,6 +114,11 @@ fn profile(name: &str) -> Profile {
             .get("laser")
             .and_then(|l| l.get("mode"))
             .map(|x| x.as_str().unwrap().to_string()),
+        decimals: v
+            .get("gcode")
+            .and_then(|g| g.get("decimals"))
+            .and_then(|d| d.as_integer())
+            .unwrap_or(3),
         toml: v,
     }
 }
@@ -389,15 +395,11 @@ fn outline_every_example_svg_and_json() {
                     assert!(pts.iter().all(|p| p.is_finite()));
                     let segs = segments(&pts, true);
                     let hits = self_hits(&segs, true);
-                    // The G clef's stem runs through its bowl on purpose: its outline crosses
-                    // itself where the stroke does (examples/gclef.toml header).
-                    if name != "gclef" {
-                        assert!(
-                            hits.is_empty(),
-                            "{name}/{sname}: outline crosses itself at segments {:?}",
-                            &hits[..hits.len().min(5)]
-                        );
-                    }
+                    assert!(
+                        hits.is_empty(),
+                        "{name}/{sname}: outline crosses itself at segments {:?}",
+                        &hits[..hits.len().min(5)]
+                    );
                     all_outlines.push((sname.to_string(), segs));
                 }
             }
@@ -550,6 +552,98 @@ fn inspect_reports_loops_and_consistent_numbers() {
 // ---------------------------------------------------------------------------------------
 // 4. build G-code for every G-code profile
 
+/// The points of an arc (start `s`, end `e`, clockwise for G2) where it reaches its
+/// extreme X or Y: the quarter-circle points inside its sweep. Centre from I/J offsets
+/// or, with R, on the side of the chord given by the direction and the sign of R.
+fn arc_extremes(s: [f64; 3], e: [f64; 3], cw: bool, ij: [f64; 2], r: Option<f64>) -> Vec<[f64; 2]> {
+    use std::f64::consts::{PI, TAU};
+    let (sx, sy, ex, ey) = (s[0], s[1], e[0], e[1]);
+    let (cx, cy) = match r {
+        Some(r) => {
+            let (dx, dy) = (ex - sx, ey - sy);
+            let d = dx.hypot(dy);
+            if d == 0.0 {
+                return Vec::new();
+            }
+            let h = (r * r - d * d / 4.0).max(0.0).sqrt();
+            // Left normal of the chord; the centre is left for CCW with R > 0.
+            let sign = if cw { -1.0 } else { 1.0 } * r.signum();
+            (
+                (sx + ex) / 2.0 - sign * h * dy / d,
+                (sy + ey) / 2.0 + sign * h * dx / d,
+            )
+        }
+        None => (sx + ij[0], sy + ij[1]),
+    };
+    let rad = (sx - cx).hypot(sy - cy);
+    let a0 = (sy - cy).atan2(sx - cx);
+    let a1 = (ey - cy).atan2(ex - cx);
+    let mut sweep = if cw {
+        (a0 - a1).rem_euclid(TAU)
+    } else {
+        (a1 - a0).rem_euclid(TAU)
+    };
+    if sweep == 0.0 {
+        sweep = TAU;
+    }
+    let mut out = Vec::new();
+    for k in 0..4 {
+        let th = k as f64 * PI / 2.0;
+        let along = if cw {
+            (a0 - th).rem_euclid(TAU)
+        } else {
+            (th - a0).rem_euclid(TAU)
+        };
+        if along <= sweep {
+            out.push([cx + rad * th.cos(), cy + rad * th.sin()]);
+        }
+    }
+    out
+}
+
+#[test]
+fn arc_extremes_of_known_arcs() {
+    // CCW half circle from (1,0) to (-1,0) about the origin passes (0,1) only (plus ends).
+    let e = arc_extremes([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], false, [-1.0, 0.0], None);
+    assert!(
+        e.iter()
+            .any(|p| (p[0]).abs() < 1e-12 && (p[1] - 1.0).abs() < 1e-12)
+    );
+    assert!(!e.iter().any(|p| (p[1] + 1.0).abs() < 1e-12));
+    // The same chord clockwise passes (0,-1).
+    let e = arc_extremes([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], true, [-1.0, 0.0], None);
+    assert!(e.iter().any(|p| (p[1] + 1.0).abs() < 1e-12));
+    // R format: quarter arc (1,0) -> (0,1), CCW, R 1: centre at the origin, no bulge past
+    // the ends; with R -1 the long way round about (1,1), through (2,1) and (1,2).
+    let e = arc_extremes([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], false, [0.0; 2], Some(1.0));
+    assert!(
+        e.iter()
+            .all(|p| p[0] >= -1e-9 && p[1] >= -1e-9 && p[0].hypot(p[1]) <= 1.0 + 1e-9),
+        "{e:?}"
+    );
+    let e = arc_extremes(
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        false,
+        [0.0; 2],
+        Some(-1.0),
+    );
+    for want in [[2.0, 1.0], [1.0, 2.0]] {
+        assert!(
+            e.iter()
+                .any(|p| (p[0] - want[0]).abs() < 1e-9 && (p[1] - want[1]).abs() < 1e-9),
+            "{e:?}"
+        );
+    }
+    // Clockwise with R 1 from (1,0) to (0,1): centre (1,1) short way, through no extreme
+    // beyond the square [0,1]^2.
+    let e = arc_extremes([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], true, [0.0; 2], Some(1.0));
+    assert!(
+        e.iter().all(|p| p[0] <= 1.0 + 1e-9 && p[1] <= 1.0 + 1e-9),
+        "{e:?}"
+    );
+}
+
 struct Sim {
     violations: Vec<String>,
     moves: usize,
@@ -574,6 +668,7 @@ fn replay(text: &str, p: &Profile) -> Sim {
         let mut new = pos;
         let mut has_axis = false;
         let mut has_xy = false;
+        let (mut ij, mut rword) = ([0.0f64; 2], None);
         for &(l, x) in &w {
             match l {
                 'G' => match x as u32 {
@@ -609,6 +704,9 @@ fn replay(text: &str, p: &Profile) -> Sim {
                     new[2] = x;
                     has_axis = true;
                 }
+                'I' => ij[0] = x,
+                'J' => ij[1] = x,
+                'R' => rword = Some(x),
                 _ => {}
             }
         }
@@ -647,6 +745,20 @@ fn replay(text: &str, p: &Profile) -> Sim {
                     "line {ln}: axis {a} at {c} outside {:?}",
                     p.area[a]
                 ));
+            }
+        }
+        if (mode == 2 || mode == 3) && pos[0].is_finite() && pos[1].is_finite() {
+            for q in arc_extremes(pos, new, mode == 2, ij, rword) {
+                for a in 0..2 {
+                    // The centre is rebuilt from rounded words: allow the rounding.
+                    let slack = eps + 2.0 * 10f64.powi(-(p.decimals as i32));
+                    if !(q[a] >= p.area[a][0] - slack && q[a] <= p.area[a][1] + slack) {
+                        v.push(format!(
+                            "line {ln}: arc reaches axis {a} at {} outside {:?}",
+                            q[a], p.area[a]
+                        ));
+                    }
+                }
             }
         }
         pos = new;
