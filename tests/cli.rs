@@ -749,13 +749,12 @@ fn replay(text: &str, p: &Profile) -> Sim {
         }
         if (mode == 2 || mode == 3) && pos[0].is_finite() && pos[1].is_finite() {
             for q in arc_extremes(pos, new, mode == 2, ij, rword) {
-                for a in 0..2 {
+                for (a, (&c, range)) in q.iter().zip(&p.area).enumerate() {
                     // The centre is rebuilt from rounded words: allow the rounding.
                     let slack = eps + 2.0 * 10f64.powi(-(p.decimals as i32));
-                    if !(q[a] >= p.area[a][0] - slack && q[a] <= p.area[a][1] + slack) {
+                    if !(c >= range[0] - slack && c <= range[1] + slack) {
                         v.push(format!(
-                            "line {ln}: arc reaches axis {a} at {} outside {:?}",
-                            q[a], p.area[a]
+                            "line {ln}: arc reaches axis {a} at {c} outside {range:?}"
                         ));
                     }
                 }
