@@ -1442,3 +1442,60 @@ fn machines_lists_all_profiles() {
         );
     }
 }
+
+#[test]
+fn replay_flags_planted_faults() {
+    // The G-code replay must catch each fault it checks for.
+    let marlin = profile("marlin-laser");
+    let ok = "G21 G90\nG0 X10 Y10\nM3 I1 S100\nG1 X20 Y10 F600\nM5\nG0 X30 Y30\nM5\n";
+    assert!(
+        replay(ok, &marlin).violations.is_empty(),
+        "{:?}",
+        replay(ok, &marlin).violations
+    );
+    let rapid_on = "G21 G90\nG0 X10 Y10\nM3 I1 S100\nG1 X20 Y10 F600\nG0 X30 Y30\nM5\n";
+    let v = replay(rapid_on, &marlin).violations;
+    assert!(
+        v.iter()
+            .any(|m| m.contains("line 5") && m.contains("laser on")),
+        "{v:?}"
+    );
+    let left_on = "G21 G90\nG0 X10 Y10\nM3 I1 S100\nG1 X20 Y10 F600\n";
+    assert!(
+        replay(left_on, &marlin)
+            .violations
+            .iter()
+            .any(|m| m.contains("tool on"))
+    );
+    let outside = "G21 G90\nG0 X10 Y10\nM3 I1 S100\nG1 X230 Y10 F600\nM5\n";
+    assert!(
+        replay(outside, &marlin)
+            .violations
+            .iter()
+            .any(|m| m.contains("line 4"))
+    );
+    // An arc whose end points are inside but whose bulge leaves the bed (x < 0).
+    let bulge = "G21 G90\nG0 X1 Y10\nM3 I1 S100\nG2 X1 Y20 I4 J5 F600\nM5\n";
+    let v = replay(bulge, &marlin).violations;
+    assert!(v.iter().any(|m| m.contains("arc reaches axis 0")), "{v:?}");
+    let grbl_laser = profile("grbl-laser");
+    let m3 = "G21 G90\nG0 X10 Y10\nM3 S100\nG1 X20 Y10 F600\nM5\nM2\n";
+    assert!(
+        replay(m3, &grbl_laser)
+            .violations
+            .iter()
+            .any(|m| m.contains("dynamic"))
+    );
+    let router = profile("grbl-router");
+    let low = "G21 G90\nG0 Z5\nX10 Y10\nM3 S12000\nG1 Z-1 F200\nG1 X20\nG0 X40\nG0 Z5\nM5\nM30\n";
+    let v = replay(low, &router).violations;
+    assert_eq!(v.len(), 1, "{v:?}");
+    assert!(v[0].contains("line 7") && v[0].contains("safe_z"), "{v:?}");
+    let ends_on = "G21 G90\nG0 Z5\nX10 Y10\nM3 S12000\nG1 Z-1 F200\nG0 Z5\nM30\n";
+    assert!(
+        replay(ends_on, &router)
+            .violations
+            .iter()
+            .any(|m| m.contains("M2/M30"))
+    );
+}
