@@ -407,9 +407,16 @@ fn outline_every_example_svg_and_json() {
         // Outline contours of one stroke never meet each other (a ring's inner and outer).
         for i in 0..all_outlines.len() {
             for k in i + 1..all_outlines.len() {
-                if all_outlines[i].0 == all_outlines[k].0 {
+                // Strokes of the 大 and the seahorse's fin overlap on purpose; the letters
+                // of the neon word and the circle sequences stand apart.
+                let apart = matches!(name, "neon_word" | "circles");
+                if apart || all_outlines[i].0 == all_outlines[k].0 {
                     let n = cross_hits(&all_outlines[i].1, &all_outlines[k].1);
-                    assert_eq!(n, 0, "{name}/{}: outline contours meet", all_outlines[i].0);
+                    assert_eq!(
+                        n, 0,
+                        "{name}: outline contours of {} and {} meet",
+                        all_outlines[i].0, all_outlines[k].0
+                    );
                 }
             }
         }
