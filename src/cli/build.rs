@@ -37,7 +37,8 @@ pub struct Args {
     preview: Option<PathBuf>,
     /// Where the job goes on the machine: `design` keeps the design's coordinates;
     /// `lower-left` moves the job's lower-left corner (tool paths included) to the work
-    /// area's lower-left corner plus `--margin`.
+    /// area's lower-left corner plus `--margin` (and one unit of the last decimal, so
+    /// rounding cannot push an arc over the edge).
     #[arg(long, value_parser = ["design", "lower-left"], default_value = "design")]
     place: String,
     /// Distance from the work area's corner with `--place lower-left`, in design units.
@@ -103,8 +104,12 @@ pub fn run(a: Args) -> Result<u8> {
         // Design units per profile unit: work area corners are in the profile's units.
         let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
         let s = built.toolpath.stats(glam::DVec2::ZERO);
+        // One unit of the program's last decimal more, so that coordinate rounding cannot
+        // put an arc's extreme point a hair outside the work area.
+        let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
+        let inset = 10f64.powi(-(decimals as i32)) * k;
         let target = glam::DVec2::new(profile.work_area.x.min(), profile.work_area.y.min()) * k
-            + glam::DVec2::splat(a.margin);
+            + glam::DVec2::splat(a.margin + inset);
         let d = target - glam::DVec2::new(s.bbox_min[0], s.bbox_min[1]);
         built.toolpath = built.toolpath.translated(d);
         for o in &mut built.outlines {
@@ -150,9 +155,9 @@ pub fn run(a: Args) -> Result<u8> {
             // checker's own arc flattening.
             let k = design.units.mm_per_unit() / profile.units.mm_per_unit();
             let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
-            cfg.gouge_tolerance = cfg
-                .gouge_tolerance
-                .max(2.0 * opts.tolerance * k + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance);
+            cfg.gouge_tolerance = cfg.gouge_tolerance.max(
+                2.0 * opts.tolerance * k + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance,
+            );
             // Pockets, fills, holes and carvings overlap other cuts by design; only a job of
             // profiles must keep its contours apart.
             cfg.allow_crossings = design.operation.iter().any(|o| {

@@ -33,7 +33,8 @@ pub fn move_length(from: DVec3, kind: &MoveKind, to: DVec3) -> f64 {
 }
 
 impl Toolpath {
-    /// Summary figures; `home` is where the tool starts.
+    /// Summary figures; `home` is where the tool starts. The bounding box is exact: arcs
+    /// count with their axis-extreme points.
     pub fn stats(&self, home: DVec2) -> ToolpathStats {
         let mut s = ToolpathStats {
             operations: self.operations.len(),
@@ -60,6 +61,17 @@ impl Toolpath {
                 grow(here);
                 for m in &cut.moves {
                     let l = move_length(here, &m.kind, m.to);
+                    // Arcs reach past their end points: add their axis-extreme points.
+                    if let MoveKind::Arc { center, ccw } = m.kind {
+                        let a =
+                            Arc::from_center_points(center, here.truncate(), m.to.truncate(), ccw);
+                        for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
+                            let q = center + a.radius * d;
+                            if a.contains_angle_of(q) {
+                                grow(DVec3::new(q.x, q.y, here.z.min(m.to.z)));
+                            }
+                        }
+                    }
                     match m.kind {
                         MoveKind::Rapid => travel += l,
                         MoveKind::Dwell { seconds } => time += seconds,
@@ -134,5 +146,8 @@ mod tests {
         // 600 mm/min = 10 mm/s.
         assert!((s.cut_time - s.cut_length / 10.0).abs() < 1e-12);
         assert_eq!(s.bbox_max[0], 4.0);
+        // The circle reaches y = ±1 and x = −1 between its end points.
+        assert!((s.bbox_min[1] + 1.0).abs() < 1e-12 && (s.bbox_max[1] - 1.0).abs() < 1e-12);
+        assert!((s.bbox_min[0] + 1.0).abs() < 1e-12);
     }
 }
