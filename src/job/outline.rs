@@ -272,6 +272,11 @@ pub struct ReOutline {
     pub intersections: Vec<EnvelopeIntersection>,
     /// Pairs elimination could not fix: (i, j) circle indices.
     pub failed_pairs: Vec<(usize, usize)>,
+    /// Local envelope loops (τ < 0, `mat_offset::envelope_loops`): branch and global
+    /// parameter interval (segment index + t). When present, `contours` are the boundary
+    /// of the non-zero-winding union of the flattened envelopes, which cuts the loops off;
+    /// offsets near a loop are not exact offsets of the outline.
+    pub loops: Vec<(Branch, f64, f64)>,
 }
 
 fn seq_scale(circles: &[Circle]) -> f64 {
@@ -331,13 +336,33 @@ pub fn re_outline(
         Ok(m) => m,
         Err(_) => raw_outline(&skin),
     };
-    let contours = orient(flatten_mat(&mat, tol));
+    let mut contours = flatten_mat(&mat, tol);
+    let loops = mat_offset::envelope_loops(&skin, RE_PARAM_TOL).unwrap_or_default();
+    if !loops.is_empty() {
+        let paths: Vec<Path> = contours.iter().map(|c| polyline_path(c)).collect();
+        contours = Region::from_overlapping_paths(&paths, tol)
+            .paths()
+            .iter()
+            .map(|p| p.flatten(tol))
+            .filter(|c| c.len() >= 3)
+            .collect();
+    }
     Ok(ReOutline {
         skin,
-        contours,
+        contours: orient(contours),
         intersections,
         failed_pairs,
+        loops,
     })
+}
+
+/// A closed polyline as a path of lines.
+fn polyline_path(c: &[DVec2]) -> Path {
+    let n = c.len();
+    let segs = (0..n)
+        .map(|i| crate::geom::PathSeg::Line(crate::geom::Line::new(c[i], c[(i + 1) % n])))
+        .collect();
+    Path::new(segs, true)
 }
 
 /// The envelopes with caps as [`MatOffset`] pieces (offset 0) without the f > 0 check of
@@ -603,6 +628,26 @@ fn re_markers(o: &ReOutline) -> Vec<Marker> {
             ),
         });
     }
+    for &(b, g0, g1) in &o.loops {
+        let seg = (g0.floor().max(0.0) as usize).min(o.skin.segments.len().saturating_sub(1));
+        let Some(sg) = o.skin.segments.get(seg) else {
+            continue;
+        };
+        let t = (0.5 * (g0 + g1) - seg as f64).clamp(0.0, 1.0);
+        let at = o.skin.envelope(seg, b, t).unwrap_or(DVec2::ZERO);
+        let side = match b {
+            Branch::Plus => "left",
+            Branch::Minus => "right",
+        };
+        m.push(Marker {
+            kind: "re-loop".into(),
+            at: [at.x, at.y],
+            message: format!(
+                "circles {} and {}: the {side} envelope runs backwards (local loop, cut off by the union; offsets there are approximate)",
+                sg.i, sg.j
+            ),
+        });
+    }
     for &(i, j) in &o.failed_pairs {
         if o.intersections.iter().any(|e| {
             o.skin
@@ -728,4 +773,240 @@ pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<Outlin
         });
     }
     Ok(doc)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn snake() -> Vec<Circle> {
+        vec![
+            Circle::new(DVec2::new(0.0, 0.0), 1.0),
+            Circle::new(DVec2::new(3.0, 1.0), 1.4),
+            Circle::new(DVec2::new(6.0, 0.5), 0.8),
+            Circle::new(DVec2::new(8.5, -1.5), 1.1),
+            Circle::new(DVec2::new(11.0, -1.0), 0.6),
+        ]
+    }
+
+    fn ring() -> Vec<Circle> {
+        (0..8)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 8.0;
+                Circle::new(
+                    10.0 * DVec2::new(a.cos(), a.sin()),
+                    2.0 + 0.5 * (k % 2) as f64,
+                )
+            })
+            .collect()
+    }
+
+    fn transform(cs: &[Circle], rot: f64, scale: f64, rev: bool) -> Vec<Circle> {
+        let (s, c) = rot.sin_cos();
+        let mut v: Vec<Circle> = cs
+            .iter()
+            .map(|k| {
+                let p = DVec2::new(c * k.c.x - s * k.c.y, s * k.c.x + c * k.c.y) * scale;
+                Circle::new(p + DVec2::new(3.0, -2.0), k.r * scale)
+            })
+            .collect();
+        if rev {
+            v.reverse();
+        }
+        v
+    }
+
+    fn dist_poly(p: DVec2, c: &[DVec2]) -> f64 {
+        (0..c.len())
+            .map(|i| seg_dist(p, c[i], c[(i + 1) % c.len()]))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The flattened outline is within tol of the exact envelopes (dense samples of
+    /// ReSkin::envelope, a second evaluation path), and passes through every touching
+    /// point (piece ends are exact vertices).
+    #[test]
+    fn flattened_outline_follows_exact_envelopes() {
+        for (cs0, closed) in [(snake(), false), (ring(), true)] {
+            for (rot, scale, rev) in [(0.0, 1.0, false), (0.8, 4.0, false), (-2.1, 0.2, true)] {
+                let cs = transform(&cs0, rot, scale, rev);
+                let tol = 1e-3 * scale;
+                for interp in [Interp::Cubic, Interp::PhQuintic] {
+                    let touches = sequence_touches(&cs, closed).unwrap();
+                    let o = re_outline(&cs, &touches, closed, interp, tol).unwrap();
+                    assert_eq!(o.contours.len(), if closed { 2 } else { 1 });
+                    // Before any loop cut: the flattened exact pieces themselves.
+                    let flat = flatten_mat(&mat_offset::outline(&o.skin).unwrap(), tol);
+                    let all: Vec<DVec2> = flat.concat();
+                    let near = |p: DVec2| {
+                        flat.iter()
+                            .map(|c| dist_poly(p, c))
+                            .fold(f64::INFINITY, f64::min)
+                    };
+                    for s in 0..o.skin.segments.len() {
+                        for k in 0..=200 {
+                            let t = k as f64 / 200.0;
+                            for b in [Branch::Plus, Branch::Minus] {
+                                let p = o.skin.envelope(s, b, t).unwrap();
+                                assert!(near(p) <= tol * 1.001, "{s} {t} {}", near(p));
+                            }
+                        }
+                    }
+                    for t in &touches {
+                        let Touch::Fixed { plus, minus } = *t else {
+                            panic!()
+                        };
+                        for w in [plus, minus] {
+                            let d = all.iter().map(|q| q.distance(w)).fold(f64::MAX, f64::min);
+                            assert!(d <= 1e-9 * scale, "touching point {w} missed by {d}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Open: one counter-clockwise contour; closed: outer counter-clockwise enclosing the
+    /// clockwise inner one.
+    #[test]
+    fn contours_are_oriented() {
+        let area = |c: &Vec<DVec2>| crate::geom::path::polygon_area(c);
+        let o = re_outline(
+            &snake(),
+            &sequence_touches(&snake(), false).unwrap(),
+            false,
+            Interp::Cubic,
+            1e-3,
+        )
+        .unwrap();
+        assert!(area(&o.contours[0]) > 0.0);
+        let o = re_outline(
+            &ring(),
+            &sequence_touches(&ring(), true).unwrap(),
+            true,
+            Interp::PhQuintic,
+            1e-3,
+        )
+        .unwrap();
+        let (a0, a1) = (area(&o.contours[0]), area(&o.contours[1]));
+        let (a0, a1) = (a0.max(a1), a0.min(a1));
+        assert!(a0 > 0.0 && a1 < 0.0 && a0 > -a1, "{a0} {a1}");
+        // The ring between radii ~8 and ~12: area close to π(12.2² − 7.8²) within 20 %.
+        let ring_area = std::f64::consts::PI * (12.25f64.powi(2) - 7.75f64.powi(2));
+        assert!(((a0 + a1) / ring_area - 1.0).abs() < 0.2, "{}", a0 + a1);
+    }
+
+    /// The snake's right envelope loops near circle 2: the loop is reported and the outline
+    /// is cut clean (no two non-adjacent polyline segments cross).
+    #[test]
+    fn envelope_loop_is_cut_and_reported() {
+        let cs = snake();
+        let o = re_outline(
+            &cs,
+            &sequence_touches(&cs, false).unwrap(),
+            false,
+            Interp::Cubic,
+            1e-3,
+        )
+        .unwrap();
+        assert!(!o.loops.is_empty());
+        assert!(re_markers(&o).iter().any(|m| m.kind == "re-loop"));
+        for c in &o.contours {
+            let n = c.len();
+            for i in 0..n {
+                for j in i + 2..n {
+                    if i == 0 && j == n - 1 {
+                        continue;
+                    }
+                    assert!(!crate::geom::predicates::segments_intersect(
+                        c[i],
+                        c[(i + 1) % n],
+                        c[j],
+                        c[(j + 1) % n]
+                    ));
+                }
+            }
+        }
+    }
+
+    /// Offsets of the MAT route lie at δ from the outline (up to both flattenings) on a
+    /// loop-free sequence (an arc of growing circles).
+    #[test]
+    fn re_offsets_at_delta() {
+        let cs: Vec<Circle> = (0..6)
+            .map(|k| {
+                let a = 0.3 * k as f64;
+                Circle::new(20.0 * DVec2::new(a.cos(), a.sin()), 1.0 + 0.4 * k as f64)
+            })
+            .collect();
+        let tol = 1e-3;
+        let o = re_outline(
+            &cs,
+            &sequence_touches(&cs, false).unwrap(),
+            false,
+            Interp::Cubic,
+            tol,
+        )
+        .unwrap();
+        assert!(o.loops.is_empty());
+        for delta in [0.3, 0.9] {
+            let offs = re_offsets(&o.skin, delta, tol).unwrap();
+            assert!(offs.len() >= 2);
+            for p in offs.iter().flatten() {
+                let d = dist_poly(*p, &o.contours[0]);
+                assert!(
+                    (d - delta).abs() <= 2.0 * tol + 1e-9,
+                    "δ {delta}: {p} at {d}; loops {:?}",
+                    mat_offset::envelope_loops(&o.skin, 1e-9)
+                );
+            }
+        }
+    }
+
+    const DESIGN: &str = r#"
+version = 1
+units = "mm"
+[outline]
+method = "mph"
+tolerance = 0.01
+[[circles]]
+name = "c1"
+closed = false
+circles = [[0.0, 0.0, 1.0], [3.0, 1.0, 1.4], [6.0, 0.5, 0.8], [8.5, -1.5, 1.1]]
+"#;
+
+    /// The design's [outline] method selects the MPH route; a bad sequence names itself.
+    #[test]
+    fn document_uses_design_method_and_names_errors() {
+        let design = crate::design::load(DESIGN, "t.toml").unwrap();
+        let method = design.outline.as_ref().and_then(|o| o.method).unwrap();
+        assert_eq!(re_interp(method), Some(Interp::PhQuintic));
+        let opts = OutlineOptions {
+            method,
+            tolerance: 0.01,
+            offset: Some(0.2),
+            ..OutlineOptions::default()
+        };
+        let doc = outline_document(&design, &opts).unwrap();
+        let s = &doc.strokes[0];
+        let n = |role: &str| s.contours.iter().filter(|c| c.role == role).count();
+        assert_eq!(n("outline"), 1);
+        assert!(n("offset") >= 2);
+        // The MPH outline differs from the skin outline of the same circles.
+        let skin = outline_document(
+            &design,
+            &OutlineOptions {
+                method: OutlineMethod::Skin,
+                ..opts
+            },
+        )
+        .unwrap();
+        assert_ne!(skin.strokes[0].contours, s.contours);
+        // A circle inside its neighbour has no touching points: the error names the sequence.
+        let bad = DESIGN.replace("[3.0, 1.0, 1.4]", "[0.1, 0.0, 0.2]");
+        if let Ok(d) = crate::design::load(&bad, "t.toml") {
+            let e = outline_document(&d, &opts).unwrap_err().to_string();
+            assert!(e.contains("c1"), "{e}");
+        }
+    }
 }
