@@ -472,10 +472,8 @@ pub fn flatten_mat(m: &MatOffset, tol: f64) -> Vec<Vec<DVec2>> {
     for c in &m.contours {
         let mut pts: Vec<DVec2> = Vec::new();
         for piece in &c.pieces {
-            if let Piece::Arc(a) = piece {
-                if a.radius <= 0.0 {
-                    continue;
-                }
+            if matches!(piece, Piece::Arc(a) if a.radius <= 0.0) {
+                continue;
             }
             let f = |s: f64| m.piece_point(piece, s);
             let mut s_prev = 0.0;
