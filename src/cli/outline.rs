@@ -13,8 +13,9 @@ pub struct Args {
     /// Output file: .svg for a drawing, .json for the outline document.
     #[arg(short, long)]
     output: PathBuf,
-    /// Outline method: skin (intersection-free, default) or envelope (the raw boundary).
-    #[arg(long, value_parser = ["skin", "envelope"])]
+    /// Outline method: skin (intersection-free, default), envelope (the raw boundary), re
+    /// (rational-envelope skin of the circles) or mph (Minkowski-PH skin).
+    #[arg(long, value_parser = ["skin", "envelope", "re", "mph"])]
     method: Option<String>,
     /// Flattening tolerance of the drawn contours, in design units.
     #[arg(long)]
@@ -22,6 +23,9 @@ pub struct Args {
     /// Skin approximation accuracy ε, in design units.
     #[arg(long)]
     epsilon: Option<f64>,
+    /// Also draw the inner and outer offsets at this distance (design units).
+    #[arg(long)]
+    offset: Option<f64>,
     /// Also draw the control disks.
     #[arg(long)]
     control_disks: bool,
@@ -48,10 +52,11 @@ pub fn run(a: Args) -> Result<u8> {
         }
     }
     if let Some(m) = a.method.as_deref() {
-        opts.method = if m == "envelope" {
-            OutlineMethod::Envelope
-        } else {
-            OutlineMethod::Skin
+        opts.method = match m {
+            "envelope" => OutlineMethod::Envelope,
+            "re" => OutlineMethod::Re,
+            "mph" => OutlineMethod::Mph,
+            _ => OutlineMethod::Skin,
         };
     }
     if let Some(t) = a.tolerance {
@@ -61,7 +66,12 @@ pub fn run(a: Args) -> Result<u8> {
         opts.epsilon = e;
     }
     opts.control_disks = a.control_disks;
-    for (name, v) in [("--tolerance", opts.tolerance), ("--epsilon", opts.epsilon)] {
+    opts.offset = a.offset;
+    let offset = a.offset.map(|d| ("--offset", d));
+    for (name, v) in [("--tolerance", opts.tolerance), ("--epsilon", opts.epsilon)]
+        .into_iter()
+        .chain(offset)
+    {
         if !(v.is_finite() && v > 0.0) {
             bail!("{name} must be a positive number, got {v}");
         }

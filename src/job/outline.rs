@@ -9,6 +9,10 @@ use crate::design::{Design, OutlineMethod};
 use crate::emit::outline::{Contour, Marker, OutlineDoc, RefCircle, StrokeOutline};
 use crate::geom::{Circle, DVec2, Path};
 use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, SegmentReport, skin_dbsc};
+use crate::skin::mat_offset::{self, MatOffset, OffsetContour, Piece};
+use crate::skin::re::detect::{EnvelopeIntersection, detect};
+use crate::skin::re::eliminate::{EliminateOptions, PairFix, eliminate};
+use crate::skin::re::{Branch, Interp, ReSkin, Touch};
 use crate::skin::{SkinOptions, outline_circles};
 use crate::toolpath::region::Region;
 
@@ -22,6 +26,8 @@ pub struct OutlineOptions {
     pub epsilon: f64,
     /// Draw the control disks.
     pub control_disks: bool,
+    /// Also draw the inner and outer offsets at this distance (role `offset`).
+    pub offset: Option<f64>,
 }
 
 impl Default for OutlineOptions {
@@ -31,6 +37,7 @@ impl Default for OutlineOptions {
             tolerance: crate::geom::tol::FLATTEN * 10.0,
             epsilon: crate::geom::tol::SKIN_EPSILON,
             control_disks: false,
+            offset: None,
         }
     }
 }
@@ -228,6 +235,467 @@ fn stroke_drawing(
     }
 }
 
+/// Relative tolerance of the touching-point construction (scaled by the sequence's size).
+const TOUCH_REL_TOL: f64 = 1e-12;
+/// How far (relative to the sequence's size) a touching point may lie off its circle when
+/// the RE skin checks its input: the touching points are constructed on the circles, so
+/// only rounding separates them.
+const TOUCH_ON_CIRCLE_REL: f64 = 1e-9;
+/// Parameter accuracy of the Corollary 1 root finding and of the offset trim points.
+const RE_PARAM_TOL: f64 = 1e-12;
+/// Every exact piece is first cut into this many equal parameter parts before the chord
+/// test, so that a piece whose probes happen to lie on its chord is still refined.
+const FLATTEN_MIN_PARTS: usize = 4;
+/// Interior probes of the chord test (at k/(CHORD_PROBES + 1) of the parameter interval).
+const CHORD_PROBES: usize = 3;
+/// Deepest bisection of the chord test (2^-FLATTEN_MAX_DEPTH of a part).
+const FLATTEN_MAX_DEPTH: u32 = 30;
+
+/// The interpolant of an RE-type method, `None` for the skin and envelope methods.
+pub fn re_interp(method: OutlineMethod) -> Option<Interp> {
+    match method {
+        OutlineMethod::Re => Some(Interp::Cubic),
+        OutlineMethod::Mph => Some(Interp::PhQuintic),
+        OutlineMethod::Skin | OutlineMethod::Envelope => None,
+    }
+}
+
+/// An RE/MPH outline of a circle sequence, flattened, with what was found on the way.
+#[derive(Clone, Debug)]
+pub struct ReOutline {
+    /// The skin after elimination.
+    pub skin: ReSkin,
+    /// Outline polylines (closed): open sequences one counter-clockwise contour with end
+    /// caps; closed sequences the outer (counter-clockwise) and inner (clockwise) contour.
+    pub contours: Vec<Vec<DVec2>>,
+    /// Envelope intersections (Corollary 1) left after elimination.
+    pub intersections: Vec<EnvelopeIntersection>,
+    /// Pairs elimination could not fix: (i, j) circle indices.
+    pub failed_pairs: Vec<(usize, usize)>,
+    /// Local envelope loops (τ < 0, `mat_offset::envelope_loops`): branch and global
+    /// parameter interval (segment index + t). When present, `contours` are the boundary
+    /// of the non-zero-winding union of the flattened envelopes, which cuts the loops off;
+    /// offsets near a loop are not exact offsets of the outline.
+    pub loops: Vec<(Branch, f64, f64)>,
+}
+
+fn seq_scale(circles: &[Circle]) -> f64 {
+    circles
+        .iter()
+        .fold(1.0f64, |m, c| m.max(c.c.abs().max_element() + c.r))
+}
+
+/// Fixed touching points of a circle sequence (Kunkli–Hoffmann, `skin::touching`).
+pub fn sequence_touches(circles: &[Circle], closed: bool) -> Result<Vec<Touch>, String> {
+    let tp =
+        crate::skin::touching_points(circles, closed, TOUCH_REL_TOL).map_err(|e| e.to_string())?;
+    Ok(tp
+        .iter()
+        .map(|t| Touch::Fixed {
+            plus: t.left,
+            minus: t.right,
+        })
+        .collect())
+}
+
+/// Builds the RE/MPH skin of `circles` with fixed touching points `touches` (re-skinning-cnc
+/// Sec. 3.1, eqs. 7–12; for [`Interp::PhQuintic`] re-mph-skinning-flexible Sec. 3), detects
+/// the envelope intersections (mph Theorem 1 / Corollary 1) and, when there are any, removes
+/// those caused by roots of f (mph Sec. 4.2: quartic f of eqs. 18–19), then flattens the
+/// envelopes with their end caps within `tol` ([`flatten_mat`]).
+pub fn re_outline(
+    circles: &[Circle],
+    touches: &[Touch],
+    closed: bool,
+    interp: Interp,
+    tol: f64,
+) -> Result<ReOutline, String> {
+    let scale = seq_scale(circles);
+    let mut skin = ReSkin::build(
+        circles,
+        touches,
+        closed,
+        interp,
+        TOUCH_ON_CIRCLE_REL * scale,
+    )
+    .map_err(|e| e.to_string())?;
+    let mut intersections = detect(&skin, RE_PARAM_TOL);
+    let mut failed_pairs = Vec::new();
+    if !intersections.is_empty() {
+        let fixes =
+            eliminate(&mut skin, &EliminateOptions::default()).map_err(|e| e.to_string())?;
+        failed_pairs = fixes
+            .iter()
+            .filter(|f| matches!(f.fix, PairFix::Failed { .. }))
+            .map(|f| (f.i, f.j))
+            .collect();
+        intersections = detect(&skin, RE_PARAM_TOL);
+    }
+    // The library refuses f ≤ 0; then the raw envelopes are drawn anyway (and marked).
+    let mat = match mat_offset::outline(&skin) {
+        Ok(m) => m,
+        Err(_) => raw_outline(&skin),
+    };
+    let mut contours = flatten_mat(&mat, tol);
+    let loops = mat_offset::envelope_loops(&skin, RE_PARAM_TOL).unwrap_or_default();
+    if !loops.is_empty() {
+        let paths: Vec<Path> = contours.iter().map(|c| polyline_path(c)).collect();
+        contours = Region::from_overlapping_paths(&paths, tol)
+            .paths()
+            .iter()
+            .map(|p| p.flatten(tol))
+            .filter(|c| c.len() >= 3)
+            .collect();
+    }
+    Ok(ReOutline {
+        skin,
+        contours: orient(contours),
+        intersections,
+        failed_pairs,
+        loops,
+    })
+}
+
+/// A closed polyline as a path of lines.
+fn polyline_path(c: &[DVec2]) -> Path {
+    let n = c.len();
+    let segs = (0..n)
+        .map(|i| crate::geom::PathSeg::Line(crate::geom::Line::new(c[i], c[(i + 1) % n])))
+        .collect();
+    Path::new(segs, true)
+}
+
+/// The envelopes with caps as [`MatOffset`] pieces (offset 0) without the f > 0 check of
+/// `mat_offset::outline`: plus side forwards, end cap, minus side backwards, start cap
+/// (closed skins: the two sides).
+fn raw_outline(skin: &ReSkin) -> MatOffset {
+    let n = skin.segments.len();
+    let side = |b: Branch, fwd: bool| -> Vec<Piece> {
+        let mut v: Vec<Piece> = (0..n)
+            .map(|segment| Piece::Curve {
+                segment,
+                branch: b,
+                t0: if fwd { 0.0 } else { 1.0 },
+                t1: if fwd { 1.0 } else { 0.0 },
+            })
+            .collect();
+        if !fwd {
+            v.reverse();
+        }
+        v
+    };
+    let mut contours = Vec::new();
+    if skin.closed {
+        contours.push(OffsetContour {
+            pieces: side(Branch::Plus, true),
+        });
+        contours.push(OffsetContour {
+            pieces: side(Branch::Minus, false),
+        });
+    } else if let (Some(first), Some(last)) = (skin.segments.first(), skin.segments.last()) {
+        let env = |s: usize, b: Branch, t: f64| skin.envelope(s, b, t);
+        let mut pieces = side(Branch::Plus, true);
+        if let (Some(a), Some(b), Some(c)) = (
+            env(n - 1, Branch::Plus, 1.0),
+            env(n - 1, Branch::Minus, 1.0),
+            skin.circles.get(last.j),
+        ) {
+            pieces.push(Piece::Arc(crate::geom::Arc::from_center_points(
+                c.c, a, b, false,
+            )));
+        }
+        pieces.extend(side(Branch::Minus, false));
+        if let (Some(a), Some(b), Some(c)) = (
+            env(0, Branch::Minus, 0.0),
+            env(0, Branch::Plus, 0.0),
+            skin.circles.get(first.i),
+        ) {
+            pieces.push(Piece::Arc(crate::geom::Arc::from_center_points(
+                c.c, a, b, false,
+            )));
+        }
+        contours.push(OffsetContour { pieces });
+    }
+    MatOffset {
+        d: 0.0,
+        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        contours,
+        trims: Vec::new(),
+        loops: Vec::new(),
+    }
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+fn seg_dist(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    crate::geom::Line::new(a, b).distance(p)
+}
+
+/// Adaptive flattening of one exact piece by the chord test: the parameter interval
+/// [s0, s1] is accepted as one chord when the exact points at CHORD_PROBES interior
+/// parameters lie within `tol` of the chord, otherwise it is bisected (at most
+/// FLATTEN_MAX_DEPTH times). The test is checked at the probes, not proved between them.
+#[allow(clippy::too_many_arguments)]
+fn chord_subdivide(
+    f: &dyn Fn(f64) -> Option<DVec2>,
+    s0: f64,
+    p0: DVec2,
+    s1: f64,
+    p1: DVec2,
+    tol: f64,
+    depth: u32,
+    out: &mut Vec<DVec2>,
+) {
+    let flat = (1..=CHORD_PROBES).all(|k| {
+        let s = s0 + (s1 - s0) * k as f64 / (CHORD_PROBES + 1) as f64;
+        f(s).is_none_or(|q| seg_dist(q, p0, p1) <= tol)
+    });
+    if flat || depth >= FLATTEN_MAX_DEPTH {
+        out.push(p1);
+        return;
+    }
+    let sm = 0.5 * (s0 + s1);
+    match f(sm) {
+        Some(pm) => {
+            chord_subdivide(f, s0, p0, sm, pm, tol, depth + 1, out);
+            chord_subdivide(f, sm, pm, s1, p1, tol, depth + 1, out);
+        }
+        None => out.push(p1),
+    }
+}
+
+/// Flattens every contour of a [`MatOffset`] (outline, inner or outer offset) from its
+/// exact pieces (re-skinning-cnc eq. 13: y + (r + d) m±, and the cap arcs) within `tol` by
+/// [`chord_subdivide`]. Closed polylines do not repeat their first point; contours with
+/// fewer than 3 points are dropped.
+pub fn flatten_mat(m: &MatOffset, tol: f64) -> Vec<Vec<DVec2>> {
+    let mut out = Vec::new();
+    for c in &m.contours {
+        let mut pts: Vec<DVec2> = Vec::new();
+        for piece in &c.pieces {
+            if matches!(piece, Piece::Arc(a) if a.radius <= 0.0) {
+                continue;
+            }
+            let f = |s: f64| m.piece_point(piece, s);
+            let mut s_prev = 0.0;
+            let Some(mut p_prev) = f(0.0) else { continue };
+            if pts.last().is_none_or(|q| q.distance(p_prev) > 0.0) {
+                pts.push(p_prev);
+            }
+            for k in 1..=FLATTEN_MIN_PARTS {
+                let s = k as f64 / FLATTEN_MIN_PARTS as f64;
+                let Some(p) = f(s) else { continue };
+                chord_subdivide(&f, s_prev, p_prev, s, p, tol, 0, &mut pts);
+                s_prev = s;
+                p_prev = p;
+            }
+        }
+        pts.dedup_by(|a, b| a.distance(*b) <= 1e-12 * (1.0 + b.length()));
+        while pts.len() > 1
+            && pts
+                .first()
+                .zip(pts.last())
+                .is_some_and(|(a, b)| a.distance(*b) <= 1e-12 * (1.0 + b.length()))
+        {
+            pts.pop();
+        }
+        if pts.len() >= 3 {
+            out.push(pts);
+        }
+    }
+    out
+}
+
+/// Orients closed contours: the one of largest |area| counter-clockwise, the others
+/// clockwise (holes of a closed sequence or stroke).
+fn orient(mut cs: Vec<Vec<DVec2>>) -> Vec<Vec<DVec2>> {
+    let areas: Vec<f64> = cs
+        .iter()
+        .map(|c| crate::geom::path::polygon_area(c))
+        .collect();
+    let big = areas
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        .map(|(i, _)| i);
+    for (i, c) in cs.iter_mut().enumerate() {
+        let want_ccw = Some(i) == big;
+        if (areas[i] > 0.0) != want_ccw {
+            c.reverse();
+        }
+    }
+    cs
+}
+
+/// Inner and outer δ-offsets of an RE/MPH skin (re-skinning-cnc eq. 13, trimmed where
+/// r < δ; outer: y + (r + δ) m± with local loops cut), flattened within `tol`.
+pub fn re_offsets(skin: &ReSkin, delta: f64, tol: f64) -> Result<Vec<Vec<DVec2>>, String> {
+    let inner = mat_offset::inner_offset(skin, delta, RE_PARAM_TOL).map_err(|e| e.to_string())?;
+    let outer = mat_offset::outer_offset(skin, delta, tol).map_err(|e| e.to_string())?;
+    let mut out = flatten_mat(&inner, tol);
+    out.extend(flatten_mat(&outer, tol));
+    Ok(out)
+}
+
+/// Inner and outer δ-offsets of closed outline paths by cavalier_contours (Region offset),
+/// flattened within `tol`.
+pub fn region_offsets(paths: &[Path], delta: f64, tol: f64) -> Vec<Vec<DVec2>> {
+    let r = Region::from_paths(paths, tol);
+    let mut out = Vec::new();
+    for d in [-delta, delta] {
+        for p in r.offset(d, tol).paths() {
+            out.push(p.flatten(tol));
+        }
+    }
+    out
+}
+
+/// Touching points of a stroke's circles: the exact envelope points (wu-2021 eq. 9) at the
+/// circles' parameters; where the envelope is undefined, the Kunkli–Hoffmann points of the
+/// circle sequence.
+fn stroke_touches(
+    c: &DiskBSpline,
+    params: &[f64],
+    circles: &[Circle],
+    closed: bool,
+) -> Result<Vec<Touch>, String> {
+    let fallback = sequence_touches(circles, closed);
+    let mut out = Vec::with_capacity(params.len());
+    for (i, &t) in params.iter().enumerate() {
+        let l = c.envelope(Side::Left, t).map(|e| e.point);
+        let r = c.envelope(Side::Right, t).map(|e| e.point);
+        let touch = match (l, r) {
+            (Some(l), Some(r)) => {
+                // Plus is the left of travel; swap if the sides disagree.
+                let d = c.derivs(t, 1);
+                let dq = d.get(1).map(|x| x.0).unwrap_or(DVec2::X);
+                let q = c.center(t);
+                if crate::geom::cross(dq, l - q) >= 0.0 {
+                    Touch::Fixed { plus: l, minus: r }
+                } else {
+                    Touch::Fixed { plus: r, minus: l }
+                }
+            }
+            _ => {
+                let fb = fallback.as_ref().map_err(|e| format!("circle {i}: {e}"))?;
+                *fb.get(i)
+                    .ok_or_else(|| format!("circle {i}: no touching points"))?
+            }
+        };
+        out.push(touch);
+    }
+    Ok(out)
+}
+
+/// Circles and touching points of a stroke for the RE route: the knot and inserted circles
+/// of its DBSC skin approximation (kruppa-2023 Sec. 4) and the envelope points on them.
+pub fn stroke_re_input(
+    c: &DiskBSpline,
+    opts: &OutlineOptions,
+) -> Result<(Vec<Circle>, Vec<Touch>, bool), String> {
+    let mut skin_opts = DbscSkinOptions {
+        eps: opts.epsilon,
+        ..DbscSkinOptions::default()
+    };
+    let sk = match skin_dbsc(c, &skin_opts) {
+        Ok(sk) => sk,
+        Err(DbscSkinError::SelfIntersection { .. }) => {
+            skin_opts.allow_global_overlap = true;
+            skin_dbsc(c, &skin_opts).map_err(|e| e.to_string())?
+        }
+        Err(e) => return Err(e.to_string()),
+    };
+    let touches = stroke_touches(c, &sk.params, &sk.circles, sk.closed)?;
+    Ok((sk.circles, touches, sk.closed))
+}
+
+fn re_markers(o: &ReOutline) -> Vec<Marker> {
+    let mut m = Vec::new();
+    for e in &o.intersections {
+        let (i, j) = o
+            .skin
+            .segments
+            .get(e.segment)
+            .map(|s| (s.i, s.j))
+            .unwrap_or((e.segment, e.segment + 1));
+        m.push(Marker {
+            kind: "re-intersection".into(),
+            at: [e.point.x, e.point.y],
+            message: format!(
+                "circles {i} and {j}: the envelopes meet at t = {:.6} ({:?}) after elimination",
+                e.t, e.kind
+            ),
+        });
+    }
+    for &(b, g0, g1) in &o.loops {
+        let seg = (g0.floor().max(0.0) as usize).min(o.skin.segments.len().saturating_sub(1));
+        let Some(sg) = o.skin.segments.get(seg) else {
+            continue;
+        };
+        let t = (0.5 * (g0 + g1) - seg as f64).clamp(0.0, 1.0);
+        let at = o.skin.envelope(seg, b, t).unwrap_or(DVec2::ZERO);
+        let side = match b {
+            Branch::Plus => "left",
+            Branch::Minus => "right",
+        };
+        m.push(Marker {
+            kind: "re-loop".into(),
+            at: [at.x, at.y],
+            message: format!(
+                "circles {} and {}: the {side} envelope runs backwards (local loop, cut off by the union; offsets there are approximate)",
+                sg.i, sg.j
+            ),
+        });
+    }
+    for &(i, j) in &o.failed_pairs {
+        if o.intersections.iter().any(|e| {
+            o.skin
+                .segments
+                .get(e.segment)
+                .is_some_and(|s| s.i == i && s.j == j)
+        }) {
+            continue;
+        }
+        let at = o.skin.circles.get(i).map(|c| c.c).unwrap_or(DVec2::ZERO);
+        m.push(Marker {
+            kind: "re-intersection".into(),
+            at: [at.x, at.y],
+            message: format!("circles {i} and {j}: elimination failed (f not proved positive)"),
+        });
+    }
+    m
+}
+
+/// RE/MPH drawing contours of one circle sequence: outline and (with `opts.offset`) the
+/// offsets, plus markers.
+fn re_contours(
+    circles: &[Circle],
+    touches: &[Touch],
+    closed: bool,
+    interp: Interp,
+    opts: &OutlineOptions,
+) -> Result<(Vec<Contour>, Vec<Marker>), String> {
+    let o = re_outline(circles, touches, closed, interp, opts.tolerance)?;
+    let mut contours: Vec<Contour> = o
+        .contours
+        .iter()
+        .map(|c| flat("outline", true, c))
+        .collect();
+    if let Some(delta) = opts.offset {
+        for c in re_offsets(&o.skin, delta, opts.tolerance)? {
+            contours.push(flat("offset", true, &c));
+        }
+    }
+    Ok((contours, re_markers(&o)))
+}
+
+fn offset_contours(paths: &[Path], delta: f64, opts: &OutlineOptions) -> Vec<Contour> {
+    region_offsets(paths, delta, opts.tolerance)
+        .iter()
+        .filter(|c| c.len() >= 3)
+        .map(|c| flat("offset", true, c))
+        .collect()
+}
+
 /// The outline document of a design (what `skinpath outline` writes).
 pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<OutlineDoc, JobError> {
     let strokes = design.strokes()?;
@@ -239,32 +707,304 @@ pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<Outlin
         strokes: Vec::new(),
     };
     for (s, c) in design.stroke.iter().zip(&strokes) {
-        let drawing = match opts.method {
-            OutlineMethod::Envelope => {
-                let loops = find_loops(c, LOOP_PARAM_TOL)
-                    .map_err(|e| item_err(design, "stroke", &s.name, e.to_string()))?;
-                stroke_drawing(&s.name, c, None, &loops, opts)
+        let err = |m: String| item_err(design, "stroke", &s.name, m);
+        let loops = find_loops(c, LOOP_PARAM_TOL).map_err(|e| err(e.to_string()))?;
+        let mut drawing = match (opts.method, re_interp(opts.method)) {
+            (_, Some(interp)) => {
+                let (circles, touches, closed) = stroke_re_input(c, opts).map_err(err)?;
+                let mut d = stroke_drawing(&s.name, c, None, &loops, opts);
+                let (cs, ms) =
+                    re_contours(&circles, &touches, closed, interp, opts).map_err(err)?;
+                d.contours.extend(cs);
+                d.markers.extend(ms);
+                d.circles
+                    .extend(circles.iter().map(|k| refc("knot-circle", k)));
+                d
+            }
+            (OutlineMethod::Envelope, None) => {
+                let mut d = stroke_drawing(&s.name, c, None, &loops, opts);
+                if let Some(delta) = opts.offset {
+                    let item = stroke_outline(design, &s.name, c, opts)?;
+                    d.contours
+                        .extend(offset_contours(&item.contours, delta, opts));
+                }
+                d
             }
             _ => {
                 let item = stroke_outline(design, &s.name, c, opts)?;
-                let loops = item.loops.clone().unwrap_or_default();
-                stroke_drawing(&s.name, c, Some(&item), &loops, opts)
+                let mut d = stroke_drawing(&s.name, c, Some(&item), &loops, opts);
+                if let Some(delta) = opts.offset {
+                    d.contours
+                        .extend(offset_contours(&item.contours, delta, opts));
+                }
+                d
             }
         };
+        drawing.name = s.name.clone();
         doc.strokes.push(drawing);
     }
     for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
-        let item = circles_outline(design, &seq.name, &circles, seq.closed)?;
+        let err = |m: String| item_err(design, "circle sequence", &seq.name, m);
+        let (contours, markers) = match re_interp(opts.method) {
+            Some(interp) => {
+                let touches = sequence_touches(&circles, seq.closed).map_err(err)?;
+                re_contours(&circles, &touches, seq.closed, interp, opts).map_err(err)?
+            }
+            None => {
+                let item = circles_outline(design, &seq.name, &circles, seq.closed)?;
+                let mut cs: Vec<Contour> = item
+                    .contours
+                    .iter()
+                    .map(|p| flat("outline", true, &p.flatten(opts.tolerance)))
+                    .collect();
+                if let Some(delta) = opts.offset {
+                    cs.extend(offset_contours(&item.contours, delta, opts));
+                }
+                (cs, Vec::new())
+            }
+        };
         doc.strokes.push(StrokeOutline {
             name: seq.name.clone(),
-            contours: item
-                .contours
-                .iter()
-                .map(|p| flat("outline", true, &p.flatten(opts.tolerance)))
-                .collect(),
+            contours,
             circles: circles.iter().map(|k| refc("circle", k)).collect(),
-            markers: Vec::new(),
+            markers,
         });
     }
     Ok(doc)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn snake() -> Vec<Circle> {
+        vec![
+            Circle::new(DVec2::new(0.0, 0.0), 1.0),
+            Circle::new(DVec2::new(3.0, 1.0), 1.4),
+            Circle::new(DVec2::new(6.0, 0.5), 0.8),
+            Circle::new(DVec2::new(8.5, -1.5), 1.1),
+            Circle::new(DVec2::new(11.0, -1.0), 0.6),
+        ]
+    }
+
+    fn ring() -> Vec<Circle> {
+        (0..8)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 8.0;
+                Circle::new(
+                    10.0 * DVec2::new(a.cos(), a.sin()),
+                    2.0 + 0.5 * (k % 2) as f64,
+                )
+            })
+            .collect()
+    }
+
+    fn transform(cs: &[Circle], rot: f64, scale: f64, rev: bool) -> Vec<Circle> {
+        let (s, c) = rot.sin_cos();
+        let mut v: Vec<Circle> = cs
+            .iter()
+            .map(|k| {
+                let p = DVec2::new(c * k.c.x - s * k.c.y, s * k.c.x + c * k.c.y) * scale;
+                Circle::new(p + DVec2::new(3.0, -2.0), k.r * scale)
+            })
+            .collect();
+        if rev {
+            v.reverse();
+        }
+        v
+    }
+
+    fn dist_poly(p: DVec2, c: &[DVec2]) -> f64 {
+        (0..c.len())
+            .map(|i| seg_dist(p, c[i], c[(i + 1) % c.len()]))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The flattened outline is within tol of the exact envelopes (dense samples of
+    /// ReSkin::envelope, a second evaluation path), and passes through every touching
+    /// point (piece ends are exact vertices).
+    #[test]
+    fn flattened_outline_follows_exact_envelopes() {
+        for (cs0, closed) in [(snake(), false), (ring(), true)] {
+            for (rot, scale, rev) in [(0.0, 1.0, false), (0.8, 4.0, false), (-2.1, 0.2, true)] {
+                let cs = transform(&cs0, rot, scale, rev);
+                let tol = 1e-3 * scale;
+                for interp in [Interp::Cubic, Interp::PhQuintic] {
+                    let touches = sequence_touches(&cs, closed).unwrap();
+                    let o = re_outline(&cs, &touches, closed, interp, tol).unwrap();
+                    assert_eq!(o.contours.len(), if closed { 2 } else { 1 });
+                    // Before any loop cut: the flattened exact pieces themselves.
+                    let flat = flatten_mat(&mat_offset::outline(&o.skin).unwrap(), tol);
+                    let all: Vec<DVec2> = flat.concat();
+                    let near = |p: DVec2| {
+                        flat.iter()
+                            .map(|c| dist_poly(p, c))
+                            .fold(f64::INFINITY, f64::min)
+                    };
+                    for s in 0..o.skin.segments.len() {
+                        for k in 0..=200 {
+                            let t = k as f64 / 200.0;
+                            for b in [Branch::Plus, Branch::Minus] {
+                                let p = o.skin.envelope(s, b, t).unwrap();
+                                assert!(near(p) <= tol * 1.001, "{s} {t} {}", near(p));
+                            }
+                        }
+                    }
+                    for t in &touches {
+                        let Touch::Fixed { plus, minus } = *t else {
+                            panic!()
+                        };
+                        for w in [plus, minus] {
+                            let d = all.iter().map(|q| q.distance(w)).fold(f64::MAX, f64::min);
+                            assert!(d <= 1e-9 * scale, "touching point {w} missed by {d}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Open: one counter-clockwise contour; closed: outer counter-clockwise enclosing the
+    /// clockwise inner one.
+    #[test]
+    fn contours_are_oriented() {
+        let area = |c: &Vec<DVec2>| crate::geom::path::polygon_area(c);
+        let o = re_outline(
+            &snake(),
+            &sequence_touches(&snake(), false).unwrap(),
+            false,
+            Interp::Cubic,
+            1e-3,
+        )
+        .unwrap();
+        assert!(area(&o.contours[0]) > 0.0);
+        let o = re_outline(
+            &ring(),
+            &sequence_touches(&ring(), true).unwrap(),
+            true,
+            Interp::PhQuintic,
+            1e-3,
+        )
+        .unwrap();
+        let (a0, a1) = (area(&o.contours[0]), area(&o.contours[1]));
+        let (a0, a1) = (a0.max(a1), a0.min(a1));
+        assert!(a0 > 0.0 && a1 < 0.0 && a0 > -a1, "{a0} {a1}");
+        // The ring between radii ~8 and ~12: area close to π(12.2² − 7.8²) within 20 %.
+        let ring_area = std::f64::consts::PI * (12.25f64.powi(2) - 7.75f64.powi(2));
+        assert!(((a0 + a1) / ring_area - 1.0).abs() < 0.2, "{}", a0 + a1);
+    }
+
+    /// The snake's right envelope loops near circle 2: the loop is reported and the outline
+    /// is cut clean (no two non-adjacent polyline segments cross).
+    #[test]
+    fn envelope_loop_is_cut_and_reported() {
+        let cs = snake();
+        let o = re_outline(
+            &cs,
+            &sequence_touches(&cs, false).unwrap(),
+            false,
+            Interp::Cubic,
+            1e-3,
+        )
+        .unwrap();
+        assert!(!o.loops.is_empty());
+        assert!(re_markers(&o).iter().any(|m| m.kind == "re-loop"));
+        for c in &o.contours {
+            let n = c.len();
+            for i in 0..n {
+                for j in i + 2..n {
+                    if i == 0 && j == n - 1 {
+                        continue;
+                    }
+                    assert!(!crate::geom::predicates::segments_intersect(
+                        c[i],
+                        c[(i + 1) % n],
+                        c[j],
+                        c[(j + 1) % n]
+                    ));
+                }
+            }
+        }
+    }
+
+    /// Offsets of the MAT route lie at δ from the outline (up to both flattenings) on a
+    /// loop-free sequence (an arc of growing circles).
+    #[test]
+    fn re_offsets_at_delta() {
+        let cs: Vec<Circle> = (0..6)
+            .map(|k| {
+                let a = 0.3 * k as f64;
+                Circle::new(20.0 * DVec2::new(a.cos(), a.sin()), 1.0 + 0.4 * k as f64)
+            })
+            .collect();
+        let tol = 1e-3;
+        let o = re_outline(
+            &cs,
+            &sequence_touches(&cs, false).unwrap(),
+            false,
+            Interp::Cubic,
+            tol,
+        )
+        .unwrap();
+        assert!(o.loops.is_empty());
+        for delta in [0.3, 0.9] {
+            let offs = re_offsets(&o.skin, delta, tol).unwrap();
+            assert!(offs.len() >= 2);
+            for p in offs.iter().flatten() {
+                let d = dist_poly(*p, &o.contours[0]);
+                assert!(
+                    (d - delta).abs() <= 2.0 * tol + 1e-9,
+                    "δ {delta}: {p} at {d}; loops {:?}",
+                    mat_offset::envelope_loops(&o.skin, 1e-9)
+                );
+            }
+        }
+    }
+
+    const DESIGN: &str = r#"
+version = 1
+units = "mm"
+[outline]
+method = "mph"
+tolerance = 0.01
+[[circles]]
+name = "c1"
+closed = false
+circles = [[0.0, 0.0, 1.0], [3.0, 1.0, 1.4], [6.0, 0.5, 0.8], [8.5, -1.5, 1.1]]
+"#;
+
+    /// The design's [outline] method selects the MPH route; a bad sequence names itself.
+    #[test]
+    fn document_uses_design_method_and_names_errors() {
+        let design = crate::design::load(DESIGN, "t.toml").unwrap();
+        let method = design.outline.as_ref().and_then(|o| o.method).unwrap();
+        assert_eq!(re_interp(method), Some(Interp::PhQuintic));
+        let opts = OutlineOptions {
+            method,
+            tolerance: 0.01,
+            offset: Some(0.2),
+            ..OutlineOptions::default()
+        };
+        let doc = outline_document(&design, &opts).unwrap();
+        let s = &doc.strokes[0];
+        let n = |role: &str| s.contours.iter().filter(|c| c.role == role).count();
+        assert_eq!(n("outline"), 1);
+        assert!(n("offset") >= 2);
+        // The MPH outline differs from the skin outline of the same circles.
+        let skin = outline_document(
+            &design,
+            &OutlineOptions {
+                method: OutlineMethod::Skin,
+                ..opts
+            },
+        )
+        .unwrap();
+        assert_ne!(skin.strokes[0].contours, s.contours);
+        // A circle inside its neighbour has no touching points: the error names the sequence.
+        let bad = DESIGN.replace("[3.0, 1.0, 1.4]", "[0.1, 0.0, 0.2]");
+        if let Ok(d) = crate::design::load(&bad, "t.toml") {
+            let e = outline_document(&d, &opts).unwrap_err().to_string();
+            assert!(e.contains("c1"), "{e}");
+        }
+    }
 }
