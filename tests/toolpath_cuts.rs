@@ -198,7 +198,7 @@ fn distinct_z_levels_equal_the_passes() {
         let mut s = spec(contours(), None, Lead::None);
         s.depth = depth;
         s.step_down = step;
-        let passes = (depth / step as f64).ceil() as usize;
+        let passes = (depth / step).ceil() as usize;
         for cut in cut_of(s) {
             let mut zs: Vec<f64> = cut.moves.iter().map(|m| m.to.z).collect();
             zs.sort_by(f64::total_cmp);
