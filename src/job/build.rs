@@ -8,6 +8,14 @@
 //! - router depth per pass: the tool diameter (a conservative full-width step);
 //! - backboard margin 5 mm (scaled to the design's units), inner corner radius = tool radius;
 //! - concentric and pocket stepover: 40 % of the tool diameter.
+//!
+//! Stroke attributes (`[stroke.attributes]`, values per control disk blended like the
+//! radius, wu-2021 eq. 18) reach the moves of a V-carve along the stroke's spine: at every
+//! spine sample t the move takes power(t)/100 (percent → fraction) and feed(t) (design
+//! units per minute) instead of the operation's values; a router takes z = −depth(t),
+//! still capped by `max_depth`, instead of −r(t)·cot(θ/2), and clears no flat bottom
+//! (the cap's flat region follows the radius, not the attribute). A laser V-carve
+//! engraves along the spine at z = 0 with the attribute power and feed.
 
 use super::JobError;
 use super::outline::{ItemOutline, OutlineOptions, design_outlines};
@@ -15,9 +23,10 @@ use crate::dbsc::DiskBSpline;
 use crate::design::{Design, FillPattern, HoleAt, Operation, OperationKind, ProfileSide};
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
+use crate::spline::BSpline;
 use crate::toolpath::cut::{Lead, Tabs};
 use crate::toolpath::ops::{self, Hole};
-use crate::toolpath::plan::{Geometry, OpSpec, PlanStats, plan};
+use crate::toolpath::plan::{AttrPolyline, Geometry, OpSpec, PlanStats, plan};
 use crate::toolpath::region::Region;
 use crate::toolpath::{OperationKind as TpKind, Toolpath};
 use glam::DVec3;
@@ -222,6 +231,40 @@ fn spine_params(c: &DiskBSpline, step: f64) -> Vec<f64> {
     (0..=n)
         .map(|i| lo + (hi - lo) * i as f64 / n as f64)
         .collect()
+}
+
+/// The attribute curves of the stroke behind outline item `item` (none for circle
+/// sequences): each channel's control values blended with the stroke's own basis,
+/// a(t) = Σ N_i(t)·a_i (wu-2021 eq. 18), so an attribute follows the disks like the radius.
+#[derive(Default)]
+struct StrokeAttributes {
+    /// Power in percent of the machine's maximum.
+    power: Option<BSpline<f64>>,
+    /// Depth below the surface (positive, design units).
+    depth: Option<BSpline<f64>>,
+    /// Feed in design units per minute.
+    feed: Option<BSpline<f64>>,
+}
+
+fn stroke_attributes(
+    ctx: &Ctx,
+    item: usize,
+    curve: &DiskBSpline,
+) -> Result<StrokeAttributes, JobError> {
+    let name = &ctx.outlines[item].name;
+    let Some(k) = ctx.design.stroke.iter().position(|s| &s.name == name) else {
+        return Ok(StrokeAttributes::default());
+    };
+    let mut out = StrokeAttributes::default();
+    for (channel, c) in ctx.design.stroke[k].attribute_curves(curve, &ctx.design.file, k)? {
+        match channel {
+            "power" => out.power = Some(c),
+            "depth" => out.depth = Some(c),
+            "feed" => out.feed = Some(c),
+            _ => {}
+        }
+    }
+    Ok(out)
 }
 
 fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec>, JobError> {
@@ -461,21 +504,37 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             let mut flat_src = Vec::new();
             for &i in &items {
                 let Some(c) = spine_of(ctx, i) else { continue };
-                let pts: Vec<DVec3> = spine_params(c, step)
-                    .into_iter()
-                    .map(|t| {
+                let attrs = stroke_attributes(ctx, i, c)?;
+                let ts = spine_params(c, step);
+                let points: Vec<DVec3> = ts
+                    .iter()
+                    .map(|&t| {
                         let q = c.center(t);
                         let z = if laser {
                             0.0
+                        } else if let Some(d) = &attrs.depth {
+                            -d.eval(t).max(0.0).min(max_depth)
                         } else {
                             ops::vcarve_depth(c.radius(t), angle, max_depth)
                         };
                         DVec3::new(q.x, q.y, z)
                     })
                     .collect();
-                lines.push(pts);
+                let sample = |curve: &Option<BSpline<f64>>, scale: f64| -> Vec<f64> {
+                    curve
+                        .as_ref()
+                        .map(|a| ts.iter().map(|&t| a.eval(t) * scale).collect())
+                        .unwrap_or_default()
+                };
+                lines.push(AttrPolyline {
+                    points,
+                    feed: sample(&attrs.feed, 1.0),
+                    power: sample(&attrs.power, 0.01),
+                });
                 sources.push(ctx.outlines[i].name.clone());
-                if !laser && max_depth.is_finite() {
+                // A `depth` attribute sets the depth itself: the flat clearing at the cap
+                // (derived from the radius) would cut deeper than the spine, so none.
+                if !laser && max_depth.is_finite() && attrs.depth.is_none() {
                     let region = Region::from_paths(&ctx.outlines[i].contours, ctx.tol);
                     let flat = ops::vcarve_flat_region(&region, angle, max_depth, eps);
                     let w = 2.0 * max_depth * (angle / 2.0).tan();
@@ -497,7 +556,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
                 name.clone(),
                 TpKind::VCarve,
                 op,
-                Geometry::Polylines3(lines),
+                Geometry::AttrPolylines3(lines),
                 tool,
             );
             s.sources = sources;

@@ -20,6 +20,22 @@ pub enum Geometry {
     Points(Vec<DVec2>),
     /// Polylines with their own z (V-carving), cut in one pass each.
     Polylines3(Vec<Vec<DVec3>>),
+    /// Polylines with their own z and, per point, their own feed and power (a stroke's
+    /// attribute curves sampled along its spine), cut in one pass each.
+    AttrPolylines3(Vec<AttrPolyline>),
+}
+
+/// A polyline with per-point z, feed and power: the move that reaches `points[i]` cuts at
+/// `feed[i]` and `power[i]`. An empty `feed` or `power` (or one of another length than
+/// `points`) falls back to the operation's value; the plunge to the first point uses the
+/// operation's plunge feed and the first point's power.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct AttrPolyline {
+    pub points: Vec<DVec3>,
+    /// Feed per point, units per minute.
+    pub feed: Vec<f64>,
+    /// Power per point, fraction of the machine's maximum.
+    pub power: Vec<f64>,
 }
 
 /// One operation's geometry and settings.
@@ -141,6 +157,13 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
                     }
                 }
             }
+            Geometry::AttrPolylines3(lines) => {
+                for (i, l) in lines.iter().enumerate() {
+                    if let Some(c) = attr_polyline3_cut(l, spec, source_of(i)) {
+                        cuts.push(c);
+                    }
+                }
+            }
         }
         if let Some(last) = cuts.last().and_then(|c| c.moves.last()) {
             pos = last.to.truncate();
@@ -210,6 +233,39 @@ fn polyline3_cut(l: &[DVec3], spec: &OpSpec, source: Option<String>) -> Option<C
             power: spec.power,
         });
     }
+    Some(Cut {
+        source,
+        start: DVec3::new(first.x, first.y, 0.0),
+        moves,
+    })
+}
+
+/// A polyline with its own z, feed and power per point, in one pass.
+fn attr_polyline3_cut(l: &AttrPolyline, spec: &OpSpec, source: Option<String>) -> Option<Cut> {
+    let n = l.points.len();
+    let per_point = |v: &[f64], i: usize, default: f64| {
+        if v.len() == n {
+            v.get(i).copied().unwrap_or(default)
+        } else {
+            default
+        }
+    };
+    let first = *l.points.first()?;
+    let moves = l
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| Move {
+            kind: MoveKind::Line,
+            to: p,
+            feed: if i == 0 {
+                spec.plunge_feed
+            } else {
+                per_point(&l.feed, i, spec.feed)
+            },
+            power: per_point(&l.power, i, spec.power),
+        })
+        .collect();
     Some(Cut {
         source,
         start: DVec3::new(first.x, first.y, 0.0),
@@ -310,5 +366,37 @@ mod tests {
             .map(|c| c.source.clone())
             .collect();
         assert_eq!(src, vec![Some("near".into()), Some("far".into())]);
+    }
+
+    #[test]
+    fn attributed_polylines_carry_feed_and_power_per_point() {
+        let pts: Vec<DVec3> = (0..5)
+            .map(|i| DVec3::new(i as f64, 0.0, -0.1 * i as f64))
+            .collect();
+        let line = AttrPolyline {
+            points: pts.clone(),
+            feed: (0..5).map(|i| 100.0 + i as f64).collect(),
+            power: (0..5).map(|i| 0.1 * i as f64).collect(),
+        };
+        // A second line without attributes falls back to the operation's feed and power.
+        let plain = AttrPolyline {
+            points: pts.clone(),
+            ..AttrPolyline::default()
+        };
+        let s = spec(
+            OperationKind::VCarve,
+            Geometry::AttrPolylines3(vec![line, plain]),
+        );
+        let (tp, _) = plan(&[s], DVec2::ZERO, 1e-3);
+        let cuts = &tp.operations[0].cuts;
+        assert_eq!(cuts.len(), 2);
+        for (i, m) in cuts[0].moves.iter().enumerate() {
+            assert_eq!(m.to, pts[i]);
+            assert_eq!(m.power, 0.1 * i as f64);
+            let want = if i == 0 { 200.0 } else { 100.0 + i as f64 };
+            assert_eq!(m.feed, want);
+        }
+        assert!(cuts[1].moves.iter().all(|m| m.power == 1.0));
+        assert!(cuts[1].moves[1..].iter().all(|m| m.feed == 800.0));
     }
 }
