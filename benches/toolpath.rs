@@ -1,6 +1,7 @@
 //! Toolpath benches: offsetting an outline with arcs (cavalier_contours, via
 //! `Region::offset`) against geo's `Buffer` of the same outline flattened, in the same run;
-//! plus hatch filling and ordering. Accuracy of both offsets (largest deviation of the
+//! plus hatch filling and ordering, on a synthetic flower and on the shipped examples'
+//! outlines (`bench_example_offsets`: inward and outward, with accuracy and area ratio). Accuracy of both offsets (largest deviation of the
 //! result's vertices from distance δ to the source) is printed once per size.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -73,6 +74,121 @@ fn bench_offsets(c: &mut Criterion) {
     g.finish();
 }
 
+/// Regions of the shipped examples' outlines (arcs from the biarc fit within 1e-3): each
+/// example's largest item (items of one design may overlap, and a region's contours must
+/// not cross).
+fn example_regions() -> Vec<(String, Region)> {
+    let mut out = Vec::new();
+    for ex in ["brush", "ring_o", "neon_word", "calligraphy", "circles"] {
+        let file = format!("{}/examples/{ex}.toml", env!("CARGO_MANIFEST_DIR"));
+        let Ok(text) = std::fs::read_to_string(&file) else {
+            continue;
+        };
+        let Ok(design) = skinpath::design::load(&text, &file) else {
+            continue;
+        };
+        let opts = skinpath::job::outline::OutlineOptions::default();
+        let Ok(items) = skinpath::job::outline::design_outlines(&design, &opts) else {
+            continue;
+        };
+        let largest = items
+            .iter()
+            .map(|o| Region::from_paths(&o.contours, 1e-3))
+            .max_by(|a, b| a.area().abs().total_cmp(&b.area().abs()));
+        if let Some(r) = largest {
+            out.push((ex.to_string(), r));
+        }
+    }
+    out
+}
+
+/// Exact distance from `p` to closed rings.
+fn rings_distance(rings: &[Vec<DVec2>], p: DVec2) -> f64 {
+    rings
+        .iter()
+        .map(|r| polygon_distance(r, p))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Largest |distance to the source − δ| over at most ~300 samples of the result.
+fn max_error(src: &[Vec<DVec2>], result: &[Vec<DVec2>], delta: f64) -> f64 {
+    result
+        .iter()
+        .flat_map(|r| r.iter().step_by((r.len() / 300).max(1)).copied())
+        .map(|p| (rings_distance(src, p) - delta).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Offsets of each example's outline: cavalier (arcs) against geo's buffer of the same
+/// outline flattened within 1e-3, both ways; prints time ratio inputs via criterion and
+/// the accuracy and area ratio once.
+fn bench_example_offsets(c: &mut Criterion) {
+    use geo::Area;
+    let flat_tol = 1e-3;
+    let mut g = c.benchmark_group("example_offset");
+    for (ex, region) in example_regions() {
+        let poly = region.to_geo(flat_tol);
+        let src: Vec<Vec<DVec2>> = region
+            .contours
+            .iter()
+            .map(|c| flatten_pline(c, 1e-4))
+            .collect();
+        let n: usize = src.iter().map(Vec::len).sum();
+        for delta in [1.5, -1.0] {
+            // Round joins with chord sagitta ≤ flat_tol: angle step √(8·tol/|δ|).
+            let phi = (8.0 * flat_tol / f64::abs(delta)).sqrt();
+            let style = geo::algorithm::buffer::BufferStyle::new(delta)
+                .line_join(geo::algorithm::buffer::LineJoin::Round(phi));
+            let cav = region.offset(delta, 1e-6);
+            let theirs = poly.buffer_with_style(style.clone());
+            let cav_rings: Vec<Vec<DVec2>> = cav
+                .contours
+                .iter()
+                .map(|c| flatten_pline(c, 1e-4))
+                .collect();
+            let geo_rings: Vec<Vec<DVec2>> = theirs
+                .0
+                .iter()
+                .flat_map(|p| std::iter::once(p.exterior()).chain(p.interiors()))
+                .map(|l| l.coords().map(|c| DVec2::new(c.x, c.y)).collect())
+                .collect();
+            println!(
+                "{ex} (n={n}) δ={delta}: max |d − δ| cavalier {:.2e}, geo {:.2e}; area ratio \
+                 cavalier/geo {:.6}",
+                max_error(&src, &cav_rings, delta.abs()),
+                max_error(&src, &geo_rings, delta.abs()),
+                cav.area() / theirs.unsigned_area()
+            );
+            g.bench_function(BenchmarkId::new(format!("cavalier_{delta}"), &ex), |b| {
+                b.iter(|| black_box(region.offset(delta, 1e-6)))
+            });
+            g.bench_function(BenchmarkId::new(format!("geo_buffer_{delta}"), &ex), |b| {
+                b.iter(|| black_box(poly.buffer_with_style(style.clone())))
+            });
+        }
+        g.bench_function(BenchmarkId::new("hatch_0.5", &ex), |b| {
+            b.iter(|| black_box(hatch(&region, 0.5, 0.5, true, flat_tol)))
+        });
+        g.bench_function(BenchmarkId::new("concentric_1", &ex), |b| {
+            b.iter(|| {
+                black_box(skinpath::toolpath::ops::concentric(
+                    &region, 1.0, 1.0, 1.0, 10_000, 1e-6,
+                ))
+            })
+        });
+        let profiles = skinpath::toolpath::ops::profile(
+            &region,
+            skinpath::toolpath::ops::ProfileSide::Outside,
+            1.5,
+            1e-6,
+        );
+        g.bench_function(BenchmarkId::new("order_profiles", &ex), |b| {
+            b.iter(|| black_box(order_paths(&profiles, DVec2::ZERO, flat_tol)))
+        });
+    }
+    g.finish();
+}
+
 fn bench_hatch_and_order(c: &mut Criterion) {
     let pts = flower(2000);
     let region = Region::from_contours(vec![pline_from_points(&pts, true)]);
@@ -101,6 +217,6 @@ fn bench_hatch_and_order(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = bench_offsets, bench_hatch_and_order
+    targets = bench_offsets, bench_hatch_and_order, bench_example_offsets
 }
 criterion_main!(benches);
