@@ -52,9 +52,9 @@ fn geo_buffer_area(r: &Region, delta: f64) -> f64 {
 fn profiles_sit_at_the_tool_radius() {
     let rt = 1.0;
     for (name, region) in cases() {
-        let outline = flat_rings(&region, FLAT);
+        let outline = flat_rings(region, FLAT);
         for (side, sign) in [(ProfileSide::Outside, 1.0), (ProfileSide::Inside, -1.0)] {
-            let paths = profile(&region, side, rt, 1e-6);
+            let paths = profile(region, side, rt, 1e-6);
             if side == ProfileSide::Outside {
                 assert!(!paths.is_empty(), "{name}: no outside profile");
             }
@@ -74,7 +74,7 @@ fn profiles_sit_at_the_tool_radius() {
             // Area of the offset region (arcs exact) against geo's buffer of the flattening.
             let moved = region.offset(sign * rt, 1e-6);
             let ours = moved.area();
-            let theirs = geo_buffer_area(&region, sign * rt);
+            let theirs = geo_buffer_area(region, sign * rt);
             let rel = (ours - theirs).abs() / theirs.max(1e-12);
             if theirs > 0.0 {
                 assert!(
@@ -100,9 +100,9 @@ fn hatch_lines_lie_inside_and_alternate() {
     for (name, region) in cases() {
         let scale = (region.area().abs()).sqrt();
         let spacing = spacing * (scale / 40.0).max(0.2);
-        let rings = flat_rings(&region, FLAT);
+        let rings = flat_rings(region, FLAT);
         for angle in [0.0, 0.5, PI / 2.0] {
-            let lines = hatch(&region, angle, spacing, true, FLAT);
+            let lines = hatch(region, angle, spacing, true, FLAT);
             assert!(!lines.is_empty(), "{name}: no hatch at {angle}");
             let dir = DVec2::from_angle(angle);
             for l in lines.iter().step_by((lines.len() / 30).max(1)) {
@@ -133,7 +133,7 @@ fn hatch_lines_lie_inside_and_alternate() {
                 assert_eq!(fwd, k % 2 == 0, "{name} {angle}: scanline {k}");
             }
             // Without alternation every line runs +dir.
-            for l in hatch(&region, angle, spacing, false, FLAT) {
+            for l in hatch(region, angle, spacing, false, FLAT) {
                 assert!((l.segs[0].end() - l.segs[0].start()).dot(dir) > 0.0);
             }
         }
@@ -205,9 +205,9 @@ fn concentric_rings_never_cross_and_nest() {
     for (name, region) in cases() {
         let size = region.area().abs().sqrt();
         let (first, step) = (0.05 * size, 0.08 * size);
-        let rings = concentric(&region, first, step, step / 2.0, 1000, 1e-6);
+        let rings = concentric(region, first, step, step / 2.0, 1000, 1e-6);
         assert!(!rings.is_empty(), "{name}");
-        let outline = flat_rings(&region, FLAT);
+        let outline = flat_rings(region, FLAT);
         // Level of each ring: its distance to the outline is first + k·step.
         let flat: Vec<(usize, Vec<DVec2>)> = rings
             .iter()
