@@ -6,7 +6,7 @@ mod toolpath_common;
 
 use glam::{DVec2, DVec3};
 use skinpath::design::{Operation, OperationKind as DKind};
-use skinpath::geom::{Line, Path, PathSeg};
+use skinpath::geom::Path;
 use skinpath::job::build::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 use skinpath::toolpath::cut::{Lead, Tabs};
@@ -16,16 +16,14 @@ use skinpath::toolpath::{Cut, MoveKind, OperationKind};
 use toolpath_common::*;
 
 fn square(c: DVec2, s: f64) -> Path {
-    let p = [
-        c + DVec2::new(-s, -s),
-        c + DVec2::new(s, -s),
-        c + DVec2::new(s, s),
-        c + DVec2::new(-s, s),
-    ];
-    Path::new(
-        (0..4)
-            .map(|i| PathSeg::Line(Line::new(p[i], p[(i + 1) % 4])))
-            .collect(),
+    let corner = |x: f64, y: f64| c + DVec2::new(x * s, y * s);
+    Path::polyline(
+        &[
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ],
         true,
     )
 }

@@ -85,6 +85,23 @@ impl Path {
         Path { segs, closed }
     }
 
+    /// The polyline through `points` (closed: back to the first point). Repeated
+    /// consecutive points give no segment.
+    pub fn polyline(points: &[DVec2], closed: bool) -> Self {
+        let n = points.len();
+        let count = if closed && n > 2 {
+            n
+        } else {
+            n.saturating_sub(1)
+        };
+        let segs = (0..count)
+            .map(|i| (points[i], points[(i + 1) % n]))
+            .filter(|(a, b)| a != b)
+            .map(|(a, b)| PathSeg::Line(Line::new(a, b)))
+            .collect();
+        Path::new(segs, closed)
+    }
+
     pub fn is_empty(&self) -> bool {
         self.segs.is_empty()
     }
@@ -182,5 +199,8 @@ mod tests {
         assert_eq!(path.max_gap(), 0.0);
         assert_eq!(path.flatten(1e-3).len(), 4);
         assert_eq!(polygon_area(&path.reversed().flatten(1e-3)), -1.0);
+        // The same square from its corner points.
+        assert_eq!(Path::polyline(&p, true), path);
+        assert_eq!(Path::polyline(&p, false).segs.len(), 3);
     }
 }

@@ -348,16 +348,13 @@ mod tests {
     use super::*;
 
     fn square_path(s: f64) -> Path {
-        let p = [
-            DVec2::new(0.0, 0.0),
-            DVec2::new(s, 0.0),
-            DVec2::new(s, s),
-            DVec2::new(0.0, s),
-        ];
-        Path::new(
-            (0..4)
-                .map(|i| PathSeg::Line(Line::new(p[i], p[(i + 1) % 4])))
-                .collect(),
+        Path::polyline(
+            &[
+                DVec2::new(0.0, 0.0),
+                DVec2::new(s, 0.0),
+                DVec2::new(s, s),
+                DVec2::new(0.0, s),
+            ],
             true,
         )
     }

@@ -3,7 +3,7 @@
 //! Every function here is pure geometry on [`Region`]s and polylines; [`super::plan`] turns
 //! the paths into cuts with depths, feeds and ordering.
 
-use super::region::{Region, flatten_pline, pline_from_points};
+use super::region::{Region, flatten_pline};
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
 use geo::Buffer;
 
@@ -227,13 +227,13 @@ pub fn vcarve_flat_region(outline: &Region, angle: f64, max_depth: f64, eps: f64
 
 /// An open polyline path through points.
 pub fn polyline_path(points: &[DVec2], closed: bool) -> Path {
-    let pl = pline_from_points(points, closed);
-    super::region::path_from_pline(&pl)
+    Path::polyline(points, closed)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::toolpath::region::pline_from_points;
     use cavalier_contours::polyline::PlineSourceMut;
     use std::f64::consts::PI;
 

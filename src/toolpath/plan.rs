@@ -276,19 +276,16 @@ fn attr_polyline3_cut(l: &AttrPolyline, spec: &OpSpec, source: Option<String>) -
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::{Line, PathSeg};
 
     fn square(c: DVec2, s: f64) -> Path {
-        let p = [
-            c + DVec2::new(-s, -s),
-            c + DVec2::new(s, -s),
-            c + DVec2::new(s, s),
-            c + DVec2::new(-s, s),
-        ];
-        Path::new(
-            (0..4)
-                .map(|i| PathSeg::Line(Line::new(p[i], p[(i + 1) % 4])))
-                .collect(),
+        let corner = |x: f64, y: f64| c + DVec2::new(x * s, y * s);
+        Path::polyline(
+            &[
+                corner(-1.0, -1.0),
+                corner(1.0, -1.0),
+                corner(1.0, 1.0),
+                corner(-1.0, 1.0),
+            ],
             true,
         )
     }
