@@ -1076,6 +1076,26 @@ fn golden_ring_o_svg_laser() {
 }
 
 #[test]
+fn golden_loop_marlin_laser() {
+    golden("loop", "marlin-laser", "gcode");
+}
+
+#[test]
+fn golden_ring_o_linuxcnc_router() {
+    golden("ring_o", "linuxcnc-router", "gcode");
+}
+
+#[test]
+fn golden_circles_smoothie_laser() {
+    golden("circles", "smoothie-laser", "gcode");
+}
+
+#[test]
+fn golden_brush_svg_laser_lightburn() {
+    golden("brush", "svg-laser-lightburn", "svg");
+}
+
+#[test]
 fn golden_comparison_detects_a_change() {
     // The comparators must fail on a coordinate moved by more than the tolerance and pass
     // within it.
