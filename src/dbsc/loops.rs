@@ -447,13 +447,7 @@ mod tests {
     use crate::geom::Circle;
     use proptest::prelude::*;
 
-    fn open(p: usize, d: &[(f64, f64, f64)]) -> DiskBSpline {
-        let disks: Vec<Circle> = d
-            .iter()
-            .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
-            .collect();
-        DiskBSpline::open(p, &disks, None).unwrap()
-    }
+    use crate::dbsc::test_util::open;
 
     /// A sharp left bend: the inner (left) envelope loops, the outer does not.
     fn sharp_bend() -> DiskBSpline {

@@ -50,3 +50,19 @@ pub use no_envelope::no_envelope_intervals;
 pub use tangent::{envelope_tangent, envelope_tangent_coeffs};
 pub use tessellate::{Mesh, Resolution, TessellateError, tessellate};
 pub use transform::TransformError;
+
+/// Fixtures shared by the tests of the modules that use disk B-splines.
+#[cfg(test)]
+pub(crate) mod test_util {
+    use super::DiskBSpline;
+    use crate::geom::{Circle, DVec2};
+
+    /// An open DBSC of degree `p` on clamped uniform knots through control disks (x, y, r).
+    pub(crate) fn open(p: usize, d: &[(f64, f64, f64)]) -> DiskBSpline {
+        let disks: Vec<Circle> = d
+            .iter()
+            .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
+            .collect();
+        DiskBSpline::open(p, &disks, None).unwrap()
+    }
+}

@@ -769,13 +769,7 @@ mod tests {
     use super::*;
     use crate::geom::path::polygon_area;
 
-    fn open(p: usize, d: &[(f64, f64, f64)]) -> DiskBSpline {
-        let disks: Vec<Circle> = d
-            .iter()
-            .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
-            .collect();
-        DiskBSpline::open(p, &disks, None).unwrap()
-    }
+    use crate::dbsc::test_util::open;
 
     /// A gentle S stroke, 30 mm long, radii 1–2 mm: no envelope loops.
     fn s_stroke() -> Vec<(f64, f64, f64)> {

@@ -619,16 +619,9 @@ pub fn hausdorff_within(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Circle;
     use proptest::prelude::*;
 
-    fn open(p: usize, d: &[(f64, f64, f64)]) -> DiskBSpline {
-        let disks: Vec<Circle> = d
-            .iter()
-            .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
-            .collect();
-        DiskBSpline::open(p, &disks, None).unwrap()
-    }
+    use crate::dbsc::test_util::open;
 
     fn line_cubic(a: DVec2, b: DVec2) -> CubicBez {
         CubicBez::new(a, a.lerp(b, 1.0 / 3.0), a.lerp(b, 2.0 / 3.0), b)
