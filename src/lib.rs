@@ -13,6 +13,8 @@
 //!
 //! The library never panics on user data and never prints: every stage returns typed errors.
 
+#![forbid(unsafe_code)]
+
 pub mod dbsc;
 pub mod design;
 pub mod emit;

@@ -99,6 +99,11 @@ pub fn run(a: Args) -> Result<u8> {
     if let Some(e) = a.epsilon {
         opts.epsilon = e;
     }
+    anyhow::ensure!(
+        a.margin.is_finite() && a.margin >= 0.0,
+        "--margin must be a finite, non-negative distance in design units, got {}",
+        a.margin
+    );
     let mut built = build_toolpath(&design, &profile, &opts)?;
     if a.place == "lower-left" {
         // Design units per profile unit: work area corners are in the profile's units.

@@ -30,10 +30,11 @@ pub fn run(a: Args) -> Result<u8> {
         opts.epsilon = e;
     }
     let info = inspect(&design, &opts)?;
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&info)?);
+    let text = if a.json {
+        format!("{}\n", serde_json::to_string_pretty(&info)?)
     } else {
-        print!("{info}");
-    }
+        info.to_string()
+    };
+    crate::print_stdout(&text)?;
     Ok(0)
 }

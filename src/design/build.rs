@@ -30,9 +30,9 @@ impl Stroke {
             (Some(d), None) => {
                 let disks = circles(d);
                 let curve = if self.closed {
-                    DiskBSpline::closed(self.degree, &disks, self.knots.as_deref())
+                    DiskBSpline::closed(self.effective_degree(), &disks, self.knots.as_deref())
                 } else {
-                    DiskBSpline::open(self.degree, &disks, self.knots.clone())
+                    DiskBSpline::open(self.effective_degree(), &disks, self.knots.clone())
                 };
                 curve.map_err(|e| build(e.to_string()))
             }
@@ -40,10 +40,16 @@ impl Stroke {
                 let data = circles(p);
                 let kind = self.parametrization.unwrap_or_default().to_fit();
                 let curve = match (self.fit.unwrap_or_default(), self.control_disks) {
-                    (Fit::Approximate, Some(n)) => {
-                        DiskBSpline::approximate(&data, n, self.degree, self.closed, kind)
+                    (Fit::Approximate, Some(n)) => DiskBSpline::approximate(
+                        &data,
+                        n,
+                        self.effective_degree(),
+                        self.closed,
+                        kind,
+                    ),
+                    _ => {
+                        DiskBSpline::interpolate(&data, self.effective_degree(), self.closed, kind)
                     }
-                    _ => DiskBSpline::interpolate(&data, self.degree, self.closed, kind),
                 };
                 curve.map_err(|e| build(format!("fitting `points`: {e}")))
             }

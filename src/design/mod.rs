@@ -58,14 +58,30 @@
 //! [`DiskBSpline::closed`](crate::dbsc::DiskBSpline::closed) takes; without `knots` the
 //! breakpoints are uniform on [0, 1].
 //!
-//! Counts. A stroke of degree p needs at least p + 1 disks (or points); an open circle
-//! sequence at least 2 circles, a closed one 3. An approximation needs
-//! p + 1 ≤ `control_disks` ≤ points. Attribute channels have one value per control disk:
-//! `disks.len()`, `points.len()` for an interpolation (one control disk per point), or
-//! `control_disks` for an approximation.
+//! Counts. A stroke without `knots` needs at least 2 disks or points (3 when closed): with
+//! fewer than `degree + 1` its degree is lowered to one less than their number (two disks
+//! give a straight spine, three a parabola; [`Stroke::effective_degree`]). A stroke with
+//! `knots` keeps its degree and needs `degree + 1` disks. `degree` lies in 1..=10
+//! ([`MAX_DEGREE`]); a list holds at most 10 000 entries ([`MAX_ITEMS`]). An open circle
+//! sequence needs at least 2 circles, a closed one 3. An approximation needs
+//! 2 ≤ `control_disks` ≤ points (its degree lowered to `control_disks` − 1 when needed).
+//! Attribute channels have one value per control disk: `disks.len()`, `points.len()` for an
+//! interpolation (one control disk per point), or `control_disks` for an approximation.
+//! A design needs at least one stroke or circle sequence.
 //!
-//! Values. All numbers finite, radii > 0, no disk, point or circle equal to the one before it
-//! (for closed lists also the last to the first).
+//! Values. Every disk, point and circle is exactly `[x, y, r]` (a list of another length is
+//! a parse error with line:column). All numbers finite, |x|, |y|, r ≤ 1e7 design units
+//! ([`MAX_COORD`]), r ≥ 1e-4 ([`MIN_RADIUS`]); no disk, point or circle equal or nearly
+//! equal (closer than 1e-9 of the item's size, [`NEAR_FRACTION`]) to the one before it (for
+//! closed lists also the last to the first); remove one of such a pair.
+//!
+//! Ranges of the operation keys (one policy: a value outside its range is an error naming
+//! the operation by index and kind, and the key): `passes` 1..=1000 ([`MAX_PASSES`], also
+//! for `depth / step_down`); `feed` in (0, 1e6] units/min ([`MAX_FEED`], also for the feed
+//! attribute); `power` 0..=100; lengths (`depth`, `step_down`, `width`, `margin`,
+//! `diameter`, `spacing`, `max_depth`, `tabs.width`, `tabs.height`: > 0; `lead_in`,
+//! `min_inner_radius`: ≥ 0) at most 1e7; `tabs.count` 1..=100 ([`MAX_TABS`]); fill `angle`
+//! within ±360 degrees.
 //!
 //! Operations. Common keys: `strokes`, `passes` (≥ 1), `step_down`, `depth`, `feed` (> 0),
 //! `power` (percent), `tabs = { count, width, height }`, `lead_in` (≥ 0). Per kind:
@@ -99,7 +115,10 @@ pub use model::{
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
     VERSION,
 };
-pub use validate::validate;
+pub use validate::{
+    MAX_COORD, MAX_DEGREE, MAX_FEED, MAX_ITEMS, MAX_PASSES, MAX_TABS, MIN_RADIUS, NEAR_FRACTION,
+    validate,
+};
 
 #[cfg(test)]
 mod tests;

@@ -6,6 +6,40 @@ use serde::{Deserialize, Serialize};
 /// The only design format version this crate reads and writes.
 pub const VERSION: u32 = 1;
 
+/// Strict `[x, y, r]` triples: serde's fixed-size arrays ignore extra elements in some
+/// formats (TOML), so a disk `[x, y, r, 7]` would be read as `[x, y, r]`. Each triple is
+/// read as a list and its length checked; the parser reports the offending value's
+/// line:column.
+mod xyr {
+    use serde::de::{Deserialize, Deserializer, Error};
+
+    struct Xyr([f64; 3]);
+
+    impl<'de> Deserialize<'de> for Xyr {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            let v = Vec::<f64>::deserialize(d)?;
+            match v.as_slice() {
+                &[x, y, r] => Ok(Xyr([x, y, r])),
+                _ => Err(D::Error::invalid_length(
+                    v.len(),
+                    &"exactly 3 numbers [x, y, r]",
+                )),
+            }
+        }
+    }
+
+    pub fn list<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f64; 3]>, D::Error> {
+        Ok(Vec::<Xyr>::deserialize(d)?
+            .into_iter()
+            .map(|x| x.0)
+            .collect())
+    }
+
+    pub fn opt_list<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec<[f64; 3]>>, D::Error> {
+        Ok(Option::<Vec<Xyr>>::deserialize(d)?.map(|v| v.into_iter().map(|x| x.0).collect()))
+    }
+}
+
 /// Default degree of a stroke's B-splines.
 pub const DEFAULT_DEGREE: usize = 3;
 
@@ -98,14 +132,22 @@ pub struct Stroke {
     #[serde(default, skip_serializing_if = "is_false")]
     pub closed: bool,
     /// Control disks `[x, y, r]`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "xyr::opt_list"
+    )]
     pub disks: Option<Vec<[f64; 3]>>,
     /// Open: the full knot vector (disks + degree + 1 knots). Closed: the disks + 1
     /// breakpoints of one period.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub knots: Option<Vec<f64>>,
     /// Data points `[x, y, r]` the stroke interpolates or approximates.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "xyr::opt_list"
+    )]
     pub points: Option<Vec<[f64; 3]>>,
     /// How `points` are fitted (default: interpolate).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -135,6 +177,19 @@ impl Stroke {
             parametrization: None,
             control_disks: None,
             attributes: Attributes::default(),
+        }
+    }
+
+    /// The degree the stroke's curve is built with: `degree`, lowered to one less than the
+    /// number of control disks when a stroke without `knots` has fewer than `degree + 1` of
+    /// them (two disks give a line, three a parabola; a closed stroke needs three). A
+    /// `knots` list fixes the degree: then `degree + 1` disks are required.
+    pub fn effective_degree(&self) -> usize {
+        let n = self.control_disk_count();
+        if self.knots.is_some() || n < 2 {
+            self.degree
+        } else {
+            self.degree.min(n - 1)
         }
     }
 
@@ -221,6 +276,7 @@ pub struct CircleSeq {
     #[serde(default, skip_serializing_if = "is_false")]
     pub closed: bool,
     /// Circles `[x, y, r]` in order.
+    #[serde(deserialize_with = "xyr::list")]
     pub circles: Vec<[f64; 3]>,
 }
 

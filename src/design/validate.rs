@@ -7,6 +7,31 @@ use std::collections::HashMap;
 
 type Result<T> = std::result::Result<T, DesignError>;
 
+/// Largest `degree` of a stroke (curves of higher degree add nothing a sign needs and make
+/// every evaluation slower).
+pub const MAX_DEGREE: usize = 10;
+/// Largest number of disks, points or circles of one item (the skinning inserts circles
+/// between them, up to 20 000 per stroke).
+pub const MAX_ITEMS: usize = 10_000;
+/// Largest |coordinate| and largest length value (radius, depth, width, margin, …), in
+/// design units: 10 km in mm. Beyond it the geometry's size relative to the tolerances
+/// exhausts double precision and every refinement budget.
+pub const MAX_COORD: f64 = 1e7;
+/// Smallest radius of a disk, point or circle, in design units: below it a stroke is
+/// thinner than any tolerance the outline is computed to (the default ε is 0.01).
+pub const MIN_RADIUS: f64 = 1e-4;
+/// Two consecutive disks (points, circles) closer than this fraction of the item's size
+/// (the largest |coordinate| or radius, at least 1) count as the same disk: the curve
+/// between them is a span of zero length at floating-point resolution.
+pub const NEAR_FRACTION: f64 = 1e-9;
+/// Largest `passes` of an operation, and largest number of passes implied by
+/// `depth / step_down`.
+pub const MAX_PASSES: u32 = 1_000;
+/// Largest `tabs.count` per contour.
+pub const MAX_TABS: u32 = 100;
+/// Largest feed, design units per minute (1 km/min in mm; no machine moves faster).
+pub const MAX_FEED: f64 = 1e6;
+
 /// Check everything the format promises beyond its syntax (see the module docs of
 /// [`crate::design`]); `points` strokes are fitted to check that the fit succeeds.
 /// Returns the first error found, in file order.
@@ -27,6 +52,27 @@ pub fn validate(d: &Design) -> Result<()> {
             Item::Outline,
             Some(Part::Key("tolerance".into())),
             ErrorKind::Invalid(format!("tolerance {t} must be positive")),
+        ));
+    }
+    if let Some(o) = &d.outline
+        && let Some(t) = o.tolerance
+        && t > MAX_COORD
+    {
+        return Err(DesignError::at(
+            file,
+            Item::Outline,
+            Some(Part::Key("tolerance".into())),
+            ErrorKind::Invalid(format!("tolerance {t} must be at most {MAX_COORD}")),
+        ));
+    }
+    if d.stroke.is_empty() && d.circles.is_empty() {
+        return Err(DesignError::file(
+            file,
+            ErrorKind::Invalid(
+                "the design has no [[stroke]] and no [[circles]]: nothing to outline or cut; \
+                 add at least one"
+                    .into(),
+            ),
         ));
     }
     let mut names: HashMap<&str, Item> = HashMap::new();
@@ -50,6 +96,7 @@ pub fn validate(d: &Design) -> Result<()> {
         };
         check_name(file, &c.name, item.clone(), &mut names)?;
         let need = if c.closed { 3 } else { 2 };
+        check_count(file, &item, "circles", c.circles.len())?;
         check_xyr_list(file, &item, &c.circles, Part::Circle, c.closed, false)?;
         if c.circles.len() < need {
             return Err(DesignError::at(
@@ -120,6 +167,23 @@ fn check_xyr_list(
         if v[2] <= 0.0 {
             return err(i, ErrorKind::Radius(v[2]));
         }
+        if let Some(&x) = v.iter().find(|x| x.abs() > MAX_COORD) {
+            return err(
+                i,
+                ErrorKind::Invalid(format!(
+                    "value {x} is beyond ±{MAX_COORD} design units; scale the design down"
+                )),
+            );
+        }
+        if v[2] < MIN_RADIUS {
+            return err(
+                i,
+                ErrorKind::Invalid(format!(
+                    "radius {} is below the smallest radius {MIN_RADIUS} design units",
+                    v[2]
+                )),
+            );
+        }
     }
     let same = |a: &[f64; 3], b: &[f64; 3]| {
         if centres { a[..2] == b[..2] } else { a == b }
@@ -139,6 +203,53 @@ fn check_xyr_list(
     if closed && list.len() > 1 && same(&list[0], &list[list.len() - 1]) {
         return err(0, kind());
     }
+    // Near-coincident neighbours: within NEAR_FRACTION of the item's size.
+    let size = list
+        .iter()
+        .flat_map(|v| v.iter())
+        .fold(1.0f64, |m, x| m.max(x.abs()));
+    let near = NEAR_FRACTION * size;
+    let close = |a: &[f64; 3], b: &[f64; 3]| {
+        let dc = (a[0] - b[0]).hypot(a[1] - b[1]);
+        let d = if centres {
+            dc
+        } else {
+            dc + (a[2] - b[2]).abs()
+        };
+        // Exact repeats are reported below as such.
+        let exact = if centres { a[..2] == b[..2] } else { a == b };
+        d <= near && !exact
+    };
+    let near_kind = |a: &[f64; 3], b: &[f64; 3]| {
+        ErrorKind::Invalid(format!(
+            "{} nearly repeats the one before it ({:?} vs {:?}, closer than {near:e}, \
+             {NEAR_FRACTION:e} of the item's size); remove one of the two",
+            if centres { "centre" } else { "disk" },
+            b,
+            a
+        ))
+    };
+    for i in 1..list.len() {
+        if close(&list[i], &list[i - 1]) {
+            return err(i, near_kind(&list[i], &list[i - 1]));
+        }
+    }
+    if closed && list.len() > 1 && close(&list[0], &list[list.len() - 1]) {
+        return err(0, near_kind(&list[0], &list[list.len() - 1]));
+    }
+    Ok(())
+}
+
+/// At most [`MAX_ITEMS`] entries in one list.
+fn check_count(file: &str, item: &Item, key: &str, n: usize) -> Result<()> {
+    if n > MAX_ITEMS {
+        return Err(invalid(
+            file,
+            item,
+            key,
+            format!("{n} entries, more than the limit {MAX_ITEMS}; split the item"),
+        ));
+    }
     Ok(())
 }
 
@@ -152,15 +263,25 @@ fn invalid(file: &str, item: &Item, key: &str, msg: String) -> DesignError {
 }
 
 fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
-    if s.degree < 1 {
+    if s.degree < 1 || s.degree > MAX_DEGREE {
         return Err(invalid(
             file,
             item,
             "degree",
-            "degree must be at least 1".into(),
+            format!(
+                "degree = {} is outside 1..={MAX_DEGREE} (3, the default, suits most strokes)",
+                s.degree
+            ),
         ));
     }
-    let need = s.degree + 1;
+    // With `knots` the degree is fixed; otherwise it is lowered for short lists
+    // (`Stroke::effective_degree`), so two disks (three closed) suffice.
+    let min_count = |closed: bool| if closed { 3 } else { 2 };
+    let need = if s.knots.is_some() {
+        s.degree + 1
+    } else {
+        min_count(s.closed)
+    };
     match (&s.disks, &s.points) {
         (Some(_), Some(_)) => {
             return Err(DesignError::at(
@@ -194,6 +315,7 @@ fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
                     ));
                 }
             }
+            check_count(file, item, "disks", disks.len())?;
             check_xyr_list(file, item, disks, Part::Disk, s.closed, false)?;
             if disks.len() < need {
                 return Err(DesignError::at(
@@ -220,6 +342,7 @@ fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
                     "`knots` applies to `disks` strokes; a fit chooses its own".into(),
                 ));
             }
+            check_count(file, item, "points", points.len())?;
             check_xyr_list(file, item, points, Part::Point, s.closed, true)?;
             if points.len() < need {
                 return Err(DesignError::at(
@@ -256,8 +379,9 @@ fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
                         item,
                         "control_disks",
                         format!(
-                            "control_disks = {n} must lie between degree + 1 = {need} and the \
-                             number of points {}",
+                            "control_disks = {n} must lie between {need} and the number of \
+                             points {} (the degree is lowered to control_disks − 1 when \
+                             needed)",
                             points.len()
                         ),
                     ));
@@ -291,12 +415,12 @@ fn check_stroke(file: &str, s: &Stroke, item: &Item) -> Result<()> {
                     "power" if !(0.0..=100.0).contains(&v) => Some(ErrorKind::Invalid(format!(
                         "power {v} outside 0..=100 (percent)"
                     ))),
-                    "depth" if v < 0.0 => Some(ErrorKind::Invalid(format!(
-                        "depth {v} must not be negative"
+                    "depth" if !(0.0..=MAX_COORD).contains(&v) => Some(ErrorKind::Invalid(
+                        format!("depth {v} outside 0..={MAX_COORD} (design units)"),
+                    )),
+                    "feed" if !(v > 0.0 && v <= MAX_FEED) => Some(ErrorKind::Invalid(format!(
+                        "feed {v} outside (0, {MAX_FEED}] (design units per minute)"
                     ))),
-                    "feed" if v <= 0.0 => {
-                        Some(ErrorKind::Invalid(format!("feed {v} must be positive")))
-                    }
                     _ => None,
                 }
             };
@@ -436,6 +560,12 @@ fn check_operation(
             ));
         }
     }
+    // Upper limits: feeds MAX_FEED, power 100 %, lengths MAX_COORD.
+    let limit = |key: &str| match key {
+        "feed" => MAX_FEED,
+        "power" => 100.0,
+        _ => MAX_COORD,
+    };
     let positive = |key: &str, v: Option<f64>, allow_zero: bool| -> Result<()> {
         match v {
             Some(x) if !x.is_finite() => Err(DesignError::at(
@@ -457,6 +587,12 @@ fn check_operation(
                     }
                 ),
             )),
+            Some(x) if x > limit(key) => Err(invalid(
+                file,
+                item,
+                key,
+                format!("{key} = {x} is above the limit {}", limit(key)),
+            )),
             _ => Ok(()),
         }
     };
@@ -471,51 +607,68 @@ fn check_operation(
     positive("diameter", op.diameter, false)?;
     positive("spacing", op.spacing, false)?;
     positive("max_depth", op.max_depth, false)?;
-    if let Some(p) = op.power
-        && p > 100.0
+    if let Some(p) = op.passes
+        && !(1..=MAX_PASSES).contains(&p)
     {
         return Err(invalid(
             file,
             item,
-            "power",
-            format!("power = {p} outside 0..=100 (percent)"),
+            "passes",
+            format!("passes = {p} outside 1..={MAX_PASSES}"),
         ));
     }
-    if op.passes == Some(0) {
+    if let (Some(depth), Some(step)) = (op.depth, op.step_down)
+        && depth / step > f64::from(MAX_PASSES)
+    {
         return Err(invalid(
             file,
             item,
-            "passes",
-            "passes must be at least 1".into(),
+            "step_down",
+            format!(
+                "depth {depth} / step_down {step} asks for more than {MAX_PASSES} passes; \
+                 raise step_down"
+            ),
         ));
     }
     if let Some(a) = op.angle {
         let ok = match op.kind {
             OperationKind::Vcarve => a > 0.0 && a < 180.0,
-            _ => a.is_finite(),
+            _ => a.is_finite() && a.abs() <= 360.0,
         };
         if !ok {
             return Err(invalid(
                 file,
                 item,
                 "angle",
-                format!("angle = {a} out of range (vcarve: 0 < angle < 180 degrees)"),
+                format!(
+                    "angle = {a} out of range (vcarve: 0 < angle < 180 degrees; fill: \
+                     -360..=360 degrees)"
+                ),
             ));
         }
     }
     if let Some(t) = &op.tabs {
-        let ok = t.count >= 1
-            && t.width.is_finite()
-            && t.width > 0.0
-            && t.height.is_finite()
-            && t.height > 0.0;
-        if !ok {
-            return Err(invalid(
-                file,
-                item,
-                "tabs",
-                "tabs need count >= 1 and positive width and height".into(),
-            ));
+        let len_ok = |v: f64| v.is_finite() && v > 0.0 && v <= MAX_COORD;
+        let bad = if !(1..=MAX_TABS).contains(&t.count) {
+            Some((
+                "tabs.count",
+                format!("count = {} outside 1..={MAX_TABS}", t.count),
+            ))
+        } else if !len_ok(t.width) {
+            Some((
+                "tabs.width",
+                format!("width = {} outside (0, {MAX_COORD}]", t.width),
+            ))
+        } else if !len_ok(t.height) {
+            Some((
+                "tabs.height",
+                format!("height = {} outside (0, {MAX_COORD}]", t.height),
+            ))
+        } else {
+            None
+        };
+        if let Some((key, msg)) = bad {
+            return Err(invalid(file, item, key, msg));
         }
     }
     if let Some(list) = &op.strokes {

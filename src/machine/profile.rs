@@ -368,10 +368,14 @@ impl Profile {
             ("y", self.work_area.y),
             ("z", self.work_area.z),
         ] {
-            if !(r.0.is_finite() && r.1.is_finite() && r.0 <= r.1) {
+            let lim = MAX_LENGTH_MM / self.units.mm_per_unit();
+            if !(r.0.is_finite() && r.1.is_finite() && r.0 <= r.1 && r.0 >= -lim && r.1 <= lim) {
                 return err(
                     &format!("work_area.{axis}"),
-                    format!("needs [min, max] with min <= max, got [{}, {}]", r.0, r.1),
+                    format!(
+                        "needs [min, max] with min <= max within ±{lim}, got [{}, {}]",
+                        r.0, r.1
+                    ),
                 );
             }
         }
@@ -386,10 +390,11 @@ impl Profile {
             ("acceleration", self.acceleration),
         ] {
             for (axis, v) in [("x", axes.x), ("y", axes.y), ("z", axes.z)] {
-                if !(v.is_finite() && v >= 0.0) || (axis != "z" && v <= 0.0) {
+                let lim = MAX_RATE_MM / self.units.mm_per_unit();
+                if !(v.is_finite() && v >= 0.0 && v <= lim) || (axis != "z" && v <= 0.0) {
                     return err(
                         &format!("{table}.{axis}"),
-                        format!("must be a positive number, got {v}"),
+                        format!("must be a positive number up to {lim}, got {v}"),
                     );
                 }
             }
@@ -410,7 +415,20 @@ impl Profile {
             );
         }
         for (i, t) in self.tools.iter().enumerate() {
-            validate_tool(t).map_err(|(k, m)| (format!("tools[{i}].{k}"), m))?;
+            validate_tool(t, self.units.mm_per_unit()).map_err(|(k, m)| {
+                (
+                    format!("tools[{i}].{k}"),
+                    format!("tool \"{}\": {m}", t.name),
+                )
+            })?;
+        }
+        if self.kind == MachineKind::Router && self.tools.is_empty() {
+            return err(
+                "tools",
+                "a router profile needs at least one [[tools]] entry (kind = \"endmill\", \
+                 \"ballnose\" or \"vbit\" with its diameter)"
+                    .into(),
+            );
         }
         let needs = |section: &str, present: bool| -> Result<(), (String, String)> {
             if present {
@@ -473,6 +491,28 @@ impl Profile {
             }
             template::check(&g.preamble).map_err(|m| ("gcode.preamble".to_string(), m))?;
             template::check(&g.postamble).map_err(|m| ("gcode.postamble".to_string(), m))?;
+            for (key, text) in [
+                ("gcode.preamble", &g.preamble),
+                ("gcode.postamble", &g.postamble),
+            ] {
+                if let Some((line, word, why)) = forbidden_m_word(text) {
+                    return err(
+                        key,
+                        format!(
+                            "line {line} holds {word}, which would {why}; the program's own \
+                             setup and end handle it: remove it (program_end sets the end word)"
+                        ),
+                    );
+                }
+            }
+            if let Some(t) = g.path_tolerance
+                && t > MAX_LENGTH_MM / self.units.mm_per_unit()
+            {
+                return err(
+                    "gcode.path_tolerance",
+                    format!("must be at most {MAX_LENGTH_MM} mm, got {t}"),
+                );
+            }
             if template::uses(&g.preamble, "path_tolerance") && g.path_tolerance.is_none() {
                 return err(
                     "gcode.path_tolerance",
@@ -487,10 +527,10 @@ impl Profile {
             }
         }
         if let Some(l) = &self.laser {
-            if !(l.pierce_dwell.is_finite() && l.pierce_dwell >= 0.0) {
+            if !(l.pierce_dwell.is_finite() && (0.0..=MAX_DWELL_S).contains(&l.pierce_dwell)) {
                 return err(
                     "laser.pierce_dwell",
-                    format!("must be >= 0, got {}", l.pierce_dwell),
+                    format!("must be in 0..={MAX_DWELL_S} s, got {}", l.pierce_dwell),
                 );
             }
             if !l.inline_power && !l.needs_on_command {
@@ -529,18 +569,18 @@ impl Profile {
                     ),
                 );
             }
-            if !(r.spindle_dwell.is_finite() && r.spindle_dwell >= 0.0) {
+            if !(r.spindle_dwell.is_finite() && (0.0..=MAX_DWELL_S).contains(&r.spindle_dwell)) {
                 return err(
                     "router.spindle_dwell",
-                    format!("must be >= 0, got {}", r.spindle_dwell),
+                    format!("must be in 0..={MAX_DWELL_S} s, got {}", r.spindle_dwell),
                 );
             }
         }
         if let Some(s) = &self.svg {
-            if !(s.stroke_width.is_finite() && s.stroke_width > 0.0) {
+            if !(s.stroke_width.is_finite() && s.stroke_width > 0.0 && s.stroke_width <= 10.0) {
                 return err(
                     "svg.stroke_width",
-                    format!("must be > 0, got {}", s.stroke_width),
+                    format!("must be in (0, 10] mm, got {}", s.stroke_width),
                 );
             }
             let c = &s.colors;
@@ -564,26 +604,79 @@ impl Profile {
     }
 }
 
-fn validate_tool(t: &Tool) -> Result<(), (String, String)> {
+/// Tool diameters and kerfs, in mm: smaller is no physical cutter (and makes offsets and
+/// pass counts explode), larger is no tool a sign machine holds.
+pub const TOOL_SIZE_MM: (f64, f64) = (1e-3, 1e3);
+/// Largest |coordinate| of a work area and largest length setting, in mm.
+pub const MAX_LENGTH_MM: f64 = 1e7;
+/// Largest feed (mm/min) or acceleration (mm/s²) per axis.
+pub const MAX_RATE_MM: f64 = 1e7;
+/// Largest dwell (pierce, spindle spin-up), in seconds.
+pub const MAX_DWELL_S: f64 = 600.0;
+
+/// The first M word of a preamble/postamble that would end the program (`M2`, `M30`) or
+/// start the spindle or laser (`M3`, `M4`): (1-based line, word, what it does). Comments
+/// in parentheses and after `;` are skipped; spaces inside words are ignored as G-code does.
+fn forbidden_m_word(text: &str) -> Option<(usize, String, &'static str)> {
+    for (i, line) in text.lines().enumerate() {
+        let mut code = String::new();
+        let mut depth = 0usize;
+        for ch in line.chars() {
+            match ch {
+                ';' if depth == 0 => break,
+                '(' => depth += 1,
+                ')' => depth = depth.saturating_sub(1),
+                c if depth == 0 && !c.is_whitespace() => code.push(c.to_ascii_uppercase()),
+                _ => {}
+            }
+        }
+        let b = code.as_bytes();
+        for (k, &c) in b.iter().enumerate() {
+            if c != b'M' {
+                continue;
+            }
+            let num: String = code[k + 1..]
+                .chars()
+                .take_while(|c| c.is_ascii_digit() || *c == '.')
+                .collect();
+            let why = match num.parse::<f64>() {
+                Ok(v) if v == 2.0 || v == 30.0 => "end the program",
+                Ok(v) if v == 3.0 || v == 4.0 => "start the spindle or laser",
+                _ => continue,
+            };
+            return Some((i + 1, format!("M{num}"), why));
+        }
+    }
+    None
+}
+
+fn validate_tool(t: &Tool, mm_per_unit: f64) -> Result<(), (String, String)> {
     let bad = |k: &str, m: String| Err((k.to_string(), m));
     if t.name.trim().is_empty() {
         return bad("name", "must not be empty".into());
     }
-    let pos = |v: f64| v.is_finite() && v > 0.0;
+    let (lo, hi) = (TOOL_SIZE_MM.0 / mm_per_unit, TOOL_SIZE_MM.1 / mm_per_unit);
+    let size_ok = |v: f64| v.is_finite() && v >= lo && v <= hi;
+    let range = |what: &str, v: f64| {
+        format!(
+            "{what} {v} is outside {lo}..={hi} (profile units; {}..={} mm)",
+            TOOL_SIZE_MM.0, TOOL_SIZE_MM.1
+        )
+    };
     match t.kind {
         ToolKind::Beam => {
-            if !pos(t.kerf) {
-                return bad("kerf", format!("a beam needs a kerf > 0, got {}", t.kerf));
+            if !size_ok(t.kerf) {
+                return bad("kerf", range("a beam's kerf", t.kerf));
             }
         }
         ToolKind::Endmill | ToolKind::Ballnose => {
-            if !pos(t.diameter) {
-                return bad("diameter", format!("must be > 0, got {}", t.diameter));
+            if !size_ok(t.diameter) {
+                return bad("diameter", range("diameter", t.diameter));
             }
         }
         ToolKind::Vbit => {
-            if !pos(t.diameter) {
-                return bad("diameter", format!("must be > 0, got {}", t.diameter));
+            if !size_ok(t.diameter) {
+                return bad("diameter", range("diameter", t.diameter));
             }
             if !(t.angle > 0.0 && t.angle < 180.0) {
                 return bad(

@@ -121,3 +121,56 @@ fn number_formatting() {
         assert!(!s.starts_with("-0") || s.starts_with("-0."));
     }
 }
+
+/// Numbers outside their documented ranges and preambles that would end the program or
+/// start the spindle are refused, naming the file, the key and the tool.
+#[test]
+fn ranges_and_forbidden_words_are_refused() {
+    let router = BUILTIN_SOURCES[1].1;
+    for bad in ["1e-9", "1e308", "1e-308", "0.0009", "1001.0"] {
+        let e = load_err(&router.replace("diameter = 3.175", &format!("diameter = {bad}")));
+        assert_eq!(e.key, "tools[0].diameter", "{e}");
+        assert!(e.message.contains("0.001..=1000 mm"), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("shop.toml: key `tools[0].diameter`: tool \""),
+            "{e}"
+        );
+    }
+    // In an inch profile the range is converted: 0.001 mm is 3.9e-5 in, so 1e-4 in is fine.
+    let inch = BUILTIN_SOURCES[3].1;
+    assert!(inch.contains("units = \"inch\""));
+    let d = inch.lines().find(|l| l.starts_with("diameter = ")).unwrap();
+    Profile::from_toml(&inch.replacen(d, "diameter = 0.0001", 1), "shop.toml").unwrap();
+    let e = load_err(&inch.replacen(d, "diameter = 40.0", 1));
+    assert!(e.key.ends_with(".diameter"), "{e}");
+    let e = load_err(&grbl_text().replace("kerf = 0.08", "kerf = 1e-9"));
+    assert_eq!(e.key, "tools[0].kerf");
+    for (key, text) in [
+        ("gcode.preamble", "preamble = \"G4 P1\\nM30\""),
+        ("gcode.preamble", "preamble = \"m 2 (stop)\""),
+        ("gcode.preamble", "preamble = \"M3 S{power_max}\""),
+        ("gcode.postamble", "postamble = \"G0 X0\\nM04\""),
+    ] {
+        let field = key.trim_start_matches("gcode.");
+        let t = grbl_text().replace(&format!("{field} = \"\""), text);
+        let e = load_err(&t);
+        assert_eq!(e.key, key, "{e}");
+        assert!(e.message.contains("would"), "{e}");
+    }
+    // M2 in a comment, M5 and M21 are fine.
+    let ok = grbl_text().replace("preamble = \"\"", "preamble = \"(M2 later) M5 ; M3\\nM21\"");
+    Profile::from_toml(&ok, "shop.toml").unwrap();
+    let e = load_err(&router.replace("spindle_dwell = 3.0", "spindle_dwell = 1e9"));
+    assert_eq!(e.key, "router.spindle_dwell");
+    let e = load_err(&router.replace("x = 2000.0", "x = 1e300"));
+    assert_eq!(e.key, "max_feed.x");
+    let e = load_err(&router.replace("x = [0.0, 300.0]", "x = [0.0, 1e30]"));
+    assert_eq!(e.key, "work_area.x");
+    // A router without tools says so.
+    let start = router.find("[[tools]]").unwrap();
+    let end = router.find("[gcode]").unwrap();
+    let e = load_err(&format!("{}{}", &router[..start], &router[end..]));
+    assert_eq!(e.key, "tools");
+    assert!(e.message.contains("at least one [[tools]]"), "{e}");
+}

@@ -19,7 +19,8 @@
 //!   insertion is kept only if the resulting outline stays free of self-intersections.
 
 use super::hausdorff::{
-    HausdorffBounds, HausdorffError, hausdorff_skin_envelope, hausdorff_within,
+    HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Work, hausdorff_skin_envelope_work,
+    hausdorff_within_work,
 };
 use super::intersect::path_self_intersections;
 use super::intersect::paths_intersections;
@@ -44,6 +45,10 @@ pub struct DbscSkinOptions {
     pub min_weight: f64,
     /// Upper limit of circles, a guard against runaway refinement.
     pub max_circles: usize,
+    /// Budget of Hausdorff refinement steps (branch-and-bound nodes, see
+    /// [`super::hausdorff::MAX_BOUND_WORK`]) for the whole skinning of one stroke. Running
+    /// out is [`DbscSkinError::WorkBudget`], never a hang.
+    pub max_work: usize,
     /// Run phase 3 (two-sided skinning).
     pub two_sided: bool,
     /// Tolerance of the self-intersection test of the outline (model units).
@@ -64,12 +69,19 @@ impl Default for DbscSkinOptions {
             // 1/64: c* within 1.6 % of the span end, i.e. almost a repeated knot circle.
             min_weight: 1.0 / 64.0,
             max_circles: 20_000,
+            max_work: DEFAULT_MAX_WORK,
             two_sided: true,
             intersect_tol: 1e-9,
             allow_global_overlap: false,
         }
     }
 }
+
+/// Default of [`DbscSkinOptions::max_work`]: one million refinement steps, about a second of
+/// work. The examples' strokes need at most a sixth of it at ε = 0.01 mm (167 000 steps
+/// for the G-clef; measured
+/// by the test `examples_stay_well_inside_the_work_budget`).
+pub const DEFAULT_MAX_WORK: usize = 1_000_000;
 
 /// Phase of kruppa-2023 Sec. 4 that ended refinement of a segment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -129,6 +141,8 @@ pub struct DbscSkin {
     /// contour with end caps, closed strokes the outer and the inner contour.
     pub outline: Vec<Path>,
     pub report: Vec<SegmentReport>,
+    /// Hausdorff refinement steps spent (out of [`DbscSkinOptions::max_work`]).
+    pub work: usize,
 }
 
 /// Errors of [`skin_dbsc`].
@@ -148,6 +162,12 @@ pub enum DbscSkinError {
     SelfIntersection { contour: usize, segment: usize },
     #[error("invalid option: {0}")]
     Options(&'static str),
+    #[error(
+        "skinning needed more than {budget} Hausdorff refinement steps (the stroke is too \
+         fine for ε = {eps}: its size, or a kink or near-degenerate spot of its envelope, needs \
+         more work than allowed); raise ε (--epsilon) or smooth the stroke"
+    )]
+    WorkBudget { budget: usize, eps: f64 },
     #[error(transparent)]
     Skin(#[from] SkinError),
     #[error(transparent)]
@@ -178,6 +198,8 @@ struct State<'a> {
     cache: RefCell<HashMap<CacheKey, HausdorffBounds>>,
     /// Envelope loops of the curve (kruppa-2023 Sec. 3).
     loops: Vec<EnvelopeLoop>,
+    /// Refinement steps left for the Hausdorff bounds of the whole skinning.
+    work: RefCell<Work>,
 }
 
 type CacheKey = ([u64; 10], usize, bool);
@@ -277,11 +299,29 @@ impl State<'_> {
                 let h = match cached {
                     Some(h) => h,
                     None => {
+                        let mut budget = self.work.borrow_mut();
+                        if budget.left == 0 {
+                            return Err(DbscSkinError::WorkBudget {
+                                budget: self.opts.max_work,
+                                eps: self.opts.eps,
+                            });
+                        }
+                        let mut w = Work::new(budget.left.min(MAX_BOUND_WORK));
                         let h = if full {
-                            hausdorff_skin_envelope(arc, self.c, side, t0, t1, gap)?
+                            hausdorff_skin_envelope_work(arc, self.c, side, t0, t1, gap, &mut w)?
                         } else {
-                            hausdorff_within(arc, self.c, side, t0, t1, self.opts.eps, gap)?
+                            hausdorff_within_work(
+                                arc,
+                                self.c,
+                                side,
+                                (t0, t1),
+                                self.opts.eps,
+                                gap,
+                                &mut w,
+                            )?
                         };
+                        budget.left -= w.spent;
+                        budget.spent += w.spent;
                         self.cache.borrow_mut().insert(key, h);
                         h
                     }
@@ -659,6 +699,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
         cache: RefCell::new(HashMap::new()),
         params,
+        work: RefCell::new(Work::new(opts.max_work)),
     };
     // Initialisation (eq. 19): the knot circles must be admissible.
     let cs = st.circles_of(&st.params);
@@ -725,6 +766,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         right_params: o.right_params,
         outline: o.contours,
         report,
+        work: st.work.borrow().spent,
     })
 }
 

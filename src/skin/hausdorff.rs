@@ -34,6 +34,51 @@ const MAX_NODES: usize = 20_000;
 /// Cap on nodes of one point-to-curve distance.
 const MAX_POINT_NODES: usize = 4_000;
 
+/// Cap on all refinement steps (directed nodes plus point-distance nodes, both directions)
+/// of one Hausdorff bound. Without it the two caps above multiply (80 million steps, minutes
+/// of work) on envelopes whose second-derivative bound is infinite (kinks of degree-1
+/// strokes, points where ‖q′‖ ≈ |r′|). Smooth skin segments need a few thousand steps; the
+/// bounds stay valid when the cap is hit, only the gap stays wider than asked.
+pub const MAX_BOUND_WORK: usize = 200_000;
+
+/// Parameter intervals narrower than this are not split further (they are leaves whose
+/// bounds are kept as they are): bisection below it only reaches floating-point noise,
+/// where the second-order enclosure (Δt²·M₂/8) may be 0·∞ = NaN.
+const MIN_SPLIT_WIDTH: f64 = 1e-12;
+
+/// A refinement budget shared by the loops of one or several Hausdorff bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Work {
+    /// Refinement steps still allowed.
+    pub left: usize,
+    /// Refinement steps spent so far.
+    pub spent: usize,
+}
+
+impl Work {
+    /// A budget of `steps` refinement steps.
+    pub fn new(steps: usize) -> Work {
+        Work {
+            left: steps,
+            spent: 0,
+        }
+    }
+    /// Spends one step; false when the budget is exhausted.
+    fn take(&mut self) -> bool {
+        if self.left == 0 {
+            return false;
+        }
+        self.left -= 1;
+        self.spent += 1;
+        true
+    }
+}
+
+/// A bound that is NaN (0·∞ on an interval of zero width) read as "no information".
+fn or_inf(x: f64) -> f64 {
+    if x.is_nan() { f64::INFINITY } else { x }
+}
+
 /// Errors of the Hausdorff bounds.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HausdorffError {
@@ -404,6 +449,7 @@ fn point_distance(
     grid: &[(f64, DVec2)],
     hint: Option<f64>,
     tol: f64,
+    work: &mut Work,
 ) -> Result<PointDist, HausdorffError> {
     let mut best = PointDist {
         lower: 0.0,
@@ -422,9 +468,12 @@ fn point_distance(
     }
     let mut heap: BinaryHeap<Node> = BinaryHeap::new();
     let lb = |t0: f64, t1: f64, p0: DVec2, p1: DVec2| {
-        let e = (t1 - t0).powi(2) * y.d2_bound(t0, t1) / 8.0;
-        Line::new(p0, p1).distance(x) - e
+        let e = or_inf((t1 - t0).powi(2) * y.d2_bound(t0, t1) / 8.0);
+        let l = Line::new(p0, p1).distance(x) - e;
+        if l.is_nan() { f64::NEG_INFINITY } else { l }
     };
+    // Smallest lower bound of the leaves (nodes too narrow to split).
+    let mut leaf_lower = f64::INFINITY;
     let pieces = y.pieces();
     for w in grid.windows(2) {
         let (t0, p0) = w[0];
@@ -440,13 +489,17 @@ fn point_distance(
     let mut count = 0;
     while let Some(nd) = heap.pop() {
         let l = -nd.key;
-        if l >= best.upper - tol || count >= MAX_POINT_NODES {
+        if l >= best.upper - tol || count >= MAX_POINT_NODES || !work.take() {
             // Pruned nodes had lower bounds ≥ upper − tol; the heap's minimum is l.
-            best.lower = l.min(best.upper - tol).max(0.0);
+            best.lower = l.min(best.upper - tol).min(leaf_lower).max(0.0);
             return Ok(best);
         }
         count += 1;
         let tm = 0.5 * (nd.t0 + nd.t1);
+        if !(nd.t1 - nd.t0 > MIN_SPLIT_WIDTH && tm > nd.t0 && tm < nd.t1) {
+            leaf_lower = leaf_lower.min(l);
+            continue;
+        }
         let pm = y.point(tm)?;
         upd(tm, pm, &mut best);
         for (a, pa, b, pb) in [(nd.t0, nd.p0, tm, pm), (tm, pm, nd.t1, nd.p1)] {
@@ -456,7 +509,7 @@ fn point_distance(
             }
         }
     }
-    best.lower = (best.upper - tol).max(0.0);
+    best.lower = (best.upper - tol).min(leaf_lower).max(0.0);
     Ok(best)
 }
 
@@ -481,6 +534,7 @@ fn directed(
     yc: &dyn BoundedCurve,
     gap: f64,
     threshold: Option<f64>,
+    work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
     let ygrid: Vec<(f64, DVec2)> = initial_grid(yc)
         .into_iter()
@@ -494,7 +548,7 @@ fn directed(
     let mut hint = None;
     for &s in &xs {
         let p = xc.point(s)?;
-        let d = point_distance(p, yc, &ygrid, hint, ptol)?;
+        let d = point_distance(p, yc, &ygrid, hint, ptol, work)?;
         hint = Some(d.t);
         lower = lower.max(d.lower);
         ends.push((s, p, d));
@@ -503,12 +557,14 @@ fn directed(
     let key = |s0: f64, s1: f64, a: &PointDist, b: &PointDist, p0: DVec2, p1: DVec2| {
         let ex = (s1 - s0).powi(2) * xc.d2_bound(s0, s1) / 8.0;
         let ey = (b.t - a.t).powi(2) * yc.d2_bound_any(a.t, b.t) / 8.0;
-        let linear = a.upper.max(b.upper) + ex + ey;
+        let linear = or_inf(a.upper.max(b.upper) + or_inf(ex) + or_inf(ey));
         // Constant matching: ‖x(s) − y(t_i)‖ is convex along the chord of x, so at most
         // its larger end value, and ‖x(s1) − y(t0)‖ ≤ ‖x(s0) − y(t0)‖ + ‖x(s1) − x(s0)‖.
-        let c = a.upper.min(b.upper) + p1.distance(p0) + ex;
+        let c = or_inf(a.upper.min(b.upper) + p1.distance(p0) + or_inf(ex));
         linear.min(c)
     };
+    // Largest upper bound of the leaves (nodes too narrow to split).
+    let mut leaf_upper: f64 = 0.0;
     for w in ends.windows(2) {
         let ((s0, p0, d0), (s1, p1, d1)) = (w[0], w[1]);
         if s1 <= s0 || !xpieces.iter().any(|&(a, b)| s0 >= a && s1 <= b) {
@@ -520,9 +576,9 @@ fn directed(
     }
     let mut count = 0;
     while let Some(nd) = heap.pop() {
-        let upper = nd.key;
+        let upper = nd.key.max(leaf_upper);
         let decided = threshold.is_some_and(|e| lower > e || upper <= e);
-        if upper <= lower + gap || decided || count >= MAX_NODES {
+        if upper <= lower + gap || decided || count >= MAX_NODES || !work.take() {
             return Ok(HausdorffBounds {
                 lower,
                 upper: upper.max(lower),
@@ -530,8 +586,12 @@ fn directed(
         }
         count += 1;
         let sm = 0.5 * (nd.t0 + nd.t1);
+        if !(nd.t1 - nd.t0 > MIN_SPLIT_WIDTH && sm > nd.t0 && sm < nd.t1) {
+            leaf_upper = leaf_upper.max(nd.key);
+            continue;
+        }
         let pm = xc.point(sm)?;
-        let dm = point_distance(pm, yc, &ygrid, Some(0.5 * (nd.u0 + nd.u1)), ptol)?;
+        let dm = point_distance(pm, yc, &ygrid, Some(0.5 * (nd.u0 + nd.u1)), ptol, work)?;
         lower = lower.max(dm.lower);
         let d0 = PointDist {
             lower: 0.0,
@@ -552,7 +612,7 @@ fn directed(
     }
     Ok(HausdorffBounds {
         lower,
-        upper: lower,
+        upper: leaf_upper.max(lower),
     })
 }
 
@@ -564,7 +624,7 @@ pub fn hausdorff_curves(
     y: &dyn BoundedCurve,
     gap: f64,
 ) -> Result<HausdorffBounds, HausdorffError> {
-    bounds_impl(x, y, gap, None)
+    bounds_impl(x, y, gap, None, &mut Work::new(MAX_BOUND_WORK))
 }
 
 fn bounds_impl(
@@ -572,15 +632,16 @@ fn bounds_impl(
     y: &dyn BoundedCurve,
     gap: f64,
     threshold: Option<f64>,
+    work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
     if !(gap > 0.0 && gap.is_finite()) {
         return Err(HausdorffError::Gap(gap));
     }
-    let a = directed(x, y, gap, threshold)?;
+    let a = directed(x, y, gap, threshold, work)?;
     if threshold.is_some_and(|e| a.lower > e) {
         return Ok(a);
     }
-    let b = directed(y, x, gap, threshold)?;
+    let b = directed(y, x, gap, threshold, work)?;
     Ok(HausdorffBounds {
         lower: a.lower.max(b.lower),
         upper: a.upper.max(b.upper),
@@ -597,8 +658,30 @@ pub fn hausdorff_skin_envelope(
     t_b: f64,
     gap: f64,
 ) -> Result<HausdorffBounds, HausdorffError> {
+    hausdorff_skin_envelope_work(
+        skin,
+        curve,
+        side,
+        t_a,
+        t_b,
+        gap,
+        &mut Work::new(MAX_BOUND_WORK),
+    )
+}
+
+/// [`hausdorff_skin_envelope`] spending at most `work.left` refinement steps (the bounds
+/// stay valid when the budget runs out, only their gap may exceed `gap`).
+pub fn hausdorff_skin_envelope_work(
+    skin: &CubicBez,
+    curve: &DiskBSpline,
+    side: Side,
+    t_a: f64,
+    t_b: f64,
+    gap: f64,
+    work: &mut Work,
+) -> Result<HausdorffBounds, HausdorffError> {
     let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
-    bounds_impl(skin, &env, gap, None)
+    bounds_impl(skin, &env, gap, None, work)
 }
 
 /// Like [`hausdorff_skin_envelope`] but stops as soon as D_H ≤ `eps` or D_H > `eps` is
@@ -612,8 +695,30 @@ pub fn hausdorff_within(
     eps: f64,
     gap: f64,
 ) -> Result<HausdorffBounds, HausdorffError> {
+    hausdorff_within_work(
+        skin,
+        curve,
+        side,
+        (t_a, t_b),
+        eps,
+        gap,
+        &mut Work::new(MAX_BOUND_WORK),
+    )
+}
+
+/// [`hausdorff_within`] on the span `(t_a, t_b)` spending at most `work.left` refinement
+/// steps (the bounds stay valid when the budget runs out, only their gap may exceed `gap`).
+pub fn hausdorff_within_work(
+    skin: &CubicBez,
+    curve: &DiskBSpline,
+    side: Side,
+    (t_a, t_b): (f64, f64),
+    eps: f64,
+    gap: f64,
+    work: &mut Work,
+) -> Result<HausdorffBounds, HausdorffError> {
     let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
-    bounds_impl(skin, &env, gap, Some(eps))
+    bounds_impl(skin, &env, gap, Some(eps), work)
 }
 
 #[cfg(test)]
