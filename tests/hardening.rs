@@ -406,6 +406,8 @@ fn repeated_runs_are_byte_identical() {
                 "grbl-laser",
                 "-o",
                 g.to_str().unwrap(),
+                "--place",
+                "lower-left",
             ]));
             outs.push((std::fs::read(o).unwrap(), std::fs::read(g).unwrap()));
         }
