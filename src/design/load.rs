@@ -41,6 +41,7 @@ pub fn from_str(text: &str, format: Format, file_name: &str) -> Result<Design, D
         Format::Json => parse_json(text, file_name)?,
     };
     design.file = file_name.to_string();
+    design.expand()?;
     validate(&design)?;
     Ok(design)
 }
