@@ -3,10 +3,13 @@
 
 mod build;
 mod check;
+
+mod init;
 mod inspect;
 pub mod io;
 mod machines;
 mod outline;
+mod text;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -32,6 +35,10 @@ enum Command {
     Check(check::Args),
     /// List the machine profiles shipped with skinpath.
     Machines(machines::Args),
+    /// Write a design with single-stroke text (Hershey fonts).
+    Text(text::Args),
+    /// Write a commented starter design that builds as it is.
+    Init(init::Args),
 }
 
 /// Exit status for input that cannot be used (bad file, bad design, bad options).
@@ -46,6 +53,8 @@ pub fn run() -> ExitCode {
         Command::Build(a) => build::run(a),
         Command::Check(a) => check::run(a),
         Command::Machines(a) => machines::run(a),
+        Command::Text(a) => text::run(a),
+        Command::Init(a) => init::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),
