@@ -4,6 +4,7 @@
 mod build;
 mod check;
 
+mod import;
 mod init;
 mod inspect;
 pub mod io;
@@ -35,6 +36,8 @@ enum Command {
     Check(check::Args),
     /// List the machine profiles shipped with skinpath.
     Machines(machines::Args),
+    /// Import an SVG drawing as a design: stroked paths become strokes.
+    Import(import::Args),
     /// Write a design with single-stroke text (Hershey fonts).
     Text(text::Args),
     /// Write a commented starter design that builds as it is.
@@ -53,6 +56,7 @@ pub fn run() -> ExitCode {
         Command::Build(a) => build::run(a),
         Command::Check(a) => check::run(a),
         Command::Machines(a) => machines::run(a),
+        Command::Import(a) => import::run(a),
         Command::Text(a) => text::run(a),
         Command::Init(a) => init::run(a),
     };

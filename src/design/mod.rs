@@ -90,6 +90,7 @@ pub mod corners;
 mod error;
 mod load;
 mod model;
+pub mod svg;
 pub mod text;
 mod validate;
 
