@@ -331,7 +331,9 @@ pub fn polyline_stroke(name: &str, poly: &[DVec2], r: f64) -> Option<Stroke> {
     polyline_stroke_radii(name, poly, &vec![r; poly.len()], CORNER_ANGLE_DEG)
 }
 
-/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees.
+/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. An open
+/// run that loops back over one of its own ends is also split (see
+/// `split_returning_runs`).
 pub fn polyline_stroke_radii(
     name: &str,
     poly: &[DVec2],
@@ -362,7 +364,10 @@ pub fn polyline_stroke_radii(
         rs.pop();
         closed = true;
     }
-    let corners = sharp_turns(&pts, closed, corner_deg);
+    let mut corners = sharp_turns(&pts, closed, corner_deg);
+    if !closed {
+        split_returning_runs(&pts, &rs, &mut corners);
+    }
     let points: Vec<[f64; 3]> = pts.iter().zip(&rs).map(|(p, &r)| [p.x, p.y, r]).collect();
     let mut s = Stroke::from_disks(name, Vec::new());
     s.disks = None;
@@ -378,6 +383,54 @@ pub fn polyline_stroke_radii(
         Some(corners)
     };
     Some(s)
+}
+
+/// How many times a run that comes back to its own end is halved at most.
+const MAX_RETURN_SPLITS: usize = 4;
+
+/// Split the runs of an open polyline (between `corners`) that come back within two
+/// radii of one of their own ends after running away from it by more than four radii (a
+/// loop closing over its start, as in the script `o` and `O`): the end disk of such a run
+/// would be covered by the run's other disks, which skinning cannot take (kruppa-2023
+/// Def. 4.1 cond. 1). The run is split at its middle vertex, a joint like a corner; each
+/// half then leaves its ends for good.
+fn split_returning_runs(pts: &[DVec2], rs: &[f64], corners: &mut Vec<usize>) {
+    for _ in 0..MAX_RETURN_SPLITS {
+        let mut bounds = vec![0];
+        bounds.extend(corners.iter().copied());
+        bounds.push(pts.len() - 1);
+        let mut added = None;
+        for w in bounds.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            if b - a < 3 {
+                continue;
+            }
+            let r = rs[a..=b].iter().copied().fold(0.0, f64::max);
+            let returns = |end: usize, order: &mut dyn Iterator<Item = usize>| {
+                let mut along = 0.0;
+                let mut prev = pts[end];
+                for j in order {
+                    along += prev.distance(pts[j]);
+                    prev = pts[j];
+                    if along > 4.0 * r && pts[j].distance(pts[end]) < 2.0 * r {
+                        return true;
+                    }
+                }
+                false
+            };
+            if returns(a, &mut (a + 1..=b)) || returns(b, &mut (a..b).rev()) {
+                added = Some((a + b) / 2);
+                break;
+            }
+        }
+        match added {
+            Some(m) if !corners.contains(&m) => {
+                corners.push(m);
+                corners.sort_unstable();
+            }
+            _ => return,
+        }
+    }
 }
 
 #[cfg(test)]
