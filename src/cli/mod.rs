@@ -3,10 +3,14 @@
 
 mod build;
 mod check;
+
+mod import;
+mod init;
 mod inspect;
 pub mod io;
 mod machines;
 mod outline;
+mod text;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -32,6 +36,12 @@ enum Command {
     Check(check::Args),
     /// List the machine profiles shipped with skinpath.
     Machines(machines::Args),
+    /// Import an SVG drawing as a design: stroked paths become strokes.
+    Import(import::Args),
+    /// Write a design with single-stroke text (Hershey fonts).
+    Text(text::Args),
+    /// Write a commented starter design that builds as it is.
+    Init(init::Args),
 }
 
 /// Exit status for input that cannot be used (bad file, bad design, bad options).
@@ -46,6 +56,9 @@ pub fn run() -> ExitCode {
         Command::Build(a) => build::run(a),
         Command::Check(a) => check::run(a),
         Command::Machines(a) => machines::run(a),
+        Command::Import(a) => import::run(a),
+        Command::Text(a) => text::run(a),
+        Command::Init(a) => init::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

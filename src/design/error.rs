@@ -14,6 +14,8 @@ pub enum Item {
     Operation { index: usize, kind: String },
     /// The `[outline]` table.
     Outline,
+    /// `[[text]]` number `index` (0-based) with its `name`.
+    Text { index: usize, name: String },
 }
 
 impl fmt::Display for Item {
@@ -23,6 +25,7 @@ impl fmt::Display for Item {
             Item::Circles { index, name } => write!(f, "circles {index} \"{name}\""),
             Item::Operation { index, kind } => write!(f, "operation {index} ({kind})"),
             Item::Outline => write!(f, "outline"),
+            Item::Text { index, name } => write!(f, "text {index} \"{name}\""),
         }
     }
 }
@@ -111,7 +114,7 @@ impl fmt::Display for ErrorKind {
         match self {
             ErrorKind::Parse { message, .. } => write!(f, "{message}"),
             ErrorKind::UnknownFormat => {
-                write!(f, "unknown design format: expected a .toml or .json file")
+                write!(f, "unknown design format: expected a .toml, .json or .svg file")
             }
             ErrorKind::MissingVersion => write!(f, "missing `version = 1`"),
             ErrorKind::Version(v) => write!(

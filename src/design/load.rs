@@ -27,8 +27,12 @@ impl Format {
     }
 }
 
-/// Parse and validate a design, choosing the format by `file_name`'s extension.
+/// Parse and validate a design, choosing the format by `file_name`'s extension; an `.svg`
+/// file is imported ([`super::svg::load_svg`]).
 pub fn load(text: &str, file_name: &str) -> Result<Design, DesignError> {
+    if file_name.to_ascii_lowercase().ends_with(".svg") {
+        return super::svg::load_svg(text, file_name);
+    }
     let format = Format::from_file_name(file_name)
         .ok_or_else(|| DesignError::file(file_name, ErrorKind::UnknownFormat))?;
     from_str(text, format, file_name)
@@ -41,6 +45,7 @@ pub fn from_str(text: &str, format: Format, file_name: &str) -> Result<Design, D
         Format::Json => parse_json(text, file_name)?,
     };
     design.file = file_name.to_string();
+    design.expand()?;
     validate(&design)?;
     Ok(design)
 }

@@ -102,12 +102,17 @@
 //! or `file:12:5: unknown field ...` for syntax errors; indices are 0-based.
 
 mod build;
+pub mod corners;
 mod error;
 mod load;
 mod model;
+pub mod svg;
+pub mod text;
 mod validate;
 
 pub use build::attribute_curve;
+pub use corners::Corner;
+pub use text::Text;
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load};
 pub use model::{

@@ -69,12 +69,20 @@ pub struct Design {
     /// The `[[circles]]` tables: circle sequences skinned directly.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub circles: Vec<CircleSeq>,
+    /// The `[[text]]` tables: single-stroke text, laid out into strokes when loaded
+    /// (see [`crate::design::Text`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub text: Vec<super::text::Text>,
     /// The `[[operation]]` tables: toolpath operations (plain data for the toolpath stage).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operation: Vec<Operation>,
     /// The file name the design was loaded from (not part of the file).
     #[serde(skip)]
     pub file: String,
+    /// The corners at which loading split strokes into pieces (not part of the file; see
+    /// [`crate::design::Corner`]).
+    #[serde(skip)]
+    pub corners: Vec<super::corners::Corner>,
 }
 
 /// Length unit of a design.
@@ -161,6 +169,10 @@ pub struct Stroke {
     /// Values on the control disks, blended like the radius (wu-2021 eq. 18).
     #[serde(default, skip_serializing_if = "Attributes::is_empty")]
     pub attributes: Attributes,
+    /// Indices of `disks` or `points` that are corners: the stroke is split there into
+    /// pieces that share the corner disk (see [`crate::design::Corner`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corners: Option<Vec<usize>>,
 }
 
 impl Stroke {
@@ -177,6 +189,7 @@ impl Stroke {
             parametrization: None,
             control_disks: None,
             attributes: Attributes::default(),
+            corners: None,
         }
     }
 

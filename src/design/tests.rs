@@ -538,8 +538,10 @@ fn full_design() -> Design {
             closed: true,
             circles: vec![[0.0, 0.0, 2.0], [6.0, 1.0, 2.5], [12.0, 0.0, 2.0]],
         }],
+        text: vec![],
         operation: ops,
         file: "round.trip".into(),
+        corners: vec![],
     }
 }
 
@@ -809,8 +811,10 @@ proptest::proptest! {
             outline: None,
             stroke: vec![s],
             circles: vec![CircleSeq { name: "q".into(), closed, circles: disks }],
+            text: vec![],
             operation: vec![],
             file: "p.toml".into(),
+            corners: vec![],
         };
         validate(&d).unwrap();
         let t = from_str(&d.to_toml_string().unwrap(), Format::Toml, "p.toml").unwrap();

@@ -64,6 +64,8 @@ pub struct DesignInfo {
     pub epsilon: f64,
     pub strokes: Vec<StrokeInfo>,
     pub circles: Vec<CirclesInfo>,
+    /// Corners at which strokes were split into pieces (`corners` in the design).
+    pub corners: Vec<crate::design::Corner>,
 }
 
 fn radius_range(c: &DiskBSpline) -> [f64; 2] {
@@ -89,6 +91,7 @@ pub fn inspect(design: &Design, opts: &OutlineOptions) -> Result<DesignInfo, Job
         epsilon: opts.epsilon,
         strokes: Vec::new(),
         circles: Vec::new(),
+        corners: design.corners.clone(),
     };
     for (s, c) in design.stroke.iter().zip(&strokes) {
         let spine = flatten_spine(c, opts.tolerance);
@@ -160,6 +163,13 @@ impl std::fmt::Display for DesignInfo {
             "{} ({}), skin epsilon {}",
             self.file, self.units, self.epsilon
         )?;
+        for c in &self.corners {
+            writeln!(
+                f,
+                "corner of stroke \"{}\" at {} {} ({:.3}, {:.3}): pieces \"{}\" and \"{}\" share that disk",
+                c.stroke, c.kind, c.index, c.at[0], c.at[1], c.pieces[0], c.pieces[1]
+            )?;
+        }
         for s in &self.strokes {
             writeln!(
                 f,

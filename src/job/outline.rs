@@ -84,7 +84,11 @@ pub fn stroke_outline(
         eps: opts.epsilon,
         ..DbscSkinOptions::default()
     };
-    let fail = |e: DbscSkinError| item_err(design, "stroke", name, e.to_string());
+    let fail = |e: DbscSkinError| {
+        // Name the disks and what to change, not only the paper's condition.
+        let hint = crate::design::corners::skin_hint(c).map_or(String::new(), |h| format!("; {h}"));
+        item_err(design, "stroke", name, format!("{e}{hint}"))
+    };
     let (sk, self_overlap) = match skin_dbsc(c, &skin_opts) {
         Ok(sk) => (sk, false),
         // The spine crosses itself: skin it anyway and resolve the overlap by a union.

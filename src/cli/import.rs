@@ -1,0 +1,65 @@
+//! `skinpath import drawing.svg -o design.toml [--tolerance T] [--corner-angle DEG]`:
+//! stroked SVG paths become strokes; every skipped element is listed on stderr.
+
+use super::io;
+use anyhow::{Context, Result, bail};
+use skinpath::design::Format;
+use skinpath::design::svg::{ImportOptions, import};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The SVG drawing.
+    svg: PathBuf,
+    /// Output design file (.toml or .json).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Largest distance between a stroke's spine and the SVG centre line, mm.
+    #[arg(long, default_value_t = skinpath::design::svg::DEFAULT_TOLERANCE)]
+    tolerance: f64,
+    /// Turning angle in degrees above which a path node is kept as a corner.
+    #[arg(long, default_value_t = skinpath::design::corners::CORNER_ANGLE_DEG)]
+    corner_angle: f64,
+}
+
+pub fn run(a: Args) -> Result<u8> {
+    let out_name = a.output.display().to_string();
+    let format = Format::from_file_name(&out_name)
+        .with_context(|| format!("{out_name}: the output must end in .toml or .json"))?;
+    if !(a.corner_angle.is_finite() && a.corner_angle > 0.0 && a.corner_angle < 180.0) {
+        bail!(
+            "--corner-angle must be between 0 and 180 degrees, got {}",
+            a.corner_angle
+        );
+    }
+    io::refuse_overwriting_inputs(&a.output, &[&a.svg])?;
+    let text = io::read_text(&a.svg)?;
+    let opts = ImportOptions {
+        tolerance: a.tolerance,
+        corner_angle: a.corner_angle,
+    };
+    let imported = import(&text, &a.svg.display().to_string(), &opts)?;
+    for s in &imported.skipped {
+        eprintln!("skipped {}: {}", s.id, s.reason);
+    }
+    if imported.design.stroke.is_empty() {
+        bail!(
+            "{}: no stroked path to import ({} element(s) skipped)",
+            a.svg.display(),
+            imported.skipped.len()
+        );
+    }
+    let mut design = imported.design;
+    design.file = out_name.clone();
+    let body = design.to_string_as(format)?;
+    // What is written must load: check it before writing.
+    skinpath::design::from_str(&body, format, &out_name)?;
+    io::write_atomic(&a.output, body.as_bytes()).with_context(|| format!("writing {out_name}"))?;
+    eprintln!(
+        "imported {} stroke(s), {} skipped, spines within {:.4} mm of the SVG centre lines",
+        design.stroke.len(),
+        imported.skipped.len(),
+        imported.max_deviation
+    );
+    Ok(0)
+}

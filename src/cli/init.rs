@@ -1,0 +1,80 @@
+//! `skinpath init [-o design.toml]`: a commented starter design that builds as it is.
+
+use super::io;
+use anyhow::{Context, Result, bail};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Where to write the design.
+    #[arg(short, long, default_value = "design.toml")]
+    output: PathBuf,
+    /// Overwrite the file if it exists.
+    #[arg(long)]
+    force: bool,
+}
+
+/// The starter design.
+pub const STARTER: &str = r#"# A skinpath design (format v1). Build it with
+#   skinpath build design.toml --machine grbl-laser -o design.gcode --preview design-preview.svg
+#   skinpath build design.toml --machine grbl-router -o design.nc
+# and look at the outlines with
+#   skinpath outline design.toml -o outline.svg --control-disks
+# Every length is in `units`; y points up; the origin is the machine's zero.
+version = 1
+units = "mm"              # or "inch"
+
+[outline]
+tolerance = 0.05          # how closely drawn and cut contours follow the exact outline
+
+# A stroke through data points [x, y, r]: the spine passes through every (x, y), the
+# width there is 2r. Points listed in `corners` (0-based) are sharp corners: the stroke is
+# split there into pieces that meet in a round joint.
+[[stroke]]
+name = "wave"
+points = [[10, 20, 2.0], [25, 32, 3.0], [40, 20, 4.0], [55, 8, 3.0], [70, 20, 2.0]]
+
+[[stroke]]
+name = "zigzag"
+points = [[10, 50, 1.5], [25, 65, 1.5], [40, 50, 1.5], [55, 65, 1.5], [70, 50, 1.5]]
+corners = [1, 2, 3]
+
+# A stroke given by control disks [x, y, r] of a cubic disk B-spline: the spine is pulled
+# towards the disks but passes only through the first and the last.
+[[stroke]]
+name = "brush"
+disks = [[85, 10, 1.0], [95, 40, 5.0], [110, 45, 3.0], [120, 15, 1.0]]
+
+# Single-stroke text (Hershey fonts "sans" or "script"): height is the cap height, width
+# the stroke width. Use `skinpath text` to start a sign from a word.
+[[text]]
+name = "hello"
+text = "Hi"
+font = "script"
+height = 20
+width = 2
+at = [88, 60]
+
+# Operations. Without any, `build` cuts around every outline. For a laser, `power` is in
+# percent; for a router, `depth` is required. Remove the kinds your machine cannot do.
+[[operation]]
+kind = "profile"          # profile | channel | backboard | holes | fill | vcarve
+side = "on"               # on | outside | inside
+depth = 2.0               # total depth (routers); ignored by lasers
+power = 80                # percent (lasers)
+"#;
+
+pub fn run(a: Args) -> Result<u8> {
+    if a.output.exists() && !a.force {
+        bail!(
+            "{} exists: choose another name with -o or pass --force",
+            a.output.display()
+        );
+    }
+    // The starter must load as it is; a failure here is a bug in skinpath, reported as such.
+    skinpath::design::load(STARTER, &a.output.display().to_string())
+        .context("the built-in starter design does not load")?;
+    io::write_atomic(&a.output, STARTER.as_bytes())
+        .with_context(|| format!("writing {}", a.output.display()))?;
+    Ok(0)
+}

@@ -1,0 +1,79 @@
+//! `skinpath text "OPEN" --height 80 --width 8 -o open.toml`: a design with one `[[text]]`
+//! element, placed so that the lettering starts one stroke width in from the origin.
+
+use super::io;
+use anyhow::{Context, Result, bail};
+use skinpath::design::text::{Align, Font, Text};
+use skinpath::design::{Design, Format, Units, VERSION};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The text; `\n` (a backslash and n) starts a new line.
+    text: String,
+    /// Output design file (.toml or .json).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Cap height (baseline to cap line), mm.
+    #[arg(long, default_value_t = 40.0)]
+    height: f64,
+    /// Stroke width (neon flex or bit width), mm.
+    #[arg(long, default_value_t = 4.0)]
+    width: f64,
+    /// Font: sans (Hershey Roman Simplex) or script (joining letters).
+    #[arg(long, default_value = "sans", value_parser = ["sans", "script"])]
+    font: String,
+    /// Alignment of the lines.
+    #[arg(long, default_value = "left", value_parser = ["left", "centre", "center", "right"])]
+    align: String,
+    /// Extra space between letters, mm.
+    #[arg(long)]
+    letter_spacing: Option<f64>,
+    /// Baseline to baseline, in multiples of the height.
+    #[arg(long)]
+    line_spacing: Option<f64>,
+    /// Name of the text element (its strokes are NAME/...).
+    #[arg(long, default_value = "text")]
+    name: String,
+}
+
+pub fn run(a: Args) -> Result<u8> {
+    let format = Format::from_file_name(&a.output.display().to_string())
+        .with_context(|| format!("{}: the output must end in .toml or .json", a.output.display()))?;
+    let mut t = Text::new(&a.name, &a.text.replace("\\n", "\n"), a.height, a.width);
+    t.font = if a.font == "script" { Font::Script } else { Font::Sans };
+    t.align = Some(match a.align.as_str() {
+        "centre" | "center" => Align::Centre,
+        "right" => Align::Right,
+        _ => Align::Left,
+    });
+    t.letter_spacing = a.letter_spacing;
+    t.line_spacing = a.line_spacing;
+    // Place the lettering's lower-left corner (stroke radius included) one stroke width
+    // from the origin, so it builds inside any machine's work area without --place.
+    let pts: Vec<_> = t.layout().into_iter().flat_map(|(_, _, p)| p.concat()).collect();
+    if pts.is_empty() {
+        bail!("the text has no visible character");
+    }
+    let min_x = pts.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+    let min_y = pts.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+    let r = 0.5 * a.width;
+    t.at = Some([a.width + r - min_x, a.width + r - min_y]);
+    let design = Design {
+        version: VERSION,
+        units: Units::Mm,
+        outline: None,
+        stroke: Vec::new(),
+        circles: Vec::new(),
+        text: vec![t],
+        operation: Vec::new(),
+        file: a.output.display().to_string(),
+        corners: Vec::new(),
+    };
+    let body = design.to_string_as(format)?;
+    // What is written must load (and so build): check it before writing.
+    skinpath::design::from_str(&body, format, &a.output.display().to_string())?;
+    io::write_atomic(&a.output, body.as_bytes())
+        .with_context(|| format!("writing {}", a.output.display()))?;
+    Ok(0)
+}

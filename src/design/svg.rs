@@ -1,0 +1,671 @@
+//! SVG import: stroked paths become strokes.
+//!
+//! usvg resolves units, the viewBox, nested transforms, `use`, CSS and presentation
+//! attributes, and turns shapes (rect, circle, ellipse, line, polyline, polygon) and arcs
+//! into absolute Bézier paths. Then, per path:
+//!
+//! - A path with a stroke becomes one stroke per subpath. Its centre line is the subpath
+//!   (flattened to a polyline within a tenth of the tolerance); it is split into runs at the
+//!   corners, the nodes where the path's tangent turns by more than the corner angle
+//!   (default [`CORNER_ANGLE_DEG`](super::corners::CORNER_ANGLE_DEG)). Each run is
+//!   interpolated by a disk B-spline (cubic, chord-length parameters: wu-2021
+//!   "Interpolation", eq. 16) through points spaced evenly along it, doubling their number
+//!   until the spine stays within the tolerance of the run both ways (the largest distance
+//!   from the spine to the run and from the run to the spine). The stroke lists its
+//!   corners, so it is split there into pieces with a round joint (see
+//!   [`crate::design::corners`]). A closed subpath is a closed stroke.
+//! - The radius is half the stroke width (scaled by the element's transform), or varies
+//!   along the path when the element has `data-skinpath-widths="w0 w1 ... wk"`: stroke
+//!   widths (user units, like `stroke-width`) at k + 1 points spread evenly along the length
+//!   of each subpath, linear in between. The attribute needs the element's `id` (usvg keeps
+//!   ids but not custom attributes).
+//! - Filled paths without a stroke, hidden paths, images and text are skipped, each listed
+//!   by id with the reason. (Outlines of filled shapes would need a design element for
+//!   closed regions to profile or fill; skinpath designs have only strokes, so they are not
+//!   imported. Inkscape's Power Stroke saves a filled outline and is skipped as such.)
+//!
+//! Coordinates: millimetres, 96 px per inch (mm, cm, in, pt, pc and px are resolved by
+//! usvg from `width`/`height` and the viewBox); SVG's y axis points down, so y is flipped
+//! about the page height: the drawing keeps its orientation and sits in x, y ≥ 0 when it
+//! lies on the page.
+
+use super::error::{DesignError, ErrorKind};
+use super::model::{Design, Stroke, Units, VERSION};
+use crate::geom::DVec2;
+use kurbo::{BezPath, CubicBez, PathEl, QuadBez};
+
+/// Millimetres per CSS pixel (96 px per inch).
+pub const MM_PER_PX: f64 = 25.4 / 96.0;
+
+/// Default fitting tolerance of imported centre lines, mm: below the width of a laser kerf
+/// or a fine engraving bit, above the f32 precision usvg keeps for drawings up to metres.
+pub const DEFAULT_TOLERANCE: f64 = 0.05;
+
+/// Largest number of interpolation points per run before the fit gives up refining (the
+/// best fit is kept and its deviation reported).
+const MAX_RUN_POINTS: usize = 1025;
+
+/// Imported coordinates are rounded to 1/ROUND mm (far below usvg's f32 precision).
+const ROUND: f64 = 1e6;
+
+/// Options of [`import`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImportOptions {
+    /// Largest distance between a stroke's spine and the SVG centre line, mm.
+    pub tolerance: f64,
+    /// Turning angle (degrees) above which a path node is a corner.
+    pub corner_angle: f64,
+}
+
+impl Default for ImportOptions {
+    fn default() -> Self {
+        ImportOptions {
+            tolerance: DEFAULT_TOLERANCE,
+            corner_angle: super::corners::CORNER_ANGLE_DEG,
+        }
+    }
+}
+
+/// An element that was not imported.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skipped {
+    /// The element's id, or `<tag> #k` (k-th such element in document order) without one.
+    pub id: String,
+    pub reason: String,
+}
+
+/// The result of [`import`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Imported {
+    /// The design: one stroke per stroked subpath (with `corners`), not yet expanded.
+    pub design: Design,
+    pub skipped: Vec<Skipped>,
+    /// The largest distance between a fitted spine and its SVG centre line, mm.
+    pub max_deviation: f64,
+}
+
+fn err(file: &str, m: String) -> DesignError {
+    DesignError::file(file, ErrorKind::Invalid(m))
+}
+
+/// Import the SVG `text` (see the module docs); `file` names it in errors.
+pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, DesignError> {
+    if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
+        return Err(err(
+            file,
+            format!("import tolerance {} must be positive", opts.tolerance),
+        ));
+    }
+    let xml = roxmltree::Document::parse(text).map_err(|e| {
+        let p = e.pos();
+        DesignError::file(
+            file,
+            ErrorKind::Parse {
+                line: Some(p.row as usize),
+                column: Some(p.col as usize),
+                message: format!("not a well-formed SVG file: {e}"),
+            },
+        )
+    })?;
+    let tree = usvg::Tree::from_str(text, &usvg::Options::default()).map_err(|e| {
+        DesignError::file(
+            file,
+            ErrorKind::Parse {
+                line: None,
+                column: None,
+                message: format!("not a usable SVG file: {e}"),
+            },
+        )
+    })?;
+    let mut ctx = Ctx {
+        file,
+        opts: *opts,
+        xml: &xml,
+        page_height: tree.size().height() as f64,
+        strokes: Vec::new(),
+        skipped: Vec::new(),
+        counter: 0,
+        max_deviation: 0.0,
+    };
+    // Text and images are listed from the source (usvg without fonts drops text).
+    for (tag, what) in [
+        ("text", "text is not imported: convert it to paths, or use [[text]]"),
+        ("image", "raster images are not imported"),
+    ] {
+        for (k, n) in xml
+            .descendants()
+            .filter(|n| n.is_element() && n.tag_name().name() == tag)
+            .enumerate()
+        {
+            ctx.skipped.push(Skipped {
+                id: n
+                    .attribute("id")
+                    .map_or_else(|| format!("<{tag}> #{k}"), str::to_string),
+                reason: what.to_string(),
+            });
+        }
+    }
+    ctx.group(tree.root())?;
+    let design = Design {
+        version: VERSION,
+        units: Units::Mm,
+        outline: None,
+        stroke: ctx.strokes,
+        circles: Vec::new(),
+        text: Vec::new(),
+        operation: Vec::new(),
+        file: file.to_string(),
+        corners: Vec::new(),
+    };
+    Ok(Imported {
+        design,
+        skipped: ctx.skipped,
+        max_deviation: ctx.max_deviation,
+    })
+}
+
+/// Load an SVG file as a design (import with default options, then the usual expansion
+/// and validation).
+pub fn load_svg(text: &str, file: &str) -> Result<Design, DesignError> {
+    let mut d = import(text, file, &ImportOptions::default())?.design;
+    d.expand()?;
+    super::validate(&d)?;
+    Ok(d)
+}
+
+struct Ctx<'a> {
+    file: &'a str,
+    opts: ImportOptions,
+    xml: &'a roxmltree::Document<'a>,
+    page_height: f64,
+    strokes: Vec<Stroke>,
+    skipped: Vec<Skipped>,
+    counter: usize,
+    max_deviation: f64,
+}
+
+/// One node of a subpath: its index in the flattened polyline and whether it is a corner.
+struct Subpath {
+    pts: Vec<DVec2>,
+    /// Indices in `pts` of the path's nodes, with the tangent turn there (radians).
+    nodes: Vec<(usize, f64)>,
+    closed: bool,
+}
+
+fn turn(a: DVec2, b: DVec2) -> f64 {
+    if a.length() == 0.0 || b.length() == 0.0 {
+        return 0.0;
+    }
+    a.angle_to(b).abs()
+}
+
+fn kp(p: DVec2) -> kurbo::Point {
+    kurbo::Point::new(p.x, p.y)
+}
+
+fn dv(p: kurbo::Point) -> DVec2 {
+    DVec2::new(p.x, p.y)
+}
+
+/// Start and end tangents of a segment given by its control points (the first control
+/// point apart from the end point; zero for a degenerate segment).
+fn tangents(ctrl: &[DVec2]) -> (DVec2, DVec2) {
+    let first = ctrl[0];
+    let last = ctrl[ctrl.len() - 1];
+    let start = ctrl[1..]
+        .iter()
+        .find(|&&q| q != first)
+        .map_or(DVec2::ZERO, |&q| q - first);
+    let end = ctrl[..ctrl.len() - 1]
+        .iter()
+        .rev()
+        .find(|&&q| q != last)
+        .map_or(DVec2::ZERO, |&q| last - q);
+    (start, end)
+}
+
+/// Flatten one segment (control points) to points after its start, within `tol`.
+fn flatten_segment(ctrl: &[DVec2], tol: f64, out: &mut Vec<DVec2>) {
+    match ctrl.len() {
+        2 => out.push(ctrl[1]),
+        3 => {
+            let q = QuadBez::new(kp(ctrl[0]), kp(ctrl[1]), kp(ctrl[2]));
+            let mut bp = BezPath::new();
+            bp.move_to(q.p0);
+            bp.quad_to(q.p1, q.p2);
+            flatten_into(&bp, tol, out);
+        }
+        _ => {
+            let c = CubicBez::new(kp(ctrl[0]), kp(ctrl[1]), kp(ctrl[2]), kp(ctrl[3]));
+            let mut bp = BezPath::new();
+            bp.move_to(c.p0);
+            bp.curve_to(c.p1, c.p2, c.p3);
+            flatten_into(&bp, tol, out);
+        }
+    }
+}
+
+fn flatten_into(bp: &BezPath, tol: f64, out: &mut Vec<DVec2>) {
+    kurbo::flatten(bp.iter(), tol, |el| {
+        if let PathEl::LineTo(p) = el {
+            out.push(dv(p));
+        }
+    });
+}
+
+impl Ctx<'_> {
+    fn to_mm(&self, p: DVec2) -> DVec2 {
+        DVec2::new(p.x * MM_PER_PX, (self.page_height - p.y) * MM_PER_PX)
+    }
+
+    fn group(&mut self, g: &usvg::Group) -> Result<(), DesignError> {
+        for node in g.children() {
+            match node {
+                usvg::Node::Group(g) => self.group(g)?,
+                usvg::Node::Path(p) => self.path(p)?,
+                usvg::Node::Image(_) | usvg::Node::Text(_) => {}
+            }
+        }
+        Ok(())
+    }
+
+    fn element_id(&mut self, id: &str) -> String {
+        self.counter += 1;
+        if id.is_empty() {
+            format!("<path> #{}", self.counter - 1)
+        } else {
+            id.to_string()
+        }
+    }
+
+    fn skip(&mut self, id: String, reason: &str) {
+        self.skipped.push(Skipped {
+            id,
+            reason: reason.to_string(),
+        });
+    }
+
+    fn path(&mut self, p: &usvg::Path) -> Result<(), DesignError> {
+        let id = self.element_id(p.id());
+        if !p.is_visible() {
+            self.skip(id, "hidden (visibility or display)");
+            return Ok(());
+        }
+        let Some(stroke) = p.stroke() else {
+            let reason = if p.fill().is_some() {
+                "filled shape without a stroke: only stroked paths become strokes (give it a \
+                 stroke to import its centre line)"
+            } else {
+                "neither stroked nor filled"
+            };
+            self.skip(id, reason);
+            return Ok(());
+        };
+        let t = p.abs_transform();
+        let scale = ((t.sx as f64 * t.sy as f64 - t.kx as f64 * t.ky as f64).abs()).sqrt();
+        let width_mm = stroke.width().get() as f64 * scale * MM_PER_PX;
+        let widths = self.widths(p.id(), &id)?;
+        let map = |q: usvg::tiny_skia_path::Point| {
+            let x = t.sx as f64 * q.x as f64 + t.kx as f64 * q.y as f64 + t.tx as f64;
+            let y = t.ky as f64 * q.x as f64 + t.sy as f64 * q.y as f64 + t.ty as f64;
+            DVec2::new(x, y)
+        };
+        let tol = self.opts.tolerance;
+        let mut subpaths: Vec<Subpath> = Vec::new();
+        let mut cur: Option<(Subpath, DVec2, DVec2)> = None; // (subpath, start, in-tangent)
+        let mut first_tangent = DVec2::ZERO;
+        let finish = |cur: &mut Option<(Subpath, DVec2, DVec2)>, out: &mut Vec<Subpath>| {
+            if let Some((s, _, _)) = cur.take()
+                && s.pts.len() >= 2
+            {
+                out.push(s);
+            }
+        };
+        for seg in p.data().segments() {
+            use usvg::tiny_skia_path::PathSegment as S;
+            let ctrl: Vec<DVec2> = match seg {
+                S::MoveTo(q) => {
+                    finish(&mut cur, &mut subpaths);
+                    let q = self.to_mm(map(q));
+                    cur = Some((
+                        Subpath {
+                            pts: vec![q],
+                            nodes: vec![(0, 0.0)],
+                            closed: false,
+                        },
+                        q,
+                        DVec2::ZERO,
+                    ));
+                    continue;
+                }
+                S::LineTo(q) => vec![map(q)],
+                S::QuadTo(a, b) => vec![map(a), map(b)],
+                S::CubicTo(a, b, c) => vec![map(a), map(b), map(c)],
+                S::Close => {
+                    if let Some((s, start, tin)) = cur.as_mut() {
+                        let last = *s.pts.last().unwrap_or(start);
+                        let mut tin = *tin;
+                        if last.distance(*start) > 1e-9 {
+                            let (a, b) = tangents(&[last, *start]);
+                            let k = s.pts.len() - 1;
+                            if let Some(n) = s.nodes.last_mut()
+                                && n.0 == k
+                            {
+                                n.1 = turn(tin, a);
+                            }
+                            s.pts.push(*start);
+                            s.nodes.push((s.pts.len() - 1, 0.0));
+                            tin = b;
+                        }
+                        // The closing node: from the last segment into the first.
+                        s.nodes[0].1 = turn(tin, first_tangent);
+                        s.closed = true;
+                    }
+                    finish(&mut cur, &mut subpaths);
+                    continue;
+                }
+            };
+            let Some((s, _, tin)) = cur.as_mut() else {
+                continue;
+            };
+            let prev = *s.pts.last().unwrap_or(&DVec2::ZERO);
+            let mut full = vec![prev];
+            full.extend(ctrl.iter().map(|&q| self.to_mm(q)));
+            let (a, b) = tangents(&full);
+            if a == DVec2::ZERO {
+                continue; // a zero-length segment
+            }
+            let k = s.pts.len() - 1;
+            if k == 0 {
+                first_tangent = a;
+            }
+            if let Some(n) = s.nodes.last_mut()
+                && n.0 == k
+            {
+                n.1 = turn(*tin, a);
+            }
+            flatten_segment(&full, 0.1 * tol, &mut s.pts);
+            s.nodes.push((s.pts.len() - 1, 0.0));
+            *tin = b;
+        }
+        finish(&mut cur, &mut subpaths);
+        if subpaths.is_empty() {
+            self.skip(id, "stroked path of zero length");
+            return Ok(());
+        }
+        let many = subpaths.len() > 1;
+        for (j, sp) in subpaths.into_iter().enumerate() {
+            let name = if many { format!("{id}.{j}") } else { id.clone() };
+            let name = self.unique(name);
+            let radii = self.radii(&sp.pts, width_mm, widths.as_deref(), scale);
+            match self.fit_subpath(&name, &sp, &radii) {
+                Some(s) => self.strokes.push(s),
+                None => self.skip(name, "subpath of zero length"),
+            }
+        }
+        Ok(())
+    }
+
+    fn unique(&self, name: String) -> String {
+        let taken = |n: &str| self.strokes.iter().any(|s| s.name == n);
+        if !taken(&name) {
+            return name;
+        }
+        (1..)
+            .map(|k| format!("{name}~{k}"))
+            .find(|n| !taken(n))
+            .unwrap_or(name)
+    }
+
+    /// The `data-skinpath-widths` of the element with id `id`, if any.
+    fn widths(&self, id: &str, shown: &str) -> Result<Option<Vec<f64>>, DesignError> {
+        if id.is_empty() {
+            return Ok(None);
+        }
+        let Some(node) = self
+            .xml
+            .descendants()
+            .find(|n| n.is_element() && n.attribute("id") == Some(id))
+        else {
+            return Ok(None);
+        };
+        let Some(v) = node.attribute("data-skinpath-widths") else {
+            return Ok(None);
+        };
+        let mut out = Vec::new();
+        for tok in v.split(|c: char| c == ',' || c.is_whitespace()).filter(|t| !t.is_empty()) {
+            match tok.parse::<f64>() {
+                Ok(w) if w.is_finite() && w > 0.0 => out.push(w),
+                _ => {
+                    return Err(err(
+                        self.file,
+                        format!(
+                            "element {shown}: data-skinpath-widths value {tok:?} is not a \
+                             positive number"
+                        ),
+                    ));
+                }
+            }
+        }
+        if out.len() < 2 {
+            return Err(err(
+                self.file,
+                format!(
+                    "element {shown}: data-skinpath-widths needs at least two widths (start \
+                     and end), got {}",
+                    out.len()
+                ),
+            ));
+        }
+        Ok(Some(out))
+    }
+
+    /// Radius at every point of a subpath: half the stroke width, or the widths spread
+    /// evenly along its length.
+    fn radii(&self, pts: &[DVec2], width_mm: f64, widths: Option<&[f64]>, scale: f64) -> Vec<f64> {
+        let Some(w) = widths else {
+            return vec![0.5 * width_mm; pts.len()];
+        };
+        let mut s = vec![0.0];
+        for q in pts.windows(2) {
+            s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
+        }
+        let total = s.last().copied().unwrap_or(0.0).max(f64::MIN_POSITIVE);
+        let k = (w.len() - 1) as f64;
+        s.iter()
+            .map(|&si| {
+                let u = (si / total * k).clamp(0.0, k);
+                let i = (u.floor() as usize).min(w.len() - 2);
+                let f = u - i as f64;
+                0.5 * ((1.0 - f) * w[i] + f * w[i + 1]) * scale * MM_PER_PX
+            })
+            .collect()
+    }
+
+    /// The stroke of one subpath: runs between corners, each interpolated through enough
+    /// evenly spaced points to stay within the tolerance.
+    fn fit_subpath(&mut self, name: &str, sp: &Subpath, radii: &[f64]) -> Option<Stroke> {
+        let limit = self.opts.corner_angle.to_radians();
+        let mut cuts: Vec<usize> = sp
+            .nodes
+            .iter()
+            .filter(|&&(i, a)| a > limit && (sp.closed || (i > 0 && i + 1 < sp.pts.len())))
+            .map(|&(i, _)| i)
+            .collect();
+        cuts.sort_unstable();
+        cuts.dedup();
+        let n = sp.pts.len();
+        let mut pts = sp.pts.clone();
+        let mut rs = radii.to_vec();
+        if sp.closed {
+            // The last point repeats the first.
+            pts.pop();
+            rs.pop();
+            cuts.retain(|&c| c < n - 1);
+            if cuts.len() == 1 {
+                // One corner on a closed path: also cut half-way round, so no piece starts
+                // and ends at the same point.
+                let m = pts.len();
+                let c = (cuts[0] + m / 2) % m;
+                cuts.push(c);
+                cuts.sort_unstable();
+            }
+        }
+        let m = pts.len();
+        if m < 2 {
+            return None;
+        }
+        // Runs as inclusive index ranges (wrapping for closed paths).
+        let runs: Vec<Vec<usize>> = if cuts.is_empty() {
+            vec![(0..m).collect()]
+        } else if sp.closed {
+            (0..cuts.len())
+                .map(|k| {
+                    let (a, b) = (cuts[k], cuts[(k + 1) % cuts.len()]);
+                    let len = if b > a { b - a } else { m - a + b };
+                    (0..=len).map(|j| (a + j) % m).collect()
+                })
+                .collect()
+        } else {
+            let mut b = vec![0];
+            b.extend(&cuts);
+            b.push(m - 1);
+            b.windows(2).map(|w| (w[0]..=w[1]).collect()).collect()
+        };
+        let whole_closed = sp.closed && cuts.is_empty();
+        let mut points: Vec<[f64; 3]> = Vec::new();
+        let mut corners = Vec::new();
+        for (k, run) in runs.iter().enumerate() {
+            let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
+            let rr: Vec<f64> = run.iter().map(|&i| rs[i]).collect();
+            let (fit, dev) = self.fit_run(name, &rp, &rr, whole_closed)?;
+            self.max_deviation = self.max_deviation.max(dev);
+            if k > 0 {
+                corners.push(points.len() - 1);
+                points.extend_from_slice(&fit[1..]);
+            } else {
+                points.extend_from_slice(&fit);
+            }
+        }
+        let mut s = Stroke::from_disks(name, Vec::new());
+        s.disks = None;
+        if sp.closed && !cuts.is_empty() {
+            points.pop(); // back at the first corner
+            corners.insert(0, 0);
+            s.closed = true;
+        } else if whole_closed {
+            s.closed = true;
+        }
+        s.degree = 3.min(points.len() - 1).max(1);
+        s.points = Some(points);
+        s.corners = if corners.is_empty() {
+            None
+        } else {
+            Some(corners)
+        };
+        Some(s)
+    }
+
+    /// Points [x, y, r] whose interpolant stays within the tolerance of the run `pts`
+    /// (both ways), and the distance reached.
+    fn fit_run(
+        &self,
+        name: &str,
+        pts: &[DVec2],
+        radii: &[f64],
+        closed: bool,
+    ) -> Option<(Vec<[f64; 3]>, f64)> {
+        let mut s = vec![0.0];
+        for q in pts.windows(2) {
+            s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
+        }
+        if closed {
+            s.push(s.last().copied().unwrap_or(0.0) + pts[pts.len() - 1].distance(pts[0]));
+        }
+        let total = *s.last()?;
+        if total <= 0.0 {
+            return None;
+        }
+        let mut ring: Vec<DVec2> = pts.to_vec();
+        let mut ring_r = radii.to_vec();
+        if closed {
+            ring.push(pts[0]);
+            ring_r.push(radii[0]);
+        }
+        let at = |u: f64| -> [f64; 3] {
+            let i = s.partition_point(|&v| v <= u).clamp(1, s.len() - 1);
+            let (a, b) = (s[i - 1], s[i]);
+            let f = if b > a { (u - a) / (b - a) } else { 0.0 };
+            let p = ring[i - 1].lerp(ring[i], f);
+            let r = ring_r[i - 1] + f * (ring_r[i] - ring_r[i - 1]);
+            // usvg keeps f32 coordinates: digits past 1e-6 mm are noise.
+            [p.x, p.y, r].map(|v| (v * ROUND).round() / ROUND)
+        };
+        let mut count = if closed { 8 } else { 2 };
+        let mut best: Option<(Vec<[f64; 3]>, f64)> = None;
+        loop {
+            let samples: Vec<[f64; 3]> = if closed {
+                (0..count).map(|j| at(total * j as f64 / count as f64)).collect()
+            } else {
+                (0..count)
+                    .map(|j| at(total * j as f64 / (count - 1) as f64))
+                    .collect()
+            };
+            let dev = self.deviation(name, &samples, &ring, closed);
+            if best.as_ref().is_none_or(|b| dev < b.1) {
+                best = Some((samples, dev));
+            }
+            let done = best.as_ref().is_some_and(|b| b.1 <= 0.9 * self.opts.tolerance);
+            if done || count >= MAX_RUN_POINTS {
+                return best;
+            }
+            count = if count == 2 { 4 } else { 2 * count - 1 };
+        }
+    }
+
+    /// Both-ways distance between the interpolant of `samples` and the polyline `ring`
+    /// (infinite when the fit fails).
+    fn deviation(&self, name: &str, samples: &[[f64; 3]], ring: &[DVec2], closed: bool) -> f64 {
+        let mut st = Stroke::from_disks(name, Vec::new());
+        st.disks = None;
+        st.closed = closed;
+        st.degree = 3.min(samples.len() - 1).max(1);
+        st.points = Some(samples.to_vec());
+        let Ok(c) = st.to_dbsc(self.file, 0) else {
+            return f64::INFINITY;
+        };
+        let (lo, hi) = c.domain();
+        let n = (samples.len() * 16).max(64);
+        let spine: Vec<DVec2> = (0..=n)
+            .map(|i| c.center(lo + (hi - lo) * i as f64 / n as f64))
+            .collect();
+        let a = spine
+            .iter()
+            .map(|&q| dist_polyline(q, ring))
+            .fold(0.0, f64::max);
+        let b = ring
+            .iter()
+            .map(|&q| dist_polyline(q, &spine))
+            .fold(0.0, f64::max);
+        a.max(b)
+    }
+}
+
+fn dist_polyline(p: DVec2, poly: &[DVec2]) -> f64 {
+    if poly.len() == 1 {
+        return p.distance(poly[0]);
+    }
+    poly.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let d = b - a;
+            let l2 = d.length_squared();
+            let t = if l2 > 0.0 {
+                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(a + d * t)
+        })
+        .fold(f64::INFINITY, f64::min)
+}

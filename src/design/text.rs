@@ -1,0 +1,503 @@
+//! Single-stroke text: `[[text]]` in a design, laid out into strokes when the design is
+//! loaded.
+//!
+//! ```toml
+//! [[text]]
+//! name = "sign"               # strokes are called sign/<char index>:<char>/<k>
+//! text = "OPEN\nlate"         # lines split at \n; printable ASCII
+//! font = "sans"               # "sans" (Hershey Roman Simplex) | "script" (joining letters)
+//! height = 80.0               # cap height: baseline to cap line, design units
+//! width = 8.0                 # stroke width (twice the radius)
+//! at = [0.0, 0.0]             # anchor on the first line's baseline; default [0, 0]
+//! align = "left"              # "left" | "centre" | "right" (about `at`); default "left"
+//! letter_spacing = 0.0        # extra space between letters; default 0
+//! line_spacing = 1.6          # baseline to baseline, in multiples of `height`; default 1.6
+//! ```
+//!
+//! The fonts are Hershey fonts (public domain; see `src/design/fonts/README.md`). Each glyph
+//! is a set of polylines on an integer grid with a cap height of 21 units; advance widths
+//! are the glyphs' left and right bounds. The Hershey fonts carry no kerning pairs, so none
+//! is applied. Every pen-down polyline becomes a stroke through its vertices (cubic
+//! interpolation, chord-length parameters: wu-2021 "Interpolation", eq. 16) with a corner
+//! wherever it turns by more than [`CORNER_ANGLE_DEG`](super::corners::CORNER_ANGLE_DEG);
+//! a polyline that ends where it starts is a closed stroke. In the script font the letters'
+//! entry and exit strokes meet the neighbours' at the advance, so a word is one connected
+//! shape once the strokes are united.
+
+use super::corners::{CORNER_ANGLE_DEG, sharp_turns};
+use super::error::{DesignError, ErrorKind, Item, Part};
+use super::model::{DEFAULT_DEGREE, Stroke};
+use crate::geom::DVec2;
+use serde::{Deserialize, Serialize};
+use std::sync::OnceLock;
+
+/// Default distance between baselines, in multiples of the cap height: the Hershey fonts'
+/// cap line to descender line is 28 units for a 21-unit cap height, plus a gap.
+pub const DEFAULT_LINE_SPACING: f64 = 1.6;
+
+/// Cap height of the Hershey glyph grid: cap line at −12, baseline at 9.
+const HERSHEY_CAP: f64 = 21.0;
+/// The baseline's y on the Hershey glyph grid (y grows downwards).
+const HERSHEY_BASELINE: f64 = 9.0;
+
+/// A single-stroke font.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Font {
+    /// Hershey Roman Simplex (Futura Light): upright, one stroke per line.
+    #[default]
+    Sans,
+    /// Hershey Script Simplex: slanted, joining lower-case letters.
+    Script,
+}
+
+impl Font {
+    /// Every shipped font.
+    pub const ALL: [Font; 2] = [Font::Sans, Font::Script];
+
+    /// The font's name in design files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Font::Sans => "sans",
+            Font::Script => "script",
+        }
+    }
+
+    fn data(self) -> &'static str {
+        match self {
+            Font::Sans => include_str!("fonts/futural.jhf"),
+            Font::Script => include_str!("fonts/cursive.jhf"),
+        }
+    }
+
+    /// The parsed glyphs (ASCII 32..=127), parsed once.
+    pub fn glyphs(self) -> &'static [Glyph] {
+        static SANS: OnceLock<Vec<Glyph>> = OnceLock::new();
+        static SCRIPT: OnceLock<Vec<Glyph>> = OnceLock::new();
+        let cell = match self {
+            Font::Sans => &SANS,
+            Font::Script => &SCRIPT,
+        };
+        cell.get_or_init(|| parse_jhf(self.data()))
+    }
+
+    /// The glyph of `c`, if the font has it.
+    pub fn glyph(self, c: char) -> Option<&'static Glyph> {
+        let code = c as u32;
+        if !(32..128).contains(&code) {
+            return None;
+        }
+        self.glyphs().get((code - 32) as usize)
+    }
+}
+
+/// Horizontal alignment of each line about the anchor.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Align {
+    #[default]
+    Left,
+    #[serde(alias = "center")]
+    Centre,
+    Right,
+}
+
+/// One glyph of a Hershey font, on its grid (y down).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Glyph {
+    /// Left bound.
+    pub left: i32,
+    /// Right bound; the advance width is right − left.
+    pub right: i32,
+    /// Pen-down polylines.
+    pub strokes: Vec<Vec<[i32; 2]>>,
+}
+
+/// Parse a `.jhf` file (format in `src/design/fonts/README.md`). The shipped files are
+/// checked by the tests; a malformed line gives an empty glyph.
+fn parse_jhf(text: &str) -> Vec<Glyph> {
+    text.lines()
+        .filter(|l| !l.starts_with('#') && l.len() >= 10)
+        .map(|l| {
+            let b = l.as_bytes();
+            let coord = |c: u8| c as i32 - b'R' as i32;
+            let mut glyph = Glyph {
+                left: coord(b[8]),
+                right: coord(b[9]),
+                strokes: Vec::new(),
+            };
+            let mut cur: Vec<[i32; 2]> = Vec::new();
+            for pair in b[10..].chunks(2) {
+                if pair.len() < 2 {
+                    break;
+                }
+                if pair == b" R" {
+                    if !cur.is_empty() {
+                        glyph.strokes.push(std::mem::take(&mut cur));
+                    }
+                } else {
+                    cur.push([coord(pair[0]), coord(pair[1])]);
+                }
+            }
+            if !cur.is_empty() {
+                glyph.strokes.push(cur);
+            }
+            glyph
+        })
+        .collect()
+}
+
+/// A `[[text]]` element (see the module docs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Text {
+    pub name: String,
+    pub text: String,
+    #[serde(default)]
+    pub font: Font,
+    /// Cap height (baseline to cap line), design units.
+    pub height: f64,
+    /// Stroke width (twice the stroke radius), design units.
+    pub width: f64,
+    /// Anchor on the first line's baseline.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub align: Option<Align>,
+    /// Extra space between letters, design units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub letter_spacing: Option<f64>,
+    /// Baseline to baseline, in multiples of `height`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_spacing: Option<f64>,
+}
+
+/// The name part of a character in stroke names: letters and digits as they are, anything
+/// else as `u` and its hexadecimal code (names end up in SVG and G-code comments).
+fn char_tag(c: char) -> String {
+    if c.is_ascii_alphanumeric() {
+        c.to_string()
+    } else {
+        format!("u{:02x}", c as u32)
+    }
+}
+
+impl Text {
+    /// A text element with default font, anchor, alignment and spacing.
+    pub fn new(name: &str, text: &str, height: f64, width: f64) -> Self {
+        Text {
+            name: name.to_string(),
+            text: text.to_string(),
+            font: Font::default(),
+            height,
+            width,
+            at: None,
+            align: None,
+            letter_spacing: None,
+            line_spacing: None,
+        }
+    }
+
+    fn check(&self, file: &str, index: usize) -> Result<(), DesignError> {
+        let item = || Item::Text {
+            index,
+            name: self.name.clone(),
+        };
+        let bad = |key: &str, m: String| {
+            DesignError::at(file, item(), Some(Part::Key(key.into())), ErrorKind::Invalid(m))
+        };
+        for (key, v) in [("height", self.height), ("width", self.width)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(bad(key, format!("{key} {v} must be a positive number")));
+            }
+        }
+        if let Some(at) = self.at
+            && !at.iter().all(|v| v.is_finite())
+        {
+            return Err(bad("at", "`at` must be two finite numbers".into()));
+        }
+        if let Some(s) = self.letter_spacing
+            && !s.is_finite()
+        {
+            return Err(bad("letter_spacing", "must be a finite number".into()));
+        }
+        if let Some(s) = self.line_spacing
+            && !(s.is_finite() && s > 0.0)
+        {
+            return Err(bad("line_spacing", "must be a positive number".into()));
+        }
+        if self.text.trim().is_empty() {
+            return Err(bad("text", "the text has no visible character".into()));
+        }
+        for (i, c) in self.text.chars().enumerate() {
+            if c != '\n' && self.font.glyph(c).is_none() {
+                return Err(bad(
+                    "text",
+                    format!(
+                        "character {i} ({c:?}) is not in font \"{}\": it has printable ASCII \
+                         (space to ~) only",
+                        self.font.as_str()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Design units per Hershey grid unit.
+    pub fn scale(&self) -> f64 {
+        self.height / HERSHEY_CAP
+    }
+
+    /// Width of one line of text (advances plus letter spacing), design units.
+    pub fn line_width(&self, line: &str) -> f64 {
+        let s = self.scale();
+        let spacing = self.letter_spacing.unwrap_or(0.0);
+        let n = line.chars().count();
+        let adv: f64 = line
+            .chars()
+            .filter_map(|c| self.font.glyph(c))
+            .map(|g| (g.right - g.left) as f64 * s)
+            .sum();
+        adv + spacing * n.saturating_sub(1) as f64
+    }
+
+    /// The laid-out polylines: for every character (index into the text, char) its
+    /// pen-down polylines in design coordinates (y up).
+    pub fn layout(&self) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
+        let s = self.scale();
+        let at = self.at.unwrap_or([0.0, 0.0]);
+        let pitch = self.line_spacing.unwrap_or(DEFAULT_LINE_SPACING) * self.height;
+        let spacing = self.letter_spacing.unwrap_or(0.0);
+        let mut out = Vec::new();
+        let mut index = 0;
+        for (row, line) in self.text.split('\n').enumerate() {
+            let w = self.line_width(line);
+            let mut pen = match self.align.unwrap_or_default() {
+                Align::Left => at[0],
+                Align::Centre => at[0] - 0.5 * w,
+                Align::Right => at[0] - w,
+            };
+            let baseline = at[1] - row as f64 * pitch;
+            for c in line.chars() {
+                if let Some(g) = self.font.glyph(c) {
+                    let x0 = pen - g.left as f64 * s;
+                    let polys = g
+                        .strokes
+                        .iter()
+                        .map(|p| {
+                            p.iter()
+                                .map(|&[x, y]| {
+                                    DVec2::new(
+                                        x0 + x as f64 * s,
+                                        baseline - (y as f64 - HERSHEY_BASELINE) * s,
+                                    )
+                                })
+                                .collect()
+                        })
+                        .collect();
+                    out.push((index, c, polys));
+                    pen += (g.right - g.left) as f64 * s + spacing;
+                }
+                index += 1;
+            }
+            index += 1; // the newline
+        }
+        out
+    }
+
+    /// The text's strokes (see the module docs); `file` and `index` name it in errors.
+    pub fn to_strokes(&self, file: &str, index: usize) -> Result<Vec<Stroke>, DesignError> {
+        self.check(file, index)?;
+        let r = 0.5 * self.width;
+        let mut out = Vec::new();
+        for (i, c, polys) in self.layout() {
+            for (k, poly) in polys.into_iter().enumerate() {
+                let name = format!("{}/{}:{}/{}", self.name, i, char_tag(c), k);
+                if let Some(s) = polyline_stroke(&name, &poly, r) {
+                    out.push(s);
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// A stroke of radius `r` through the vertices of `poly` (consecutive duplicates dropped):
+/// closed when it ends where it starts, with corners where it turns by more than
+/// [`CORNER_ANGLE_DEG`], degree 3 or less when there are fewer points. `None` for a single
+/// point.
+pub fn polyline_stroke(name: &str, poly: &[DVec2], r: f64) -> Option<Stroke> {
+    polyline_stroke_radii(name, poly, &vec![r; poly.len()], CORNER_ANGLE_DEG)
+}
+
+/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. An open
+/// run that loops back over one of its own ends is also split (see
+/// `split_returning_runs`).
+pub fn polyline_stroke_radii(
+    name: &str,
+    poly: &[DVec2],
+    radii: &[f64],
+    corner_deg: f64,
+) -> Option<Stroke> {
+    // Vertices closer than this fraction of the stroke's extent count as one.
+    const SAME_POINT: f64 = 1e-9;
+    let extent = poly
+        .iter()
+        .map(|p| p.distance(poly[0]))
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut pts: Vec<DVec2> = Vec::new();
+    let mut rs: Vec<f64> = Vec::new();
+    for (p, &r) in poly.iter().zip(radii) {
+        if pts.last().is_none_or(|q| q.distance(*p) > SAME_POINT * extent) {
+            pts.push(*p);
+            rs.push(r);
+        }
+    }
+    if pts.len() < 2 {
+        return None;
+    }
+    let mut closed = false;
+    if pts.len() >= 4 && pts[0].distance(pts[pts.len() - 1]) <= SAME_POINT * extent {
+        pts.pop();
+        rs.pop();
+        closed = true;
+    }
+    let mut corners = sharp_turns(&pts, closed, corner_deg);
+    if !closed {
+        split_returning_runs(&pts, &rs, &mut corners);
+    }
+    let points: Vec<[f64; 3]> = pts.iter().zip(&rs).map(|(p, &r)| [p.x, p.y, r]).collect();
+    let mut s = Stroke::from_disks(name, Vec::new());
+    s.disks = None;
+    s.degree = DEFAULT_DEGREE.min(points.len() - 1);
+    if closed && corners.is_empty() {
+        s.degree = s.degree.min(points.len().saturating_sub(1)).max(1);
+    }
+    s.points = Some(points);
+    s.closed = closed;
+    s.corners = if corners.is_empty() {
+        None
+    } else {
+        Some(corners)
+    };
+    Some(s)
+}
+
+/// How many times a run that comes back to its own end is halved at most.
+const MAX_RETURN_SPLITS: usize = 4;
+
+/// Split the runs of an open polyline (between `corners`) that come back within two
+/// radii of one of their own ends after running away from it by more than four radii (a
+/// loop closing over its start, as in the script `o` and `O`): the end disk of such a run
+/// would be covered by the run's other disks, which skinning cannot take (kruppa-2023
+/// Def. 4.1 cond. 1). The run is split at its middle vertex, a joint like a corner; each
+/// half then leaves its ends for good.
+fn split_returning_runs(pts: &[DVec2], rs: &[f64], corners: &mut Vec<usize>) {
+    for _ in 0..MAX_RETURN_SPLITS {
+        let mut bounds = vec![0];
+        bounds.extend(corners.iter().copied());
+        bounds.push(pts.len() - 1);
+        let mut added = None;
+        for w in bounds.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            if b - a < 3 {
+                continue;
+            }
+            let r = rs[a..=b].iter().copied().fold(0.0, f64::max);
+            let returns = |end: usize, order: &mut dyn Iterator<Item = usize>| {
+                let mut along = 0.0;
+                let mut prev = pts[end];
+                for j in order {
+                    along += prev.distance(pts[j]);
+                    prev = pts[j];
+                    if along > 4.0 * r && pts[j].distance(pts[end]) < 2.0 * r {
+                        return true;
+                    }
+                }
+                false
+            };
+            if returns(a, &mut (a + 1..=b)) || returns(b, &mut (a..b).rev()) {
+                added = Some((a + b) / 2);
+                break;
+            }
+        }
+        match added {
+            Some(m) if !corners.contains(&m) => {
+                corners.push(m);
+                corners.sort_unstable();
+            }
+            _ => return,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fonts_have_all_printable_ascii() {
+        for f in Font::ALL {
+            assert_eq!(f.glyphs().len(), 96, "{f:?}");
+            for c in (33u8..127).map(char::from) {
+                let g = f.glyph(c).unwrap();
+                assert!(g.right > g.left, "{f:?} {c}");
+                assert!(!g.strokes.is_empty(), "{f:?} {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn cap_height_and_advance() {
+        let t = Text::new("t", "H", 80.0, 8.0);
+        let l = t.layout();
+        let ys: Vec<f64> = l[0].2.iter().flatten().map(|p| p.y).collect();
+        let lo = ys.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert!((lo - 0.0).abs() < 1e-9 && (hi - 80.0).abs() < 1e-9, "{lo} {hi}");
+        // Advance of "HH" is twice that of "H"; centred text is symmetric about `at`.
+        let g = Font::Sans.glyph('H').unwrap();
+        let two = Text::new("t", "HH", 21.0, 1.0);
+        assert!((two.line_width("HH") - 2.0 * (g.right - g.left) as f64).abs() < 1e-12);
+        let mut c = Text::new("t", "HH", 21.0, 1.0);
+        c.align = Some(Align::Centre);
+        let xs: Vec<f64> = c.layout().iter().flat_map(|g| g.2.concat()).map(|p| p.x).collect();
+        let (a, b) = (
+            xs.iter().copied().fold(f64::INFINITY, f64::min),
+            xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        );
+        assert!((a + b).abs() < 1e-9, "{a} {b}");
+    }
+
+    #[test]
+    fn second_line_one_pitch_down_and_right_aligned() {
+        let mut t = Text::new("t", "I\nII", 10.0, 1.0);
+        t.align = Some(Align::Right);
+        let l = t.layout();
+        assert_eq!(l.len(), 3);
+        let max_y = |i: usize| l[i].2.iter().flatten().map(|p| p.y).fold(f64::MIN, f64::max);
+        assert!((max_y(0) - max_y(1) - 16.0).abs() < 1e-9);
+        // The last glyph of each line ends at the anchor.
+        let x_of = |i: usize| l[i].2[0][0].x;
+        assert!((x_of(0) - x_of(2)).abs() < 1e-9);
+        assert!((x_of(1) - x_of(2) + t.line_width("I")).abs() < 1e-9);
+    }
+
+    #[test]
+    fn script_letters_join() {
+        // The exit of 'n' is the entry of the following 'n' one advance later.
+        let t = Text::new("t", "nn", 21.0, 1.0);
+        let l = t.layout();
+        let end = *l[0].2.last().unwrap().last().unwrap();
+        let start = l[1].2[0][0];
+        let mut s = t.clone();
+        s.font = Font::Script;
+        let l = s.layout();
+        let end_s = *l[0].2.last().unwrap().last().unwrap();
+        let start_s = l[1].2[0][0];
+        assert!(end_s.distance(start_s) < 1e-9, "{end_s} {start_s}");
+        assert!(end.distance(start) > 1.0);
+    }
+}

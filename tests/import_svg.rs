@@ -1,0 +1,208 @@
+//! SVG import (issue 12): units, viewBox, nested transforms and `use`, fitting tolerance
+//! (both ways, against the SVG centre line computed here with kurbo), corners, y flip,
+//! skipped elements and errors.
+
+use glam::DVec2;
+use kurbo::{CubicBez, ParamCurve, Point};
+use skinpath::design::svg::{ImportOptions, MM_PER_PX, import};
+use skinpath::design::{Design, load};
+
+fn svg(attrs: &str, body: &str) -> String {
+    format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" {attrs}>{body}</svg>"#
+    )
+}
+
+/// Spine points of every (expanded) stroke, densely sampled.
+fn spine(d: &Design, name: &str) -> Vec<DVec2> {
+    let strokes = d.strokes().unwrap();
+    let mut out = Vec::new();
+    for (s, c) in d.stroke.iter().zip(&strokes) {
+        if s.name == name || s.name.starts_with(&format!("{name}#")) {
+            let (lo, hi) = c.domain();
+            out.extend((0..=2000).map(|i| c.center(lo + (hi - lo) * i as f64 / 2000.0)));
+        }
+    }
+    out
+}
+
+fn dist(p: DVec2, poly: &[DVec2]) -> f64 {
+    poly.windows(2)
+        .map(|w| {
+            let d = w[1] - w[0];
+            let t = ((p - w[0]).dot(d) / d.length_squared().max(1e-300)).clamp(0.0, 1.0);
+            p.distance(w[0] + d * t)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn hausdorff(a: &[DVec2], b: &[DVec2]) -> f64 {
+    let ab = a.iter().map(|&p| dist(p, b)).fold(0.0, f64::max);
+    let ba = b.iter().map(|&p| dist(p, a)).fold(0.0, f64::max);
+    ab.max(ba)
+}
+
+#[test]
+fn line_of_100_mm_with_scaled_viewbox_is_100_mm() {
+    // 10 user units across 100 mm: one user unit is 10 mm; stroke-width 0.4 → 4 mm.
+    let text = svg(
+        r#"width="100mm" height="50mm" viewBox="0 0 10 5""#,
+        r#"<path id="l" d="M0 2.5 H10" stroke="black" stroke-width="0.4" fill="none"/>"#,
+    );
+    let d = load(&text, "line.svg").unwrap();
+    let p = spine(&d, "l");
+    let len: f64 = p.windows(2).map(|w| w[0].distance(w[1])).sum();
+    assert!((len - 100.0).abs() < 1e-3, "{len}");
+    assert!((p[0] - DVec2::new(0.0, 25.0)).length() < 1e-3, "{}", p[0]);
+    let r = d.stroke[0].points.as_ref().unwrap()[0][2];
+    assert!((r - 2.0).abs() < 1e-5, "{r}");
+}
+
+#[test]
+fn every_unit_resolves_to_millimetres() {
+    for (unit, mm) in [
+        ("mm", 1.0),
+        ("cm", 10.0),
+        ("in", 25.4),
+        ("pt", 25.4 / 72.0),
+        ("pc", 25.4 / 6.0),
+        ("px", MM_PER_PX),
+        ("", MM_PER_PX),
+    ] {
+        // Without a viewBox, one user unit is one px; with width in `unit` and a viewBox of
+        // 10 units, one user unit is one `unit`.
+        let text = svg(
+            &format!(r#"width="10{unit}" height="10{unit}" viewBox="0 0 10 10""#),
+            r#"<line id="l" x1="0" y1="5" x2="10" y2="5" stroke="black" stroke-width="1"/>"#,
+        );
+        let d = load(&text, "u.svg").unwrap();
+        let p = spine(&d, "l");
+        let len = p[0].distance(p[p.len() - 1]);
+        assert!((len - 10.0 * mm).abs() < 1e-4 * mm.max(1.0), "{unit}: {len}");
+    }
+}
+
+#[test]
+fn nested_transforms_and_use_are_honoured() {
+    // The symbol's segment (0,0)-(10,0), placed by use at (5,0), inside a group that
+    // scales by 2 then translates by (20,30): ends at (30,30) and (50,30) in px, with a
+    // stroke width of 1 × 2 px.
+    let text = svg(
+        r#"width="100" height="100""#,
+        r##"<defs><path id="seg" d="M0 0 L10 0"/></defs>
+           <g transform="translate(20 30)"><g transform="scale(2)">
+             <use id="u" xlink:href="#seg" x="2.5" y="0" stroke="black" stroke-width="1"/>
+           </g></g>"##,
+    );
+    let imp = import(&text, "t.svg", &ImportOptions::default()).unwrap();
+    assert_eq!(imp.design.stroke.len(), 1, "{:?}", imp.skipped);
+    let pts = imp.design.stroke[0].points.clone().unwrap();
+    let (a, b) = (pts[0], pts[pts.len() - 1]);
+    let px = |x: f64, y: f64| [x * MM_PER_PX, (100.0 - y) * MM_PER_PX];
+    let (ea, eb) = (px(25.0, 30.0), px(45.0, 30.0));
+    for (got, want) in [(a, ea), (b, eb)] {
+        assert!((got[0] - want[0]).abs() < 1e-4 && (got[1] - want[1]).abs() < 1e-4, "{got:?} {want:?}");
+    }
+    assert!((a[2] - MM_PER_PX).abs() < 1e-5, "radius {}", a[2]);
+}
+
+#[test]
+fn fitted_spine_within_tolerance_of_the_svg_centre_line() {
+    let c = [(10.0, 80.0), (40.0, 0.0), (120.0, 160.0), (190.0, 60.0)];
+    let text = svg(
+        r#"width="200mm" height="200mm" viewBox="0 0 200 200""#,
+        &format!(
+            r#"<path id="s" d="M{} {} C{} {} {} {} {} {}" stroke="black" stroke-width="3" fill="none"/>"#,
+            c[0].0, c[0].1, c[1].0, c[1].1, c[2].0, c[2].1, c[3].0, c[3].1
+        ),
+    );
+    let bez = CubicBez::new(
+        Point::new(c[0].0, c[0].1),
+        Point::new(c[1].0, c[1].1),
+        Point::new(c[2].0, c[2].1),
+        Point::new(c[3].0, c[3].1),
+    );
+    let truth: Vec<DVec2> = (0..=4000)
+        .map(|i| {
+            let p = bez.eval(i as f64 / 4000.0);
+            DVec2::new(p.x, 200.0 - p.y)
+        })
+        .collect();
+    for tol in [0.2, 0.05, 0.01] {
+        let opts = ImportOptions {
+            tolerance: tol,
+            ..ImportOptions::default()
+        };
+        let mut d = import(&text, "fit.svg", &opts).unwrap().design;
+        d.expand().unwrap();
+        let h = hausdorff(&spine(&d, "s"), &truth);
+        // The dense samples' chords add well under 1 µm here.
+        assert!(h <= tol, "tolerance {tol}: distance {h}");
+    }
+}
+
+#[test]
+fn corners_are_kept_and_y_points_up() {
+    // Up then right in SVG coordinates (y down): in the design the first leg goes down.
+    let text = svg(
+        r#"width="100mm" height="100mm" viewBox="0 0 100 100""#,
+        r#"<polyline id="el" points="10,10 10,60 60,60" stroke="black" stroke-width="2" fill="none"/>"#,
+    );
+    let imp = import(&text, "c.svg", &ImportOptions::default()).unwrap();
+    let s = &imp.design.stroke[0];
+    assert_eq!(s.corners.as_deref(), Some(&[1usize][..]));
+    let p = s.points.as_ref().unwrap();
+    assert!((p[0][1] - 90.0).abs() < 1e-5 && (p[1][1] - 40.0).abs() < 1e-5, "{p:?}");
+    let d = load(&text, "c.svg").unwrap();
+    let names: Vec<&str> = d.stroke.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["el#0", "el#1"]);
+    assert_eq!(d.corners.len(), 1);
+    let at = d.corners[0].at;
+    assert!((at[0] - 10.0).abs() < 1e-5 && (at[1] - 40.0).abs() < 1e-5, "{at:?}");
+}
+
+#[test]
+fn varying_widths_from_data_attribute() {
+    let text = svg(
+        r#"width="100mm" height="100mm" viewBox="0 0 100 100""#,
+        r#"<path id="t" d="M0 50 H100" stroke="black" stroke-width="1" data-skinpath-widths="2 10"/>"#,
+    );
+    let d = load(&text, "w.svg").unwrap();
+    let c = &d.strokes().unwrap()[0];
+    let (lo, hi) = c.domain();
+    for k in 0..=10 {
+        let t = lo + (hi - lo) * k as f64 / 10.0;
+        let x = c.center(t).x;
+        let want = 0.5 * (2.0 + 8.0 * x / 100.0);
+        assert!((c.radius(t) - want).abs() < 1e-3, "x {x}: r {} want {want}", c.radius(t));
+    }
+    let bad = text.replace("2 10", "2 -1");
+    let e = load(&bad, "w.svg").unwrap_err().to_string();
+    assert!(e.contains("w.svg") && e.contains("element t") && e.contains("-1"), "{e}");
+}
+
+#[test]
+fn skipped_elements_are_listed_by_id() {
+    let text = svg(
+        r#"width="100mm" height="100mm" viewBox="0 0 100 100""#,
+        r#"<rect id="plate" x="0" y="0" width="10" height="10" fill="red"/>
+           <rect x="20" y="0" width="10" height="10" fill="blue"/>
+           <text id="caption" x="0" y="90">hello</text>
+           <path id="keep" d="M0 50 H50" stroke="black"/>"#,
+    );
+    let imp = import(&text, "s.svg", &ImportOptions::default()).unwrap();
+    let ids: Vec<&str> = imp.skipped.iter().map(|s| s.id.as_str()).collect();
+    assert!(ids.contains(&"plate") && ids.contains(&"caption"), "{ids:?}");
+    assert!(ids.iter().any(|i| i.starts_with("<path> #")), "{ids:?}");
+    assert!(imp.skipped.iter().all(|s| !s.reason.is_empty()));
+    assert_eq!(imp.design.stroke.len(), 1);
+}
+
+#[test]
+fn malformed_svg_names_the_file_and_line() {
+    let e = load("<svg xmlns=\"http://www.w3.org/2000/svg\">\n<path d=\"M0 0\">\n</svg>", "bad.svg")
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("bad.svg:"), "{e}");
+    assert!(e.contains(":3:") || e.contains(":2:"), "{e}");
+}
