@@ -137,6 +137,8 @@ struct CallFrame {
     locals: HashMap<String, f64>,
     saved: [f64; 30],
     repeats: usize,
+    /// State saved by M73, restored at the return.
+    autorestore: Option<State>,
 }
 
 struct Interp<'a, 'o> {
@@ -165,6 +167,7 @@ struct Interp<'a, 'o> {
     value: Option<f64>,
     stop: bool,
     reported_axes: bool,
+    saved_state: Option<State>,
     /// The tool table (G10 L1/L10/L11 edit this copy).
     tools: Vec<ToolEntry>,
 }
@@ -193,6 +196,8 @@ struct State {
     cycle_z: Option<f64>,
     cycle_q: Option<f64>,
     cycle_p: Option<f64>,
+    /// Z (machine) when the current series of canned cycles started.
+    cycle_start_z: Option<f64>,
     diameter_mode: bool,
     comp: bool,
     flood: bool,
@@ -218,11 +223,13 @@ impl Default for State {
             tlo: DVec3::ZERO,
             current_tool: 0,
             selected_tool: 0,
-            retract_r: false,
             cycle_r: None,
             cycle_z: None,
             cycle_q: None,
             cycle_p: None,
+            cycle_start_z: None,
+            // rs274 starts in G99 (retract to R), as its canon output shows.
+            retract_r: true,
             diameter_mode: false,
             comp: false,
             flood: false,
@@ -301,6 +308,7 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
         value: None,
         stop: false,
         reported_axes: false,
+        saved_state: None,
         tools: cfg.tool_table.clone(),
     };
     it.params[P_CS] = 1.0;
@@ -730,6 +738,9 @@ impl<'a> Interp<'a, '_> {
                 self.locals = f.locals;
                 self.params[1..31].copy_from_slice(&f.saved);
                 self.repeats.truncate(f.repeats);
+                if let Some(s) = f.autorestore {
+                    self.restore(s);
+                }
                 Flow::Goto(f.ret.0, f.ret.1)
             }
             OKind::Call => {
@@ -778,6 +789,7 @@ impl<'a> Interp<'a, '_> {
                     locals,
                     saved,
                     repeats: self.repeats.len(),
+                    autorestore: None,
                 });
                 Flow::Goto(ts, tl + 1)
             }
@@ -1178,6 +1190,16 @@ impl<'a> Interp<'a, '_> {
         }
         match g(M_TOOL) {
             Some(60) => {
+                if !self.tools.is_empty() && self.st.selected_tool != 0 {
+                    let t = self.st.selected_tool;
+                    if self.tool(t).is_none() {
+                        self.err(
+                            "invalid-value",
+                            Some(b.col('T')),
+                            format!("tool {t} is not in the tool table: add it or change T"),
+                        );
+                    }
+                }
                 self.st.current_tool = self.st.selected_tool;
                 self.event(format!("M6 T{}", self.st.current_tool));
             }
@@ -1231,14 +1253,34 @@ impl<'a> Interp<'a, '_> {
             }
             b.used_p = true;
             b.used_q = true;
+            b.used_l = true;
             self.event(code);
         }
-        if let Some(c) = g(M_STATE) {
-            self.err(
-                "unsupported-code",
-                None,
-                format!("M{} (modal state save/restore) is not supported", c / 10),
-            );
+        match g(M_STATE) {
+            // M70 save, M71 invalidate, M72 restore, M73 save and restore at the return of
+            // the current subroutine (LinuxCNC manual, "M70–M73").
+            Some(700) => self.saved_state = Some(self.st.clone()),
+            Some(710) => self.saved_state = None,
+            Some(720) => match self.saved_state.clone() {
+                Some(s) => self.restore(s),
+                None => self.err(
+                    "invalid-value",
+                    None,
+                    "M72 without a state saved by M70".into(),
+                ),
+            },
+            Some(730) => {
+                let s = self.st.clone();
+                match self.calls.last_mut() {
+                    Some(f) => f.autorestore = Some(s),
+                    None => self.err(
+                        "invalid-value",
+                        None,
+                        "M73 outside a subroutine".into(),
+                    ),
+                }
+            }
+            _ => {}
         }
         if let Some(c) = g(M_USER) {
             self.err(
@@ -1365,7 +1407,7 @@ impl<'a> Interp<'a, '_> {
         let nonmodal = g(G_NONMODAL).filter(|&c| c != 40);
         let has_axis = b.has_axis();
         if let (Some(c), Some(m)) = (nonmodal, g(G_MOTION)) {
-            if has_axis && c != 100 {
+            if has_axis && c != 100 && c != 530 {
                 self.err(
                     "modal-conflict",
                     None,
@@ -1389,23 +1431,44 @@ impl<'a> Interp<'a, '_> {
                 30 => Mode::ArcCcw,
                 800 => Mode::Off,
                 730 | 810..=890 => {
-                    self.st.cycle_r = None;
-                    self.st.cycle_z = None;
+                    if !matches!(self.st.mode, Mode::Cycle(_)) {
+                        // A new series of canned cycles: its start height is taken at the
+                        // first hole (G98 returns there; G91 R counts from it).
+                        self.st.cycle_start_z = None;
+                    }
                     Mode::Cycle(m)
                 }
                 382..=385 => {
-                    self.err(
+                    self.warn(
                         "cannot-simulate",
                         None,
                         format!(
-                            "G{} probing needs the real machine: it cannot be simulated; later \
-                             moves are uncertain",
+                            "G{} probing needs the real machine: it cannot be simulated (taken \
+                             as a feed to the target); later moves are uncertain",
                             fmt_code(m)
                         ),
                     );
                     self.uncertain();
                     b.axes_used = true;
-                    Mode::Off
+                    let to = self.target(&b);
+                    self.straight(MotionKind::Feed, to);
+                    self.st.mode
+                }
+                330 => {
+                    if self.st.tool.spindle == Spindle::Off {
+                        self.err(
+                            "invalid-value",
+                            None,
+                            "G33 needs the spindle turning (M3/M4)".into(),
+                        );
+                    }
+                    // Spindle-synchronised motion: geometrically a straight feed; K is the
+                    // distance per revolution.
+                    b.axes_used = true;
+                    b.used_arc = true;
+                    let to = self.target(&b);
+                    self.straight(MotionKind::Feed, to);
+                    Mode::Linear
                 }
                 _ => {
                     self.err(
@@ -1429,14 +1492,13 @@ impl<'a> Interp<'a, '_> {
                 mode => self.move_block(mode, &mut b),
             }
         } else if !has_axis
-            && g(G_MOTION).is_some_and(|m| (20..=30).contains(&m))
-            && self.st.mode != Mode::Off
+            && matches!(self.st.mode, Mode::ArcCw | Mode::ArcCcw)
+            && ['I', 'J', 'K', 'R'].into_iter().any(|c| b.val(c).is_some())
+            && g(G_NONMODAL).is_none()
         {
-            self.err(
-                "invalid-arc",
-                None,
-                "arc without an end point (no axis word)".into(),
-            );
+            // An arc block without axis words ends where it starts: a full circle (IJK).
+            let mode = self.st.mode;
+            self.move_block(mode, &mut b);
         }
         self.unused_words(&b);
         match g(M_STOP) {
@@ -1460,7 +1522,7 @@ impl<'a> Interp<'a, '_> {
             return;
         }
         let arc = b.used_arc;
-        let checks: [(char, bool); 7] = [
+        let checks: [(char, bool); 8] = [
             ('I', arc || b.used_i),
             ('J', arc),
             ('K', arc),
@@ -1468,6 +1530,7 @@ impl<'a> Interp<'a, '_> {
             ('P', b.used_p),
             ('Q', b.used_q),
             ('L', b.used_l),
+            ('E', b.used_l),
         ];
         for (c, used) in checks {
             if b.val(c).is_some() && !used {
@@ -1486,6 +1549,14 @@ impl<'a> Interp<'a, '_> {
                 format!("{c} word with no code in the block that uses it"),
             );
         }
+    }
+
+    /// Restores modal state `s` (everything but the position).
+    fn restore(&mut self, s: State) {
+        let pos = self.st.pos;
+        self.st = s;
+        self.st.pos = pos;
+        self.select_cs(self.st.cs);
     }
 
     fn event(&mut self, code: String) {
@@ -1663,6 +1734,19 @@ impl<'a> Interp<'a, '_> {
         };
         let cur = self.st.pos - off;
         let mut t = cur;
+        if b.val('@').is_some() || b.val('^').is_some() {
+            // Polar words (LinuxCNC): @ distance and ^ angle (degrees) in the XY plane from
+            // the origin; in G91 added to the current point's polar coordinates.
+            let r0 = cur.truncate().length() / k;
+            let a0 = cur.y.atan2(cur.x).to_degrees();
+            let (mut r, mut a) = (b.val('@').unwrap_or(r0), b.val('^').unwrap_or(a0));
+            if !self.st.absolute {
+                r = r0 + b.val('@').unwrap_or(0.0);
+                a = a0 + b.val('^').unwrap_or(0.0);
+            }
+            t.x = r * k * a.to_radians().cos();
+            t.y = r * k * a.to_radians().sin();
+        }
         for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
             if let Some(mut v) = b.val(c) {
                 if i == 0 && self.st.diameter_mode {
@@ -1724,6 +1808,15 @@ impl<'a> Interp<'a, '_> {
                 "invalid-value",
                 None,
                 "inverse time feed (G93) needs F on every feed move".into(),
+            );
+        }
+        if self.cfg.dialect == Dialect::Linuxcnc
+            && ['U', 'V', 'W'].into_iter().any(|c| b.val(c).is_some())
+        {
+            self.err(
+                "unsupported-code",
+                None,
+                "U V W axes are not supported (rs274 without an INI file has X Y Z A B C)".into(),
             );
         }
         if !self.reported_axes
@@ -1926,8 +2019,9 @@ impl<'a> Interp<'a, '_> {
             return;
         };
         let off = self.st.offset();
-        let old_z = self.st.pos.z;
-        // R and Z in machine coordinates; incremental: R from the current Z, Z from R.
+        let old_z = *self.st.cycle_start_z.get_or_insert(self.st.pos.z);
+        // R and Z in machine coordinates; incremental (G91): R from the Z where the series of
+        // cycles started, Z from R (as rs274 does).
         let (r_m, z_m) = if self.st.absolute {
             (r * k + off.z, z * k + off.z)
         } else {
@@ -1963,17 +2057,24 @@ impl<'a> Interp<'a, '_> {
         };
         let mut cur_z = self.st.pos.z;
         for rep in 0..reps {
+            // X Y (or polar @ ^) of this hole; in G91 each repeat moves by X Y again.
+            let _ = rep;
             let mut xy = self.st.pos;
-            for (i, c) in ['X', 'Y'].into_iter().enumerate() {
-                if let Some(v) = b.val(c) {
-                    xy[i] = if self.st.absolute {
-                        v * k + off[i]
-                    } else {
-                        self.st.pos[i] + v * k
-                    };
+            if b.val('@').is_some() || b.val('^').is_some() {
+                let mut pb = b.clone();
+                pb.vals[2] = None;
+                xy = self.target(&pb);
+            } else {
+                for (i, c) in ['X', 'Y'].into_iter().enumerate() {
+                    if let Some(v) = b.val(c) {
+                        xy[i] = if self.st.absolute {
+                            v * k + off[i]
+                        } else {
+                            self.st.pos[i] + v * k
+                        };
+                    }
                 }
             }
-            let _ = rep;
             self.straight(MotionKind::Rapid, DVec3::new(xy.x, xy.y, cur_z));
             if cur_z != r_m {
                 self.straight(MotionKind::Rapid, DVec3::new(xy.x, xy.y, r_m));
@@ -2168,17 +2269,17 @@ const M_STATE: usize = 21;
 const M_USER: usize = 22;
 const GROUPS: usize = 23;
 
-const LETTERS: [char; 21] = [
+const LETTERS: [char; 24] = [
     'X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'S', 'P', 'Q', 'L', 'T', 'H', 'D', 'A', 'B', 'C',
-    'U', 'V', 'W',
+    'U', 'V', 'W', '@', '^', 'E',
 ];
 
 /// The words of one block sorted into what the interpreter needs.
 #[derive(Clone)]
 struct Block {
     groups: [Option<i64>; GROUPS],
-    vals: [Option<f64>; 21],
-    cols: [usize; 21],
+    vals: [Option<f64>; 24],
+    cols: [usize; 24],
     tool_before: ToolState,
     machine_coords: bool,
     axes_used: bool,
@@ -2197,8 +2298,8 @@ impl Block {
     fn new() -> Self {
         Block {
             groups: [None; GROUPS],
-            vals: [None; 21],
-            cols: [0; 21],
+            vals: [None; 24],
+            cols: [0; 24],
             tool_before: ToolState::default(),
             machine_coords: false,
             axes_used: false,
@@ -2229,7 +2330,7 @@ impl Block {
     }
 
     fn has_axis(&self) -> bool {
-        ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W']
+        ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W', '@', '^']
             .into_iter()
             .any(|c| self.val(c).is_some())
     }

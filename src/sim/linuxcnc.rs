@@ -147,6 +147,7 @@ pub fn parse_canon(text: &str) -> Program {
             }
             // rs274 prints its message, then echoes the offending block (which carries the
             // source line in its N word).
+            // A line without such an echo is a message ((debug,…), (print,…)).
             match (pending_error.take(), leading_n(t)) {
                 (Some(mut f), Some(n)) => {
                     f.message = format!("{} (in `{t}`)", f.message);
@@ -154,7 +155,7 @@ pub fn parse_canon(text: &str) -> Program {
                     prog.diagnostics.push(f);
                 }
                 (prev, _) => {
-                    prog.diagnostics.extend(prev);
+                    prog.diagnostics.extend(prev.map(as_message));
                     pending_error = Some(
                         Finding::new("canon-error", Severity::Error, format!("rs274: {t}"))
                             .line(block_line.min(prog.last_line + 1)),
@@ -163,7 +164,7 @@ pub fn parse_canon(text: &str) -> Program {
             }
             continue;
         };
-        prog.diagnostics.extend(pending_error.take());
+        prog.diagnostics.extend(pending_error.take().map(as_message));
         if c.line != block_line {
             block_line = c.line;
             tool_at_block = tool;
@@ -223,13 +224,13 @@ pub fn parse_canon(text: &str) -> Program {
                 line,
                 group: None,
             }),
-            "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
+            "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" | "STRAIGHT_PROBE" => {
                 let (Some(x), Some(y), Some(z)) = (num(0), num(1), num(2)) else {
                     prog.diagnostics.push(bad_args(&c, line));
                     continue;
                 };
                 let to = DVec3::new(x, y, z) * k + g5x + g92 + tlo;
-                let kind = if c.name == "STRAIGHT_FEED" {
+                let kind = if c.name != "STRAIGHT_TRAVERSE" {
                     MotionKind::Feed
                 } else {
                     MotionKind::Rapid
@@ -317,9 +318,16 @@ pub fn parse_canon(text: &str) -> Program {
             prog.last_line = prog.last_line.max(line);
         }
     }
-    prog.diagnostics.extend(pending_error);
+    prog.diagnostics.extend(pending_error.map(as_message));
     prog.final_tool = tool;
     prog
+}
+
+/// An rs274 output line that no echoed block followed: a message, not an error.
+fn as_message(f: Finding) -> Finding {
+    let mut m = Finding::new("canon-message", Severity::Info, f.message);
+    m.lines = f.lines;
+    m
 }
 
 fn bad_args(c: &Canon<'_>, line: usize) -> Finding {

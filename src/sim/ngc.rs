@@ -22,6 +22,9 @@ pub const TOLERANCE_EQUAL: f64 = 0.0001;
 /// Highest numbered parameter (LinuxCNC `RS274NGC_MAX_PARAMETERS` − 1).
 pub const MAX_PARAMETER: i64 = 5601;
 
+/// Longest line LinuxCNC reads (`LINELEN` − 1).
+pub const MAX_LINE_LEN: usize = 255;
+
 /// Deepest bracket nesting accepted in one expression (a guard against stack exhaustion on
 /// hostile input; LinuxCNC programs nest a handful deep).
 const MAX_NESTING: usize = 64;
@@ -556,6 +559,15 @@ fn reduce(values: &mut Vec<Expr>, ops: &mut Vec<BinOp>) {
 /// Parses one line (without its terminator).
 pub fn parse_line(raw: &str, syn: Syntax) -> Line {
     let mut out = Line::default();
+    if syn.ngc && raw.len() > MAX_LINE_LEN {
+        out.errors.push(SyntaxError {
+            column: MAX_LINE_LEN + 1,
+            id: "gcode-syntax",
+            message: format!(
+                "line longer than {MAX_LINE_LEN} characters (LinuxCNC's LINELEN): shorten it"
+            ),
+        });
+    }
     // Split off comments and checksum, collect significant characters.
     let mut sig: Vec<(char, usize)> = Vec::with_capacity(raw.len());
     let mut chars = raw.char_indices().enumerate().peekable();
@@ -640,7 +652,7 @@ pub fn parse_line(raw: &str, syn: Syntax) -> Line {
         } else if c == 'o' && out.words.is_empty() && out.oword.is_none() && syn.ngc {
             cur.i += 1;
             oword(&mut cur).map(|o| out.oword = Some(o))
-        } else if c.is_ascii_alphabetic() {
+        } else if c.is_ascii_alphabetic() || (syn.ngc && (c == '@' || c == '^')) {
             cur.i += 1;
             let letter = c.to_ascii_uppercase();
             if !syn.ngc && matches!(cur.peek(), Some('[') | Some('#')) {
@@ -669,7 +681,7 @@ pub fn parse_line(raw: &str, syn: Syntax) -> Line {
             });
             // Skip to the next letter to keep going.
             while let Some(ch) = cur.peek() {
-                if ch.is_ascii_alphabetic() && !ch.is_ascii_digit() {
+                if ch.is_ascii_alphabetic() {
                     break;
                 }
                 cur.i += 1;
