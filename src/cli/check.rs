@@ -1,14 +1,14 @@
-//! `skinpath check PROGRAM [--machine P] [--design D] [--json] [--backend builtin|linuxcnc]`.
-//! Exit status 0 when clean, 1 when a check fails, 2 when the input is unusable.
+//! `skinpath check PROGRAM [--machine P] [--dialect D] [--design D] [--json]
+//! [--backend builtin|linuxcnc]`. Exit status 0 when clean, 1 when a check fails, 2 when the
+//! input is unusable.
 
 use super::build::load_profile;
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::job::check::{check_config, design_boundaries};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
-use skinpath::sim::{Backend, CheckConfig, check_text};
-use std::io::Read;
-use std::path::PathBuf;
+use skinpath::sim::{Backend, CheckConfig, Dialect, check_text_with, interp};
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -35,21 +35,62 @@ pub struct Args {
     /// Interpreter: builtin, or LinuxCNC's rs274 (needs the linuxcnc-uspace package).
     #[arg(long, value_parser = ["builtin", "linuxcnc"], default_value = "builtin")]
     backend: String,
+    /// How the controller reads the program: generic, linuxcnc, grbl, marlin, smoothie
+    /// (default: the machine profile's dialect, else generic).
+    #[arg(long, value_parser = ["generic", "linuxcnc", "grbl", "marlin", "smoothie"])]
+    dialect: Option<String>,
+    /// LinuxCNC tool table (.tbl) for M6/G43 tool length offsets.
+    #[arg(long)]
+    tool_table: Option<PathBuf>,
+    /// Folders searched for called subroutine files `NAME.ngc` (after the program's folder).
+    #[arg(long)]
+    sub_path: Vec<PathBuf>,
+    /// Longest time rs274 may run (seconds) with `--backend linuxcnc`.
+    #[arg(long, default_value_t = 20.0)]
+    rs274_timeout: f64,
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
 }
 
 pub fn run(a: Args) -> Result<u8> {
-    let text = io::read_text(&a.program)?;
+    let bytes = std::fs::read(&a.program)
+        .with_context(|| format!("cannot read {}", a.program.display()))?;
+    let (text, decode_findings) = skinpath::sim::decode(&bytes);
     let (mut cfg, tool_r) = match &a.machine {
         Some(m) => {
             let p = load_profile(m)?;
             let r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
-            (check_config(&p, r), r)
+            let mut c = check_config(&p, r);
+            c.dialect = match p.dialect {
+                skinpath::machine::Dialect::Grbl => Dialect::Grbl,
+                skinpath::machine::Dialect::Marlin => Dialect::Marlin,
+                skinpath::machine::Dialect::Smoothie => Dialect::Smoothie,
+                skinpath::machine::Dialect::Linuxcnc => Dialect::Linuxcnc,
+                skinpath::machine::Dialect::None => Dialect::Generic,
+            };
+            c.tool_table = p
+                .tools
+                .iter()
+                .enumerate()
+                .map(|(i, t)| skinpath::sim::ToolEntry {
+                    number: i as u32 + 1,
+                    diameter: 2.0 * t.radius(),
+                    ..Default::default()
+                })
+                .collect();
+            (c, r)
         }
         None => (CheckConfig::default(), 0.0),
     };
+    if let Some(d) = &a.dialect {
+        cfg.dialect = Dialect::from_name(d).context("unknown dialect")?;
+    }
+    if let Some(t) = &a.tool_table {
+        let ttext = io::read_text(t)?;
+        cfg.tool_table = skinpath::sim::config::parse_tool_table(&ttext)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", t.display()))?;
+    }
     cfg.tool_radius = a.tool_radius.unwrap_or(tool_r);
     cfg.allow_crossings = a.allow_crossings;
     let bounds = match &a.design {
@@ -66,12 +107,29 @@ pub fn run(a: Args) -> Result<u8> {
         }
         None => Vec::new(),
     };
-    let (backend, input) = if a.backend == "linuxcnc" {
-        (Backend::LinuxCnc, run_rs274(&text)?)
-    } else {
-        (Backend::Builtin, text)
+    let mut dirs: Vec<PathBuf> = a
+        .program
+        .parent()
+        .map(|p| vec![p.to_path_buf()])
+        .unwrap_or_default();
+    dirs.extend(a.sub_path.iter().cloned());
+    let loader = |name: &str| -> Option<String> { find_sub(&dirs, name) };
+    let opts = interp::Options {
+        load_sub: Some(&loader),
     };
-    let report = check_text(backend, &input, &cfg, &bounds);
+    let (backend, input) = if a.backend == "linuxcnc" && !text.trim().is_empty() {
+        let timeout = Duration::from_secs_f64(a.rs274_timeout.clamp(0.1, 3600.0));
+        (
+            Backend::LinuxCnc,
+            run_rs274(&text, timeout, &dirs, a.tool_table.as_deref())?,
+        )
+    } else {
+        (Backend::Builtin, text.into_owned())
+    };
+    let mut report = check_text_with(backend, &input, &cfg, &bounds, &opts);
+    if report.usable {
+        report.findings.splice(0..0, decode_findings);
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -80,50 +138,134 @@ pub fn run(a: Args) -> Result<u8> {
     Ok(report.exit_code() as u8)
 }
 
-/// Longest time rs274 may take: it can loop forever on malformed input.
-const RS274_TIMEOUT: Duration = Duration::from_secs(60);
+/// `NAME.ngc` (any case of the name) in the first folder of `dirs` that holds it.
+fn find_sub(dirs: &[PathBuf], name: &str) -> Option<String> {
+    for d in dirs {
+        for cand in [format!("{name}.ngc"), format!("{}.ngc", name.to_uppercase())] {
+            let p = d.join(cand);
+            if let Ok(b) = std::fs::read(&p) {
+                return Some(String::from_utf8_lossy(&b).into_owned());
+            }
+        }
+    }
+    None
+}
+
+/// Largest rs274 output accepted (bytes): a runaway loop that moves would fill the disk.
+const RS274_MAX_OUTPUT: u64 = 1 << 30;
+
+/// Prefix of the temporary folders of `--backend linuxcnc` runs.
+const TMP_PREFIX: &str = "skinpath-rs274-";
+
+/// Removes the temporary folder when dropped (every exit path, panics included).
+struct TmpDir(PathBuf);
+
+impl Drop for TmpDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Removes folders left by killed runs: `skinpath-rs274-PID` whose process is gone.
+fn remove_stale(tmp: &Path) {
+    let Ok(rd) = std::fs::read_dir(tmp) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = name.strip_prefix(TMP_PREFIX) else {
+            continue;
+        };
+        let Ok(pid) = pid.parse::<u32>() else {
+            continue;
+        };
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
+}
 
 /// Run LinuxCNC's stand-alone interpreter (`rs274 -n 0 -g`) on a line-numbered copy of the
 /// program text ([`skinpath::sim::linuxcnc::number_lines`], so findings carry the file's
-/// line numbers) and return its canonical commands. Stopped after [`RS274_TIMEOUT`].
-fn run_rs274(text: &str) -> Result<String> {
-    let dir = std::env::temp_dir().join(format!("skinpath-rs274-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let file = dir.join("program.ngc");
+/// line numbers) and return its canonical commands followed by its error messages (standard
+/// error: each message and the block it echoes). rs274 is killed after `timeout` or when its
+/// output passes [`RS274_MAX_OUTPUT`]; the temporary folder goes on every exit path.
+fn run_rs274(
+    text: &str,
+    timeout: Duration,
+    sub_dirs: &[PathBuf],
+    tool_table: Option<&Path>,
+) -> Result<String> {
+    let tmp = std::env::temp_dir();
+    remove_stale(&tmp);
+    let dir = TmpDir(tmp.join(format!("{TMP_PREFIX}{}", std::process::id())));
+    std::fs::create_dir_all(&dir.0)
+        .with_context(|| format!("cannot create {}", dir.0.display()))?;
+    let file = dir.0.join("program.ngc");
     std::fs::write(&file, skinpath::sim::linuxcnc::number_lines(text))
         .with_context(|| format!("cannot write {}", file.display()))?;
-    let result = (|| -> Result<String> {
-        let mut child = Command::new("rs274")
-            .args(["-n", "0", "-g"])
-            .arg(&file)
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .context("cannot run rs274 (install the Debian package linuxcnc-uspace)")?;
-        let stdout = child.stdout.take().context("rs274 has no output pipe")?;
-        let reader = std::thread::spawn(move || {
-            let mut s = String::new();
-            let _ = std::io::BufReader::new(stdout).read_to_string(&mut s);
-            s
-        });
-        let start = Instant::now();
-        while child.try_wait()?.is_none() {
-            if start.elapsed() > RS274_TIMEOUT {
-                let _ = child.kill();
-                let _ = child.wait();
-                bail!("rs274 did not finish within {} s", RS274_TIMEOUT.as_secs());
+    // Called subroutine files: copied next to the program, where rs274 looks for them.
+    for d in sub_dirs {
+        if let Ok(rd) = std::fs::read_dir(d) {
+            for e in rd.flatten() {
+                let p = e.path();
+                if p.extension().is_some_and(|x| x == "ngc") {
+                    if let Some(n) = p.file_name() {
+                        let dst = dir.0.join(n);
+                        if !dst.exists() {
+                            let _ = std::fs::copy(&p, dst);
+                        }
+                    }
+                }
             }
-            std::thread::sleep(Duration::from_millis(10));
         }
-        let out = reader
-            .join()
-            .map_err(|_| anyhow::anyhow!("reading rs274 output failed"))?;
-        if out.is_empty() {
-            bail!("rs274 produced no output");
+    }
+    let out_path = dir.0.join("out.txt");
+    let err_path = dir.0.join("err.txt");
+    let out = std::fs::File::create(&out_path).context("cannot create rs274 output file")?;
+    let err = std::fs::File::create(&err_path).context("cannot create rs274 error file")?;
+    let mut cmd = Command::new("rs274");
+    if let Some(t) = tool_table {
+        cmd.arg("-t").arg(t);
+    }
+    let mut child = cmd
+        .args(["-n", "0", "-g"])
+        .arg(&file)
+        .current_dir(&dir.0)
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(out))
+        .stderr(Stdio::from(err))
+        .spawn()
+        .context("cannot run rs274 (install the Debian package linuxcnc-uspace)")?;
+    let start = Instant::now();
+    loop {
+        if child.try_wait()?.is_some() {
+            break;
         }
-        Ok(out)
-    })();
-    let _ = std::fs::remove_dir_all(&dir);
-    result
+        let size = std::fs::metadata(&out_path).map(|m| m.len()).unwrap_or(0);
+        if start.elapsed() > timeout || size > RS274_MAX_OUTPUT {
+            let _ = child.kill();
+            let _ = child.wait();
+            if size > RS274_MAX_OUTPUT {
+                bail!(
+                    "rs274 wrote more than {} MB: stopped (a runaway loop?)",
+                    RS274_MAX_OUTPUT >> 20
+                );
+            }
+            bail!(
+                "rs274 did not finish within {:.1} s: stopped (a runaway loop? raise \
+                 --rs274-timeout if the program is just long)",
+                timeout.as_secs_f64()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let mut s = String::from_utf8_lossy(&std::fs::read(&out_path)?).into_owned();
+    let e = String::from_utf8_lossy(&std::fs::read(&err_path)?).into_owned();
+    if s.trim().is_empty() && e.trim().is_empty() {
+        bail!("rs274 produced no output");
+    }
+    s.push('\n');
+    s.push_str(&e);
+    Ok(s)
 }

@@ -56,7 +56,108 @@ pub struct CheckConfig {
     pub arc_radius_tolerance: f64,
     /// At most this many findings per check id are kept (the rest are counted).
     pub max_findings_per_check: usize,
+    /// How the controller reads the program (see [`Dialect`]).
+    pub dialect: Dialect,
+    /// Tool table for M6/G43 (tool length offsets) and G10 L1/L10 (units as `units`).
+    pub tool_table: Vec<ToolEntry>,
+    /// Loop iterations (backward jumps of while/do/repeat/continue) allowed in one program;
+    /// beyond it interpretation stops with a `loop-limit` error.
+    pub max_loop_iterations: u64,
 }
+
+/// How the controller reads G-code.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dialect {
+    /// LinuxCNC's RS274NGC (parameters, expressions, O-words) plus RepRap checksums: reads
+    /// what any controller writes.
+    #[default]
+    Generic,
+    /// LinuxCNC 2.9 exactly as `rs274` reads it (no checksums).
+    Linuxcnc,
+    /// GRBL 1.1: no parameters, expressions or O-words; `$` system commands; G4 P seconds.
+    Grbl,
+    /// Marlin 2.x: `;` comments, checksums, G4 P milliseconds (S seconds), M3/M4 `I` inline
+    /// power, no parameters, expressions or O-words.
+    Marlin,
+    /// Smoothieware: like Marlin for syntax; G4 P milliseconds.
+    Smoothie,
+}
+
+impl Dialect {
+    /// Name as given to `--dialect`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dialect::Generic => "generic",
+            Dialect::Linuxcnc => "linuxcnc",
+            Dialect::Grbl => "grbl",
+            Dialect::Marlin => "marlin",
+            Dialect::Smoothie => "smoothie",
+        }
+    }
+
+    /// Parses a `--dialect` name.
+    pub fn from_name(s: &str) -> Option<Dialect> {
+        [
+            Dialect::Generic,
+            Dialect::Linuxcnc,
+            Dialect::Grbl,
+            Dialect::Marlin,
+            Dialect::Smoothie,
+        ]
+        .into_iter()
+        .find(|d| d.name() == s)
+    }
+}
+
+/// One tool of the tool table (LinuxCNC `.tbl` line `T1 P1 Z0.5 D3.175`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ToolEntry {
+    pub number: u32,
+    /// Length offset along z (G43).
+    pub z: f64,
+    /// Offset along x (G43 on lathes).
+    pub x: f64,
+    pub diameter: f64,
+}
+
+/// Reads a LinuxCNC tool table: one tool per line, `T<n> P<pocket> X.. Z.. D..` words in
+/// any order, `;` comments. Lines without `T` are skipped; a malformed number is an error
+/// naming the line.
+pub fn parse_tool_table(text: &str) -> Result<Vec<ToolEntry>, String> {
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let body = line.split(';').next().unwrap_or("");
+        let mut t = ToolEntry::default();
+        let mut has_t = false;
+        for w in body.split_whitespace() {
+            let mut ch = w.chars();
+            let Some(letter) = ch.next() else { continue };
+            let v: f64 = ch.as_str().parse().map_err(|_| {
+                format!("tool table line {}: {w:?} is not a letter and a number", i + 1)
+            })?;
+            match letter.to_ascii_uppercase() {
+                'T' => {
+                    has_t = true;
+                    t.number = v.max(0.0) as u32;
+                }
+                'Z' => t.z = v,
+                'X' => t.x = v,
+                'D' => t.diameter = v,
+                _ => {}
+            }
+        }
+        if has_t {
+            out.push(t);
+        }
+    }
+    Ok(out)
+}
+
+/// Default loop budget: a million iterations run in well under a second in a release build
+/// and cover every LinuxCNC sample program; a runaway `while` stops there.
+pub const DEFAULT_MAX_LOOP_ITERATIONS: u64 = 1_000_000;
 
 impl Default for CheckConfig {
     /// A GRBL-class 300 × 300 mm diode laser: 5000 mm/min and 500 mm/s² per axis,
@@ -84,6 +185,9 @@ impl Default for CheckConfig {
             grbl_laser_mode: true,
             arc_radius_tolerance: 0.005,
             max_findings_per_check: 50,
+            dialect: Dialect::Generic,
+            tool_table: Vec::new(),
+            max_loop_iterations: DEFAULT_MAX_LOOP_ITERATIONS,
         }
     }
 }
@@ -109,6 +213,16 @@ impl CheckConfig {
             tool_radius: self.tool_radius * k,
             gouge_tolerance: self.gouge_tolerance * k,
             arc_radius_tolerance: self.arc_radius_tolerance * k,
+            tool_table: self
+                .tool_table
+                .iter()
+                .map(|t| ToolEntry {
+                    z: t.z * k,
+                    x: t.x * k,
+                    diameter: t.diameter * k,
+                    ..*t
+                })
+                .collect(),
             ..self.clone()
         }
     }
@@ -130,5 +244,10 @@ mod tests {
         assert!((mm.work_max[0] - 254.0).abs() < 1e-12);
         assert_eq!(mm.power_max, c.power_max);
         assert!(toml::from_str::<CheckConfig>("bogus = 1").is_err());
+        let t = parse_tool_table("T1 P1 Z0.5 D3.175 ;mill\n\nT7 P2 X1 Z-2").unwrap_or_default();
+        assert_eq!(t.len(), 2);
+        assert_eq!((t[0].number, t[0].z, t[0].diameter), (1, 0.5, 3.175));
+        assert_eq!((t[1].number, t[1].x, t[1].z), (7, 1.0, -2.0));
+        assert!(parse_tool_table("T1 Zq").is_err());
     }
 }

@@ -1,34 +1,75 @@
-//! The built-in RS274 interpreter: modal state over lexed lines, producing [`Motion`]s.
+//! The built-in RS274NGC interpreter: LinuxCNC's language (parameters, expressions, O-word
+//! subroutines and loops, see [`super::ngc`]) and modal codes over parsed lines, producing
+//! [`Motion`]s in machine millimetres.
 //!
-//! Supported: G0 G1 G2 G3 (IJ and R forms, full circles with IJ, helices), G4 (P seconds),
-//! G17 (G18/G19 are diagnosed: arcs in those planes are skipped), G20/G21, G90/G91,
-//! G90.1/G91.1, G54 (identity offsets), G94, G40 G49 G61 G61.1 G64 G80 (no-ops), F, S,
-//! M3/M4/M5, M0/M1, M2/M30, M6 T, M7/M8/M9, N words. Per block the RS274 order is applied:
-//! units and distance modes, F, S, spindle, dwell, motion, program end. Everything else is a
-//! diagnostic [`Finding`] with line and column; interpretation always continues (except that
-//! lines after M2/M30 are ignored, as a controller would).
+//! Per block the RS274NGC order of execution is applied (LinuxCNC manual, "G-code overview:
+//! Order of execution"): comments and messages, feed mode, F, S, T, M6/M61, spindle,
+//! coolant, dwell, plane, units, cutter compensation, tool length offset, coordinate
+//! system, path control, distance modes, retract mode, G10/G28/G30/G52/G92, motion, stops.
+//! Parameter assignments take effect after every value of the block has been read.
+//!
+//! Supported codes: G0 G1 G2 G3 (IJK and R forms, helices, arcs in G17/G18/G19; arcs outside
+//! XY become chords within [`CHORD_ANGLE`]), G4, G7/G8, G10 L1/L2/L10/L11/L20, G17–G19,
+//! G20/G21, G28/G28.1/G30/G30.1, G40 (G41/G42 only with a zero tool radius), G43/G43.1/G49,
+//! G52, G53, G54–G59.3, G61/G61.1/G64, G73 G80–G86 G88 G89 (expanded into moves), G90/G91,
+//! G90.1/G91.1, G92/G92.1/G92.2/G92.3, G93/G94/G95, G96/G97, G98/G99, M0 M1 M2 M30 M60, M3
+//! M4 M5, M6 M61 T, M7 M8 M9, M48–M53, M62–M68 (events). G38.x and user M-codes (M100–M199)
+//! are "cannot be simulated": later moves are uncertain. Everything else is "not supported"
+//! with its code and line. Interpretation goes on after an error, except for errors that
+//! make the rest meaningless (loop limit, recursion, `(abort,…)`).
+//!
+//! Nothing after M2/M30 or the closing `%` is interpreted.
 
-use super::lexer::{LexErrorKind, Word, lex_line};
-use super::motion::{Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState, Units};
+use super::config::{CheckConfig, Dialect, ToolEntry};
+use super::motion::{Event, Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState, Units};
+use super::ngc::{self, Expr, Line, OKind, ParamRef, ParamSource, Syntax};
 use super::report::{Finding, Severity};
 use crate::geom::{Arc, DVec2, perp};
 use glam::DVec3;
+use std::borrow::Cow;
+use std::collections::HashMap;
 use std::f64::consts::TAU;
 
 /// GRBL's ARC_ANGULAR_TRAVEL_EPSILON: an IJ arc whose end direction is within this angle
 /// (radians) past its start direction is a full circle.
 const ANGULAR_EPSILON: f64 = 5e-7;
 
-/// Relative part of the IJ radius check: the radii may also differ by 0.1 % of the radius
-/// (GRBL's rule: error only when both the absolute and relative limits are exceeded).
+/// Relative part of the IJ radius check (LinuxCNC `spiral_rel_tolerance` default 0.001,
+/// GRBL's 0.1 %): an error needs both the absolute and this relative difference.
 const RADIUS_RELATIVE_TOLERANCE: f64 = 1e-3;
 
+/// LinuxCNC's absolute IJ radius tolerance (`CENTER_ARC_RADIUS_TOLERANCE_MM` = 0.02 mm,
+/// 0.002 inch); differences beyond 100 times it are errors regardless of the radius.
+const LINUXCNC_RADIUS_TOLERANCE_MM: f64 = 0.02;
+
+/// Largest angle (radians) of one chord when an arc outside the XY plane is split: the
+/// chord length deficit per chord is θ²/24 < 1e-5 relative, well inside the 1e-4 budget
+/// for cut lengths compared with LinuxCNC.
+pub const CHORD_ANGLE: f64 = 0.015;
+
+/// Deepest subroutine nesting (LinuxCNC `INTERP_SUB_ROUTINE_LEVELS`).
+pub const MAX_CALL_DEPTH: usize = 10;
+
+/// G73/G83 retract clearance (LinuxCNC `G83_RAPID_DELTA`: 0.010 inch, 0.254 mm).
+const PECK_CLEARANCE_MM: f64 = 0.254;
+
+/// Numbered parameters holding stored positions (LinuxCNC manual, "Numbered parameters").
+const P_G28: usize = 5161;
+const P_G30: usize = 5181;
+const P_G92: usize = 5211;
+const P_CS: usize = 5220;
+const P_G54: usize = 5221;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum MotionMode {
+enum Mode {
     Rapid,
     Linear,
     ArcCw,
     ArcCcw,
+    /// Canned cycle G73, G81–G89 (code × 10).
+    Cycle(i64),
+    /// G80: no motion mode.
+    Off,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,7 +79,99 @@ enum Plane {
     Yz,
 }
 
-/// Modal state of the interpreter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FeedMode {
+    PerMinute,
+    InverseTime,
+    PerRev,
+}
+
+/// Options beyond [`CheckConfig`]: where called subroutine files come from.
+pub struct Options<'a> {
+    /// Returns the text of subroutine file `<name>.ngc` from the search path, if any.
+    pub load_sub: Option<&'a dyn Fn(&str) -> Option<String>>,
+}
+
+struct Source<'a> {
+    name: String,
+    text: Cow<'a, str>,
+    /// Byte offset of each line start.
+    starts: Vec<usize>,
+}
+
+impl<'a> Source<'a> {
+    fn new(name: String, text: Cow<'a, str>) -> Self {
+        let mut starts = vec![0];
+        starts.extend(memchr_lines(text.as_bytes()));
+        Source { name, text, starts }
+    }
+    fn len(&self) -> usize {
+        self.starts.len()
+    }
+    fn line(&self, i: usize) -> &str {
+        let a = self.starts[i];
+        let b = self.starts.get(i + 1).map_or(self.text.len(), |&e| e - 1);
+        let l = &self.text[a..b.max(a)];
+        l.strip_suffix('\r').unwrap_or(l)
+    }
+}
+
+fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
+    b.iter()
+        .enumerate()
+        .filter(|(_, c)| **c == b'\n')
+        .map(|(i, _)| i + 1)
+}
+
+/// One O-word statement found by the pre-scan.
+#[derive(Clone, Copy, Debug)]
+struct OPos {
+    line: usize,
+    kind: OKind,
+    /// A `while` that closes a `do` loop.
+    do_while: bool,
+}
+
+struct CallFrame {
+    ret: (usize, usize),
+    locals: HashMap<String, f64>,
+    saved: [f64; 30],
+    repeats: usize,
+    /// State saved by M73, restored at the return.
+    autorestore: Option<State>,
+}
+
+struct Interp<'a, 'o> {
+    cfg: &'o CheckConfig,
+    opts: &'o Options<'o>,
+    syn: Syntax,
+    sources: Vec<Source<'a>>,
+    /// (source, label) → O-word statements in line order.
+    olines: HashMap<(usize, String), Vec<OPos>>,
+    subs: HashMap<String, (usize, usize)>,
+    prog: Program,
+    st: State,
+    params: Vec<f64>,
+    globals: HashMap<String, f64>,
+    calls: Vec<CallFrame>,
+    locals: HashMap<String, f64>,
+    /// Active repeat loops: (source, label, start line, iterations left).
+    repeats: Vec<(usize, String, usize, f64)>,
+    iterations: u64,
+    /// Current source line (1-based, in the source being read) for findings.
+    line: usize,
+    src: usize,
+    /// The line was reached by skipping (if/elseif evaluation).
+    jumped: bool,
+    group: Option<u32>,
+    value: Option<f64>,
+    stop: bool,
+    reported_axes: bool,
+    saved_state: Option<State>,
+    /// The tool table (G10 L1/L10/L11 edit this copy).
+    tools: Vec<ToolEntry>,
+}
+
 #[derive(Clone, Debug)]
 struct State {
     pos: DVec3,
@@ -46,10 +179,29 @@ struct State {
     absolute: bool,
     arc_absolute: bool,
     plane: Plane,
-    mode: Option<MotionMode>,
-    /// Programmed F in the units current when it is used (RS274: F is in current units).
+    mode: Mode,
+    feed_mode: FeedMode,
+    /// Programmed F in the units current when it was given.
     feed: f64,
+    feed_k: f64,
     tool: ToolState,
+    cs: usize,
+    g5x: DVec3,
+    g92: DVec3,
+    tlo: DVec3,
+    current_tool: u32,
+    selected_tool: u32,
+    retract_r: bool,
+    cycle_r: Option<f64>,
+    cycle_z: Option<f64>,
+    cycle_q: Option<f64>,
+    cycle_p: Option<f64>,
+    /// Z (machine) when the current series of canned cycles started.
+    cycle_start_z: Option<f64>,
+    diameter_mode: bool,
+    comp: bool,
+    flood: bool,
+    mist: bool,
 }
 
 impl Default for State {
@@ -60,106 +212,2107 @@ impl Default for State {
             absolute: true,
             arc_absolute: false,
             plane: Plane::Xy,
-            mode: None,
+            mode: Mode::Off,
+            feed_mode: FeedMode::PerMinute,
             feed: 0.0,
+            feed_k: 1.0,
             tool: ToolState::default(),
+            cs: 1,
+            g5x: DVec3::ZERO,
+            g92: DVec3::ZERO,
+            tlo: DVec3::ZERO,
+            current_tool: 0,
+            selected_tool: 0,
+            cycle_r: None,
+            cycle_z: None,
+            cycle_q: None,
+            cycle_p: None,
+            cycle_start_z: None,
+            // rs274 starts in G99 (retract to R), as its canon output shows.
+            retract_r: true,
+            diameter_mode: false,
+            comp: false,
+            flood: false,
+            mist: false,
         }
     }
 }
 
-/// Interprets G-code text. `arc_radius_tol` (mm) bounds |r_start − r_end| of IJ arcs and the
-/// shortfall of R arcs whose radius is less than half the chord.
+impl State {
+    fn k(&self) -> f64 {
+        self.units.to_mm()
+    }
+    /// Offsets from program to machine coordinates.
+    fn offset(&self) -> DVec3 {
+        self.g5x + self.g92 + self.tlo
+    }
+    fn program_pos(&self) -> DVec3 {
+        self.pos - self.offset()
+    }
+}
+
+/// Interprets G-code text with the default configuration (generic dialect) and IJ radius
+/// tolerance `arc_radius_tol` (mm).
 pub fn interpret(src: &str, arc_radius_tol: f64) -> Program {
-    let mut prog = Program::default();
-    let mut st = State::default();
-    let mut ended_at: Option<usize> = None;
-    let mut after_end_reported = false;
-    for (idx, raw) in src.split('\n').enumerate() {
-        let line_no = idx + 1;
-        prog.lines = line_no;
-        let raw = raw.strip_suffix('\r').unwrap_or(raw);
-        let lexed = lex_line(raw);
-        for e in &lexed.errors {
-            prog.diagnostics
-                .push(lex_finding(e.column, &e.kind, line_no));
+    let cfg = CheckConfig {
+        arc_radius_tolerance: arc_radius_tol,
+        ..CheckConfig::default()
+    };
+    interpret_with(src, &cfg, &Options { load_sub: None })
+}
+
+/// Interprets G-code text. `cfg` must be in mm ([`CheckConfig::in_mm`]): its dialect, tool
+/// table, loop budget and IJ radius tolerance apply.
+pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Program {
+    let syn = match cfg.dialect {
+        Dialect::Generic => Syntax {
+            ngc: true,
+            checksums: true,
+            dollar: false,
+        },
+        Dialect::Linuxcnc => Syntax {
+            ngc: true,
+            checksums: false,
+            dollar: false,
+        },
+        Dialect::Grbl => Syntax {
+            ngc: false,
+            checksums: false,
+            dollar: true,
+        },
+        Dialect::Marlin | Dialect::Smoothie => Syntax {
+            ngc: false,
+            checksums: true,
+            dollar: false,
+        },
+    };
+    let mut it = Interp {
+        cfg,
+        opts,
+        syn,
+        sources: Vec::new(),
+        olines: HashMap::new(),
+        subs: HashMap::new(),
+        prog: Program::default(),
+        st: State::default(),
+        params: vec![0.0; ngc::MAX_PARAMETER as usize + 1],
+        globals: HashMap::new(),
+        calls: Vec::new(),
+        locals: HashMap::new(),
+        repeats: Vec::new(),
+        iterations: 0,
+        line: 0,
+        src: 0,
+        jumped: false,
+        group: None,
+        value: None,
+        stop: false,
+        reported_axes: false,
+        saved_state: None,
+        tools: cfg.tool_table.clone(),
+    };
+    it.params[P_CS] = 1.0;
+    it.add_source("program".into(), Cow::Borrowed(src));
+    it.run();
+    it.prog.final_tool = it.st.tool;
+    it.prog
+}
+
+enum Flow {
+    Next,
+    Goto(usize, usize),
+    End,
+}
+
+impl<'a> Interp<'a, '_> {
+    fn add_source(&mut self, name: String, text: Cow<'a, str>) -> usize {
+        let s = Source::new(name, text);
+        let id = self.sources.len();
+        if self.syn.ngc {
+            let mut per: HashMap<String, Vec<OPos>> = HashMap::new();
+            for i in 0..s.len() {
+                let l = s.line(i);
+                if !l.bytes().any(|b| b == b'o' || b == b'O') {
+                    continue;
+                }
+                let parsed = ngc::parse_line(l, self.syn);
+                if let Some(o) = parsed.oword {
+                    let v = per.entry(o.label.clone()).or_default();
+                    let do_while = o.kind == OKind::While && {
+                        // A while closes a do when the latest open do/while of the label is a do.
+                        let mut open: Vec<OKind> = Vec::new();
+                        for p in v.iter() {
+                            match p.kind {
+                                OKind::Do => open.push(OKind::Do),
+                                OKind::While if !p.do_while => open.push(OKind::While),
+                                OKind::While | OKind::EndWhile => {
+                                    open.pop();
+                                }
+                                _ => {}
+                            }
+                        }
+                        open.last() == Some(&OKind::Do)
+                    };
+                    if o.kind == OKind::Sub {
+                        self.subs.entry(o.label.clone()).or_insert((id, i));
+                    }
+                    v.push(OPos {
+                        line: i,
+                        kind: o.kind,
+                        do_while,
+                    });
+                }
+            }
+            for (k, v) in per {
+                self.olines.insert((id, k), v);
+            }
         }
-        if lexed.words.is_empty() {
-            continue;
+        self.sources.push(s);
+        id
+    }
+
+    fn finding(&self, id: &'static str, sev: Severity, col: Option<usize>, msg: String) -> Finding {
+        let msg = if self.src == 0 {
+            msg
+        } else {
+            format!("{msg} (in {} line {})", self.sources[self.src].name, self.line)
+        };
+        let line = if self.src == 0 {
+            self.line
+        } else {
+            self.calls.first().map_or(self.line, |c| c.ret.1)
+        };
+        let f = Finding::new(id, sev, msg).line(line);
+        match col {
+            Some(c) => f.column(c),
+            None => f,
         }
-        if let Some(end) = ended_at {
-            if !after_end_reported {
-                after_end_reported = true;
-                prog.diagnostics.push(
-                    Finding::new(
-                        "after-program-end",
-                        Severity::Warning,
-                        format!("words after the program end on line {end} are ignored"),
-                    )
-                    .line(line_no),
+    }
+
+    fn err(&mut self, id: &'static str, col: Option<usize>, msg: String) {
+        let f = self.finding(id, Severity::Error, col, msg);
+        self.prog.diagnostics.push(f);
+    }
+
+    fn warn(&mut self, id: &'static str, col: Option<usize>, msg: String) {
+        let f = self.finding(id, Severity::Warning, col, msg);
+        self.prog.diagnostics.push(f);
+    }
+
+    fn run(&mut self) {
+        let (mut src, mut i) = (0usize, 0usize);
+        let mut started = false;
+        let mut percent_open = false;
+        while !self.stop {
+            if i >= self.sources[src].len() {
+                if src != 0 {
+                    self.err(
+                        "o-word",
+                        None,
+                        format!("subroutine file {} ended without endsub", self.sources[src].name),
+                    );
+                }
+                break;
+            }
+            self.src = src;
+            self.line = i + 1;
+            if src == 0 {
+                self.prog.lines = i + 1;
+            }
+            let text = self.sources[src].line(i);
+            let trimmed = text.trim();
+            if trimmed.is_empty() {
+                i += 1;
+                continue;
+            }
+            let parsed = ngc::parse_line(text, self.syn);
+            if parsed.percent && src == 0 {
+                if !started {
+                    started = true;
+                    percent_open = true;
+                    i += 1;
+                    continue;
+                }
+                // The closing tape mark ends the program.
+                let _ = percent_open;
+                if self.prog.end.is_none() {
+                    self.prog.end = Some(ProgramEnd {
+                        line: i + 1,
+                        tool_before: self.st.tool,
+                    });
+                }
+                self.after_end(src, i + 1);
+                break;
+            }
+            started = true;
+            let jumped = std::mem::take(&mut self.jumped);
+            match self.exec(&parsed, src, i, jumped) {
+                Flow::Next => i += 1,
+                Flow::Goto(s, l) => {
+                    src = s;
+                    i = l;
+                }
+                Flow::End => {
+                    self.after_end(src, i + 1);
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Reports (once) that non-blank lines follow the end and are ignored.
+    fn after_end(&mut self, src: usize, from: usize) {
+        if src != 0 {
+            return;
+        }
+        let s = &self.sources[0];
+        if let Some(l) = (from..s.len()).find(|&l| {
+            let t = s.line(l).trim();
+            !t.is_empty() && t != "%"
+        }) {
+            let end = self.line;
+            self.prog.diagnostics.push(
+                Finding::new(
+                    "after-program-end",
+                    Severity::Warning,
+                    format!("lines after the program end on line {end} are not interpreted"),
+                )
+                .line(l + 1),
+            );
+        }
+    }
+
+    fn view(&self) -> View<'_, 'a, '_> {
+        View { it: self }
+    }
+
+    fn eval(&mut self, e: &Expr, col: usize) -> Option<f64> {
+        match e.eval(&self.view()) {
+            Ok(v) if v.is_finite() => Some(v),
+            Ok(v) => {
+                self.err("expression", Some(col), format!("expression gives {v}"));
+                None
+            }
+            Err(m) => {
+                self.err("expression", Some(col), m);
+                None
+            }
+        }
+    }
+
+    fn set_param(&mut self, p: &ParamRef, v: f64, col: usize) {
+        match p {
+            ParamRef::Num(e) => {
+                let Some(n) = self.eval(e, col) else { return };
+                match ngc::param_index(n) {
+                    Ok(n) => self.params[n as usize] = v,
+                    Err(m) => self.err("expression", Some(col), m),
+                }
+            }
+            ParamRef::Named(n) if n.starts_with('_') => {
+                if predefined(n) {
+                    self.err(
+                        "expression",
+                        Some(col),
+                        format!("#<{n}> is a read-only predefined parameter"),
+                    );
+                } else {
+                    self.globals.insert(n.clone(), v);
+                }
+            }
+            ParamRef::Named(n) => {
+                self.locals.insert(n.clone(), v);
+            }
+        }
+    }
+
+    fn find_o(&self, src: usize, label: &str, after: usize, kinds: &[OKind]) -> Option<OPos> {
+        self.olines
+            .get(&(src, label.to_string()))?
+            .iter()
+            .find(|p| p.line > after && kinds.contains(&p.kind))
+            .copied()
+    }
+
+    fn find_o_back(&self, src: usize, label: &str, before: usize, kind: OKind) -> Option<OPos> {
+        self.olines
+            .get(&(src, label.to_string()))?
+            .iter()
+            .rev()
+            .find(|p| p.line < before && p.kind == kind && !p.do_while)
+            .copied()
+    }
+
+    fn count_iteration(&mut self) -> bool {
+        self.iterations += 1;
+        if self.iterations > self.cfg.max_loop_iterations {
+            self.err(
+                "loop-limit",
+                None,
+                format!(
+                    "loops ran more than {} iterations: interpretation stopped (raise \
+                     max_loop_iterations if the program really needs more)",
+                    self.cfg.max_loop_iterations
+                ),
+            );
+            self.stop = true;
+            return false;
+        }
+        true
+    }
+
+    fn exec(&mut self, l: &Line, src: usize, i: usize, jumped: bool) -> Flow {
+        for e in &l.errors {
+            self.err(e.id, Some(e.column), e.message.clone());
+        }
+        if let Some(d) = &l.dollar {
+            self.prog.words += 1;
+            self.prog.events.push(Event {
+                line: self.line,
+                code: format!("${d}"),
+            });
+            return Flow::Next;
+        }
+        if let Some(o) = &l.oword {
+            self.prog.words += 1;
+            return self.oword(o, src, i, jumped);
+        }
+        self.comments(l);
+        if self.stop {
+            return Flow::End;
+        }
+        if l.words.is_empty() && l.assigns.is_empty() {
+            return Flow::Next;
+        }
+        if self.src == 0 {
+            self.prog.last_line = self.line;
+        }
+        // Read every value first, then assign parameters (LinuxCNC: "parameter setting does
+        // not take effect until after all parameter values on the same line have been found").
+        let mut words: Vec<(char, f64, usize)> = Vec::with_capacity(l.words.len());
+        let mut bad = false;
+        for w in &l.words {
+            match self.eval(&w.value, w.column) {
+                Some(v) => words.push((w.letter, v, w.column)),
+                None => bad = true,
+            }
+        }
+        let mut sets = Vec::new();
+        for (p, e, col) in &l.assigns {
+            if let Some(v) = self.eval(e, *col) {
+                sets.push((p, v, *col));
+            }
+        }
+        for (p, v, col) in sets {
+            self.set_param(p, v, col);
+            self.prog.words += 1;
+        }
+        if bad || words.is_empty() {
+            return Flow::Next;
+        }
+        let mut b = Block::new();
+        if !self.collect(&mut b, &words) {
+            return Flow::Next;
+        }
+        if self.execute(&b) {
+            self.prog.end = Some(ProgramEnd {
+                line: self.calls.first().map_or(self.line, |c| c.ret.1),
+                tool_before: b.tool_before,
+            });
+            return Flow::End;
+        }
+        Flow::Next
+    }
+
+    fn comments(&mut self, l: &Line) {
+        for c in &l.comments {
+            let lower = c.to_ascii_lowercase();
+            if let Some(rest) = lower.strip_prefix("skinpath:group") {
+                let rest = rest.trim();
+                if rest == "end" {
+                    self.group = None;
+                } else {
+                    match rest.parse::<u32>() {
+                        Ok(g) => self.group = Some(g),
+                        Err(_) => self.warn(
+                            "comment",
+                            None,
+                            format!("(skinpath:group {rest}) needs a number or `end`"),
+                        ),
+                    }
+                }
+                continue;
+            }
+            let Some((head, text)) = c.split_once(',') else {
+                continue;
+            };
+            match head.trim().to_ascii_lowercase().as_str() {
+                "debug" | "print" if self.syn.ngc => {
+                    let t = self.substitute(text);
+                    let f = self.finding("message", Severity::Info, None, t);
+                    self.prog.diagnostics.push(f);
+                }
+                "msg" => {
+                    let f = self.finding("message", Severity::Info, None, text.trim().into());
+                    self.prog.diagnostics.push(f);
+                }
+                "abort" if self.syn.ngc => {
+                    let t = self.substitute(text);
+                    self.err("abort", None, format!("program aborted: {t}"));
+                    self.stop = true;
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// `(debug,…)` text with `#n` and `#<name>` replaced by their values (`%f`, as LinuxCNC).
+    fn substitute(&self, text: &str) -> String {
+        let mut out = String::new();
+        let b: Vec<char> = text.chars().collect();
+        let mut i = 0;
+        while i < b.len() {
+            if b[i] == '#' {
+                if b.get(i + 1) == Some(&'<') {
+                    if let Some(k) = b[i + 2..].iter().position(|&c| c == '>') {
+                        let name: String = b[i + 2..i + 2 + k]
+                            .iter()
+                            .filter(|c| !c.is_whitespace())
+                            .collect::<String>()
+                            .to_ascii_lowercase();
+                        match self.view().named(&name) {
+                            Some(v) => out += &format!("{v:.6}"),
+                            None => out += "######",
+                        }
+                        i += k + 3;
+                        continue;
+                    }
+                } else {
+                    let d: String = b[i + 1..].iter().take_while(|c| c.is_ascii_digit()).collect();
+                    if let Ok(n) = d.parse::<i64>() {
+                        if n <= ngc::MAX_PARAMETER {
+                            out += &format!("{:.6}", self.view().numbered(n));
+                            i += 1 + d.len();
+                            continue;
+                        }
+                    }
+                }
+            }
+            out.push(b[i]);
+            i += 1;
+        }
+        out.trim().to_string()
+    }
+
+    fn oword(&mut self, o: &ngc::OStmt, src: usize, i: usize, jumped: bool) -> Flow {
+        let label = o.label.as_str();
+        let arg = |it: &mut Self| -> Option<f64> {
+            let e = o.args.first()?;
+            it.eval(e, 1)
+        };
+        let missing = |it: &mut Self, what: &str| {
+            it.err(
+                "o-word",
+                None,
+                format!("O{label} {:?} has no matching {what}", o.kind),
+            );
+            it.stop = true;
+            Flow::End
+        };
+        match o.kind {
+            OKind::Sub => match self.find_o(src, label, i, &[OKind::EndSub]) {
+                Some(p) => Flow::Goto(src, p.line + 1),
+                None => missing(self, "endsub"),
+            },
+            OKind::EndSub | OKind::Return => {
+                let v = if o.args.is_empty() { None } else { arg(self) };
+                self.value = v;
+                let Some(f) = self.calls.pop() else {
+                    self.err(
+                        "o-word",
+                        None,
+                        format!("O{label} endsub/return outside a subroutine"),
+                    );
+                    return Flow::Next;
+                };
+                self.locals = f.locals;
+                self.params[1..31].copy_from_slice(&f.saved);
+                self.repeats.truncate(f.repeats);
+                if let Some(s) = f.autorestore {
+                    self.restore(s);
+                }
+                Flow::Goto(f.ret.0, f.ret.1)
+            }
+            OKind::Call => {
+                if self.calls.len() >= MAX_CALL_DEPTH {
+                    self.err(
+                        "call-depth",
+                        None,
+                        format!(
+                            "O{label} call nests deeper than {MAX_CALL_DEPTH} subroutine levels \
+                             (LinuxCNC's limit): interpretation stopped"
+                        ),
+                    );
+                    self.stop = true;
+                    return Flow::End;
+                }
+                let mut args = Vec::new();
+                for e in &o.args {
+                    match self.eval(e, 1) {
+                        Some(v) => args.push(v),
+                        None => return Flow::Next,
+                    }
+                }
+                let target = match self.subs.get(label).copied() {
+                    Some(t) => Some(t),
+                    None => self.load_sub(label),
+                };
+                let Some((ts, tl)) = target else {
+                    self.err(
+                        "o-word",
+                        None,
+                        format!(
+                            "O{label} call: no subroutine O{label} in the program and no file \
+                             {label}.ngc in the subroutine path"
+                        ),
+                    );
+                    return Flow::Next;
+                };
+                let mut saved = [0.0; 30];
+                saved.copy_from_slice(&self.params[1..31]);
+                for (k, slot) in self.params[1..31].iter_mut().enumerate() {
+                    *slot = args.get(k).copied().unwrap_or(0.0);
+                }
+                let locals = std::mem::take(&mut self.locals);
+                self.calls.push(CallFrame {
+                    ret: (src, i + 1),
+                    locals,
+                    saved,
+                    repeats: self.repeats.len(),
+                    autorestore: None,
+                });
+                Flow::Goto(ts, tl + 1)
+            }
+            OKind::If => {
+                let Some(c) = arg(self) else { return Flow::Next };
+                if c != 0.0 {
+                    return Flow::Next;
+                }
+                match self.find_o(src, label, i, &[OKind::ElseIf, OKind::Else, OKind::EndIf]) {
+                    Some(p) => {
+                        self.jumped = true;
+                        Flow::Goto(src, p.line)
+                    }
+                    None => missing(self, "endif"),
+                }
+            }
+            OKind::ElseIf => {
+                if jumped {
+                    let Some(c) = arg(self) else { return Flow::Next };
+                    if c != 0.0 {
+                        return Flow::Next;
+                    }
+                    match self.find_o(src, label, i, &[OKind::ElseIf, OKind::Else, OKind::EndIf])
+                    {
+                        Some(p) => {
+                            self.jumped = true;
+                            Flow::Goto(src, p.line)
+                        }
+                        None => missing(self, "endif"),
+                    }
+                } else {
+                    match self.find_o(src, label, i, &[OKind::EndIf]) {
+                        Some(p) => Flow::Goto(src, p.line + 1),
+                        None => missing(self, "endif"),
+                    }
+                }
+            }
+            OKind::Else => {
+                if jumped {
+                    Flow::Next
+                } else {
+                    match self.find_o(src, label, i, &[OKind::EndIf]) {
+                        Some(p) => Flow::Goto(src, p.line + 1),
+                        None => missing(self, "endif"),
+                    }
+                }
+            }
+            OKind::EndIf | OKind::Do => Flow::Next,
+            OKind::While => {
+                let do_while = self
+                    .olines
+                    .get(&(src, label.to_string()))
+                    .and_then(|v| v.iter().find(|p| p.line == i))
+                    .is_some_and(|p| p.do_while);
+                let Some(c) = arg(self) else { return Flow::Next };
+                if do_while {
+                    if c == 0.0 {
+                        return Flow::Next;
+                    }
+                    if !self.count_iteration() {
+                        return Flow::End;
+                    }
+                    return match self.find_o_back(src, label, i, OKind::Do) {
+                        Some(p) => Flow::Goto(src, p.line + 1),
+                        None => missing(self, "do"),
+                    };
+                }
+                if c != 0.0 {
+                    return Flow::Next;
+                }
+                match self.find_o(src, label, i, &[OKind::EndWhile]) {
+                    Some(p) => Flow::Goto(src, p.line + 1),
+                    None => missing(self, "endwhile"),
+                }
+            }
+            OKind::EndWhile => {
+                if !self.count_iteration() {
+                    return Flow::End;
+                }
+                match self.find_o_back(src, label, i, OKind::While) {
+                    Some(p) => Flow::Goto(src, p.line),
+                    None => missing(self, "while"),
+                }
+            }
+            OKind::Repeat => {
+                let Some(n) = arg(self) else { return Flow::Next };
+                if n.round() < 1.0 {
+                    return match self.find_o(src, label, i, &[OKind::EndRepeat]) {
+                        Some(p) => Flow::Goto(src, p.line + 1),
+                        None => missing(self, "endrepeat"),
+                    };
+                }
+                self.repeats.push((src, label.to_string(), i, n.round()));
+                Flow::Next
+            }
+            OKind::EndRepeat | OKind::Continue
+                if o.kind == OKind::EndRepeat
+                    || self
+                        .repeats
+                        .last()
+                        .is_some_and(|r| r.0 == src && r.1 == label) =>
+            {
+                let Some(r) = self.repeats.last_mut().filter(|r| r.0 == src && r.1 == label)
+                else {
+                    return missing(self, "repeat");
+                };
+                r.3 -= 1.0;
+                if r.3 >= 1.0 {
+                    let start = r.2;
+                    if !self.count_iteration() {
+                        return Flow::End;
+                    }
+                    Flow::Goto(src, start + 1)
+                } else {
+                    self.repeats.pop();
+                    match self.find_o(src, label, i.saturating_sub(1), &[OKind::EndRepeat]) {
+                        Some(p) => Flow::Goto(src, p.line + 1),
+                        None => missing(self, "endrepeat"),
+                    }
+                }
+            }
+            OKind::Continue => {
+                if !self.count_iteration() {
+                    return Flow::End;
+                }
+                let next = self.find_o(src, label, i, &[OKind::EndWhile, OKind::While]);
+                match next {
+                    Some(p) if p.kind == OKind::While && p.do_while => Flow::Goto(src, p.line),
+                    Some(p) => match self.find_o_back(src, label, p.line, OKind::While) {
+                        Some(w) => Flow::Goto(src, w.line),
+                        None => missing(self, "while"),
+                    },
+                    None => missing(self, "loop end"),
+                }
+            }
+            OKind::EndRepeat => missing(self, "repeat"),
+            OKind::Break => {
+                if self
+                    .repeats
+                    .last()
+                    .is_some_and(|r| r.0 == src && r.1 == label)
+                {
+                    self.repeats.pop();
+                }
+                match self.find_o(
+                    src,
+                    label,
+                    i,
+                    &[OKind::EndWhile, OKind::EndRepeat, OKind::While],
+                ) {
+                    Some(p) if p.kind != OKind::While || p.do_while => {
+                        Flow::Goto(src, p.line + 1)
+                    }
+                    _ => missing(self, "loop end"),
+                }
+            }
+        }
+    }
+
+    fn load_sub(&mut self, label: &str) -> Option<(usize, usize)> {
+        let text = (self.opts.load_sub?)(label)?;
+        self.add_source(format!("{label}.ngc"), Cow::Owned(text));
+        self.subs.get(label).copied()
+    }
+
+    /// Sorts the words into `b`; false when the block cannot run.
+    fn collect(&mut self, b: &mut Block, words: &[(char, f64, usize)]) -> bool {
+        let mut ok = true;
+        for &(letter, v, col) in words {
+            self.prog.words += 1;
+            match letter {
+                'G' => ok &= self.g_code(b, v, col),
+                'M' => ok &= self.m_code(b, v, col),
+                'N' => {}
+                c => {
+                    let Some(i) = LETTERS.iter().position(|&l| l == c) else {
+                        if matches!(self.cfg.dialect, Dialect::Marlin | Dialect::Smoothie) {
+                            // E (extruder) and other firmware words: harmless here.
+                            continue;
+                        }
+                        self.err(
+                            "unknown-word",
+                            Some(col),
+                            format!("word {c}{v} is not supported"),
+                        );
+                        ok = false;
+                        continue;
+                    };
+                    if b.vals[i].is_some() {
+                        self.err(
+                            "duplicate-word",
+                            Some(col),
+                            format!("{c} appears twice in the block"),
+                        );
+                        ok = false;
+                    } else {
+                        b.vals[i] = Some(v);
+                        b.cols[i] = col;
+                    }
+                }
+            }
+        }
+        ok
+    }
+
+    fn modal(&mut self, b: &mut Block, group: usize, code: i64, col: usize, prefix: char) -> bool {
+        if let Some(prev) = b.groups[group] {
+            self.err(
+                "modal-conflict",
+                Some(col),
+                format!(
+                    "{prefix}{} and {prefix}{} are in the same modal group: only one may be in a \
+                     block",
+                    fmt_code(prev),
+                    fmt_code(code)
+                ),
+            );
+            return false;
+        }
+        b.groups[group] = Some(code);
+        true
+    }
+
+    fn g_code(&mut self, b: &mut Block, v: f64, col: usize) -> bool {
+        let Some(code) = tenths(v) else {
+            self.err("unknown-code", Some(col), format!("G{v} is not a G-code"));
+            return false;
+        };
+        let grbl = self.cfg.dialect == Dialect::Grbl;
+        let group = match code {
+            0 | 10 | 20 | 30 | 332 | 330 | 760 | 730 | 800..=890 | 382..=385 | 50 | 51 | 52 => {
+                G_MOTION
+            }
+            40 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920..=923 => G_NONMODAL,
+            170 | 180 | 190 => G_PLANE,
+            900 | 910 => G_DISTANCE,
+            901 | 911 => G_ARC_DISTANCE,
+            930 | 940 | 950 => G_FEED_MODE,
+            200 | 210 => G_UNITS,
+            400 | 410 | 420 | 411 | 421 => G_COMP,
+            430 | 431 | 490 => G_TLO,
+            980 | 990 => G_RETURN,
+            540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => G_COORD,
+            610 | 611 | 640 => G_PATH,
+            960 | 970 => G_SPINDLE,
+            70 | 80 => G_LATHE,
+            _ => {
+                self.err(
+                    "unknown-code",
+                    Some(col),
+                    format!("G{} is not supported (unknown code)", fmt_code(code)),
+                );
+                return false;
+            }
+        };
+        let grbl_ok = matches!(
+            code,
+            0 | 10
+                | 20
+                | 30
+                | 40
+                | 100
+                | 170
+                | 180
+                | 190
+                | 200
+                | 210
+                | 280
+                | 281
+                | 300
+                | 301
+                | 382..=385
+                | 400
+                | 431
+                | 490
+                | 530..=590
+                | 610
+                | 800
+                | 900
+                | 910
+                | 911
+                | 920
+                | 921
+                | 930
+                | 940
+        ) && !matches!(code, 531..=539 | 541..=549 | 551..=559 | 561..=569 | 571..=579 | 581..=589);
+        if grbl && !grbl_ok {
+            self.err(
+                "unsupported-code",
+                Some(col),
+                format!("G{} is not supported by GRBL (error:20)", fmt_code(code)),
+            );
+            return false;
+        }
+        if !self.modal(b, group, code, col, 'G') {
+            return false;
+        }
+        true
+    }
+
+    fn m_code(&mut self, b: &mut Block, v: f64, col: usize) -> bool {
+        let Some(code) = tenths(v).filter(|c| c % 10 == 0).map(|c| c / 10) else {
+            self.err("unknown-code", Some(col), format!("M{v} is not an M-code"));
+            return false;
+        };
+        let marlin = matches!(self.cfg.dialect, Dialect::Marlin | Dialect::Smoothie);
+        let group = match code {
+            0 | 1 | 2 | 30 | 60 => M_STOP,
+            6 | 61 => M_TOOL,
+            3..=5 => M_SPINDLE,
+            7..=9 => {
+                if code == 9 || b.groups[M_COOLANT].is_none_or(|c| c == 9) {
+                    M_COOLANT
+                } else {
+                    M_COOLANT2
+                }
+            }
+            48..=53 => M_OVERRIDE,
+            62..=68 => M_IO,
+            70..=73 => M_STATE,
+            100..=199 => M_USER,
+            _ if marlin => {
+                self.warn(
+                    "unknown-code",
+                    Some(col),
+                    format!("M{code} is not supported by this checker and ignored"),
+                );
+                return true;
+            }
+            _ => {
+                self.err(
+                    "unknown-code",
+                    Some(col),
+                    format!("M{code} is not supported (unknown code)"),
+                );
+                return false;
+            }
+        };
+        if self.cfg.dialect == Dialect::Grbl && !matches!(code, 0..=5 | 7..=9 | 30 | 56) {
+            self.err(
+                "unsupported-code",
+                Some(col),
+                format!("M{code} is not supported by GRBL (error:20)"),
+            );
+            return false;
+        }
+        self.modal(b, group, code * 10, col, 'M')
+    }
+
+    /// Runs the block; true at a program end (M2/M30).
+    fn execute(&mut self, b: &Block) -> bool {
+        let mut b = b.clone();
+        b.tool_before = self.st.tool;
+        let groups = b.groups;
+        let g = |grp: usize| groups[grp];
+        // Feed mode and F.
+        if let Some(c) = g(G_FEED_MODE) {
+            self.st.feed_mode = match c {
+                930 => FeedMode::InverseTime,
+                950 => FeedMode::PerRev,
+                _ => FeedMode::PerMinute,
+            };
+        }
+        if let Some(f) = b.val('F') {
+            if f < 0.0 {
+                self.err(
+                    "invalid-value",
+                    Some(b.col('F')),
+                    format!("feed F{f} is negative"),
+                );
+            } else {
+                self.st.feed = f;
+                self.st.feed_k = self.st.k();
+            }
+        }
+        let mut next = (self.st.tool.spindle, self.st.tool.s);
+        if let Some(s) = b.val('S') {
+            if s >= 0.0 {
+                next.1 = s;
+            } else {
+                self.err(
+                    "invalid-value",
+                    Some(b.col('S')),
+                    format!("S{s} must not be negative"),
                 );
             }
-            continue;
         }
-        prog.last_line = line_no;
-        let mut b = Block::new(line_no);
-        b.collect(&lexed.words, &mut prog);
-        if b.execute(&mut st, &mut prog, arc_radius_tol) {
-            ended_at = Some(line_no);
+        if let Some(t) = b.val('T') {
+            if t < 0.0 || t.fract() != 0.0 {
+                self.err(
+                    "invalid-value",
+                    Some(b.col('T')),
+                    format!("T{t} must be a whole non-negative number"),
+                );
+            } else {
+                self.st.selected_tool = t as u32;
+            }
+        }
+        match g(M_TOOL) {
+            Some(60) => {
+                if !self.tools.is_empty() && self.st.selected_tool != 0 {
+                    let t = self.st.selected_tool;
+                    if self.tool(t).is_none() {
+                        self.err(
+                            "invalid-value",
+                            Some(b.col('T')),
+                            format!("tool {t} is not in the tool table: add it or change T"),
+                        );
+                    }
+                }
+                self.st.current_tool = self.st.selected_tool;
+                self.event(format!("M6 T{}", self.st.current_tool));
+            }
+            Some(610) => match b.val('Q') {
+                Some(q) if q >= 0.0 => {
+                    self.st.current_tool = q as u32;
+                    b.used_q = true;
+                }
+                _ => self.err(
+                    "invalid-value",
+                    None,
+                    "M61 needs Q with a tool number ≥ 0".into(),
+                ),
+            },
+            _ => {}
+        }
+        match g(M_SPINDLE) {
+            Some(30) => next.0 = Spindle::Cw,
+            Some(40) => next.0 = Spindle::Ccw,
+            Some(50) => next.0 = Spindle::Off,
+            _ => {}
+        }
+        if g(M_SPINDLE).is_some() && b.val('I').is_some() {
+            // Marlin M3/M4 I: inline laser power mode.
+            b.used_i = true;
+        }
+        self.st.tool.switch(next.0, next.1);
+        for grp in [M_COOLANT, M_COOLANT2] {
+            if let Some(c) = g(grp) {
+                match c {
+                    70 => self.st.mist = true,
+                    80 => self.st.flood = true,
+                    _ => {
+                        self.st.mist = false;
+                        self.st.flood = false;
+                    }
+                }
+                self.event(format!("M{}", c / 10));
+            }
+        }
+        if let Some(c) = g(M_OVERRIDE) {
+            let _ = c;
+            b.used_p = true;
+        }
+        if let Some(c) = g(M_IO) {
+            let mut code = format!("M{}", c / 10);
+            for l in ['P', 'E', 'L', 'Q'] {
+                if let Some(v) = b.val(l) {
+                    code += &format!(" {l}{v}");
+                }
+            }
+            b.used_p = true;
+            b.used_q = true;
+            b.used_l = true;
+            self.event(code);
+        }
+        match g(M_STATE) {
+            // M70 save, M71 invalidate, M72 restore, M73 save and restore at the return of
+            // the current subroutine (LinuxCNC manual, "M70–M73").
+            Some(700) => self.saved_state = Some(self.st.clone()),
+            Some(710) => self.saved_state = None,
+            Some(720) => match self.saved_state.clone() {
+                Some(s) => self.restore(s),
+                None => self.err(
+                    "invalid-value",
+                    None,
+                    "M72 without a state saved by M70".into(),
+                ),
+            },
+            Some(730) => {
+                let s = self.st.clone();
+                match self.calls.last_mut() {
+                    Some(f) => f.autorestore = Some(s),
+                    None => self.err(
+                        "invalid-value",
+                        None,
+                        "M73 outside a subroutine".into(),
+                    ),
+                }
+            }
+            _ => {}
+        }
+        if let Some(c) = g(M_USER) {
+            self.err(
+                "cannot-simulate",
+                None,
+                format!(
+                    "M{} is a user M-code (a program on the real machine): it cannot be \
+                     simulated; later moves are uncertain",
+                    c / 10
+                ),
+            );
+            b.used_p = true;
+            b.used_q = true;
+            self.uncertain();
+        }
+        // Dwell.
+        if g(G_NONMODAL) == Some(40) {
+            b.used_p = true;
+            let p = match self.cfg.dialect {
+                Dialect::Marlin | Dialect::Smoothie => {
+                    b.val('P').map(|p| p / 1000.0).or(b.val('S'))
+                }
+                _ => b.val('P'),
+            };
+            match p {
+                Some(p) if p >= 0.0 => {
+                    let m = self.motion(MotionKind::Dwell { seconds: p }, self.st.pos, None);
+                    self.prog.motions.push(m);
+                }
+                _ => self.err(
+                    "invalid-value",
+                    None,
+                    "G4 needs P with the dwell time (P ≥ 0)".into(),
+                ),
+            }
+        }
+        match g(G_PLANE) {
+            Some(170) => self.st.plane = Plane::Xy,
+            Some(180) => self.st.plane = Plane::Xz,
+            Some(190) => self.st.plane = Plane::Yz,
+            _ => {}
+        }
+        match g(G_UNITS) {
+            Some(200) => self.st.units = Units::Inch,
+            Some(210) => self.st.units = Units::Mm,
+            _ => {}
+        }
+        match g(G_COMP) {
+            Some(400) => self.st.comp = false,
+            Some(c) => {
+                let d = b
+                    .val('D')
+                    .map(|d| d * self.st.k())
+                    .or_else(|| self.tool(self.st.current_tool).map(|t| t.diameter))
+                    .unwrap_or(0.0);
+                b.used_d = true;
+                if d != 0.0 {
+                    self.err(
+                        "unsupported-code",
+                        None,
+                        format!(
+                            "G{} cutter compensation with a tool of diameter {d} mm is not \
+                             supported: the path is checked uncompensated",
+                            fmt_code(c)
+                        ),
+                    );
+                }
+                self.st.comp = true;
+            }
+            None => {}
+        }
+        match g(G_TLO) {
+            Some(430) => {
+                let h = b.val('H').map_or(self.st.current_tool, |h| h.max(0.0) as u32);
+                b.used_h = true;
+                let t = self.tool(h).copied().unwrap_or_default();
+                self.st.tlo = DVec3::new(t.x, 0.0, t.z);
+            }
+            Some(431) => {
+                let k = self.st.k();
+                let mut o = self.st.tlo;
+                for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+                    if let Some(v) = b.val(c) {
+                        o[i] = v * k;
+                    }
+                }
+                b.axes_used = true;
+                self.st.tlo = o;
+            }
+            Some(490) => self.st.tlo = DVec3::ZERO,
+            _ => {}
+        }
+        if let Some(c) = g(G_COORD) {
+            let n = match c {
+                591..=593 => 7 + (c - 591) as usize,
+                _ => (c / 10 - 53) as usize,
+            };
+            self.select_cs(n);
+        }
+        match g(G_DISTANCE) {
+            Some(900) => self.st.absolute = true,
+            Some(910) => self.st.absolute = false,
+            _ => {}
+        }
+        match g(G_ARC_DISTANCE) {
+            Some(901) => self.st.arc_absolute = true,
+            Some(911) => self.st.arc_absolute = false,
+            _ => {}
+        }
+        match g(G_RETURN) {
+            Some(980) => self.st.retract_r = false,
+            Some(990) => self.st.retract_r = true,
+            _ => {}
+        }
+        match g(G_LATHE) {
+            Some(70) => self.st.diameter_mode = true,
+            Some(80) => self.st.diameter_mode = false,
+            _ => {}
+        }
+        if matches!(g(G_PATH), Some(640)) {
+            b.used_p = true;
+            b.used_q = true;
+        }
+        let nonmodal = g(G_NONMODAL).filter(|&c| c != 40);
+        let has_axis = b.has_axis();
+        if let (Some(c), Some(m)) = (nonmodal, g(G_MOTION)) {
+            if has_axis && c != 100 && c != 530 {
+                self.err(
+                    "modal-conflict",
+                    None,
+                    format!(
+                        "G{} and G{} both use the axis words of the block",
+                        fmt_code(c),
+                        fmt_code(m)
+                    ),
+                );
+                return false;
+            }
+        }
+        if let Some(c) = nonmodal {
+            self.nonmodal(c, &mut b);
+        }
+        if let Some(m) = g(G_MOTION) {
+            self.st.mode = match m {
+                0 => Mode::Rapid,
+                10 => Mode::Linear,
+                20 => Mode::ArcCw,
+                30 => Mode::ArcCcw,
+                800 => Mode::Off,
+                730 | 810..=890 => {
+                    if !matches!(self.st.mode, Mode::Cycle(_)) {
+                        // A new series of canned cycles: its start height is taken at the
+                        // first hole (G98 returns there; G91 R counts from it).
+                        self.st.cycle_start_z = None;
+                    }
+                    Mode::Cycle(m)
+                }
+                382..=385 => {
+                    self.warn(
+                        "cannot-simulate",
+                        None,
+                        format!(
+                            "G{} probing needs the real machine: it cannot be simulated (taken \
+                             as a feed to the target); later moves are uncertain",
+                            fmt_code(m)
+                        ),
+                    );
+                    self.uncertain();
+                    b.axes_used = true;
+                    let to = self.target(&b);
+                    self.straight(MotionKind::Feed, to);
+                    self.st.mode
+                }
+                330 => {
+                    if self.st.tool.spindle == Spindle::Off {
+                        self.err(
+                            "invalid-value",
+                            None,
+                            "G33 needs the spindle turning (M3/M4)".into(),
+                        );
+                    }
+                    // Spindle-synchronised motion: geometrically a straight feed; K is the
+                    // distance per revolution.
+                    b.axes_used = true;
+                    b.used_arc = true;
+                    let to = self.target(&b);
+                    self.straight(MotionKind::Feed, to);
+                    Mode::Linear
+                }
+                _ => {
+                    self.err(
+                        "unsupported-code",
+                        None,
+                        format!("G{} is not supported: its motion is skipped", fmt_code(m)),
+                    );
+                    b.axes_used = true;
+                    b.used_all = true;
+                    Mode::Off
+                }
+            };
+        }
+        if has_axis && !b.axes_used {
+            match self.st.mode {
+                Mode::Off => self.err(
+                    "no-motion-mode",
+                    None,
+                    "axis words without a motion mode (G0/G1/G2/G3 or a canned cycle)".into(),
+                ),
+                mode => self.move_block(mode, &mut b),
+            }
+        } else if !has_axis
+            && matches!(self.st.mode, Mode::ArcCw | Mode::ArcCcw)
+            && ['I', 'J', 'K', 'R'].into_iter().any(|c| b.val(c).is_some())
+            && g(G_NONMODAL).is_none()
+        {
+            // An arc block without axis words ends where it starts: a full circle (IJK).
+            let mode = self.st.mode;
+            self.move_block(mode, &mut b);
+        }
+        self.unused_words(&b);
+        match g(M_STOP) {
+            Some(0) | Some(10) | Some(600) => {
+                let c = g(M_STOP).unwrap_or(0) / 10;
+                self.event(format!("M{c}"));
+                false
+            }
+            Some(20) | Some(300) => {
+                // M2/M30: spindle and coolant off, G54, G17, G90, G94, G80 (LinuxCNC).
+                self.st.tool.switch(Spindle::Off, self.st.tool.s);
+                self.st.absolute = true;
+                true
+            }
+            _ => false,
         }
     }
-    prog.final_tool = st.tool;
-    prog
+
+    fn unused_words(&mut self, b: &Block) {
+        if b.used_all || matches!(self.cfg.dialect, Dialect::Marlin | Dialect::Smoothie) {
+            return;
+        }
+        let arc = b.used_arc;
+        let checks: [(char, bool); 8] = [
+            ('I', arc || b.used_i),
+            ('J', arc),
+            ('K', arc),
+            ('R', arc || b.used_r),
+            ('P', b.used_p),
+            ('Q', b.used_q),
+            ('L', b.used_l),
+            ('E', b.used_l),
+        ];
+        for (c, used) in checks {
+            if b.val(c).is_some() && !used {
+                self.err(
+                    "unused-word",
+                    Some(b.col(c)),
+                    format!("{c} word with no code in the block that uses it"),
+                );
+            }
+        }
+        if (b.val('H').is_some() && !b.used_h) || (b.val('D').is_some() && !b.used_d) {
+            let c = if b.val('H').is_some() && !b.used_h { 'H' } else { 'D' };
+            self.err(
+                "unused-word",
+                Some(b.col(c)),
+                format!("{c} word with no code in the block that uses it"),
+            );
+        }
+    }
+
+    /// Restores modal state `s` (everything but the position).
+    fn restore(&mut self, s: State) {
+        let pos = self.st.pos;
+        self.st = s;
+        self.st.pos = pos;
+        self.select_cs(self.st.cs);
+    }
+
+    fn event(&mut self, code: String) {
+        self.prog.events.push(Event {
+            line: self.line,
+            code,
+        });
+    }
+
+    fn uncertain(&mut self) {
+        if self.prog.uncertain_from.is_none() {
+            self.prog.uncertain_from = Some(self.line);
+        }
+    }
+
+    fn tool(&self, n: u32) -> Option<&ToolEntry> {
+        self.tools.iter().find(|t| t.number == n)
+    }
+
+    fn cs_origin(&self, n: usize) -> DVec3 {
+        let base = P_G54 + 20 * (n - 1);
+        DVec3::new(self.params[base], self.params[base + 1], self.params[base + 2])
+    }
+
+    fn select_cs(&mut self, n: usize) {
+        self.st.cs = n;
+        self.params[P_CS] = n as f64;
+        self.st.g5x = self.cs_origin(n);
+    }
+
+    fn g92_stored(&self) -> DVec3 {
+        DVec3::new(
+            self.params[P_G92],
+            self.params[P_G92 + 1],
+            self.params[P_G92 + 2],
+        )
+    }
+
+    fn store(&mut self, base: usize, v: DVec3) {
+        self.params[base] = v.x;
+        self.params[base + 1] = v.y;
+        self.params[base + 2] = v.z;
+    }
+
+    /// G10, G28, G30, G52, G53 (handled with the motion), G92*.
+    fn nonmodal(&mut self, c: i64, b: &mut Block) {
+        let k = self.st.k();
+        let axes = |b: &Block| -> [Option<f64>; 3] {
+            [b.val('X'), b.val('Y'), b.val('Z')].map(|v| v.map(|v| v * k))
+        };
+        match c {
+            100 => {
+                b.axes_used = true;
+                b.used_l = true;
+                b.used_p = true;
+                b.used_r = true;
+                let l = b.val('L').map(|l| l.round() as i64);
+                let p = b.val('P').map(|p| p.round() as i64);
+                let a = axes(b);
+                match (l, p) {
+                    (Some(2) | Some(20), Some(p)) if (0..=9).contains(&p) => {
+                        let n = if p == 0 { self.st.cs } else { p as usize };
+                        if b.val('R').is_some_and(|r| r != 0.0) {
+                            self.err(
+                                "unsupported-code",
+                                None,
+                                "G10 L2 R (coordinate system rotation) is not supported".into(),
+                            );
+                        }
+                        let mut o = self.cs_origin(n);
+                        for i in 0..3 {
+                            if let Some(v) = a[i] {
+                                o[i] = if l == Some(2) {
+                                    v
+                                } else {
+                                    self.st.pos[i] - self.st.g92[i] - self.st.tlo[i] - v
+                                };
+                            }
+                        }
+                        self.store(P_G54 + 20 * (n - 1), o);
+                        if n == self.st.cs {
+                            self.st.g5x = o;
+                        }
+                    }
+                    (Some(1) | Some(10) | Some(11), Some(p)) if p >= 0 => {
+                        let mut t = self.tool(p as u32).copied().unwrap_or(ToolEntry {
+                            number: p as u32,
+                            ..Default::default()
+                        });
+                        if let Some(z) = a[2] {
+                            t.z = if l == Some(1) {
+                                z
+                            } else {
+                                self.st.pos.z - self.st.g5x.z - self.st.g92.z - z
+                            };
+                        }
+                        if let Some(x) = a[0] {
+                            t.x = if l == Some(1) {
+                                x
+                            } else {
+                                self.st.pos.x - self.st.g5x.x - self.st.g92.x - x
+                            };
+                        }
+                        if let Some(r) = b.val('R') {
+                            t.diameter = 2.0 * r * k;
+                        }
+                        // The tool table is configuration; G10 L1 edits a copy for this run.
+                        self.tools.retain(|e| e.number != t.number);
+                        self.tools.push(t);
+                    }
+                    _ => self.err(
+                        "invalid-value",
+                        None,
+                        "G10 needs L1, L2, L10, L11 or L20 with a valid P".into(),
+                    ),
+                }
+            }
+            280 | 300 => {
+                b.axes_used = true;
+                let stored = DVec3::from_array(std::array::from_fn(|i| {
+                    self.params[if c == 280 { P_G28 } else { P_G30 } + i]
+                }));
+                let a = axes(b);
+                let mut target = stored;
+                if a.iter().any(Option::is_some) {
+                    let mid = self.target(b);
+                    self.straight(MotionKind::Rapid, mid);
+                    for i in 0..3 {
+                        if a[i].is_none() {
+                            target[i] = self.st.pos[i];
+                        }
+                    }
+                }
+                self.straight(MotionKind::Rapid, target);
+            }
+            281 | 301 => {
+                let p = self.st.pos;
+                self.store(if c == 281 { P_G28 } else { P_G30 }, p);
+            }
+            520 | 920 => {
+                b.axes_used = true;
+                let a = axes(b);
+                let mut o = self.st.g92;
+                for i in 0..3 {
+                    if let Some(v) = a[i] {
+                        o[i] = if c == 520 {
+                            v
+                        } else {
+                            self.st.pos[i] - self.st.g5x[i] - self.st.tlo[i] - v
+                        };
+                    }
+                }
+                self.st.g92 = o;
+                self.store(P_G92, o);
+            }
+            921 => {
+                self.st.g92 = DVec3::ZERO;
+                self.store(P_G92, DVec3::ZERO);
+            }
+            922 => self.st.g92 = DVec3::ZERO,
+            923 => self.st.g92 = self.g92_stored(),
+            530 => b.machine_coords = true,
+            _ => {}
+        }
+    }
+
+
+    /// The end point of the block's axis words in machine coordinates.
+    fn target(&self, b: &Block) -> DVec3 {
+        let k = self.st.k();
+        let off = if b.machine_coords {
+            DVec3::ZERO
+        } else {
+            self.st.offset()
+        };
+        let cur = self.st.pos - off;
+        let mut t = cur;
+        if b.val('@').is_some() || b.val('^').is_some() {
+            // Polar words (LinuxCNC): @ distance and ^ angle (degrees) in the XY plane from
+            // the origin; in G91 added to the current point's polar coordinates.
+            let r0 = cur.truncate().length() / k;
+            let a0 = cur.y.atan2(cur.x).to_degrees();
+            let (mut r, mut a) = (b.val('@').unwrap_or(r0), b.val('^').unwrap_or(a0));
+            if !self.st.absolute {
+                r = r0 + b.val('@').unwrap_or(0.0);
+                a = a0 + b.val('^').unwrap_or(0.0);
+            }
+            t.x = r * k * a.to_radians().cos();
+            t.y = r * k * a.to_radians().sin();
+        }
+        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            if let Some(mut v) = b.val(c) {
+                if i == 0 && self.st.diameter_mode {
+                    v *= 0.5;
+                }
+                t[i] = if self.st.absolute || b.machine_coords {
+                    v * k
+                } else {
+                    cur[i] + v * k
+                };
+            }
+        }
+        t + off
+    }
+
+    fn motion(&self, kind: MotionKind, to: DVec3, arc: Option<Arc>) -> Motion {
+        Motion {
+            kind,
+            from: self.st.pos,
+            to,
+            arc,
+            feed: self.st.feed * self.st.feed_k,
+            tool: self.st.tool,
+            line: self.calls.first().map_or(self.line, |c| {
+                if c.ret.0 == 0 {
+                    c.ret.1
+                } else {
+                    self.line
+                }
+            }),
+            group: self.group,
+        }
+    }
+
+    fn push(&mut self, mut m: Motion) {
+        m.feed = match self.st.feed_mode {
+            FeedMode::PerMinute => m.feed,
+            FeedMode::InverseTime => m.length() * self.st.feed,
+            FeedMode::PerRev => m.feed * self.st.tool.s,
+        };
+        m.group = self.group;
+        self.prog.motions.push(m);
+    }
+
+    fn straight(&mut self, kind: MotionKind, to: DVec3) {
+        if to != self.st.pos {
+            let m = self.motion(kind, to, None);
+            self.push(m);
+        }
+        self.st.pos = to;
+    }
+
+    fn move_block(&mut self, mode: Mode, b: &mut Block) {
+        if self.st.feed_mode == FeedMode::InverseTime
+            && !matches!(mode, Mode::Rapid)
+            && b.val('F').is_none()
+        {
+            self.err(
+                "invalid-value",
+                None,
+                "inverse time feed (G93) needs F on every feed move".into(),
+            );
+        }
+        if self.cfg.dialect == Dialect::Linuxcnc
+            && ['U', 'V', 'W'].into_iter().any(|c| b.val(c).is_some())
+        {
+            self.err(
+                "unsupported-code",
+                None,
+                "U V W axes are not supported (rs274 without an INI file has X Y Z A B C)".into(),
+            );
+        }
+        if !self.reported_axes
+            && ['A', 'B', 'C', 'U', 'V', 'W']
+                .into_iter()
+                .any(|c| b.val(c).is_some())
+        {
+            self.reported_axes = true;
+            self.warn(
+                "unsupported-code",
+                None,
+                "rotary and secondary axes (A B C U V W) are not supported: ignored".into(),
+            );
+        }
+        match mode {
+            Mode::Rapid | Mode::Linear => {
+                let to = self.target(b);
+                let kind = if mode == Mode::Rapid {
+                    MotionKind::Rapid
+                } else {
+                    MotionKind::Feed
+                };
+                self.straight(kind, to);
+            }
+            Mode::ArcCw | Mode::ArcCcw => {
+                b.used_arc = true;
+                if b.machine_coords {
+                    self.err(
+                        "invalid-value",
+                        None,
+                        "G53 needs G0 or G1, not an arc".into(),
+                    );
+                    return;
+                }
+                self.arc_move(mode == Mode::ArcCcw, b);
+            }
+            Mode::Cycle(c) => self.cycle(c, b),
+            Mode::Off => {}
+        }
+    }
+
+    /// Arc in the selected plane: exact for G17, chords within [`CHORD_ANGLE`] otherwise.
+    fn arc_move(&mut self, ccw: bool, b: &Block) {
+        let k = self.st.k();
+        let to = self.target(b);
+        let from = self.st.pos;
+        // (first, second, linear) axis indices of the plane (LinuxCNC: XY, ZX, YZ).
+        let (u, v, w, cu, cv) = match self.st.plane {
+            Plane::Xy => (0, 1, 2, 'I', 'J'),
+            Plane::Xz => (2, 0, 1, 'K', 'I'),
+            Plane::Yz => (1, 2, 0, 'J', 'K'),
+        };
+        for (c, axis) in [('I', 0), ('J', 1), ('K', 2)] {
+            if b.val(c).is_some() && axis == w {
+                self.err(
+                    "invalid-arc",
+                    Some(b.col(c)),
+                    format!("{c} is not an arc offset in the selected plane"),
+                );
+                return;
+            }
+        }
+        let p0 = DVec2::new(from[u], from[v]);
+        let p1 = DVec2::new(to[u], to[v]);
+        let tol = self.radius_tolerance();
+        let center = if let Some(r) = b.val('R') {
+            if b.val(cu).is_some() || b.val(cv).is_some() {
+                self.err("invalid-arc", None, "arc with both R and I/J/K".into());
+                return;
+            }
+            match r_center(p0, p1, r * k, ccw, tol) {
+                Ok(c) => c,
+                Err(m) => return self.err("invalid-arc", None, m),
+            }
+        } else {
+            if b.val(cu).is_none() && b.val(cv).is_none() {
+                self.err(
+                    "invalid-arc",
+                    None,
+                    "arc needs R or a centre offset (I/J/K) in the selected plane".into(),
+                );
+                return;
+            }
+            let off = DVec2::new(
+                b.val(cu).unwrap_or(0.0) * k,
+                b.val(cv).unwrap_or(0.0) * k,
+            );
+            let c = if self.st.arc_absolute {
+                let o = self.st.offset();
+                off + DVec2::new(o[u], o[v])
+            } else {
+                p0 + off
+            };
+            let r0 = p0.distance(c);
+            let r1 = p1.distance(c);
+            if r0 == 0.0 {
+                return self.err("invalid-arc", None, "arc centre at its start point".into());
+            }
+            let diff = (r0 - r1).abs();
+            let linuxcnc_abs = LINUXCNC_RADIUS_TOLERANCE_MM * k / self.st.k().max(1.0)
+                * if self.st.units == Units::Inch { 2.54 } else { 1.0 };
+            let hard = matches!(self.cfg.dialect, Dialect::Generic | Dialect::Linuxcnc)
+                && diff > 100.0 * linuxcnc_abs;
+            if hard || (diff > tol && diff > RADIUS_RELATIVE_TOLERANCE * r0) {
+                return self.err(
+                    "invalid-arc",
+                    None,
+                    format!(
+                        "radius to end {r1:.4} mm differs from radius to start {r0:.4} mm by \
+                         {diff:.4} mm"
+                    ),
+                );
+            }
+            c
+        };
+        let turns = b.val('P').map_or(1.0, |p| p.round().max(1.0));
+        let mut arc = arc_between(center, p0, p1, ccw);
+        if turns > 1.0 {
+            arc.sweep += arc.sweep.signum() * (turns - 1.0) * TAU;
+        }
+        if self.st.plane == Plane::Xy {
+            let m = self.motion(MotionKind::Feed, to, Some(arc));
+            self.push(m);
+            self.st.pos = to;
+            return;
+        }
+        let n = ((arc.sweep.abs() / CHORD_ANGLE).ceil() as usize).clamp(1, 1_000_000);
+        for s in 1..=n {
+            let t = s as f64 / n as f64;
+            let q = if s == n { p1 } else { arc.eval(t) };
+            let mut pt = DVec3::ZERO;
+            pt[u] = q.x;
+            pt[v] = q.y;
+            pt[w] = from[w] + (to[w] - from[w]) * t;
+            let m = self.motion(MotionKind::Feed, pt, None);
+            self.push(m);
+            self.st.pos = pt;
+        }
+        self.st.pos = to;
+    }
+
+    fn radius_tolerance(&self) -> f64 {
+        match self.cfg.dialect {
+            Dialect::Generic | Dialect::Linuxcnc => {
+                let lc = if self.st.units == Units::Inch {
+                    0.002 * 25.4
+                } else {
+                    LINUXCNC_RADIUS_TOLERANCE_MM
+                };
+                self.cfg.arc_radius_tolerance.max(lc)
+            }
+            _ => self.cfg.arc_radius_tolerance,
+        }
+    }
+
+    /// Canned cycles in the XY plane, expanded as LinuxCNC does (`convert_cycle_xy`):
+    /// preliminary rapid up to R when below it, then per repeat (L): rapid in XY at the
+    /// current height, rapid down to R, the cycle's own moves, retract to R (G99) or to the
+    /// height before the cycle (G98).
+    fn cycle(&mut self, code: i64, b: &mut Block) {
+        let k = self.st.k();
+        b.used_r = true;
+        b.used_l = true;
+        b.used_p = true;
+        b.used_q = true;
+        if self.st.plane != Plane::Xy {
+            self.err(
+                "unsupported-code",
+                None,
+                format!("G{} outside the XY plane is not supported", fmt_code(code)),
+            );
+            return;
+        }
+        if matches!(code, 870 | 760 | 840 | 740) && code != 840 {
+            self.err(
+                "unsupported-code",
+                None,
+                format!("G{} is not supported: its motion is skipped", fmt_code(code)),
+            );
+            return;
+        }
+        if let Some(r) = b.val('R') {
+            self.st.cycle_r = Some(r);
+        }
+        if let Some(z) = b.val('Z') {
+            self.st.cycle_z = Some(z);
+        }
+        if let Some(q) = b.val('Q') {
+            self.st.cycle_q = Some(q);
+        }
+        if let Some(p) = b.val('P') {
+            self.st.cycle_p = Some(p);
+        }
+        let (Some(r), Some(z)) = (self.st.cycle_r, self.st.cycle_z) else {
+            self.err(
+                "invalid-value",
+                None,
+                format!("G{} needs R and Z", fmt_code(code)),
+            );
+            return;
+        };
+        let off = self.st.offset();
+        let old_z = *self.st.cycle_start_z.get_or_insert(self.st.pos.z);
+        // R and Z in machine coordinates; incremental (G91): R from the Z where the series of
+        // cycles started, Z from R (as rs274 does).
+        let (r_m, z_m) = if self.st.absolute {
+            (r * k + off.z, z * k + off.z)
+        } else {
+            (old_z + r * k, old_z + r * k + z * k)
+        };
+        if z_m > r_m {
+            self.err(
+                "invalid-value",
+                None,
+                "canned cycle bottom Z is above the R plane".into(),
+            );
+            return;
+        }
+        let q = self.st.cycle_q.map(|q| q * k);
+        if matches!(code, 730 | 830) && q.is_none_or(|q| q <= 0.0) {
+            self.err(
+                "invalid-value",
+                None,
+                format!("G{} needs Q > 0 (peck depth)", fmt_code(code)),
+            );
+            return;
+        }
+        let dwell = self.st.cycle_p.unwrap_or(0.0);
+        let reps = b.val('L').map_or(1, |l| l.round().max(0.0) as usize);
+        if self.st.pos.z < r_m {
+            let p = DVec3::new(self.st.pos.x, self.st.pos.y, r_m);
+            self.straight(MotionKind::Rapid, p);
+        }
+        let clear = if self.st.retract_r {
+            r_m
+        } else {
+            old_z.max(r_m)
+        };
+        let mut cur_z = self.st.pos.z;
+        for rep in 0..reps {
+            // X Y (or polar @ ^) of this hole; in G91 each repeat moves by X Y again.
+            let _ = rep;
+            let mut xy = self.st.pos;
+            if b.val('@').is_some() || b.val('^').is_some() {
+                let mut pb = b.clone();
+                pb.vals[2] = None;
+                xy = self.target(&pb);
+            } else {
+                for (i, c) in ['X', 'Y'].into_iter().enumerate() {
+                    if let Some(v) = b.val(c) {
+                        xy[i] = if self.st.absolute {
+                            v * k + off[i]
+                        } else {
+                            self.st.pos[i] + v * k
+                        };
+                    }
+                }
+            }
+            self.straight(MotionKind::Rapid, DVec3::new(xy.x, xy.y, cur_z));
+            if cur_z != r_m {
+                self.straight(MotionKind::Rapid, DVec3::new(xy.x, xy.y, r_m));
+            }
+            let at = |z: f64| DVec3::new(xy.x, xy.y, z);
+            match code {
+                810 => {
+                    self.straight(MotionKind::Feed, at(z_m));
+                    self.straight(MotionKind::Rapid, at(clear));
+                }
+                820 | 890 | 860 | 880 | 850 => {
+                    self.straight(MotionKind::Feed, at(z_m));
+                    if code != 850 && dwell > 0.0 {
+                        let m = self.motion(MotionKind::Dwell { seconds: dwell }, at(z_m), None);
+                        self.prog.motions.push(m);
+                    }
+                    match code {
+                        850 | 890 => {
+                            self.straight(MotionKind::Feed, at(r_m));
+                            self.straight(MotionKind::Rapid, at(clear));
+                        }
+                        _ => self.straight(MotionKind::Rapid, at(clear)),
+                    }
+                }
+                840 => {
+                    self.straight(MotionKind::Feed, at(z_m));
+                    self.straight(MotionKind::Feed, at(r_m));
+                    self.straight(MotionKind::Rapid, at(clear));
+                }
+                730 | 830 => {
+                    let q = q.unwrap_or(1.0);
+                    let mut depth = r_m;
+                    while depth > z_m {
+                        let next = (depth - q).max(z_m);
+                        if code == 830 && depth < r_m {
+                            self.straight(MotionKind::Rapid, at(depth + PECK_CLEARANCE_MM));
+                        }
+                        self.straight(MotionKind::Feed, at(next));
+                        depth = next;
+                        if depth > z_m {
+                            if code == 830 {
+                                self.straight(MotionKind::Rapid, at(r_m));
+                            } else {
+                                self.straight(MotionKind::Rapid, at(depth + PECK_CLEARANCE_MM));
+                            }
+                        }
+                    }
+                    self.straight(MotionKind::Rapid, at(clear));
+                }
+                _ => {}
+            }
+            cur_z = clear;
+        }
+    }
 }
 
-fn lex_finding(column: usize, kind: &LexErrorKind, line: usize) -> Finding {
-    let (id, msg) = match kind {
-        LexErrorKind::MissingNumber(c) => ("gcode-syntax", format!("'{c}' without a number")),
-        LexErrorKind::Unexpected(c) => ("gcode-syntax", format!("unexpected character {c:?}")),
-        LexErrorKind::UnclosedComment => ("gcode-syntax", "'(' comment not closed".into()),
-        LexErrorKind::MalformedChecksum => ("bad-checksum", "'*' without a checksum".into()),
-        LexErrorKind::BadChecksum { expected, found } => (
-            "bad-checksum",
-            format!("checksum {found} does not match the line (expected {expected})"),
-        ),
-        LexErrorKind::TrailingAfterChecksum => {
-            ("gcode-syntax", "text after the checksum".to_string())
-        }
-    };
-    Finding::new(id, Severity::Error, msg)
-        .line(line)
-        .column(column)
+/// Parameter access for expressions.
+struct View<'v, 'a, 'o> {
+    it: &'v Interp<'a, 'o>,
 }
+
+/// Named parameters LinuxCNC predefines (read-only).
+fn predefined(name: &str) -> bool {
+    const NAMES: [&str; 33] = [
+        "_x", "_y", "_z", "_a", "_b", "_c", "_u", "_v", "_w", "_abs_x", "_abs_y", "_abs_z",
+        "_line", "_motion_mode", "_plane", "_metric", "_imperial", "_absolute",
+        "_incremental", "_inverse_time", "_units_per_minute", "_units_per_rev",
+        "_coord_system", "_tool_offset", "_retract_r_plane", "_retract_old_z",
+        "_current_tool", "_selected_tool", "_feed", "_rpm", "_call_level", "_task",
+        "_value",
+    ];
+    NAMES.contains(&name)
+        || matches!(
+            name,
+            "_value_returned" | "_vmajor" | "_vminor" | "_spindle_on" | "_flood" | "_mist"
+        )
+}
+
+impl ParamSource for View<'_, '_, '_> {
+    fn numbered(&self, n: i64) -> f64 {
+        let st = &self.it.st;
+        let k = st.k();
+        let n = n as usize;
+        match n {
+            5400 => st.current_tool as f64,
+            5401..=5409 => st.tlo.to_array().get(n - 5401).map_or(0.0, |v| v / k),
+            5420..=5428 => st
+                .program_pos()
+                .to_array()
+                .get(n - 5420)
+                .map_or(0.0, |v| v / k),
+            5161..=5169 | 5181..=5189 | 5211..=5219 | 5221..=5400 => {
+                let base = (n - 1) % 10;
+                let axis_like = base < 3 || (n >= 5221 && (n - 5221) % 20 < 3);
+                if axis_like {
+                    self.it.params[n] / k
+                } else {
+                    self.it.params[n]
+                }
+            }
+            _ => self.it.params[n],
+        }
+    }
+
+    fn named(&self, name: &str) -> Option<f64> {
+        let it = self.it;
+        if !name.starts_with('_') {
+            return it.locals.get(name).copied();
+        }
+        if let Some(v) = it.globals.get(name) {
+            return Some(*v);
+        }
+        let st = &it.st;
+        let k = st.k();
+        let t = |c: bool| if c { 1.0 } else { 0.0 };
+        let pp = st.program_pos() / k;
+        Some(match name {
+            "_x" => pp.x,
+            "_y" => pp.y,
+            "_z" => pp.z,
+            "_a" | "_b" | "_c" | "_u" | "_v" | "_w" => 0.0,
+            "_abs_x" => st.pos.x / k,
+            "_abs_y" => st.pos.y / k,
+            "_abs_z" => st.pos.z / k,
+            "_line" => it.line as f64,
+            "_motion_mode" => match st.mode {
+                Mode::Rapid => 0.0,
+                Mode::Linear => 10.0,
+                Mode::ArcCw => 20.0,
+                Mode::ArcCcw => 30.0,
+                Mode::Cycle(c) => c as f64,
+                Mode::Off => 800.0,
+            },
+            "_plane" => match st.plane {
+                Plane::Xy => 170.0,
+                Plane::Xz => 180.0,
+                Plane::Yz => 190.0,
+            },
+            "_metric" => t(st.units == Units::Mm),
+            "_imperial" => t(st.units == Units::Inch),
+            "_absolute" => t(st.absolute),
+            "_incremental" => t(!st.absolute),
+            "_inverse_time" => t(st.feed_mode == FeedMode::InverseTime),
+            "_units_per_minute" => t(st.feed_mode == FeedMode::PerMinute),
+            "_units_per_rev" => t(st.feed_mode == FeedMode::PerRev),
+            "_coord_system" => [540.0, 550.0, 560.0, 570.0, 580.0, 590.0, 591.0, 592.0, 593.0]
+                [st.cs.clamp(1, 9) - 1],
+            "_tool_offset" => t(st.tlo != DVec3::ZERO),
+            "_retract_r_plane" => t(st.retract_r),
+            "_retract_old_z" => t(!st.retract_r),
+            "_current_tool" => st.current_tool as f64,
+            "_selected_tool" => st.selected_tool as f64,
+            "_feed" => st.feed,
+            "_rpm" => st.tool.s,
+            "_spindle_on" => t(st.tool.spindle != Spindle::Off),
+            "_flood" => t(st.flood),
+            "_mist" => t(st.mist),
+            "_call_level" => it.calls.len() as f64,
+            "_task" => 0.0,
+            "_vmajor" => 2.0,
+            "_vminor" => 9.0,
+            "_value" => it.value.unwrap_or(0.0),
+            "_value_returned" => t(it.value.is_some()),
+            _ => return None,
+        })
+    }
+}
+
+// Modal groups (LinuxCNC manual, "Modal groups").
+const G_NONMODAL: usize = 0;
+const G_MOTION: usize = 1;
+const G_PLANE: usize = 2;
+const G_DISTANCE: usize = 3;
+const G_ARC_DISTANCE: usize = 4;
+const G_FEED_MODE: usize = 5;
+const G_UNITS: usize = 6;
+const G_COMP: usize = 7;
+const G_TLO: usize = 8;
+const G_RETURN: usize = 9;
+const G_COORD: usize = 10;
+const G_PATH: usize = 11;
+const G_SPINDLE: usize = 12;
+const G_LATHE: usize = 13;
+const M_STOP: usize = 14;
+const M_TOOL: usize = 15;
+const M_SPINDLE: usize = 16;
+const M_COOLANT: usize = 17;
+const M_COOLANT2: usize = 18;
+const M_OVERRIDE: usize = 19;
+const M_IO: usize = 20;
+const M_STATE: usize = 21;
+const M_USER: usize = 22;
+const GROUPS: usize = 23;
+
+const LETTERS: [char; 24] = [
+    'X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'S', 'P', 'Q', 'L', 'T', 'H', 'D', 'A', 'B', 'C',
+    'U', 'V', 'W', '@', '^', 'E',
+];
 
 /// The words of one block sorted into what the interpreter needs.
-#[derive(Default)]
+#[derive(Clone)]
 struct Block {
-    line: usize,
-    g_motion: Option<(MotionMode, usize)>,
-    dwell: bool,
-    plane: Option<Plane>,
-    units: Option<Units>,
-    absolute: Option<bool>,
-    arc_absolute: Option<bool>,
-    spindle: Option<Spindle>,
-    end: bool,
-    /// Letter values: X Y Z I J K R F S P, in this order.
-    vals: [Option<f64>; 10],
-    cols: [usize; 10],
+    groups: [Option<i64>; GROUPS],
+    vals: [Option<f64>; 24],
+    cols: [usize; 24],
+    tool_before: ToolState,
+    machine_coords: bool,
+    axes_used: bool,
+    used_arc: bool,
+    used_i: bool,
+    used_r: bool,
+    used_p: bool,
+    used_q: bool,
+    used_l: bool,
+    used_h: bool,
+    used_d: bool,
+    used_all: bool,
 }
 
-const LETTERS: [char; 10] = ['X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'S', 'P'];
-
 impl Block {
-    fn new(line: usize) -> Self {
+    fn new() -> Self {
         Block {
-            line,
-            ..Default::default()
+            groups: [None; GROUPS],
+            vals: [None; 24],
+            cols: [0; 24],
+            tool_before: ToolState::default(),
+            machine_coords: false,
+            axes_used: false,
+            used_arc: false,
+            used_i: false,
+            used_r: false,
+            used_p: false,
+            used_q: false,
+            used_l: false,
+            used_h: false,
+            used_d: false,
+            used_all: false,
         }
-    }
-
-    fn diag(&self, prog: &mut Program, id: &'static str, sev: Severity, col: usize, msg: String) {
-        prog.diagnostics
-            .push(Finding::new(id, sev, msg).line(self.line).column(col));
     }
 
     fn val(&self, c: char) -> Option<f64> {
@@ -169,355 +2322,24 @@ impl Block {
             .and_then(|i| self.vals[i])
     }
 
-    fn collect(&mut self, words: &[Word], prog: &mut Program) {
-        for w in words {
-            let col = w.column;
-            match w.letter {
-                'G' => self.g_code(w, prog),
-                'M' => self.m_code(w, prog),
-                'N' | 'T' | 'Q' => prog.words += 1,
-                c => match LETTERS.iter().position(|&l| l == c) {
-                    Some(i) => {
-                        prog.words += 1;
-                        if self.vals[i].is_some() {
-                            self.diag(
-                                prog,
-                                "duplicate-word",
-                                Severity::Error,
-                                col,
-                                format!("{c} appears twice in the block; the first is used"),
-                            );
-                        } else {
-                            self.vals[i] = Some(w.value);
-                            self.cols[i] = col;
-                        }
-                    }
-                    None => self.diag(
-                        prog,
-                        "unknown-word",
-                        Severity::Warning,
-                        col,
-                        format!("word {c}{} is not supported and ignored", w.value),
-                    ),
-                },
-            }
-        }
+    fn col(&self, c: char) -> usize {
+        LETTERS
+            .iter()
+            .position(|&l| l == c)
+            .map_or(1, |i| self.cols[i])
     }
 
-    /// The code as an integer number of tenths (G90.1 → 901), None if not a tenth.
-    fn tenths(v: f64) -> Option<i64> {
-        let t = (v * 10.0).round();
-        ((v * 10.0 - t).abs() < 1e-6 && t.abs() < 1e9).then_some(t as i64)
+    fn has_axis(&self) -> bool {
+        ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W', '@', '^']
+            .into_iter()
+            .any(|c| self.val(c).is_some())
     }
+}
 
-    fn g_code(&mut self, w: &Word, prog: &mut Program) {
-        let col = w.column;
-        let Some(code) = Self::tenths(w.value) else {
-            self.diag(
-                prog,
-                "unknown-code",
-                Severity::Error,
-                col,
-                format!("G{} is not a G-code", w.value),
-            );
-            return;
-        };
-        prog.words += 1;
-        let motion = |m| Some(m);
-        let mm = match code {
-            0 => motion(MotionMode::Rapid),
-            10 => motion(MotionMode::Linear),
-            20 => motion(MotionMode::ArcCw),
-            30 => motion(MotionMode::ArcCcw),
-            _ => None,
-        };
-        if let Some(m) = mm {
-            if let Some((_, c0)) = self.g_motion {
-                self.diag(
-                    prog,
-                    "modal-conflict",
-                    Severity::Error,
-                    col,
-                    format!(
-                        "two motion codes in one block (first at column {c0}); the last is used"
-                    ),
-                );
-            }
-            self.g_motion = Some((m, col));
-            return;
-        }
-        match code {
-            40 => self.dwell = true,
-            170 => self.plane = Some(Plane::Xy),
-            180 | 190 => {
-                self.plane = Some(if code == 180 { Plane::Xz } else { Plane::Yz });
-                self.diag(
-                    prog,
-                    "unsupported-code",
-                    Severity::Error,
-                    col,
-                    format!(
-                        "G{} plane selection is not supported: arcs in it are skipped",
-                        code / 10
-                    ),
-                );
-            }
-            200 => self.units = Some(Units::Inch),
-            210 => self.units = Some(Units::Mm),
-            900 => self.absolute = Some(true),
-            910 => self.absolute = Some(false),
-            901 => self.arc_absolute = Some(true),
-            911 => self.arc_absolute = Some(false),
-            // Work offset 1 (identity here), feed per minute, cancel codes, path control.
-            540 | 940 | 400 | 490 | 800 | 610 | 611 | 640 => {}
-            280
-            | 300
-            | 530
-            | 550
-            | 560
-            | 570
-            | 580
-            | 590
-            | 920
-            | 930
-            | 410
-            | 420
-            | 430
-            | 100
-            | 50
-            | 51
-            | 382
-            | 383
-            | 384
-            | 385
-            | 810..=890 => self.diag(
-                prog,
-                "unsupported-code",
-                Severity::Error,
-                col,
-                format!(
-                    "G{} is not supported: the motion after it may be wrong",
-                    fmt_code(code)
-                ),
-            ),
-            _ => self.diag(
-                prog,
-                "unknown-code",
-                Severity::Error,
-                col,
-                format!("unknown code G{}", fmt_code(code)),
-            ),
-        }
-    }
-
-    fn m_code(&mut self, w: &Word, prog: &mut Program) {
-        let col = w.column;
-        let code = Self::tenths(w.value);
-        if code.is_some() {
-            prog.words += 1;
-        }
-        match code {
-            Some(30) => self.spindle = Some(Spindle::Cw),
-            Some(40) => self.spindle = Some(Spindle::Ccw),
-            Some(50) => self.spindle = Some(Spindle::Off),
-            Some(20) | Some(300) => self.end = true,
-            // Pause, optional pause, tool change, coolant.
-            Some(0) | Some(10) | Some(60) | Some(70) | Some(80) | Some(90) => {}
-            _ => self.diag(
-                prog,
-                "unknown-code",
-                Severity::Warning,
-                col,
-                format!("unknown code M{} ignored", w.value),
-            ),
-        }
-    }
-
-    /// Runs the block; returns true at a program end.
-    fn execute(&self, st: &mut State, prog: &mut Program, arc_tol: f64) -> bool {
-        if let Some(u) = self.units {
-            st.units = u;
-        }
-        if let Some(a) = self.absolute {
-            st.absolute = a;
-        }
-        if let Some(a) = self.arc_absolute {
-            st.arc_absolute = a;
-        }
-        if let Some(p) = self.plane {
-            st.plane = p;
-        }
-        let k = st.units.to_mm();
-        if let Some(f) = self.val('F') {
-            if f > 0.0 {
-                st.feed = f;
-            } else {
-                self.diag(
-                    prog,
-                    "invalid-value",
-                    Severity::Error,
-                    self.cols[7],
-                    format!("feed F{f} must be positive"),
-                );
-            }
-        }
-        let mut next = (st.tool.spindle, st.tool.s);
-        if let Some(s) = self.val('S') {
-            if s >= 0.0 {
-                next.1 = s;
-            } else {
-                self.diag(
-                    prog,
-                    "invalid-value",
-                    Severity::Error,
-                    self.cols[8],
-                    format!("S{s} must not be negative"),
-                );
-            }
-        }
-        if let Some(sp) = self.spindle {
-            next.0 = sp;
-        }
-        st.tool.switch(next.0, next.1);
-        if self.dwell {
-            match self.val('P') {
-                Some(p) if p >= 0.0 => prog.motions.push(Motion {
-                    kind: MotionKind::Dwell { seconds: p },
-                    from: st.pos,
-                    to: st.pos,
-                    arc: None,
-                    feed: st.feed * k,
-                    tool: st.tool,
-                    line: self.line,
-                }),
-                _ => self.diag(
-                    prog,
-                    "invalid-value",
-                    Severity::Error,
-                    1,
-                    "G4 needs P with the dwell in seconds (P ≥ 0)".into(),
-                ),
-            }
-        }
-        if let Some((m, _)) = self.g_motion {
-            st.mode = Some(m);
-        }
-        let has_axis =
-            self.val('X').is_some() || self.val('Y').is_some() || self.val('Z').is_some();
-        let has_arc_word =
-            self.val('I').is_some() || self.val('J').is_some() || self.val('R').is_some();
-        if has_axis || (has_arc_word && !self.dwell) {
-            match st.mode {
-                None => self.diag(
-                    prog,
-                    "no-motion-mode",
-                    Severity::Error,
-                    1,
-                    "axis words before any G0/G1/G2/G3".into(),
-                ),
-                Some(mode) => self.motion(mode, st, prog, arc_tol),
-            }
-        }
-        if self.end {
-            prog.end = Some(ProgramEnd {
-                line: self.line,
-                tool_before: st.tool,
-            });
-            // M2/M30 stop the spindle and reset the distance mode on real controllers.
-            st.tool.switch(Spindle::Off, st.tool.s);
-            st.absolute = true;
-            return true;
-        }
-        false
-    }
-
-    fn target(&self, st: &State) -> DVec3 {
-        let k = st.units.to_mm();
-        let mut t = st.pos;
-        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-            if let Some(v) = self.val(c) {
-                t[i] = if st.absolute { v * k } else { t[i] + v * k };
-            }
-        }
-        t
-    }
-
-    fn motion(&self, mode: MotionMode, st: &mut State, prog: &mut Program, arc_tol: f64) {
-        let to = self.target(st);
-        let from = st.pos;
-        let k = st.units.to_mm();
-        let mut m = Motion {
-            kind: MotionKind::Feed,
-            from,
-            to,
-            arc: None,
-            feed: st.feed * k,
-            tool: st.tool,
-            line: self.line,
-        };
-        match mode {
-            MotionMode::Rapid | MotionMode::Linear => {
-                if mode == MotionMode::Rapid {
-                    m.kind = MotionKind::Rapid;
-                }
-                if from != to {
-                    prog.motions.push(m);
-                }
-            }
-            MotionMode::ArcCw | MotionMode::ArcCcw => {
-                if st.plane != Plane::Xy {
-                    self.diag(
-                        prog,
-                        "unsupported-code",
-                        Severity::Error,
-                        1,
-                        "arc outside the XY plane (G18/G19) skipped".into(),
-                    );
-                } else {
-                    match self.arc(mode == MotionMode::ArcCcw, st, from, to, arc_tol) {
-                        Ok(a) => {
-                            m.arc = Some(a);
-                            prog.motions.push(m);
-                        }
-                        Err(msg) => self.diag(prog, "invalid-arc", Severity::Error, 1, msg),
-                    }
-                }
-            }
-        }
-        st.pos = to;
-    }
-
-    /// The xy arc of a G2/G3 block from `from` to `to`.
-    fn arc(&self, ccw: bool, st: &State, from: DVec3, to: DVec3, tol: f64) -> Result<Arc, String> {
-        let k = st.units.to_mm();
-        let p0 = from.truncate();
-        let p1 = to.truncate();
-        let center = if let Some(r) = self.val('R') {
-            if self.val('I').is_some() || self.val('J').is_some() {
-                return Err("arc with both R and I/J".into());
-            }
-            r_center(p0, p1, r * k, ccw, tol)?
-        } else {
-            let off = DVec2::new(
-                self.val('I').unwrap_or(0.0) * k,
-                self.val('J').unwrap_or(0.0) * k,
-            );
-            let c = if st.arc_absolute { off } else { p0 + off };
-            let r0 = p0.distance(c);
-            let r1 = p1.distance(c);
-            if r0 == 0.0 {
-                return Err("arc centre at its start point".into());
-            }
-            let diff = (r0 - r1).abs();
-            if diff > tol && diff > RADIUS_RELATIVE_TOLERANCE * r0 {
-                return Err(format!(
-                    "radius to end {r1:.4} differs from radius to start {r0:.4} by {diff:.4} mm"
-                ));
-            }
-            c
-        };
-        Ok(arc_between(center, p0, p1, ccw))
-    }
+/// The code as an integer number of tenths (G90.1 → 901), None if not a tenth.
+fn tenths(v: f64) -> Option<i64> {
+    let t = (v * 10.0).round();
+    ((v * 10.0 - t).abs() < 1e-6 && t.abs() < 1e9 && t >= 0.0).then_some(t as i64)
 }
 
 /// Centre of the arc of signed radius `r` from `p0` to `p1` (RS274 R format: r > 0 takes the
@@ -578,117 +2400,5 @@ fn fmt_code(tenths: i64) -> String {
         (tenths / 10).to_string()
     } else {
         format!("{}.{}", tenths / 10, (tenths % 10).abs())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::f64::consts::PI;
-
-    fn run(src: &str) -> Program {
-        interpret(src, 0.005)
-    }
-
-    fn ids(p: &Program) -> Vec<(&'static str, usize)> {
-        p.diagnostics
-            .iter()
-            .map(|d| (d.id, d.lines.first().copied().unwrap_or(0)))
-            .collect()
-    }
-
-    #[test]
-    fn modal_lines_inch_relative() {
-        let p = run("G20 G91\nG1 X1 Y1 F10\nX1\nG90 G0 X0 Y0\nM2");
-        assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
-        assert_eq!(p.motions.len(), 3);
-        let m = &p.motions[1];
-        assert!((m.to - DVec3::new(50.8, 25.4, 0.0)).length() < 1e-12);
-        assert_eq!(m.line, 3);
-        assert!((m.feed - 254.0).abs() < 1e-12);
-        assert_eq!(p.motions[2].kind, MotionKind::Rapid);
-        assert_eq!(p.end.map(|e| e.line), Some(5));
-    }
-
-    #[test]
-    fn ij_arcs_and_full_circle() {
-        // Quarter CCW about the origin, then a CW full circle about (0, 0).
-        let p = run("G0 X10 Y0\nG3 X0 Y10 I-10 J0 F100\nG2 X0 Y10 I0 J-10");
-        assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
-        let q = p.motions[1]
-            .arc
-            .unwrap_or(Arc::new(DVec2::ZERO, 0.0, 0.0, 0.0));
-        assert!((q.sweep - PI / 2.0).abs() < 1e-12);
-        assert!((p.motions[1].length() - 5.0 * PI).abs() < 1e-9);
-        let c = p.motions[2].arc.unwrap_or(q);
-        assert!((c.sweep + 2.0 * PI).abs() < 1e-12);
-        assert!(c.center.length() < 1e-12);
-        // Absolute IJ gives the same arc.
-        let a = run("G90.1\nG0 X10 Y0\nG3 X0 Y10 I0 J0 F100");
-        assert_eq!(a.motions[1].arc, p.motions[1].arc);
-    }
-
-    #[test]
-    fn r_arcs_short_and_long() {
-        for (code, r, sweep) in [
-            ("G3", 10.0, PI / 2.0),
-            ("G3", -10.0, 1.5 * PI),
-            ("G2", 10.0, -PI / 2.0),
-            ("G2", -10.0, -1.5 * PI),
-        ] {
-            let p = run(&format!("G0 X10 Y0\n{code} X0 Y10 R{r} F50"));
-            assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
-            let a = p.motions[1]
-                .arc
-                .unwrap_or(Arc::new(DVec2::ZERO, 0.0, 0.0, 0.0));
-            assert!((a.sweep - sweep).abs() < 1e-9, "{code} R{r}: {}", a.sweep);
-            assert!((a.radius - 10.0).abs() < 1e-9);
-            assert!((a.p1() - DVec2::new(0.0, 10.0)).length() < 1e-9);
-        }
-    }
-
-    #[test]
-    fn bad_arcs_are_diagnosed() {
-        let p = run("G0 X10\nG3 X0 Y12 I-10 F10\nG2 X10 Y12 R1\nG2 X10 Y12 R5");
-        assert_eq!(
-            ids(&p),
-            vec![("invalid-arc", 2), ("invalid-arc", 3), ("invalid-arc", 4)]
-        );
-    }
-
-    #[test]
-    fn tool_state_and_dwell() {
-        let p = run("M4 S300\nG1 X5 F200\nG4 P1.5\nM5\nG0 X0\nM30");
-        assert_eq!(p.motions[0].tool.spindle, Spindle::Ccw);
-        assert_eq!(p.motions[0].tool.s, 300.0);
-        assert_eq!(p.motions[1].kind, MotionKind::Dwell { seconds: 1.5 });
-        assert!(!p.motions[2].tool.is_on());
-        assert!(p.end.is_some());
-    }
-
-    #[test]
-    fn diagnostics_keep_going() {
-        let p = run("G1 X1 F10\nG1 X2 E5\nG28\nM123\nG1 G0 X3\nX4 X5\nG1 Q\nG1 X6\nM2\nG1 X7");
-        let got = ids(&p);
-        for want in [
-            ("unknown-word", 2),
-            ("unsupported-code", 3),
-            ("unknown-code", 4),
-            ("modal-conflict", 5),
-            ("duplicate-word", 6),
-            ("gcode-syntax", 7),
-            ("after-program-end", 10),
-        ] {
-            assert!(got.contains(&want), "{want:?} not in {got:?}");
-        }
-        assert!((p.motions.last().map(|m| m.to.x).unwrap_or(0.0) - 6.0).abs() < 1e-12);
-        assert_eq!(p.diagnostics[0].column, Some(7));
-    }
-
-    #[test]
-    fn no_motion_mode() {
-        let p = run("X1 Y1");
-        assert_eq!(ids(&p), vec![("no-motion-mode", 1)]);
-        assert!(p.motions.is_empty());
     }
 }

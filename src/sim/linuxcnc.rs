@@ -87,7 +87,13 @@ fn parse_line(l: &str) -> Option<Canon<'_>> {
     let seq: usize = seq.parse().ok()?;
     let rest = rest.trim_start();
     let nfield = rest.strip_prefix('N')?;
-    let (n, cmd) = nfield.split_once(char::is_whitespace)?;
+    // rs274 prints `N%-5d` then the command: at six digits and more there is no space left
+    // between the number and the command (`N100000STRAIGHT_FEED(...)`).
+    let nlen = nfield
+        .bytes()
+        .take_while(|c| c.is_ascii_digit() || *c == b'.')
+        .count();
+    let (n, cmd) = nfield.split_at(nlen);
     let cmd = cmd.trim();
     let open = cmd.find('(')?;
     let name = &cmd[..open];
@@ -126,6 +132,12 @@ pub fn parse_canon(text: &str) -> Program {
     let mut block_line = usize::MAX;
     let mut tool_at_block = tool;
     let mut pending_error: Option<Finding> = None;
+    // Program → machine coordinates: G5x origin + G92 offset + tool length offset (rs274
+    // prints positions in the program's coordinate system and the offsets separately).
+    let mut g5x = DVec3::ZERO;
+    let mut g92 = DVec3::ZERO;
+    let mut tlo = DVec3::ZERO;
+    let mut plane = [0usize, 1, 2];
     for (idx, raw) in text.lines().enumerate() {
         prog.lines = idx + 1;
         let Some(c) = parse_line(raw) else {
@@ -133,16 +145,17 @@ pub fn parse_canon(text: &str) -> Program {
             if t.is_empty() || t == "executing" {
                 continue;
             }
-            match pending_error.take() {
-                // rs274 echoes the offending block after its message.
-                Some(mut f) => {
+            // rs274 prints its message, then echoes the offending block (which carries the
+            // source line in its N word).
+            // A line without such an echo is a message ((debug,…), (print,…)).
+            match (pending_error.take(), leading_n(t)) {
+                (Some(mut f), Some(n)) => {
                     f.message = format!("{} (in `{t}`)", f.message);
-                    if let Some(n) = leading_n(t) {
-                        f.lines = vec![n];
-                    }
+                    f.lines = vec![n];
                     prog.diagnostics.push(f);
                 }
-                None => {
+                (prev, _) => {
+                    prog.diagnostics.extend(prev.map(as_message));
                     pending_error = Some(
                         Finding::new("canon-error", Severity::Error, format!("rs274: {t}"))
                             .line(block_line.min(prog.last_line + 1)),
@@ -151,7 +164,7 @@ pub fn parse_canon(text: &str) -> Program {
             }
             continue;
         };
-        prog.diagnostics.extend(pending_error.take());
+        prog.diagnostics.extend(pending_error.take().map(as_message));
         if c.line != block_line {
             block_line = c.line;
             tool_at_block = tool;
@@ -167,7 +180,30 @@ pub fn parse_canon(text: &str) -> Program {
                     _ => 1.0,
                 }
             }
-            "SELECT_PLANE" => plane_xy = c.args.first().copied() == Some("CANON_PLANE_XY"),
+            "SELECT_PLANE" => {
+                plane_xy = c.args.first().copied() == Some("CANON_PLANE_XY");
+                // (first, second, linear axis) of ARC_FEED in this plane.
+                plane = match c.args.first().copied() {
+                    Some("CANON_PLANE_XZ") => [2, 0, 1],
+                    Some("CANON_PLANE_YZ") => [1, 2, 0],
+                    _ => [0, 1, 2],
+                };
+            }
+            "SET_G5X_OFFSET" => {
+                if let (Some(x), Some(y), Some(z)) = (num(1), num(2), num(3)) {
+                    g5x = DVec3::new(x, y, z) * k;
+                }
+            }
+            "SET_G92_OFFSET" => {
+                if let (Some(x), Some(y), Some(z)) = (num(0), num(1), num(2)) {
+                    g92 = DVec3::new(x, y, z) * k;
+                }
+            }
+            "USE_TOOL_LENGTH_OFFSET" => {
+                if let (Some(x), Some(y), Some(z)) = (num(0), num(1), num(2)) {
+                    tlo = DVec3::new(x, y, z) * k;
+                }
+            }
             "SET_FEED_RATE" => feed = num(0).unwrap_or(0.0) * k,
             "SET_SPINDLE_SPEED" => {
                 let s = num(c.args.len().saturating_sub(1)).unwrap_or(0.0);
@@ -186,14 +222,15 @@ pub fn parse_canon(text: &str) -> Program {
                 feed,
                 tool,
                 line,
+                group: None,
             }),
-            "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => {
+            "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" | "STRAIGHT_PROBE" => {
                 let (Some(x), Some(y), Some(z)) = (num(0), num(1), num(2)) else {
                     prog.diagnostics.push(bad_args(&c, line));
                     continue;
                 };
-                let to = DVec3::new(x, y, z) * k;
-                let kind = if c.name == "STRAIGHT_FEED" {
+                let to = DVec3::new(x, y, z) * k + g5x + g92 + tlo;
+                let kind = if c.name != "STRAIGHT_TRAVERSE" {
                     MotionKind::Feed
                 } else {
                     MotionKind::Rapid
@@ -207,6 +244,7 @@ pub fn parse_canon(text: &str) -> Program {
                         feed,
                         tool,
                         line,
+                        group: None,
                     });
                 }
                 pos = to;
@@ -218,20 +256,43 @@ pub fn parse_canon(text: &str) -> Program {
                     prog.diagnostics.push(bad_args(&c, line));
                     continue;
                 };
-                let to = DVec3::new(ex, ey, ez) * k;
+                let off = g5x + g92 + tlo;
+                let mut to = DVec3::ZERO;
+                to[plane[0]] = ex * k + off[plane[0]];
+                to[plane[1]] = ey * k + off[plane[1]];
+                to[plane[2]] = ez * k + off[plane[2]];
+                let center =
+                    DVec2::new(cx * k + off[plane[0]], cy * k + off[plane[1]]);
                 if !plane_xy {
-                    prog.diagnostics.push(
-                        Finding::new(
-                            "unsupported-code",
-                            Severity::Error,
-                            "arc outside the XY plane skipped",
-                        )
-                        .line(line),
-                    );
+                    // Chords within CHORD_ANGLE, as the builtin interpreter splits them.
+                    let p0 = DVec2::new(pos[plane[0]], pos[plane[1]]);
+                    let p1 = DVec2::new(to[plane[0]], to[plane[1]]);
+                    let arc = canon_arc(center, p0, p1, rot);
+                    let n = ((arc.sweep.abs() / super::interp::CHORD_ANGLE).ceil() as usize)
+                        .clamp(1, 1_000_000);
+                    let from = pos;
+                    for s in 1..=n {
+                        let t = s as f64 / n as f64;
+                        let q = if s == n { p1 } else { arc.eval(t) };
+                        let mut pt = DVec3::ZERO;
+                        pt[plane[0]] = q.x;
+                        pt[plane[1]] = q.y;
+                        pt[plane[2]] = from[plane[2]] + (to[plane[2]] - from[plane[2]]) * t;
+                        prog.motions.push(Motion {
+                            kind: MotionKind::Feed,
+                            from: pos,
+                            to: pt,
+                            arc: None,
+                            feed,
+                            tool,
+                            line,
+                            group: None,
+                        });
+                        pos = pt;
+                    }
                     pos = to;
                     continue;
                 }
-                let center = DVec2::new(cx, cy) * k;
                 let arc = canon_arc(center, pos.truncate(), to.truncate(), rot);
                 prog.motions.push(Motion {
                     kind: MotionKind::Feed,
@@ -241,6 +302,7 @@ pub fn parse_canon(text: &str) -> Program {
                     feed,
                     tool,
                     line,
+                    group: None,
                 });
                 pos = to;
             }
@@ -256,9 +318,16 @@ pub fn parse_canon(text: &str) -> Program {
             prog.last_line = prog.last_line.max(line);
         }
     }
-    prog.diagnostics.extend(pending_error);
+    prog.diagnostics.extend(pending_error.map(as_message));
     prog.final_tool = tool;
     prog
+}
+
+/// An rs274 output line that no echoed block followed: a message, not an error.
+fn as_message(f: Finding) -> Finding {
+    let mut m = Finding::new("canon-message", Severity::Info, f.message);
+    m.lines = f.lines;
+    m
 }
 
 fn bad_args(c: &Canon<'_>, line: usize) -> Finding {

@@ -23,12 +23,13 @@ pub mod interp;
 pub mod lexer;
 pub mod linuxcnc;
 pub mod motion;
+pub mod ngc;
 pub mod report;
 pub mod time;
 
 pub use checks::{DesignBoundary, KeepSide};
-pub use config::{CheckConfig, MachineKind};
-pub use motion::{Motion, MotionKind, Program, Spindle, ToolState, Units};
+pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry};
+pub use motion::{Event, Motion, MotionKind, Program, Spindle, ToolState, Units};
 pub use report::{Finding, Report, Severity, Stats};
 pub use time::TimeEstimate;
 
@@ -56,10 +57,32 @@ impl Backend {
 
 /// Reads `text` with `backend` (G-code for Builtin, rs274 canon output for LinuxCnc).
 pub fn load(backend: Backend, text: &str, cfg: &CheckConfig) -> Program {
-    match backend {
-        Backend::Builtin => interp::interpret(text, cfg.in_mm().arc_radius_tolerance),
+    load_with(backend, text, cfg, &interp::Options { load_sub: None })
+}
+
+/// [`load`] with interpreter options (the subroutine file loader).
+pub fn load_with(
+    backend: Backend,
+    text: &str,
+    cfg: &CheckConfig,
+    opts: &interp::Options<'_>,
+) -> Program {
+    let mut prog = match backend {
+        Backend::Builtin => interp::interpret_with(text, &cfg.in_mm(), opts),
         Backend::LinuxCnc => linuxcnc::parse_canon(text),
+    };
+    if backend == Backend::Builtin {
+        if text.trim().is_empty() {
+            prog.unusable = Some(if text.is_empty() {
+                "the file is empty".into()
+            } else {
+                "the file holds only blank lines".into()
+            });
+        } else if text.contains('\0') {
+            prog.unusable = Some("the file holds NUL bytes: it is binary, not G-code".into());
+        }
     }
+    prog
 }
 
 /// Reads and checks `text`; see [`load`] and [`check`].
@@ -69,13 +92,63 @@ pub fn check_text(
     cfg: &CheckConfig,
     design: &[DesignBoundary],
 ) -> Report {
-    let prog = load(backend, text, cfg);
+    check_text_with(
+        backend,
+        text,
+        cfg,
+        design,
+        &interp::Options { load_sub: None },
+    )
+}
+
+/// [`check_text`] with interpreter options.
+pub fn check_text_with(
+    backend: Backend,
+    text: &str,
+    cfg: &CheckConfig,
+    design: &[DesignBoundary],
+    opts: &interp::Options<'_>,
+) -> Report {
+    let prog = load_with(backend, text, cfg, opts);
     let mut r = check(&prog, cfg, design);
     r.backend = backend.name();
-    if text.contains('\0') {
-        r.usable = false;
-    }
     r
+}
+
+/// Decodes a file's bytes as G-code text: a UTF-8 byte-order mark is skipped and invalid
+/// UTF-8 is replaced (U+FFFD) with one warning naming the first lines where it occurs.
+pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Finding>) {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    match std::str::from_utf8(bytes) {
+        Ok(s) => (std::borrow::Cow::Borrowed(s), Vec::new()),
+        Err(_) => {
+            let mut lines = Vec::new();
+            let mut total = 0usize;
+            for (i, l) in bytes.split(|&b| b == b'\n').enumerate() {
+                if std::str::from_utf8(l).is_err() {
+                    total += 1;
+                    if lines.len() < 10 {
+                        lines.push(i + 1);
+                    }
+                }
+            }
+            let more = if total > lines.len() {
+                format!(" and {} more", total - lines.len())
+            } else {
+                String::new()
+            };
+            let f = Finding::new(
+                "invalid-utf8",
+                Severity::Warning,
+                format!(
+                    "bytes that are not UTF-8 were read as U+FFFD on {total} line(s){more} \
+                     (save the file as UTF-8 or ASCII)"
+                ),
+            )
+            .lines(lines);
+            (String::from_utf8_lossy(bytes), vec![f])
+        }
+    }
 }
 
 /// Runs every check and the time estimate on `prog`. `cfg` may be in inch; `design` is in
@@ -83,6 +156,14 @@ pub fn check_text(
 /// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
 pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
     let mm = cfg.in_mm();
+    if let Some(reason) = &prog.unusable {
+        return Report {
+            backend: Backend::Builtin.name(),
+            usable: false,
+            reason: Some(reason.clone()),
+            ..Default::default()
+        };
+    }
     let mut all = prog.diagnostics.clone();
     all.extend(checks::run_all(prog, &mm, design));
     let syntax = prog
@@ -91,6 +172,16 @@ pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Re
         .filter(|d| d.id == "gcode-syntax")
         .count();
     let usable = prog.words > 0 && syntax <= prog.words;
+    let reason = (!usable).then(|| {
+        if prog.words == 0 {
+            "no G-code word could be read".to_string()
+        } else {
+            format!(
+                "{syntax} syntax errors against {} words read: this is not G-code",
+                prog.words
+            )
+        }
+    });
     let mut counts: Vec<(&'static str, usize)> = Vec::new();
     let mut findings = Vec::new();
     for f in all {
@@ -115,6 +206,7 @@ pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Re
     Report {
         backend: Backend::Builtin.name(),
         usable,
+        reason,
         findings,
         suppressed,
         stats: stats(prog, &mm),

@@ -70,6 +70,9 @@ pub struct Motion {
     pub tool: ToolState,
     /// 1-based source line.
     pub line: usize,
+    /// Group id from the latest `(skinpath:group N)` comment (cleared by
+    /// `(skinpath:group end)`): moves of one group belong together for the crossing check.
+    pub group: Option<u32>,
 }
 
 impl Motion {
@@ -185,6 +188,22 @@ pub struct Program {
     pub last_line: usize,
     /// Number of words (or canon commands) understood.
     pub words: usize,
+    /// Machine events in program order: pauses (M0/M1/M60), tool changes, coolant,
+    /// digital/analog outputs (M62–M68), messages.
+    pub events: Vec<Event>,
+    /// First line whose moves depend on the real machine (after G38.x probing or a user
+    /// M-code): positions from there on are uncertain.
+    pub uncertain_from: Option<usize>,
+    /// Why nothing usable could be read (empty file, binary data), when that is the case.
+    pub unusable: Option<String>,
+}
+
+/// A machine event that is not a move.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Event {
+    pub line: usize,
+    /// The code as written, e.g. `M8`, `M64 P2`, `M6 T3`.
+    pub code: String,
 }
 
 #[cfg(test)]
@@ -203,6 +222,7 @@ mod tests {
             feed: 100.0,
             tool: ToolState::default(),
             line: 1,
+            group: None,
         };
         // Unrolled helix: hypotenuse of circumference and drop.
         assert!((m.length() - (4.0 * PI).hypot(3.0)).abs() < 1e-12);

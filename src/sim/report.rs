@@ -106,6 +106,9 @@ pub struct Report {
     pub backend: &'static str,
     /// False when the input is not a G-code program at all (empty, binary, nothing parsed).
     pub usable: bool,
+    /// Why the input is not usable (when `usable` is false).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
     pub findings: Vec<Finding>,
     /// Findings left out per check id after `max_findings_per_check`.
     pub suppressed: Vec<(String, usize)>,
@@ -141,7 +144,13 @@ impl Report {
 impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if !self.usable {
-            writeln!(f, "input is not a usable G-code program")?;
+            match &self.reason {
+                Some(r) => writeln!(f, "input is not a usable G-code program: {r}")?,
+                None => writeln!(f, "input is not a usable G-code program")?,
+            }
+            if self.findings.is_empty() && self.stats.motions == 0 {
+                return write!(f, "nothing checked ({} backend)", self.backend);
+            }
         }
         for x in &self.findings {
             writeln!(f, "{x}")?;

@@ -1,0 +1,877 @@
+//! RS274NGC block syntax as LinuxCNC reads it: a line becomes words whose values are
+//! expressions, parameter assignments, an optional O-word statement and its comments.
+//!
+//! Following LinuxCNC's reader (manual, "G-code overview": *Format of a line*, *Parameters*,
+//! *Expressions*, *Binary operators*, *Functions*): outside comments, spaces and tabs are
+//! ignored and letters are case-insensitive (`g 1x [1 + 2 ]` is `G1 X3`); `;` starts a comment
+//! to the end of the line; `( )` comments are kept verbatim for `(debug,…)`, `(print,…)`,
+//! `(msg,…)` and the `(skinpath:group N)` hook. Values are real numbers, `#` parameters
+//! (`#12`, `##1`, `#[1+2]`, `#<name>`, `#<_global>`), bracketed expressions and unary
+//! functions (`SIN[30]`, `ATAN[1]/[2]`, `EXISTS[#<x>]`). A top-level `*` followed by digits is
+//! a RepRap/Marlin checksum (XOR of the bytes before it).
+//!
+//! Binary operator precedence, highest first (LinuxCNC `precedence()`): `**`; `*` `/` `MOD`;
+//! `+` `-`; `EQ NE GT GE LT LE`; `AND OR XOR`. Operators of equal precedence associate left.
+
+use std::f64::consts::PI;
+
+/// Two values compare equal (EQ/NE) when they differ by less than this: LinuxCNC's
+/// `TOLERANCE_EQUAL` (interp_internal.hh).
+pub const TOLERANCE_EQUAL: f64 = 0.0001;
+
+/// Highest numbered parameter (LinuxCNC `RS274NGC_MAX_PARAMETERS` − 1).
+pub const MAX_PARAMETER: i64 = 5601;
+
+/// Longest line LinuxCNC reads (`LINELEN` − 1).
+pub const MAX_LINE_LEN: usize = 255;
+
+/// Deepest bracket nesting accepted in one expression (a guard against stack exhaustion on
+/// hostile input; LinuxCNC programs nest a handful deep).
+const MAX_NESTING: usize = 64;
+
+/// A binary operator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinOp {
+    Pow,
+    Mul,
+    Div,
+    Mod,
+    Add,
+    Sub,
+    Eq,
+    Ne,
+    Gt,
+    Ge,
+    Lt,
+    Le,
+    And,
+    Or,
+    Xor,
+}
+
+impl BinOp {
+    /// LinuxCNC's precedence levels (higher binds tighter).
+    pub fn precedence(self) -> u8 {
+        match self {
+            BinOp::Pow => 6,
+            BinOp::Mul | BinOp::Div | BinOp::Mod => 5,
+            BinOp::Add | BinOp::Sub => 4,
+            BinOp::Eq | BinOp::Ne | BinOp::Gt | BinOp::Ge | BinOp::Lt | BinOp::Le => 3,
+            BinOp::And | BinOp::Or | BinOp::Xor => 2,
+        }
+    }
+}
+
+/// A unary function taking one bracketed argument.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Func {
+    Abs,
+    Acos,
+    Asin,
+    Cos,
+    Exp,
+    Fix,
+    Fup,
+    Ln,
+    Round,
+    Sin,
+    Sqrt,
+    Tan,
+}
+
+const FUNCS: [(&str, Func); 12] = [
+    ("abs", Func::Abs),
+    ("acos", Func::Acos),
+    ("asin", Func::Asin),
+    ("cos", Func::Cos),
+    ("exp", Func::Exp),
+    ("fix", Func::Fix),
+    ("fup", Func::Fup),
+    ("ln", Func::Ln),
+    ("round", Func::Round),
+    ("sin", Func::Sin),
+    ("sqrt", Func::Sqrt),
+    ("tan", Func::Tan),
+];
+
+/// A parameter reference: numbered (`#expr`) or named (`#<name>`, lower-cased, spaces
+/// removed; a leading `_` makes it global).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamRef {
+    Num(Box<Expr>),
+    Named(String),
+}
+
+/// An expression tree.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expr {
+    Num(f64),
+    Param(ParamRef),
+    Neg(Box<Expr>),
+    Func(Func, Box<Expr>),
+    /// `ATAN[y]/[x]`: the angle of (x, y) in degrees.
+    Atan(Box<Expr>, Box<Expr>),
+    /// `EXISTS[#<name>]`.
+    Exists(String),
+    Bin(BinOp, Box<Expr>, Box<Expr>),
+}
+
+/// Where expressions read parameters.
+pub trait ParamSource {
+    /// Numbered parameter `n` (already checked to be in 0..=[`MAX_PARAMETER`]).
+    fn numbered(&self, n: i64) -> f64;
+    /// Named parameter (lower case), `None` when it does not exist.
+    fn named(&self, name: &str) -> Option<f64>;
+}
+
+/// Rounds a parameter number: it must be within 1e-4 of an integer in 0..=5601.
+pub fn param_index(v: f64) -> Result<i64, String> {
+    let r = v.round();
+    if (v - r).abs() > TOLERANCE_EQUAL || !(0.0..=MAX_PARAMETER as f64).contains(&r) {
+        return Err(format!(
+            "parameter number {v} is not an integer in 0..={MAX_PARAMETER}"
+        ));
+    }
+    Ok(r as i64)
+}
+
+impl Expr {
+    /// Evaluates with LinuxCNC's semantics: angles in degrees, relational and logical
+    /// operators give 1.0 or 0.0, `MOD` gives a result with the sign of the divisor's
+    /// magnitude (non-negative), division by zero and domain errors are errors.
+    pub fn eval(&self, p: &dyn ParamSource) -> Result<f64, String> {
+        match self {
+            Expr::Num(v) => Ok(*v),
+            Expr::Param(ParamRef::Num(e)) => Ok(p.numbered(param_index(e.eval(p)?)?)),
+            Expr::Param(ParamRef::Named(n)) => p
+                .named(n)
+                .ok_or_else(|| format!("named parameter #<{n}> is not defined")),
+            Expr::Neg(e) => Ok(-e.eval(p)?),
+            Expr::Exists(n) => Ok(if p.named(n).is_some() { 1.0 } else { 0.0 }),
+            Expr::Atan(y, x) => Ok(y.eval(p)?.atan2(x.eval(p)?).to_degrees()),
+            Expr::Func(f, e) => func(*f, e.eval(p)?),
+            Expr::Bin(op, a, b) => binary(*op, a.eval(p)?, b.eval(p)?),
+        }
+    }
+}
+
+fn func(f: Func, v: f64) -> Result<f64, String> {
+    let deg = PI / 180.0;
+    Ok(match f {
+        Func::Abs => v.abs(),
+        Func::Acos => {
+            if !(-1.0..=1.0).contains(&v) {
+                return Err(format!("ACOS argument {v} is outside [-1, 1]"));
+            }
+            v.acos() / deg
+        }
+        Func::Asin => {
+            if !(-1.0..=1.0).contains(&v) {
+                return Err(format!("ASIN argument {v} is outside [-1, 1]"));
+            }
+            v.asin() / deg
+        }
+        Func::Cos => (v * deg).cos(),
+        Func::Exp => v.exp(),
+        Func::Fix => v.floor(),
+        Func::Fup => v.ceil(),
+        Func::Ln => {
+            if v <= 0.0 {
+                return Err(format!("LN argument {v} is not positive"));
+            }
+            v.ln()
+        }
+        // LinuxCNC: (int)(v + 0.5) for v ≥ 0, (int)(v − 0.5) below: halves away from zero.
+        Func::Round => v.round(),
+        Func::Sin => (v * deg).sin(),
+        Func::Sqrt => {
+            if v < 0.0 {
+                return Err(format!("SQRT argument {v} is negative"));
+            }
+            v.sqrt()
+        }
+        Func::Tan => (v * deg).tan(),
+    })
+}
+
+fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, String> {
+    let t = |c: bool| if c { 1.0 } else { 0.0 };
+    Ok(match op {
+        BinOp::Pow => {
+            if a < 0.0 && b.fract() != 0.0 {
+                return Err(format!(
+                    "{a} ** {b}: a negative base needs an integer exponent"
+                ));
+            }
+            if a == 0.0 && b < 0.0 {
+                return Err("0 ** a negative exponent is a division by zero".into());
+            }
+            a.powf(b)
+        }
+        BinOp::Mul => a * b,
+        BinOp::Div => {
+            if b == 0.0 {
+                return Err("division by zero".into());
+            }
+            a / b
+        }
+        BinOp::Mod => {
+            if b == 0.0 {
+                return Err("MOD by zero".into());
+            }
+            let m = a % b;
+            if m < 0.0 { m + b.abs() } else { m }
+        }
+        BinOp::Add => a + b,
+        BinOp::Sub => a - b,
+        BinOp::Eq => t((a - b).abs() < TOLERANCE_EQUAL),
+        BinOp::Ne => t((a - b).abs() >= TOLERANCE_EQUAL),
+        BinOp::Gt => t(a > b),
+        BinOp::Ge => t(a >= b),
+        BinOp::Lt => t(a < b),
+        BinOp::Le => t(a <= b),
+        BinOp::And => t(a != 0.0 && b != 0.0),
+        BinOp::Or => t(a != 0.0 || b != 0.0),
+        BinOp::Xor => t((a != 0.0) != (b != 0.0)),
+    })
+}
+
+/// O-word keywords.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OKind {
+    Sub,
+    EndSub,
+    Call,
+    Return,
+    If,
+    ElseIf,
+    Else,
+    EndIf,
+    While,
+    EndWhile,
+    Do,
+    Repeat,
+    EndRepeat,
+    Break,
+    Continue,
+}
+
+const OKINDS: [(&str, OKind); 15] = [
+    ("endsub", OKind::EndSub),
+    ("endif", OKind::EndIf),
+    ("endwhile", OKind::EndWhile),
+    ("endrepeat", OKind::EndRepeat),
+    ("elseif", OKind::ElseIf),
+    ("else", OKind::Else),
+    ("sub", OKind::Sub),
+    ("call", OKind::Call),
+    ("return", OKind::Return),
+    ("if", OKind::If),
+    ("while", OKind::While),
+    ("do", OKind::Do),
+    ("repeat", OKind::Repeat),
+    ("break", OKind::Break),
+    ("continue", OKind::Continue),
+];
+
+/// An O-word statement: label (`100` or a lower-case name), keyword and its bracketed
+/// arguments (the condition, the repeat count, call arguments or a return value).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OStmt {
+    pub label: String,
+    pub kind: OKind,
+    pub args: Vec<Expr>,
+}
+
+/// One word such as `X[#1 + 2]`: upper-case letter, value expression, 1-based column.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PWord {
+    pub letter: char,
+    pub value: Expr,
+    pub column: usize,
+}
+
+/// A syntax problem with its 1-based column and a kebab-case id.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SyntaxError {
+    pub column: usize,
+    pub id: &'static str,
+    pub message: String,
+}
+
+/// One parsed line.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Line {
+    /// A `%` tape mark line.
+    pub percent: bool,
+    /// Starts with `/` (block delete).
+    pub block_delete: bool,
+    pub words: Vec<PWord>,
+    /// `#…=expr` assignments, applied after the block's values are read.
+    pub assigns: Vec<(ParamRef, Expr, usize)>,
+    pub oword: Option<OStmt>,
+    /// `( )` comment texts (verbatim, trimmed) and a `;` comment.
+    pub comments: Vec<String>,
+    /// `$…` GRBL system command text (only at the start of a line).
+    pub dollar: Option<String>,
+    pub errors: Vec<SyntaxError>,
+    /// A checksum was present and correct.
+    pub checksum_ok: bool,
+}
+
+/// Which constructs the reader accepts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Syntax {
+    /// Parameters, expressions and O-words (LinuxCNC); otherwise they are "not supported".
+    pub ngc: bool,
+    /// `*NN` checksums (RepRap/Marlin).
+    pub checksums: bool,
+    /// `$` system commands (GRBL).
+    pub dollar: bool,
+}
+
+struct Cursor<'a> {
+    /// Significant characters (lower-cased, no blanks) with their 1-based columns.
+    c: &'a [(char, usize)],
+    i: usize,
+    depth: usize,
+}
+
+impl Cursor<'_> {
+    fn peek(&self) -> Option<char> {
+        self.c.get(self.i).map(|x| x.0)
+    }
+    fn col(&self) -> usize {
+        self.c
+            .get(self.i)
+            .or(self.c.last())
+            .map(|x| x.1)
+            .unwrap_or(1)
+    }
+    fn eat(&mut self, ch: char) -> bool {
+        if self.peek() == Some(ch) {
+            self.i += 1;
+            true
+        } else {
+            false
+        }
+    }
+    fn starts_with(&self, s: &str) -> bool {
+        let mut k = self.i;
+        for ch in s.chars() {
+            match self.c.get(k) {
+                Some(&(x, _)) if x == ch => k += 1,
+                _ => return false,
+            }
+        }
+        true
+    }
+    fn err<T>(&self, msg: impl Into<String>) -> Result<T, (usize, String)> {
+        Err((self.col(), msg.into()))
+    }
+
+    /// A real value: number, parameter, `[expr]`, function, with optional unary sign.
+    fn real_value(&mut self) -> Result<Expr, (usize, String)> {
+        match self.peek() {
+            Some('-') => {
+                self.i += 1;
+                Ok(Expr::Neg(Box::new(self.real_value()?)))
+            }
+            Some('+') => {
+                self.i += 1;
+                self.real_value()
+            }
+            Some('[') => self.bracketed(),
+            Some('#') => {
+                self.i += 1;
+                Ok(Expr::Param(self.param_ref()?))
+            }
+            Some(c) if c.is_ascii_digit() || c == '.' => self.number(),
+            Some(c) if c.is_ascii_alphabetic() => self.function(),
+            Some(c) => self.err(format!("unexpected character {c:?} where a value should be")),
+            None => self.err("a value is missing at the end of the line"),
+        }
+    }
+
+    fn number(&mut self) -> Result<Expr, (usize, String)> {
+        let start = self.i;
+        let mut s = String::new();
+        let mut points = 0;
+        while let Some(c) = self.peek() {
+            if c.is_ascii_digit() || (c == '.' && points == 0) {
+                points += usize::from(c == '.');
+                s.push(c);
+                self.i += 1;
+            } else {
+                break;
+            }
+        }
+        if !s.bytes().any(|b| b.is_ascii_digit()) {
+            self.i = start;
+            return self.err("a number has no digits");
+        }
+        match s.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(Expr::Num(v)),
+            _ => self.err(format!("number {s} is out of range")),
+        }
+    }
+
+    fn param_ref(&mut self) -> Result<ParamRef, (usize, String)> {
+        if self.eat('<') {
+            let mut name = String::new();
+            while let Some(c) = self.peek() {
+                self.i += 1;
+                if c == '>' {
+                    if name.is_empty() {
+                        return self.err("empty parameter name #<>");
+                    }
+                    return Ok(ParamRef::Named(name));
+                }
+                name.push(c);
+            }
+            return self.err("named parameter without closing '>'");
+        }
+        Ok(ParamRef::Num(Box::new(self.real_value()?)))
+    }
+
+    fn bracketed(&mut self) -> Result<Expr, (usize, String)> {
+        if !self.eat('[') {
+            return self.err("'[' expected");
+        }
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return self.err(format!(
+                "expression nested deeper than {MAX_NESTING} brackets"
+            ));
+        }
+        let e = self.expression()?;
+        if !self.eat(']') {
+            return self.err("unclosed '[' in expression: ']' expected");
+        }
+        self.depth -= 1;
+        Ok(e)
+    }
+
+    /// Operator-precedence parse of `value (op value)*` inside brackets.
+    fn expression(&mut self) -> Result<Expr, (usize, String)> {
+        let mut values = vec![self.real_value()?];
+        let mut ops: Vec<BinOp> = Vec::new();
+        loop {
+            if self.peek() == Some(']') || self.peek().is_none() {
+                break;
+            }
+            let op = self.binop()?;
+            while let Some(&top) = ops.last() {
+                if top.precedence() >= op.precedence() {
+                    reduce(&mut values, &mut ops);
+                } else {
+                    break;
+                }
+            }
+            ops.push(op);
+            values.push(self.real_value()?);
+        }
+        while !ops.is_empty() {
+            reduce(&mut values, &mut ops);
+        }
+        values
+            .pop()
+            .map_or_else(|| self.err("empty expression"), Ok)
+    }
+
+    fn binop(&mut self) -> Result<BinOp, (usize, String)> {
+        const NAMED: [(&str, BinOp); 10] = [
+            ("mod", BinOp::Mod),
+            ("eq", BinOp::Eq),
+            ("ne", BinOp::Ne),
+            ("gt", BinOp::Gt),
+            ("ge", BinOp::Ge),
+            ("lt", BinOp::Lt),
+            ("le", BinOp::Le),
+            ("and", BinOp::And),
+            ("or", BinOp::Or),
+            ("xor", BinOp::Xor),
+        ];
+        if self.starts_with("**") {
+            self.i += 2;
+            return Ok(BinOp::Pow);
+        }
+        let single = match self.peek() {
+            Some('*') => Some(BinOp::Mul),
+            Some('/') => Some(BinOp::Div),
+            Some('+') => Some(BinOp::Add),
+            Some('-') => Some(BinOp::Sub),
+            _ => None,
+        };
+        if let Some(op) = single {
+            self.i += 1;
+            return Ok(op);
+        }
+        for (name, op) in NAMED {
+            if self.starts_with(name) {
+                self.i += name.len();
+                return Ok(op);
+            }
+        }
+        self.err("unknown operator in expression")
+    }
+
+    fn function(&mut self) -> Result<Expr, (usize, String)> {
+        if self.starts_with("atan") {
+            self.i += 4;
+            let y = self.bracketed()?;
+            if !self.eat('/') {
+                return self.err("ATAN needs the form ATAN[y]/[x]");
+            }
+            let x = self.bracketed()?;
+            return Ok(Expr::Atan(Box::new(y), Box::new(x)));
+        }
+        if self.starts_with("exists") {
+            self.i += 6;
+            if !(self.eat('[') && self.eat('#') && self.peek() == Some('<')) {
+                return self.err("EXISTS needs a named parameter: EXISTS[#<name>]");
+            }
+            let ParamRef::Named(n) = self.param_ref()? else {
+                return self.err("EXISTS needs a named parameter");
+            };
+            if !self.eat(']') {
+                return self.err("unclosed '[' after EXISTS");
+            }
+            return Ok(Expr::Exists(n));
+        }
+        for (name, f) in FUNCS {
+            if self.starts_with(name) {
+                self.i += name.len();
+                let arg = self.bracketed()?;
+                return Ok(Expr::Func(f, Box::new(arg)));
+            }
+        }
+        self.err("unknown function or a letter where a value should be")
+    }
+}
+
+fn reduce(values: &mut Vec<Expr>, ops: &mut Vec<BinOp>) {
+    if let (Some(op), Some(b), Some(a)) = (ops.pop(), values.pop(), values.pop()) {
+        values.push(Expr::Bin(op, Box::new(a), Box::new(b)));
+    }
+}
+
+/// Parses one line (without its terminator).
+pub fn parse_line(raw: &str, syn: Syntax) -> Line {
+    let mut out = Line::default();
+    if syn.ngc && raw.len() > MAX_LINE_LEN {
+        out.errors.push(SyntaxError {
+            column: MAX_LINE_LEN + 1,
+            id: "gcode-syntax",
+            message: format!(
+                "line longer than {MAX_LINE_LEN} characters (LinuxCNC's LINELEN): shorten it"
+            ),
+        });
+    }
+    // Split off comments and checksum, collect significant characters.
+    let mut sig: Vec<(char, usize)> = Vec::with_capacity(raw.len());
+    let mut chars = raw.char_indices().enumerate().peekable();
+    let mut first = true;
+    while let Some((ci, (bi, c))) = chars.next() {
+        let col = ci + 1;
+        if c == ' ' || c == '\t' || c == '\r' {
+            continue;
+        }
+        if first {
+            first = false;
+            if c == '%' {
+                out.percent = true;
+                continue;
+            }
+            if c == '/' {
+                out.block_delete = true;
+                continue;
+            }
+            if c == '$' && syn.dollar {
+                out.dollar = Some(raw[bi + 1..].trim().to_string());
+                return out;
+            }
+        }
+        match c {
+            ';' => {
+                out.comments.push(raw[bi + 1..].trim().to_string());
+                break;
+            }
+            '(' => {
+                let mut text = String::new();
+                let mut closed = false;
+                for (_, (_, ch)) in chars.by_ref() {
+                    if ch == ')' {
+                        closed = true;
+                        break;
+                    }
+                    text.push(ch);
+                }
+                if !closed {
+                    out.errors.push(SyntaxError {
+                        column: col,
+                        id: "gcode-syntax",
+                        message: "'(' comment not closed".into(),
+                    });
+                }
+                out.comments.push(text.trim().to_string());
+            }
+            '*' if syn.checksums && depth_zero(&sig) && !next_is_star(raw, bi) => {
+                checksum(raw, bi, col, &mut out);
+                break;
+            }
+            _ => sig.push((c.to_ascii_lowercase(), col)),
+        }
+    }
+    if out.percent && !sig.is_empty() {
+        // `%` followed by text: LinuxCNC ignores the rest of a percent line.
+        sig.clear();
+    }
+    let mut cur = Cursor {
+        c: &sig,
+        i: 0,
+        depth: 0,
+    };
+    while let Some(c) = cur.peek() {
+        let col = cur.col();
+        let res: Result<(), (usize, String)> = if c == '#' {
+            if !syn.ngc {
+                not_supported(&mut out, col, "parameters (#)");
+                break;
+            }
+            cur.i += 1;
+            (|| {
+                let p = cur.param_ref()?;
+                if !cur.eat('=') {
+                    return cur.err("'=' expected after a parameter at the start of a word");
+                }
+                let v = cur.real_value()?;
+                out.assigns.push((p, v, col));
+                Ok(())
+            })()
+        } else if c == 'o' && out.words.is_empty() && out.oword.is_none() && syn.ngc {
+            cur.i += 1;
+            oword(&mut cur).map(|o| out.oword = Some(o))
+        } else if c.is_ascii_alphabetic() || (syn.ngc && (c == '@' || c == '^')) {
+            cur.i += 1;
+            let letter = c.to_ascii_uppercase();
+            if !syn.ngc && matches!(cur.peek(), Some('[') | Some('#')) {
+                not_supported(&mut out, col, "expressions and parameters");
+                break;
+            }
+            cur.real_value().map(|value| {
+                out.words.push(PWord {
+                    letter,
+                    value,
+                    column: col,
+                })
+            })
+        } else if c == '[' && !syn.ngc {
+            not_supported(&mut out, col, "expressions ([ ])");
+            break;
+        } else {
+            cur.i += 1;
+            Err((col, format!("unexpected character {c:?}")))
+        };
+        if let Err((column, message)) = res {
+            out.errors.push(SyntaxError {
+                column,
+                id: "gcode-syntax",
+                message,
+            });
+            // Skip to the next letter to keep going.
+            while let Some(ch) = cur.peek() {
+                if ch.is_ascii_alphabetic() {
+                    break;
+                }
+                cur.i += 1;
+            }
+        }
+    }
+    out
+}
+
+fn depth_zero(sig: &[(char, usize)]) -> bool {
+    let open = sig.iter().filter(|c| c.0 == '[').count();
+    let close = sig.iter().filter(|c| c.0 == ']').count();
+    open <= close
+}
+
+fn next_is_star(raw: &str, bi: usize) -> bool {
+    raw.as_bytes().get(bi + 1) == Some(&b'*')
+}
+
+fn not_supported(out: &mut Line, column: usize, what: &str) {
+    out.errors.push(SyntaxError {
+        column,
+        id: "unsupported-code",
+        message: format!("{what} not supported in this dialect"),
+    });
+}
+
+fn checksum(raw: &str, star: usize, column: usize, out: &mut Line) {
+    let rest = &raw[star + 1..];
+    let digits: String = rest.chars().take_while(|c| c.is_ascii_digit()).collect();
+    let trailing = rest[digits.len()..]
+        .trim()
+        .trim_start_matches(';')
+        .chars()
+        .next()
+        .is_some_and(|_| !rest[digits.len()..].trim().starts_with(';'));
+    let found = (!digits.is_empty() && digits.len() <= 9)
+        .then(|| digits.parse::<u32>().ok())
+        .flatten();
+    let Some(found) = found else {
+        out.errors.push(SyntaxError {
+            column,
+            id: "bad-checksum",
+            message: "'*' without a checksum".into(),
+        });
+        return;
+    };
+    let expected = raw.as_bytes()[..star].iter().fold(0u8, |a, b| a ^ b);
+    if u32::from(expected) == found {
+        out.checksum_ok = true;
+    } else {
+        out.errors.push(SyntaxError {
+            column,
+            id: "bad-checksum",
+            message: format!("checksum {found} does not match the line (expected {expected})"),
+        });
+    }
+    if trailing {
+        out.errors.push(SyntaxError {
+            column: column + 1 + digits.len(),
+            id: "gcode-syntax",
+            message: "text after the checksum".into(),
+        });
+    }
+}
+
+fn oword(cur: &mut Cursor<'_>) -> Result<OStmt, (usize, String)> {
+    let label = if cur.eat('<') {
+        let mut name = String::new();
+        loop {
+            match cur.peek() {
+                Some('>') => {
+                    cur.i += 1;
+                    break;
+                }
+                Some(c) => {
+                    name.push(c);
+                    cur.i += 1;
+                }
+                None => return cur.err("O-word name without closing '>'"),
+            }
+        }
+        name
+    } else {
+        let mut digits = String::new();
+        while let Some(c) = cur.peek().filter(|c| c.is_ascii_digit()) {
+            digits.push(c);
+            cur.i += 1;
+        }
+        if digits.is_empty() {
+            return cur.err("'O' needs a number or <name>");
+        }
+        digits.trim_start_matches('0').to_string()
+    };
+    let Some(kind) = OKINDS
+        .iter()
+        .find(|(k, _)| cur.starts_with(k))
+        .map(|&(k, kind)| {
+            cur.i += k.len();
+            kind
+        })
+    else {
+        return cur.err(format!(
+            "O{label} needs a keyword (sub, endsub, call, return, if, elseif, else, endif, \
+             while, endwhile, do, repeat, endrepeat, break, continue)"
+        ));
+    };
+    let mut args = Vec::new();
+    while cur.peek() == Some('[') {
+        args.push(cur.bracketed()?);
+    }
+    if let Some(c) = cur.peek() {
+        return cur.err(format!("unexpected {c:?} after the O-word statement"));
+    }
+    Ok(OStmt { label, kind, args })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    struct P(HashMap<String, f64>, HashMap<i64, f64>);
+    impl ParamSource for P {
+        fn numbered(&self, n: i64) -> f64 {
+            self.1.get(&n).copied().unwrap_or(0.0)
+        }
+        fn named(&self, name: &str) -> Option<f64> {
+            self.0.get(name).copied()
+        }
+    }
+
+    const NGC: Syntax = Syntax {
+        ngc: true,
+        checksums: true,
+        dollar: false,
+    };
+
+    fn val(s: &str) -> Result<f64, String> {
+        let l = parse_line(&format!("X{s}"), NGC);
+        if let Some(e) = l.errors.first() {
+            return Err(e.message.clone());
+        }
+        let p = P(
+            [("a".to_string(), 2.0)].into_iter().collect(),
+            [(1, 3.0), (3, 7.0)].into_iter().collect(),
+        );
+        l.words[0].value.eval(&p)
+    }
+
+    #[test]
+    fn manual_examples() {
+        // LinuxCNC manual, "Expressions": [1 + acos[0] - [#3 ** [4.0/2]]] with #3 = 7.
+        assert!((val("[1 + acos[0] - [#3 ** [4.0/2]]]").unwrap_or(0.0) - 42.0).abs() < 1e-12);
+        // "Binary operators": 2.0 / 3 * 1.5 - 5.5 / 11.0 = 0.5.
+        assert!((val("[2.0 / 3 * 1.5 - 5.5 / 11.0]").unwrap_or(0.0) - 0.5).abs() < 1e-12);
+        assert_eq!(val("[1 + 2 * 3 ** 2]"), Ok(19.0));
+        assert_eq!(val("[2 ** 3 ** 2]"), Ok(64.0));
+        assert_eq!(val("[1 LT 2 AND 3 GT 2]"), Ok(1.0));
+        assert_eq!(val("[-7 MOD 3]"), Ok(2.0));
+        assert_eq!(val("[ATAN[1]/[-1]]"), Ok(135.0));
+        assert_eq!(val("##1"), Ok(7.0));
+        assert_eq!(val("#<a>"), Ok(2.0));
+        assert_eq!(val("[EXISTS[#<a>] + EXISTS[#<b>]]"), Ok(1.0));
+        assert_eq!(val("[FIX[-1.5] + FUP[1.2] + ROUND[2.5] + ABS[-1]]"), Ok(3.0));
+        assert!((val("[SIN[30]]").unwrap_or(0.0) - 0.5).abs() < 1e-12);
+        assert_eq!(val("[1.00001 EQ 1]"), Ok(1.0));
+        assert!(val("[1/0]").is_err_and(|e| e.contains("division by zero")));
+        assert!(val("[1+2").is_err_and(|e| e.contains("unclosed")));
+        assert!(val("#<nope>").is_err_and(|e| e.contains("not defined")));
+        assert!(val("[SQRT[-1]]").is_err());
+    }
+
+    #[test]
+    fn lines() {
+        let l = parse_line("N10 #1 = 5 #<x>=[#1+1] G1 x#1 (debug, hi #1) ; rest", NGC);
+        assert!(l.errors.is_empty(), "{:?}", l.errors);
+        assert_eq!(l.assigns.len(), 2);
+        assert_eq!(l.words.len(), 3);
+        assert_eq!(l.comments, vec!["debug, hi #1".to_string(), "rest".into()]);
+        let o = parse_line("o<my sub> call [1] [2+3]", NGC);
+        let os = o.oword.unwrap_or(OStmt {
+            label: String::new(),
+            kind: OKind::Do,
+            args: vec![],
+        });
+        assert_eq!((os.label.as_str(), os.kind, os.args.len()), ("mysub", OKind::Call, 2));
+        let w = parse_line("O0100 WHILE [#1 LT 3]", NGC);
+        assert_eq!(w.oword.map(|o| (o.label, o.kind)), Some(("100".into(), OKind::While)));
+        let g = parse_line("G1 X#1", Syntax { ngc: false, ..NGC });
+        assert_eq!(g.errors[0].id, "unsupported-code");
+    }
+}
