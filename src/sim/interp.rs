@@ -83,6 +83,7 @@ pub fn interpret(src: &str, arc_radius_tol: f64) -> Program {
             prog.diagnostics
                 .push(lex_finding(e.column, &e.kind, line_no));
         }
+        super::checks::contours::note_group_marks(&lexed.comments, line_no, &mut prog.group_marks);
         if lexed.words.is_empty() {
             continue;
         }

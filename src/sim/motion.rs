@@ -185,6 +185,9 @@ pub struct Program {
     pub last_line: usize,
     /// Number of words (or canon commands) understood.
     pub words: usize,
+    /// Pocket marks `(skinpath:group N)` by line (see
+    /// [`crate::sim::checks::contours::note_group_marks`]), in line order.
+    pub group_marks: Vec<(usize, Option<u32>)>,
 }
 
 #[cfg(test)]
