@@ -180,6 +180,68 @@ pub fn simplify_ring(pts: Vec<DVec2>, eps: f64) -> Vec<DVec2> {
     }
 }
 
+/// A closed polyline without spikes: a vertex between two straight edges where the path
+/// turns back on itself (the edges point in opposite directions and the excursion is
+/// narrower than `eps`) is removed, and so are vertices within
+/// `eps`·0.1 of the previous one, repeatedly. Offsets can leave such zero-width
+/// there-and-back excursions where two nearly coincident boundaries meet (seen at the
+/// coincident end caps of the README's example strokes s1 and c1, a 0.02 mm spike); a tool
+/// following one would retrace its own cut.
+pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
+    use cavalier_contours::polyline::PlineVertex;
+    type V = PlineVertex<f64>;
+    let p = |v: &V| DVec2::new(v.x, v.y);
+    // Whether `b` is removable between `a` and `c`.
+    let removable = |a: &V, b: &V, c: &V| -> bool {
+        if a.bulge == 0.0 && p(a).distance(p(b)) < eps * 0.1 {
+            return true;
+        }
+        if a.bulge != 0.0 || b.bulge != 0.0 {
+            return false;
+        }
+        let (d0, d1) = (p(b) - p(a), p(c) - p(b));
+        // Width of the excursion: the distance of the far end of the shorter edge from the
+        // longer edge's line (0 for an exact there-and-back).
+        let long = d0.length().max(d1.length());
+        let width = if long > 0.0 {
+            d0.perp_dot(d1).abs() / long
+        } else {
+            0.0
+        };
+        d0.dot(d1) < 0.0 && (width < eps || long < eps)
+    };
+    let mut v: Vec<V> = Vec::with_capacity(pl.vertex_count());
+    for x in pl.iter_vertexes() {
+        v.push(x);
+        while v.len() >= 3 {
+            let k = v.len();
+            if removable(&v[k - 3], &v[k - 2], &v[k - 1]) {
+                v.remove(k - 2);
+            } else {
+                break;
+            }
+        }
+    }
+    // The seam of the closed ring: the triples that wrap around.
+    while v.len() > 3 {
+        let k = v.len();
+        if removable(&v[k - 2], &v[k - 1], &v[0]) {
+            v.pop();
+        } else if removable(&v[k - 1], &v[0], &v[1]) {
+            v.remove(0);
+        } else if removable(&v[0], &v[1], &v[2]) {
+            v.remove(1);
+        } else {
+            break;
+        }
+    }
+    let mut out = Polyline::with_capacity(v.len(), pl.is_closed());
+    for x in v {
+        out.add(x.x, x.y, x.bulge);
+    }
+    out
+}
+
 /// True for a contour that encloses no width: fewer than two distinct vertices, or an area
 /// below `eps`·perimeter (a circle of radius ρ has area/perimeter = ρ/2, so this keeps every
 /// ring wider than about 2·eps and drops the zero-area slivers an offset can leave where
@@ -267,7 +329,7 @@ impl Region {
                 .ccw_plines
                 .into_iter()
                 .chain(out.cw_plines)
-                .map(|ip| ip.polyline)
+                .map(|ip| despike(&ip.polyline, eps))
                 .filter(|pl| !degenerate(pl, eps))
                 .collect(),
         }
