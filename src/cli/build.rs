@@ -6,11 +6,13 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::emit::{DxfOptions, GcodeOptions, LaserSvgOptions, dxf, gcode, laser_svg};
-use skinpath::job::build::{BuildOptions, build_toolpath};
+use skinpath::emit::{DxfOptions, GcodeOptions, LaserSvgOptions, dxf, gcode_with_origins, laser_svg};
+use skinpath::job::build::{
+    BuildOptions, Place, build_toolpath, fit_scale, outline_bounds, place_job, scaled_design,
+};
 use skinpath::job::check::{check_config, design_boundaries};
 use skinpath::machine::{MachineKind, Profile, builtin_profile};
-use skinpath::sim::{Backend, check_text};
+use skinpath::sim::{Backend, Severity, check_text};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
@@ -32,18 +34,30 @@ pub struct Args {
     /// Skin approximation accuracy ε, in design units.
     #[arg(long)]
     epsilon: Option<f64>,
-    /// Also write a preview SVG of the toolpath (cuts solid, rapids dashed) here.
+    /// Also write a preview SVG of the toolpath (cuts solid, rapids dashed) here; written
+    /// only together with the output, and never to the output's own path.
     #[arg(long)]
     preview: Option<PathBuf>,
-    /// Where the job goes on the machine: `design` keeps the design's coordinates;
-    /// `lower-left` moves the job's lower-left corner (tool paths included) to the work
-    /// area's lower-left corner plus `--margin` (and one unit of the last decimal, so
-    /// rounding cannot push an arc over the edge).
-    #[arg(long, value_parser = ["design", "lower-left"], default_value = "design")]
+    /// Where the job goes on the machine (G-code, laser SVG and DXF alike): `lower-left`
+    /// (the default) puts the job's lower-left corner, tool paths included, at the work
+    /// area's lower-left corner plus `--margin`; `center` centres it in the work area;
+    /// `design` keeps the design's coordinates.
+    #[arg(long, value_parser = ["design", "lower-left", "center"], default_value = "lower-left")]
     place: String,
     /// Distance from the work area's corner with `--place lower-left`, in design units.
     #[arg(long, default_value_t = 0.0)]
     margin: f64,
+    /// Scale the design's strokes and circles by this factor before building (channel
+    /// widths, hole diameters, depths and margins stay as written).
+    #[arg(long)]
+    scale: Option<f64>,
+    /// Scale the design uniformly (aspect kept) so the job fits W x H design units, e.g.
+    /// `--fit 200x150`.
+    #[arg(long, value_name = "WxH")]
+    fit: Option<String>,
+    /// Print the summary (operations, lengths, bounds, placement, time, findings) as JSON.
+    #[arg(long)]
+    json: bool,
     /// Write the G-code even when the checker finds errors. It may then gouge the part,
     /// leave the laser or spindle on during a rapid, or leave the machine's travel.
     #[arg(long)]
@@ -78,6 +92,83 @@ fn format_of(a: &Args) -> Result<String> {
     })
 }
 
+/// `--fit WxH` as two positive numbers.
+fn parse_fit(s: &str) -> Result<(f64, f64)> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .with_context(|| format!("--fit {s:?}: expected WIDTHxHEIGHT, e.g. 200x150"))?;
+    let w: f64 = w.trim().parse().with_context(|| format!("--fit {s:?}: bad width"))?;
+    let h: f64 = h.trim().parse().with_context(|| format!("--fit {s:?}: bad height"))?;
+    if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
+        bail!("--fit {s:?}: width and height must be positive numbers");
+    }
+    Ok((w, h))
+}
+
+/// What to change for each kind of checker finding in a program `build` made.
+fn advice(id: &str) -> &'static str {
+    match id {
+        "self-intersection" => {
+            "the cut folds onto itself where the outline offset by the tool radius \
+             collapses: move the stroke's disks apart there, widen the channel or use a \
+             smaller tool, and please report the design"
+        }
+        "contour-crossing" => {
+            "two cuts that must stay apart cross: move the strokes apart, or give the \
+             operations `strokes = [...]` so they do not both cut here"
+        }
+        "gouge" => {
+            "the tool comes nearer the design than its radius: lower --tolerance or use a \
+             smaller tool"
+        }
+        "out-of-bounds" => "use --place lower-left or --place center, or --fit to scale down",
+        "feed-out-of-range" => "set the operation's `feed` within the machine's range",
+        "power-out-of-range" => "set the operation's `power` within 0..=100 percent",
+        _ => "see the finding's id in `skinpath check --help`",
+    }
+}
+
+/// A checker finding of the program traced back to what the design says: the operation
+/// (its kind, name and number in the design), the stroke and the place.
+fn explain(
+    f: &skinpath::sim::Finding,
+    origins: &[skinpath::emit::LineOrigin],
+    tp: &skinpath::toolpath::Toolpath,
+    file: &str,
+) -> String {
+    let origin = f
+        .lines
+        .iter()
+        .filter_map(|&l| origins.get(l.wrapping_sub(1)).copied().flatten())
+        .next();
+    let mut who = String::new();
+    if let Some((oi, ci)) = origin
+        && let Some(op) = tp.operations.get(oi)
+    {
+        who = match op.design_index {
+            Some(d) => format!("[[operation]] {} ({})", d + 1, op.name),
+            None => format!("the default {} (the design has no [[operation]])", op.name),
+        };
+        if let Some(src) = op.cuts.get(ci).and_then(|c| c.source.as_ref()) {
+            who.push_str(&format!(", stroke \"{src}\""));
+        }
+        who.push_str(": ");
+    }
+    let at = f
+        .at
+        .first()
+        .map(|p| format!(" at x {:.3} y {:.3} z {:.3}", p[0], p[1], p[2]))
+        .unwrap_or_default();
+    let lines: Vec<String> = f.lines.iter().map(|l| l.to_string()).collect();
+    format!(
+        "{file}: {who}{} [{}]{at} (program line {}): {}",
+        f.message,
+        f.id,
+        lines.join(", "),
+        advice(f.id)
+    )
+}
+
 pub fn run(a: Args) -> Result<u8> {
     let format = format_of(&a)?;
     let mut inputs: Vec<&Path> = vec![&a.design];
@@ -88,10 +179,34 @@ pub fn run(a: Args) -> Result<u8> {
     io::refuse_overwriting_inputs(&a.output, &inputs)?;
     if let Some(p) = &a.preview {
         io::refuse_overwriting_inputs(p, &inputs)?;
+        if io::same_file(p, &a.output) {
+            bail!(
+                "--preview {} is the output file: give the preview its own name",
+                p.display()
+            );
+        }
     }
+    if !(a.margin.is_finite() && a.margin >= 0.0) {
+        bail!("--margin {}: must be a number >= 0", a.margin);
+    }
+    if let Some(s) = a.scale
+        && !(s.is_finite() && s > 0.0)
+    {
+        bail!("--scale {s}: must be a positive number");
+    }
+    let fit = a.fit.as_deref().map(parse_fit).transpose()?;
+    if fit.is_some() && a.scale.is_some() {
+        bail!("--fit and --scale both set the scale: give one of them");
+    }
+    let place = match a.place.as_str() {
+        "design" => Place::Design,
+        "center" => Place::Center,
+        _ => Place::LowerLeft,
+    };
     let profile = load_profile(&a.machine)?;
     let text = io::read_text(&a.design)?;
-    let design = skinpath::design::load(&text, &a.design.display().to_string())?;
+    let file = a.design.display().to_string();
+    let original = skinpath::design::load(&text, &file)?;
     let mut opts = BuildOptions::default();
     if let Some(t) = a.tolerance {
         opts.tolerance = t;
@@ -99,31 +214,52 @@ pub fn run(a: Args) -> Result<u8> {
     if let Some(e) = a.epsilon {
         opts.epsilon = e;
     }
-    anyhow::ensure!(
-        a.margin.is_finite() && a.margin >= 0.0,
-        "--margin must be a finite, non-negative distance in design units, got {}",
-        a.margin
-    );
+    let mut scale = a.scale.unwrap_or(1.0);
+    let mut design = if scale != 1.0 {
+        scaled_design(&original, scale)
+    } else {
+        original.clone()
+    };
     let mut built = build_toolpath(&design, &profile, &opts)?;
-    if a.place == "lower-left" {
-        // Design units per profile unit: work area corners are in the profile's units.
-        let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
-        let s = built.toolpath.stats(glam::DVec2::ZERO);
-        // One unit of the program's last decimal more, so that coordinate rounding cannot
-        // put an arc's extreme point a hair outside the work area.
-        let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
-        let inset = 10f64.powi(-(decimals as i32)) * k;
-        let target = glam::DVec2::new(profile.work_area.x.min(), profile.work_area.y.min()) * k
-            + glam::DVec2::splat(a.margin + inset);
-        let d = target - glam::DVec2::new(s.bbox_min[0], s.bbox_min[1]);
-        built.toolpath = built.toolpath.translated(d);
-        for o in &mut built.outlines {
-            for p in &mut o.contours {
-                *p = p.translated(d);
+    if let Some((w, h)) = fit {
+        // The outlines scale with the design, offsets and margins do not: a few rounds.
+        for _ in 0..4 {
+            let s = built.toolpath.stats(glam::DVec2::ZERO);
+            let job = glam::DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
+            if job.x <= w && job.y <= h && scale != 1.0 {
+                break;
             }
+            let Some((lo, hi)) = outline_bounds(&built.outlines, opts.tolerance) else {
+                break;
+            };
+            let Some(f) = fit_scale(job, hi - lo, w, h) else {
+                bail!(
+                    "--fit {w}x{h}: the job's fixed parts (tool offsets, margins) alone are \
+                     {:.1} x {:.1}; give a larger size",
+                    job.x - (hi - lo).x,
+                    job.y - (hi - lo).y
+                );
+            };
+            // A hair smaller than exact, so the rounded program stays inside.
+            scale *= f * (1.0 - 1e-6);
+            design = scaled_design(&original, scale);
+            built = build_toolpath(&design, &profile, &opts)?;
         }
-        println!("placed: moved by ({:.3}, {:.3})", d.x, d.y);
     }
+    let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
+    let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
+    // One unit of the program's last decimal, so that coordinate rounding cannot put an
+    // arc's extreme point a hair outside the work area.
+    let inset = 10f64.powi(-(decimals as i32)) * k;
+    let placement = place_job(
+        &mut built,
+        &profile,
+        design.units.mm_per_unit(),
+        place,
+        a.margin,
+        inset,
+        scale,
+    )?;
     let units = match design.units {
         skinpath::design::Units::Mm => skinpath::machine::Units::Mm,
         skinpath::design::Units::Inch => skinpath::machine::Units::Inch,
@@ -133,6 +269,7 @@ pub fn run(a: Args) -> Result<u8> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "skinpath".into());
+    let mut report = None;
     let body = match format.as_str() {
         "gcode" => {
             if profile.kind == MachineKind::Svg {
@@ -141,7 +278,7 @@ pub fn run(a: Args) -> Result<u8> {
                     profile.name
                 );
             }
-            let g = gcode(
+            let (g, origins) = gcode_with_origins(
                 &built.toolpath,
                 &profile,
                 &GcodeOptions {
@@ -151,27 +288,19 @@ pub fn run(a: Args) -> Result<u8> {
                     check_work_area: true,
                 },
             )?;
-            // Read the program back and check it before it reaches a machine.
+            // Read the program back and check it before it reaches a machine, exactly as
+            // `skinpath check PROGRAM --machine SAME` will: same configuration, no
+            // allowances (pockets mark their own intended crossings in the program).
             let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
             let mut cfg = check_config(&profile, tool_r);
-            // The tool path may come closer to the design than the tool radius by the
-            // errors this build allows itself: arc fitting of the outline and the boundary's
-            // flattening (each `tolerance`, in design units), coordinate rounding and the
-            // checker's own arc flattening.
-            let k = design.units.mm_per_unit() / profile.units.mm_per_unit();
-            let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
+            // With design boundaries the tool path may come closer to the design than the
+            // tool radius by the errors this build allows itself: arc fitting of the outline
+            // and the boundary's flattening (each `tolerance`, in design units), coordinate
+            // rounding and the checker's own arc flattening.
+            let kk = design.units.mm_per_unit() / profile.units.mm_per_unit();
             cfg.gouge_tolerance = cfg.gouge_tolerance.max(
-                2.0 * opts.tolerance * k + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance,
+                2.0 * opts.tolerance * kk + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance,
             );
-            // Pockets, fills, holes and carvings overlap other cuts by design; only a job of
-            // profiles must keep its contours apart.
-            cfg.allow_crossings = design.operation.iter().any(|o| {
-                !matches!(
-                    o.kind,
-                    skinpath::design::OperationKind::Profile
-                        | skinpath::design::OperationKind::Backboard
-                )
-            });
             let only_outside_profiles =
                 design.operation.is_empty() && profile.kind == MachineKind::Router;
             let bounds = if only_outside_profiles {
@@ -184,67 +313,141 @@ pub fn run(a: Args) -> Result<u8> {
             } else {
                 Vec::new()
             };
-            let report = check_text(Backend::Builtin, &g, &cfg, &bounds);
-            if report.errors() > 0 {
-                eprintln!("{report}");
+            let r = check_text(Backend::Builtin, &g, &cfg, &bounds);
+            if r.errors() > 0 {
+                for f in r.findings.iter().filter(|f| f.severity == Severity::Error) {
+                    eprintln!("{}", explain(f, &origins, &built.toolpath, &file));
+                }
                 if !a.write_unchecked {
                     bail!(
-                        "the checker found {} error(s) in the program; nothing was written \
-                         (--write-unchecked writes it anyway, at the risk named above)",
-                        report.errors()
+                        "{file}: the program failed {} check(s) (listed above with the operation \
+                         and stroke that made each); nothing was written (--write-unchecked \
+                         writes it anyway, at the risk named above)",
+                        r.errors()
                     );
                 }
                 eprintln!("skinpath: warning: writing a program that failed its checks");
             }
-            print_summary(&built.toolpath, &profile, Some(report.stats.time.total));
+            report = Some(r);
             g
         }
-        "svg" => {
-            let s = laser_svg(
-                &built.toolpath,
-                &profile,
-                &LaserSvgOptions {
-                    job: job.clone(),
-                    ..LaserSvgOptions::default()
-                },
-            )?;
-            print_summary(&built.toolpath, &profile, None);
-            s
-        }
-        _ => {
-            let d = dxf(
-                &built.toolpath,
-                &DxfOptions {
-                    colors: profile.svg.as_ref().map(|s| s.colors.clone()),
-                    ..DxfOptions::default()
-                },
-            )?;
-            print_summary(&built.toolpath, &profile, None);
-            d
-        }
+        "svg" => laser_svg(
+            &built.toolpath,
+            &profile,
+            &LaserSvgOptions {
+                job: job.clone(),
+                ..LaserSvgOptions::default()
+            },
+        )?,
+        _ => dxf(
+            &built.toolpath,
+            &DxfOptions {
+                colors: profile.svg.as_ref().map(|s| s.colors.clone()),
+                ..DxfOptions::default()
+            },
+        )?,
     };
-    for s in &built.stats {
-        if s.order.travel_input > 0.0 {
+    let mut outputs: Vec<(&Path, Vec<u8>)> = vec![(&a.output, body.into_bytes())];
+    if let Some(p) = &a.preview {
+        outputs.push((p, preview(&built.toolpath)?));
+    }
+    io::write_set(&outputs)?;
+    let time = report.as_ref().map(|r| r.stats.time.total);
+    if a.json {
+        let v = summary_json(&built, &profile, &placement, time, report.as_ref(), &a);
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        println!(
+            "placed ({}): moved by ({:.3}, {:.3}); job x {:.3}..{:.3} y {:.3}..{:.3}{}",
+            placement.place.as_str(),
+            placement.offset[0],
+            placement.offset[1],
+            placement.min[0],
+            placement.max[0],
+            placement.min[1],
+            placement.max[1],
+            if scale != 1.0 {
+                format!(", design scaled by {scale:.6}")
+            } else {
+                String::new()
+            }
+        );
+        print_summary(&built.toolpath, &profile, time);
+        for s in &built.stats {
+            if s.order.travel_input > 0.0 {
+                println!(
+                    "  ordering {}: travel {:.1} -> {:.1} ({:.0} % of input order)",
+                    s.operation,
+                    s.order.travel_input,
+                    s.order.travel_ordered,
+                    100.0 * s.order.travel_ordered / s.order.travel_input
+                );
+            }
+        }
+        if let Some(r) = &report {
             println!(
-                "  ordering {}: travel {:.1} -> {:.1} ({:.0} % of input order)",
-                s.operation,
-                s.order.travel_input,
-                s.order.travel_ordered,
-                100.0 * s.order.travel_ordered / s.order.travel_input
+                "check: {} errors, {} warnings",
+                r.errors(),
+                r.warnings()
             );
         }
+        for (p, _) in &outputs {
+            println!("wrote {}", p.display());
+        }
     }
-    if let Some(p) = &a.preview {
-        let svg = skinpath::emit::preview_svg(
-            &built.toolpath,
-            &skinpath::emit::PreviewOptions::default(),
-        )?;
-        io::write_atomic(p, svg.as_bytes()).with_context(|| format!("writing {}", p.display()))?;
-    }
-    io::write_atomic(&a.output, body.as_bytes())
-        .with_context(|| format!("writing {}", a.output.display()))?;
-    println!("wrote {}", a.output.display());
     Ok(0)
+}
+
+/// The preview SVG of the toolpath (the one place that renders previews for `build`).
+fn preview(tp: &skinpath::toolpath::Toolpath) -> Result<Vec<u8>> {
+    let svg = skinpath::emit::preview_svg(tp, &skinpath::emit::PreviewOptions::default())?;
+    Ok(svg.into_bytes())
+}
+
+/// The `--json` summary.
+fn summary_json(
+    built: &skinpath::job::build::BuildResult,
+    profile: &Profile,
+    placement: &skinpath::job::build::Placement,
+    time: Option<f64>,
+    report: Option<&skinpath::sim::Report>,
+    a: &Args,
+) -> serde_json::Value {
+    let s = built.toolpath.stats(glam::DVec2::ZERO);
+    let ops: Vec<serde_json::Value> = built
+        .toolpath
+        .operations
+        .iter()
+        .map(|op| {
+            let single = skinpath::toolpath::Toolpath {
+                operations: vec![op.clone()],
+            };
+            let os = single.stats(glam::DVec2::ZERO);
+            serde_json::json!({
+                "name": op.name,
+                "kind": format!("{:?}", op.kind).to_lowercase(),
+                "design_index": op.design_index,
+                "cuts": op.cuts.len(),
+                "cut_length": os.cut_length,
+                "air_assist": op.air_assist,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "design": a.design.display().to_string(),
+        "machine": profile.name,
+        "outputs": std::iter::once(&a.output).chain(a.preview.as_ref()).map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        "operations": ops,
+        "cut_length": s.cut_length,
+        "travel_length": s.travel_length,
+        "bounds": { "min": s.bbox_min, "max": s.bbox_max },
+        "placement": placement,
+        "time": {
+            "with_acceleration": time,
+            "at_programmed_feeds": s.cut_time,
+        },
+        "findings": report.map(|r| r.findings.clone()).unwrap_or_default(),
+    })
 }
 
 fn print_summary(tp: &skinpath::toolpath::Toolpath, profile: &Profile, time: Option<f64>) {

@@ -1,6 +1,8 @@
 //! File input and output for the commands: reading with the path in every error, and
-//! atomic writes (temporary file in the target directory, then rename) so that a failed run
-//! never leaves a half-written file behind and never touches the input.
+//! atomic writes (temporary file `.skinpath-tmp-PID-NAME` in the target directory, then
+//! rename) so that a failed run never leaves a half-written file behind and never touches
+//! the input; the outputs of one run are written as a set, and temporary files of killed
+//! runs are removed by the next run that writes into their folder.
 
 use anyhow::{Context, Result, bail};
 use std::fs;
@@ -34,19 +36,79 @@ fn absolute(p: &Path) -> PathBuf {
     })
 }
 
-/// Write `bytes` to `path` atomically: a temporary file beside it, flushed and synced, then
-/// renamed over the target. On any error the temporary file is removed.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = match path.parent() {
+/// Prefix of the temporary files of a write: `.skinpath-tmp-PID-NAME`, recognisable, and
+/// removed by the next run in that folder when the process that made it is gone.
+pub const TMP_PREFIX: &str = ".skinpath-tmp-";
+
+/// True when `a` and `b` name the same file (existing or not).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    absolute(a) == absolute(b)
+}
+
+fn dir_of(path: &Path) -> PathBuf {
+    match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
+    }
+}
+
+/// Age after which a temporary file counts as stale where process ids cannot be checked.
+const STALE_AGE: std::time::Duration = std::time::Duration::from_secs(3600);
+
+/// True when the process `pid` no longer runs (Linux: no /proc entry). Elsewhere a file
+/// older than [`STALE_AGE`] counts as left behind.
+fn stale(pid: u32, file: &Path) -> bool {
+    if pid == std::process::id() {
+        return false;
+    }
+    let proc_fs = Path::new("/proc/self");
+    if proc_fs.exists() {
+        return !Path::new(&format!("/proc/{pid}")).exists();
+    }
+    fs::metadata(file)
+        .and_then(|m| m.modified())
+        .ok()
+        .and_then(|t| t.elapsed().ok())
+        .is_some_and(|age| age > STALE_AGE)
+}
+
+/// Removes the temporary files of killed runs ([`TMP_PREFIX`]) from `dir`; errors are
+/// ignored (a file another run is still writing is kept).
+pub fn remove_stale_temporaries(dir: &Path) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
     };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(TMP_PREFIX) else {
+            continue;
+        };
+        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        if stale(pid, &e.path()) {
+            let _ = fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Writes `bytes` to a temporary file beside `path`, flushed and synced; returns its path.
+fn write_temporary(path: &Path, bytes: &[u8]) -> Result<PathBuf> {
     let name = path
         .file_name()
         .with_context(|| format!("{} is not a file name", path.display()))?
         .to_string_lossy()
         .into_owned();
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let dir = dir_of(path);
+    if !dir.is_dir() {
+        bail!(
+            "cannot write {}: the folder {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    remove_stale_temporaries(&dir);
+    let tmp = dir.join(format!("{TMP_PREFIX}{}-{name}", std::process::id()));
     let result = (|| -> Result<()> {
         let mut f =
             fs::File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
@@ -54,14 +116,51 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
             .with_context(|| format!("cannot write {}", tmp.display()))?;
         f.sync_all()
             .with_context(|| format!("cannot sync {}", tmp.display()))?;
-        fs::rename(&tmp, path)
-            .with_context(|| format!("cannot move {} to {}", tmp.display(), path.display()))?;
         Ok(())
     })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
+    match result {
+        Ok(()) => Ok(tmp),
+        Err(e) => {
+            let _ = fs::remove_file(&tmp);
+            Err(e)
+        }
     }
-    result
+}
+
+/// Write `bytes` to `path` atomically: a temporary file beside it, flushed and synced, then
+/// renamed over the target. On any error the temporary file is removed.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_set(&[(path, bytes.to_vec())])
+}
+
+/// Writes several files as a set: every one goes to its temporary file first, and only
+/// when all of them are written are they renamed into place (the first, the main output,
+/// last, so a reader never sees a preview without its program). On any error no target
+/// is touched and every temporary file is removed.
+pub fn write_set(files: &[(&Path, Vec<u8>)]) -> Result<()> {
+    let mut tmps: Vec<PathBuf> = Vec::new();
+    for (path, bytes) in files {
+        match write_temporary(path, bytes) {
+            Ok(t) => tmps.push(t),
+            Err(e) => {
+                for t in &tmps {
+                    let _ = fs::remove_file(t);
+                }
+                return Err(e);
+            }
+        }
+    }
+    for (k, ((path, _), tmp)) in files.iter().zip(&tmps).enumerate().rev() {
+        if let Err(e) = fs::rename(tmp, path) {
+            for t in &tmps[..=k] {
+                let _ = fs::remove_file(t);
+            }
+            return Err(e).with_context(|| {
+                format!("cannot move {} to {}", tmp.display(), path.display())
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The lower-case extension of `path`, or "" when there is none.

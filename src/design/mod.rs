@@ -84,7 +84,9 @@
 //! within ±360 degrees.
 //!
 //! Operations. Common keys: `strokes`, `passes` (≥ 1), `step_down`, `depth`, `feed` (> 0),
-//! `power` (percent), `tabs = { count, width, height }`, `lead_in` (≥ 0). Per kind:
+//! `power` (percent; lasers default to the profile's `laser.default_power`),
+//! `air_assist` (lasers: true/false, default the profile's `laser.air_assist`),
+//! `tabs = { count, width, height }`, `lead_in` (≥ 0). Per kind:
 //! profile `side` = "on" | "outside" | "inside"; channel `width` (required); backboard
 //! `margin`, `min_inner_radius`; holes `diameter` (required), `at` = "ends" | "start" |
 //! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),

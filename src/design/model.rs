@@ -436,6 +436,9 @@ pub struct Operation {
     /// Depth cap of a V-carve (flat bottom beyond it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<f64>,
+    /// Air assist during the operation (lasers; default: the profile's `laser.air_assist`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub air_assist: Option<bool>,
 }
 
 impl Operation {
@@ -463,6 +466,7 @@ impl Operation {
             cross_hatch: None,
             alternate: None,
             max_depth: None,
+            air_assist: None,
         }
     }
 }

@@ -49,8 +49,29 @@ impl Default for GcodeOptions {
     }
 }
 
+/// Prefix of the comment that marks the cuts of one pocket: `(skinpath:group N)` before the
+/// first cut of pocket N, `(skinpath:group none)` before a cut of no pocket. Moves of one
+/// pocket may cross each other (concentric rings meeting a hole); the checker
+/// judges every other crossing, and every file without the marks, strictly. The marks are
+/// written whether or not the profile writes comments.
+pub const GROUP_MARK: &str = "skinpath:group";
+
+/// Where a line of the program came from: the operation (index in the toolpath) and the
+/// cut within it, or none for header, travel between operations and the ending.
+pub type LineOrigin = Option<(usize, usize)>;
+
 /// The G-code program for `tp` on the machine `profile`.
 pub fn gcode(tp: &Toolpath, profile: &Profile, opts: &GcodeOptions) -> Result<String, EmitError> {
+    gcode_with_origins(tp, profile, opts).map(|(text, _)| text)
+}
+
+/// [`gcode`], with the origin of every line (index 0 is line 1), so that findings of the
+/// checker can be traced back to the operation and cut that made them.
+pub fn gcode_with_origins(
+    tp: &Toolpath,
+    profile: &Profile,
+    opts: &GcodeOptions,
+) -> Result<(String, Vec<LineOrigin>), EmitError> {
     check_tolerance("tolerance", opts.tolerance)?;
     let wrong = |reason: &str| EmitError::WrongProfile {
         profile: profile.name.clone(),
@@ -98,9 +119,13 @@ pub fn gcode(tp: &Toolpath, profile: &Profile, opts: &GcodeOptions) -> Result<St
             cut: 0,
             mv: None,
         },
+        origin: None,
+        origins: Vec::new(),
+        group: None,
+        air: false,
     };
     w.program(tp)?;
-    Ok(w.out)
+    Ok((w.out, w.origins))
 }
 
 #[derive(Clone, Copy)]
@@ -130,6 +155,13 @@ struct Writer<'a> {
     on: bool,
     rpm: Option<String>,
     at: Location,
+    /// Origin of the lines being written, and of every line written so far.
+    origin: LineOrigin,
+    origins: Vec<LineOrigin>,
+    /// Pocket mark in force ([`GROUP_MARK`]).
+    group: Option<u32>,
+    /// Air assist on.
+    air: bool,
 }
 
 impl Writer<'_> {
@@ -140,6 +172,27 @@ impl Writer<'_> {
     fn line(&mut self, s: &str) {
         self.out.push_str(s);
         self.out.push('\n');
+        self.origins.push(self.origin);
+    }
+
+    /// A comment written even when the profile turns comments off (marks the checker reads).
+    fn mark(&mut self, s: &str) {
+        let c = self.dialect().comment(s);
+        self.line(&c);
+    }
+
+    /// Air assist on or off (lasers), with the profile's codes.
+    fn set_air(&mut self, on: bool) {
+        if let Tool::Laser(l) = self.tool
+            && self.air != on
+        {
+            let code = if on { &l.air_on } else { &l.air_off };
+            let code = code.trim().to_string();
+            if !code.is_empty() {
+                self.line(&code);
+            }
+            self.air = on;
+        }
     }
 
     fn comment(&mut self, s: &str) {
@@ -212,6 +265,15 @@ impl Writer<'_> {
         self.comment(&desc.to_lowercase());
         let setup = format!("G17 {} G90 G94", self.p.units.gcode());
         self.line(&setup);
+        if let Tool::Laser(l) = self.tool
+            && self.dialect() == Dialect::Grbl
+            && l.rapid_off != RapidOff::M5
+        {
+            // GRBL fires the beam on G0 unless laser mode is on ($32=1, GRBL wiki "Laser
+            // Mode"); the program also writes S0 before every rapid when the profile says
+            // `rapid_off = "s0"`, which is safe either way.
+            self.mark("expects GRBL laser mode: $32=1");
+        }
         let pre = self.g.preamble.clone();
         self.template_lines("gcode.preamble", &pre)?;
         if let Tool::Router(r) = self.tool {
@@ -222,11 +284,22 @@ impl Writer<'_> {
             self.at.op = oi;
             self.at.op_name = op.name.clone();
             self.comment(&format!("op {oi} {} {:?}", op.name, op.kind).to_lowercase());
+            self.set_air(op.air_assist);
             for (ci, cut) in op.cuts.iter().enumerate() {
                 self.at.cut = ci;
                 self.at.mv = None;
+                self.origin = Some((oi, ci));
+                if cut.group != self.group {
+                    let m = match cut.group {
+                        Some(g) => format!("{GROUP_MARK} {g}"),
+                        None => format!("{GROUP_MARK} none"),
+                    };
+                    self.mark(&m);
+                    self.group = cut.group;
+                }
                 self.cut(cut)?;
             }
+            self.origin = None;
         }
         self.finish()
     }
@@ -247,6 +320,7 @@ impl Writer<'_> {
             }
         }
         self.on = false;
+        self.set_air(false);
         let post = self.g.postamble.clone();
         self.template_lines("gcode.postamble", &post)?;
         if !self.g.program_end.is_empty() {

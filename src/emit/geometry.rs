@@ -255,8 +255,11 @@ mod tests {
             operations: vec![Operation {
                 name: "t".into(),
                 kind: OperationKind::Profile,
+                design_index: None,
+                air_assist: false,
                 cuts: vec![Cut {
                     source: None,
+                    group: None,
                     start: DVec3::new(1.0, 0.0, 0.0),
                     moves,
                 }],

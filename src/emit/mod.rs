@@ -13,7 +13,7 @@ pub mod outline;
 pub mod preview_svg;
 
 pub use dxf::{DxfOptions, dxf};
-pub use gcode::{GcodeOptions, gcode};
+pub use gcode::{GROUP_MARK, GcodeOptions, LineOrigin, gcode, gcode_with_origins};
 pub use geometry::{Contour, Seg};
 pub use laser_svg::{LaserSvgOptions, Page, laser_svg};
 pub use preview_svg::{PreviewOptions, preview_svg};

@@ -122,6 +122,73 @@ impl Ctx<'_> {
             .or(self.profile.tools.first())
     }
 
+    /// The tool for operation `index`: on a router one of the `want` kinds must exist (a
+    /// router cannot cut without a cutter, and compensating by a V-bit's shank for an end
+    /// mill's cut would gouge); a laser may have no tool entry (kerf 0).
+    fn tool_for(
+        &self,
+        index: usize,
+        op: &Operation,
+        want: &[ToolKind],
+    ) -> Result<Option<&Tool>, JobError> {
+        if self.laser() {
+            return Ok(self.tool(want));
+        }
+        match self.profile.tools.iter().find(|t| want.contains(&t.kind)) {
+            Some(t) => Ok(Some(t)),
+            None => {
+                let kinds: Vec<String> = want
+                    .iter()
+                    .map(|k| format!("{k:?}").to_lowercase())
+                    .collect();
+                let have: Vec<String> = self
+                    .profile
+                    .tools
+                    .iter()
+                    .map(|t| format!("{} ({:?})", t.name, t.kind).to_lowercase())
+                    .collect();
+                Err(op_err(
+                    self,
+                    index,
+                    op,
+                    format!(
+                        "machine profile \"{}\" has no tool that fits a {} on a router \
+                         (it needs a [[tools]] entry of kind {}; the profile has {}): add one \
+                         to the profile",
+                        self.profile.name,
+                        op.kind.as_str(),
+                        kinds.join(" or "),
+                        if have.is_empty() {
+                            "no tools".to_string()
+                        } else {
+                            have.join(", ")
+                        }
+                    ),
+                ))
+            }
+        }
+    }
+
+    /// Power (fraction) of an operation that sets none: the laser profile's documented
+    /// `default_power` ([`crate::machine::LaserSettings::default_power`], percent), full
+    /// spindle speed on a router.
+    fn default_power(&self) -> f64 {
+        match &self.profile.laser {
+            Some(l) if self.laser() => l.default_power() / 100.0,
+            _ => 1.0,
+        }
+    }
+
+    /// Air assist of an operation: its own `air_assist`, else the laser profile's default.
+    fn air_assist(&self, op: &Operation) -> bool {
+        op.air_assist.unwrap_or_else(|| {
+            self.profile
+                .laser
+                .as_ref()
+                .is_some_and(|l| l.air_assist && self.laser())
+        })
+    }
+
     /// Compensation radius of `tool` in design units (0 without a tool).
     fn radius(&self, tool: Option<&Tool>) -> f64 {
         tool.map(|t| t.radius() * self.k).unwrap_or(0.0)
@@ -140,8 +207,10 @@ impl Ctx<'_> {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn spec(
     ctx: &Ctx,
+    index: Option<usize>,
     name: String,
     kind: TpKind,
     op: &Operation,
@@ -166,12 +235,18 @@ fn spec(
         kind,
         geometry,
         sources: Vec::new(),
+        groups: Vec::new(),
+        design_index: index,
+        air_assist: ctx.air_assist(op),
         depth,
         step_down,
         repeat: if laser { passes } else { 1 },
         feed: op.feed.unwrap_or_else(|| ctx.default_feed()),
         plunge_feed: ctx.plunge_feed(),
-        power: op.power.map(|p| p / 100.0).unwrap_or(1.0),
+        power: op
+            .power
+            .map(|p| p / 100.0)
+            .unwrap_or_else(|| ctx.default_power()),
         tabs: op.tabs.as_ref().map(|t| Tabs {
             count: t.count as usize,
             width: t.width + tool_d,
@@ -190,21 +265,59 @@ fn spec(
     }
 }
 
-fn paths_with_sources(
+/// The paths `f` makes of the union of the items' regions (strokes that touch or cross make
+/// one region: one fill, not two overlapping ones), each attributed to the first item whose
+/// region holds its first point, or the nearest one.
+fn union_paths_with_sources(
     ctx: &Ctx,
     items: &[usize],
     f: impl Fn(&Region) -> Vec<Path>,
 ) -> (Vec<Path>, Vec<String>) {
-    let mut paths = Vec::new();
-    let mut sources = Vec::new();
-    for &i in items {
-        let r = Region::from_paths(&ctx.outlines[i].contours, ctx.tol);
-        for p in f(&r) {
-            paths.push(p);
-            sources.push(ctx.outlines[i].name.clone());
-        }
-    }
+    let regions: Vec<Region> = items
+        .iter()
+        .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
+        .collect();
+    let union = if regions.len() == 1 {
+        regions[0].clone()
+    } else {
+        Region::union(&regions, ctx.tol)
+    };
+    let paths = f(&union);
+    let sources = paths
+        .iter()
+        .map(|p| {
+            let q = p.start().unwrap_or_default();
+            let k = regions
+                .iter()
+                .position(|r| r.contains(q))
+                .unwrap_or_else(|| nearest_region(&regions, q));
+            items
+                .get(k)
+                .map(|&i| ctx.outlines[i].name.clone())
+                .unwrap_or_default()
+        })
+        .collect();
     (paths, sources)
+}
+
+/// Index of the region whose vertices come nearest to `q`.
+fn nearest_region(regions: &[Region], q: DVec2) -> usize {
+    use cavalier_contours::polyline::PlineSource;
+    regions
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let d = r
+                .contours
+                .iter()
+                .flat_map(|c| c.iter_vertexes())
+                .map(|v| DVec2::new(v.x, v.y).distance_squared(q))
+                .fold(f64::INFINITY, f64::min);
+            (k, d)
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| k)
+        .unwrap_or(0)
 }
 
 fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
@@ -267,7 +380,14 @@ fn stroke_attributes(
     Ok(out)
 }
 
-fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec>, JobError> {
+/// The specs of one operation; `design_index` is its index in the design (none for the
+/// default profile of a design without operations), `index` the number used in messages.
+fn operation_specs(
+    ctx: &Ctx,
+    index: usize,
+    design_index: Option<usize>,
+    op: &Operation,
+) -> Result<Vec<OpSpec>, JobError> {
     let items = ctx.selected(op);
     let laser = ctx.laser();
     let name = format!("{} {}", op.kind.as_str(), index + 1);
@@ -276,6 +396,9 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
         return Err(op_err(ctx, index, op, "a router operation needs `depth`"));
     }
     let mill = [ToolKind::Endmill, ToolKind::Ballnose, ToolKind::Beam];
+    if !laser && !matches!(op.kind, OperationKind::Vcarve) {
+        ctx.tool_for(index, op, &mill)?;
+    }
     let out = match op.kind {
         OperationKind::Profile => {
             let tool = ctx.tool(&mill);
@@ -292,6 +415,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             let paths = ops::profile(&region, side, r, eps);
             vec![spec(
                 ctx,
+                design_index,
                 name,
                 TpKind::Profile,
                 op,
@@ -334,6 +458,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             };
             vec![spec(
                 ctx,
+                design_index,
                 name,
                 TpKind::Channel,
                 op,
@@ -354,6 +479,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             let paths = ops::profile(&board, ops::ProfileSide::Outside, r, eps);
             vec![spec(
                 ctx,
+                design_index,
                 name,
                 TpKind::Backboard,
                 op,
@@ -422,6 +548,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             if !drills.is_empty() {
                 let mut s = spec(
                     ctx,
+                    design_index,
                     format!("{name} drill"),
                     TpKind::Holes,
                     op,
@@ -432,7 +559,15 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
                 v.push(s);
             }
             if !circles.is_empty() {
-                let mut s = spec(ctx, name, TpKind::Holes, op, Geometry::Paths(circles), tool);
+                let mut s = spec(
+                    ctx,
+                    design_index,
+                    name,
+                    TpKind::Holes,
+                    op,
+                    Geometry::Paths(circles),
+                    tool,
+                );
                 s.sources = circle_src;
                 v.push(s);
             }
@@ -447,7 +582,8 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             let angle = op.angle.unwrap_or(0.0).to_radians();
             let alternate = op.alternate.unwrap_or(true);
             let cross = op.cross_hatch.unwrap_or(false);
-            let (paths, sources) = paths_with_sources(ctx, &items, |region| {
+            // Touching and crossing strokes are filled as one region (their union).
+            let (paths, sources) = union_paths_with_sources(ctx, &items, |region| {
                 // Keep the tool inside: hatch the region shrunk by the tool radius.
                 let inner = if r > 0.0 {
                     region.offset(-r, eps)
@@ -478,7 +614,15 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
                     ),
                 }
             });
-            let mut s = spec(ctx, name, TpKind::Fill, op, Geometry::Paths(paths), tool);
+            let mut s = spec(
+                ctx,
+                design_index,
+                name,
+                TpKind::Fill,
+                op,
+                Geometry::Paths(paths),
+                tool,
+            );
             s.sources = sources;
             vec![s]
         }
@@ -553,6 +697,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             }
             let mut s = spec(
                 ctx,
+                design_index,
                 name.clone(),
                 TpKind::VCarve,
                 op,
@@ -564,6 +709,7 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
             if !flats.is_empty() {
                 let mut f = spec(
                     ctx,
+                    design_index,
                     format!("{name} flat"),
                     TpKind::VCarve,
                     op,
@@ -578,6 +724,127 @@ fn operation_specs(ctx: &Ctx, index: usize, op: &Operation) -> Result<Vec<OpSpec
         }
     };
     Ok(out)
+}
+
+/// True for operations that clear material inside an area (as opposed to cutting along a
+/// line that must stay where it is): their paths may cross each other inside one pocket.
+fn clears(kind: TpKind) -> bool {
+    matches!(
+        kind,
+        TpKind::Channel | TpKind::Fill | TpKind::Holes | TpKind::VCarve
+    )
+}
+
+/// The pocket of every path and point of the clearing operations ([`clears`]): the
+/// footprints of all of them (closed paths: the enclosed area grown by the tool radius;
+/// open paths and points: the tool's disk swept along them, at least the tolerance wide)
+/// are united, and each connected component of the union is one pocket, numbered from 1.
+/// Paths of one pocket overlap only where all of them remove material, so their crossings
+/// are intended; cuts of profiles and backboards keep no group and are checked strictly.
+fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
+    let radius = |s: &OpSpec| {
+        if s.kind == TpKind::VCarve {
+            0.0
+        } else {
+            ctx.radius(ctx.tool(&[ToolKind::Endmill, ToolKind::Ballnose, ToolKind::Beam]))
+        }
+    };
+    let reach = |r: f64| r.max(ctx.tol);
+    let eps = ctx.tol * 0.1;
+    // Representative point and footprint of each path or point.
+    let mut reps: Vec<(usize, usize, DVec2)> = Vec::new();
+    let mut prints: Vec<Region> = Vec::new();
+    for (si, s) in specs.iter().enumerate() {
+        if !clears(s.kind) {
+            continue;
+        }
+        let r = reach(radius(s));
+        match &s.geometry {
+            Geometry::Paths(paths) => {
+                for (k, p) in paths.iter().enumerate() {
+                    let pts = p.flatten(ctx.tol);
+                    let fp = if p.closed {
+                        Region::from_paths(std::slice::from_ref(p), ctx.tol).offset(r, eps)
+                    } else {
+                        ops::swept_region(&pts, false, r, ctx.tol)
+                    };
+                    reps.push((si, k, p.start().unwrap_or_default()));
+                    prints.push(fp);
+                }
+            }
+            Geometry::Points(points) => {
+                for (k, &q) in points.iter().enumerate() {
+                    reps.push((si, k, q));
+                    prints.push(ops::swept_region(&[q, q + DVec2::X * eps], false, r, ctx.tol));
+                }
+            }
+            Geometry::Polylines3(lines) => {
+                for (k, l) in lines.iter().enumerate() {
+                    let pts: Vec<DVec2> = l.iter().map(|p| p.truncate()).collect();
+                    if let Some(&q) = pts.first() {
+                        reps.push((si, k, q));
+                        prints.push(ops::swept_region(&pts, false, r, ctx.tol));
+                    }
+                }
+            }
+            Geometry::AttrPolylines3(lines) => {
+                for (k, l) in lines.iter().enumerate() {
+                    let pts: Vec<DVec2> = l.points.iter().map(|p| p.truncate()).collect();
+                    if let Some(&q) = pts.first() {
+                        reps.push((si, k, q));
+                        prints.push(ops::swept_region(&pts, false, r, ctx.tol));
+                    }
+                }
+            }
+        }
+    }
+    if reps.is_empty() {
+        return;
+    }
+    let union = Region::union(&prints, ctx.tol);
+    // Outer contours are the components; a point belongs to the smallest one around it.
+    use cavalier_contours::polyline::PlineSource;
+    let outers: Vec<&cavalier_contours::polyline::Polyline<f64>> =
+        union.contours.iter().filter(|c| c.area() > 0.0).collect();
+    let pocket_of = |q: DVec2, fp: &Region| -> Option<u32> {
+        let v = cavalier_contours::core::math::Vector2::new(q.x, q.y);
+        let inside = |c: &&cavalier_contours::polyline::Polyline<f64>| c.winding_number(v) != 0;
+        let found = outers
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| inside(c))
+            .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
+            .map(|(k, _)| k);
+        // A start point on the footprint's own boundary: use a point of the footprint.
+        found
+            .or_else(|| {
+                let c = fp.center();
+                outers
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, o)| {
+                        o.winding_number(cavalier_contours::core::math::Vector2::new(c.x, c.y))
+                            != 0
+                    })
+                    .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
+                    .map(|(k, _)| k)
+            })
+            .map(|k| k as u32 + 1)
+    };
+    for ((si, k, q), fp) in reps.into_iter().zip(&prints) {
+        let g = pocket_of(q, fp);
+        let s = &mut specs[si];
+        let n = match &s.geometry {
+            Geometry::Paths(p) => p.len(),
+            Geometry::Points(p) => p.len(),
+            Geometry::Polylines3(l) => l.len(),
+            Geometry::AttrPolylines3(l) => l.len(),
+        };
+        if s.groups.len() != n {
+            s.groups = vec![None; n];
+        }
+        s.groups[k] = g;
+    }
 }
 
 /// Plan the whole design for `profile`.
@@ -615,15 +882,195 @@ pub fn build_toolpath(
         if !ctx.laser() {
             op.depth = Some(3.0 * ctx.per_mm);
         }
-        specs.extend(operation_specs(&ctx, 0, &op)?);
+        specs.extend(operation_specs(&ctx, 0, None, &op)?);
     }
     for (i, op) in design.operation.iter().enumerate() {
-        specs.extend(operation_specs(&ctx, i, op)?);
+        specs.extend(operation_specs(&ctx, i, Some(i), op)?);
     }
+    assign_pockets(&ctx, &mut specs);
     let (toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
     Ok(BuildResult {
         toolpath,
         stats,
         outlines: ctx.outlines,
     })
+}
+
+/// Where a built job goes on the machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Place {
+    /// The design's own coordinates.
+    Design,
+    /// The job's lower-left corner (tool paths included) at the work area's lower-left
+    /// corner plus the margin: what svg2gcode and LaserGRBL do, and the default.
+    LowerLeft,
+    /// The job's centre at the work area's centre.
+    Center,
+}
+
+impl Place {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Place::Design => "design",
+            Place::LowerLeft => "lower-left",
+            Place::Center => "center",
+        }
+    }
+}
+
+/// Where a job went: the shift applied, the job's size and where it lies, in design units.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Placement {
+    pub place: Place,
+    /// Shift added to every coordinate.
+    pub offset: [f64; 2],
+    /// Size of the job (tool paths included).
+    pub size: [f64; 2],
+    /// Lower-left and upper-right corner of the placed job.
+    pub min: [f64; 2],
+    pub max: [f64; 2],
+    /// The design's scale factor (`--scale` or `--fit`), 1 when unscaled.
+    pub scale: f64,
+}
+
+/// The design with every stroke and circle sequence scaled by `f` about the origin:
+/// centres and radii of disks, points and circles. Operation settings (channel width, hole
+/// diameter, depths, margins) are physical sizes of tools and material and stay as written.
+pub fn scaled_design(design: &Design, f: f64) -> Design {
+    let mut d = design.clone();
+    let sc = |v: &mut [f64; 3]| {
+        for x in v.iter_mut() {
+            *x *= f;
+        }
+    };
+    for s in &mut d.stroke {
+        for list in [&mut s.disks, &mut s.points].into_iter().flatten() {
+            list.iter_mut().for_each(sc);
+        }
+    }
+    for c in &mut d.circles {
+        c.circles.iter_mut().for_each(sc);
+    }
+    d
+}
+
+/// Bounding box (min, max) of the outlines of a build, in design units.
+pub fn outline_bounds(outlines: &[ItemOutline], tol: f64) -> Option<(DVec2, DVec2)> {
+    let mut lo = DVec2::splat(f64::INFINITY);
+    let mut hi = DVec2::splat(f64::NEG_INFINITY);
+    for p in outlines.iter().flat_map(|o| o.contours.iter()) {
+        for q in p.flatten(tol) {
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+    }
+    (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+}
+
+/// Moves the built job as `place` says and checks that it fits the work area of `profile`
+/// (in xy). `margin` (design units) keeps the job that far from the area's edges with
+/// [`Place::LowerLeft`]; `inset` (design units, one unit of the program's last decimal) more
+/// keeps rounding from pushing an arc's extreme over the edge. A job that does not fit
+/// fails with its size, the area's size and the option that would help.
+pub fn place_job(
+    built: &mut BuildResult,
+    profile: &Profile,
+    design_mm_per_unit: f64,
+    place: Place,
+    margin: f64,
+    inset: f64,
+    scale: f64,
+) -> Result<Placement, JobError> {
+    let s = built.toolpath.stats(DVec2::ZERO);
+    if s.cuts == 0 || !s.bbox_min[0].is_finite() || !s.bbox_max[0].is_finite() {
+        return Err(JobError::Options(
+            "the design gives nothing to cut: add strokes, or operations that apply to them"
+                .to_string(),
+        ));
+    }
+    let lo = DVec2::new(s.bbox_min[0], s.bbox_min[1]);
+    let hi = DVec2::new(s.bbox_max[0], s.bbox_max[1]);
+    let size = hi - lo;
+    // Work area corners in design units.
+    let k = profile.units.mm_per_unit() / design_mm_per_unit;
+    let wa = &profile.work_area;
+    let a_lo = DVec2::new(wa.x.min(), wa.y.min()) * k;
+    let a_hi = DVec2::new(wa.x.max(), wa.y.max()) * k;
+    let a_size = a_hi - a_lo;
+    let pad = match place {
+        Place::LowerLeft => margin + inset,
+        _ => inset,
+    };
+    let units = if (design_mm_per_unit - 1.0).abs() < 1e-12 {
+        "mm"
+    } else {
+        "in"
+    };
+    if size.x + pad + inset > a_size.x || size.y + pad + inset > a_size.y {
+        let room = a_size - DVec2::splat(pad + inset);
+        let fit = (room.x / size.x).min(room.y / size.y);
+        return Err(JobError::Options(format!(
+            "the job is {:.1} x {:.1} {units} (tool paths included{}), larger than the work \
+             area of profile \"{}\", {:.1} x {:.1} {units}: use --fit {:.0}x{:.0} to scale the \
+             design down to fit (about --scale {:.3} of the current size), or a larger machine",
+            size.x,
+            size.y,
+            if pad > inset {
+                format!(", plus the {margin} margin")
+            } else {
+                String::new()
+            },
+            profile.name,
+            a_size.x,
+            a_size.y,
+            (room.x - inset).max(0.0).floor(),
+            (room.y - inset).max(0.0).floor(),
+            scale * fit.max(0.0) * 0.99,
+        )));
+    }
+    let offset = match place {
+        Place::Design => DVec2::ZERO,
+        Place::LowerLeft => a_lo + DVec2::splat(margin + inset) - lo,
+        Place::Center => 0.5 * (a_lo + a_hi) - 0.5 * (lo + hi),
+    };
+    let (plo, phi) = (lo + offset, hi + offset);
+    if place == Place::Design
+        && (plo.x < a_lo.x || plo.y < a_lo.y || phi.x > a_hi.x || phi.y > a_hi.y)
+    {
+        return Err(JobError::Options(format!(
+            "at the design's coordinates the job spans x {:.2}..{:.2}, y {:.2}..{:.2} {units}, \
+             outside the work area of profile \"{}\" (x {:.1}..{:.1}, y {:.1}..{:.1}): use \
+             --place lower-left (the default) or --place center",
+            plo.x, phi.x, plo.y, phi.y, profile.name, a_lo.x, a_hi.x, a_lo.y, a_hi.y
+        )));
+    }
+    if offset != DVec2::ZERO {
+        built.toolpath = built.toolpath.translated(offset);
+        for o in &mut built.outlines {
+            for p in &mut o.contours {
+                *p = p.translated(offset);
+            }
+        }
+    }
+    Ok(Placement {
+        place,
+        offset: offset.to_array(),
+        size: size.to_array(),
+        min: plo.to_array(),
+        max: phi.to_array(),
+        scale,
+    })
+}
+
+/// The scale factor that makes the job fit `w` × `h` (design units): the outlines scale
+/// with the design, the rest of the job (tool offsets, channel widths, backboard margins)
+/// does not, so the factor is (w − extra_x)/outline_w (likewise in y), the smaller of the
+/// two. `job` and `outline` are the sizes at the current scale.
+pub fn fit_scale(job: DVec2, outline: DVec2, w: f64, h: f64) -> Option<f64> {
+    let extra = job - outline;
+    let sx = (w - extra.x) / outline.x;
+    let sy = (h - extra.y) / outline.y;
+    let s = sx.min(sy);
+    (s.is_finite() && s > 0.0).then_some(s)
 }

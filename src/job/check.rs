@@ -36,6 +36,10 @@ pub fn check_config(profile: &Profile, tool_radius: f64) -> CheckConfig {
         accel: [a.x, a.y, a.z],
         tool_radius,
         grbl_laser_mode: profile.dialect == Dialect::Grbl && profile.kind == MachineKind::Laser,
+        // Marlin's M30 deletes a file on the SD card (Marlin/src/gcode/sd/M30.cpp, lines
+        // 30-38: "M30 <filename>: Delete SD Card file") and M2 is no Marlin code: its
+        // programs end without either.
+        program_end_optional: profile.dialect == Dialect::Marlin,
         ..CheckConfig::default()
     }
 }

@@ -21,7 +21,9 @@ pub enum JobError {
         name: String,
         message: String,
     },
-    #[error("{file}: operation {index} ({kind}): {message}")]
+    /// `index` is the operation's index in the design (0-based; shown 1-based, as the
+    /// n-th `[[operation]]` table of the file).
+    #[error("{file}: [[operation]] {} ({kind}): {message}", index + 1)]
     Operation {
         file: String,
         index: usize,

@@ -190,6 +190,40 @@ pub struct LaserSettings {
     /// Wait after the beam comes on at a cut start, in seconds (0 = none).
     #[serde(default)]
     pub pierce_dwell: f64,
+    /// Power in percent of `power.max` for operations that set no `power`
+    /// (default [`DEFAULT_LASER_POWER`]): a design without power settings must not burn
+    /// at full power.
+    #[serde(default)]
+    pub default_power: Option<f64>,
+    /// Air assist on for every operation that does not say (`air_assist` in the design).
+    #[serde(default)]
+    pub air_assist: bool,
+    /// Line that switches air assist on (default `M8`: flood coolant, which GRBL, Marlin's
+    /// AIR_ASSIST and Smoothie's default switch module map to the air valve).
+    #[serde(default = "default_air_on")]
+    pub air_on: String,
+    /// Line that switches air assist off (default `M9`).
+    #[serde(default = "default_air_off")]
+    pub air_off: String,
+}
+
+/// Laser power in percent for operations without `power` when the profile sets no
+/// `laser.default_power`: low enough to mark rather than cut through most stock.
+pub const DEFAULT_LASER_POWER: f64 = 20.0;
+
+fn default_air_on() -> String {
+    "M8".to_string()
+}
+
+fn default_air_off() -> String {
+    "M9".to_string()
+}
+
+impl LaserSettings {
+    /// Power in percent for operations that set none.
+    pub fn default_power(&self) -> f64 {
+        self.default_power.unwrap_or(DEFAULT_LASER_POWER)
+    }
 }
 
 fn default_true() -> bool {
@@ -532,6 +566,23 @@ impl Profile {
                     "laser.pierce_dwell",
                     format!("must be in 0..={MAX_DWELL_S} s, got {}", l.pierce_dwell),
                 );
+            }
+            if let Some(p) = l.default_power
+                && !(p.is_finite() && (0.0..=100.0).contains(&p))
+            {
+                return err(
+                    "laser.default_power",
+                    format!("must be a percentage in 0..=100, got {p}"),
+                );
+            }
+            for (key, code) in [("laser.air_on", &l.air_on), ("laser.air_off", &l.air_off)] {
+                let t = code.trim().to_ascii_uppercase();
+                if t.contains("M2") || t.contains("M30") || t.contains("M3") || t.contains("M4") {
+                    return err(
+                        key,
+                        format!("must switch the air only (e.g. M8/M9), got {code:?}"),
+                    );
+                }
             }
             if !l.inline_power && !l.needs_on_command {
                 return err(

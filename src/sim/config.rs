@@ -49,6 +49,9 @@ pub struct CheckConfig {
     pub gouge_tolerance: f64,
     /// Do not report crossings between different contours.
     pub allow_crossings: bool,
+    /// The dialect ends a program without M2/M30 (Marlin: M30 deletes a file on the SD
+    /// card, and a print host just stops sending): a missing end is then only noted.
+    pub program_end_optional: bool,
     /// GRBL laser mode ($32=1): G0 never fires the beam, so a rapid with M3/M4 and S>0 is
     /// only a warning (it still is an error on controllers without laser mode).
     pub grbl_laser_mode: bool,
@@ -182,6 +185,7 @@ impl Default for CheckConfig {
             tool_radius: 0.0,
             gouge_tolerance: 0.01,
             allow_crossings: false,
+            program_end_optional: false,
             grbl_laser_mode: true,
             arc_radius_tolerance: 0.005,
             max_findings_per_check: 50,

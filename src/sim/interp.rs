@@ -629,11 +629,15 @@ impl<'a> Interp<'a, '_> {
             let lower = c.to_ascii_lowercase();
             if let Some(rest) = lower.strip_prefix("skinpath:group") {
                 let rest = rest.trim();
-                if rest == "end" {
+                if rest == "end" || rest == "none" {
                     self.group = None;
+                    self.prog.group_marks.push((self.line, None));
                 } else {
                     match rest.parse::<u32>() {
-                        Ok(g) => self.group = Some(g),
+                        Ok(g) => {
+                            self.group = Some(g);
+                            self.prog.group_marks.push((self.line, Some(g)));
+                        }
                         Err(_) => self.warn(
                             "comment",
                             None,

@@ -196,6 +196,9 @@ pub struct Program {
     pub uncertain_from: Option<usize>,
     /// Why nothing usable could be read (empty file, binary data), when that is the case.
     pub unusable: Option<String>,
+    /// Pocket marks `(skinpath:group N)` by line (see
+    /// [`crate::sim::checks::contours::note_group_marks`]), in line order.
+    pub group_marks: Vec<(usize, Option<u32>)>,
 }
 
 /// A machine event that is not a move.

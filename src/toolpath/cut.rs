@@ -338,6 +338,7 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
     }
     Some(Cut {
         source,
+        group: None,
         start: DVec3::new(entry.x, entry.y, 0.0),
         moves,
     })

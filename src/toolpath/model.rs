@@ -35,6 +35,11 @@ pub struct Move {
 pub struct Cut {
     /// The stroke (or circle sequence) this cut came from, if any.
     pub source: Option<String>,
+    /// The pocket this cut clears, when it clears one: cuts of one pocket may
+    /// cross each other on purpose (concentric rings meeting a drilled hole). The emitter
+    /// marks them in the program (`(skinpath:group N)`) so the checker can tell them from
+    /// accidental crossings; unmarked cuts are judged strictly.
+    pub group: Option<u32>,
     pub start: DVec3,
     pub moves: Vec<Move>,
 }
@@ -56,6 +61,11 @@ pub struct Operation {
     pub name: String,
     pub kind: OperationKind,
     pub cuts: Vec<Cut>,
+    /// Index of the `[[operation]]` in the design that produced it (none for the default
+    /// profile of a design without operations), for messages that name what the user wrote.
+    pub design_index: Option<usize>,
+    /// Air assist (lasers) on during this operation.
+    pub air_assist: bool,
 }
 
 /// A whole job.
@@ -75,11 +85,14 @@ impl Toolpath {
                 .map(|op| Operation {
                     name: op.name.clone(),
                     kind: op.kind,
+                    design_index: op.design_index,
+                    air_assist: op.air_assist,
                     cuts: op
                         .cuts
                         .iter()
                         .map(|c| Cut {
                             source: c.source.clone(),
+                            group: c.group,
                             start: c.start + d3,
                             moves: c
                                 .moves

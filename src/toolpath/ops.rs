@@ -47,7 +47,7 @@ pub fn holes(points: &[DVec2], diameter: f64, tool_radius: f64) -> Vec<Hole> {
         .iter()
         .map(|&c| {
             let r = diameter / 2.0 - tool_radius;
-            if r <= 1e-9 * diameter.max(1.0) {
+            if r <= 1e-9 * diameter {
                 Hole::Drill(c)
             } else {
                 let a = Arc::new(c, r, 0.0, -2.0 * std::f64::consts::PI);
@@ -178,7 +178,7 @@ pub fn swept_region(spine: &[DVec2], closed: bool, half_width: f64, tol: f64) ->
     let style = geo::algorithm::buffer::BufferStyle::new(half_width)
         .line_join(geo::algorithm::buffer::LineJoin::Round(phi))
         .line_cap(geo::algorithm::buffer::LineCap::Round(phi));
-    Region::from_geo(&ls.buffer_with_style(style))
+    Region::from_geo(&ls.buffer_with_style(style), tol)
 }
 
 /// A closed contour around the union of `regions` grown by `margin`, with every inner

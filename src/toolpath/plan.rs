@@ -46,6 +46,13 @@ pub struct OpSpec {
     pub geometry: Geometry,
     /// Source stroke names per path or point (same length as the geometry, or empty).
     pub sources: Vec<String>,
+    /// Pocket per path or point (same length as the geometry, or empty): see
+    /// [`Cut::group`].
+    pub groups: Vec<Option<u32>>,
+    /// Index of the design's `[[operation]]` this comes from.
+    pub design_index: Option<usize>,
+    /// Air assist on during the operation (lasers).
+    pub air_assist: bool,
     /// Final depth below the surface (0 for lasers).
     pub depth: f64,
     /// Largest depth per pass (routers); ignored when depth is 0.
@@ -102,6 +109,7 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
     for spec in order {
         let mut cuts: Vec<Cut> = Vec::new();
         let source_of = |i: usize| spec.sources.get(i).cloned();
+        let group_of = |i: usize| spec.groups.get(i).copied().flatten();
         match &spec.geometry {
             Geometry::Paths(paths) => {
                 let (ordered, st) = order_paths(paths, pos, tol);
@@ -115,7 +123,8 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
                     waste_left: true,
                 };
                 for (i, p) in &ordered {
-                    if let Some(c) = contour_cut(p, &opts, source_of(*i)) {
+                    if let Some(mut c) = contour_cut(p, &opts, source_of(*i)) {
+                        c.group = group_of(*i);
                         cuts.push(c);
                     }
                 }
@@ -140,7 +149,9 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
                     let (i, p) = left.swap_remove(k);
                     travel_ordered += here.distance(p);
                     here = p;
-                    cuts.push(drill_cut(p, spec, source_of(i)));
+                    let mut c = drill_cut(p, spec, source_of(i));
+                    c.group = group_of(i);
+                    cuts.push(c);
                 }
                 stats.push(PlanStats {
                     operation: spec.name.clone(),
@@ -152,14 +163,16 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
             }
             Geometry::Polylines3(lines) => {
                 for (i, l) in lines.iter().enumerate() {
-                    if let Some(c) = polyline3_cut(l, spec, source_of(i)) {
+                    if let Some(mut c) = polyline3_cut(l, spec, source_of(i)) {
+                        c.group = group_of(i);
                         cuts.push(c);
                     }
                 }
             }
             Geometry::AttrPolylines3(lines) => {
                 for (i, l) in lines.iter().enumerate() {
-                    if let Some(c) = attr_polyline3_cut(l, spec, source_of(i)) {
+                    if let Some(mut c) = attr_polyline3_cut(l, spec, source_of(i)) {
+                        c.group = group_of(i);
                         cuts.push(c);
                     }
                 }
@@ -172,6 +185,8 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
             name: spec.name.clone(),
             kind: spec.kind,
             cuts,
+            design_index: spec.design_index,
+            air_assist: spec.air_assist,
         });
     }
     (Toolpath { operations: ops }, stats)
@@ -211,6 +226,7 @@ fn drill_cut(p: DVec2, spec: &OpSpec, source: Option<String>) -> Cut {
     }
     Cut {
         source,
+        group: None,
         start: DVec3::new(p.x, p.y, 0.0),
         moves,
     }
@@ -235,6 +251,7 @@ fn polyline3_cut(l: &[DVec3], spec: &OpSpec, source: Option<String>) -> Option<C
     }
     Some(Cut {
         source,
+        group: None,
         start: DVec3::new(first.x, first.y, 0.0),
         moves,
     })
@@ -268,6 +285,7 @@ fn attr_polyline3_cut(l: &AttrPolyline, spec: &OpSpec, source: Option<String>) -
         .collect();
     Some(Cut {
         source,
+        group: None,
         start: DVec3::new(first.x, first.y, 0.0),
         moves,
     })
@@ -296,6 +314,9 @@ mod tests {
             kind,
             geometry,
             sources: vec![],
+            groups: vec![],
+            design_index: None,
+            air_assist: false,
             depth: 3.0,
             step_down: 1.0,
             repeat: 1,

@@ -26,6 +26,15 @@ pub struct Region {
 /// circle), so longer arcs are split.
 const MAX_SWEEP_PER_VERTEX: f64 = std::f64::consts::PI;
 
+/// Vertices closer than this fraction of the tolerance are one vertex, and a vertex between
+/// two lines that lies nearer than this fraction of the tolerance to the chord of its
+/// neighbours is dropped ([`simplify_ring`]). It must exceed the position tolerance the
+/// offsets use (`eps`·0.1 = tolerance·0.01, see [`Region::offset`] and the build's
+/// `eps = tolerance·0.1`): cavalier_contours keeps vertices 1.5 × its position tolerance
+/// apart as distinct and then joins offset slices at them into zero-area two-vertex
+/// contours (the E channel of issue 11 had such a pair, 1.5e-4 apart at tolerance 1e-2).
+pub const REPEAT_FRACTION: f64 = 0.05;
+
 /// Append the line/arc `seg` (starting where the polyline currently ends) as vertices.
 fn push_seg(pl: &mut Polyline<f64>, seg: &PathSeg) {
     match seg {
@@ -57,7 +66,9 @@ pub fn pline_from_path(path: &Path, tol: f64) -> Polyline<f64> {
         }
     }
     pl.set_is_closed(path.closed);
-    pl.remove_repeat_pos(1e-9).unwrap_or(pl)
+    // Repeated positions (a biarc joint on a path's own end point) relative to the
+    // tolerance, so the result does not depend on the size or position of the path.
+    pl.remove_repeat_pos(tol * REPEAT_FRACTION).unwrap_or(pl)
 }
 
 /// A closed polyline through `points` (no arcs).
@@ -123,6 +134,123 @@ pub fn clean_ring(mut pts: Vec<DVec2>) -> Vec<DVec2> {
     }
 }
 
+/// A closed ring (no repeated end point) without vertices closer than `eps` to the last
+/// kept one and without line–line vertices within `eps` of the chord of their neighbours
+/// (nearly collinear or nearly back-tracking), repeatedly, so every edge of the result is
+/// longer than `eps` and every turn moves the boundary by more than `eps`. Each removal
+/// moves the boundary by less than `eps`. Spikes are removed by [`clean_ring`] first.
+pub fn simplify_ring(pts: Vec<DVec2>, eps: f64) -> Vec<DVec2> {
+    let mut pts = clean_ring(pts);
+    loop {
+        let n = pts.len();
+        if n < 4 {
+            return pts;
+        }
+        let mut keep = vec![true; n];
+        let mut left = n;
+        let mut prev = n - 1;
+        for i in 0..n {
+            // The last vertex's successor is the first: keep it when the first went.
+            if left <= 3 || (i == n - 1 && !keep[0]) {
+                break;
+            }
+            let (p, v, q) = (pts[prev], pts[i], pts[(i + 1) % n]);
+            let chord = q - p;
+            let len = chord.length();
+            let near_chord = len > eps
+                && (chord.perp_dot(v - p) / len).abs() < eps
+                && (v - p).dot(chord) > 0.0
+                && (q - v).dot(chord) > 0.0;
+            if v.distance(p) < eps || near_chord {
+                keep[i] = false;
+                left -= 1;
+            } else {
+                prev = i;
+            }
+        }
+        if left == n {
+            return pts;
+        }
+        pts = clean_ring(
+            pts.into_iter()
+                .zip(keep)
+                .filter_map(|(p, k)| k.then_some(p))
+                .collect(),
+        );
+    }
+}
+
+/// A closed polyline without spikes: a vertex between two straight edges where the path
+/// turns back on itself (the edges point in opposite directions and the excursion is
+/// narrower than `eps`) is removed, and so are vertices within
+/// `eps`·0.1 of the previous one, repeatedly. Offsets can leave such zero-width
+/// there-and-back excursions where two nearly coincident boundaries meet (seen at the
+/// coincident end caps of the README's example strokes s1 and c1, a 0.02 mm spike); a tool
+/// following one would retrace its own cut.
+pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
+    use cavalier_contours::polyline::PlineVertex;
+    type V = PlineVertex<f64>;
+    let p = |v: &V| DVec2::new(v.x, v.y);
+    // Whether `b` is removable between `a` and `c`.
+    let removable = |a: &V, b: &V, c: &V| -> bool {
+        if a.bulge == 0.0 && p(a).distance(p(b)) < eps * 0.1 {
+            return true;
+        }
+        if a.bulge != 0.0 || b.bulge != 0.0 {
+            return false;
+        }
+        let (d0, d1) = (p(b) - p(a), p(c) - p(b));
+        // Width of the excursion: the distance of the far end of the shorter edge from the
+        // longer edge's line (0 for an exact there-and-back).
+        let long = d0.length().max(d1.length());
+        let width = if long > 0.0 {
+            d0.perp_dot(d1).abs() / long
+        } else {
+            0.0
+        };
+        d0.dot(d1) < 0.0 && (width < eps || long < eps)
+    };
+    let mut v: Vec<V> = Vec::with_capacity(pl.vertex_count());
+    for x in pl.iter_vertexes() {
+        v.push(x);
+        while v.len() >= 3 {
+            let k = v.len();
+            if removable(&v[k - 3], &v[k - 2], &v[k - 1]) {
+                v.remove(k - 2);
+            } else {
+                break;
+            }
+        }
+    }
+    // The seam of the closed ring: the triples that wrap around.
+    while v.len() > 3 {
+        let k = v.len();
+        if removable(&v[k - 2], &v[k - 1], &v[0]) {
+            v.pop();
+        } else if removable(&v[k - 1], &v[0], &v[1]) {
+            v.remove(0);
+        } else if removable(&v[0], &v[1], &v[2]) {
+            v.remove(1);
+        } else {
+            break;
+        }
+    }
+    let mut out = Polyline::with_capacity(v.len(), pl.is_closed());
+    for x in v {
+        out.add(x.x, x.y, x.bulge);
+    }
+    out
+}
+
+/// True for a contour that encloses no width: fewer than two distinct vertices, or an area
+/// below `eps`·perimeter (a circle of radius ρ has area/perimeter = ρ/2, so this keeps every
+/// ring wider than about 2·eps and drops the zero-area slivers an offset can leave where
+/// the input had nearly coincident vertices).
+fn degenerate(pl: &Polyline<f64>, eps: f64) -> bool {
+    use cavalier_contours::polyline::PlineSource;
+    pl.vertex_count() < 2 || pl.area().abs() <= eps * pl.path_length()
+}
+
 impl Region {
     /// A region from closed contours in any orientation and nesting: contours at even
     /// nesting depth become material (counter-clockwise), odd depth holes (clockwise).
@@ -183,7 +311,12 @@ impl Region {
         if self.contours.is_empty() || delta == 0.0 {
             return self.clone();
         }
-        let shape = Shape::from_plines(self.contours.iter().cloned());
+        // Centre the coordinates first: cavalier's intersection and join tests compare
+        // absolute differences, so a region far from the origin would lose digits (a job
+        // at x = 10 000 has 4 fewer significant digits than one at the origin).
+        let c = self.center();
+        let moved = self.translated(-c);
+        let shape = Shape::from_plines(moved.contours.iter().cloned());
         let opts = ShapeOffsetOptions {
             pos_equal_eps: eps * 0.1,
             offset_dist_eps: eps,
@@ -196,16 +329,46 @@ impl Region {
                 .ccw_plines
                 .into_iter()
                 .chain(out.cw_plines)
-                .map(|ip| ip.polyline)
+                .map(|ip| despike(&ip.polyline, eps))
+                .filter(|pl| !degenerate(pl, eps))
                 .collect(),
         }
+        .translated(c)
+    }
+
+    /// Centre of the bounding box of the vertices (zero for an empty region).
+    pub fn center(&self) -> DVec2 {
+        let mut lo = DVec2::splat(f64::INFINITY);
+        let mut hi = DVec2::splat(f64::NEG_INFINITY);
+        for c in &self.contours {
+            for v in c.iter_vertexes() {
+                lo = lo.min(DVec2::new(v.x, v.y));
+                hi = hi.max(DVec2::new(v.x, v.y));
+            }
+        }
+        if lo.x <= hi.x { 0.5 * (lo + hi) } else { DVec2::ZERO }
+    }
+
+    /// The region moved by `d`.
+    pub fn translated(&self, d: DVec2) -> Region {
+        let mut out = self.clone();
+        for c in &mut out.contours {
+            for i in 0..c.vertex_count() {
+                if let Some(mut v) = c.get(i) {
+                    v.x += d.x;
+                    v.y += d.y;
+                    c.set_vertex(i, v);
+                }
+            }
+        }
+        out
     }
 
     /// The union of several regions, through polygons flattened within `tol`.
     pub fn union(regions: &[Region], tol: f64) -> Region {
         let polys: Vec<geo::MultiPolygon<f64>> = regions.iter().map(|r| r.to_geo(tol)).collect();
         let merged = geo::algorithm::bool_ops::unary_union(polys.iter());
-        Region::from_geo(&merged)
+        Region::from_geo(&merged, tol)
     }
 
     /// The region bounded by closed paths that may cross themselves and each other (a
@@ -242,7 +405,7 @@ impl Region {
             geo::algorithm::bool_ops::OpType::Union,
             geo::algorithm::bool_ops::FillRule::NonZero,
         );
-        Region::from_geo(&merged)
+        Region::from_geo(&merged, tol)
     }
 
     /// The region as geo polygons (contours flattened within `tol`).
@@ -283,17 +446,19 @@ impl Region {
         geo::MultiPolygon::new(polys)
     }
 
-    /// A region from geo polygons (lines only). Rings are cleaned of repeated points and
-    /// of spikes (zero-width there-and-back excursions a polygon boolean may leave), so no
-    /// tool path retraces itself.
-    pub fn from_geo(mp: &geo::MultiPolygon<f64>) -> Region {
+    /// A region from geo polygons (lines only) whose rings were flattened within `tol`.
+    /// Rings are cleaned of spikes (zero-width there-and-back excursions a polygon boolean
+    /// may leave), so no tool path retraces itself, and of vertices within
+    /// [`REPEAT_FRACTION`]·`tol` of their neighbours or of the chord between them
+    /// ([`simplify_ring`]), which offsets would turn into degenerate slivers.
+    pub fn from_geo(mp: &geo::MultiPolygon<f64>, tol: f64) -> Region {
         let mut contours = Vec::new();
         let conv = |ls: &geo::LineString<f64>| {
             let mut pts: Vec<DVec2> = ls.coords().map(|c| DVec2::new(c.x, c.y)).collect();
             if pts.len() > 1 && pts.first() == pts.last() {
                 pts.pop();
             }
-            pline_from_points(&clean_ring(pts), true)
+            pline_from_points(&simplify_ring(pts, tol * REPEAT_FRACTION), true)
         };
         for p in &mp.0 {
             contours.push(conv(p.exterior()));

@@ -25,6 +25,7 @@ pub fn arc(x: f64, y: f64, z: f64, c: DVec2, ccw: bool, power: f64) -> Move {
 pub fn cut(start: DVec3, moves: Vec<Move>) -> Cut {
     Cut {
         source: Some("stroke 1".into()),
+        group: None,
         start,
         moves,
     }
@@ -34,6 +35,8 @@ pub fn op(name: &str, kind: OperationKind, cuts: Vec<Cut>) -> Operation {
     Operation {
         name: name.into(),
         kind,
+        design_index: None,
+        air_assist: false,
         cuts,
     }
 }

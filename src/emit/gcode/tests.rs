@@ -15,6 +15,7 @@ fn square(z: f64, power: f64) -> Cut {
     };
     Cut {
         source: Some("sq".into()),
+        group: None,
         start: DVec3::new(10.0, 10.0, z),
         moves: vec![
             mv(20.0, 10.0),
@@ -30,6 +31,8 @@ fn job(cuts: Vec<Cut>) -> Toolpath {
         operations: vec![Operation {
             name: "outline".into(),
             kind: OperationKind::Profile,
+            design_index: None,
+            air_assist: false,
             cuts,
         }],
     }
@@ -149,6 +152,7 @@ fn helix() -> Cut {
     };
     Cut {
         source: None,
+        group: None,
         start: DVec3::new(60.0, 50.0, 0.0),
         moves: vec![m(60.0, 50.0, -2.0), m(40.0, 50.0, -3.0)],
     }
@@ -192,6 +196,7 @@ fn tiny_arcs_never_become_full_circles() {
     let a = 1e-5f64;
     let cut = Cut {
         source: None,
+        group: None,
         start: DVec3::new(60.0, 50.0, 0.0),
         moves: vec![
             Move {

@@ -32,10 +32,47 @@ pub struct Contour {
     pub z: f64,
     /// Tool session ([`crate::sim::ToolState::session`]) the contour was cut in.
     pub session: u32,
+    /// Pocket mark in force where the contour was cut ([`note_group_marks`]).
+    pub group: Option<u32>,
+}
+
+/// Records the pocket marks among a line's comments: `skinpath:group N` (N a number) starts
+/// pocket N, `skinpath:group none` ends it (the text skinpath's emitter writes, see
+/// `emit::gcode::GROUP_MARK`). Other comments are ignored. Called by the interpreter for
+/// every line, words or not.
+pub fn note_group_marks(comments: &[String], line: usize, marks: &mut Vec<(usize, Option<u32>)>) {
+    for c in comments {
+        let Some(rest) = c.trim().strip_prefix("skinpath:group") else {
+            continue;
+        };
+        let rest = rest.trim();
+        if rest == "none" {
+            marks.push((line, None));
+        } else if let Ok(n) = rest.parse::<u32>() {
+            marks.push((line, Some(n)));
+        }
+    }
+}
+
+/// The pocket mark in force at `line`: the last mark on an earlier line (marks sit on
+/// lines of their own, before the moves they cover).
+pub fn group_at(marks: &[(usize, Option<u32>)], line: usize) -> Option<u32> {
+    let k = marks.partition_point(|(l, _)| *l < line);
+    if k == 0 { None } else { marks[k - 1].1 }
 }
 
 /// The cut contours of a program, arcs flattened to `cfg.flatten_tolerance` (mm).
 pub fn cut_contours(motions: &[Motion], cfg: &CheckConfig) -> Vec<Contour> {
+    cut_contours_marked(motions, &[], cfg)
+}
+
+/// [`cut_contours`] with the program's pocket marks: a contour also ends where the mark
+/// changes, and carries the mark it was cut under.
+pub fn cut_contours_marked(
+    motions: &[Motion],
+    marks: &[(usize, Option<u32>)],
+    cfg: &CheckConfig,
+) -> Vec<Contour> {
     let mut out: Vec<Contour> = Vec::new();
     let mut cur: Option<Contour> = None;
     for (k, m) in motions.iter().enumerate() {
@@ -47,7 +84,11 @@ pub fn cut_contours(motions: &[Motion], cfg: &CheckConfig) -> Vec<Contour> {
             out.extend(cur.take());
             continue;
         }
-        if cur.as_ref().is_some_and(|c| c.session != m.tool.session) {
+        let group = group_at(marks, m.line);
+        if cur
+            .as_ref()
+            .is_some_and(|c| c.session != m.tool.session || c.group != group)
+        {
             out.extend(cur.take());
         }
         let pts = m.flatten_xy(cfg.flatten_tolerance);
@@ -56,6 +97,7 @@ pub fn cut_contours(motions: &[Motion], cfg: &CheckConfig) -> Vec<Contour> {
             sources: Vec::new(),
             z: m.from.z,
             session: m.tool.session,
+            group,
         });
         for p in pts.into_iter().skip(1) {
             c.points.push(p);
@@ -69,7 +111,12 @@ pub fn cut_contours(motions: &[Motion], cfg: &CheckConfig) -> Vec<Contour> {
 /// Self-intersections of each contour and crossings between contours (unless
 /// `cfg.allow_crossings`). Touching or overlapping counts within a contour; between
 /// contours only transversal crossings do (a retraced contour, as in multi-pass laser cuts,
-/// overlaps itself without crossing). One finding per pair of source lines.
+/// overlaps itself without crossing). Two contours cut under the same pocket mark
+/// ([`note_group_marks`]) may cross, at one depth or at two: they clear one pocket together
+/// (a wire hole deeper than its channel crosses the channel's rings in plan view at every
+/// level). A contour still may not touch itself, and unmarked contours (profiles,
+/// backboards, other tools' programs) are judged strictly.
+/// One finding per pair of source lines.
 pub fn intersection_findings(
     contours: &[Contour],
     motions: &[Motion],
@@ -89,6 +136,18 @@ pub fn intersection_findings(
         let same = s.contour == t.contour;
         if !same && (!c.proper || cfg.allow_crossings) {
             continue;
+        }
+        if !same {
+            let (a, b) = (
+                contours.get(s.contour as usize),
+                contours.get(t.contour as usize),
+            );
+            if let (Some(a), Some(b)) = (a, b)
+                && a.group.is_some()
+                && a.group == b.group
+            {
+                continue;
+            }
         }
         let (l1, l2) = (line_of(s.source), line_of(t.source));
         let key = (same, l1.min(l2), l1.max(l2));

@@ -169,18 +169,25 @@ pub fn feed_and_power(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
 /// The end of the program: no M2/M30 (a warning: GRBL streams need none, but a missing end
 /// often means a truncated file), the tool still on at the end of a file without M2/M30 (an
 /// error), or M2/M30 reached with the tool on (a warning: controllers stop it there).
-pub fn program_end(prog: &Program) -> Vec<Finding> {
+pub fn program_end(prog: &Program, cfg: &CheckConfig) -> Vec<Finding> {
     let mut out = Vec::new();
     match prog.end {
         None => {
-            out.push(
+            let f = if cfg.program_end_optional {
+                Finding::new(
+                    "missing-program-end",
+                    Severity::Info,
+                    "no M2/M30, as this dialect expects (Marlin ends when the host stops \
+                     sending; its M30 deletes a file on the SD card)",
+                )
+            } else {
                 Finding::new(
                     "missing-program-end",
                     Severity::Warning,
                     "no M2/M30: the file may be truncated",
                 )
-                .line(prog.last_line),
-            );
+            };
+            out.push(f.line(prog.last_line));
             if prog.final_tool.is_on() {
                 out.push(
                     Finding::new(

@@ -3,7 +3,7 @@
 //! | id | severity | what |
 //! |---|---|---|
 //! | `self-intersection` | error | a cut contour crosses or touches itself |
-//! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`) |
+//! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`; contours of one marked pocket may) |
 //! | `gouge` | error | tool centre nearer the design than tool radius − tolerance, or on the wrong side |
 //! | `out-of-bounds` | error | a move leaves the work area |
 //! | `laser-on-rapid` | warning (GRBL laser mode) / error | G0 with M3/M4 and S > 0 |
@@ -12,7 +12,7 @@
 //! | `feed-out-of-range` | error | cutting feed missing or outside the range |
 //! | `power-out-of-range` | error | S outside the range while cutting |
 //! | `tool-on-at-end` | error (no M2/M30) / warning | the program ends with the tool on |
-//! | `missing-program-end` | warning | no M2/M30 |
+//! | `missing-program-end` | warning (info where the dialect needs none) | no M2/M30 |
 //!
 //! Interpreter diagnostics (`gcode-syntax`, `bad-checksum`, `unknown-word`, `unknown-code`,
 //! `unsupported-code`, `invalid-arc`, `invalid-value`, `modal-conflict`, `duplicate-word`,
@@ -34,7 +34,7 @@ use super::report::Finding;
 /// Runs every check (`cfg` in mm, see [`CheckConfig::in_mm`]); findings in program order
 /// within each check.
 pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Vec<Finding> {
-    let contours = cut_contours(&prog.motions, cfg);
+    let contours = contours::cut_contours_marked(&prog.motions, &prog.group_marks, cfg);
     let mut out = Vec::new();
     out.extend(contours::intersection_findings(
         &contours,
@@ -45,7 +45,7 @@ pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> 
     out.extend(machine::out_of_bounds(&prog.motions, cfg));
     out.extend(machine::rapids(&prog.motions, cfg));
     out.extend(machine::feed_and_power(&prog.motions, cfg));
-    out.extend(machine::program_end(prog));
+    out.extend(machine::program_end(prog, cfg));
     out
 }
 
