@@ -32,7 +32,7 @@ pub struct Args {
     /// Skin approximation accuracy ε, in design units.
     #[arg(long)]
     epsilon: Option<f64>,
-    /// Also write a preview SVG of the toolpath (cuts solid, rapids dashed) here.
+    /// Also write a preview here: .svg or .png drawing, or .html player (see `preview`).
     #[arg(long)]
     preview: Option<PathBuf>,
     /// Where the job goes on the machine: `design` keeps the design's coordinates;
@@ -230,11 +230,21 @@ pub fn run(a: Args) -> Result<u8> {
         }
     }
     if let Some(p) = &a.preview {
-        let svg = skinpath::emit::preview_svg(
+        let scene = super::preview::scene_of_build(
+            &job,
             &built.toolpath,
-            &skinpath::emit::PreviewOptions::default(),
-        )?;
-        io::write_atomic(p, svg.as_bytes()).with_context(|| format!("writing {}", p.display()))?;
+            &profile,
+            design.units.mm_per_unit(),
+            (format == "gcode").then_some(body.as_str()),
+            design.operation.iter().any(|o| {
+                !matches!(
+                    o.kind,
+                    skinpath::design::OperationKind::Profile
+                        | skinpath::design::OperationKind::Backboard
+                )
+            }),
+        );
+        super::preview::write(p, &scene, Default::default())?;
     }
     io::write_atomic(&a.output, body.as_bytes())
         .with_context(|| format!("writing {}", a.output.display()))?;

@@ -7,6 +7,7 @@ mod inspect;
 pub mod io;
 mod machines;
 mod outline;
+mod preview;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -30,6 +31,8 @@ enum Command {
     Build(build::Args),
     /// Check a G-code program (from any tool) for faults; exit 1 when something fails.
     Check(check::Args),
+    /// Preview a design (for a machine) or any G-code program: .svg, .png or .html player.
+    Preview(preview::Args),
     /// List the machine profiles shipped with skinpath.
     Machines(machines::Args),
 }
@@ -46,6 +49,7 @@ pub fn run() -> ExitCode {
         Command::Build(a) => build::run(a),
         Command::Check(a) => check::run(a),
         Command::Machines(a) => machines::run(a),
+        Command::Preview(a) => preview::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

@@ -25,6 +25,7 @@ pub mod linuxcnc;
 pub mod motion;
 pub mod report;
 pub mod time;
+pub mod timeline;
 
 pub use checks::{DesignBoundary, KeepSide};
 pub use config::{CheckConfig, MachineKind};
