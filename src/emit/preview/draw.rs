@@ -198,9 +198,17 @@ impl SvgPage {
         );
     }
 
-    /// A number drawn as strokes (no font needed), centred on `center`, `height` tall.
-    pub fn number(&mut self, class: &str, center: DVec2, height: f64, color: &str, v: usize) {
-        let d = glyphs::number_path(&v.to_string(), center, height);
+    /// Digits (and '-') drawn as strokes (no font needed) on a white halo, centred on
+    /// `center`, `height` tall.
+    pub fn number(&mut self, class: &str, center: DVec2, height: f64, color: &str, text: &str) {
+        let d = glyphs::number_path(text, center, height);
+        let _ = writeln!(
+            self.out,
+            "<path class=\"halo\" d=\"{d}\" fill=\"none\" stroke=\"#ffffff\" \
+             stroke-opacity=\"0.85\" stroke-width=\"{}\" stroke-linecap=\"round\" \
+             stroke-linejoin=\"round\"/>",
+            n(2.6 * height * glyphs::STROKE)
+        );
         let _ = writeln!(
             self.out,
             "<path class=\"{class}\" d=\"{d}\" fill=\"none\" stroke=\"{color}\" \

@@ -30,6 +30,9 @@ const DIGITS: [u8; 10] = [
     0b1111111, 0b1101111,
 ];
 
+/// The dash between the numbers of a range: the middle segment.
+const DASH: u8 = 0b1000000;
+
 /// Width of `text` (digits) drawn `height` tall.
 pub fn width(text: &str, height: f64) -> f64 {
     let k = text.chars().count() as f64;
@@ -46,10 +49,16 @@ pub fn number_path(text: &str, center: DVec2, height: f64) -> String {
     let origin = center - DVec2::new(0.5 * w, 0.5 * height);
     let mut d = String::new();
     for (i, ch) in text.chars().enumerate() {
-        let Some(v) = ch.to_digit(10) else { continue };
+        let bits = match ch {
+            '-' => DASH,
+            c => match c.to_digit(10) {
+                Some(v) => DIGITS[v as usize],
+                None => continue,
+            },
+        };
         let cell = origin + DVec2::new(i as f64 * ADVANCE * height, 0.0);
         for (s, seg) in SEGMENTS.iter().enumerate() {
-            if DIGITS[v as usize] & (1 << s) == 0 {
+            if bits & (1 << s) == 0 {
                 continue;
             }
             let p = |(x, y): (f64, f64)| cell + DVec2::new(x * WIDTH * height, y * height);
@@ -78,5 +87,6 @@ mod tests {
         assert_eq!(number_path("1", DVec2::ZERO, 1.0).matches('M').count(), 2);
         assert_eq!(number_path("10", DVec2::ZERO, 1.0).matches('M').count(), 8);
         assert!((width("12", 10.0) - 13.5).abs() < 1e-12);
+        assert_eq!(number_path("1-2", DVec2::ZERO, 1.0).matches('M').count(), 8);
     }
 }

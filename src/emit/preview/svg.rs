@@ -24,8 +24,8 @@ impl Default for SvgOptions {
     fn default() -> Self {
         SvgOptions {
             legend: true,
-            max_numbers: 400,
-            max_listed_findings: 30,
+            max_numbers: 60,
+            max_listed_findings: 12,
         }
     }
 }
@@ -39,7 +39,12 @@ const FONT: f64 = 0.02;
 const MARGIN: f64 = 0.04;
 /// The work area is framed with the job when it is at most this many times the job's
 /// area; a job small on a large bed is framed alone (the bed's edges show where near).
-const WORK_AREA_RATIO: f64 = 16.0;
+const WORK_AREA_RATIO: f64 = 4.0;
+
+/// Lines named per kind of finding when the findings are summarised.
+const FINDING_LINES: usize = 8;
+/// Findings carry their number on the drawing up to this many (rings only beyond).
+const NUMBERED_FINDINGS: usize = 30;
 
 /// Colours of the parts that are not cuts.
 pub const RAPID_COLOR: &str = "#a9b4bd";
@@ -105,7 +110,7 @@ impl Sizes {
             cut,
             rapid: 0.45 * cut,
             marker: 1.8 * cut,
-            number: 4.0 * cut,
+            number: 5.5 * cut,
             arrow: 4.5 * cut,
             font: FONT * s,
         }
@@ -144,17 +149,25 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
         MachineKind::Router => "cut colour: depth below z 0 (mm)",
     };
     rows.push(text(what.to_string(), "scale"));
-    let steps = if scale.hi > scale.lo { COLOR_STEPS } else { 1 };
-    for k in 0..steps {
+    let mut used = [false; COLOR_STEPS];
+    for (i, m) in scene.motions.iter().enumerate() {
+        if scene.is_cut(i) {
+            used[scale.step(scene.value_of(m))] = true;
+        }
+    }
+    let fmt = |v: f64| match scene.kind {
+        MachineKind::Laser => format!("S {v:.0}"),
+        MachineKind::Router => format!("{v:.2} mm"),
+    };
+    for (k, _) in used.iter().enumerate().filter(|(_, u)| **u) {
         let (a, b) = scale.range(k);
-        let label = if steps == 1 {
-            format!("{:.3}", scale.hi)
+        let label = if scale.hi > scale.lo {
+            format!("{} to {}", fmt(a), fmt(b))
         } else {
-            format!("{a:.3} to {b:.3}")
+            fmt(scale.hi)
         };
-        let step = if steps == 1 { COLOR_STEPS - 1 } else { k };
         rows.push(Row {
-            swatch: Some((scale.color(step), false)),
+            swatch: Some((scale.color(k), false)),
             text: label,
             class: "scale",
         });
@@ -188,20 +201,32 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
             ),
             class: "findings",
         });
-        for (i, f) in scene
-            .findings
-            .iter()
-            .enumerate()
-            .take(opts.max_listed_findings)
-        {
-            rows.push(text(format!("{}. {f}", i + 1), "finding-text"));
-        }
-        if scene.findings.len() > opts.max_listed_findings {
+        if scene.findings.len() <= opts.max_listed_findings {
+            for (i, f) in scene.findings.iter().enumerate() {
+                rows.push(text(format!("{}. {f}", i + 1), "finding-text"));
+            }
+        } else {
+            // Many findings: one row per kind with its count and first lines.
+            let mut kinds: Vec<(&str, Severity, Vec<usize>, usize)> = Vec::new();
+            for f in &scene.findings {
+                match kinds.iter_mut().find(|k| k.0 == f.id) {
+                    Some(k) => {
+                        k.3 += 1;
+                        k.2.extend(f.lines.iter().take(1));
+                    }
+                    None => kinds.push((f.id, f.severity, f.lines.iter().take(1).copied().collect(), 1)),
+                }
+            }
+            for (id, sev, lines, count) in kinds {
+                let shown: Vec<String> = lines.iter().take(FINDING_LINES).map(|l| l.to_string()).collect();
+                let more = if lines.len() > FINDING_LINES { ", ..." } else { "" };
+                rows.push(text(
+                    format!("{sev} [{id}] x{count}: lines {}{more}", shown.join(", ")),
+                    "finding-text",
+                ));
+            }
             rows.push(text(
-                format!(
-                    "... {} more findings (see skinpath check)",
-                    scene.findings.len() - opts.max_listed_findings
-                ),
+                "(skinpath check lists every finding)".to_string(),
                 "finding-text",
             ));
         }
@@ -337,25 +362,45 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     page.close();
 
     page.open("starts", "");
+    // Many cuts (hatching): small markers, so the cuts stay visible between them.
+    let marker = if scene.contours.len() > opts.max_numbers {
+        0.6 * sz.marker
+    } else {
+        sz.marker
+    };
     let every = scene.contours.len().div_ceil(opts.max_numbers.max(1)).max(1);
-    for (ci, c) in scene.contours.iter().enumerate() {
-        let Some(&p0) = c.points.first() else {
+    let starts: Vec<Option<DVec2>> = scene.contours.iter().map(|c| c.points.first().map(|p| frame.map(*p))).collect();
+    let mut ci = 0;
+    while ci < starts.len() {
+        let Some(p) = starts[ci] else {
+            ci += 1;
             continue;
         };
-        let p = frame.map(p0);
-        page.circle(
-            "start",
-            p,
-            sz.marker,
-            &format!("fill=\"{START_COLOR}\""),
-            Some(&format!("contour {} starts here", ci + 1)),
-        );
-        if ci % every == 0 || ci + 1 == scene.contours.len() {
-            let label = (ci + 1).to_string();
+        // Passes of one cut start where the previous one did: one marker, "first-last".
+        let mut last = ci;
+        while last + 1 < starts.len() && starts[last + 1].is_some_and(|q| q.distance(p) < sz.marker) {
+            last += 1;
+        }
+        for k in ci..=last {
+            page.circle(
+                "start",
+                p,
+                marker,
+                &format!("fill=\"{START_COLOR}\""),
+                Some(&format!("contour {} starts here", k + 1)),
+            );
+        }
+        if (ci..=last).any(|k| k % every == 0) || last + 1 == starts.len() {
+            let label = if last > ci {
+                format!("{}-{}", ci + 1, last + 1)
+            } else {
+                (ci + 1).to_string()
+            };
             let w = super::glyphs::width(&label, sz.number);
             let at = p + DVec2::new(sz.marker + 0.5 * w + 0.2 * sz.number, -0.8 * sz.number);
-            page.number("order", at, sz.number, "#1b5e20", ci + 1);
+            page.number("order", at, sz.number, "#1b5e20", &label);
         }
+        ci = last + 1;
     }
     page.close();
 
@@ -382,12 +427,15 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 "",
                 Some(&format!("{}. {f}", fi + 1)),
             );
+            if scene.findings.len() > NUMBERED_FINDINGS {
+                continue;
+            }
             page.number(
                 "finding-number",
                 q + DVec2::new(ring + 0.6 * sz.number, ring),
                 sz.number,
                 FINDING_COLOR,
-                fi + 1,
+                &(fi + 1).to_string(),
             );
         }
     }
@@ -421,7 +469,16 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 );
                 x += 2.2 * sz.font;
             }
-            page.text(r.class, DVec2::new(x, y), sz.font, TEXT_COLOR, &r.text);
+            // Average glyph advance of a sans-serif font is about 0.55 em.
+            let fits = ((width - x) / (0.55 * sz.font)).max(8.0) as usize;
+            let t: String = if r.text.chars().count() > fits {
+                let mut t: String = r.text.chars().take(fits.saturating_sub(3)).collect();
+                t.push_str("...");
+                t
+            } else {
+                r.text.clone()
+            };
+            page.text(r.class, DVec2::new(x, y), sz.font, TEXT_COLOR, &t);
             y += line_h;
         }
         page.close();
