@@ -76,6 +76,8 @@ fn random_design(rng: &mut Rng) -> Design {
         stroke: strokes,
         circles,
         operation,
+        text: Vec::new(),
+        corners: Vec::new(),
         file: "fuzz.toml".into(),
     }
 }

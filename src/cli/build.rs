@@ -34,8 +34,8 @@ pub struct Args {
     /// Skin approximation accuracy ε, in design units.
     #[arg(long)]
     epsilon: Option<f64>,
-    /// Also write a preview SVG of the toolpath (cuts solid, rapids dashed) here; written
-    /// only together with the output, and never to the output's own path.
+    /// Also write a preview here: .svg or .png drawing, or .html player (see `preview`);
+    /// written only together with the output, and never to the output's own path.
     #[arg(long)]
     preview: Option<PathBuf>,
     /// Where the job goes on the machine (G-code, laser SVG and DXF alike): `lower-left`
@@ -347,10 +347,20 @@ pub fn run(a: Args) -> Result<u8> {
             },
         )?,
     };
-    let mut outputs: Vec<(&Path, Vec<u8>)> = vec![(&a.output, body.into_bytes())];
+    let body_text = body;
+    let mut outputs: Vec<(&Path, Vec<u8>)> = Vec::new();
     if let Some(p) = &a.preview {
-        outputs.push((p, preview(&built.toolpath)?));
+        let scene = super::preview::scene_of_build(
+            &job,
+            &built.toolpath,
+            &profile,
+            design.units.mm_per_unit(),
+            (format == "gcode").then_some(body_text.as_str()),
+            false,
+        );
+        outputs.push((p, super::preview::render(p, &scene, Default::default())?));
     }
+    outputs.insert(0, (&a.output, body_text.into_bytes()));
     io::write_set(&outputs)?;
     let time = report.as_ref().map(|r| r.stats.time.total);
     if a.json {
@@ -399,11 +409,6 @@ pub fn run(a: Args) -> Result<u8> {
 }
 
 /// The preview SVG of the toolpath (the one place that renders previews for `build`).
-fn preview(tp: &skinpath::toolpath::Toolpath) -> Result<Vec<u8>> {
-    let svg = skinpath::emit::preview_svg(tp, &skinpath::emit::PreviewOptions::default())?;
-    Ok(svg.into_bytes())
-}
-
 /// The `--json` summary.
 fn summary_json(
     built: &skinpath::job::build::BuildResult,

@@ -10,6 +10,7 @@ mod inspect;
 pub mod io;
 mod machines;
 mod outline;
+mod preview;
 mod text;
 
 use clap::{Parser, Subcommand};
@@ -34,6 +35,8 @@ enum Command {
     Build(build::Args),
     /// Check a G-code program (from any tool) for faults; exit 1 when something fails.
     Check(check::Args),
+    /// Preview a design (for a machine) or any G-code program: .svg, .png or .html player.
+    Preview(preview::Args),
     /// List the machine profiles shipped with skinpath.
     Machines(machines::Args),
     /// Import an SVG drawing as a design: stroked paths become strokes.
@@ -59,6 +62,7 @@ pub fn run() -> ExitCode {
         Command::Import(a) => import::run(a),
         Command::Text(a) => text::run(a),
         Command::Init(a) => init::run(a),
+        Command::Preview(a) => preview::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

@@ -10,6 +10,7 @@ pub mod gcode;
 pub mod geometry;
 pub mod laser_svg;
 pub mod outline;
+pub mod preview;
 pub mod preview_svg;
 
 pub use dxf::{DxfOptions, dxf};

@@ -26,6 +26,7 @@ pub mod motion;
 pub mod ngc;
 pub mod report;
 pub mod time;
+pub mod timeline;
 
 pub use checks::{DesignBoundary, KeepSide};
 pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry};

@@ -1,0 +1,231 @@
+//! `skinpath preview INPUT -o OUT.svg|OUT.png|OUT.html [--machine NAME]`: a picture or a
+//! player of a design (built in memory for the machine, design placement) or of any G-code
+//! program (read by the simulator). `build --preview` writes the same previews.
+
+use super::build::load_profile;
+use super::io;
+use anyhow::{Context, Result, bail};
+use skinpath::emit::preview::{
+    HtmlOptions, PngOptions, ProgramInput, Scene, SvgOptions, player_html, rasterize, scene_svg,
+};
+use skinpath::emit::{GcodeOptions, gcode};
+use skinpath::job::build::{BuildOptions, build_toolpath};
+use skinpath::job::check::check_config;
+use skinpath::machine::{MachineKind, Profile};
+use skinpath::sim::{self, CheckConfig, MotionKind};
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// A design (.toml or .json) or a G-code program (any other extension).
+    input: PathBuf,
+    /// Output file: .svg (drawing), .png (the same drawing rasterised) or .html (player).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Machine profile: a shipped name (see `skinpath machines`) or a .toml path. Required
+    /// for designs; for G-code it sets the work area, limits and the time estimate.
+    #[arg(short, long)]
+    machine: Option<String>,
+    /// PNG width in pixels (the height follows the drawing).
+    #[arg(long, conflicts_with = "dpi")]
+    width: Option<u32>,
+    /// PNG resolution in pixels per inch of the drawing's millimetre size.
+    #[arg(long)]
+    dpi: Option<f64>,
+    /// Arc fitting tolerance of the toolpath, in design units (designs only).
+    #[arg(long)]
+    tolerance: Option<f64>,
+    /// Skin approximation accuracy ε, in design units (designs only).
+    #[arg(long)]
+    epsilon: Option<f64>,
+}
+
+/// The preview format named by a file's extension.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Format {
+    Svg,
+    Png,
+    Html,
+}
+
+pub fn format_of(path: &Path) -> Result<Format> {
+    Ok(match io::extension(path).as_str() {
+        "svg" => Format::Svg,
+        "png" => Format::Png,
+        "html" | "htm" => Format::Html,
+        other => bail!(
+            "{}: a preview is .svg, .png or .html, not .{other}",
+            path.display()
+        ),
+    })
+}
+
+/// The preview of `scene` in the format `path`'s extension names.
+pub fn render(path: &Path, scene: &Scene, png: PngOptions) -> Result<Vec<u8>> {
+    Ok(match format_of(path)? {
+        Format::Svg => scene_svg(scene, &SvgOptions::default()).into_bytes(),
+        Format::Png => rasterize(&scene_svg(scene, &SvgOptions::default()), png)?,
+        Format::Html => player_html(scene, &HtmlOptions::default())?.into_bytes(),
+    })
+}
+
+/// Writes the preview of `scene` to `path` in the format its extension names.
+pub fn write(path: &Path, scene: &Scene, png: PngOptions) -> Result<()> {
+    let bytes = render(path, scene, png)?;
+    io::write_atomic(path, &bytes).with_context(|| format!("writing {}", path.display()))
+}
+
+/// A scene of G-code `text` read by the builtin simulator under `cfg` (findings included).
+pub fn scene_of_gcode(title: &str, text: &str, cfg: &CheckConfig, work_area: bool) -> Scene {
+    let prog = sim::load(sim::Backend::Builtin, text, cfg);
+    let report = sim::check(&prog, cfg, &[]);
+    Scene::from_program(ProgramInput {
+        title,
+        program: &prog,
+        text: Some(text),
+        cfg,
+        findings: report.findings,
+        draw_work_area: work_area,
+    })
+}
+
+/// The scene of a toolpath built for `profile`: its G-code read back by the simulator, or
+/// for SVG/DXF profiles the toolpath itself (no G-code lines).
+pub fn scene_of_build(
+    title: &str,
+    tp: &skinpath::toolpath::Toolpath,
+    profile: &Profile,
+    mm_per_design_unit: f64,
+    program: Option<&str>,
+    allow_crossings: bool,
+) -> Scene {
+    let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
+    let mut cfg = check_config(profile, tool_r);
+    cfg.allow_crossings = allow_crossings;
+    match program {
+        Some(g) => scene_of_gcode(title, g, &cfg, true),
+        None => {
+            let mm = cfg.in_mm();
+            let wa = (
+                glam::DVec2::new(mm.work_min[0], mm.work_min[1]),
+                glam::DVec2::new(mm.work_max[0], mm.work_max[1]),
+            );
+            Scene::from_toolpath(title, tp, mm_per_design_unit, &cfg, Some(wa))
+        }
+    }
+}
+
+fn png_options(a: &Args) -> Result<PngOptions> {
+    Ok(match (a.width, a.dpi) {
+        (Some(w), _) => PngOptions::Width(w),
+        (None, Some(d)) => PngOptions::Dpi(d),
+        (None, None) => PngOptions::default(),
+    })
+}
+
+fn is_design(path: &Path) -> bool {
+    matches!(io::extension(path).as_str(), "toml" | "json")
+}
+
+pub fn run(a: Args) -> Result<u8> {
+    format_of(&a.output)?;
+    let mut inputs: Vec<&Path> = vec![&a.input];
+    let machine_path = a.machine.as_ref().map(PathBuf::from);
+    if let Some(m) = machine_path.as_ref().filter(|m| m.exists()) {
+        inputs.push(m);
+    }
+    io::refuse_overwriting_inputs(&a.output, &inputs)?;
+    let png = png_options(&a)?;
+    let title = a
+        .input
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "preview".into());
+    let profile = a.machine.as_deref().map(load_profile).transpose()?;
+    let text = io::read_text(&a.input)?;
+    let scene = if is_design(&a.input) {
+        let Some(profile) = profile else {
+            bail!(
+                "{}: a design previews for a machine; add --machine NAME (see `skinpath machines`)",
+                a.input.display()
+            );
+        };
+        let design = skinpath::design::load(&text, &a.input.display().to_string())?;
+        let mut opts = BuildOptions::default();
+        if let Some(t) = a.tolerance {
+            opts.tolerance = t;
+        }
+        if let Some(e) = a.epsilon {
+            opts.epsilon = e;
+        }
+        let built = build_toolpath(&design, &profile, &opts)?;
+        let allow_crossings = design.operation.iter().any(|o| {
+            !matches!(
+                o.kind,
+                skinpath::design::OperationKind::Profile
+                    | skinpath::design::OperationKind::Backboard
+            )
+        });
+        let program = if profile.kind == MachineKind::Svg {
+            None
+        } else {
+            let units = match design.units {
+                skinpath::design::Units::Mm => skinpath::machine::Units::Mm,
+                skinpath::design::Units::Inch => skinpath::machine::Units::Inch,
+            };
+            Some(gcode(
+                &built.toolpath,
+                &profile,
+                &GcodeOptions {
+                    job: title.clone(),
+                    input_units: units,
+                    tolerance: opts.tolerance * 0.1,
+                    // Show a job outside the travel (the checker marks it) instead of
+                    // refusing to draw it.
+                    check_work_area: false,
+                },
+            )?)
+        };
+        scene_of_build(
+            &title,
+            &built.toolpath,
+            &profile,
+            design.units.mm_per_unit(),
+            program.as_deref(),
+            allow_crossings,
+        )
+    } else {
+        match &profile {
+            Some(p) => {
+                let r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
+                scene_of_gcode(&title, &text, &check_config(p, r), true)
+            }
+            None => {
+                // No machine: a laser unless the program feeds below z = 0.
+                let mut cfg = CheckConfig {
+                    allow_crossings: true,
+                    ..CheckConfig::default()
+                };
+                let prog = sim::load(sim::Backend::Builtin, &text, &cfg);
+                if prog
+                    .motions
+                    .iter()
+                    .any(|m| m.kind == MotionKind::Feed && m.to.z.min(m.from.z) < 0.0)
+                {
+                    cfg.kind = sim::MachineKind::Router;
+                }
+                scene_of_gcode(&title, &text, &cfg, false)
+            }
+        }
+    };
+    write(&a.output, &scene, png)?;
+    println!(
+        "wrote {} ({} moves, {} contours, {} findings, time {})",
+        a.output.display(),
+        scene.motions.len(),
+        scene.contours.len(),
+        scene.findings.len(),
+        skinpath::emit::preview::svg::hms(scene.timeline.total)
+    );
+    Ok(0)
+}

@@ -1,0 +1,339 @@
+//! Where the tool is at a given program time: the time estimate's planner (GRBL 1.1 model,
+//! see [`super::time`]) kept per block instead of summed, so a preview can play the program.
+//!
+//! Every motion is split into the same chords as the estimate (`arc_tolerance`); each chord
+//! becomes a [`Segment`] with its start time, entry, cruise and exit speed and acceleration.
+//! Within a segment the travelled distance follows the trapezoidal profile
+//! s(τ) = vᵢτ + aτ²/2 while accelerating (τ < t₁ = (v_c − vᵢ)/a), d₁ + v_c(τ − t₁) while
+//! cruising, and d₁ + d₂ + v_cτ′ − aτ′²/2 while decelerating (τ′ the time since the
+//! deceleration began). The sum of the segments' durations is the estimate's total.
+
+use super::config::CheckConfig;
+use super::motion::{Motion, MotionKind};
+use glam::DVec3;
+
+/// Cosine beyond which a junction counts as straight or a full reversal (GRBL).
+const COS_STRAIGHT: f64 = 0.999999;
+
+/// One planner block (a chord of a motion) or a dwell, with its place in time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    /// Index of the motion in the program's motion list.
+    pub motion: usize,
+    pub from: DVec3,
+    pub to: DVec3,
+    /// Start time, seconds from the program start.
+    pub t0: f64,
+    /// Duration, seconds (0 for a chord the machine limits cannot move, e.g. a zero rate).
+    pub dt: f64,
+    /// Entry, cruise (or peak) and exit speed, mm/s.
+    pub vi: f64,
+    pub vc: f64,
+    pub vf: f64,
+    /// Acceleration along the chord, mm/s² (0 for dwells).
+    pub a: f64,
+}
+
+impl Segment {
+    /// Length of the chord, mm.
+    pub fn len(&self) -> f64 {
+        (self.to - self.from).length()
+    }
+
+    /// True for a dwell or any segment that does not move.
+    pub fn is_empty(&self) -> bool {
+        self.from == self.to
+    }
+
+    /// Distance travelled `tau` seconds after the segment started (clamped to the segment).
+    pub fn distance_at(&self, tau: f64) -> f64 {
+        let len = self.len();
+        if !(self.a > 0.0 && self.vc > 0.0) || tau >= self.dt {
+            return if tau >= self.dt { len } else { 0.0 };
+        }
+        let tau = tau.max(0.0);
+        let t1 = ((self.vc - self.vi) / self.a).max(0.0);
+        let d1 = (self.vc * self.vc - self.vi * self.vi) / (2.0 * self.a);
+        let d3 = (self.vc * self.vc - self.vf * self.vf) / (2.0 * self.a);
+        let t2 = ((len - d1 - d3) / self.vc).max(0.0);
+        let s = if tau < t1 {
+            self.vi * tau + 0.5 * self.a * tau * tau
+        } else if tau < t1 + t2 {
+            d1 + self.vc * (tau - t1)
+        } else {
+            let u = tau - t1 - t2;
+            d1 + self.vc * t2 + self.vc * u - 0.5 * self.a * u * u
+        };
+        s.clamp(0.0, len)
+    }
+
+    /// The tool position `tau` seconds after the segment started.
+    pub fn position_at(&self, tau: f64) -> DVec3 {
+        let len = self.len();
+        if len == 0.0 {
+            return self.to;
+        }
+        self.from + (self.to - self.from) * (self.distance_at(tau) / len)
+    }
+}
+
+/// The whole program in time.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Timeline {
+    pub segments: Vec<Segment>,
+    /// Total seconds (equals the time estimate's total).
+    pub total: f64,
+}
+
+impl Timeline {
+    /// Index of the segment running at time `t` (the last one at or after the end, None
+    /// for an empty timeline).
+    pub fn segment_at(&self, t: f64) -> Option<usize> {
+        if self.segments.is_empty() {
+            return None;
+        }
+        // First segment whose end lies beyond t.
+        let i = self.segments.partition_point(|s| s.t0 + s.dt <= t);
+        Some(i.min(self.segments.len() - 1))
+    }
+
+    /// Where the tool is at time `t` and which motion it is executing.
+    pub fn position_at(&self, t: f64) -> Option<(DVec3, usize)> {
+        let i = self.segment_at(t)?;
+        let s = &self.segments[i];
+        Some((s.position_at(t - s.t0), s.motion))
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Block {
+    seg: usize,
+    len: f64,
+    unit: DVec3,
+    v: f64,
+    a: f64,
+}
+
+/// min over axes with u_i ≠ 0 of `limit_i / |u_i|` (GRBL limit_value_by_axis_maximum).
+fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
+    let mut v = f64::INFINITY;
+    for (i, &lim) in limit.iter().enumerate() {
+        if u[i] != 0.0 {
+            v = v.min(lim / u[i].abs());
+        }
+    }
+    v
+}
+
+/// The timeline of `motions` (mm) under `cfg` (converted to mm here). The machine starts
+/// and ends at rest and stops for every dwell, as in [`super::time::estimate`].
+pub fn timeline(motions: &[Motion], cfg: &CheckConfig) -> Timeline {
+    let cfg = cfg.in_mm();
+    let mut segs: Vec<Segment> = Vec::new();
+    let mut blocks: Vec<Block> = Vec::new();
+    let rates = cfg.max_rate.map(|r| r / 60.0);
+    for (mi, m) in motions.iter().enumerate() {
+        match m.kind {
+            MotionKind::Dwell { seconds } => {
+                plan(&blocks, &cfg, &mut segs);
+                blocks.clear();
+                segs.push(Segment {
+                    motion: mi,
+                    from: m.to,
+                    to: m.to,
+                    t0: 0.0,
+                    dt: if seconds.is_finite() {
+                        seconds.max(0.0)
+                    } else {
+                        0.0
+                    },
+                    vi: 0.0,
+                    vc: 0.0,
+                    vf: 0.0,
+                    a: 0.0,
+                });
+            }
+            MotionKind::Rapid | MotionKind::Feed => {
+                let rapid = m.kind == MotionKind::Rapid;
+                let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
+                for w in pts.windows(2) {
+                    let d = w[1] - w[0];
+                    let len = d.length();
+                    segs.push(Segment {
+                        motion: mi,
+                        from: w[0],
+                        to: w[1],
+                        t0: 0.0,
+                        dt: 0.0,
+                        vi: 0.0,
+                        vc: 0.0,
+                        vf: 0.0,
+                        a: 0.0,
+                    });
+                    if !(len > 0.0 && len.is_finite()) {
+                        continue;
+                    }
+                    let unit = d / len;
+                    let vmax = axis_limited(rates, unit);
+                    let prog = if m.feed > 0.0 { m.feed / 60.0 } else { vmax };
+                    let v = if rapid { vmax } else { prog.min(vmax) };
+                    let a = axis_limited(cfg.accel, unit);
+                    if v > 0.0 && a > 0.0 && v.is_finite() && a.is_finite() {
+                        blocks.push(Block {
+                            seg: segs.len() - 1,
+                            len,
+                            unit,
+                            v,
+                            a,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    plan(&blocks, &cfg, &mut segs);
+    let mut t = 0.0;
+    for s in &mut segs {
+        s.t0 = t;
+        t += s.dt;
+    }
+    Timeline {
+        segments: segs,
+        total: t,
+    }
+}
+
+/// Squared junction speed limit between blocks `p` and `q` (GRBL junction deviation).
+fn junction_speed_sqr(p: &Block, q: &Block, cfg: &CheckConfig) -> f64 {
+    let cos = -p.unit.dot(q.unit);
+    let lim = p.v.min(q.v).powi(2);
+    if cos > COS_STRAIGHT {
+        return 0.0;
+    }
+    if cos < -COS_STRAIGHT {
+        return lim;
+    }
+    let ju = (q.unit - p.unit).normalize_or_zero();
+    let aj = axis_limited(cfg.accel, ju);
+    let sin_half = (0.5 * (1.0 - cos)).sqrt();
+    let vj2 = aj * cfg.junction_deviation * sin_half / (1.0 - sin_half);
+    vj2.min(lim)
+}
+
+/// Plans a run of blocks from rest to rest (backward then forward pass) and stores each
+/// block's speeds and duration in its segment.
+fn plan(blocks: &[Block], cfg: &CheckConfig, segs: &mut [Segment]) {
+    let n = blocks.len();
+    if n == 0 {
+        return;
+    }
+    let mut e = vec![0.0; n + 1];
+    for i in 1..n {
+        e[i] = junction_speed_sqr(&blocks[i - 1], &blocks[i], cfg);
+    }
+    for i in (0..n).rev() {
+        let b = &blocks[i];
+        e[i] = e[i].min(e[i + 1] + 2.0 * b.a * b.len);
+    }
+    for i in 0..n {
+        let b = &blocks[i];
+        e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
+    }
+    for (i, b) in blocks.iter().enumerate() {
+        let (vi, vf) = (e[i].sqrt(), e[i + 1].sqrt());
+        let da = (b.v * b.v - vi * vi) / (2.0 * b.a);
+        let dd = (b.v * b.v - vf * vf) / (2.0 * b.a);
+        let (vc, dt) = if da + dd <= b.len {
+            (
+                b.v,
+                (b.v - vi) / b.a + (b.v - vf) / b.a + (b.len - da - dd) / b.v,
+            )
+        } else {
+            let vp = (b.a * b.len + 0.5 * (vi * vi + vf * vf)).sqrt().min(b.v);
+            (vp, (vp - vi).max(0.0) / b.a + (vp - vf).max(0.0) / b.a)
+        };
+        let s = &mut segs[b.seg];
+        s.vi = vi;
+        s.vc = vc;
+        s.vf = vf;
+        s.a = b.a;
+        s.dt = dt;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::interp::interpret;
+    use crate::sim::time::estimate;
+
+    fn cfg() -> CheckConfig {
+        CheckConfig {
+            max_rate: [12000.0, 12000.0, 1200.0],
+            accel: [500.0, 500.0, 50.0],
+            ..CheckConfig::default()
+        }
+    }
+
+    #[test]
+    fn total_matches_the_estimate() {
+        for src in [
+            "G1 X100 F6000",
+            "G1 X10 F6000\nY10\nX0 Y0",
+            "G0 X10\nG4 P0.5\nG2 X10 Y0 I-10 J0 F3000\nG0 Z5\nG1 Z-1 F100\nM2",
+            "G1 X100 Y100 F6000\nG3 X0 Y100 R50\nG4 P1\nG0 X0 Y0",
+        ] {
+            let p = interpret(src, 0.005);
+            let tl = timeline(&p.motions, &cfg());
+            let est = estimate(&p.motions, &cfg());
+            assert!(
+                (tl.total - est.total).abs() < 1e-9 * est.total.max(1.0),
+                "{src}: {} vs {}",
+                tl.total,
+                est.total
+            );
+        }
+    }
+
+    #[test]
+    fn trapezoid_positions() {
+        // v = 100 mm/s, a = 500 mm/s²: 0.2 s to reach speed over 10 mm, cruise 80 mm in
+        // 0.8 s, brake 10 mm in 0.2 s (closed form s = at²/2 while accelerating).
+        let p = interpret("G1 X100 F6000", 0.005);
+        let tl = timeline(&p.motions, &cfg());
+        assert!((tl.total - 1.2).abs() < 1e-12);
+        let x = |t: f64| tl.position_at(t).map(|(p, _)| p.x).unwrap_or(f64::NAN);
+        assert!((x(0.1) - 0.5 * 500.0 * 0.01).abs() < 1e-9);
+        assert!((x(0.2) - 10.0).abs() < 1e-9);
+        assert!((x(0.6) - 50.0).abs() < 1e-9);
+        assert!((x(1.1) - (100.0 - 0.5 * 500.0 * 0.01)).abs() < 1e-9);
+        assert!((x(5.0) - 100.0).abs() < 1e-12);
+        assert_eq!(x(-1.0), 0.0);
+        // Distance is monotone in time.
+        let mut last = -1.0;
+        for k in 0..=120 {
+            let v = x(k as f64 * 0.01);
+            assert!(v >= last - 1e-12);
+            last = v;
+        }
+    }
+
+    #[test]
+    fn dwell_holds_position_and_motions_are_indexed() {
+        let p = interpret("G1 X10 F600\nG4 P2\nG1 Y10", 0.005);
+        let tl = timeline(&p.motions, &cfg());
+        let d = tl
+            .segments
+            .iter()
+            .find(|s| s.dt == 2.0)
+            .copied()
+            .unwrap_or(tl.segments[0]);
+        assert_eq!(d.motion, 1);
+        let (pos, m) = tl.position_at(d.t0 + 1.0).unwrap_or_default();
+        assert_eq!(m, 1);
+        assert!((pos - DVec3::new(10.0, 0.0, 0.0)).length() < 1e-12);
+        let (end, m) = tl.position_at(tl.total).unwrap_or_default();
+        assert_eq!(m, 2);
+        assert!((end - DVec3::new(10.0, 10.0, 0.0)).length() < 1e-12);
+    }
+}
