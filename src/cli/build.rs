@@ -32,6 +32,10 @@ pub struct Args {
     /// Skin approximation accuracy ε, in design units.
     #[arg(long)]
     epsilon: Option<f64>,
+    /// Skin route of profiles and backboards: `skin` (Bézier skin, general offsets), `re` or
+    /// `mph` (exact MAT offsets of RE/MPH skins). An operation's own `method` wins.
+    #[arg(long, value_parser = ["skin", "re", "mph"], default_value = "skin")]
+    method: String,
     /// Also write a preview SVG of the toolpath (cuts solid, rapids dashed) here.
     #[arg(long)]
     preview: Option<PathBuf>,
@@ -99,6 +103,11 @@ pub fn run(a: Args) -> Result<u8> {
     if let Some(e) = a.epsilon {
         opts.epsilon = e;
     }
+    opts.method = match a.method.as_str() {
+        "re" => skinpath::design::OutlineMethod::Re,
+        "mph" => skinpath::design::OutlineMethod::Mph,
+        _ => skinpath::design::OutlineMethod::Skin,
+    };
     let mut built = build_toolpath(&design, &profile, &opts)?;
     if a.place == "lower-left" {
         // Design units per profile unit: work area corners are in the profile's units.
@@ -218,6 +227,12 @@ pub fn run(a: Args) -> Result<u8> {
             d
         }
     };
+    for r in &built.routes {
+        println!(
+            "  route {}: {} ({} arcs, {} lines; {})",
+            r.operation, r.route, r.counts.arcs, r.counts.lines, r.detail
+        );
+    }
     for s in &built.stats {
         if s.order.travel_input > 0.0 {
             println!(

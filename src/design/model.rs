@@ -367,6 +367,11 @@ pub struct Operation {
     /// Depth cap of a V-carve (flat bottom beyond it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<f64>,
+    /// The skin route of profile and backboard cuts: `skin` (Bézier skin, general offset),
+    /// `re` or `mph` (exact MAT offsets of the RE/MPH skin, re-skinning-cnc eq. 13).
+    /// Unset: the build's `--method`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<OutlineMethod>,
 }
 
 impl Operation {
@@ -394,6 +399,7 @@ impl Operation {
             cross_hatch: None,
             alternate: None,
             max_depth: None,
+            method: None,
         }
     }
 }
