@@ -731,12 +731,12 @@ pub fn build_toolpath(
         }
     }
     // With a build-wide RE/MPH route the items are their RE/MPH skins (fills, checks).
-    if let Some(interp) = re_interp(opts.method) {
-        if let Some((_, items)) = re.iter().find(|(i, _)| *i == interp) {
-            for (o, it) in outlines.iter_mut().zip(items) {
-                if let Ok(it) = it {
-                    o.contours = it.outline.clone();
-                }
+    if let Some((_, items)) =
+        re_interp(opts.method).and_then(|interp| re.iter().find(|(i, _)| *i == interp))
+    {
+        for (o, it) in outlines.iter_mut().zip(items) {
+            if let Ok(it) = it {
+                o.contours = it.outline.clone();
             }
         }
     }

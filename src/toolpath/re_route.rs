@@ -78,7 +78,7 @@ pub fn mat_backboard(skin: &ReSkin, distance: f64, tol: f64) -> Result<Vec<Path>
     Ok(paths
         .into_iter()
         .enumerate()
-        .filter(|(i, _)| nesting_depth(&flat, *i) % 2 == 0)
+        .filter(|(i, _)| nesting_depth(&flat, *i).is_multiple_of(2))
         .map(|(_, p)| p)
         .collect())
 }
@@ -116,7 +116,7 @@ fn orient_for_climb(paths: Vec<Path>, tol: f64) -> Vec<Path> {
         .enumerate()
         .map(|(i, p)| {
             let ccw = crate::geom::path::polygon_area(&flat[i]) > 0.0;
-            let want_ccw = nesting_depth(&flat, i) % 2 == 1;
+            let want_ccw = !nesting_depth(&flat, i).is_multiple_of(2);
             if ccw == want_ccw { p } else { p.reversed() }
         })
         .collect()
