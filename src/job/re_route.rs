@@ -20,6 +20,10 @@ pub struct ReItem {
     pub skin: ReSkin,
     /// The skin's outline, flattened within the build tolerance (for checks and fills).
     pub outline: Vec<Path>,
+    /// Where an envelope of the skin runs backwards (a local loop, cut off the outline by
+    /// the union of the disks): the inner offset and the outline itself are then not exact
+    /// curves of the route, the outer offset still is (the region is the union of disks).
+    pub loop_note: Option<String>,
 }
 
 /// Which route an operation took, and why.
@@ -74,13 +78,14 @@ pub fn re_items(
             if let Some(&(i, j)) = ro.failed_pairs.first() {
                 return Err(format!("elimination failed between circles {i} and {j}"));
             }
-            if let Some(&(_, g0, g1)) = ro.loops.first() {
-                return Err(format!(
+            let loop_note = ro.loops.first().map(|&(_, g0, g1)| {
+                format!(
                     "an envelope runs backwards (local loop) for global t in [{g0:.4}, {g1:.4}]"
-                ));
-            }
+                )
+            });
             crate::skin::mat_offset::outline(&ro.skin).map_err(|e| e.to_string())?;
             Ok(ReItem {
+                loop_note,
                 outline: ro
                     .contours
                     .iter()
@@ -102,6 +107,12 @@ pub fn re_profile(
 ) -> Result<Vec<Path>, String> {
     let mut per_item: Vec<Vec<Path>> = Vec::new();
     for (name, it) in items {
+        if let (Some(l), false) = (
+            &it.loop_note,
+            side == ProfileSide::Outside && tool_radius > 0.0,
+        ) {
+            return Err(format!("{name}: {l}"));
+        }
         let p =
             mat_profile(&it.skin, side, tool_radius, tol).map_err(|e| format!("{name}: {e}"))?;
         per_item.push(p);
