@@ -34,6 +34,10 @@ pub struct Args {
     /// Skin approximation accuracy ε, in design units.
     #[arg(long)]
     epsilon: Option<f64>,
+    /// Skin route of profiles and backboards: `skin` (Bézier skin, general offsets), `re` or
+    /// `mph` (exact MAT offsets of RE/MPH skins). An operation's own `method` wins.
+    #[arg(long, value_parser = ["skin", "re", "mph"], default_value = "skin")]
+    method: String,
     /// Also write a preview here: .svg or .png drawing, or .html player (see `preview`);
     /// written only together with the output, and never to the output's own path.
     #[arg(long)]
@@ -214,6 +218,11 @@ pub fn run(a: Args) -> Result<u8> {
     if let Some(e) = a.epsilon {
         opts.epsilon = e;
     }
+    opts.method = match a.method.as_str() {
+        "re" => skinpath::design::OutlineMethod::Re,
+        "mph" => skinpath::design::OutlineMethod::Mph,
+        _ => skinpath::design::OutlineMethod::Skin,
+    };
     let mut scale = a.scale.unwrap_or(1.0);
     let mut design = if scale != 1.0 {
         scaled_design(&original, scale)
@@ -383,6 +392,12 @@ pub fn run(a: Args) -> Result<u8> {
             }
         );
         print_summary(&built.toolpath, &profile, time);
+        for r in &built.routes {
+            println!(
+                "  route {}: {} ({} arcs, {} lines; {})",
+                r.operation, r.route, r.counts.arcs, r.counts.lines, r.detail
+            );
+        }
         for s in &built.stats {
             if s.order.travel_input > 0.0 {
                 println!(

@@ -439,6 +439,11 @@ pub struct Operation {
     /// Air assist during the operation (lasers; default: the profile's `laser.air_assist`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub air_assist: Option<bool>,
+    /// The skin route of profile and backboard cuts: `skin` (Bézier skin, general offset),
+    /// `re` or `mph` (exact MAT offsets of the RE/MPH skin, re-skinning-cnc eq. 13).
+    /// Unset: the build's `--method`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<OutlineMethod>,
 }
 
 impl Operation {
@@ -467,6 +472,7 @@ impl Operation {
             alternate: None,
             max_depth: None,
             air_assist: None,
+            method: None,
         }
     }
 }

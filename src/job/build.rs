@@ -18,18 +18,25 @@
 //! engraves along the spine at z = 0 with the attribute power and feed.
 
 use super::JobError;
+use super::outline::re_interp;
 use super::outline::{ItemOutline, OutlineOptions, design_outlines};
+use super::re_route::{ReItem, RouteNote, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
-use crate::design::{Design, FillPattern, HoleAt, Operation, OperationKind, ProfileSide};
+use crate::design::{
+    Design, FillPattern, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
+};
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
+use crate::skin::re::Interp;
 use crate::spline::BSpline;
 use crate::toolpath::cut::{Lead, Tabs};
 use crate::toolpath::ops::{self, Hole};
 use crate::toolpath::plan::{AttrPolyline, Geometry, OpSpec, PlanStats, plan};
+use crate::toolpath::re_route::SegCounts;
 use crate::toolpath::region::Region;
 use crate::toolpath::{OperationKind as TpKind, Toolpath};
 use glam::DVec3;
+use std::cell::RefCell;
 
 /// Options of a build.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,6 +45,10 @@ pub struct BuildOptions {
     pub tolerance: f64,
     /// Skin approximation ε (design units).
     pub epsilon: f64,
+    /// The skin route of profiles and backboards where an operation does not name one
+    /// (`skin`: Bézier skin and general offsets; `re`/`mph`: exact MAT offsets, see
+    /// [`super::re_route`]). With `re`/`mph` the items' outlines are their RE/MPH skins.
+    pub method: OutlineMethod,
 }
 
 impl Default for BuildOptions {
@@ -45,6 +56,7 @@ impl Default for BuildOptions {
         BuildOptions {
             tolerance: crate::geom::tol::FLATTEN * 10.0,
             epsilon: crate::geom::tol::SKIN_EPSILON,
+            method: OutlineMethod::Skin,
         }
     }
 }
@@ -64,6 +76,8 @@ pub struct BuildResult {
     pub stats: Vec<PlanStats>,
     /// Outlines of the design's items (for gouge checks and previews).
     pub outlines: Vec<ItemOutline>,
+    /// The route each profile and backboard took (skin, re or mph) and why.
+    pub routes: Vec<RouteNote>,
 }
 
 struct Ctx<'a> {
@@ -76,6 +90,11 @@ struct Ctx<'a> {
     per_mm: f64,
     /// Design units per profile unit (tool sizes and feeds are in the profile's units).
     k: f64,
+    /// The build's default route.
+    method: OutlineMethod,
+    /// RE/MPH skins of every item, per interpolant used by the build.
+    re: Vec<(Interp, Vec<Result<ReItem, String>>)>,
+    routes: RefCell<Vec<RouteNote>>,
 }
 
 fn op_err(ctx: &Ctx, index: usize, op: &Operation, message: impl Into<String>) -> JobError {
@@ -196,6 +215,72 @@ impl Ctx<'_> {
 
     fn default_feed(&self) -> f64 {
         0.5 * self.profile.max_feed.x.min(self.profile.max_feed.y) * self.k
+    }
+
+    /// The paths of a profile or backboard by the operation's route: the MAT route
+    /// (`exact`, given each selected item's name and RE/MPH skin) when the operation or the
+    /// build asks for re/mph and every item has an exact skin, otherwise `general`; the
+    /// route taken and the reason for a fallback are noted for the build summary.
+    fn routed(
+        &self,
+        index: usize,
+        op: &Operation,
+        name: &str,
+        items: &[usize],
+        general: impl FnOnce() -> Vec<Path>,
+        exact: impl FnOnce(&[(&str, &ReItem)]) -> Result<Vec<Path>, String>,
+    ) -> Result<Vec<Path>, JobError> {
+        let method = op.method.unwrap_or(self.method);
+        let note = |route: &str, detail: String, paths: &[Path]| RouteNote {
+            operation: name.to_string(),
+            route: route.to_string(),
+            detail,
+            counts: SegCounts::of(paths),
+        };
+        let Some(interp) = re_interp(method) else {
+            let paths = general();
+            let n = note("skin", "Bézier skin, general offset".into(), &paths);
+            self.routes.borrow_mut().push(n);
+            return Ok(paths);
+        };
+        let route = if interp == Interp::Cubic { "re" } else { "mph" };
+        let table = self
+            .re
+            .iter()
+            .find(|(i, _)| *i == interp)
+            .map(|(_, t)| t)
+            .ok_or_else(|| op_err(self, index, op, "no RE/MPH skins were built"))?;
+        let mut its = Vec::new();
+        let mut why = None;
+        for &i in items {
+            match table.get(i) {
+                Some(Ok(it)) => its.push((self.outlines[i].name.as_str(), it)),
+                Some(Err(e)) => {
+                    why = Some(format!("{}: {e}", self.outlines[i].name));
+                    break;
+                }
+                None => why = Some("item without a skin".into()),
+            }
+        }
+        let result = match why {
+            Some(w) => Err(w),
+            None if its.is_empty() => Err("no items".into()),
+            None => exact(&its),
+        };
+        let (paths, n) = match result {
+            Ok(p) => {
+                let d = format!("exact MAT offset of {} {route} skin(s)", its.len());
+                let n = note(route, d, &p);
+                (p, n)
+            }
+            Err(w) => {
+                let p = general();
+                let n = note("skin", format!("{route} route not taken: {w}"), &p);
+                (p, n)
+            }
+        };
+        self.routes.borrow_mut().push(n);
+        Ok(paths)
     }
 
     fn plunge_feed(&self) -> f64 {
@@ -411,8 +496,10 @@ fn operation_specs(
                 None => ops::ProfileSide::Outside,
             };
             // Crossing strokes make one outline: profile the union when they overlap.
-            let region = ctx.region(&items);
-            let paths = ops::profile(&region, side, r, eps);
+            let general = || ops::profile(&ctx.region(&items), side, r, eps);
+            let paths = ctx.routed(index, op, &name, &items, general, |its| {
+                re_profile(its, side, r, ctx.tol)
+            })?;
             vec![spec(
                 ctx,
                 design_index,
@@ -475,8 +562,23 @@ fn operation_specs(
                 .collect();
             let margin = op.margin.unwrap_or(BACKBOARD_MARGIN_MM * ctx.per_mm);
             let rho = op.min_inner_radius.unwrap_or(r);
-            let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
-            let paths = ops::profile(&board, ops::ProfileSide::Outside, r, eps);
+            let general = || {
+                let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
+                ops::profile(&board, ops::ProfileSide::Outside, r, eps)
+            };
+            let paths = ctx.routed(index, op, &name, &items, general, |its| match its {
+                [(_, it)] if (rho - r).abs() <= 1e-12 * (1.0 + r) => {
+                    re_backboard(it, margin + r, ctx.tol)
+                }
+                [_] => Err(format!(
+                    "the inner corner radius {rho} differs from the tool radius {r} \
+                     (the rounding is a closing of the union)"
+                )),
+                _ => Err(format!(
+                    "{} items: the backboard follows their union",
+                    its.len()
+                )),
+            })?;
             vec![spec(
                 ctx,
                 design_index,
@@ -864,15 +966,58 @@ pub fn build_toolpath(
         tolerance: opts.tolerance,
         ..OutlineOptions::default()
     };
-    let outlines = design_outlines(design, &outline_opts)?;
+    let mut outlines = design_outlines(design, &outline_opts)?;
+    let strokes = design.strokes()?;
+    let mut methods = vec![opts.method];
+    for (i, op) in design.operation.iter().enumerate() {
+        if let Some(m) = op.method {
+            if m == OutlineMethod::Envelope {
+                return Err(JobError::Operation {
+                    file: design.file.clone(),
+                    index: i,
+                    kind: op.kind.as_str().to_string(),
+                    message: "method \"envelope\" draws the raw envelope and cannot be cut; \
+                              use skin, re or mph"
+                        .into(),
+                });
+            }
+            methods.push(m);
+        }
+    }
+    if opts.method == OutlineMethod::Envelope {
+        return Err(JobError::Options(
+            "--method envelope draws the raw envelope and cannot be cut; use skin, re or mph"
+                .into(),
+        ));
+    }
+    let mut re = Vec::new();
+    for interp in methods.iter().filter_map(|&m| re_interp(m)) {
+        if !re.iter().any(|(i, _)| *i == interp) {
+            let items = re_items(design, &strokes, &outlines, interp, &outline_opts);
+            re.push((interp, items));
+        }
+    }
+    // With a build-wide RE/MPH route the items are their RE/MPH skins (fills, checks).
+    if let Some((_, items)) =
+        re_interp(opts.method).and_then(|interp| re.iter().find(|(i, _)| *i == interp))
+    {
+        for (o, it) in outlines.iter_mut().zip(items) {
+            if let Ok(it) = it {
+                o.contours = it.outline.clone();
+            }
+        }
+    }
     let ctx = Ctx {
         design,
         profile,
-        strokes: design.strokes()?,
+        strokes,
         outlines,
         tol: opts.tolerance,
         per_mm: 1.0 / design.units.mm_per_unit(),
         k: profile.units.mm_per_unit() / design.units.mm_per_unit(),
+        method: opts.method,
+        re,
+        routes: RefCell::new(Vec::new()),
     };
     let mut specs = Vec::new();
     if design.operation.is_empty() {
@@ -892,6 +1037,7 @@ pub fn build_toolpath(
     Ok(BuildResult {
         toolpath,
         stats,
+        routes: ctx.routes.into_inner(),
         outlines: ctx.outlines,
     })
 }

@@ -6,6 +6,7 @@ pub mod build;
 pub mod check;
 pub mod inspect;
 pub mod outline;
+pub mod re_route;
 
 use crate::design::DesignError;
 

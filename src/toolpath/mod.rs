@@ -9,6 +9,7 @@ pub mod model;
 pub mod ops;
 pub mod order;
 pub mod plan;
+pub mod re_route;
 pub mod region;
 pub mod stats;
 

@@ -7,11 +7,20 @@
 //! For RE curves r² = f² ‖x′‖² is a polynomial, so the trim points are polynomial roots.
 //!
 //! Outer offsets are y + (r + δ) m±; their local loops lie where τ = o′·y′ < 0
-//! (kruppa-2023 Sec. 3 with r + δ in place of r) and are cut at the loop's self-crossing.
+//! (kruppa-2023 Sec. 3 with r + δ in place of r) and are cut at the loop's self-crossing;
+//! then every remaining crossing of the offset (global: parts of the skin that approach
+//! each other, a hole closing up) is found on the exact curves and the parts closer than δ
+//! to the skin are dropped (`trim`), so the contours split where a part vanishes.
+//!
+//! Inner offsets need no such trimming: a point y + (r − δ) m± lies in the disk ȳ(t), whose
+//! δ-neighbourhood B(y + (r − δ) m±, δ) ⊂ ȳ(t) is inside the skin's region, and it is at
+//! distance δ from the touching point y + r m±, which lies on the boundary wherever the
+//! envelope is loop-free (`envelope_loops` empty). So every kept point is at distance
+//! exactly δ from the outline.
 
-use super::re::poly::{Positivity, prove_positive};
-use super::re::{Branch, ReCurve, ReSkin};
 use crate::geom::{Arc, CubicBez, DVec2, Line, Path, PathSeg};
+use crate::skin::re::poly::{Positivity, prove_positive};
+use crate::skin::re::{Branch, ReCurve, ReSkin};
 use thiserror::Error;
 
 /// Errors of MAT offsetting; each names the segment (circle pair) involved.
@@ -27,7 +36,18 @@ pub enum MatOffsetError {
     Empty,
     #[error("segment {segment} names a circle the skin does not have")]
     Inconsistent { segment: usize },
+    #[error(
+        "the trimmed offset does not close at ({:.6}, {:.6}): a crossing was missed; \
+         use a smaller tolerance or the general offset route",
+        point.x, point.y
+    )]
+    OpenContour { point: DVec2 },
 }
+
+#[cfg(test)]
+mod global_tests;
+mod trim;
+pub use trim::region_distance;
 
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,7 +57,8 @@ pub struct TrimPoint {
     pub point: DVec2,
 }
 
-/// A local loop of an outer offset that was cut out: the offset crosses itself at
+/// A self-crossing of one side of an outer offset where a loop (local, or global where
+/// parts of the skin approach each other) was cut out: the offset crosses itself at
 /// parameters `t0` (on segment `seg0`) and `t1` (on `seg1`), at `point`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LoopCut {
@@ -259,7 +280,7 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
         let p = seg
             .curve
             .r_sq()
-            .sub(&super::re::poly::Poly::constant(delta * delta));
+            .sub(&crate::skin::re::poly::Poly::constant(delta * delta));
         let roots = p.roots_01(tol, 0.0);
         let mut cuts = vec![0.0];
         for &t in &roots {
@@ -317,28 +338,33 @@ pub fn outline(skin: &ReSkin) -> Result<MatOffset, MatOffsetError> {
 /// Samples per segment for bracketing the roots of τ (then refined by bisection); a loop
 /// narrower than 1/TAU_SAMPLES of a segment's parameter range can be missed.
 const TAU_SAMPLES: usize = 128;
-/// Polyline samples per segment used to seed the loop-crossing search.
-const CROSS_SAMPLES: usize = 256;
+/// Seed points per backwards-running interval of an outer offset (see `trim`).
+const LOOP_SEEDS: usize = 8;
 
 /// Outer δ-offset: y + (r + δ) m± on both sides with end caps of radius r + δ, and the
 /// local loops removed: τ = o′·y′ (o the offset) is bracketed on a grid and its roots
 /// refined to `tol`; each τ < 0 interval is cut out at the offset's self-crossing around
-/// it (seeded on a polyline, refined by Newton on o(a) = o(b) to `tol`).
+/// it (seeded on a polyline, refined by Newton on o(a) = o(b) to `tol`). Then the global
+/// crossings are removed and the contours re-chained (module `trim`): the result is the
+/// boundary of the union of the grown disks (y, r + δ) at every δ, holes that close up
+/// vanish and contours that pinch off split. Envelope loops of the skin itself do not
+/// matter here (the region is the union of the disks).
 pub fn outer_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, MatOffsetError> {
     check_delta(delta)?;
     check_f(skin)?;
     let nseg = skin.segments.len();
-    let mut loops = Vec::new();
+    // Extra seed parameters for the crossing search: the cusps (roots of τ) and interior
+    // points of every backwards-running interval, so that a local loop's two arms are
+    // separate polyline segments however short the loop is.
+    let mut seeds: Vec<(Branch, f64)> = Vec::new();
     let mut side_kept: Vec<Vec<Vec<(f64, f64)>>> = Vec::new();
     for b in [Branch::Plus, Branch::Minus] {
-        let mut kept: Vec<Vec<(f64, f64)>> = vec![vec![(0.0, 1.0)]; nseg];
         for (lo, hi) in negative_tau_intervals(skin, b, delta, tol)? {
-            if let Some(cut) = loop_crossing(skin, b, delta, lo, hi, tol) {
-                remove_interval(&mut kept, (cut.seg0, cut.t0), (cut.seg1, cut.t1));
-                loops.push(cut);
+            for k in 0..=LOOP_SEEDS {
+                seeds.push((b, lo + (hi - lo) * k as f64 / LOOP_SEEDS as f64));
             }
         }
-        side_kept.push(kept);
+        side_kept.push(vec![vec![(0.0, 1.0)]; nseg]);
     }
     // Contours: plus side runs forward, cap, minus side backwards, cap.
     let point = |s: usize, b: Branch, t: f64| -> Result<DVec2, MatOffsetError> {
@@ -395,18 +421,15 @@ pub fn outer_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
         ));
         vec![OffsetContour { pieces }]
     };
-    Ok(MatOffset {
+    let mut off = MatOffset {
         d: delta,
         curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
         contours,
         trims: Vec::new(),
-        loops,
-    })
-}
-
-/// Global parameter of (segment, t).
-fn gparam(s: usize, t: f64) -> f64 {
-    s as f64 + t
+        loops: Vec::new(),
+    };
+    trim::trim_outer(skin, &mut off, &seeds)?;
+    Ok(off)
 }
 
 fn from_gparam(g: f64, nseg: usize) -> (usize, f64) {
@@ -418,11 +441,6 @@ fn tau(skin: &ReSkin, b: Branch, d: f64, g: f64) -> Option<f64> {
     let (s, t) = from_gparam(g, skin.segments.len());
     let fr = skin.segments[s].curve.frame(t)?;
     Some(fr.offset(b, d).1.dot(fr.y1))
-}
-
-fn offset_point(skin: &ReSkin, b: Branch, d: f64, g: f64) -> Option<(DVec2, DVec2)> {
-    let (s, t) = from_gparam(g, skin.segments.len());
-    skin.segments[s].curve.frame(t).map(|fr| fr.offset(b, d))
 }
 
 /// Global parameter intervals where τ < 0, ends refined by bisection to `tol`.
@@ -471,103 +489,6 @@ fn negative_tau_intervals(
         out.push((s, nseg as f64));
     }
     Ok(out)
-}
-
-/// Newton iterations for the loop crossing o(a) = o(b).
-const NEWTON_ITERS: usize = 30;
-
-/// The self-crossing o(a) = o(b) of the offset around a τ < 0 interval [lo, hi]: seeded
-/// by the polyline crossing nearest to the interval, refined by Newton's method.
-fn loop_crossing(skin: &ReSkin, b: Branch, d: f64, lo: f64, hi: f64, tol: f64) -> Option<LoopCut> {
-    let nseg = skin.segments.len();
-    let step = 1.0 / CROSS_SAMPLES as f64;
-    let pt = |g: f64| offset_point(skin, b, d, g).map(|p| p.0);
-    // Walk outwards from the interval: before-part [a−step, a] and after-part [c, c+step].
-    let max_k = (nseg * CROSS_SAMPLES) as i64;
-    let mut best: Option<(f64, f64)> = None;
-    'outer: for i in 0..max_k {
-        let a1 = lo - i as f64 * step;
-        let a0 = a1 - step;
-        if a0 < 0.0 {
-            break;
-        }
-        let (pa0, pa1) = (pt(a0)?, pt(a1)?);
-        for j in 0..max_k {
-            let c0 = hi + j as f64 * step;
-            let c1 = c0 + step;
-            if c1 > nseg as f64 {
-                break;
-            }
-            let (pc0, pc1) = (pt(c0)?, pt(c1)?);
-            if let Some((u, v)) = seg_cross(pa0, pa1, pc0, pc1) {
-                best = Some((a0 + u * step, c0 + v * step));
-                break 'outer;
-            }
-        }
-    }
-    let (mut ga, mut gc) = best?;
-    for _ in 0..NEWTON_ITERS {
-        let (pa, da) = offset_point(skin, b, d, ga)?;
-        let (pc, dc) = offset_point(skin, b, d, gc)?;
-        let r = pa - pc;
-        // J = [da, −dc]; solve J (δa, δc) = −r.
-        let det = crate::geom::cross(da, -dc);
-        if det == 0.0 {
-            break;
-        }
-        let da_step = crate::geom::cross(-r, -dc) / det;
-        let dc_step = crate::geom::cross(da, -r) / det;
-        ga += da_step;
-        gc += dc_step;
-        if da_step.abs().max(dc_step.abs()) <= tol {
-            break;
-        }
-    }
-    let (s0, t0) = from_gparam(ga, nseg);
-    let (s1, t1) = from_gparam(gc, nseg);
-    Some(LoopCut {
-        branch: b,
-        seg0: s0,
-        t0,
-        seg1: s1,
-        t1,
-        point: pt(ga)?,
-    })
-}
-
-/// Parameters (u, v) ∈ [0, 1]² where segments p0p1 and q0q1 cross, if they do.
-fn seg_cross(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Option<(f64, f64)> {
-    let r = p1 - p0;
-    let s = q1 - q0;
-    let den = crate::geom::cross(r, s);
-    if den == 0.0 {
-        return None;
-    }
-    let u = crate::geom::cross(q0 - p0, s) / den;
-    let v = crate::geom::cross(q0 - p0, r) / den;
-    ((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)).then_some((u, v))
-}
-
-/// Removes the global interval from (s0, t0) to (s1, t1) from per-segment kept intervals.
-fn remove_interval(kept: &mut [Vec<(f64, f64)>], a: (usize, f64), c: (usize, f64)) {
-    let (ga, gc) = (gparam(a.0, a.1), gparam(c.0, c.1));
-    for (s, iv) in kept.iter_mut().enumerate() {
-        let mut out = Vec::new();
-        for &(t0, t1) in iv.iter() {
-            let (g0, g1) = (gparam(s, t0), gparam(s, t1));
-            if g1 <= ga || g0 >= gc {
-                out.push((t0, t1));
-                continue;
-            }
-            if g0 < ga {
-                out.push((t0, ga - s as f64));
-            }
-            if g1 > gc {
-                out.push((gc - s as f64, t1));
-            }
-        }
-        *iv = out;
-    }
 }
 
 /// Samples at which a fitted piece is compared with the exact curve (interior points
@@ -734,10 +655,10 @@ impl MatOffset {
 
 #[cfg(test)]
 mod tests {
-    use super::super::re::skin::tests::{test_touches, transform};
-    use super::super::re::{Interp, Touch};
     use super::*;
     use crate::geom::Circle;
+    use crate::skin::re::skin::tests::{test_touches, transform};
+    use crate::skin::re::{Interp, Touch};
 
     fn gentle() -> Vec<Circle> {
         vec![
@@ -912,7 +833,7 @@ mod tests {
     #[test]
     fn envelope_loops_are_reported() {
         // The snake's right envelope runs backwards at the start of segment 2 (τ⁻ < 0).
-        let cs = super::super::re::skin::tests::snake();
+        let cs = crate::skin::re::skin::tests::snake();
         let skin = skin_of(&cs, Interp::Cubic);
         let loops = envelope_loops(&skin, 1e-10).unwrap();
         assert!(!loops.is_empty());

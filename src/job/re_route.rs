@@ -1,0 +1,192 @@
+//! The RE/MPH route of a build (`build --method re|mph`, or `method` on an operation):
+//! every item's RE or MPH skin (re-skinning-cnc-kruppa-2021, re-mph-skinning-flexible-
+//! kruppa-2021) and the operations whose cuts are its exact MAT offsets
+//! ([`crate::toolpath::re_route`]). Where the route cannot be exact — the skin keeps an
+//! envelope intersection or a local envelope loop, the spine crosses itself, items overlap
+//! so that the cut must follow their union — the operation takes the general (Bézier skin)
+//! route and the build says why.
+
+use super::outline::{ItemOutline, OutlineOptions, re_outline, sequence_touches, stroke_re_input};
+use crate::dbsc::DiskBSpline;
+use crate::design::Design;
+use crate::geom::{DVec2, Line, Path};
+use crate::skin::re::{Interp, ReSkin};
+use crate::toolpath::ops::ProfileSide;
+use crate::toolpath::re_route::{SegCounts, mat_backboard, mat_profile};
+
+/// One item's RE/MPH skin, ready for MAT offsets.
+#[derive(Clone, Debug)]
+pub struct ReItem {
+    pub skin: ReSkin,
+    /// The skin's outline, flattened within the build tolerance (for checks and fills).
+    pub outline: Vec<Path>,
+    /// Where an envelope of the skin runs backwards (a local loop, cut off the outline by
+    /// the union of the disks): the inner offset and the outline itself are then not exact
+    /// curves of the route, the outer offset still is (the region is the union of disks).
+    pub loop_note: Option<String>,
+}
+
+/// Which route an operation took, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RouteNote {
+    /// The operation's name in the toolpath (e.g. "profile 1").
+    pub operation: String,
+    /// "skin", "re" or "mph".
+    pub route: String,
+    /// What the route did, or why the exact route was not taken.
+    pub detail: String,
+    /// Arcs and lines of the operation's paths.
+    pub counts: SegCounts,
+}
+
+/// The RE/MPH skin of every item of `outlines` (strokes by their DBSC skin's knot and
+/// inserted circles with the exact envelope touching points, circle sequences by their
+/// Kunkli–Hoffmann touching points), or why an item cannot take the exact route.
+pub fn re_items(
+    design: &Design,
+    strokes: &[DiskBSpline],
+    outlines: &[ItemOutline],
+    interp: Interp,
+    opts: &OutlineOptions,
+) -> Vec<Result<ReItem, String>> {
+    outlines
+        .iter()
+        .map(|o| {
+            if o.self_overlap {
+                return Err("the spine crosses itself (the cut follows the union)".into());
+            }
+            let (circles, touches, closed) =
+                if let Some(k) = design.stroke.iter().position(|s| s.name == o.name) {
+                    let c = strokes
+                        .get(k)
+                        .ok_or_else(|| "stroke without its disk B-spline".to_string())?;
+                    stroke_re_input(c, opts)?
+                } else if let Some(seq) = design.circles.iter().find(|s| s.name == o.name) {
+                    let cs = seq.to_circles();
+                    let t = sequence_touches(&cs, seq.closed)?;
+                    (cs, t, seq.closed)
+                } else {
+                    return Err("no stroke or circle sequence of this name".into());
+                };
+            let ro = re_outline(&circles, &touches, closed, interp, opts.tolerance)?;
+            if let Some(e) = ro.intersections.first() {
+                return Err(format!(
+                    "the envelopes still meet after elimination (segment {}, t = {:.4})",
+                    e.segment, e.t
+                ));
+            }
+            if let Some(&(i, j)) = ro.failed_pairs.first() {
+                return Err(format!("elimination failed between circles {i} and {j}"));
+            }
+            let loop_note = ro.loops.first().map(|&(_, g0, g1)| {
+                format!(
+                    "an envelope runs backwards (local loop) for global t in [{g0:.4}, {g1:.4}]"
+                )
+            });
+            crate::skin::mat_offset::outline(&ro.skin).map_err(|e| e.to_string())?;
+            Ok(ReItem {
+                loop_note,
+                outline: ro
+                    .contours
+                    .iter()
+                    .map(|c| Path::polyline(c, true))
+                    .collect(),
+                skin: ro.skin,
+            })
+        })
+        .collect()
+}
+
+/// Profile paths of the selected items by the MAT route: each item's exact offset, as long
+/// as the items' paths stay apart (otherwise the profile must follow their union: `Err`).
+pub fn re_profile(
+    items: &[(&str, &ReItem)],
+    side: ProfileSide,
+    tool_radius: f64,
+    tol: f64,
+) -> Result<Vec<Path>, String> {
+    let mut per_item: Vec<Vec<Path>> = Vec::new();
+    for (name, it) in items {
+        if let (Some(l), false) = (
+            &it.loop_note,
+            side == ProfileSide::Outside && tool_radius > 0.0,
+        ) {
+            return Err(format!("{name}: {l}"));
+        }
+        let p =
+            mat_profile(&it.skin, side, tool_radius, tol).map_err(|e| format!("{name}: {e}"))?;
+        per_item.push(p);
+    }
+    for a in 0..per_item.len() {
+        for b in a + 1..per_item.len() {
+            if paths_meet(&per_item[a], &per_item[b], tol) {
+                return Err(format!(
+                    "{} and {} overlap (the cut follows their union)",
+                    items[a].0, items[b].0
+                ));
+            }
+        }
+    }
+    Ok(per_item.into_iter().flatten().collect())
+}
+
+/// The backboard of one item by the MAT route (outer offset by margin + tool radius).
+pub fn re_backboard(item: &ReItem, distance: f64, tol: f64) -> Result<Vec<Path>, String> {
+    mat_backboard(&item.skin, distance, tol).map_err(|e| e.to_string())
+}
+
+/// Whether two sets of closed paths cross, touch within `tol`, or one lies inside the
+/// other (flattened within `tol`).
+fn paths_meet(a: &[Path], b: &[Path], tol: f64) -> bool {
+    let fa: Vec<Vec<DVec2>> = a.iter().map(|p| p.flatten(tol)).collect();
+    let fb: Vec<Vec<DVec2>> = b.iter().map(|p| p.flatten(tol)).collect();
+    let bbox = |pts: &[DVec2]| {
+        pts.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        )
+    };
+    for pa in &fa {
+        for pb in &fb {
+            let ((la, ha), (lb, hb)) = (bbox(pa), bbox(pb));
+            if la.x > hb.x + tol || lb.x > ha.x + tol || la.y > hb.y + tol || lb.y > ha.y + tol {
+                continue;
+            }
+            if pa.first().is_some_and(|&p| inside(pb, p))
+                || pb.first().is_some_and(|&p| inside(pa, p))
+            {
+                return true;
+            }
+            for i in 0..pa.len() {
+                let s = Line::new(pa[i], pa[(i + 1) % pa.len()]);
+                for j in 0..pb.len() {
+                    let (q0, q1) = (pb[j], pb[(j + 1) % pb.len()]);
+                    if s.distance(q0) <= tol
+                        || Line::new(q0, q1).distance(s.p0) <= tol
+                        || crosses(s.p0, s.p1, q0, q1)
+                    {
+                        return true;
+                    }
+                }
+            }
+        }
+    }
+    false
+}
+
+fn crosses(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> bool {
+    let o = |a: DVec2, b: DVec2, c: DVec2| crate::geom::cross(b - a, c - a);
+    (o(p0, p1, q0) > 0.0) != (o(p0, p1, q1) > 0.0) && (o(q0, q1, p0) > 0.0) != (o(q0, q1, p1) > 0.0)
+}
+
+fn inside(poly: &[DVec2], p: DVec2) -> bool {
+    let n = poly.len();
+    let mut c = false;
+    for k in 0..n {
+        let (a, b) = (poly[k], poly[(k + 1) % n]);
+        if (a.y > p.y) != (b.y > p.y) && a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) > p.x {
+            c = !c;
+        }
+    }
+    c
+}
