@@ -1256,8 +1256,8 @@ fn design_errors_name_file_stroke_and_index() {
         ),
         (
             "few",
-            "disks = [[0.0, 0.0, 2.0], [10.0, 5.0, 3.0]]\n",
-            &["stroke 1", "\"bad\"", "4", "2"],
+            "disks = [[0.0, 0.0, 2.0]]\n",
+            &["stroke 1", "\"bad\"", "at least 2 disks, got 1"],
         ),
     ];
     for (tag, tail, needles) in cases {

@@ -29,6 +29,13 @@ use crate::geom::DVec2;
 /// below any parameter tolerance a caller can ask for in f64.
 const MAX_ISOLATION_DEPTH: u32 = 60;
 
+/// Cap on the subdivision boxes of one root isolation. The depth cap alone bounds a path,
+/// not the tree: a polynomial that is zero up to rounding noise has sign changes in every
+/// box and would visit 2^depth of them. Real τ± polynomials need a few hundred boxes; once
+/// the cap is reached every box still open is reported as a cluster at its midpoint, as at
+/// the depth cap (the caller's sign evaluation between roots stays correct).
+const MAX_ISOLATION_BOXES: usize = 20_000;
+
 /// A polynomial on [0, 1] in Bernstein form.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Bern(pub(crate) Vec<f64>);
@@ -244,13 +251,22 @@ pub use crate::geom::roots::brent;
 /// multiplicity cannot be decided are reported once, at their midpoint.
 pub(crate) fn bernstein_roots(f: &Bern, tol: f64) -> Vec<f64> {
     let mut out = Vec::new();
-    isolate(f, f, 0.0, 1.0, tol, 0, &mut out);
+    let mut boxes = MAX_ISOLATION_BOXES;
+    isolate(f, f, (0.0, 1.0), tol, 0, &mut boxes, &mut out);
     out.sort_by(f64::total_cmp);
     out.dedup_by(|a, b| (*a - *b).abs() <= tol);
     out
 }
 
-fn isolate(whole: &Bern, f: &Bern, u0: f64, u1: f64, tol: f64, depth: u32, out: &mut Vec<f64>) {
+fn isolate(
+    whole: &Bern,
+    f: &Bern,
+    (u0, u1): (f64, f64),
+    tol: f64,
+    depth: u32,
+    boxes: &mut usize,
+    out: &mut Vec<f64>,
+) {
     let v = f.sign_changes();
     if v == 0 {
         return;
@@ -260,17 +276,18 @@ fn isolate(whole: &Bern, f: &Bern, u0: f64, u1: f64, tol: f64, depth: u32, out: 
         out.push(brent(|u| whole.eval(u), u0, u1, tol));
         return;
     }
-    if u1 - u0 <= tol || depth >= MAX_ISOLATION_DEPTH {
+    if u1 - u0 <= tol || depth >= MAX_ISOLATION_DEPTH || *boxes == 0 {
         out.push(0.5 * (u0 + u1));
         return;
     }
+    *boxes -= 1;
     let (l, r) = f.split(0.5);
     let um = 0.5 * (u0 + u1);
     if r.0[0] == 0.0 {
         out.push(um);
     }
-    isolate(whole, &l, u0, um, tol, depth + 1, out);
-    isolate(whole, &r, um, u1, tol, depth + 1, out);
+    isolate(whole, &l, (u0, um), tol, depth + 1, boxes, out);
+    isolate(whole, &r, (um, u1), tol, depth + 1, boxes, out);
 }
 
 /// One local loop of an envelope: τ < 0 on (t_a, t_b), bounded by the cusps at t_a, t_b.

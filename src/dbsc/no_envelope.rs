@@ -20,6 +20,11 @@ use super::DiskBSpline;
 /// (near-)multiple root and is taken as one root at its midpoint.
 const MAX_DEPTH: usize = 48;
 
+/// Cap on the subdivision boxes of one span's root isolation (the depth cap bounds a path,
+/// not the tree: noise-level coefficients change sign in every box). Once reached, every
+/// box still open is taken as a root at its midpoint, as at the depth cap.
+const MAX_BOXES: usize = 20_000;
+
 /// Relative size below which all Bernstein coefficients of D count as zero on a span
 /// (D ≡ 0: ‖q′‖ = |r′| throughout, no envelope on the whole span).
 const ZERO_REL: f64 = 1e-13;
@@ -148,10 +153,10 @@ fn sign_changes(coef: &[f64]) -> usize {
 fn isolate(
     full: &[f64],
     coef: &[f64],
-    u0: f64,
-    u1: f64,
+    (u0, u1): (f64, f64),
     depth: usize,
     utol: f64,
+    boxes: &mut usize,
     out: &mut Vec<f64>,
 ) {
     let n = coef.len();
@@ -180,14 +185,15 @@ fn isolate(
         ));
         return;
     }
-    if depth >= MAX_DEPTH || u1 - u0 <= utol {
+    if depth >= MAX_DEPTH || u1 - u0 <= utol || *boxes == 0 {
         out.push(0.5 * (u0 + u1));
         return;
     }
+    *boxes -= 1;
     let um = 0.5 * (u0 + u1);
     let (l, r) = split_half(coef);
-    isolate(full, &l, u0, um, depth + 1, utol, out);
-    isolate(full, &r, um, u1, depth + 1, utol, out);
+    isolate(full, &l, (u0, um), depth + 1, utol, boxes, out);
+    isolate(full, &r, (um, u1), depth + 1, utol, boxes, out);
 }
 
 /// The no-envelope pieces of one span [a, b].
@@ -201,7 +207,8 @@ fn span_intervals(c: &DiskBSpline, a: f64, b: f64, tol: f64) -> Vec<(f64, f64)> 
     }
     let w = b - a;
     let mut roots = Vec::new();
-    isolate(&coef, &coef, 0.0, 1.0, 0, tol / w, &mut roots);
+    let mut boxes = MAX_BOXES;
+    isolate(&coef, &coef, (0.0, 1.0), 0, tol / w, &mut boxes, &mut roots);
     let mut pts: Vec<f64> = Vec::with_capacity(roots.len() + 2);
     pts.push(0.0);
     pts.extend(roots.iter().map(|u| u.clamp(0.0, 1.0)));

@@ -209,7 +209,7 @@ fn ranges_and_near_repeats() {
         ),
     ] {
         let msg = err_of(&format!("{}\n[[operation]]\n{op}\n", with_b(GOOD_B)));
-        assert!(msg.contains(&format!("operation 0 (")), "{msg}");
+        assert!(msg.contains("operation 0 ("), "{msg}");
         assert!(msg.contains(&format!("key `{key}`")), "{msg}");
         assert!(msg.contains(what), "{msg}");
     }

@@ -113,7 +113,11 @@ mod tests {
             let (a, b, d) = (cs[k], cs[(k + 1) % n], cs[(k + 2) % n]);
             (b.c - a.c).angle_to(d.c - b.c).abs() > 0.7
         });
-        if sharp { PENETRATION_SHARP } else { PENETRATION }
+        if sharp {
+            PENETRATION_SHARP
+        } else {
+            PENETRATION
+        }
     }
 
     /// The outline invariants: closed contours, orientation, no intersection anywhere
@@ -145,10 +149,7 @@ mod tests {
             for k in cs {
                 let pen = max_disk_penetration(seg, k, 1e-7 * scale);
                 worst = worst.max(pen / k.r);
-                prop_assert!(
-                    pen <= 2e-7 * scale + bound * k.r,
-                    "enters {k:?} by {pen}"
-                );
+                prop_assert!(pen <= 2e-7 * scale + bound * k.r, "enters {k:?} by {pen}");
             }
         }
         prop_assert!(worst <= bound + 1e-6);
