@@ -210,6 +210,15 @@ fn split_stroke(file: &str, index: usize, s: &Stroke) -> Result<Vec<Stroke>, Des
 }
 
 impl Design {
+    /// Whether `p` is one of the corners at which loading split a stroke (within 1e-9 of
+    /// the design's extent): piece ends there are joints, not stroke ends.
+    pub fn is_corner(&self, p: DVec2) -> bool {
+        self.corners.iter().any(|c| {
+            let q = DVec2::new(c.at[0], c.at[1]);
+            q.distance(p) <= 1e-9 * (1.0 + q.length())
+        })
+    }
+
     /// Lay out every `[[text]]` into strokes and split every stroke with corners into its
     /// pieces (see the module docs); operations naming a text or a split stroke are given
     /// its strokes. Records the corners in [`Design::corners`]. Loading calls this before
