@@ -125,14 +125,28 @@ power = 75.0
 depth = 3.0
 TOML
 
-# 8. V-carving along the spine of the letters (depth from the stroke radius).
-"$bin" text "LINE" --height 40 --width 6 --name line -o $g/vcarve_line.toml
-cat >> $g/vcarve_line.toml <<'TOML'
+# 8. V-carving brush strokes: the depth follows the stroke radius (z = -r cot(θ/2)), flat
+#    beyond max_depth (deeper than these strokes need).
+cat > $g/vcarve_brush.toml <<'TOML'
+# Brush strokes for a V-bit: each disk's radius sets the carving depth along the spine.
+version = 1
+
+[[stroke]]
+name = "stem"
+points = [[15.0, 10.0, 0.4], [35.0, 30.0, 2.5], [60.0, 45.0, 3.5], [90.0, 50.0, 2.0], [115.0, 45.0, 0.4]]
+
+[[stroke]]
+name = "leaf"
+points = [[45.0, 40.0, 0.4], [40.0, 60.0, 3.0], [50.0, 80.0, 4.0], [70.0, 90.0, 0.4]]
+
+[[stroke]]
+name = "curl"
+points = [[85.0, 58.0, 0.4], [100.0, 75.0, 2.5], [120.0, 72.0, 2.0], [118.0, 60.0, 0.5]]
 
 [[operation]]
 kind = "vcarve"
 angle = 60.0
-max_depth = 4.0
+max_depth = 8.0
 power = 50.0
 TOML
 
@@ -140,7 +154,7 @@ TOML
 
 own_machine() {
   case "$1" in
-    neon_open|router_cafe|vcarve_line) echo grbl-router ;;
+    neon_open|router_cafe|vcarve_brush) echo grbl-router ;;
     landscape) echo svg-laser ;;
     *) echo grbl-laser ;;
   esac
@@ -156,7 +170,8 @@ for design in $g/*.toml; do
     [ "$m" = "$machine" ] && args=(--preview "$out/$name-preview.svg")
     "$bin" build "$design" --machine "$m" -o "$out/$name-$m.$ext" "${args[@]}" > /dev/null
     if [ "$ext" = gcode ]; then
-      "$bin" check "$out/$name-$m.$ext" --machine "$m" > /dev/null
+      "$bin" check "$out/$name-$m.$ext" --machine "$m" > "$out/check.txt" ||
+        { cat "$out/check.txt" >&2; echo "gallery: $name on $m fails the check" >&2; exit 1; }
     fi
   done
   if [ "$png" = 1 ]; then
