@@ -331,9 +331,9 @@ pub fn polyline_stroke(name: &str, poly: &[DVec2], r: f64) -> Option<Stroke> {
     polyline_stroke_radii(name, poly, &vec![r; poly.len()], CORNER_ANGLE_DEG)
 }
 
-/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. An open
-/// run that loops back over one of its own ends is also split (see
-/// `split_returning_runs`).
+/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. The
+/// polyline is also split where a long straight segment meets short ones ([`LENGTH_JUMP`])
+/// and where an open run loops back over one of its own ends (see `split_returning_runs`).
 pub fn polyline_stroke_radii(
     name: &str,
     poly: &[DVec2],
@@ -365,6 +365,9 @@ pub fn polyline_stroke_radii(
         closed = true;
     }
     let mut corners = sharp_turns(&pts, closed, corner_deg);
+    corners.extend(length_jumps(&pts, closed));
+    corners.sort_unstable();
+    corners.dedup();
     if !closed {
         split_returning_runs(&pts, &rs, &mut corners);
     }
@@ -383,6 +386,29 @@ pub fn polyline_stroke_radii(
         Some(corners)
     };
     Some(s)
+}
+
+/// Ratio of neighbouring segment lengths above which a vertex joins a straight stretch to a
+/// curve (a Hershey `P`: the bowl's long top line, then short segments round the bend). An
+/// interpolating cubic through such a vertex overshoots the long segment (by up to 1.4 % of
+/// the cap height on the `P`), so the vertex becomes a joint like a corner: the straight
+/// stretch stays straight.
+const LENGTH_JUMP: f64 = 2.5;
+
+/// Vertices where one neighbouring segment is more than [`LENGTH_JUMP`] times the other.
+fn length_jumps(pts: &[DVec2], closed: bool) -> Vec<usize> {
+    let n = pts.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    (0..n)
+        .filter(|&i| closed || (i > 0 && i + 1 < n))
+        .filter(|&i| {
+            let a = pts[(i + n - 1) % n].distance(pts[i]);
+            let b = pts[i].distance(pts[(i + 1) % n]);
+            a.max(b) > LENGTH_JUMP * a.min(b)
+        })
+        .collect()
 }
 
 /// How many times a run that comes back to its own end is halved at most.
