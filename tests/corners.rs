@@ -21,9 +21,9 @@ fn polygon(pts: &[DVec2]) -> Polygon<f64> {
 }
 
 fn union_all(polys: Vec<Polygon<f64>>) -> MultiPolygon<f64> {
-    polys
-        .into_iter()
-        .fold(MultiPolygon::new(vec![]), |acc, p| acc.union(&MultiPolygon::new(vec![p])))
+    polys.into_iter().fold(MultiPolygon::new(vec![]), |acc, p| {
+        acc.union(&MultiPolygon::new(vec![p]))
+    })
 }
 
 /// The capsule of segment ab and radius r: exact region of a straight piece, its arcs
@@ -139,14 +139,22 @@ fn corner_letters_outline_and_build() {
             .arg(&out)
             .output()
             .unwrap();
-        assert!(b.status.success(), "{m}: {}", String::from_utf8_lossy(&b.stderr));
+        assert!(
+            b.status.success(),
+            "{m}: {}",
+            String::from_utf8_lossy(&b.stderr)
+        );
         let c = std::process::Command::new(bin)
             .arg("check")
             .arg(&out)
             .args(["--machine", m])
             .output()
             .unwrap();
-        assert!(c.status.success(), "{m}: {}", String::from_utf8_lossy(&c.stdout));
+        assert!(
+            c.status.success(),
+            "{m}: {}",
+            String::from_utf8_lossy(&c.stdout)
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -157,10 +165,15 @@ fn unskinnable_stroke_names_disks_and_what_to_change() {
     let text = "version = 1\n[[stroke]]\nname = \"bulge\"\ndegree = 2\n\
                 disks = [[0, 0, 2], [10, 0, 2], [10.5, 0.2, 8], [11, 0, 2], [20, 0, 2]]\n";
     let d = load(text, "b.toml").unwrap();
-    let m = design_outlines(&d, &OutlineOptions::default()).unwrap_err().to_string();
+    let m = design_outlines(&d, &OutlineOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(m.starts_with("b.toml: stroke \"bulge\""), "{m}");
     assert!(m.contains("what to change"), "{m}");
-    assert!(m.contains("disk 1 lies inside disk 2") && m.contains("lower the radius of disk 2"), "{m}");
+    assert!(
+        m.contains("disk 1 lies inside disk 2") && m.contains("lower the radius of disk 2"),
+        "{m}"
+    );
 }
 
 #[test]

@@ -27,7 +27,11 @@ fn run(args: &[&str], files: &[&Path]) -> std::process::Output {
 /// Build `design` on `machine` with default flags and check the program with the same
 /// profile and no flags.
 fn build_and_check(design: &Path, machine: &str, dir: &Path) {
-    let ext = if machine == "svg-laser" { "svg" } else { "gcode" };
+    let ext = if machine == "svg-laser" {
+        "svg"
+    } else {
+        "gcode"
+    };
     let out = dir.join(format!("out-{machine}.{ext}"));
     let b = Command::new(bin())
         .arg("build")
@@ -74,12 +78,18 @@ fn words_in_both_fonts_build_and_check() {
     // Script words on a router (outside cuts around loops that nearly close) need the
     // union of overlapping strokes (issue 12 item 2): lasers here, all three for sans.
     for (word, font, machines) in [
-        ("Neon 42!", "sans", &["grbl-laser", "grbl-router", "svg-laser"][..]),
+        (
+            "Neon 42!",
+            "sans",
+            &["grbl-laser", "grbl-router", "svg-laser"][..],
+        ),
         ("Bar & Grill", "script", &["grbl-laser", "svg-laser"][..]),
     ] {
         let design = dir.join(format!("{font}.toml"));
         let t = run(
-            &["text", word, "--font", font, "--height", "25", "--width", "3", "-o"],
+            &[
+                "text", word, "--font", font, "--height", "25", "--width", "3", "-o",
+            ],
             &[&design],
         );
         assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
@@ -94,7 +104,10 @@ fn words_in_both_fonts_build_and_check() {
 fn open_at_80_mm_measures_80_mm_cap_line_to_baseline() {
     let dir = tmp("measure");
     let design = dir.join("open.toml");
-    let t = run(&["text", "OPEN", "--height", "80", "--width", "8", "-o"], &[&design]);
+    let t = run(
+        &["text", "OPEN", "--height", "80", "--width", "8", "-o"],
+        &[&design],
+    );
     assert!(t.status.success());
     let d = load(&std::fs::read_to_string(&design).unwrap(), "open.toml").unwrap();
     // Extent of the spines (the centre lines the flex follows), sampled densely: the
@@ -119,9 +132,15 @@ fn open_at_80_mm_measures_80_mm_cap_line_to_baseline() {
         hi - lo
     };
     let straight = extent(&|n: &str| !n.contains(":O/"));
-    assert!((straight - 80.0).abs() <= TOLERANCE, "cap line to baseline {straight}");
+    assert!(
+        (straight - 80.0).abs() <= TOLERANCE,
+        "cap line to baseline {straight}"
+    );
     let round = extent(&|n: &str| n.contains(":O/"));
-    assert!(round >= 80.0 && round <= 80.0 * (1.0 + 2.0 * ROUND_OVERSHOOT), "O {round}");
+    assert!(
+        (80.0..=80.0 * (1.0 + 2.0 * ROUND_OVERSHOOT)).contains(&round),
+        "O {round}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -132,7 +151,12 @@ fn init_writes_a_starter_that_builds_and_refuses_to_overwrite() {
     let o = run(&["init", "-o"], &[&design]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(&design).unwrap();
-    assert!(text.lines().filter(|l| l.trim_start().starts_with('#')).count() > 10);
+    assert!(
+        text.lines()
+            .filter(|l| l.trim_start().starts_with('#'))
+            .count()
+            > 10
+    );
     for m in ["grbl-laser", "grbl-router", "svg-laser"] {
         build_and_check(&design, m, &dir);
     }

@@ -1,12 +1,13 @@
 //! Every glyph of every shipped font (A–Z, a–z, 0–9 and common punctuation) outlines
 //! without error at heights 10, 40 and 150 mm and two stroke widths (issue 12).
 
-use skinpath::design::text::{Font, Text};
 use skinpath::design::Design;
+use skinpath::design::text::{Font, Text};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 
 /// Letters, digits and the punctuation of signs and addresses.
-const GLYPHS: &str = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.,:;!?'\"-+&()/#@%*=$";
+const GLYPHS: &str =
+    "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.,:;!?'\"-+&()/#@%*=$";
 
 /// Stroke widths as fractions of the cap height: a thin engraving line and a bold neon
 /// tube (8 mm flex on 80 mm letters is 1/10).
@@ -49,5 +50,10 @@ fn every_glyph_outlines_at_three_heights_and_two_widths() {
             }
         }
     }
-    assert!(failures.is_empty(), "{} of {count} failed:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {count} failed:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }

@@ -42,10 +42,18 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<u8> {
-    let format = Format::from_file_name(&a.output.display().to_string())
-        .with_context(|| format!("{}: the output must end in .toml or .json", a.output.display()))?;
+    let format = Format::from_file_name(&a.output.display().to_string()).with_context(|| {
+        format!(
+            "{}: the output must end in .toml or .json",
+            a.output.display()
+        )
+    })?;
     let mut t = Text::new(&a.name, &a.text.replace("\\n", "\n"), a.height, a.width);
-    t.font = if a.font == "script" { Font::Script } else { Font::Sans };
+    t.font = if a.font == "script" {
+        Font::Script
+    } else {
+        Font::Sans
+    };
     t.align = Some(match a.align.as_str() {
         "centre" | "center" => Align::Centre,
         "right" => Align::Right,
@@ -58,7 +66,11 @@ pub fn run(a: Args) -> Result<u8> {
     if !(a.margin.is_finite() && a.margin >= 0.0) {
         bail!("--margin must be zero or positive, got {}", a.margin);
     }
-    let pts: Vec<_> = t.layout().into_iter().flat_map(|(_, _, p)| p.concat()).collect();
+    let pts: Vec<_> = t
+        .layout()
+        .into_iter()
+        .flat_map(|(_, _, p)| p.concat())
+        .collect();
     if pts.is_empty() {
         bail!("the text has no visible character");
     }

@@ -109,7 +109,11 @@ fn piece_ranges(n: usize, closed: bool, corners: &[usize]) -> Vec<(usize, usize)
 }
 
 fn count_cyclic(n: usize, from: usize, to: usize) -> usize {
-    if from <= to { to - from + 1 } else { n - from + to + 1 }
+    if from <= to {
+        to - from + 1
+    } else {
+        n - from + to + 1
+    }
 }
 
 /// Split one stroke with corners into its pieces (see the module docs).
@@ -228,7 +232,10 @@ impl Design {
         let texts = std::mem::take(&mut self.text);
         for (i, t) in texts.iter().enumerate() {
             let strokes = t.to_strokes(&self.file, i)?;
-            renamed.push((t.name.clone(), strokes.iter().map(|s| s.name.clone()).collect()));
+            renamed.push((
+                t.name.clone(),
+                strokes.iter().map(|s| s.name.clone()).collect(),
+            ));
             self.stroke.extend(strokes);
         }
         let mut out = Vec::with_capacity(self.stroke.len());
@@ -278,7 +285,10 @@ impl Design {
                         });
                     }
                 }
-                renamed.push((s.name.clone(), pieces.iter().map(|p| p.name.clone()).collect()));
+                renamed.push((
+                    s.name.clone(),
+                    pieces.iter().map(|p| p.name.clone()).collect(),
+                ));
             }
             out.extend(pieces);
         }

@@ -96,7 +96,6 @@ mod validate;
 
 pub use build::attribute_curve;
 pub use corners::Corner;
-pub use text::Text;
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load};
 pub use model::{
@@ -104,6 +103,7 @@ pub use model::{
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
     VERSION,
 };
+pub use text::Text;
 pub use validate::validate;
 
 #[cfg(test)]
