@@ -13,9 +13,10 @@ const GLYPHS: &str =
 /// tube (8 mm flex on 80 mm letters is 1/10).
 const WIDTHS: [f64; 2] = [1.0 / 25.0, 1.0 / 9.0];
 const HEIGHTS: [f64; 3] = [10.0, 40.0, 150.0];
-/// Skin accuracy and flattening tolerance as a fraction of the cap height (0.01 mm at
-/// 10 mm, 0.15 mm at 150 mm).
-const REL_EPSILON: f64 = 1e-3;
+/// Skin accuracy and flattening tolerance as a fraction of the cap height (0.025 mm at
+/// 10 mm, 0.375 mm at 150 mm): the glyphs' shapes, not the accuracy, are under test, and
+/// the run stays near a minute.
+const REL_EPSILON: f64 = 2.5e-3;
 
 fn design(text: Text) -> Design {
     let mut d = skinpath::design::load("version = 1\n", "glyph.toml").unwrap();
