@@ -78,7 +78,10 @@ fn every_unit_resolves_to_millimetres() {
         let d = load(&text, "u.svg").unwrap();
         let p = spine(&d, "l");
         let len = p[0].distance(p[p.len() - 1]);
-        assert!((len - 10.0 * mm).abs() < 1e-4 * mm.max(1.0), "{unit}: {len}");
+        assert!(
+            (len - 10.0 * mm).abs() < 1e-4 * mm.max(1.0),
+            "{unit}: {len}"
+        );
     }
 }
 
@@ -101,7 +104,10 @@ fn nested_transforms_and_use_are_honoured() {
     let px = |x: f64, y: f64| [x * MM_PER_PX, (100.0 - y) * MM_PER_PX];
     let (ea, eb) = (px(25.0, 30.0), px(45.0, 30.0));
     for (got, want) in [(a, ea), (b, eb)] {
-        assert!((got[0] - want[0]).abs() < 1e-4 && (got[1] - want[1]).abs() < 1e-4, "{got:?} {want:?}");
+        assert!(
+            (got[0] - want[0]).abs() < 1e-4 && (got[1] - want[1]).abs() < 1e-4,
+            "{got:?} {want:?}"
+        );
     }
     assert!((a[2] - MM_PER_PX).abs() < 1e-5, "radius {}", a[2]);
 }
@@ -152,13 +158,19 @@ fn corners_are_kept_and_y_points_up() {
     let s = &imp.design.stroke[0];
     assert_eq!(s.corners.as_deref(), Some(&[1usize][..]));
     let p = s.points.as_ref().unwrap();
-    assert!((p[0][1] - 90.0).abs() < 1e-5 && (p[1][1] - 40.0).abs() < 1e-5, "{p:?}");
+    assert!(
+        (p[0][1] - 90.0).abs() < 1e-5 && (p[1][1] - 40.0).abs() < 1e-5,
+        "{p:?}"
+    );
     let d = load(&text, "c.svg").unwrap();
     let names: Vec<&str> = d.stroke.iter().map(|s| s.name.as_str()).collect();
     assert_eq!(names, ["el#0", "el#1"]);
     assert_eq!(d.corners.len(), 1);
     let at = d.corners[0].at;
-    assert!((at[0] - 10.0).abs() < 1e-5 && (at[1] - 40.0).abs() < 1e-5, "{at:?}");
+    assert!(
+        (at[0] - 10.0).abs() < 1e-5 && (at[1] - 40.0).abs() < 1e-5,
+        "{at:?}"
+    );
 }
 
 #[test]
@@ -174,11 +186,18 @@ fn varying_widths_from_data_attribute() {
         let t = lo + (hi - lo) * k as f64 / 10.0;
         let x = c.center(t).x;
         let want = 0.5 * (2.0 + 8.0 * x / 100.0);
-        assert!((c.radius(t) - want).abs() < 1e-3, "x {x}: r {} want {want}", c.radius(t));
+        assert!(
+            (c.radius(t) - want).abs() < 1e-3,
+            "x {x}: r {} want {want}",
+            c.radius(t)
+        );
     }
     let bad = text.replace("2 10", "2 -1");
     let e = load(&bad, "w.svg").unwrap_err().to_string();
-    assert!(e.contains("w.svg") && e.contains("element t") && e.contains("-1"), "{e}");
+    assert!(
+        e.contains("w.svg") && e.contains("element t") && e.contains("-1"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -192,7 +211,10 @@ fn skipped_elements_are_listed_by_id() {
     );
     let imp = import(&text, "s.svg", &ImportOptions::default()).unwrap();
     let ids: Vec<&str> = imp.skipped.iter().map(|s| s.id.as_str()).collect();
-    assert!(ids.contains(&"plate") && ids.contains(&"caption"), "{ids:?}");
+    assert!(
+        ids.contains(&"plate") && ids.contains(&"caption"),
+        "{ids:?}"
+    );
     assert!(ids.iter().any(|i| i.starts_with("<path> #")), "{ids:?}");
     assert!(imp.skipped.iter().all(|s| !s.reason.is_empty()));
     assert_eq!(imp.design.stroke.len(), 1);
@@ -200,9 +222,12 @@ fn skipped_elements_are_listed_by_id() {
 
 #[test]
 fn malformed_svg_names_the_file_and_line() {
-    let e = load("<svg xmlns=\"http://www.w3.org/2000/svg\">\n<path d=\"M0 0\">\n</svg>", "bad.svg")
-        .unwrap_err()
-        .to_string();
+    let e = load(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<path d=\"M0 0\">\n</svg>",
+        "bad.svg",
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.starts_with("bad.svg:"), "{e}");
     assert!(e.contains(":3:") || e.contains(":2:"), "{e}");
 }

@@ -1,20 +1,22 @@
 //! Every glyph of every shipped font (A–Z, a–z, 0–9 and common punctuation) outlines
 //! without error at heights 10, 40 and 150 mm and two stroke widths (issue 12).
 
-use skinpath::design::text::{Font, Text};
 use skinpath::design::Design;
+use skinpath::design::text::{Font, Text};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 
 /// Letters, digits and the punctuation of signs and addresses.
-const GLYPHS: &str = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.,:;!?'\"-+&()/#@%*=$";
+const GLYPHS: &str =
+    "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.,:;!?'\"-+&()/#@%*=$";
 
 /// Stroke widths as fractions of the cap height: a thin engraving line and a bold neon
 /// tube (8 mm flex on 80 mm letters is 1/10).
 const WIDTHS: [f64; 2] = [1.0 / 25.0, 1.0 / 9.0];
 const HEIGHTS: [f64; 3] = [10.0, 40.0, 150.0];
-/// Skin accuracy and flattening tolerance as a fraction of the cap height (0.01 mm at
-/// 10 mm, 0.15 mm at 150 mm).
-const REL_EPSILON: f64 = 1e-3;
+/// Skin accuracy and flattening tolerance as a fraction of the cap height (0.025 mm at
+/// 10 mm, 0.375 mm at 150 mm): the glyphs' shapes, not the accuracy, are under test, and
+/// the run stays near a minute.
+const REL_EPSILON: f64 = 2.5e-3;
 
 fn design(text: Text) -> Design {
     let mut d = skinpath::design::load("version = 1\n", "glyph.toml").unwrap();
@@ -49,5 +51,10 @@ fn every_glyph_outlines_at_three_heights_and_two_widths() {
             }
         }
     }
-    assert!(failures.is_empty(), "{} of {count} failed:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {count} failed:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }

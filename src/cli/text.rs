@@ -1,5 +1,5 @@
 //! `skinpath text "OPEN" --height 80 --width 8 -o open.toml`: a design with one `[[text]]`
-//! element, placed so that the lettering starts one stroke width in from the origin.
+//! element, placed so that the lettering starts `--margin` in from the origin.
 
 use super::io;
 use anyhow::{Context, Result, bail};
@@ -32,16 +32,28 @@ pub struct Args {
     /// Baseline to baseline, in multiples of the height.
     #[arg(long)]
     line_spacing: Option<f64>,
+    /// Distance of the lettering (its strokes' edges) from the x and y axes, mm: room for a
+    /// backboard or an outside cut without leaving the machine's work area.
+    #[arg(long, default_value_t = 10.0)]
+    margin: f64,
     /// Name of the text element (its strokes are NAME/...).
     #[arg(long, default_value = "text")]
     name: String,
 }
 
 pub fn run(a: Args) -> Result<u8> {
-    let format = Format::from_file_name(&a.output.display().to_string())
-        .with_context(|| format!("{}: the output must end in .toml or .json", a.output.display()))?;
+    let format = Format::from_file_name(&a.output.display().to_string()).with_context(|| {
+        format!(
+            "{}: the output must end in .toml or .json",
+            a.output.display()
+        )
+    })?;
     let mut t = Text::new(&a.name, &a.text.replace("\\n", "\n"), a.height, a.width);
-    t.font = if a.font == "script" { Font::Script } else { Font::Sans };
+    t.font = if a.font == "script" {
+        Font::Script
+    } else {
+        Font::Sans
+    };
     t.align = Some(match a.align.as_str() {
         "centre" | "center" => Align::Centre,
         "right" => Align::Right,
@@ -49,16 +61,23 @@ pub fn run(a: Args) -> Result<u8> {
     });
     t.letter_spacing = a.letter_spacing;
     t.line_spacing = a.line_spacing;
-    // Place the lettering's lower-left corner (stroke radius included) one stroke width
-    // from the origin, so it builds inside any machine's work area without --place.
-    let pts: Vec<_> = t.layout().into_iter().flat_map(|(_, _, p)| p.concat()).collect();
+    // Place the lettering's lower-left corner (stroke radius included) `margin` from the
+    // origin, so it builds inside any machine's work area without --place.
+    if !(a.margin.is_finite() && a.margin >= 0.0) {
+        bail!("--margin must be zero or positive, got {}", a.margin);
+    }
+    let pts: Vec<_> = t
+        .layout()
+        .into_iter()
+        .flat_map(|(_, _, p)| p.concat())
+        .collect();
     if pts.is_empty() {
         bail!("the text has no visible character");
     }
     let min_x = pts.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
     let min_y = pts.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
     let r = 0.5 * a.width;
-    t.at = Some([a.width + r - min_x, a.width + r - min_y]);
+    t.at = Some([a.margin + r - min_x, a.margin + r - min_y]);
     let design = Design {
         version: VERSION,
         units: Units::Mm,

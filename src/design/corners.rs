@@ -109,7 +109,11 @@ fn piece_ranges(n: usize, closed: bool, corners: &[usize]) -> Vec<(usize, usize)
 }
 
 fn count_cyclic(n: usize, from: usize, to: usize) -> usize {
-    if from <= to { to - from + 1 } else { n - from + to + 1 }
+    if from <= to {
+        to - from + 1
+    } else {
+        n - from + to + 1
+    }
 }
 
 /// Split one stroke with corners into its pieces (see the module docs).
@@ -210,6 +214,15 @@ fn split_stroke(file: &str, index: usize, s: &Stroke) -> Result<Vec<Stroke>, Des
 }
 
 impl Design {
+    /// Whether `p` is one of the corners at which loading split a stroke (within 1e-9 of
+    /// the design's extent): piece ends there are joints, not stroke ends.
+    pub fn is_corner(&self, p: DVec2) -> bool {
+        self.corners.iter().any(|c| {
+            let q = DVec2::new(c.at[0], c.at[1]);
+            q.distance(p) <= 1e-9 * (1.0 + q.length())
+        })
+    }
+
     /// Lay out every `[[text]]` into strokes and split every stroke with corners into its
     /// pieces (see the module docs); operations naming a text or a split stroke are given
     /// its strokes. Records the corners in [`Design::corners`]. Loading calls this before
@@ -219,7 +232,10 @@ impl Design {
         let texts = std::mem::take(&mut self.text);
         for (i, t) in texts.iter().enumerate() {
             let strokes = t.to_strokes(&self.file, i)?;
-            renamed.push((t.name.clone(), strokes.iter().map(|s| s.name.clone()).collect()));
+            renamed.push((
+                t.name.clone(),
+                strokes.iter().map(|s| s.name.clone()).collect(),
+            ));
             self.stroke.extend(strokes);
         }
         let mut out = Vec::with_capacity(self.stroke.len());
@@ -269,7 +285,10 @@ impl Design {
                         });
                     }
                 }
-                renamed.push((s.name.clone(), pieces.iter().map(|p| p.name.clone()).collect()));
+                renamed.push((
+                    s.name.clone(),
+                    pieces.iter().map(|p| p.name.clone()).collect(),
+                ));
             }
             out.extend(pieces);
         }

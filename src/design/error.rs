@@ -114,7 +114,10 @@ impl fmt::Display for ErrorKind {
         match self {
             ErrorKind::Parse { message, .. } => write!(f, "{message}"),
             ErrorKind::UnknownFormat => {
-                write!(f, "unknown design format: expected a .toml, .json or .svg file")
+                write!(
+                    f,
+                    "unknown design format: expected a .toml, .json or .svg file"
+                )
             }
             ErrorKind::MissingVersion => write!(f, "missing `version = 1`"),
             ErrorKind::Version(v) => write!(

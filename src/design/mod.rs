@@ -114,7 +114,6 @@ mod validate;
 
 pub use build::attribute_curve;
 pub use corners::Corner;
-pub use text::Text;
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load};
 pub use model::{
@@ -122,6 +121,7 @@ pub use model::{
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
     VERSION,
 };
+pub use text::Text;
 pub use validate::{
     MAX_COORD, MAX_DEGREE, MAX_FEED, MAX_ITEMS, MAX_PASSES, MAX_TABS, MIN_RADIUS, NEAR_FRACTION,
     validate,

@@ -129,7 +129,10 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
     };
     // Text and images are listed from the source (usvg without fonts drops text).
     for (tag, what) in [
-        ("text", "text is not imported: convert it to paths, or use [[text]]"),
+        (
+            "text",
+            "text is not imported: convert it to paths, or use [[text]]",
+        ),
         ("image", "raster images are not imported"),
     ] {
         for (k, n) in xml
@@ -395,7 +398,11 @@ impl Ctx<'_> {
         }
         let many = subpaths.len() > 1;
         for (j, sp) in subpaths.into_iter().enumerate() {
-            let name = if many { format!("{id}.{j}") } else { id.clone() };
+            let name = if many {
+                format!("{id}.{j}")
+            } else {
+                id.clone()
+            };
             let name = self.unique(name);
             let radii = self.radii(&sp.pts, width_mm, widths.as_deref(), scale);
             match self.fit_subpath(&name, &sp, &radii) {
@@ -433,7 +440,10 @@ impl Ctx<'_> {
             return Ok(None);
         };
         let mut out = Vec::new();
-        for tok in v.split(|c: char| c == ',' || c.is_whitespace()).filter(|t| !t.is_empty()) {
+        for tok in v
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|t| !t.is_empty())
+        {
             match tok.parse::<f64>() {
                 Ok(w) if w.is_finite() && w > 0.0 => out.push(w),
                 _ => {
@@ -605,7 +615,9 @@ impl Ctx<'_> {
         let mut best: Option<(Vec<[f64; 3]>, f64)> = None;
         loop {
             let samples: Vec<[f64; 3]> = if closed {
-                (0..count).map(|j| at(total * j as f64 / count as f64)).collect()
+                (0..count)
+                    .map(|j| at(total * j as f64 / count as f64))
+                    .collect()
             } else {
                 (0..count)
                     .map(|j| at(total * j as f64 / (count - 1) as f64))
@@ -615,7 +627,9 @@ impl Ctx<'_> {
             if best.as_ref().is_none_or(|b| dev < b.1) {
                 best = Some((samples, dev));
             }
-            let done = best.as_ref().is_some_and(|b| b.1 <= 0.9 * self.opts.tolerance);
+            let done = best
+                .as_ref()
+                .is_some_and(|b| b.1 <= 0.9 * self.opts.tolerance);
             if done || count >= MAX_RUN_POINTS {
                 return best;
             }

@@ -204,7 +204,12 @@ impl Text {
             name: self.name.clone(),
         };
         let bad = |key: &str, m: String| {
-            DesignError::at(file, item(), Some(Part::Key(key.into())), ErrorKind::Invalid(m))
+            DesignError::at(
+                file,
+                item(),
+                Some(Part::Key(key.into())),
+                ErrorKind::Invalid(m),
+            )
         };
         for (key, v) in [("height", self.height), ("width", self.width)] {
             if !(v.is_finite() && v > 0.0) {
@@ -331,9 +336,9 @@ pub fn polyline_stroke(name: &str, poly: &[DVec2], r: f64) -> Option<Stroke> {
     polyline_stroke_radii(name, poly, &vec![r; poly.len()], CORNER_ANGLE_DEG)
 }
 
-/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. An open
-/// run that loops back over one of its own ends is also split (see
-/// `split_returning_runs`).
+/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. The
+/// polyline is also split where a long straight segment meets short ones ([`LENGTH_JUMP`])
+/// and where an open run loops back over one of its own ends (see `split_returning_runs`).
 pub fn polyline_stroke_radii(
     name: &str,
     poly: &[DVec2],
@@ -350,7 +355,10 @@ pub fn polyline_stroke_radii(
     let mut pts: Vec<DVec2> = Vec::new();
     let mut rs: Vec<f64> = Vec::new();
     for (p, &r) in poly.iter().zip(radii) {
-        if pts.last().is_none_or(|q| q.distance(*p) > SAME_POINT * extent) {
+        if pts
+            .last()
+            .is_none_or(|q| q.distance(*p) > SAME_POINT * extent)
+        {
             pts.push(*p);
             rs.push(r);
         }
@@ -365,6 +373,9 @@ pub fn polyline_stroke_radii(
         closed = true;
     }
     let mut corners = sharp_turns(&pts, closed, corner_deg);
+    corners.extend(length_jumps(&pts, closed));
+    corners.sort_unstable();
+    corners.dedup();
     if !closed {
         split_returning_runs(&pts, &rs, &mut corners);
     }
@@ -383,6 +394,29 @@ pub fn polyline_stroke_radii(
         Some(corners)
     };
     Some(s)
+}
+
+/// Ratio of neighbouring segment lengths above which a vertex joins a straight stretch to a
+/// curve (a Hershey `P`: the bowl's long top line, then short segments round the bend). An
+/// interpolating cubic through such a vertex overshoots the long segment (by up to 1.4 % of
+/// the cap height on the `P`), so the vertex becomes a joint like a corner: the straight
+/// stretch stays straight.
+const LENGTH_JUMP: f64 = 2.5;
+
+/// Vertices where one neighbouring segment is more than [`LENGTH_JUMP`] times the other.
+fn length_jumps(pts: &[DVec2], closed: bool) -> Vec<usize> {
+    let n = pts.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    (0..n)
+        .filter(|&i| closed || (i > 0 && i + 1 < n))
+        .filter(|&i| {
+            let a = pts[(i + n - 1) % n].distance(pts[i]);
+            let b = pts[i].distance(pts[(i + 1) % n]);
+            a.max(b) > LENGTH_JUMP * a.min(b)
+        })
+        .collect()
 }
 
 /// How many times a run that comes back to its own end is halved at most.
@@ -456,14 +490,22 @@ mod tests {
         let ys: Vec<f64> = l[0].2.iter().flatten().map(|p| p.y).collect();
         let lo = ys.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        assert!((lo - 0.0).abs() < 1e-9 && (hi - 80.0).abs() < 1e-9, "{lo} {hi}");
+        assert!(
+            (lo - 0.0).abs() < 1e-9 && (hi - 80.0).abs() < 1e-9,
+            "{lo} {hi}"
+        );
         // Advance of "HH" is twice that of "H"; centred text is symmetric about `at`.
         let g = Font::Sans.glyph('H').unwrap();
         let two = Text::new("t", "HH", 21.0, 1.0);
         assert!((two.line_width("HH") - 2.0 * (g.right - g.left) as f64).abs() < 1e-12);
         let mut c = Text::new("t", "HH", 21.0, 1.0);
         c.align = Some(Align::Centre);
-        let xs: Vec<f64> = c.layout().iter().flat_map(|g| g.2.concat()).map(|p| p.x).collect();
+        let xs: Vec<f64> = c
+            .layout()
+            .iter()
+            .flat_map(|g| g.2.concat())
+            .map(|p| p.x)
+            .collect();
         let (a, b) = (
             xs.iter().copied().fold(f64::INFINITY, f64::min),
             xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
@@ -477,7 +519,13 @@ mod tests {
         t.align = Some(Align::Right);
         let l = t.layout();
         assert_eq!(l.len(), 3);
-        let max_y = |i: usize| l[i].2.iter().flatten().map(|p| p.y).fold(f64::MIN, f64::max);
+        let max_y = |i: usize| {
+            l[i].2
+                .iter()
+                .flatten()
+                .map(|p| p.y)
+                .fold(f64::MIN, f64::max)
+        };
         assert!((max_y(0) - max_y(1) - 16.0).abs() < 1e-9);
         // The last glyph of each line ends at the anchor.
         let x_of = |i: usize| l[i].2[0][0].x;

@@ -626,6 +626,14 @@ fn operation_specs(
                     HoleAt::End => vec![ends[1]],
                 };
                 for p in chosen {
+                    // A corner joins two pieces of one stroke: not a stroke end. Strokes
+                    // that end at the same point (a letter's stem and bowl) get one hole.
+                    let tol = 1e-9 * (1.0 + p.length());
+                    if ctx.design.is_corner(p)
+                        || points.iter().any(|q: &DVec2| q.distance(p) <= tol)
+                    {
+                        continue;
+                    }
                     points.push(p);
                     sources.push(ctx.outlines[i].name.clone());
                 }

@@ -1,0 +1,179 @@
+//! `skinpath text`, `skinpath init` and the text layout measured on the built strokes
+//! (issue 12 items 4 and 5, and its "Done when").
+
+use skinpath::design::load;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_skinpath")
+}
+
+fn tmp(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("skinpath-text-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str], files: &[&Path]) -> std::process::Output {
+    let mut c = Command::new(bin());
+    c.args(args);
+    for f in files {
+        c.arg(f);
+    }
+    c.output().unwrap()
+}
+
+/// Build `design` on `machine` with default flags and check the program with the same
+/// profile and no flags.
+fn build_and_check(design: &Path, machine: &str, dir: &Path) {
+    let ext = if machine == "svg-laser" {
+        "svg"
+    } else {
+        "gcode"
+    };
+    let out = dir.join(format!("out-{machine}.{ext}"));
+    let b = Command::new(bin())
+        .arg("build")
+        .arg(design)
+        .args(["--machine", machine, "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        b.status.success(),
+        "{} on {machine}: {}",
+        design.display(),
+        String::from_utf8_lossy(&b.stderr)
+    );
+    if ext == "gcode" {
+        let c = Command::new(bin())
+            .arg("check")
+            .arg(&out)
+            .args(["--machine", machine])
+            .output()
+            .unwrap();
+        assert!(
+            c.status.success(),
+            "{} on {machine}: {}",
+            design.display(),
+            String::from_utf8_lossy(&c.stdout)
+        );
+    }
+}
+
+#[test]
+fn open_sign_from_a_fresh_start_builds_clean_on_the_router() {
+    let dir = tmp("open");
+    let design = dir.join("open.toml");
+    let t = run(&["text", "OPEN", "-o"], &[&design]);
+    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+    build_and_check(&design, "grbl-router", &dir);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn words_in_both_fonts_build_and_check() {
+    let dir = tmp("words");
+    // Script words on a router (outside cuts around loops that nearly close) need the
+    // union of overlapping strokes (issue 12 item 2): lasers here, all three for sans.
+    for (word, font, machines) in [
+        (
+            "Neon 42!",
+            "sans",
+            &["grbl-laser", "grbl-router", "svg-laser"][..],
+        ),
+        ("Bar & Grill", "script", &["grbl-laser", "svg-laser"][..]),
+    ] {
+        let design = dir.join(format!("{font}.toml"));
+        let t = run(
+            &[
+                "text", word, "--font", font, "--height", "25", "--width", "3", "-o",
+            ],
+            &[&design],
+        );
+        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+        for m in machines {
+            build_and_check(&design, m, &dir);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn open_at_80_mm_measures_80_mm_cap_line_to_baseline() {
+    let dir = tmp("measure");
+    let design = dir.join("open.toml");
+    let t = run(
+        &["text", "OPEN", "--height", "80", "--width", "8", "-o"],
+        &[&design],
+    );
+    assert!(t.status.success());
+    let d = load(&std::fs::read_to_string(&design).unwrap(), "open.toml").unwrap();
+    // Extent of the spines (the centre lines the flex follows), sampled densely: the
+    // straight letters run exactly from baseline to cap line; the O, smoothed through the
+    // vertices of Hershey's digitised oval, bulges past their flat top and bottom by a third
+    // of a grid unit (1.3 mm here), as round letters overshoot in type design.
+    const TOLERANCE: f64 = 0.05;
+    const ROUND_OVERSHOOT: f64 = 0.02;
+    let extent = |pick: &dyn Fn(&str) -> bool| {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (s, c) in d.stroke.iter().zip(d.strokes().unwrap()) {
+            if !pick(&s.name) {
+                continue;
+            }
+            let (a, b) = c.domain();
+            for i in 0..=400 {
+                let y = c.center(a + (b - a) * i as f64 / 400.0).y;
+                lo = lo.min(y);
+                hi = hi.max(y);
+            }
+        }
+        hi - lo
+    };
+    let straight = extent(&|n: &str| !n.contains(":O/"));
+    assert!(
+        (straight - 80.0).abs() <= TOLERANCE,
+        "cap line to baseline {straight}"
+    );
+    let round = extent(&|n: &str| n.contains(":O/"));
+    assert!(
+        (80.0..=80.0 * (1.0 + 2.0 * ROUND_OVERSHOOT)).contains(&round),
+        "O {round}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn init_writes_a_starter_that_builds_and_refuses_to_overwrite() {
+    let dir = tmp("init");
+    let design = dir.join("design.toml");
+    let o = run(&["init", "-o"], &[&design]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&design).unwrap();
+    assert!(
+        text.lines()
+            .filter(|l| l.trim_start().starts_with('#'))
+            .count()
+            > 10
+    );
+    for m in ["grbl-laser", "grbl-router", "svg-laser"] {
+        build_and_check(&design, m, &dir);
+    }
+    let again = run(&["init", "-o"], &[&design]);
+    assert!(!again.status.success());
+    assert!(String::from_utf8_lossy(&again.stderr).contains("exists"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_text_names_the_character() {
+    let dir = tmp("bad");
+    let design = dir.join("bad.toml");
+    let o = run(&["text", "caf\u{e9}", "-o"], &[&design]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("character 3") && e.contains("sans"), "{e}");
+    assert!(!design.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
