@@ -46,14 +46,21 @@ fn design_of(cs: &[Circle], method: &str) -> Design {
 fn sequence() -> impl Strategy<Value = Vec<Circle>> {
     prop::collection::vec((-0.7f64..0.7, 9.0f64..16.0, 2.5f64..7.0), 3..6).prop_map(|steps| {
         let mut dir = 0.3f64;
-        let mut p = DVec2::new(40.0, 40.0);
-        steps
+        let mut p = DVec2::ZERO;
+        let cs: Vec<Circle> = steps
             .iter()
             .map(|&(turn, len, r)| {
                 dir += turn;
                 p += len * DVec2::new(dir.cos(), dir.sin());
                 Circle::new(p, r)
             })
+            .collect();
+        // Moved so that the lowest circle edge sits 30 mm inside the work area's corner.
+        let lo = cs.iter().fold(DVec2::splat(f64::INFINITY), |m, c| {
+            m.min(c.c - DVec2::splat(c.r))
+        });
+        cs.iter()
+            .map(|c| Circle::new(c.c - lo + DVec2::splat(30.0), c.r))
             .collect()
     })
 }
