@@ -236,6 +236,7 @@ fn main() {
             t_cav * 1e3
         );
     }
+    routes_on_examples();
     let mut c = Criterion::default().configure_from_args();
     c.bench_function("mat_offset/re_mat_trim", |b| {
         b.iter(|| mat_route(black_box(&skin)))
@@ -244,4 +245,52 @@ fn main() {
         b.iter(|| general_route(black_box(&skin)))
     });
     c.final_summary();
+}
+
+/// Whole builds of the examples by each route (`build --method skin|re|mph`): time per
+/// build and the arcs and lines of every profile and backboard, with the route taken.
+fn routes_on_examples() {
+    use skinpath::design::OutlineMethod;
+    use skinpath::job::build::{BuildOptions, build_toolpath};
+    let examples = [
+        ("ring_o", "grbl-router"),
+        ("circles", "grbl-router"),
+        ("brush", "grbl-laser"),
+        ("loop", "grbl-router"),
+        ("snake", "grbl-router"),
+        ("neon_word", "grbl-router"),
+    ];
+    for (name, machine) in examples {
+        let path = format!("{}/examples/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            continue;
+        };
+        let Ok(design) = skinpath::design::load(&text, &path) else {
+            continue;
+        };
+        let Some(Ok(profile)) = skinpath::machine::builtin_profile(machine) else {
+            continue;
+        };
+        for method in [OutlineMethod::Skin, OutlineMethod::Re, OutlineMethod::Mph] {
+            let opts = BuildOptions {
+                method,
+                ..BuildOptions::default()
+            };
+            let Ok(built) = build_toolpath(&design, &profile, &opts) else {
+                println!("routes: {name} {method:?}: build failed");
+                continue;
+            };
+            let t = time(2, || build_toolpath(&design, &profile, &opts).is_ok());
+            for r in &built.routes {
+                println!(
+                    "routes: {name} on {machine} --method {method:?}: {} took {} ({} arcs, {} lines); whole build {:.0} ms",
+                    r.operation,
+                    r.route,
+                    r.counts.arcs,
+                    r.counts.lines,
+                    t * 1e3
+                );
+            }
+        }
+    }
 }

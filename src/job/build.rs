@@ -1010,8 +1010,11 @@ pub fn build_toolpath(
         re_interp(opts.method).and_then(|interp| re.iter().find(|(i, _)| *i == interp))
     {
         for (o, it) in outlines.iter_mut().zip(items) {
-            if let Ok(it) = it {
-                o.contours = it.outline.clone();
+            // A skin whose envelope loops keeps the Bézier outline: the RE outline is
+            // then a flattened union with sharp corners where the loops were cut.
+            match it {
+                Ok(it) if it.loop_note.is_none() => o.contours = it.outline.clone(),
+                _ => {}
             }
         }
     }

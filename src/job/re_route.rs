@@ -21,8 +21,7 @@ pub struct ReItem {
     /// The skin's outline, flattened within the build tolerance (for checks and fills).
     pub outline: Vec<Path>,
     /// Where an envelope of the skin runs backwards (a local loop, cut off the outline by
-    /// the union of the disks): the inner offset and the outline itself are then not exact
-    /// curves of the route, the outer offset still is (the region is the union of disks).
+    /// the union of the disks): the route is not taken (see [`re_profile`]).
     pub loop_note: Option<String>,
 }
 
@@ -107,10 +106,10 @@ pub fn re_profile(
 ) -> Result<Vec<Path>, String> {
     let mut per_item: Vec<Vec<Path>> = Vec::new();
     for (name, it) in items {
-        if let (Some(l), false) = (
-            &it.loop_note,
-            side == ProfileSide::Outside && tool_radius > 0.0,
-        ) {
+        // The outer offset would still be exact (the region is the union of the disks),
+        // but the item's outline for fills and gouge checks stays the Bézier skin, which
+        // the exact offset of the RE skin can approach closer than the tool radius.
+        if let Some(l) = &it.loop_note {
             return Err(format!("{name}: {l}"));
         }
         let p =

@@ -357,17 +357,16 @@ pub fn trim_outer(
                     t1: c1,
                 },
             ) = (pieces[a.piece], pieces[b.piece])
+                && b0 == b1
             {
-                if b0 == b1 {
-                    loops.push(LoopCut {
-                        branch: b0,
-                        seg0,
-                        t0: a0 + s * (a1 - a0),
-                        seg1,
-                        t1: c0 + t * (c1 - c0),
-                        point: off.piece_point(&pieces[a.piece], s).unwrap_or(DVec2::NAN),
-                    });
-                }
+                loops.push(LoopCut {
+                    branch: b0,
+                    seg0,
+                    t0: a0 + s * (a1 - a0),
+                    seg1,
+                    t1: c0 + t * (c1 - c0),
+                    point: off.piece_point(&pieces[a.piece], s).unwrap_or(DVec2::NAN),
+                });
             }
         }
     }

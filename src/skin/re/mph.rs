@@ -81,12 +81,18 @@ impl PhQuintic {
     /// The interpolant of least bending energy ∫ κ² ds (Farouki's selection rule).
     /// `None` when every candidate has a singular point (zero hodograph).
     pub fn hermite(p0: DVec2, d0: DVec2, p1: DVec2, d1: DVec2) -> Option<PhQuintic> {
-        PhQuintic::hermite_all(p0, d0, p1, d1)
+        PhQuintic::hermite_ranked(p0, d0, p1, d1).into_iter().next()
+    }
+
+    /// The Hermite interpolants of finite bending energy, least energy first.
+    pub fn hermite_ranked(p0: DVec2, d0: DVec2, p1: DVec2, d1: DVec2) -> Vec<PhQuintic> {
+        let mut v: Vec<(f64, PhQuintic)> = PhQuintic::hermite_all(p0, d0, p1, d1)
             .into_iter()
             .map(|q| (q.bending_energy(), q))
             .filter(|(e, _)| e.is_finite())
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, q)| q)
+            .collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v.into_iter().map(|(_, q)| q).collect()
     }
 
     /// Power-basis coordinate polynomials (x(t), y(t)).

@@ -168,20 +168,42 @@ impl ReCurve {
         a: &EndData,
         b: &EndData,
     ) -> Option<(Poly, Poly, Option<Poly>, FBoundary)> {
-        let (xx, xy, sigma) = match interp {
+        match interp {
             Interp::Cubic => {
                 let bx = [a.w.x, a.w.x + a.v.x / 3.0, b.w.x - b.v.x / 3.0, b.w.x];
                 let by = [a.w.y, a.w.y + a.v.y / 3.0, b.w.y - b.v.y / 3.0, b.w.y];
-                (Poly::from_bernstein(&bx), Poly::from_bernstein(&by), None)
+                let (xx, xy) = (Poly::from_bernstein(&bx), Poly::from_bernstein(&by));
+                let (fb, _) = ReCurve::boundary(&xx, &xy, a, b)?;
+                Some((xx, xy, None, fb))
             }
             Interp::PhQuintic => {
-                let q = PhQuintic::hermite(a.w, a.v, b.w, b.v)?;
-                let (x, y) = q.polys();
-                (x, y, Some(q.sigma()))
+                // Of the four PH interpolants, the least-energy one whose ȳ′ runs along
+                // +tᵢ at both ends: with ȳ′ = λ t and λ < 0 at one end (a PH quintic can
+                // bend hard near an end, and f x″ then outweighs x′) the MAT turns back at
+                // the join and the minus envelope reverses there although the tangent line
+                // is shared (proptest-regressions/skin/re/skin.txt, the `ph = true` case).
+                let mut first = None;
+                for q in PhQuintic::hermite_ranked(a.w, a.v, b.w, b.v) {
+                    let (xx, xy) = q.polys();
+                    let Some((fb, forward)) = ReCurve::boundary(&xx, &xy, a, b) else {
+                        continue;
+                    };
+                    let cand = (xx, xy, Some(q.sigma()), fb);
+                    if forward {
+                        return Some(cand);
+                    }
+                    first.get_or_insert(cand);
+                }
+                first
             }
-        };
+        }
+    }
+
+    /// The boundary values of f for the planar curve (xx, xy) (see
+    /// [`ReCurve::planar_and_boundary`]) and whether ȳ′ = λ tᵢ has λ > 0 at both ends.
+    fn boundary(xx: &Poly, xy: &Poly, a: &EndData, b: &EndData) -> Option<(FBoundary, bool)> {
         let x2 = (xx.deriv().deriv(), xy.deriv().deriv());
-        let end = |e: &EndData, s: f64| -> Option<(f64, f64)> {
+        let end = |e: &EndData, s: f64| -> Option<(f64, f64, bool)> {
             let vl = e.v.length();
             let tv = proj(e.t).dot(e.v);
             if vl.is_nan() || vl <= 0.0 || tv == 0.0 {
@@ -190,11 +212,13 @@ impl ReCurve {
             let f = e.p.z / vl;
             let xpp = d2(&x2.0, &x2.1, s);
             let df = -proj(e.t).dot(f * xpp - rot_cw(e.v)) / tv;
-            Some((f, df))
+            // ȳ′ = x′ + f′ x′⊥ + f x″⊥ (with ⊥ = rot_cw) against the planar part of tᵢ.
+            let y1 = e.v + df * rot_cw(e.v) + f * rot_cw(xpp);
+            Some((f, df, y1.dot(proj(e.t)) > 0.0))
         };
-        let (f0, df0) = end(a, 0.0)?;
-        let (f1, df1) = end(b, 1.0)?;
-        Some((xx, xy, sigma, FBoundary { f0, f1, df0, df1 }))
+        let (f0, df0, fw0) = end(a, 0.0)?;
+        let (f1, df1, fw1) = end(b, 1.0)?;
+        Some((FBoundary { f0, f1, df0, df1 }, fw0 && fw1))
     }
 
     /// The RE curve with the cubic Hermite f (mph Sec. 3.2) or the quartic of eqs. 18–19

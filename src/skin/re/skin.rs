@@ -385,7 +385,8 @@ pub(crate) mod tests {
             let touches = test_touches(&cs, &flex);
             let interp = if ph { Interp::PhQuintic } else { Interp::Cubic };
             let skin = ReSkin::build(&cs, &touches, false, interp, 1e-9).unwrap();
-            check_skin_with(&skin, !ph);
+            let _ = ph;
+            check_skin_with(&skin, true);
         }
     }
 }
