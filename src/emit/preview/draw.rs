@@ -75,10 +75,10 @@ impl SvgPage {
             out,
             "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{}mm\" \
              height=\"{}mm\" viewBox=\"0 0 {} {}\">",
-            n(width * mm_per_unit),
-            n(height * mm_per_unit),
-            n(width),
-            n(height)
+            crate::emit::fnum(width * mm_per_unit),
+            crate::emit::fnum(height * mm_per_unit),
+            crate::emit::fnum(width),
+            crate::emit::fnum(height)
         );
         let _ = writeln!(
             out,
