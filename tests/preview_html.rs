@@ -93,7 +93,10 @@ fn http(port: u16, method: &str, path: &str, body: Option<&Value>) -> Result<Val
         let mut out = Vec::new();
         let mut rest = &payload[..];
         loop {
-            let eol = rest.windows(2).position(|w| w == b"\r\n").ok_or("bad chunk")?;
+            let eol = rest
+                .windows(2)
+                .position(|w| w == b"\r\n")
+                .ok_or("bad chunk")?;
             let size = usize::from_str_radix(String::from_utf8_lossy(&rest[..eol]).trim(), 16)
                 .map_err(|e| e.to_string())?;
             if size == 0 {
@@ -104,7 +107,8 @@ fn http(port: u16, method: &str, path: &str, body: Option<&Value>) -> Result<Val
         }
         payload = out;
     }
-    serde_json::from_slice(&payload).map_err(|e| format!("{e}: {}", String::from_utf8_lossy(&payload)))
+    serde_json::from_slice(&payload)
+        .map_err(|e| format!("{e}: {}", String::from_utf8_lossy(&payload)))
 }
 
 impl Driver {
@@ -162,8 +166,13 @@ impl Driver {
 
     fn cmd(&self, method: &str, what: &str, body: Option<Value>) -> Value {
         let s = self.session.as_deref().unwrap_or("");
-        let r = http(self.port, method, &format!("/session/{s}{what}"), body.as_ref())
-            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let r = http(
+            self.port,
+            method,
+            &format!("/session/{s}{what}"),
+            body.as_ref(),
+        )
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
         if r["value"]["error"].is_string() {
             panic!("{what}: {}", r["value"]);
         }
@@ -242,7 +251,11 @@ fn player_plays_where_the_simulator_says() {
     assert!(s.findings.iter().any(|f| f.id == "self-intersection"));
     let dir = tmp_dir();
     let file = dir.join("router.html");
-    std::fs::write(&file, player_html(&s, &HtmlOptions::default()).expect("html")).expect("write");
+    std::fs::write(
+        &file,
+        player_html(&s, &HtmlOptions::default()).expect("html"),
+    )
+    .expect("write");
     let load = d.open(&file);
     let errors = d.errors();
     assert!(errors.is_empty(), "console errors: {errors:?}");
@@ -273,16 +286,28 @@ fn player_plays_where_the_simulator_says() {
                      document.getElementById('line').textContent, p.time()];",
             json!([t, want.x, want.y]),
         );
-        let got = (r[0][0].as_f64().unwrap_or(f64::NAN), r[0][1].as_f64().unwrap_or(f64::NAN));
-        let sim_px = (r[1][0].as_f64().unwrap_or(f64::NAN), r[1][1].as_f64().unwrap_or(f64::NAN));
+        let got = (
+            r[0][0].as_f64().unwrap_or(f64::NAN),
+            r[0][1].as_f64().unwrap_or(f64::NAN),
+        );
+        let sim_px = (
+            r[1][0].as_f64().unwrap_or(f64::NAN),
+            r[1][1].as_f64().unwrap_or(f64::NAN),
+        );
         let dist = (got.0 - sim_px.0).hypot(got.1 - sim_px.1);
-        assert!(dist < 1.0, "t = {t}: tool at {got:?}, simulator at {sim_px:?} ({dist} px)");
+        assert!(
+            dist < 1.0,
+            "t = {t}: tool at {got:?}, simulator at {sim_px:?} ({dist} px)"
+        );
         assert!((r[4].as_f64().unwrap_or(f64::NAN) - t).abs() < 1e-9);
         let line = s.motions[motion].line;
         assert_eq!(r[2].as_u64(), Some(line as u64));
         let shown = r[3].as_str().unwrap_or("");
         let text = PROGRAM.lines().nth(line - 1).unwrap_or("");
-        assert!(shown.contains(&format!("line {line}")) && shown.contains(text), "{shown}");
+        assert!(
+            shown.contains(&format!("line {line}")) && shown.contains(text),
+            "{shown}"
+        );
     }
     // The screenshot is not blank: many pixels that are not the background.
     let shot = d.cmd("GET", "/screenshot", None);
@@ -312,7 +337,11 @@ fn a_million_moves_load() {
     for row in 0..1000 {
         let y = row as f64 * 0.1;
         for i in 0..1000 {
-            let x = if row % 2 == 0 { i as f64 * 0.1 } else { 99.9 - i as f64 * 0.1 };
+            let x = if row % 2 == 0 {
+                i as f64 * 0.1
+            } else {
+                99.9 - i as f64 * 0.1
+            };
             text.push_str(&format!("G1 X{x:.1} Y{y:.1}\n"));
         }
     }

@@ -8,8 +8,8 @@
 //! intersection-free contours of the chosen method), `knot-circle`, `control-disk`,
 //! `offset`. Markers carry point features: envelope loops and spans without an envelope.
 
-use crate::geom::DVec2;
 use super::preview::draw::{Frame, SvgPage, num};
+use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 
@@ -134,11 +134,7 @@ impl OutlineDoc {
                     "envelope" if has_outline => (
                         "#d9534f",
                         w,
-                        format!(
-                            " stroke-dasharray=\"{} {}\"",
-                            num(4.0 * w),
-                            num(3.0 * w)
-                        ),
+                        format!(" stroke-dasharray=\"{} {}\"", num(4.0 * w), num(3.0 * w)),
                     ),
                     "envelope" => ("#000000", w * 1.5, String::new()),
                     "spine" => ("#888888", w * 0.6, String::new()),

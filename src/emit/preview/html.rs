@@ -171,10 +171,7 @@ fn fill(template: &str, parts: &[(&str, String)]) -> String {
         let after = &rest[i + 2..];
         match after.find("}}").and_then(|j| {
             let name = &after[..j];
-            parts
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map(|(_, v)| (v, j))
+            parts.iter().find(|(n, _)| *n == name).map(|(_, v)| (v, j))
         }) {
             Some((v, j)) => {
                 out.push_str(v);
