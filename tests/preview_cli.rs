@@ -18,10 +18,19 @@ fn root(p: &str) -> String {
         .to_string()
 }
 
-fn tmp(name: &str) -> PathBuf {
+/// This test run's own directory (created on first use).
+fn tmp_dir() -> PathBuf {
     let d = std::env::temp_dir().join(format!("skinpath-preview-cli-{}", std::process::id()));
     std::fs::create_dir_all(&d).expect("dir");
-    d.join(name)
+    d
+}
+
+fn tmp(name: &str) -> PathBuf {
+    assert!(
+        !name.is_empty() && !name.contains('/'),
+        "a file name: {name:?}"
+    );
+    tmp_dir().join(name)
 }
 
 fn ok(o: &Output) {
@@ -105,7 +114,8 @@ fn design_and_program_in_three_formats() {
         !page.contains("\"severity\":\"error\""),
         "a checked build previews without errors"
     );
-    let _ = std::fs::remove_dir_all(tmp("").parent().unwrap_or(Path::new("/nonexistent")));
+    // Only this run's own directory, never its parent.
+    let _ = std::fs::remove_dir_all(tmp_dir());
 }
 
 #[test]

@@ -228,8 +228,12 @@ fn scene(text: &str, cfg: &CheckConfig, check: bool) -> Scene {
     })
 }
 
-fn tmp_dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("skinpath-preview-html-{}", std::process::id()));
+/// A directory of this test's own (tests run in parallel in one process).
+fn tmp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "skinpath-preview-html-{tag}-{}",
+        std::process::id()
+    ));
     std::fs::create_dir_all(&d).expect("temp dir");
     d
 }
@@ -249,7 +253,7 @@ fn player_plays_where_the_simulator_says() {
     };
     let s = scene(PROGRAM, &cfg, true);
     assert!(s.findings.iter().any(|f| f.id == "self-intersection"));
-    let dir = tmp_dir();
+    let dir = tmp_dir("router");
     let file = dir.join("router.html");
     std::fs::write(
         &file,
@@ -354,8 +358,7 @@ fn a_million_moves_load() {
     let t = Instant::now();
     let html = player_html(&s, &HtmlOptions::default()).expect("html");
     let write = t.elapsed();
-    let dir = tmp_dir().join("big");
-    std::fs::create_dir_all(&dir).expect("dir");
+    let dir = tmp_dir("million");
     let file = dir.join("million.html");
     std::fs::write(&file, &html).expect("write");
     let load = d.open(&file);
