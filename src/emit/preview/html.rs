@@ -140,6 +140,7 @@ pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitErro
         "startColor": START_COLOR,
         "findingColor": FINDING_COLOR,
         "findings": findings,
+        "checked": scene.checked,
         "starts": scene.contours.iter().filter_map(|c| c.points.first()).map(|p| [p.x, p.y]).collect::<Vec<_>>(),
     });
     let source = match &scene.source {

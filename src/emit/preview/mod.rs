@@ -52,6 +52,8 @@ pub struct Scene {
     pub contours: Vec<Contour>,
     /// The checker's findings.
     pub findings: Vec<Finding>,
+    /// Whether the checker ran (a scene of a toolpath without G-code is not checked).
+    pub checked: bool,
     /// Per-block times from the simulator's planner.
     pub timeline: Timeline,
     /// The program's source lines, when the scene was read from G-code (1-based lines map
@@ -134,7 +136,7 @@ impl Scene {
                 DVec2::new(cfg.work_max[0], cfg.work_max[1]),
             )
         });
-        Scene::assemble(
+        let mut scene = Scene::assemble(
             input.title,
             cfg,
             work_area,
@@ -143,7 +145,9 @@ impl Scene {
             op_of,
             input.findings,
             input.text.map(str::to_string),
-        )
+        );
+        scene.checked = true;
+        scene
     }
 
     /// A scene from a toolpath in design units (`mm_per_unit` converts), for outputs without
@@ -259,6 +263,7 @@ impl Scene {
             contours,
             findings,
             timeline,
+            checked: false,
             source,
         }
     }

@@ -195,7 +195,12 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
             "op",
         ));
     }
-    if scene.findings.is_empty() {
+    if !scene.checked {
+        rows.push(text(
+            "checker: not run (no G-code for this machine)".into(),
+            "findings",
+        ));
+    } else if scene.findings.is_empty() {
         rows.push(text("checker: no findings".into(), "findings"));
     } else {
         rows.push(Row {
