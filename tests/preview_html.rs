@@ -55,19 +55,48 @@ fn http(port: u16, method: &str, path: &str, body: Option<&Value>) -> Result<Val
         body.len()
     );
     s.write_all(req.as_bytes()).map_err(|e| e.to_string())?;
+    // Read the header, then exactly Content-Length bytes (chromedriver may keep the
+    // connection open), or to the end of the stream when chunked or unsized.
     let mut raw = Vec::new();
-    s.read_to_end(&mut raw).map_err(|e| e.to_string())?;
-    let split = raw
-        .windows(4)
-        .position(|w| w == b"\r\n\r\n")
-        .ok_or("no HTTP header")?;
+    let mut buf = [0u8; 65536];
+    let split = loop {
+        if let Some(p) = raw.windows(4).position(|w| w == b"\r\n\r\n") {
+            break p;
+        }
+        let k = s.read(&mut buf).map_err(|e| e.to_string())?;
+        if k == 0 {
+            return Err("connection closed before the HTTP header ended".into());
+        }
+        raw.extend_from_slice(&buf[..k]);
+    };
     let head = String::from_utf8_lossy(&raw[..split]).to_ascii_lowercase();
+    let length = head
+        .lines()
+        .find_map(|l| l.strip_prefix("content-length:"))
+        .and_then(|v| v.trim().parse::<usize>().ok());
+    match length {
+        Some(n) => {
+            while raw.len() < split + 4 + n {
+                let k = s.read(&mut buf).map_err(|e| e.to_string())?;
+                if k == 0 {
+                    break;
+                }
+                raw.extend_from_slice(&buf[..k]);
+            }
+        }
+        None => {
+            s.read_to_end(&mut raw).map_err(|e| e.to_string())?;
+        }
+    }
     let mut payload = raw[split + 4..].to_vec();
     if head.contains("transfer-encoding: chunked") {
         let mut out = Vec::new();
         let mut rest = &payload[..];
         loop {
-            let eol = rest.windows(2).position(|w| w == b"\r\n").ok_or("bad chunk")?;
+            let eol = rest
+                .windows(2)
+                .position(|w| w == b"\r\n")
+                .ok_or("bad chunk")?;
             let size = usize::from_str_radix(String::from_utf8_lossy(&rest[..eol]).trim(), 16)
                 .map_err(|e| e.to_string())?;
             if size == 0 {
@@ -78,7 +107,8 @@ fn http(port: u16, method: &str, path: &str, body: Option<&Value>) -> Result<Val
         }
         payload = out;
     }
-    serde_json::from_slice(&payload).map_err(|e| format!("{e}: {}", String::from_utf8_lossy(&payload)))
+    serde_json::from_slice(&payload)
+        .map_err(|e| format!("{e}: {}", String::from_utf8_lossy(&payload)))
 }
 
 impl Driver {
@@ -136,8 +166,13 @@ impl Driver {
 
     fn cmd(&self, method: &str, what: &str, body: Option<Value>) -> Value {
         let s = self.session.as_deref().unwrap_or("");
-        let r = http(self.port, method, &format!("/session/{s}{what}"), body.as_ref())
-            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let r = http(
+            self.port,
+            method,
+            &format!("/session/{s}{what}"),
+            body.as_ref(),
+        )
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
         if r["value"]["error"].is_string() {
             panic!("{what}: {}", r["value"]);
         }
@@ -193,8 +228,12 @@ fn scene(text: &str, cfg: &CheckConfig, check: bool) -> Scene {
     })
 }
 
-fn tmp_dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("skinpath-preview-html-{}", std::process::id()));
+/// A directory of this test's own (tests run in parallel in one process).
+fn tmp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "skinpath-preview-html-{tag}-{}",
+        std::process::id()
+    ));
     std::fs::create_dir_all(&d).expect("temp dir");
     d
 }
@@ -214,9 +253,13 @@ fn player_plays_where_the_simulator_says() {
     };
     let s = scene(PROGRAM, &cfg, true);
     assert!(s.findings.iter().any(|f| f.id == "self-intersection"));
-    let dir = tmp_dir();
+    let dir = tmp_dir("router");
     let file = dir.join("router.html");
-    std::fs::write(&file, player_html(&s, &HtmlOptions::default()).expect("html")).expect("write");
+    std::fs::write(
+        &file,
+        player_html(&s, &HtmlOptions::default()).expect("html"),
+    )
+    .expect("write");
     let load = d.open(&file);
     let errors = d.errors();
     assert!(errors.is_empty(), "console errors: {errors:?}");
@@ -247,16 +290,28 @@ fn player_plays_where_the_simulator_says() {
                      document.getElementById('line').textContent, p.time()];",
             json!([t, want.x, want.y]),
         );
-        let got = (r[0][0].as_f64().unwrap_or(f64::NAN), r[0][1].as_f64().unwrap_or(f64::NAN));
-        let sim_px = (r[1][0].as_f64().unwrap_or(f64::NAN), r[1][1].as_f64().unwrap_or(f64::NAN));
+        let got = (
+            r[0][0].as_f64().unwrap_or(f64::NAN),
+            r[0][1].as_f64().unwrap_or(f64::NAN),
+        );
+        let sim_px = (
+            r[1][0].as_f64().unwrap_or(f64::NAN),
+            r[1][1].as_f64().unwrap_or(f64::NAN),
+        );
         let dist = (got.0 - sim_px.0).hypot(got.1 - sim_px.1);
-        assert!(dist < 1.0, "t = {t}: tool at {got:?}, simulator at {sim_px:?} ({dist} px)");
+        assert!(
+            dist < 1.0,
+            "t = {t}: tool at {got:?}, simulator at {sim_px:?} ({dist} px)"
+        );
         assert!((r[4].as_f64().unwrap_or(f64::NAN) - t).abs() < 1e-9);
         let line = s.motions[motion].line;
         assert_eq!(r[2].as_u64(), Some(line as u64));
         let shown = r[3].as_str().unwrap_or("");
         let text = PROGRAM.lines().nth(line - 1).unwrap_or("");
-        assert!(shown.contains(&format!("line {line}")) && shown.contains(text), "{shown}");
+        assert!(
+            shown.contains(&format!("line {line}")) && shown.contains(text),
+            "{shown}"
+        );
     }
     // The screenshot is not blank: many pixels that are not the background.
     let shot = d.cmd("GET", "/screenshot", None);
@@ -281,11 +336,16 @@ fn a_million_moves_load() {
     let Some(d) = Driver::start() else { return };
     // A raster of 1,000,000 short laser moves: 1000 rows of 1000 steps, beam on.
     let mut text = String::with_capacity(20_000_000);
-    text.push_str("G21 G90\nM4 S600\nF6000\n");
+    // Start off the raster so that its first move moves.
+    text.push_str("G21 G90\nG0 X0 Y-1\nM4 S600\nF6000\n");
     for row in 0..1000 {
         let y = row as f64 * 0.1;
         for i in 0..1000 {
-            let x = if row % 2 == 0 { i as f64 * 0.1 } else { 99.9 - i as f64 * 0.1 };
+            let x = if row % 2 == 0 {
+                i as f64 * 0.1
+            } else {
+                99.9 - i as f64 * 0.1
+            };
             text.push_str(&format!("G1 X{x:.1} Y{y:.1}\n"));
         }
     }
@@ -298,22 +358,22 @@ fn a_million_moves_load() {
     let t = Instant::now();
     let html = player_html(&s, &HtmlOptions::default()).expect("html");
     let write = t.elapsed();
-    let dir = tmp_dir().join("big");
-    std::fs::create_dir_all(&dir).expect("dir");
+    let dir = tmp_dir("million");
     let file = dir.join("million.html");
     std::fs::write(&file, &html).expect("write");
     let load = d.open(&file);
     let info = d.js(
-        "const p = window.skinpathPlayer; return [p.blocks, p.loadMs];",
+        "const p = window.skinpathPlayer; return [p.blocks, p.loadMs, p.decodeMs];",
         json!([]),
     );
     eprintln!(
-        "1M moves: scene {:.2} s, html {:.2} s ({:.1} MB), browser load {:.2} s (script {:.0} ms)",
+        "1M moves: scene {:.2} s, html {:.2} s ({:.1} MB), browser load {:.2} s (script {:.0} ms, of which decoding {:.0} ms)",
         build.as_secs_f64(),
         write.as_secs_f64(),
         html.len() as f64 / 1e6,
         load.as_secs_f64(),
-        info[1].as_f64().unwrap_or(f64::NAN)
+        info[1].as_f64().unwrap_or(f64::NAN),
+        info[2].as_f64().unwrap_or(f64::NAN)
     );
     assert_eq!(info[0].as_u64(), Some(s.timeline.segments.len() as u64));
     let errors = d.errors();

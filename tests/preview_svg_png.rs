@@ -3,9 +3,7 @@
 
 use glam::DVec2;
 use skinpath::emit::preview::svg::view_box;
-use skinpath::emit::preview::{
-    PngOptions, ProgramInput, Scene, SvgOptions, rasterize, scene_svg,
-};
+use skinpath::emit::preview::{PngOptions, ProgramInput, Scene, SvgOptions, rasterize, scene_svg};
 use skinpath::sim::{self, Backend, CheckConfig};
 
 fn scene(text: &str, cfg: &CheckConfig) -> Scene {
@@ -56,7 +54,10 @@ fn svg_parses_back_with_mm_sizes_and_one_path_per_contour() {
         .collect();
     assert_eq!(vb.len(), 4);
     // 1 user unit = 1 mm.
-    assert!((vb[2] - w).abs() < 1e-9 && (vb[3] - h).abs() < 1e-9, "{w} {h} {vb:?}");
+    assert!(
+        (vb[2] - w).abs() < 1e-9 && (vb[3] - h).abs() < 1e-9,
+        "{w} {h} {vb:?}"
+    );
     // The drawing frames the job (the 300 mm bed is more than 4 times its area) in
     // millimetres: as wide as the framed region, or the legend's minimum width.
     let (lo, hi) = view_box(&s);
@@ -126,8 +127,14 @@ fn findings_are_drawn_where_the_checker_puts_them() {
     assert!(!rings.is_empty());
     // The bow-tie's diagonals cross at (20, 20).
     let (lo, hi) = view_box(&s);
-    let cx: f64 = rings[0].attribute("cx").and_then(|v| v.parse().ok()).unwrap_or(f64::NAN);
-    let cy: f64 = rings[0].attribute("cy").and_then(|v| v.parse().ok()).unwrap_or(f64::NAN);
+    let cx: f64 = rings[0]
+        .attribute("cx")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(f64::NAN);
+    let cy: f64 = rings[0]
+        .attribute("cy")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(f64::NAN);
     assert!((cx - (20.0 - lo.x)).abs() < 1e-3 && (cy - (hi.y - 20.0)).abs() < 1e-3);
     // Listed with its G-code lines.
     assert!(f.lines.contains(&4) && f.lines.contains(&6));
@@ -191,7 +198,11 @@ fn png_has_the_cut_colour_on_a_cut_and_not_beside_it() {
     let cut = hex(&s.color_scale().color(s.color_scale().step(1000.0)));
     // Middle of the right edge, x = 40: on the cut.
     let (x, y) = at(DVec2::new(40.0, 25.0));
-    assert!(close(pixel(&img, x, y), cut, 8), "{:?} vs {cut:?}", pixel(&img, x, y));
+    assert!(
+        close(pixel(&img, x, y), cut, 8),
+        "{:?} vs {cut:?}",
+        pixel(&img, x, y)
+    );
     // Inside the square, away from every line and marker: background.
     let (x, y) = at(DVec2::new(25.0, 15.0));
     assert!(close(pixel(&img, x, y), [255, 255, 255], 2));
@@ -250,7 +261,12 @@ fn laser_svg_hairlines_are_visible_in_the_png() {
     let length: f64 = s
         .contours
         .iter()
-        .map(|c| c.points.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>())
+        .map(|c| {
+            c.points
+                .windows(2)
+                .map(|w| w[0].distance(w[1]))
+                .sum::<f64>()
+        })
         .sum();
     let doc = roxmltree::Document::parse(&svg).expect("parses");
     let page_w: f64 = doc

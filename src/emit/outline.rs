@@ -8,6 +8,7 @@
 //! intersection-free contours of the chosen method), `knot-circle`, `control-disk`,
 //! `offset`. Markers carry point features: envelope loops and spans without an envelope.
 
+use super::preview::draw::{Frame, SvgPage, num};
 use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -95,7 +96,8 @@ impl OutlineDoc {
     /// An SVG drawing: width/height in mm with a matching viewBox (1 user unit = 1 design
     /// unit; inch designs are drawn at 25.4 mm per unit), y pointing up as in the design.
     /// Outline solid, envelope dashed (solid when it is the only boundary), spine thin,
-    /// reference circles faint, markers as red rings with a tooltip.
+    /// reference circles faint, markers as red rings with a tooltip. Drawn with the
+    /// preview's drawing layer ([`crate::emit::preview::draw`]), so it rasterises the same way.
     pub fn to_svg(&self) -> String {
         let (lo, hi) = self.bounds().unwrap_or((DVec2::ZERO, DVec2::ONE));
         let margin = 0.05 * (hi - lo).max_element().max(1.0);
@@ -104,84 +106,67 @@ impl OutlineDoc {
         let size = hi - lo;
         let mm = if self.units == "inch" { 25.4 } else { 1.0 };
         let w = 0.002 * size.max_element();
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.3}mm" height="{:.3}mm" viewBox="{} {} {} {}">"#,
-            size.x * mm,
-            size.y * mm,
-            lo.x,
-            -hi.y,
-            size.x,
-            size.y
-        );
-        let _ = writeln!(
-            s,
-            r#"<rect x="{}" y="{}" width="{}" height="{}" fill="white"/>"#,
-            lo.x, -hi.y, size.x, size.y
-        );
-        let _ = writeln!(s, r#"<g transform="scale(1,-1)">"#);
+        let frame = Frame::new(lo, hi, 1.0, DVec2::ZERO);
+        let mut page = SvgPage::new(size.x, size.y, mm);
+        let map = |p: &[f64; 2]| frame.map(DVec2::new(p[0], p[1]));
         for st in &self.strokes {
             let has_outline = st.contours.iter().any(|c| c.role == "outline");
-            let _ = writeln!(s, r#"<g id="{}">"#, xml_escape(&st.name));
+            page.open(&st.name, "");
             for c in &st.circles {
-                let (stroke, dash) = match c.role.as_str() {
-                    "knot-circle" => ("#4a90d9", ""),
-                    _ => ("#bbbbbb", ""),
+                let stroke = match c.role.as_str() {
+                    "knot-circle" => "#4a90d9",
+                    _ => "#bbbbbb",
                 };
-                let _ = writeln!(
-                    s,
-                    r#"<circle class="{}" cx="{}" cy="{}" r="{}" fill="none" stroke="{}" stroke-width="{}"{}/>"#,
-                    c.role,
-                    c.center[0],
-                    c.center[1],
+                page.circle(
+                    &xml_escape(&c.role),
+                    map(&c.center),
                     c.radius,
-                    stroke,
-                    w * 0.6,
-                    dash
+                    &format!(
+                        "fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{}\"",
+                        num(w * 0.6)
+                    ),
+                    None,
                 );
             }
             for c in &st.contours {
-                let (stroke, width, dash, fill) = match c.role.as_str() {
-                    "outline" => ("#000000", w * 1.5, String::new(), "none"),
+                let (stroke, width, dash) = match c.role.as_str() {
+                    "outline" => ("#000000", w * 1.5, String::new()),
                     "envelope" if has_outline => (
                         "#d9534f",
                         w,
-                        format!(r#" stroke-dasharray="{} {}""#, 4.0 * w, 3.0 * w),
-                        "none",
+                        format!(" stroke-dasharray=\"{} {}\"", num(4.0 * w), num(3.0 * w)),
                     ),
-                    "envelope" => ("#000000", w * 1.5, String::new(), "none"),
-                    "spine" => ("#888888", w * 0.6, String::new(), "none"),
-                    "offset" => ("#2e8b57", w, String::new(), "none"),
-                    _ => ("#555555", w, String::new(), "none"),
+                    "envelope" => ("#000000", w * 1.5, String::new()),
+                    "spine" => ("#888888", w * 0.6, String::new()),
+                    "offset" => ("#2e8b57", w, String::new()),
+                    _ => ("#555555", w, String::new()),
                 };
-                let _ = writeln!(
-                    s,
-                    r#"<path class="{}" d="{}" fill="{}" stroke="{}" stroke-width="{}"{}/>"#,
-                    c.role,
-                    path_d(&c.points, c.closed),
-                    fill,
-                    stroke,
-                    width,
-                    dash
+                let pts: Vec<DVec2> = c.points.iter().map(map).collect();
+                page.polyline(
+                    &xml_escape(&c.role),
+                    &pts,
+                    c.closed,
+                    &format!(
+                        "fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{}\"{dash}",
+                        num(width)
+                    ),
                 );
             }
             for m in &st.markers {
-                let _ = writeln!(
-                    s,
-                    r##"<circle class="marker {}" cx="{}" cy="{}" r="{}" fill="none" stroke="#e00000" stroke-width="{}"><title>{}</title></circle>"##,
-                    m.kind,
-                    m.at[0],
-                    m.at[1],
+                page.circle(
+                    &format!("marker {}", xml_escape(&m.kind)),
+                    map(&m.at),
                     6.0 * w,
-                    w,
-                    xml_escape(&m.message)
+                    &format!(
+                        "fill=\"none\" stroke=\"#e00000\" stroke-width=\"{}\"",
+                        num(w)
+                    ),
+                    Some(&m.message),
                 );
             }
-            let _ = writeln!(s, "</g>");
+            page.close();
         }
-        let _ = writeln!(s, "</g>\n</svg>");
-        s
+        page.finish()
     }
 }
 

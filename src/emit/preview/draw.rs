@@ -75,10 +75,10 @@ impl SvgPage {
             out,
             "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{}mm\" \
              height=\"{}mm\" viewBox=\"0 0 {} {}\">",
-            n(width * mm_per_unit),
-            n(height * mm_per_unit),
-            n(width),
-            n(height)
+            crate::emit::fnum(width * mm_per_unit),
+            crate::emit::fnum(height * mm_per_unit),
+            crate::emit::fnum(width),
+            crate::emit::fnum(height)
         );
         let _ = writeln!(
             out,
@@ -240,7 +240,12 @@ mod tests {
 
     #[test]
     fn frame_flips_y_and_scales() {
-        let f = Frame::new(DVec2::new(10.0, 20.0), DVec2::new(30.0, 60.0), 2.0, DVec2::new(1.0, 1.0));
+        let f = Frame::new(
+            DVec2::new(10.0, 20.0),
+            DVec2::new(30.0, 60.0),
+            2.0,
+            DVec2::new(1.0, 1.0),
+        );
         assert_eq!(f.map(DVec2::new(10.0, 60.0)), DVec2::new(1.0, 1.0));
         assert_eq!(f.map(DVec2::new(30.0, 20.0)), DVec2::new(41.0, 81.0));
         assert_eq!(f.size(), DVec2::new(40.0, 80.0));

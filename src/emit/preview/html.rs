@@ -140,6 +140,7 @@ pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitErro
         "startColor": START_COLOR,
         "findingColor": FINDING_COLOR,
         "findings": findings,
+        "checked": scene.checked,
         "starts": scene.contours.iter().filter_map(|c| c.points.first()).map(|p| [p.x, p.y]).collect::<Vec<_>>(),
     });
     let source = match &scene.source {
@@ -171,10 +172,7 @@ fn fill(template: &str, parts: &[(&str, String)]) -> String {
         let after = &rest[i + 2..];
         match after.find("}}").and_then(|j| {
             let name = &after[..j];
-            parts
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map(|(_, v)| (v, j))
+            parts.iter().find(|(n, _)| *n == name).map(|(_, v)| (v, j))
         }) {
             Some((v, j)) => {
                 out.push_str(v);

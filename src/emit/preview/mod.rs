@@ -52,6 +52,8 @@ pub struct Scene {
     pub contours: Vec<Contour>,
     /// The checker's findings.
     pub findings: Vec<Finding>,
+    /// Whether the checker ran (a scene of a toolpath without G-code is not checked).
+    pub checked: bool,
     /// Per-block times from the simulator's planner.
     pub timeline: Timeline,
     /// The program's source lines, when the scene was read from G-code (1-based lines map
@@ -76,7 +78,7 @@ const ROUTER_RAMP: [(u8, u8, u8); 2] = [(0x6b, 0xae, 0xd6), (0x08, 0x30, 0x6b)];
 impl ColorScale {
     /// Colour step (0 .. COLOR_STEPS) of a value.
     pub fn step(&self, v: f64) -> usize {
-        if !(self.hi > self.lo) || !v.is_finite() {
+        if self.hi.partial_cmp(&self.lo) != Some(std::cmp::Ordering::Greater) || !v.is_finite() {
             return COLOR_STEPS - 1;
         }
         let f = ((v - self.lo) / (self.hi - self.lo)).clamp(0.0, 1.0);
@@ -95,7 +97,12 @@ impl ColorScale {
             1.0
         };
         let mix = |x: u8, y: u8| (x as f64 + f * (y as f64 - x as f64)).round() as u8;
-        format!("#{:02x}{:02x}{:02x}", mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+        format!(
+            "#{:02x}{:02x}{:02x}",
+            mix(a.0, b.0),
+            mix(a.1, b.1),
+            mix(a.2, b.2)
+        )
     }
 
     /// The value range `[from, to)` of a colour step.
@@ -129,7 +136,7 @@ impl Scene {
                 DVec2::new(cfg.work_max[0], cfg.work_max[1]),
             )
         });
-        Scene::assemble(
+        let mut scene = Scene::assemble(
             input.title,
             cfg,
             work_area,
@@ -138,7 +145,9 @@ impl Scene {
             op_of,
             input.findings,
             input.text.map(str::to_string),
-        )
+        );
+        scene.checked = true;
+        scene
     }
 
     /// A scene from a toolpath in design units (`mm_per_unit` converts), for outputs without
@@ -256,13 +265,16 @@ impl Scene {
             contours,
             findings,
             timeline,
+            checked: false,
             source,
         }
     }
 
     /// True when motion `i` removes material (see [`is_cutting`]).
     pub fn is_cut(&self, i: usize) -> bool {
-        self.motions.get(i).is_some_and(|m| is_cutting(m, &self.cfg))
+        self.motions
+            .get(i)
+            .is_some_and(|m| is_cutting(m, &self.cfg))
     }
 
     /// The value a cut's colour stands for: S for lasers, depth below z = 0 for routers.
@@ -284,7 +296,8 @@ impl Scene {
                 hi = hi.max(v);
             }
         }
-        if !(lo <= hi) {
+        if lo > hi {
+            // No cutting motion.
             (lo, hi) = (0.0, 0.0);
         }
         if self.kind == MachineKind::Laser {
@@ -351,7 +364,10 @@ impl Scene {
 /// Operations named by skinpath's `op N NAME KIND` comments (any dialect's comment syntax):
 /// each motion belongs to the last such comment above its line. Programs without them are
 /// one operation, "program".
-pub fn operations_from_comments(text: Option<&str>, motions: &[Motion]) -> (Vec<String>, Vec<usize>) {
+pub fn operations_from_comments(
+    text: Option<&str>,
+    motions: &[Motion],
+) -> (Vec<String>, Vec<usize>) {
     let mut starts: Vec<(usize, String)> = Vec::new();
     if let Some(text) = text {
         for (i, line) in text.lines().enumerate() {
@@ -382,7 +398,11 @@ pub fn operations_from_comments(text: Option<&str>, motions: &[Motion]) -> (Vec<
     }
     let op_of = motions
         .iter()
-        .map(|m| starts.partition_point(|(l, _)| *l <= m.line).saturating_sub(1))
+        .map(|m| {
+            starts
+                .partition_point(|(l, _)| *l <= m.line)
+                .saturating_sub(1)
+        })
         .collect();
     (starts.into_iter().map(|(_, n)| n).collect(), op_of)
 }

@@ -131,7 +131,9 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
         text: s,
         class,
     };
-    let cut_moves = (0..scene.motions.len()).filter(|&i| scene.is_cut(i)).count();
+    let cut_moves = (0..scene.motions.len())
+        .filter(|&i| scene.is_cut(i))
+        .count();
     rows.push(text(
         format!(
             "{}: {} moves ({} cutting), {} contours, time {} (with acceleration)",
@@ -188,9 +190,17 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
             .iter()
             .filter(|c| scene.contour_op(c) == i)
             .count();
-        rows.push(text(format!("operation {}: {name}, {n} contours", i + 1), "op"));
+        rows.push(text(
+            format!("operation {}: {name}, {n} contours", i + 1),
+            "op",
+        ));
     }
-    if scene.findings.is_empty() {
+    if !scene.checked {
+        rows.push(text(
+            "checker: not run (no G-code for this machine)".into(),
+            "findings",
+        ));
+    } else if scene.findings.is_empty() {
         rows.push(text("checker: no findings".into(), "findings"));
     } else {
         rows.push(Row {
@@ -214,12 +224,25 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
                         k.3 += 1;
                         k.2.extend(f.lines.iter().take(1));
                     }
-                    None => kinds.push((f.id, f.severity, f.lines.iter().take(1).copied().collect(), 1)),
+                    None => kinds.push((
+                        f.id,
+                        f.severity,
+                        f.lines.iter().take(1).copied().collect(),
+                        1,
+                    )),
                 }
             }
             for (id, sev, lines, count) in kinds {
-                let shown: Vec<String> = lines.iter().take(FINDING_LINES).map(|l| l.to_string()).collect();
-                let more = if lines.len() > FINDING_LINES { ", ..." } else { "" };
+                let shown: Vec<String> = lines
+                    .iter()
+                    .take(FINDING_LINES)
+                    .map(|l| l.to_string())
+                    .collect();
+                let more = if lines.len() > FINDING_LINES {
+                    ", ..."
+                } else {
+                    ""
+                };
                 rows.push(text(
                     format!("{sev} [{id}] x{count}: lines {}{more}", shown.join(", ")),
                     "finding-text",
@@ -267,7 +290,9 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
         (rows.len() as f64 + 0.8) * line_h
     };
     // The legend needs room for its text even below a narrow drawing.
-    let width = size.x.max(if rows.is_empty() { 0.0 } else { 40.0 * sz.font });
+    let width = size
+        .x
+        .max(if rows.is_empty() { 0.0 } else { 40.0 * sz.font });
     let mut page = SvgPage::new(width, size.y + legend_h, 1.0);
     let flat_tol = (0.1 * sz.cut).max(1e-4);
 
@@ -303,7 +328,11 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
         if m.from.truncate() == m.to.truncate() && m.arc.is_none() {
             continue;
         }
-        let pts: Vec<DVec2> = m.flatten_xy(flat_tol).iter().map(|p| frame.map(*p)).collect();
+        let pts: Vec<DVec2> = m
+            .flatten_xy(flat_tol)
+            .iter()
+            .map(|p| frame.map(*p))
+            .collect();
         page.polyline("rapid", &pts, false, "");
     }
     page.close();
@@ -337,14 +366,21 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
             if scene.op_of.get(i) != Some(&oi) || !scene.is_cut(i) || m.from.z == m.to.z {
                 continue;
             }
-            let pts: Vec<DVec2> = m.flatten_xy(flat_tol).iter().map(|p| frame.map(*p)).collect();
+            let pts: Vec<DVec2> = m
+                .flatten_xy(flat_tol)
+                .iter()
+                .map(|p| frame.map(*p))
+                .collect();
             let color = scale.color(scale.step(scene.value_of(m)));
             page.polyline("ramp", &pts, false, &format!("stroke=\"{color}\""));
         }
         page.close();
     }
 
-    page.open("arrows", &format!("fill=\"{TEXT_COLOR}\" fill-opacity=\"0.75\""));
+    page.open(
+        "arrows",
+        &format!("fill=\"{TEXT_COLOR}\" fill-opacity=\"0.75\""),
+    );
     for c in &scene.contours {
         let pts: Vec<DVec2> = c.points.iter().map(|p| frame.map(*p)).collect();
         let len: f64 = pts.windows(2).map(|w| w[0].distance(w[1])).sum();
@@ -355,7 +391,11 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
             let nrm = d.perp();
             let tip = p + d * (0.5 * sz.arrow);
             let back = p - d * (0.5 * sz.arrow);
-            let tri = [tip, back + nrm * (0.4 * sz.arrow), back - nrm * (0.4 * sz.arrow)];
+            let tri = [
+                tip,
+                back + nrm * (0.4 * sz.arrow),
+                back - nrm * (0.4 * sz.arrow),
+            ];
             page.polyline("arrow", &tri, true, "");
         }
     }
@@ -368,8 +408,16 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     } else {
         sz.marker
     };
-    let every = scene.contours.len().div_ceil(opts.max_numbers.max(1)).max(1);
-    let starts: Vec<Option<DVec2>> = scene.contours.iter().map(|c| c.points.first().map(|p| frame.map(*p))).collect();
+    let every = scene
+        .contours
+        .len()
+        .div_ceil(opts.max_numbers.max(1))
+        .max(1);
+    let starts: Vec<Option<DVec2>> = scene
+        .contours
+        .iter()
+        .map(|c| c.points.first().map(|p| frame.map(*p)))
+        .collect();
     let mut ci = 0;
     while ci < starts.len() {
         let Some(p) = starts[ci] else {
@@ -378,7 +426,8 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
         };
         // Passes of one cut start where the previous one did: one marker, "first-last".
         let mut last = ci;
-        while last + 1 < starts.len() && starts[last + 1].is_some_and(|q| q.distance(p) < sz.marker) {
+        while last + 1 < starts.len() && starts[last + 1].is_some_and(|q| q.distance(p) < sz.marker)
+        {
             last += 1;
         }
         for k in ci..=last {
