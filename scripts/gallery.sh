@@ -5,8 +5,8 @@
 # Each design is made the way a user would make it (`skinpath text`, `skinpath import`,
 # `skinpath init`, or written by hand), built for its own machine with --preview, checked
 # with `skinpath check`, and also built and checked on grbl-laser, grbl-router and
-# svg-laser with default flags. Previews are rendered to PNG with rsvg-convert (Debian
-# package librsvg2-bin); without it the PNGs are left as they are and a note is printed.
+# svg-laser with default flags. Previews are PNGs from skinpath's own preview renderer
+# (`build --preview NAME.png`, the same drawing as the SVG preview, rasterised by resvg).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -15,11 +15,6 @@ bin="${CARGO_TARGET_DIR:-$root/target}/debug/skinpath"
 g=examples/gallery
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-png=1
-if ! command -v rsvg-convert > /dev/null; then
-  echo "gallery: rsvg-convert not found (apt-get install librsvg2-bin): PNG previews not refreshed" >&2
-  png=0
-fi
 
 # --- the designs ---------------------------------------------------------------------
 
@@ -167,15 +162,12 @@ for design in $g/*.toml; do
     ext=gcode
     [ "$m" = svg-laser ] && ext=svg
     args=()
-    [ "$m" = "$machine" ] && args=(--preview "$out/$name-preview.svg")
+    [ "$m" = "$machine" ] && args=(--preview "$g/$name.png")
     "$bin" build "$design" --machine "$m" -o "$out/$name-$m.$ext" "${args[@]}" > /dev/null
     if [ "$ext" = gcode ]; then
       "$bin" check "$out/$name-$m.$ext" --machine "$m" > "$out/check.txt" ||
         { cat "$out/check.txt" >&2; echo "gallery: $name on $m fails the check" >&2; exit 1; }
     fi
   done
-  if [ "$png" = 1 ]; then
-    rsvg-convert -w 900 -b white "$out/$name-preview.svg" -o "$g/$name.png"
-  fi
   echo "gallery: $name ($machine) built and checked on grbl-laser, grbl-router, svg-laser"
 done
