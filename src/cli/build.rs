@@ -191,7 +191,10 @@ pub fn run(a: Args) -> Result<u8> {
         }
     }
     if !(a.margin.is_finite() && a.margin >= 0.0) {
-        bail!("--margin {}: must be a number >= 0", a.margin);
+        bail!(
+            "--margin must be a finite, non-negative distance in design units, got {}",
+            a.margin
+        );
     }
     if let Some(s) = a.scale
         && !(s.is_finite() && s > 0.0)
