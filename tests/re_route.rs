@@ -275,7 +275,7 @@ fn operation_method_key_and_envelope_refused() {
         &profile,
         &BuildOptions::default(),
     );
-    assert!(e.unwrap_err().to_string().contains("operation 0 (profile)"));
+    assert!(e.unwrap_err().to_string().contains("[[operation]] 1 (profile)"));
     let opts = BuildOptions {
         method: OutlineMethod::Skin,
         ..BuildOptions::default()
