@@ -168,6 +168,9 @@ struct Interp<'a, 'o> {
     stop: bool,
     reported_axes: bool,
     saved_state: Option<State>,
+    /// Per source: lines below this index have been read before.
+    high_water: Vec<usize>,
+    cache: HashMap<(usize, usize), std::rc::Rc<Line>>,
     /// The tool table (G10 L1/L10/L11 edit this copy).
     tools: Vec<ToolEntry>,
 }
@@ -309,6 +312,8 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
         stop: false,
         reported_axes: false,
         saved_state: None,
+        high_water: Vec::new(),
+        cache: HashMap::new(),
         tools: cfg.tool_table.clone(),
     };
     it.params[P_CS] = 1.0;
@@ -328,6 +333,7 @@ impl<'a> Interp<'a, '_> {
     fn add_source(&mut self, name: String, text: Cow<'a, str>) -> usize {
         let s = Source::new(name, text);
         let id = self.sources.len();
+        self.high_water.push(0);
         if self.syn.ngc {
             let mut per: HashMap<String, Vec<OPos>> = HashMap::new();
             for i in 0..s.len() {
@@ -425,7 +431,21 @@ impl<'a> Interp<'a, '_> {
                 i += 1;
                 continue;
             }
-            let parsed = ngc::parse_line(text, self.syn);
+            // Lines met again (loop bodies, subroutines) are parsed once and cached; lines
+            // read for the first time are not kept (bounded memory on long programs).
+            let parsed: std::rc::Rc<Line> = if i < self.high_water[src] {
+                match self.cache.get(&(src, i)) {
+                    Some(l) => l.clone(),
+                    None => {
+                        let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
+                        self.cache.insert((src, i), l.clone());
+                        l
+                    }
+                }
+            } else {
+                self.high_water[src] = i + 1;
+                std::rc::Rc::new(ngc::parse_line(text, self.syn))
+            };
             if parsed.percent && src == 0 {
                 if !started {
                     started = true;
@@ -444,7 +464,10 @@ impl<'a> Interp<'a, '_> {
                 self.after_end(src, i + 1);
                 break;
             }
-            started = true;
+            if !(parsed.words.is_empty() && parsed.assigns.is_empty() && parsed.oword.is_none())
+            {
+                started = true;
+            }
             let jumped = std::mem::take(&mut self.jumped);
             match self.exec(&parsed, src, i, jumped) {
                 Flow::Next => i += 1,
@@ -468,9 +491,14 @@ impl<'a> Interp<'a, '_> {
             return;
         }
         let s = &self.sources[0];
+        let syn = self.syn;
         if let Some(l) = (from..s.len()).find(|&l| {
             let t = s.line(l).trim();
-            !t.is_empty() && t != "%"
+            if t.is_empty() || t == "%" {
+                return false;
+            }
+            let p = ngc::parse_line(t, syn);
+            !(p.words.is_empty() && p.assigns.is_empty() && p.oword.is_none() && p.errors.is_empty())
         }) {
             let end = self.line;
             self.prog.diagnostics.push(
