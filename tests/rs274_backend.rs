@@ -45,11 +45,19 @@ const PLANTED: &[(&str, &str, usize)] = &[
         3,
     ),
     ("undefined_param", "G21 G0 X0\nG1 X#<nope> F100\nM2\n", 2),
-    ("division_by_zero", "G21 G0 X0\n#1 = [1/0]\nG1 X1 F100\nM2\n", 2),
+    (
+        "division_by_zero",
+        "G21 G0 X0\n#1 = [1/0]\nG1 X1 F100\nM2\n",
+        2,
+    ),
     ("unclosed_expression", "G21 G0 X0\nG1 X[1+2 F100\nM2\n", 2),
     ("unknown_code", "G21 G0 X0\nG1 X1 F100\nG77 X2\nM2\n", 3),
     ("modal_conflict", "G21 G0 X0\nG90 G91 G1 X1 F100\nM2\n", 2),
-    ("radius_too_small", "G21 G0 X0 Y0\nG2 X10 Y0 R2 F100\nM2\n", 2),
+    (
+        "radius_too_small",
+        "G21 G0 X0 Y0\nG2 X10 Y0 R2 F100\nM2\n",
+        2,
+    ),
 ];
 
 #[test]
@@ -65,8 +73,14 @@ fn planted_errors_both_backends_agree() {
         let (l, lout) = check(&f, "linuxcnc", &[]);
         assert_eq!(b, 1, "{name} builtin:\n{bout}");
         assert_eq!(l, 1, "{name} linuxcnc:\n{lout}");
-        assert!(bout.contains(&format!("line {line}")), "{name} builtin:\n{bout}");
-        assert!(lout.contains(&format!("line {line}")), "{name} linuxcnc:\n{lout}");
+        assert!(
+            bout.contains(&format!("line {line}")),
+            "{name} builtin:\n{bout}"
+        );
+        assert!(
+            lout.contains(&format!("line {line}")),
+            "{name} linuxcnc:\n{lout}"
+        );
     }
     // And a clean program is clean in both.
     let f = d.join("clean.ngc");
@@ -91,7 +105,11 @@ fn long_programs_read_at_any_line_number_width() {
     src.push_str("M2\n");
     std::fs::write(&f, src).expect("write");
     let (code, out) = check(&f, "linuxcnc", &["--json"]);
-    assert!(!out.contains("canon-error"), "{}", &out[..out.len().min(2000)]);
+    assert!(
+        !out.contains("canon-error"),
+        "{}",
+        &out[..out.len().min(2000)]
+    );
     let v: serde_json::Value = serde_json::from_str(&out).expect("json report");
     assert_eq!(v["stats"]["motions"], 100_000, "exit {code}");
     let len = v["stats"]["cut_length"].as_f64().unwrap_or(0.0);

@@ -93,7 +93,8 @@ impl ParamSource for NoParams {
 }
 
 fn expr_strategy() -> impl Strategy<Value = Vec<Tok>> {
-    let num = (-20i32..20, 0u8..3).prop_map(|(n, d)| Tok::Num(f64::from(n) / [1.0, 2.0, 4.0][d as usize]));
+    let num = (-20i32..20, 0u8..3)
+        .prop_map(|(n, d)| Tok::Num(f64::from(n) / [1.0, 2.0, 4.0][d as usize]));
     let op = (0usize..OPS.len()).prop_map(|i| Tok::Op(OPS[i]));
     (num.clone(), proptest::collection::vec((op, num), 0..8)).prop_map(|(first, rest)| {
         let mut v = vec![first];
@@ -125,10 +126,8 @@ fn random_expressions_match_the_reference() {
         failure_persistence: None,
         ..Config::default()
     };
-    let mut runner = TestRunner::new_with_rng(
-        cfg,
-        TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]),
-    );
+    let mut runner =
+        TestRunner::new_with_rng(cfg, TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]));
     let syn = Syntax {
         ngc: true,
         checksums: false,

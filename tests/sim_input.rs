@@ -49,7 +49,10 @@ fn empty_file_one_message_exit_2() {
         let (code, out) = check(bytes, name, &[]);
         assert_eq!(code, 2, "{out}");
         assert_eq!(out.lines().count(), 2, "{out}");
-        assert!(out.starts_with("input is not a usable G-code program: the file"), "{out}");
+        assert!(
+            out.starts_with("input is not a usable G-code program: the file"),
+            "{out}"
+        );
         assert!(!out.contains("warnings"), "{out}");
         let (jcode, json) = check(bytes, name, &["--json"]);
         assert_eq!(jcode, 2);
@@ -63,8 +66,14 @@ fn empty_file_one_message_exit_2() {
 fn modal_conflicts_and_closing_percent() {
     let (code, out) = check(b"G21\nG90 G91 G0 X1\nG20 G21\nM2\n", "modal.nc", &[]);
     assert_eq!(code, 1, "{out}");
-    assert!(out.contains("error [modal-conflict] line 2:5: G90 and G91"), "{out}");
-    assert!(out.contains("error [modal-conflict] line 3:5: G20 and G21"), "{out}");
+    assert!(
+        out.contains("error [modal-conflict] line 2:5: G90 and G91"),
+        "{out}"
+    );
+    assert!(
+        out.contains("error [modal-conflict] line 3:5: G20 and G21"),
+        "{out}"
+    );
     let (code, out) = check(b"%\nG21 G0 X1\n%\nG0 X500 Y500\n", "percent.nc", &[]);
     assert_eq!(code, 0, "{out}");
     assert!(out.contains("bounds x 0.000..1.000"), "{out}");
@@ -78,7 +87,10 @@ fn dialect_flag_and_not_supported_messages() {
     assert_eq!(code, 0, "{out}");
     let (code, out) = check(src, "grbl.nc", &["--dialect", "grbl"]);
     assert_eq!(code, 1, "{out}");
-    assert!(out.contains("line 2:1: parameters (#) not supported in this dialect"), "{out}");
+    assert!(
+        out.contains("line 2:1: parameters (#) not supported in this dialect"),
+        "{out}"
+    );
     let (code, out) = check(b"G21\nG0 X1\nG5.2 X2\nM2\n", "g52.nc", &[]);
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("line 3: G5.2 is not supported"), "{out}");

@@ -86,10 +86,12 @@ enum FeedMode {
     PerRev,
 }
 
+/// Returns the text of subroutine file `<name>.ngc` from a search path, if any.
+pub type SubLoader<'a> = &'a dyn Fn(&str) -> Option<String>;
+
 /// Options beyond [`CheckConfig`]: where called subroutine files come from.
 pub struct Options<'a> {
-    /// Returns the text of subroutine file `<name>.ngc` from the search path, if any.
-    pub load_sub: Option<&'a dyn Fn(&str) -> Option<String>>,
+    pub load_sub: Option<SubLoader<'a>>,
 }
 
 struct Source<'a> {
@@ -381,7 +383,10 @@ impl<'a> Interp<'a, '_> {
         let msg = if self.src == 0 {
             msg
         } else {
-            format!("{msg} (in {} line {})", self.sources[self.src].name, self.line)
+            format!(
+                "{msg} (in {} line {})",
+                self.sources[self.src].name, self.line
+            )
         };
         let line = if self.src == 0 {
             self.line
@@ -415,7 +420,10 @@ impl<'a> Interp<'a, '_> {
                     self.err(
                         "o-word",
                         None,
-                        format!("subroutine file {} ended without endsub", self.sources[src].name),
+                        format!(
+                            "subroutine file {} ended without endsub",
+                            self.sources[src].name
+                        ),
                     );
                 }
                 break;
@@ -464,8 +472,7 @@ impl<'a> Interp<'a, '_> {
                 self.after_end(src, i + 1);
                 break;
             }
-            if !(parsed.words.is_empty() && parsed.assigns.is_empty() && parsed.oword.is_none())
-            {
+            if !(parsed.words.is_empty() && parsed.assigns.is_empty() && parsed.oword.is_none()) {
                 started = true;
             }
             let jumped = std::mem::take(&mut self.jumped);
@@ -498,7 +505,10 @@ impl<'a> Interp<'a, '_> {
                 return false;
             }
             let p = ngc::parse_line(t, syn);
-            !(p.words.is_empty() && p.assigns.is_empty() && p.oword.is_none() && p.errors.is_empty())
+            !(p.words.is_empty()
+                && p.assigns.is_empty()
+                && p.oword.is_none()
+                && p.errors.is_empty())
         }) {
             let end = self.line;
             self.prog.diagnostics.push(
@@ -718,13 +728,14 @@ impl<'a> Interp<'a, '_> {
                         continue;
                     }
                 } else {
-                    let d: String = b[i + 1..].iter().take_while(|c| c.is_ascii_digit()).collect();
-                    if let Ok(n) = d.parse::<i64>() {
-                        if n <= ngc::MAX_PARAMETER {
-                            out += &format!("{:.6}", self.view().numbered(n));
-                            i += 1 + d.len();
-                            continue;
-                        }
+                    let d: String = b[i + 1..]
+                        .iter()
+                        .take_while(|c| c.is_ascii_digit())
+                        .collect();
+                    if let Some(n) = d.parse::<i64>().ok().filter(|&n| n <= ngc::MAX_PARAMETER) {
+                        out += &format!("{:.6}", self.view().numbered(n));
+                        i += 1 + d.len();
+                        continue;
                     }
                 }
             }
@@ -824,7 +835,9 @@ impl<'a> Interp<'a, '_> {
                 Flow::Goto(ts, tl + 1)
             }
             OKind::If => {
-                let Some(c) = arg(self) else { return Flow::Next };
+                let Some(c) = arg(self) else {
+                    return Flow::Next;
+                };
                 if c != 0.0 {
                     return Flow::Next;
                 }
@@ -838,12 +851,13 @@ impl<'a> Interp<'a, '_> {
             }
             OKind::ElseIf => {
                 if jumped {
-                    let Some(c) = arg(self) else { return Flow::Next };
+                    let Some(c) = arg(self) else {
+                        return Flow::Next;
+                    };
                     if c != 0.0 {
                         return Flow::Next;
                     }
-                    match self.find_o(src, label, i, &[OKind::ElseIf, OKind::Else, OKind::EndIf])
-                    {
+                    match self.find_o(src, label, i, &[OKind::ElseIf, OKind::Else, OKind::EndIf]) {
                         Some(p) => {
                             self.jumped = true;
                             Flow::Goto(src, p.line)
@@ -874,7 +888,9 @@ impl<'a> Interp<'a, '_> {
                     .get(&(src, label.to_string()))
                     .and_then(|v| v.iter().find(|p| p.line == i))
                     .is_some_and(|p| p.do_while);
-                let Some(c) = arg(self) else { return Flow::Next };
+                let Some(c) = arg(self) else {
+                    return Flow::Next;
+                };
                 if do_while {
                     if c == 0.0 {
                         return Flow::Next;
@@ -905,7 +921,9 @@ impl<'a> Interp<'a, '_> {
                 }
             }
             OKind::Repeat => {
-                let Some(n) = arg(self) else { return Flow::Next };
+                let Some(n) = arg(self) else {
+                    return Flow::Next;
+                };
                 if n.round() < 1.0 {
                     return match self.find_o(src, label, i, &[OKind::EndRepeat]) {
                         Some(p) => Flow::Goto(src, p.line + 1),
@@ -922,7 +940,10 @@ impl<'a> Interp<'a, '_> {
                         .last()
                         .is_some_and(|r| r.0 == src && r.1 == label) =>
             {
-                let Some(r) = self.repeats.last_mut().filter(|r| r.0 == src && r.1 == label)
+                let Some(r) = self
+                    .repeats
+                    .last_mut()
+                    .filter(|r| r.0 == src && r.1 == label)
                 else {
                     return missing(self, "repeat");
                 };
@@ -970,9 +991,7 @@ impl<'a> Interp<'a, '_> {
                     i,
                     &[OKind::EndWhile, OKind::EndRepeat, OKind::While],
                 ) {
-                    Some(p) if p.kind != OKind::While || p.do_while => {
-                        Flow::Goto(src, p.line + 1)
-                    }
+                    Some(p) if p.kind != OKind::While || p.do_while => Flow::Goto(src, p.line + 1),
                     _ => missing(self, "loop end"),
                 }
             }
@@ -1303,11 +1322,7 @@ impl<'a> Interp<'a, '_> {
                 let s = self.st.clone();
                 match self.calls.last_mut() {
                     Some(f) => f.autorestore = Some(s),
-                    None => self.err(
-                        "invalid-value",
-                        None,
-                        "M73 outside a subroutine".into(),
-                    ),
+                    None => self.err("invalid-value", None, "M73 outside a subroutine".into()),
                 }
             }
             _ => {}
@@ -1384,7 +1399,9 @@ impl<'a> Interp<'a, '_> {
         }
         match g(G_TLO) {
             Some(430) => {
-                let h = b.val('H').map_or(self.st.current_tool, |h| h.max(0.0) as u32);
+                let h = b
+                    .val('H')
+                    .map_or(self.st.current_tool, |h| h.max(0.0) as u32);
                 b.used_h = true;
                 let t = self.tool(h).copied().unwrap_or_default();
                 self.st.tlo = DVec3::new(t.x, 0.0, t.z);
@@ -1436,19 +1453,21 @@ impl<'a> Interp<'a, '_> {
         }
         let nonmodal = g(G_NONMODAL).filter(|&c| c != 40);
         let has_axis = b.has_axis();
-        if let (Some(c), Some(m)) = (nonmodal, g(G_MOTION)) {
-            if has_axis && c != 100 && c != 530 {
-                self.err(
-                    "modal-conflict",
-                    None,
-                    format!(
-                        "G{} and G{} both use the axis words of the block",
-                        fmt_code(c),
-                        fmt_code(m)
-                    ),
-                );
-                return false;
-            }
+        if let (Some(c), Some(m)) = (nonmodal, g(G_MOTION))
+            && has_axis
+            && c != 100
+            && c != 530
+        {
+            self.err(
+                "modal-conflict",
+                None,
+                format!(
+                    "G{} and G{} both use the axis words of the block",
+                    fmt_code(c),
+                    fmt_code(m)
+                ),
+            );
+            return false;
         }
         if let Some(c) = nonmodal {
             self.nonmodal(c, &mut b);
@@ -1572,7 +1591,11 @@ impl<'a> Interp<'a, '_> {
             }
         }
         if (b.val('H').is_some() && !b.used_h) || (b.val('D').is_some() && !b.used_d) {
-            let c = if b.val('H').is_some() && !b.used_h { 'H' } else { 'D' };
+            let c = if b.val('H').is_some() && !b.used_h {
+                'H'
+            } else {
+                'D'
+            };
             self.err(
                 "unused-word",
                 Some(b.col(c)),
@@ -1608,7 +1631,11 @@ impl<'a> Interp<'a, '_> {
 
     fn cs_origin(&self, n: usize) -> DVec3 {
         let base = P_G54 + 20 * (n - 1);
-        DVec3::new(self.params[base], self.params[base + 1], self.params[base + 2])
+        DVec3::new(
+            self.params[base],
+            self.params[base + 1],
+            self.params[base + 2],
+        )
     }
 
     fn select_cs(&mut self, n: usize) {
@@ -1753,7 +1780,6 @@ impl<'a> Interp<'a, '_> {
         }
     }
 
-
     /// The end point of the block's axis words in machine coordinates.
     fn target(&self, b: &Block) -> DVec3 {
         let k = self.st.k();
@@ -1801,11 +1827,7 @@ impl<'a> Interp<'a, '_> {
             feed: self.st.feed * self.st.feed_k,
             tool: self.st.tool,
             line: self.calls.first().map_or(self.line, |c| {
-                if c.ret.0 == 0 {
-                    c.ret.1
-                } else {
-                    self.line
-                }
+                if c.ret.0 == 0 { c.ret.1 } else { self.line }
             }),
             group: self.group,
         }
@@ -1930,10 +1952,7 @@ impl<'a> Interp<'a, '_> {
                 );
                 return;
             }
-            let off = DVec2::new(
-                b.val(cu).unwrap_or(0.0) * k,
-                b.val(cv).unwrap_or(0.0) * k,
-            );
+            let off = DVec2::new(b.val(cu).unwrap_or(0.0) * k, b.val(cv).unwrap_or(0.0) * k);
             let c = if self.st.arc_absolute {
                 let o = self.st.offset();
                 off + DVec2::new(o[u], o[v])
@@ -1947,7 +1966,11 @@ impl<'a> Interp<'a, '_> {
             }
             let diff = (r0 - r1).abs();
             let linuxcnc_abs = LINUXCNC_RADIUS_TOLERANCE_MM * k / self.st.k().max(1.0)
-                * if self.st.units == Units::Inch { 2.54 } else { 1.0 };
+                * if self.st.units == Units::Inch {
+                    2.54
+                } else {
+                    1.0
+                };
             let hard = matches!(self.cfg.dialect, Dialect::Generic | Dialect::Linuxcnc)
                 && diff > 100.0 * linuxcnc_abs;
             if hard || (diff > tol && diff > RADIUS_RELATIVE_TOLERANCE * r0) {
@@ -2024,7 +2047,10 @@ impl<'a> Interp<'a, '_> {
             self.err(
                 "unsupported-code",
                 None,
-                format!("G{} is not supported: its motion is skipped", fmt_code(code)),
+                format!(
+                    "G{} is not supported: its motion is skipped",
+                    fmt_code(code)
+                ),
             );
             return;
         }
@@ -2169,11 +2195,38 @@ struct View<'v, 'a, 'o> {
 /// Named parameters LinuxCNC predefines (read-only).
 fn predefined(name: &str) -> bool {
     const NAMES: [&str; 33] = [
-        "_x", "_y", "_z", "_a", "_b", "_c", "_u", "_v", "_w", "_abs_x", "_abs_y", "_abs_z",
-        "_line", "_motion_mode", "_plane", "_metric", "_imperial", "_absolute",
-        "_incremental", "_inverse_time", "_units_per_minute", "_units_per_rev",
-        "_coord_system", "_tool_offset", "_retract_r_plane", "_retract_old_z",
-        "_current_tool", "_selected_tool", "_feed", "_rpm", "_call_level", "_task",
+        "_x",
+        "_y",
+        "_z",
+        "_a",
+        "_b",
+        "_c",
+        "_u",
+        "_v",
+        "_w",
+        "_abs_x",
+        "_abs_y",
+        "_abs_z",
+        "_line",
+        "_motion_mode",
+        "_plane",
+        "_metric",
+        "_imperial",
+        "_absolute",
+        "_incremental",
+        "_inverse_time",
+        "_units_per_minute",
+        "_units_per_rev",
+        "_coord_system",
+        "_tool_offset",
+        "_retract_r_plane",
+        "_retract_old_z",
+        "_current_tool",
+        "_selected_tool",
+        "_feed",
+        "_rpm",
+        "_call_level",
+        "_task",
         "_value",
     ];
     NAMES.contains(&name)
@@ -2250,8 +2303,9 @@ impl ParamSource for View<'_, '_, '_> {
             "_inverse_time" => t(st.feed_mode == FeedMode::InverseTime),
             "_units_per_minute" => t(st.feed_mode == FeedMode::PerMinute),
             "_units_per_rev" => t(st.feed_mode == FeedMode::PerRev),
-            "_coord_system" => [540.0, 550.0, 560.0, 570.0, 580.0, 590.0, 591.0, 592.0, 593.0]
-                [st.cs.clamp(1, 9) - 1],
+            "_coord_system" => [
+                540.0, 550.0, 560.0, 570.0, 580.0, 590.0, 591.0, 592.0, 593.0,
+            ][st.cs.clamp(1, 9) - 1],
             "_tool_offset" => t(st.tlo != DVec3::ZERO),
             "_retract_r_plane" => t(st.retract_r),
             "_retract_old_z" => t(!st.retract_r),
@@ -2300,8 +2354,8 @@ const M_USER: usize = 22;
 const GROUPS: usize = 23;
 
 const LETTERS: [char; 24] = [
-    'X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'S', 'P', 'Q', 'L', 'T', 'H', 'D', 'A', 'B', 'C',
-    'U', 'V', 'W', '@', '^', 'E',
+    'X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'S', 'P', 'Q', 'L', 'T', 'H', 'D', 'A', 'B', 'C', 'U',
+    'V', 'W', '@', '^', 'E',
 ];
 
 /// The words of one block sorted into what the interpreter needs.
@@ -2479,7 +2533,9 @@ mod tests {
     fn arcs_ij_r_and_full_circle() {
         let p = run("G0 X10 Y0\nG3 X0 Y10 I-10 J0 F100\nG2 X0 Y10 I0 J-10");
         assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
-        let q = p.motions[1].arc.unwrap_or(Arc::new(DVec2::ZERO, 0.0, 0.0, 0.0));
+        let q = p.motions[1]
+            .arc
+            .unwrap_or(Arc::new(DVec2::ZERO, 0.0, 0.0, 0.0));
         assert!((q.sweep - PI / 2.0).abs() < 1e-12);
         let c = p.motions[2].arc.unwrap_or(q);
         assert!((c.sweep + 2.0 * PI).abs() < 1e-12);
@@ -2504,7 +2560,10 @@ mod tests {
         let zmin = p.motions.iter().map(|m| m.to.z).fold(f64::MAX, f64::min);
         // Both go through -Z: G18 G2 is clockwise in the (Z, X) frame rs274's ARC_FEED uses,
         // G19 G3 counter-clockwise in (Y, Z).
-        assert!(zmax.abs() < 1e-12 && (zmin + 5.0).abs() < 1e-3, "{zmax} {zmin}");
+        assert!(
+            zmax.abs() < 1e-12 && (zmin + 5.0).abs() < 1e-3,
+            "{zmax} {zmin}"
+        );
     }
 
     #[test]
@@ -2561,7 +2620,12 @@ mod tests {
 
     #[test]
     fn modal_group_conflicts_are_errors() {
-        for (src, col) in [("G90 G91 X1", 5), ("G20 G21", 5), ("G0 G1 X1", 4), ("M3 M5", 4)] {
+        for (src, col) in [
+            ("G90 G91 X1", 5),
+            ("G20 G21", 5),
+            ("G0 G1 X1", 4),
+            ("M3 M5", 4),
+        ] {
             let p = run(src);
             assert_eq!(ids(&p), vec![("modal-conflict", 1)], "{src}");
             assert_eq!(p.diagnostics[0].column, Some(col), "{src}");
@@ -2651,7 +2715,10 @@ mod tests {
     fn unsupported_codes_say_so_with_code_and_line() {
         let p = run("G1 X1 F10\nG76 X2\nM123\nG1 X2 E5 Q1");
         for d in &p.diagnostics {
-            assert!(d.message.contains("not supported") || d.id == "unused-word", "{d}");
+            assert!(
+                d.message.contains("not supported") || d.id == "unused-word",
+                "{d}"
+            );
         }
         assert!(p.diagnostics.iter().any(|d| d.message.contains("G76")));
         assert!(p.diagnostics.iter().any(|d| d.message.contains("M123")));
@@ -2663,7 +2730,10 @@ mod tests {
             dialect: Dialect::Grbl,
             ..CheckConfig::default()
         };
-        let p = run_cfg("$H\n$32=1\n#1=2\nG1 X[1+1] F10\nG81 X1 R1 Z-1\nG1 X1", &grbl);
+        let p = run_cfg(
+            "$H\n$32=1\n#1=2\nG1 X[1+1] F10\nG81 X1 R1 Z-1\nG1 X1",
+            &grbl,
+        );
         assert_eq!(p.events.len(), 2);
         let un: Vec<usize> = p
             .diagnostics
