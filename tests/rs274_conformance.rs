@@ -20,29 +20,74 @@ const MACHINE_DEPENDENT: &[(&str, &str)] = &[
         "reads tool offsets of tools 0-4 in a do-while; stand-alone rs274 never finishes it",
     ),
     ("nc_files/smartprobe.ngc", "loops on G38 probe results"),
-    ("nc_files/tool-length-probe.ngc", "G38.2 probing (rs274 rejects its simulated probe)"),
-    ("nc_files/x-trim.ngc", "G38.2 probing in touchoff.ngc: later positions are the machine's"),
-    ("external_offsets/opa_demo.ngc", "user M-code M111 (a program of the machine)"),
-    ("orphans/taskcall.ngc", "calls a Python task plugin (qdemo) of a running machine"),
-    ("demos/xyzac_switchkins.ngc", "subroutine only on the machine's INI subroutine path"),
-    ("demos/xyzbc_switchkins.ngc", "subroutine only on the machine's INI subroutine path"),
-    ("craftsman/macros/m106.ngc", "a GUI macro (subroutine file), rs274 never finishes it"),
+    (
+        "nc_files/tool-length-probe.ngc",
+        "G38.2 probing (rs274 rejects its simulated probe)",
+    ),
+    (
+        "nc_files/x-trim.ngc",
+        "G38.2 probing in touchoff.ngc: later positions are the machine's",
+    ),
+    (
+        "external_offsets/opa_demo.ngc",
+        "user M-code M111 (a program of the machine)",
+    ),
+    (
+        "orphans/taskcall.ngc",
+        "calls a Python task plugin (qdemo) of a running machine",
+    ),
+    (
+        "demos/xyzac_switchkins.ngc",
+        "subroutine only on the machine's INI subroutine path",
+    ),
+    (
+        "demos/xyzbc_switchkins.ngc",
+        "subroutine only on the machine's INI subroutine path",
+    ),
+    (
+        "craftsman/macros/m106.ngc",
+        "a GUI macro (subroutine file), rs274 never finishes it",
+    ),
 ];
 
 /// Known gaps of the builtin interpreter, by path suffix, with the reason.
 const NOT_SUPPORTED: &[(&str, &str)] = &[
-    ("nc_files/comp.ngc", "cutter radius compensation G41/G42 is not implemented"),
+    (
+        "nc_files/comp.ngc",
+        "cutter radius compensation G41/G42 is not implemented",
+    ),
     (
         "gmoccapy_2_tools_with_cutter_radius_compensation.ngc",
         "cutter radius compensation G41/G42 is not implemented",
     ),
-    ("nc_files/useful-subroutines.ngc", "cutter radius compensation G41/G42 is not implemented"),
-    ("lathe_g7x_face_boring.ngc", "G70-G72 lathe cycles are not implemented"),
-    ("lathe_g7x_quadrants.ngc", "G70-G72 lathe cycles are not implemented"),
-    ("nc_files/systems.ngc", "G5.1 splines (rs274 prints NURBS_FEED without coordinates)"),
-    ("nc_files/tcdemo.ngc", "G5.1 splines (rs274 prints NURBS_FEED without coordinates)"),
-    ("ngcgui_lib/qpex.ngc", "the N words added for rs274 push a 249-character line past its limit"),
-    ("ngcgui_lib/qpex_mm.ngc", "the N words added for rs274 push a 223-character line past its limit"),
+    (
+        "nc_files/useful-subroutines.ngc",
+        "cutter radius compensation G41/G42 is not implemented",
+    ),
+    (
+        "lathe_g7x_face_boring.ngc",
+        "G70-G72 lathe cycles are not implemented",
+    ),
+    (
+        "lathe_g7x_quadrants.ngc",
+        "G70-G72 lathe cycles are not implemented",
+    ),
+    (
+        "nc_files/systems.ngc",
+        "G5.1 splines (rs274 prints NURBS_FEED without coordinates)",
+    ),
+    (
+        "nc_files/tcdemo.ngc",
+        "G5.1 splines (rs274 prints NURBS_FEED without coordinates)",
+    ),
+    (
+        "ngcgui_lib/qpex.ngc",
+        "the N words added for rs274 push a 249-character line past its limit",
+    ),
+    (
+        "ngcgui_lib/qpex_mm.ngc",
+        "the N words added for rs274 push a 223-character line past its limit",
+    ),
 ];
 
 fn samples() -> Vec<PathBuf> {
@@ -81,7 +126,8 @@ fn rs274(path: &Path, text: &str, dir: &Path) -> Option<String> {
     // its own name as a call of it), in a folder of its own.
     static SEQ: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let k = SEQ.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tdir = std::env::temp_dir().join(format!("skinpath-conformance-{}-{k}", std::process::id()));
+    let tdir =
+        std::env::temp_dir().join(format!("skinpath-conformance-{}-{k}", std::process::id()));
     std::fs::create_dir_all(&tdir).ok()?;
     let tmp = tdir.join(path.file_name()?);
     std::fs::write(&tmp, sim::linuxcnc::number_lines(text)).ok()?;
@@ -229,7 +275,10 @@ fn compare(path: &Path) -> Outcome {
                     a.cut_length, b.cut_length
                 ))
             } else if bbox > 0.01 {
-                Err(format!("bounding boxes differ by {bbox:.4} mm: {:?} vs {:?}", a.bbox, b.bbox))
+                Err(format!(
+                    "bounding boxes differ by {bbox:.4} mm: {:?} vs {:?}",
+                    a.bbox, b.bbox
+                ))
             } else {
                 Ok(())
             }

@@ -141,7 +141,10 @@ pub fn run(a: Args) -> Result<u8> {
 /// `NAME.ngc` (any case of the name) in the first folder of `dirs` that holds it.
 fn find_sub(dirs: &[PathBuf], name: &str) -> Option<String> {
     for d in dirs {
-        for cand in [format!("{name}.ngc"), format!("{}.ngc", name.to_uppercase())] {
+        for cand in [
+            format!("{name}.ngc"),
+            format!("{}.ngc", name.to_uppercase()),
+        ] {
             let p = d.join(cand);
             if let Ok(b) = std::fs::read(&p) {
                 return Some(String::from_utf8_lossy(&b).into_owned());
@@ -209,12 +212,13 @@ fn run_rs274(
         if let Ok(rd) = std::fs::read_dir(d) {
             for e in rd.flatten() {
                 let p = e.path();
-                if p.extension().is_some_and(|x| x == "ngc") {
-                    if let Some(n) = p.file_name() {
-                        let dst = dir.0.join(n);
-                        if !dst.exists() {
-                            let _ = std::fs::copy(&p, dst);
-                        }
+                if let Some(n) = p
+                    .file_name()
+                    .filter(|_| p.extension().is_some_and(|x| x == "ngc"))
+                {
+                    let dst = dir.0.join(n);
+                    if !dst.exists() {
+                        let _ = std::fs::copy(&p, dst);
                     }
                 }
             }

@@ -138,7 +138,10 @@ pub fn parse_tool_table(text: &str) -> Result<Vec<ToolEntry>, String> {
             let mut ch = w.chars();
             let Some(letter) = ch.next() else { continue };
             let v: f64 = ch.as_str().parse().map_err(|_| {
-                format!("tool table line {}: {w:?} is not a letter and a number", i + 1)
+                format!(
+                    "tool table line {}: {w:?} is not a letter and a number",
+                    i + 1
+                )
             })?;
             match letter.to_ascii_uppercase() {
                 'T' => {

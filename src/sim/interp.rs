@@ -86,10 +86,12 @@ enum FeedMode {
     PerRev,
 }
 
+/// Returns the text of subroutine file `<name>.ngc` from a search path, if any.
+pub type SubLoader<'a> = &'a dyn Fn(&str) -> Option<String>;
+
 /// Options beyond [`CheckConfig`]: where called subroutine files come from.
 pub struct Options<'a> {
-    /// Returns the text of subroutine file `<name>.ngc` from the search path, if any.
-    pub load_sub: Option<&'a dyn Fn(&str) -> Option<String>>,
+    pub load_sub: Option<SubLoader<'a>>,
 }
 
 struct Source<'a> {
@@ -168,6 +170,9 @@ struct Interp<'a, 'o> {
     stop: bool,
     reported_axes: bool,
     saved_state: Option<State>,
+    /// Per source: lines below this index have been read before.
+    high_water: Vec<usize>,
+    cache: HashMap<(usize, usize), std::rc::Rc<Line>>,
     /// The tool table (G10 L1/L10/L11 edit this copy).
     tools: Vec<ToolEntry>,
 }
@@ -309,6 +314,8 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
         stop: false,
         reported_axes: false,
         saved_state: None,
+        high_water: Vec::new(),
+        cache: HashMap::new(),
         tools: cfg.tool_table.clone(),
     };
     it.params[P_CS] = 1.0;
@@ -328,6 +335,7 @@ impl<'a> Interp<'a, '_> {
     fn add_source(&mut self, name: String, text: Cow<'a, str>) -> usize {
         let s = Source::new(name, text);
         let id = self.sources.len();
+        self.high_water.push(0);
         if self.syn.ngc {
             let mut per: HashMap<String, Vec<OPos>> = HashMap::new();
             for i in 0..s.len() {
@@ -375,7 +383,10 @@ impl<'a> Interp<'a, '_> {
         let msg = if self.src == 0 {
             msg
         } else {
-            format!("{msg} (in {} line {})", self.sources[self.src].name, self.line)
+            format!(
+                "{msg} (in {} line {})",
+                self.sources[self.src].name, self.line
+            )
         };
         let line = if self.src == 0 {
             self.line
@@ -409,7 +420,10 @@ impl<'a> Interp<'a, '_> {
                     self.err(
                         "o-word",
                         None,
-                        format!("subroutine file {} ended without endsub", self.sources[src].name),
+                        format!(
+                            "subroutine file {} ended without endsub",
+                            self.sources[src].name
+                        ),
                     );
                 }
                 break;
@@ -425,7 +439,21 @@ impl<'a> Interp<'a, '_> {
                 i += 1;
                 continue;
             }
-            let parsed = ngc::parse_line(text, self.syn);
+            // Lines met again (loop bodies, subroutines) are parsed once and cached; lines
+            // read for the first time are not kept (bounded memory on long programs).
+            let parsed: std::rc::Rc<Line> = if i < self.high_water[src] {
+                match self.cache.get(&(src, i)) {
+                    Some(l) => l.clone(),
+                    None => {
+                        let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
+                        self.cache.insert((src, i), l.clone());
+                        l
+                    }
+                }
+            } else {
+                self.high_water[src] = i + 1;
+                std::rc::Rc::new(ngc::parse_line(text, self.syn))
+            };
             if parsed.percent && src == 0 {
                 if !started {
                     started = true;
@@ -444,7 +472,9 @@ impl<'a> Interp<'a, '_> {
                 self.after_end(src, i + 1);
                 break;
             }
-            started = true;
+            if !(parsed.words.is_empty() && parsed.assigns.is_empty() && parsed.oword.is_none()) {
+                started = true;
+            }
             let jumped = std::mem::take(&mut self.jumped);
             match self.exec(&parsed, src, i, jumped) {
                 Flow::Next => i += 1,
@@ -453,7 +483,9 @@ impl<'a> Interp<'a, '_> {
                     i = l;
                 }
                 Flow::End => {
-                    self.after_end(src, i + 1);
+                    if !self.stop {
+                        self.after_end(src, i + 1);
+                    }
                     break;
                 }
             }
@@ -466,9 +498,17 @@ impl<'a> Interp<'a, '_> {
             return;
         }
         let s = &self.sources[0];
+        let syn = self.syn;
         if let Some(l) = (from..s.len()).find(|&l| {
             let t = s.line(l).trim();
-            !t.is_empty() && t != "%"
+            if t.is_empty() || t == "%" {
+                return false;
+            }
+            let p = ngc::parse_line(t, syn);
+            !(p.words.is_empty()
+                && p.assigns.is_empty()
+                && p.oword.is_none()
+                && p.errors.is_empty())
         }) {
             let end = self.line;
             self.prog.diagnostics.push(
@@ -692,13 +732,14 @@ impl<'a> Interp<'a, '_> {
                         continue;
                     }
                 } else {
-                    let d: String = b[i + 1..].iter().take_while(|c| c.is_ascii_digit()).collect();
-                    if let Ok(n) = d.parse::<i64>() {
-                        if n <= ngc::MAX_PARAMETER {
-                            out += &format!("{:.6}", self.view().numbered(n));
-                            i += 1 + d.len();
-                            continue;
-                        }
+                    let d: String = b[i + 1..]
+                        .iter()
+                        .take_while(|c| c.is_ascii_digit())
+                        .collect();
+                    if let Some(n) = d.parse::<i64>().ok().filter(|&n| n <= ngc::MAX_PARAMETER) {
+                        out += &format!("{:.6}", self.view().numbered(n));
+                        i += 1 + d.len();
+                        continue;
                     }
                 }
             }
@@ -798,7 +839,9 @@ impl<'a> Interp<'a, '_> {
                 Flow::Goto(ts, tl + 1)
             }
             OKind::If => {
-                let Some(c) = arg(self) else { return Flow::Next };
+                let Some(c) = arg(self) else {
+                    return Flow::Next;
+                };
                 if c != 0.0 {
                     return Flow::Next;
                 }
@@ -812,12 +855,13 @@ impl<'a> Interp<'a, '_> {
             }
             OKind::ElseIf => {
                 if jumped {
-                    let Some(c) = arg(self) else { return Flow::Next };
+                    let Some(c) = arg(self) else {
+                        return Flow::Next;
+                    };
                     if c != 0.0 {
                         return Flow::Next;
                     }
-                    match self.find_o(src, label, i, &[OKind::ElseIf, OKind::Else, OKind::EndIf])
-                    {
+                    match self.find_o(src, label, i, &[OKind::ElseIf, OKind::Else, OKind::EndIf]) {
                         Some(p) => {
                             self.jumped = true;
                             Flow::Goto(src, p.line)
@@ -848,7 +892,9 @@ impl<'a> Interp<'a, '_> {
                     .get(&(src, label.to_string()))
                     .and_then(|v| v.iter().find(|p| p.line == i))
                     .is_some_and(|p| p.do_while);
-                let Some(c) = arg(self) else { return Flow::Next };
+                let Some(c) = arg(self) else {
+                    return Flow::Next;
+                };
                 if do_while {
                     if c == 0.0 {
                         return Flow::Next;
@@ -879,7 +925,9 @@ impl<'a> Interp<'a, '_> {
                 }
             }
             OKind::Repeat => {
-                let Some(n) = arg(self) else { return Flow::Next };
+                let Some(n) = arg(self) else {
+                    return Flow::Next;
+                };
                 if n.round() < 1.0 {
                     return match self.find_o(src, label, i, &[OKind::EndRepeat]) {
                         Some(p) => Flow::Goto(src, p.line + 1),
@@ -896,7 +944,10 @@ impl<'a> Interp<'a, '_> {
                         .last()
                         .is_some_and(|r| r.0 == src && r.1 == label) =>
             {
-                let Some(r) = self.repeats.last_mut().filter(|r| r.0 == src && r.1 == label)
+                let Some(r) = self
+                    .repeats
+                    .last_mut()
+                    .filter(|r| r.0 == src && r.1 == label)
                 else {
                     return missing(self, "repeat");
                 };
@@ -944,9 +995,7 @@ impl<'a> Interp<'a, '_> {
                     i,
                     &[OKind::EndWhile, OKind::EndRepeat, OKind::While],
                 ) {
-                    Some(p) if p.kind != OKind::While || p.do_while => {
-                        Flow::Goto(src, p.line + 1)
-                    }
+                    Some(p) if p.kind != OKind::While || p.do_while => Flow::Goto(src, p.line + 1),
                     _ => missing(self, "loop end"),
                 }
             }
@@ -1277,11 +1326,7 @@ impl<'a> Interp<'a, '_> {
                 let s = self.st.clone();
                 match self.calls.last_mut() {
                     Some(f) => f.autorestore = Some(s),
-                    None => self.err(
-                        "invalid-value",
-                        None,
-                        "M73 outside a subroutine".into(),
-                    ),
+                    None => self.err("invalid-value", None, "M73 outside a subroutine".into()),
                 }
             }
             _ => {}
@@ -1291,8 +1336,8 @@ impl<'a> Interp<'a, '_> {
                 "cannot-simulate",
                 None,
                 format!(
-                    "M{} is a user M-code (a program on the real machine): it cannot be \
-                     simulated; later moves are uncertain",
+                    "M{} is a user M-code (a program on the real machine): not supported, \
+                     it cannot be simulated; later moves are uncertain",
                     c / 10
                 ),
             );
@@ -1358,7 +1403,9 @@ impl<'a> Interp<'a, '_> {
         }
         match g(G_TLO) {
             Some(430) => {
-                let h = b.val('H').map_or(self.st.current_tool, |h| h.max(0.0) as u32);
+                let h = b
+                    .val('H')
+                    .map_or(self.st.current_tool, |h| h.max(0.0) as u32);
                 b.used_h = true;
                 let t = self.tool(h).copied().unwrap_or_default();
                 self.st.tlo = DVec3::new(t.x, 0.0, t.z);
@@ -1410,19 +1457,21 @@ impl<'a> Interp<'a, '_> {
         }
         let nonmodal = g(G_NONMODAL).filter(|&c| c != 40);
         let has_axis = b.has_axis();
-        if let (Some(c), Some(m)) = (nonmodal, g(G_MOTION)) {
-            if has_axis && c != 100 && c != 530 {
-                self.err(
-                    "modal-conflict",
-                    None,
-                    format!(
-                        "G{} and G{} both use the axis words of the block",
-                        fmt_code(c),
-                        fmt_code(m)
-                    ),
-                );
-                return false;
-            }
+        if let (Some(c), Some(m)) = (nonmodal, g(G_MOTION))
+            && has_axis
+            && c != 100
+            && c != 530
+        {
+            self.err(
+                "modal-conflict",
+                None,
+                format!(
+                    "G{} and G{} both use the axis words of the block",
+                    fmt_code(c),
+                    fmt_code(m)
+                ),
+            );
+            return false;
         }
         if let Some(c) = nonmodal {
             self.nonmodal(c, &mut b);
@@ -1546,7 +1595,11 @@ impl<'a> Interp<'a, '_> {
             }
         }
         if (b.val('H').is_some() && !b.used_h) || (b.val('D').is_some() && !b.used_d) {
-            let c = if b.val('H').is_some() && !b.used_h { 'H' } else { 'D' };
+            let c = if b.val('H').is_some() && !b.used_h {
+                'H'
+            } else {
+                'D'
+            };
             self.err(
                 "unused-word",
                 Some(b.col(c)),
@@ -1582,7 +1635,11 @@ impl<'a> Interp<'a, '_> {
 
     fn cs_origin(&self, n: usize) -> DVec3 {
         let base = P_G54 + 20 * (n - 1);
-        DVec3::new(self.params[base], self.params[base + 1], self.params[base + 2])
+        DVec3::new(
+            self.params[base],
+            self.params[base + 1],
+            self.params[base + 2],
+        )
     }
 
     fn select_cs(&mut self, n: usize) {
@@ -1727,7 +1784,6 @@ impl<'a> Interp<'a, '_> {
         }
     }
 
-
     /// The end point of the block's axis words in machine coordinates.
     fn target(&self, b: &Block) -> DVec3 {
         let k = self.st.k();
@@ -1775,11 +1831,7 @@ impl<'a> Interp<'a, '_> {
             feed: self.st.feed * self.st.feed_k,
             tool: self.st.tool,
             line: self.calls.first().map_or(self.line, |c| {
-                if c.ret.0 == 0 {
-                    c.ret.1
-                } else {
-                    self.line
-                }
+                if c.ret.0 == 0 { c.ret.1 } else { self.line }
             }),
             group: self.group,
         }
@@ -1904,10 +1956,7 @@ impl<'a> Interp<'a, '_> {
                 );
                 return;
             }
-            let off = DVec2::new(
-                b.val(cu).unwrap_or(0.0) * k,
-                b.val(cv).unwrap_or(0.0) * k,
-            );
+            let off = DVec2::new(b.val(cu).unwrap_or(0.0) * k, b.val(cv).unwrap_or(0.0) * k);
             let c = if self.st.arc_absolute {
                 let o = self.st.offset();
                 off + DVec2::new(o[u], o[v])
@@ -1921,7 +1970,11 @@ impl<'a> Interp<'a, '_> {
             }
             let diff = (r0 - r1).abs();
             let linuxcnc_abs = LINUXCNC_RADIUS_TOLERANCE_MM * k / self.st.k().max(1.0)
-                * if self.st.units == Units::Inch { 2.54 } else { 1.0 };
+                * if self.st.units == Units::Inch {
+                    2.54
+                } else {
+                    1.0
+                };
             let hard = matches!(self.cfg.dialect, Dialect::Generic | Dialect::Linuxcnc)
                 && diff > 100.0 * linuxcnc_abs;
             if hard || (diff > tol && diff > RADIUS_RELATIVE_TOLERANCE * r0) {
@@ -1998,7 +2051,10 @@ impl<'a> Interp<'a, '_> {
             self.err(
                 "unsupported-code",
                 None,
-                format!("G{} is not supported: its motion is skipped", fmt_code(code)),
+                format!(
+                    "G{} is not supported: its motion is skipped",
+                    fmt_code(code)
+                ),
             );
             return;
         }
@@ -2143,11 +2199,38 @@ struct View<'v, 'a, 'o> {
 /// Named parameters LinuxCNC predefines (read-only).
 fn predefined(name: &str) -> bool {
     const NAMES: [&str; 33] = [
-        "_x", "_y", "_z", "_a", "_b", "_c", "_u", "_v", "_w", "_abs_x", "_abs_y", "_abs_z",
-        "_line", "_motion_mode", "_plane", "_metric", "_imperial", "_absolute",
-        "_incremental", "_inverse_time", "_units_per_minute", "_units_per_rev",
-        "_coord_system", "_tool_offset", "_retract_r_plane", "_retract_old_z",
-        "_current_tool", "_selected_tool", "_feed", "_rpm", "_call_level", "_task",
+        "_x",
+        "_y",
+        "_z",
+        "_a",
+        "_b",
+        "_c",
+        "_u",
+        "_v",
+        "_w",
+        "_abs_x",
+        "_abs_y",
+        "_abs_z",
+        "_line",
+        "_motion_mode",
+        "_plane",
+        "_metric",
+        "_imperial",
+        "_absolute",
+        "_incremental",
+        "_inverse_time",
+        "_units_per_minute",
+        "_units_per_rev",
+        "_coord_system",
+        "_tool_offset",
+        "_retract_r_plane",
+        "_retract_old_z",
+        "_current_tool",
+        "_selected_tool",
+        "_feed",
+        "_rpm",
+        "_call_level",
+        "_task",
         "_value",
     ];
     NAMES.contains(&name)
@@ -2224,8 +2307,9 @@ impl ParamSource for View<'_, '_, '_> {
             "_inverse_time" => t(st.feed_mode == FeedMode::InverseTime),
             "_units_per_minute" => t(st.feed_mode == FeedMode::PerMinute),
             "_units_per_rev" => t(st.feed_mode == FeedMode::PerRev),
-            "_coord_system" => [540.0, 550.0, 560.0, 570.0, 580.0, 590.0, 591.0, 592.0, 593.0]
-                [st.cs.clamp(1, 9) - 1],
+            "_coord_system" => [
+                540.0, 550.0, 560.0, 570.0, 580.0, 590.0, 591.0, 592.0, 593.0,
+            ][st.cs.clamp(1, 9) - 1],
             "_tool_offset" => t(st.tlo != DVec3::ZERO),
             "_retract_r_plane" => t(st.retract_r),
             "_retract_old_z" => t(!st.retract_r),
@@ -2274,8 +2358,8 @@ const M_USER: usize = 22;
 const GROUPS: usize = 23;
 
 const LETTERS: [char; 24] = [
-    'X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'S', 'P', 'Q', 'L', 'T', 'H', 'D', 'A', 'B', 'C',
-    'U', 'V', 'W', '@', '^', 'E',
+    'X', 'Y', 'Z', 'I', 'J', 'K', 'R', 'F', 'S', 'P', 'Q', 'L', 'T', 'H', 'D', 'A', 'B', 'C', 'U',
+    'V', 'W', '@', '^', 'E',
 ];
 
 /// The words of one block sorted into what the interpreter needs.
@@ -2404,5 +2488,288 @@ fn fmt_code(tenths: i64) -> String {
         (tenths / 10).to_string()
     } else {
         format!("{}.{}", tenths / 10, (tenths % 10).abs())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    fn run(src: &str) -> Program {
+        interpret(src, 0.005)
+    }
+
+    fn run_cfg(src: &str, cfg: &CheckConfig) -> Program {
+        interpret_with(src, cfg, &Options { load_sub: None })
+    }
+
+    fn ids(p: &Program) -> Vec<(&'static str, usize)> {
+        p.diagnostics
+            .iter()
+            .filter(|d| d.severity != Severity::Info)
+            .map(|d| (d.id, d.lines.first().copied().unwrap_or(0)))
+            .collect()
+    }
+
+    fn end(p: &Program) -> DVec3 {
+        p.motions.last().map(|m| m.to).unwrap_or(DVec3::NAN)
+    }
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        (a - b).length() < 1e-9
+    }
+
+    #[test]
+    fn modal_lines_inch_relative() {
+        let p = run("G20 G91\nG1 X1 Y1 F10\nX1\nG90 G0 X0 Y0\nM2");
+        assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
+        assert_eq!(p.motions.len(), 3);
+        let m = &p.motions[1];
+        assert!(close(m.to, DVec3::new(50.8, 25.4, 0.0)));
+        assert_eq!(m.line, 3);
+        assert!((m.feed - 254.0).abs() < 1e-12);
+        assert_eq!(p.motions[2].kind, MotionKind::Rapid);
+        assert_eq!(p.end.map(|e| e.line), Some(5));
+    }
+
+    #[test]
+    fn arcs_ij_r_and_full_circle() {
+        let p = run("G0 X10 Y0\nG3 X0 Y10 I-10 J0 F100\nG2 X0 Y10 I0 J-10");
+        assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
+        let q = p.motions[1]
+            .arc
+            .unwrap_or(Arc::new(DVec2::ZERO, 0.0, 0.0, 0.0));
+        assert!((q.sweep - PI / 2.0).abs() < 1e-12);
+        let c = p.motions[2].arc.unwrap_or(q);
+        assert!((c.sweep + 2.0 * PI).abs() < 1e-12);
+        for (code, r, sweep) in [("G3", 10.0, PI / 2.0), ("G2", -10.0, -1.5 * PI)] {
+            let p = run(&format!("G0 X10 Y0\n{code} X0 Y10 R{r} F50"));
+            let a = p.motions[1].arc.unwrap_or(q);
+            assert!((a.sweep - sweep).abs() < 1e-9, "{code} R{r}: {}", a.sweep);
+        }
+        // The issue's planted arc: end radius 15 against start radius 5.
+        let bad = run("G21 G90 G90.1\nG0 X10 Y0\nG2 X20 Y0 I5 J0 F100\nM2");
+        assert_eq!(ids(&bad), vec![("invalid-arc", 3)]);
+    }
+
+    #[test]
+    fn arcs_in_xz_and_yz_planes_are_chords_of_the_true_arc() {
+        // G18 half circle of radius 5 from (0,0,0) to (10,0,0) about (5,0,0): length 5π.
+        let p = run("G18 G1 F100\nG2 X10 Z0 I5 K0\nG19 G3 Y10 Z0 J5 K0");
+        assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
+        let len: f64 = p.motions.iter().map(|m| m.length()).sum();
+        assert!((len - 10.0 * PI).abs() / (10.0 * PI) < 1e-4, "{len}");
+        let zmax = p.motions.iter().map(|m| m.to.z).fold(f64::MIN, f64::max);
+        let zmin = p.motions.iter().map(|m| m.to.z).fold(f64::MAX, f64::min);
+        // Both go through -Z: G18 G2 is clockwise in the (Z, X) frame rs274's ARC_FEED uses,
+        // G19 G3 counter-clockwise in (Y, Z).
+        assert!(
+            zmax.abs() < 1e-12 && (zmin + 5.0).abs() < 1e-3,
+            "{zmax} {zmin}"
+        );
+    }
+
+    #[test]
+    fn parameters_are_assigned_after_the_block_reads_them() {
+        let p = run("#1 = 5\n#1 = 6 G0 X#1\nY#1\n#<len> = [#1 * 2] Z#<len>");
+        assert_eq!(ids(&p), vec![("expression", 4)]);
+        assert!(close(p.motions[1].to, DVec3::new(5.0, 6.0, 0.0)));
+        // #<_x> is read before the block moves: Z gets the X of the line before.
+        let q = run("#<len> = 3\nG0 X[#<len> * 2] Y[2 ** 3] Z#<_x>\nG0 Z#<_x>");
+        assert!(close(end(&q), DVec3::new(6.0, 8.0, 6.0)), "{:?}", end(&q));
+    }
+
+    #[test]
+    fn subroutines_with_arguments_and_return_values() {
+        let src = "o<sq> sub\n  G1 X[#1 * #1] F100\n  o<sq> return [#1 + 1]\no<sq> endsub\n\
+                   o<sq> call [3]\nG0 Y#<_value>\no100 sub\n#<local> = 7\no100 endsub\n\
+                   o100 call\no101 if [EXISTS[#<local>]]\nG0 Z99\no101 else\nG0 Z1\no101 endif\nM2";
+        let p = run(src);
+        assert!(ids(&p).is_empty(), "{:?}", p.diagnostics);
+        assert!(close(p.motions[0].to, DVec3::new(9.0, 0.0, 0.0)));
+        // Moves inside a call carry the caller's line.
+        assert_eq!(p.motions[0].line, 5);
+        assert!(close(end(&p), DVec3::new(9.0, 4.0, 1.0)), "{:?}", end(&p));
+    }
+
+    #[test]
+    fn loops_if_elseif_break_continue() {
+        let src = "#1 = 0\no1 while [#1 LT 5]\n#1 = [#1 + 1]\no2 if [#1 EQ 2]\no1 continue\n\
+                   o2 elseif [#1 EQ 4]\no1 break\no2 else\nG1 X#1 F10\no2 endif\no1 endwhile\n\
+                   #2 = 0\no3 do\n#2 = [#2 + 1]\no3 while [#2 LT 3]\nG1 Y#2\n\
+                   o4 repeat [4]\nG91 G1 Z1\no4 endrepeat\nG90\nM2";
+        let p = run(src);
+        assert!(ids(&p).is_empty(), "{:?}", p.diagnostics);
+        let xs: Vec<f64> = p.motions.iter().map(|m| m.to.x).collect();
+        assert_eq!(&xs[..2], &[1.0, 3.0]);
+        assert!(close(end(&p), DVec3::new(3.0, 3.0, 4.0)), "{:?}", end(&p));
+    }
+
+    #[test]
+    fn runaway_loops_and_recursion_stop_with_clear_errors() {
+        // The default budget (one million iterations) against a 10M-iteration while.
+        let cfg = CheckConfig::default();
+        let p = run_cfg(
+            "#1 = 0\no1 while [#1 LT 10000000]\n#1 = [#1 + 1]\no1 endwhile\nG0 X1\nM2",
+            &cfg,
+        );
+        assert_eq!(ids(&p), vec![("loop-limit", 4)]);
+        assert!(p.diagnostics[0].message.contains("1000000 iterations"));
+        assert!(p.motions.is_empty());
+        let r = run("o<r> sub\no<r> call\no<r> endsub\no<r> call\nM2");
+        assert_eq!(ids(&r)[0].0, "call-depth");
+        assert!(r.diagnostics[0].message.contains("10 subroutine levels"));
+    }
+
+    #[test]
+    fn modal_group_conflicts_are_errors() {
+        for (src, col) in [
+            ("G90 G91 X1", 5),
+            ("G20 G21", 5),
+            ("G0 G1 X1", 4),
+            ("M3 M5", 4),
+        ] {
+            let p = run(src);
+            assert_eq!(ids(&p), vec![("modal-conflict", 1)], "{src}");
+            assert_eq!(p.diagnostics[0].column, Some(col), "{src}");
+        }
+    }
+
+    #[test]
+    fn nothing_after_the_end_is_interpreted() {
+        let p = run("%\nG0 X1\n%\nG0 X2 #\nnot gcode at all");
+        assert_eq!(ids(&p), vec![("after-program-end", 4)]);
+        assert!(close(end(&p), DVec3::new(1.0, 0.0, 0.0)));
+        assert_eq!(p.end.map(|e| e.line), Some(3));
+        let q = run("G0 X1\nM2\nthis is ignored (\n");
+        assert_eq!(ids(&q), vec![("after-program-end", 3)]);
+    }
+
+    #[test]
+    fn offsets_coordinate_systems_and_home() {
+        let src = "G10 L2 P2 X100 Y50\nG55 G0 X1 Y1\nG92 X0 Y0\nG0 X1\nG92.1\nG53 G0 X5 Y5\n\
+                   G28.1\nG54 G0 X0 Y0\nG28\nG43.1 Z-2\nG0 Z0\nG49 G0 Z0";
+        let p = run(src);
+        assert!(ids(&p).is_empty(), "{:?}", p.diagnostics);
+        let to: Vec<DVec3> = p.motions.iter().map(|m| m.to).collect();
+        assert!(close(to[0], DVec3::new(101.0, 51.0, 0.0)));
+        assert!(close(to[1], DVec3::new(102.0, 51.0, 0.0)));
+        assert!(close(to[2], DVec3::new(5.0, 5.0, 0.0)));
+        assert!(close(to[3], DVec3::new(0.0, 0.0, 0.0)));
+        assert!(close(to[4], DVec3::new(5.0, 5.0, 0.0)));
+        assert!(close(to[5], DVec3::new(5.0, 5.0, -2.0)));
+        assert!(close(to[6], DVec3::new(5.0, 5.0, 0.0)));
+    }
+
+    #[test]
+    fn canned_cycles_expand_like_rs274() {
+        // rs274 2.9 output for this program (G99 is its start-up mode): see
+        // tests/rs274_conformance.rs for the full comparison.
+        let p = run("G20 G90 G0 X0 Y0 Z0.3\nG81 X1 R.1 Z-.5 F60\nX2\nG91 X1 R.1 Z-.5 L2\nG80");
+        assert!(ids(&p).is_empty(), "{:?}", p.diagnostics);
+        let feeds: Vec<DVec3> = p
+            .motions
+            .iter()
+            .filter(|m| m.kind == MotionKind::Feed)
+            .map(|m| m.to / 25.4)
+            .collect();
+        let want = [
+            DVec3::new(1.0, 0.0, -0.5),
+            DVec3::new(2.0, 0.0, -0.5),
+            DVec3::new(3.0, 0.0, -0.1),
+            DVec3::new(4.0, 0.0, -0.1),
+        ];
+        assert_eq!(feeds.len(), 4);
+        for (a, b) in feeds.iter().zip(want) {
+            assert!(close(*a, b), "{a:?} vs {b:?}");
+        }
+        let q = run("G0 Z5\nG98 G83 X1 Y1 Z-3 R1 Q1.2 F100\nG80");
+        let qf: Vec<f64> = q
+            .motions
+            .iter()
+            .filter(|m| m.kind == MotionKind::Feed)
+            .map(|m| m.to.z)
+            .collect();
+        assert_eq!(qf.len(), 4);
+        assert!((qf[3] + 3.0).abs() < 1e-12 && (end(&q).z - 5.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn messages_events_group_hook_and_probing() {
+        let src = "#1 = 2.5\n(debug, depth #1 name #<nope>)\nM8\nM64 P2\n(skinpath:group 3)\n\
+                   M3 S100\nG1 X1 F10\n(skinpath:group end)\nG1 X2\nG38.2 Z-5 F10\nG0 X3";
+        let p = run(src);
+        let info: Vec<&str> = p
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Info)
+            .map(|d| d.message.as_str())
+            .collect();
+        assert_eq!(info, vec!["depth 2.500000 name ######"]);
+        let codes: Vec<&str> = p.events.iter().map(|e| e.code.as_str()).collect();
+        assert_eq!(codes, vec!["M8", "M64 P2"]);
+        assert_eq!(p.motions[0].group, Some(3));
+        assert_eq!(p.motions[1].group, None);
+        assert_eq!(ids(&p), vec![("cannot-simulate", 10)]);
+        assert_eq!(p.uncertain_from, Some(10));
+    }
+
+    #[test]
+    fn unsupported_codes_say_so_with_code_and_line() {
+        let p = run("G1 X1 F10\nG76 X2\nM123\nG1 X2 E5 Q1");
+        for d in &p.diagnostics {
+            assert!(
+                d.message.contains("not supported") || d.id == "unused-word",
+                "{d}"
+            );
+        }
+        assert!(p.diagnostics.iter().any(|d| d.message.contains("G76")));
+        assert!(p.diagnostics.iter().any(|d| d.message.contains("M123")));
+    }
+
+    #[test]
+    fn dialects() {
+        let grbl = CheckConfig {
+            dialect: Dialect::Grbl,
+            ..CheckConfig::default()
+        };
+        let p = run_cfg(
+            "$H\n$32=1\n#1=2\nG1 X[1+1] F10\nG81 X1 R1 Z-1\nG1 X1",
+            &grbl,
+        );
+        assert_eq!(p.events.len(), 2);
+        let un: Vec<usize> = p
+            .diagnostics
+            .iter()
+            .filter(|d| d.id == "unsupported-code")
+            .map(|d| d.lines[0])
+            .collect();
+        assert_eq!(un, vec![3, 4, 5]);
+        let marlin = CheckConfig {
+            dialect: Dialect::Marlin,
+            ..CheckConfig::default()
+        };
+        let m = run_cfg("M3 I S100\nG1 X5 E2 F100 S50 ; cut\nG4 P500\nM5", &marlin);
+        assert!(ids(&m).is_empty(), "{:?}", m.diagnostics);
+        assert_eq!(m.motions[0].tool.s, 50.0);
+        assert_eq!(m.motions[1].kind, MotionKind::Dwell { seconds: 0.5 });
+    }
+
+    #[test]
+    fn called_files_from_the_loader() {
+        let load = |name: &str| -> Option<String> {
+            (name == "lib").then(|| "o<lib> sub\nG0 X#1\no<lib> endsub\n".to_string())
+        };
+        let p = interpret_with(
+            "o<lib> call [4]\no<nope> call\nM2",
+            &CheckConfig::default(),
+            &Options {
+                load_sub: Some(&load),
+            },
+        );
+        assert!(close(end(&p), DVec3::new(4.0, 0.0, 0.0)));
+        assert_eq!(ids(&p), vec![("o-word", 2)]);
+        assert!(p.diagnostics[0].message.contains("nope.ngc"));
     }
 }

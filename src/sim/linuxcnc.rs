@@ -164,7 +164,8 @@ pub fn parse_canon(text: &str) -> Program {
             }
             continue;
         };
-        prog.diagnostics.extend(pending_error.take().map(as_message));
+        prog.diagnostics
+            .extend(pending_error.take().map(as_message));
         if c.line != block_line {
             block_line = c.line;
             tool_at_block = tool;
@@ -261,8 +262,7 @@ pub fn parse_canon(text: &str) -> Program {
                 to[plane[0]] = ex * k + off[plane[0]];
                 to[plane[1]] = ey * k + off[plane[1]];
                 to[plane[2]] = ez * k + off[plane[2]];
-                let center =
-                    DVec2::new(cx * k + off[plane[0]], cy * k + off[plane[1]]);
+                let center = DVec2::new(cx * k + off[plane[0]], cy * k + off[plane[1]]);
                 if !plane_xy {
                     // Chords within CHORD_ANGLE, as the builtin interpreter splits them.
                     let p0 = DVec2::new(pos[plane[0]], pos[plane[1]]);

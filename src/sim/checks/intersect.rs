@@ -19,6 +19,10 @@ const MAX_CELLS_PER_AXIS: f64 = (1u64 << 24) as f64;
 /// exact segment touches.
 const COVER_EPS: f64 = 1e-6;
 
+/// Cells with at most this many segments test all pairs; larger ones group exact copies
+/// first ([`SegmentSet::cell_pairs`]).
+const TWIN_CELL_MIN: usize = 32;
+
 /// Bound on the mean number of cells a segment's cover may take (memory guard, see
 /// [`SegmentSet::contacts`]): 4 keeps the (cell, segment) list within a few times n.
 const MAX_COVER_PER_SEG: f64 = 4.0;
@@ -262,17 +266,71 @@ impl SegmentSet {
             while e < entries.len() && entries[e].0 == key {
                 e += 1;
             }
-            let cell = &entries[g..e];
-            for (x, &(_, i)) in cell.iter().enumerate() {
-                for &(_, j) in &cell[x + 1..] {
-                    if let Some(c) = self.test_pair(i as usize, j as usize) {
-                        out.push(c);
-                    }
-                }
-            }
+            self.cell_pairs(&entries[g..e], &mut out);
             g = e;
         }
         out
+    }
+
+    /// Tests the segment pairs of one grid cell. Exact copies of a segment (same end points,
+    /// either direction: coincident or retraced contours) are grouped: the first copy stands
+    /// for the group against other segments, and every further copy is tested against that
+    /// first copy and against the first copies of the other groups of its own contour. A cell
+    /// holding k copies of a segment thus gives O(k) tests and contacts instead of O(k²)
+    /// (2,000 coincident contours stay linear); contacts a copy would add are repeats of
+    /// its first copy's at the same place.
+    fn cell_pairs(&self, cell: &[(u64, u32)], out: &mut Vec<Contact>) {
+        let mut test = |i: u32, j: u32| {
+            if let Some(c) = self.test_pair(i as usize, j as usize) {
+                out.push(c);
+            }
+        };
+        if cell.len() <= TWIN_CELL_MIN {
+            for (x, &(_, i)) in cell.iter().enumerate() {
+                for &(_, j) in &cell[x + 1..] {
+                    test(i, j);
+                }
+            }
+            return;
+        }
+        let key = |k: u32| {
+            let s = &self.segs[k as usize];
+            let (p, q) = if (s.a.x, s.a.y) <= (s.b.x, s.b.y) {
+                (s.a, s.b)
+            } else {
+                (s.b, s.a)
+            };
+            [p.x.to_bits(), p.y.to_bits(), q.x.to_bits(), q.y.to_bits()]
+        };
+        let mut ids: Vec<u32> = cell.iter().map(|e| e.1).collect();
+        ids.sort_by_key(|&k| (key(k), k));
+        let mut groups: Vec<(usize, usize)> = Vec::new();
+        let mut g = 0;
+        while g < ids.len() {
+            let mut e = g + 1;
+            while e < ids.len() && key(ids[e]) == key(ids[g]) {
+                e += 1;
+            }
+            groups.push((g, e));
+            g = e;
+        }
+        let reps: Vec<u32> = groups.iter().map(|&(a, _)| ids[a]).collect();
+        for (x, &i) in reps.iter().enumerate() {
+            for &j in &reps[x + 1..] {
+                test(i, j);
+            }
+        }
+        for (gi, &(a, e)) in groups.iter().enumerate() {
+            for &m in &ids[a + 1..e] {
+                test(ids[a], m);
+                let cm = self.segs[m as usize].contour;
+                for (gj, &r) in reps.iter().enumerate() {
+                    if gj != gi && self.segs[r as usize].contour == cm {
+                        test(m, r);
+                    }
+                }
+            }
+        }
     }
 
     /// Quadratic fallback for degenerate extents (non-finite coordinates).
@@ -445,6 +503,41 @@ mod tests {
         assert_eq!(c.len(), 1);
         assert!(!c[0].proper);
         assert_eq!(c[0].point, DVec2::new(2.0, 0.0));
+    }
+
+    #[test]
+    fn coincident_contours_stay_linear() {
+        // 2,000 copies of one square (and one square crossing them): contacts grow with
+        // the copies, not with their pairs, and the crossing is still found.
+        let sq = pts(&[
+            (0.0, 0.0),
+            (10.0, 0.0),
+            (10.0, 10.0),
+            (0.0, 10.0),
+            (0.0, 0.0),
+        ]);
+        let mut set = SegmentSet::new();
+        for _ in 0..2000 {
+            set.push_polyline(&sq, &[]);
+        }
+        let cross = pts(&[(5.0, -5.0), (5.0, 5.0)]);
+        set.push_polyline(&cross, &[]);
+        let c = set.contacts();
+        assert!(c.len() < 20 * 2000, "{} contacts", c.len());
+        let crossing = set.segs.len() - 1;
+        assert!(c.iter().any(|c| c.j == crossing && c.proper));
+        // Copies of the same contour (a retraced contour) still touch themselves.
+        let mut twice = sq.clone();
+        twice.extend_from_slice(&sq[1..]);
+        let mut one = SegmentSet::new();
+        for _ in 0..40 {
+            one.push_polyline(&twice, &[]);
+        }
+        let c = one.contacts();
+        assert!(
+            c.iter()
+                .any(|c| one.segs[c.i].contour == one.segs[c.j].contour)
+        );
     }
 
     #[test]
