@@ -136,24 +136,32 @@ fn explain(
     tp: &skinpath::toolpath::Toolpath,
     file: &str,
 ) -> String {
-    let origin = f
+    // Every distinct operation and stroke among the finding's lines (a crossing has two).
+    let mut whos: Vec<String> = Vec::new();
+    for (oi, ci) in f
         .lines
         .iter()
         .filter_map(|&l| origins.get(l.wrapping_sub(1)).copied().flatten())
-        .next();
-    let mut who = String::new();
-    if let Some((oi, ci)) = origin
-        && let Some(op) = tp.operations.get(oi)
     {
-        who = match op.design_index {
+        let Some(op) = tp.operations.get(oi) else {
+            continue;
+        };
+        let mut w = match op.design_index {
             Some(d) => format!("[[operation]] {} ({})", d + 1, op.name),
             None => format!("the default {} (the design has no [[operation]])", op.name),
         };
         if let Some(src) = op.cuts.get(ci).and_then(|c| c.source.as_ref()) {
-            who.push_str(&format!(", stroke \"{src}\""));
+            w.push_str(&format!(", stroke \"{src}\""));
         }
-        who.push_str(": ");
+        if !whos.contains(&w) {
+            whos.push(w);
+        }
     }
+    let who = if whos.is_empty() {
+        String::new()
+    } else {
+        format!("{}: ", whos.join(" and "))
+    };
     let at = f
         .at
         .first()

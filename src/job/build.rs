@@ -300,6 +300,26 @@ fn union_paths_with_sources(
     (paths, sources)
 }
 
+/// The item each path comes from: the first of `regions` (item index, region) that holds
+/// the path's first point, or the nearest one.
+fn attribute(ctx: &Ctx, regions: &[(usize, Region)], paths: &[Path]) -> Vec<String> {
+    let only: Vec<Region> = regions.iter().map(|(_, r)| r.clone()).collect();
+    paths
+        .iter()
+        .map(|p| {
+            let q = p.start().unwrap_or_default();
+            let k = only
+                .iter()
+                .position(|r| r.contains(q))
+                .unwrap_or_else(|| nearest_region(&only, q));
+            regions
+                .get(k)
+                .map(|(i, _)| ctx.outlines[*i].name.clone())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
 /// Index of the region whose vertices come nearest to `q`.
 fn nearest_region(regions: &[Region], q: DVec2) -> usize {
     use cavalier_contours::polyline::PlineSource;
@@ -413,7 +433,12 @@ fn operation_specs(
             // Crossing strokes make one outline: profile the union when they overlap.
             let region = ctx.region(&items);
             let paths = ops::profile(&region, side, r, eps);
-            vec![spec(
+            let own: Vec<(usize, Region)> = items
+                .iter()
+                .map(|&i| (i, Region::from_paths(&ctx.outlines[i].contours, ctx.tol)))
+                .collect();
+            let sources = attribute(ctx, &own, &paths);
+            let mut s = spec(
                 ctx,
                 design_index,
                 name,
@@ -421,7 +446,9 @@ fn operation_specs(
                 op,
                 Geometry::Paths(paths),
                 tool,
-            )]
+            );
+            s.sources = sources;
+            vec![s]
         }
         OperationKind::Channel => {
             let tool = ctx.tool(&mill);
@@ -440,15 +467,20 @@ fn operation_specs(
                     ),
                 ));
             }
-            let regions: Vec<Region> = items
+            let swept: Vec<(usize, Region)> = items
                 .iter()
-                .filter_map(|&i| spine_of(ctx, i))
-                .map(|c| {
+                .filter_map(|&i| spine_of(ctx, i).map(|c| (i, c)))
+                .map(|(i, c)| {
                     let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
-                    ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol)
+                    (
+                        i,
+                        ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol),
+                    )
                 })
                 .collect();
-            // Crossing channels merge into one pocket.
+            let regions: Vec<Region> = swept.iter().map(|(_, r)| r.clone()).collect();
+            // Crossing and touching channels merge into one pocket (a T-junction is one
+            // channel network).
             let region = Region::union(&regions, ctx.tol);
             let step = (STEPOVER * 2.0 * r).max(ctx.tol);
             let paths = if laser {
@@ -456,7 +488,8 @@ fn operation_specs(
             } else {
                 ops::concentric(&region, r, step, r, 10_000, eps)
             };
-            vec![spec(
+            let sources = attribute(ctx, &swept, &paths);
+            let mut s = spec(
                 ctx,
                 design_index,
                 name,
@@ -464,7 +497,9 @@ fn operation_specs(
                 op,
                 Geometry::Paths(paths),
                 tool,
-            )]
+            );
+            s.sources = sources;
+            vec![s]
         }
         OperationKind::Backboard => {
             let tool = ctx.tool(&mill);
