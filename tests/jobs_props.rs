@@ -9,7 +9,7 @@
 //! `SKINPATH_RANDOM_SEED=S` picks another stream for long local runs; the test prints the
 //! counts of successes and of each kind of failure.
 
-use skinpath::design::{Design, load};
+use skinpath::design::{Design, Operation, OperationKind, load};
 use skinpath::emit::{GcodeOptions, gcode};
 use skinpath::job::build::{
     BuildOptions, BuildResult, Place, build_toolpath, place_job, scaled_design,
@@ -129,7 +129,14 @@ fn scaled_job(design: &Design, profile: &Profile, f: f64) -> (Design, Profile) {
 fn translation_and_scale_invariance_on_every_example() {
     let opts = BuildOptions::default();
     for name in EXAMPLES {
-        let design = example(name);
+        let mut design = example(name);
+        // A design without operations gets a default profile 3 mm deep: a physical default
+        // that does not scale with the design, so state it to scale it below.
+        if design.operation.is_empty() {
+            let mut op = Operation::new(OperationKind::Profile);
+            op.depth = Some(3.0);
+            design.operation.push(op);
+        }
         for machine in ["grbl-laser", "grbl-router"] {
             let p = profile(machine);
             let base = match build_toolpath(&design, &p, &opts) {
