@@ -772,7 +772,8 @@ fn clears(kind: TpKind) -> bool {
 
 /// The pocket of every path and point of the clearing operations ([`clears`]): the
 /// footprints of all of them (closed paths: the enclosed area grown by the tool radius;
-/// open paths and points: the tool's disk swept along them, at least the tolerance wide)
+/// open paths and points: the tool's disk swept along them, at least the tolerance wide,
+/// and for hatch lines at least half the hatch spacing, the strip each line clears)
 /// are united, and each connected component of the union is one pocket, numbered from 1.
 /// Paths of one pocket overlap only where all of them remove material, so their crossings
 /// are intended; cuts of profiles and backboards keep no group and are checked strictly.
@@ -793,7 +794,15 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
         if !clears(s.kind) {
             continue;
         }
-        let r = reach(radius(s));
+        // Hatch lines of one fill clear the strip between them: half the spacing (and a
+        // hair) joins neighbouring lines into one pocket.
+        let spacing = s
+            .design_index
+            .and_then(|k| ctx.design.operation.get(k))
+            .filter(|_| s.kind == TpKind::Fill)
+            .and_then(|op| op.spacing)
+            .unwrap_or(0.0);
+        let r = reach(radius(s)).max(0.5 * spacing + ctx.tol);
         match &s.geometry {
             Geometry::Paths(paths) => {
                 for (k, p) in paths.iter().enumerate() {
