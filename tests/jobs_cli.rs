@@ -138,7 +138,12 @@ fn build_clean(design: &str, machine: &str, extra: &[&str], what: &str) -> PathB
     ];
     args.extend_from_slice(extra);
     let o = skinpath(&args);
-    assert_eq!(o.status.code(), Some(0), "{what} on {machine}: {}", text(&o));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{what} on {machine}: {}",
+        text(&o)
+    );
     if ext(machine) == "gcode" {
         let (e, w, j) = check(&out, machine);
         assert_eq!(
@@ -187,7 +192,10 @@ fn open_sign_builds_on_every_profile_it_fits() {
             // and nothing is written.
             assert_eq!(o.status.code(), Some(2), "{}", text(&o));
             let err = String::from_utf8_lossy(&o.stderr);
-            assert!(err.contains("--fit") && err.contains("220.0 x 220.0"), "{err}");
+            assert!(
+                err.contains("--fit") && err.contains("220.0 x 220.0"),
+                "{err}"
+            );
             assert!(!out.exists());
             build_clean(&data("open_sign"), m, &["--fit", "219x219"], "OPEN, fitted");
             continue;
@@ -202,7 +210,12 @@ fn open_sign_builds_on_every_profile_it_fits() {
 
 #[test]
 fn readme_snippet_builds_and_checks_clean_on_grbl_router() {
-    build_clean(&data("readme_snippet"), "grbl-router", &[], "README snippet");
+    build_clean(
+        &data("readme_snippet"),
+        "grbl-router",
+        &[],
+        "README snippet",
+    );
 }
 
 #[test]
@@ -288,7 +301,12 @@ fn the_too_big_ones_fit_with_the_option_the_message_names() {
             .skip_while(|w| *w != "--fit")
             .nth(1)
             .unwrap_or_else(|| panic!("{name} on {m}: {err}"));
-        build_clean(&example(name), m, &["--fit", fit], &format!("{name} --fit {fit}"));
+        build_clean(
+            &example(name),
+            m,
+            &["--fit", fit],
+            &format!("{name} --fit {fit}"),
+        );
     }
 }
 
@@ -324,17 +342,30 @@ fn placement_lower_left_center_design_scale_and_fit() {
     // decimal, 0.001 mm), and the run says where it went.
     let d = tmpdir("place");
     let out = d.join("a.gcode");
-    let o = skinpath(&["build", &ring, "--machine", "grbl-laser", "-o", out.to_str().unwrap()]);
+    let o = skinpath(&[
+        "build",
+        &ring,
+        "--machine",
+        "grbl-laser",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("placed (lower-left)"));
     let j = build_json(&ring, "grbl-laser", &[]);
     let b = bounds(&j);
-    assert!((b[0] - 0.001).abs() < 1e-9 && (b[1] - 0.001).abs() < 1e-9, "{b:?}");
+    assert!(
+        (b[0] - 0.001).abs() < 1e-9 && (b[1] - 0.001).abs() < 1e-9,
+        "{b:?}"
+    );
     let (w, h) = (b[2] - b[0], b[3] - b[1]);
     assert_eq!(j["placement"]["place"], "lower-left");
     // --margin moves the corner.
     let bm = bounds(&build_json(&ring, "grbl-laser", &["--margin", "7"]));
-    assert!((bm[0] - 7.001).abs() < 1e-9 && (bm[1] - 7.001).abs() < 1e-9, "{bm:?}");
+    assert!(
+        (bm[0] - 7.001).abs() < 1e-9 && (bm[1] - 7.001).abs() < 1e-9,
+        "{bm:?}"
+    );
     // Centre: the job's centre at the 400 x 400 area's centre, same size.
     let bc = bounds(&build_json(&ring, "grbl-laser", &["--place", "center"]));
     assert!(((bc[0] + bc[2]) / 2.0 - 200.0).abs() < 1e-9, "{bc:?}");
@@ -349,13 +380,19 @@ fn placement_lower_left_center_design_scale_and_fit() {
     let kerf = 0.0;
     let bs = bounds(&build_json(&ring, "grbl-laser", &["--scale", "2"]));
     let want = 2.0 * (w - kerf) + kerf;
-    assert!((bs[2] - bs[0] - want).abs() < 0.01, "{bs:?} want width {want}");
+    assert!(
+        (bs[2] - bs[0] - want).abs() < 0.01,
+        "{bs:?} want width {want}"
+    );
     // --fit: the binding side becomes the given size, aspect kept; then it checks clean.
     let jf = build_json(&ring, "grbl-laser", &["--fit", "30x200"]);
     let bf = bounds(&jf);
     assert!((bf[2] - bf[0] - 30.0).abs() < 0.01, "{bf:?}");
     let ratio = (bf[3] - bf[1] - kerf) / (bf[2] - bf[0] - kerf);
-    assert!((ratio - (h - kerf) / (w - kerf)).abs() < 1e-3, "aspect {ratio}");
+    assert!(
+        (ratio - (h - kerf) / (w - kerf)).abs() < 1e-3,
+        "aspect {ratio}"
+    );
     build_clean(&ring, "grbl-laser", &["--fit", "30x200"], "fit 30x200");
     // --place design keeps the design's coordinates: the neon example's holes at x < 0
     // do not fit, and the message names the option.
@@ -391,7 +428,11 @@ fn marlin_ends_without_m30_and_check_accepts_it() {
         .lines()
         .map(|l| l.split(';').next().unwrap_or("").trim())
         .collect();
-    assert!(!codes.iter().any(|l| l.split_whitespace().any(|w| w == "M30" || w == "M2")));
+    assert!(
+        !codes
+            .iter()
+            .any(|l| l.split_whitespace().any(|w| w == "M30" || w == "M2"))
+    );
     assert_eq!(codes.iter().rev().find(|l| !l.is_empty()), Some(&"M5"));
     // The checker notes the missing end as info, not as a warning, with the profile.
     let (e, w, j) = check(&out, "marlin-laser");
@@ -407,9 +448,17 @@ fn marlin_ends_without_m30_and_check_accepts_it() {
 
 #[test]
 fn grbl_laser_writes_s0_before_every_rapid_and_states_laser_mode() {
-    let out = build_clean(&example("neon_word"), "grbl-laser", &[], "neon on grbl-laser");
+    let out = build_clean(
+        &example("neon_word"),
+        "grbl-laser",
+        &[],
+        "neon on grbl-laser",
+    );
     let g = std::fs::read_to_string(&out).unwrap();
-    assert!(g.lines().take(5).any(|l| l.contains("$32=1")), "header: {g:.300}");
+    assert!(
+        g.lines().take(5).any(|l| l.contains("$32=1")),
+        "header: {g:.300}"
+    );
     // Track S as GRBL does (modal), and require S = 0 on every G0 after the first cut.
     let mut s = 0.0;
     let mut motion = "";
@@ -527,7 +576,10 @@ fn build_json_summary() {
     let ops = j["operations"].as_array().unwrap();
     assert_eq!(ops.len(), 3);
     // Operations name their index in the design (0-based), in machine order.
-    let idx: Vec<i64> = ops.iter().map(|o| o["design_index"].as_i64().unwrap()).collect();
+    let idx: Vec<i64> = ops
+        .iter()
+        .map(|o| o["design_index"].as_i64().unwrap())
+        .collect();
     assert_eq!(idx, vec![1, 0, 2]);
     let sum: f64 = ops.iter().map(|o| o["cut_length"].as_f64().unwrap()).sum();
     assert!((sum - j["cut_length"].as_f64().unwrap()).abs() < 1e-6 * sum);
@@ -660,7 +712,13 @@ fn router_profile_without_a_fitting_tool_says_so() {
         .split("[[tools]]")
         .enumerate()
         .filter(|(k, part)| *k == 0 || part.contains("vbit"))
-        .map(|(k, part)| if k == 0 { part.to_string() } else { format!("[[tools]]{part}") })
+        .map(|(k, part)| {
+            if k == 0 {
+                part.to_string()
+            } else {
+                format!("[[tools]]{part}")
+            }
+        })
         .collect();
     std::fs::write(&profile, without).unwrap();
     let out = d.join("e.gcode");
@@ -674,14 +732,22 @@ fn router_profile_without_a_fitting_tool_says_so() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("no tool that fits") && err.contains("endmill"), "{err}");
+    assert!(
+        err.contains("no tool that fits") && err.contains("endmill"),
+        "{err}"
+    );
     assert!(err.contains("[[operation]] 1 (channel)"), "{err}");
 }
 
 #[test]
 fn linuxcnc_and_smoothie_programs_follow_their_firmware() {
     // LinuxCNC: spindle off, then M2, with the tool at safe Z (the profile's 0.2 in).
-    let out = build_clean(&example("ring_o"), "linuxcnc-router", &[], "ring on linuxcnc");
+    let out = build_clean(
+        &example("ring_o"),
+        "linuxcnc-router",
+        &[],
+        "ring on linuxcnc",
+    );
     let g = std::fs::read_to_string(&out).unwrap();
     let codes: Vec<&str> = g
         .lines()
@@ -691,7 +757,12 @@ fn linuxcnc_and_smoothie_programs_follow_their_firmware() {
     let n = codes.len();
     assert_eq!(&codes[n - 2..], &["M5", "M2"], "{:?}", &codes[n - 4..]);
     // Smoothie fires only on G1/G2/G3: rapids carry no S and the program needs no S0.
-    let out = build_clean(&example("circles"), "smoothie-laser", &[], "circles on smoothie");
+    let out = build_clean(
+        &example("circles"),
+        "smoothie-laser",
+        &[],
+        "circles on smoothie",
+    );
     let g = std::fs::read_to_string(&out).unwrap();
     for l in g.lines().filter(|l| l.starts_with("G0")) {
         assert!(!l.contains('S'), "{l}");

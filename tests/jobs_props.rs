@@ -58,7 +58,10 @@ fn summary(b: &BuildResult) -> (Vec<(String, usize, f64)>, [f64; 4]) {
         })
         .collect();
     let s = b.toolpath.stats(glam::DVec2::ZERO);
-    (ops, [s.bbox_min[0], s.bbox_min[1], s.bbox_max[0], s.bbox_max[1]])
+    (
+        ops,
+        [s.bbox_min[0], s.bbox_min[1], s.bbox_max[0], s.bbox_max[1]],
+    )
 }
 
 /// The design moved by `d` (strokes and circles; operations have no coordinates).
@@ -328,11 +331,7 @@ fn kind(msg: &str) -> String {
         ids.dedup();
         return format!("check: {}", ids.join("+"));
     }
-    let gist = msg
-        .split(": ")
-        .skip(1)
-        .collect::<Vec<_>>()
-        .join(": ");
+    let gist = msg.split(": ").skip(1).collect::<Vec<_>>().join(": ");
     let words: Vec<&str> = gist.split_whitespace().take(7).collect();
     words.join(" ")
 }

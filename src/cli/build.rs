@@ -6,7 +6,9 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::emit::{DxfOptions, GcodeOptions, LaserSvgOptions, dxf, gcode_with_origins, laser_svg};
+use skinpath::emit::{
+    DxfOptions, GcodeOptions, LaserSvgOptions, dxf, gcode_with_origins, laser_svg,
+};
 use skinpath::job::build::{
     BuildOptions, Place, build_toolpath, fit_scale, outline_bounds, place_job, scaled_design,
 };
@@ -97,8 +99,14 @@ fn parse_fit(s: &str) -> Result<(f64, f64)> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .with_context(|| format!("--fit {s:?}: expected WIDTHxHEIGHT, e.g. 200x150"))?;
-    let w: f64 = w.trim().parse().with_context(|| format!("--fit {s:?}: bad width"))?;
-    let h: f64 = h.trim().parse().with_context(|| format!("--fit {s:?}: bad height"))?;
+    let w: f64 = w
+        .trim()
+        .parse()
+        .with_context(|| format!("--fit {s:?}: bad width"))?;
+    let h: f64 = h
+        .trim()
+        .parse()
+        .with_context(|| format!("--fit {s:?}: bad height"))?;
     if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
         bail!("--fit {s:?}: width and height must be positive numbers");
     }
@@ -162,11 +170,10 @@ fn explain(
     } else {
         format!("{}: ", whos.join(" and "))
     };
-    let at = f
-        .at
-        .first()
-        .map(|p| format!(" at x {:.3} y {:.3} z {:.3}", p[0], p[1], p[2]))
-        .unwrap_or_default();
+    let at =
+        f.at.first()
+            .map(|p| format!(" at x {:.3} y {:.3} z {:.3}", p[0], p[1], p[2]))
+            .unwrap_or_default();
     let lines: Vec<String> = f.lines.iter().map(|l| l.to_string()).collect();
     format!(
         "{file}: {who}{} [{}]{at} (program line {}): {}",
@@ -233,7 +240,8 @@ pub fn run(a: Args) -> Result<u8> {
         // The outlines scale with the design, offsets and margins do not: a few rounds.
         for _ in 0..4 {
             let s = built.toolpath.stats(glam::DVec2::ZERO);
-            let job = glam::DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
+            let job =
+                glam::DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
             if job.x <= w && job.y <= h && scale != 1.0 {
                 break;
             }
@@ -393,11 +401,7 @@ pub fn run(a: Args) -> Result<u8> {
             }
         }
         if let Some(r) = &report {
-            println!(
-                "check: {} errors, {} warnings",
-                r.errors(),
-                r.warnings()
-            );
+            println!("check: {} errors, {} warnings", r.errors(), r.warnings());
         }
         for (p, _) in &outputs {
             println!("wrote {}", p.display());

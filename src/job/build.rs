@@ -819,7 +819,12 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
             Geometry::Points(points) => {
                 for (k, &q) in points.iter().enumerate() {
                     reps.push((si, k, q));
-                    prints.push(ops::swept_region(&[q, q + DVec2::X * eps], false, r, ctx.tol));
+                    prints.push(ops::swept_region(
+                        &[q, q + DVec2::X * eps],
+                        false,
+                        r,
+                        ctx.tol,
+                    ));
                 }
             }
             Geometry::Polylines3(lines) => {
@@ -867,8 +872,7 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
                     .iter()
                     .enumerate()
                     .filter(|(_, o)| {
-                        o.winding_number(cavalier_contours::core::math::Vector2::new(c.x, c.y))
-                            != 0
+                        o.winding_number(cavalier_contours::core::math::Vector2::new(c.x, c.y)) != 0
                     })
                     .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
                     .map(|(k, _)| k)
