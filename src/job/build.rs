@@ -774,7 +774,8 @@ fn clears(kind: TpKind) -> bool {
 /// footprints of all of them (closed paths: the enclosed area grown by the tool radius;
 /// open paths and points: the tool's disk swept along them, at least the tolerance wide,
 /// and for hatch lines at least half the hatch spacing, the strip each line clears)
-/// are united, and each connected component of the union is one pocket, numbered from 1.
+/// are joined where they overlap, and each connected component is one pocket, numbered
+/// from 1.
 /// Paths of one pocket overlap only where all of them remove material, so their crossings
 /// are intended; cuts of profiles and backboards keep no group and are checked strictly.
 fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
@@ -850,37 +851,49 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
     if reps.is_empty() {
         return;
     }
-    let union = Region::union(&prints, ctx.tol);
-    // Outer contours are the components; a point belongs to the smallest one around it.
-    use cavalier_contours::polyline::PlineSource;
-    let outers: Vec<&cavalier_contours::polyline::Polyline<f64>> =
-        union.contours.iter().filter(|c| c.area() > 0.0).collect();
-    let pocket_of = |q: DVec2, fp: &Region| -> Option<u32> {
-        let v = cavalier_contours::core::math::Vector2::new(q.x, q.y);
-        let inside = |c: &&cavalier_contours::polyline::Polyline<f64>| c.winding_number(v) != 0;
-        let found = outers
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| inside(c))
-            .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
-            .map(|(k, _)| k);
-        // A start point on the footprint's own boundary: use a point of the footprint.
-        found
-            .or_else(|| {
-                let c = fp.center();
-                outers
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, o)| {
-                        o.winding_number(cavalier_contours::core::math::Vector2::new(c.x, c.y)) != 0
-                    })
-                    .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
-                    .map(|(k, _)| k)
-            })
-            .map(|k| k as u32 + 1)
+    // Connected components of overlapping footprints (union-find on pairwise
+    // intersection, bounding boxes first): every footprint on its own, no big boolean union
+    // that one odd input could spoil.
+    use geo::{BoundingRect, Intersects};
+    let polys: Vec<geo::MultiPolygon<f64>> = prints.iter().map(|r| r.to_geo(ctx.tol)).collect();
+    let boxes: Vec<Option<geo::Rect<f64>>> = polys.iter().map(|p| p.bounding_rect()).collect();
+    let mut parent: Vec<usize> = (0..polys.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..polys.len() {
+        for j in i + 1..polys.len() {
+            let (Some(a), Some(b)) = (boxes[i], boxes[j]) else {
+                continue;
+            };
+            if !a.intersects(&b) || root(&mut parent, i) == root(&mut parent, j) {
+                continue;
+            }
+            if polys[i].intersects(&polys[j]) {
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    // Pocket numbers from 1 in order of first appearance.
+    let mut numbers: Vec<Option<u32>> = vec![None; polys.len()];
+    let mut next = 1u32;
+    let mut pocket_of = |k: usize| -> Option<u32> {
+        if polys[k].0.is_empty() {
+            return None;
+        }
+        let r = root(&mut parent, k);
+        Some(*numbers[r].get_or_insert_with(|| {
+            next += 1;
+            next - 1
+        }))
     };
-    for ((si, k, q), fp) in reps.into_iter().zip(&prints) {
-        let g = pocket_of(q, fp);
+    for (n, (si, k, _)) in reps.into_iter().enumerate() {
+        let g = pocket_of(n);
         let s = &mut specs[si];
         let n = match &s.geometry {
             Geometry::Paths(p) => p.len(),
