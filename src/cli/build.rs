@@ -6,7 +6,9 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::emit::{DxfOptions, GcodeOptions, LaserSvgOptions, dxf, gcode_with_origins, laser_svg};
+use skinpath::emit::{
+    DxfOptions, GcodeOptions, LaserSvgOptions, dxf, gcode_with_origins, laser_svg,
+};
 use skinpath::job::build::{
     BuildOptions, Place, build_toolpath, fit_scale, outline_bounds, place_job, scaled_design,
 };
@@ -101,8 +103,14 @@ fn parse_fit(s: &str) -> Result<(f64, f64)> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .with_context(|| format!("--fit {s:?}: expected WIDTHxHEIGHT, e.g. 200x150"))?;
-    let w: f64 = w.trim().parse().with_context(|| format!("--fit {s:?}: bad width"))?;
-    let h: f64 = h.trim().parse().with_context(|| format!("--fit {s:?}: bad height"))?;
+    let w: f64 = w
+        .trim()
+        .parse()
+        .with_context(|| format!("--fit {s:?}: bad width"))?;
+    let h: f64 = h
+        .trim()
+        .parse()
+        .with_context(|| format!("--fit {s:?}: bad height"))?;
     if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
         bail!("--fit {s:?}: width and height must be positive numbers");
     }
@@ -140,29 +148,36 @@ fn explain(
     tp: &skinpath::toolpath::Toolpath,
     file: &str,
 ) -> String {
-    let origin = f
+    // Every distinct operation and stroke among the finding's lines (a crossing has two).
+    let mut whos: Vec<String> = Vec::new();
+    for (oi, ci) in f
         .lines
         .iter()
         .filter_map(|&l| origins.get(l.wrapping_sub(1)).copied().flatten())
-        .next();
-    let mut who = String::new();
-    if let Some((oi, ci)) = origin
-        && let Some(op) = tp.operations.get(oi)
     {
-        who = match op.design_index {
+        let Some(op) = tp.operations.get(oi) else {
+            continue;
+        };
+        let mut w = match op.design_index {
             Some(d) => format!("[[operation]] {} ({})", d + 1, op.name),
             None => format!("the default {} (the design has no [[operation]])", op.name),
         };
         if let Some(src) = op.cuts.get(ci).and_then(|c| c.source.as_ref()) {
-            who.push_str(&format!(", stroke \"{src}\""));
+            w.push_str(&format!(", stroke \"{src}\""));
         }
-        who.push_str(": ");
+        if !whos.contains(&w) {
+            whos.push(w);
+        }
     }
-    let at = f
-        .at
-        .first()
-        .map(|p| format!(" at x {:.3} y {:.3} z {:.3}", p[0], p[1], p[2]))
-        .unwrap_or_default();
+    let who = if whos.is_empty() {
+        String::new()
+    } else {
+        format!("{}: ", whos.join(" and "))
+    };
+    let at =
+        f.at.first()
+            .map(|p| format!(" at x {:.3} y {:.3} z {:.3}", p[0], p[1], p[2]))
+            .unwrap_or_default();
     let lines: Vec<String> = f.lines.iter().map(|l| l.to_string()).collect();
     format!(
         "{file}: {who}{} [{}]{at} (program line {}): {}",
@@ -237,7 +252,8 @@ pub fn run(a: Args) -> Result<u8> {
         // The outlines scale with the design, offsets and margins do not: a few rounds.
         for _ in 0..4 {
             let s = built.toolpath.stats(glam::DVec2::ZERO);
-            let job = glam::DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
+            let job =
+                glam::DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
             if job.x <= w && job.y <= h && scale != 1.0 {
                 break;
             }
@@ -413,11 +429,7 @@ pub fn run(a: Args) -> Result<u8> {
             }
         }
         if let Some(r) = &report {
-            println!(
-                "check: {} errors, {} warnings",
-                r.errors(),
-                r.warnings()
-            );
+            println!("check: {} errors, {} warnings", r.errors(), r.warnings());
         }
         for (p, _) in &outputs {
             println!("wrote {}", p.display());

@@ -155,9 +155,8 @@ pub fn write_set(files: &[(&Path, Vec<u8>)]) -> Result<()> {
             for t in &tmps[..=k] {
                 let _ = fs::remove_file(t);
             }
-            return Err(e).with_context(|| {
-                format!("cannot move {} to {}", tmp.display(), path.display())
-            });
+            return Err(e)
+                .with_context(|| format!("cannot move {} to {}", tmp.display(), path.display()));
         }
     }
     Ok(())

@@ -272,7 +272,9 @@ impl Writer<'_> {
             // GRBL fires the beam on G0 unless laser mode is on ($32=1, GRBL wiki "Laser
             // Mode"); the program also writes S0 before every rapid when the profile says
             // `rapid_off = "s0"`, which is safe either way.
-            self.mark("expects GRBL laser mode: $32=1");
+            // Written as is: the comment sanitizer would drop the `$`, which GRBL reads as
+            // a system command only at the start of a line, never inside a comment.
+            self.line("(expects GRBL laser mode: $32=1)");
         }
         let pre = self.g.preamble.clone();
         self.template_lines("gcode.preamble", &pre)?;

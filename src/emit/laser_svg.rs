@@ -91,6 +91,8 @@ impl PageFrame {
 }
 
 /// The `d` attribute of a path through `cs` (each contour a subpath), at f64 precision.
+/// A closed contour ends with `Z` after its last distinct point (its closing line is the
+/// `Z`; a closing arc is drawn and then `Z` joins no gap).
 /// Arcs are split into pieces of at most [`SVG_MAX_SWEEP`]; the sweep flag is 0 for a
 /// counter-clockwise design arc because the page flips y.
 pub fn path_data(cs: &[&Contour], frame: &PageFrame, close_tol: f64) -> String {
@@ -99,8 +101,11 @@ pub fn path_data(cs: &[&Contour], frame: &PageFrame, close_tol: f64) -> String {
         let p = frame.map(c.start);
         let _ = write!(d, "{}M {} {}", sep(&d), fnum(p.x), fnum(p.y));
         let mut from = c.start;
-        for s in &c.segs {
+        let closed = c.is_closed(close_tol);
+        for (k, s) in c.segs.iter().enumerate() {
             match *s {
+                // A closed contour's last line is drawn by `Z`: no repeated first point.
+                Seg::Line { .. } if closed && k + 1 == c.segs.len() && k > 0 => {}
                 Seg::Line { to } => {
                     let q = frame.map(to);
                     let _ = write!(d, " L {} {}", fnum(q.x), fnum(q.y));
@@ -123,7 +128,7 @@ pub fn path_data(cs: &[&Contour], frame: &PageFrame, close_tol: f64) -> String {
             }
             from = s.to();
         }
-        if c.is_closed(close_tol) {
+        if closed {
             d.push_str(" Z");
         }
     }

@@ -53,7 +53,12 @@ pub enum EmitError {
     InvalidMove { at: Location, reason: String },
     /// A coordinate outside the machine's travel.
     #[error(
-        "{at}: {axis} = {value} is outside the work area [{min}, {max}] of profile {profile:?}"
+        "{at}: {axis} = {value} is outside the work area [{min}, {max}] of profile {profile:?}{}",
+        if *axis == 'Z' {
+            ": lower the operation's `depth` or raise the profile's work_area.z"
+        } else {
+            ": place the job with `build --place lower-left` or `--place center`, or scale it with `--fit`"
+        }
     )]
     OutOfWorkArea {
         at: Location,

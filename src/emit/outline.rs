@@ -21,12 +21,31 @@ pub struct Contour {
     pub points: Vec<[f64; 2]>,
 }
 
+/// Closing gap relative to the coordinates' magnitude under which a closed contour's last
+/// point counts as a repeat of its first: far below any flattening tolerance, far above
+/// the 1e-14 rounding residue an outline's closing point carries.
+const REPEAT_REL: f64 = 1e-9;
+
 impl Contour {
+    /// A contour of `points`. Closed contours never repeat their first point at the end (the
+    /// `closed` flag says it; the convention of every output: DXF closed polylines, SVG `Z`
+    /// after the last distinct point): a last point within [`REPEAT_REL`] of the first is
+    /// dropped, so polygon libraries (GEOS, Shapely, geo) do not read a 1e-14 sliver edge.
     pub fn new(role: &str, closed: bool, points: &[DVec2]) -> Self {
+        let mut pts: Vec<[f64; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
+        while closed && pts.len() > 1 {
+            let (f, l) = (pts[0], pts[pts.len() - 1]);
+            let scale = 1.0 + f[0].abs().max(f[1].abs());
+            if (f[0] - l[0]).hypot(f[1] - l[1]) <= REPEAT_REL * scale {
+                pts.pop();
+            } else {
+                break;
+            }
+        }
         Contour {
             role: role.to_string(),
             closed,
-            points: points.iter().map(|p| [p.x, p.y]).collect(),
+            points: pts,
         }
     }
 }

@@ -385,6 +385,26 @@ fn union_paths_with_sources(
     (paths, sources)
 }
 
+/// The item each path comes from: the first of `regions` (item index, region) that holds
+/// the path's first point, or the nearest one.
+fn attribute(ctx: &Ctx, regions: &[(usize, Region)], paths: &[Path]) -> Vec<String> {
+    let only: Vec<Region> = regions.iter().map(|(_, r)| r.clone()).collect();
+    paths
+        .iter()
+        .map(|p| {
+            let q = p.start().unwrap_or_default();
+            let k = only
+                .iter()
+                .position(|r| r.contains(q))
+                .unwrap_or_else(|| nearest_region(&only, q));
+            regions
+                .get(k)
+                .map(|(i, _)| ctx.outlines[*i].name.clone())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
 /// Index of the region whose vertices come nearest to `q`.
 fn nearest_region(regions: &[Region], q: DVec2) -> usize {
     use cavalier_contours::polyline::PlineSource;
@@ -500,7 +520,12 @@ fn operation_specs(
             let paths = ctx.routed(index, op, &name, &items, general, |its| {
                 re_profile(its, side, r, ctx.tol)
             })?;
-            vec![spec(
+            let own: Vec<(usize, Region)> = items
+                .iter()
+                .map(|&i| (i, Region::from_paths(&ctx.outlines[i].contours, ctx.tol)))
+                .collect();
+            let sources = attribute(ctx, &own, &paths);
+            let mut s = spec(
                 ctx,
                 design_index,
                 name,
@@ -508,7 +533,9 @@ fn operation_specs(
                 op,
                 Geometry::Paths(paths),
                 tool,
-            )]
+            );
+            s.sources = sources;
+            vec![s]
         }
         OperationKind::Channel => {
             let tool = ctx.tool(&mill);
@@ -527,15 +554,20 @@ fn operation_specs(
                     ),
                 ));
             }
-            let regions: Vec<Region> = items
+            let swept: Vec<(usize, Region)> = items
                 .iter()
-                .filter_map(|&i| spine_of(ctx, i))
-                .map(|c| {
+                .filter_map(|&i| spine_of(ctx, i).map(|c| (i, c)))
+                .map(|(i, c)| {
                     let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
-                    ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol)
+                    (
+                        i,
+                        ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol),
+                    )
                 })
                 .collect();
-            // Crossing channels merge into one pocket.
+            let regions: Vec<Region> = swept.iter().map(|(_, r)| r.clone()).collect();
+            // Crossing and touching channels merge into one pocket (a T-junction is one
+            // channel network).
             let region = Region::union(&regions, ctx.tol);
             let step = (STEPOVER * 2.0 * r).max(ctx.tol);
             let paths = if laser {
@@ -543,7 +575,8 @@ fn operation_specs(
             } else {
                 ops::concentric(&region, r, step, r, 10_000, eps)
             };
-            vec![spec(
+            let sources = attribute(ctx, &swept, &paths);
+            let mut s = spec(
                 ctx,
                 design_index,
                 name,
@@ -551,7 +584,9 @@ fn operation_specs(
                 op,
                 Geometry::Paths(paths),
                 tool,
-            )]
+            );
+            s.sources = sources;
+            vec![s]
         }
         OperationKind::Backboard => {
             let tool = ctx.tool(&mill);
@@ -847,8 +882,10 @@ fn clears(kind: TpKind) -> bool {
 
 /// The pocket of every path and point of the clearing operations ([`clears`]): the
 /// footprints of all of them (closed paths: the enclosed area grown by the tool radius;
-/// open paths and points: the tool's disk swept along them, at least the tolerance wide)
-/// are united, and each connected component of the union is one pocket, numbered from 1.
+/// open paths and points: the tool's disk swept along them, at least the tolerance wide,
+/// and for hatch lines at least half the hatch spacing, the strip each line clears)
+/// are joined where they overlap, and each connected component is one pocket, numbered
+/// from 1.
 /// Paths of one pocket overlap only where all of them remove material, so their crossings
 /// are intended; cuts of profiles and backboards keep no group and are checked strictly.
 fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
@@ -868,7 +905,15 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
         if !clears(s.kind) {
             continue;
         }
-        let r = reach(radius(s));
+        // Hatch lines of one fill clear the strip between them: half the spacing (and a
+        // hair) joins neighbouring lines into one pocket.
+        let spacing = s
+            .design_index
+            .and_then(|k| ctx.design.operation.get(k))
+            .filter(|_| s.kind == TpKind::Fill)
+            .and_then(|op| op.spacing)
+            .unwrap_or(0.0);
+        let r = reach(radius(s)).max(0.5 * spacing + ctx.tol);
         match &s.geometry {
             Geometry::Paths(paths) => {
                 for (k, p) in paths.iter().enumerate() {
@@ -885,7 +930,12 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
             Geometry::Points(points) => {
                 for (k, &q) in points.iter().enumerate() {
                     reps.push((si, k, q));
-                    prints.push(ops::swept_region(&[q, q + DVec2::X * eps], false, r, ctx.tol));
+                    prints.push(ops::swept_region(
+                        &[q, q + DVec2::X * eps],
+                        false,
+                        r,
+                        ctx.tol,
+                    ));
                 }
             }
             Geometry::Polylines3(lines) => {
@@ -911,38 +961,49 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
     if reps.is_empty() {
         return;
     }
-    let union = Region::union(&prints, ctx.tol);
-    // Outer contours are the components; a point belongs to the smallest one around it.
-    use cavalier_contours::polyline::PlineSource;
-    let outers: Vec<&cavalier_contours::polyline::Polyline<f64>> =
-        union.contours.iter().filter(|c| c.area() > 0.0).collect();
-    let pocket_of = |q: DVec2, fp: &Region| -> Option<u32> {
-        let v = cavalier_contours::core::math::Vector2::new(q.x, q.y);
-        let inside = |c: &&cavalier_contours::polyline::Polyline<f64>| c.winding_number(v) != 0;
-        let found = outers
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| inside(c))
-            .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
-            .map(|(k, _)| k);
-        // A start point on the footprint's own boundary: use a point of the footprint.
-        found
-            .or_else(|| {
-                let c = fp.center();
-                outers
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, o)| {
-                        o.winding_number(cavalier_contours::core::math::Vector2::new(c.x, c.y))
-                            != 0
-                    })
-                    .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
-                    .map(|(k, _)| k)
-            })
-            .map(|k| k as u32 + 1)
+    // Connected components of overlapping footprints (union-find on pairwise
+    // intersection, bounding boxes first): every footprint on its own, no big boolean union
+    // that one odd input could spoil.
+    use geo::{BoundingRect, Intersects};
+    let polys: Vec<geo::MultiPolygon<f64>> = prints.iter().map(|r| r.to_geo(ctx.tol)).collect();
+    let boxes: Vec<Option<geo::Rect<f64>>> = polys.iter().map(|p| p.bounding_rect()).collect();
+    let mut parent: Vec<usize> = (0..polys.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..polys.len() {
+        for j in i + 1..polys.len() {
+            let (Some(a), Some(b)) = (boxes[i], boxes[j]) else {
+                continue;
+            };
+            if !a.intersects(&b) || root(&mut parent, i) == root(&mut parent, j) {
+                continue;
+            }
+            if polys[i].intersects(&polys[j]) {
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    // Pocket numbers from 1 in order of first appearance.
+    let mut numbers: Vec<Option<u32>> = vec![None; polys.len()];
+    let mut next = 1u32;
+    let mut pocket_of = |k: usize| -> Option<u32> {
+        if polys[k].0.is_empty() {
+            return None;
+        }
+        let r = root(&mut parent, k);
+        Some(*numbers[r].get_or_insert_with(|| {
+            next += 1;
+            next - 1
+        }))
     };
-    for ((si, k, q), fp) in reps.into_iter().zip(&prints) {
-        let g = pocket_of(q, fp);
+    for (n, (si, k, _)) in reps.into_iter().enumerate() {
+        let g = pocket_of(n);
         let s = &mut specs[si];
         let n = match &s.geometry {
             Geometry::Paths(p) => p.len(),

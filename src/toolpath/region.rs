@@ -346,7 +346,11 @@ impl Region {
                 hi = hi.max(DVec2::new(v.x, v.y));
             }
         }
-        if lo.x <= hi.x { 0.5 * (lo + hi) } else { DVec2::ZERO }
+        if lo.x <= hi.x {
+            0.5 * (lo + hi)
+        } else {
+            DVec2::ZERO
+        }
     }
 
     /// The region moved by `d`.

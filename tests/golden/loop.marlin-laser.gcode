@@ -2,9 +2,10 @@
 ; machine marlin-laser units mm
 G17 G21 G90 G94
 ; op 0 profile 1 profile
+; cut 0 hairpin
 G0 X11.617 Y5.975
 M3 I1 S0
-G2 X5.681 Y11.232 I-2.616 J3.026 F3000 S255
+G2 X5.681 Y11.232 I-2.616 J3.026 F3000 S51
 G1 X6.455 Y12.383
 G1 X7.215 Y13.522
 G1 X8.707 Y15.782
