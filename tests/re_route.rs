@@ -275,7 +275,11 @@ fn operation_method_key_and_envelope_refused() {
         &profile,
         &BuildOptions::default(),
     );
-    assert!(e.unwrap_err().to_string().contains("[[operation]] 1 (profile)"));
+    assert!(
+        e.unwrap_err()
+            .to_string()
+            .contains("[[operation]] 1 (profile)")
+    );
     let opts = BuildOptions {
         method: OutlineMethod::Skin,
         ..BuildOptions::default()
