@@ -10,18 +10,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+mod examples_common;
+use examples_common::EXAMPLES;
+
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
-const EXAMPLES: [&str; 9] = [
-    "brush",
-    "calligraphy",
-    "circles",
-    "gclef",
-    "loop",
-    "neon_word",
-    "ring_o",
-    "seahorse",
-    "snake",
-];
 /// Golden comparison tolerance for coordinates (mm or inch), per the task.
 const GOLDEN_TOL: f64 = 1e-3;
 /// SVG width/height (mm) against the viewBox size: half of the 0.001 mm the drawing's
@@ -1554,4 +1546,17 @@ fn replay_flags_planted_faults() {
             .iter()
             .any(|m| m.contains("M2/M30"))
     );
+}
+
+#[test]
+fn every_example_is_listed() {
+    let mut names: Vec<String> = std::fs::read_dir(Path::new(ROOT).join("examples"))
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.ok()?.path();
+            (p.extension()? == "toml").then(|| p.file_stem()?.to_str().map(String::from))?
+        })
+        .collect();
+    names.sort();
+    assert_eq!(names, EXAMPLES.to_vec());
 }

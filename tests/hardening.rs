@@ -9,6 +9,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+mod examples_common;
+use examples_common::EXAMPLES;
+
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// Generous, a hang guard and not a speed test: the campaign called "no answer in 30 s" a
@@ -80,18 +83,6 @@ fn load_example(name: &str) -> skinpath::design::Design {
     let text = std::fs::read_to_string(&path).unwrap();
     skinpath::design::load(&text, &path).unwrap()
 }
-
-const EXAMPLES: [&str; 9] = [
-    "brush",
-    "calligraphy",
-    "circles",
-    "gclef",
-    "loop",
-    "neon_word",
-    "ring_o",
-    "seahorse",
-    "snake",
-];
 
 #[test]
 fn examples_stay_well_inside_the_work_budget() {

@@ -26,18 +26,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+mod examples_common;
+use examples_common::EXAMPLES;
+
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
-const EXAMPLES: [&str; 9] = [
-    "brush",
-    "calligraphy",
-    "circles",
-    "gclef",
-    "loop",
-    "neon_word",
-    "ring_o",
-    "seahorse",
-    "snake",
-];
 const GCODE_PROFILES: [&str; 5] = [
     "grbl-laser",
     "grbl-router",

@@ -19,18 +19,10 @@ use skinpath::machine::{Profile, Units, builtin_profile};
 use skinpath::sim::{Backend, Severity, check_text};
 use std::collections::BTreeMap;
 
+mod examples_common;
+use examples_common::EXAMPLES;
+
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
-const EXAMPLES: [&str; 9] = [
-    "brush",
-    "calligraphy",
-    "circles",
-    "gclef",
-    "loop",
-    "neon_word",
-    "ring_o",
-    "seahorse",
-    "snake",
-];
 /// Random builds per profile in CI.
 const CI_CASES: usize = 6;
 

@@ -25,6 +25,9 @@ use skinpath::toolpath::re_route::mat_profile;
 use skinpath::toolpath::region::Region;
 use std::process::Command;
 
+mod examples_common;
+use examples_common::EXAMPLES;
+
 /// Biarc fitting tolerance of the tests (mm).
 const TOL: f64 = 0.01;
 
@@ -229,17 +232,7 @@ fn build_cli(example: &str, machine: &str, method: &str) -> String {
 #[test]
 fn build_method_re_on_every_example_and_profile() {
     // Every example on a laser with room for all of them; ring_o on every G-code profile.
-    for ex in [
-        "brush",
-        "calligraphy",
-        "circles",
-        "gclef",
-        "loop",
-        "neon_word",
-        "ring_o",
-        "seahorse",
-        "snake",
-    ] {
+    for ex in EXAMPLES {
         let out = build_cli(ex, "grbl-laser", "re");
         // calligraphy is V-carved only: no profile or backboard to route.
         assert!(ex == "calligraphy" || out.contains("route "), "{ex}: {out}");
