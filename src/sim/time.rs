@@ -27,15 +27,39 @@ pub struct TimeEstimate {
     pub dwell: f64,
 }
 
+/// One planner block: a straight chord with its nominal speed and acceleration.
 #[derive(Clone, Copy, Debug)]
-struct Block {
-    len: f64,
-    unit: DVec3,
+pub(super) struct Block {
+    pub len: f64,
+    pub unit: DVec3,
     /// Nominal speed, mm/s.
-    v: f64,
+    pub v: f64,
     /// Acceleration, mm/s².
-    a: f64,
-    rapid: bool,
+    pub a: f64,
+}
+
+impl Block {
+    /// The block of chord `d` (mm) at programmed `feed` (mm/min; 0 = the rate limit), or at
+    /// the rate limit for a rapid; `rates` in mm/s. None for a chord the limits cannot
+    /// move (zero length, zero or non-finite speed or acceleration).
+    pub(super) fn of_chord(
+        d: DVec3,
+        feed: f64,
+        rapid: bool,
+        rates: [f64; 3],
+        cfg: &CheckConfig,
+    ) -> Option<Block> {
+        let len = d.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        let unit = d / len;
+        let vmax = axis_limited(rates, unit);
+        let prog = if feed > 0.0 { feed / 60.0 } else { vmax };
+        let v = if rapid { vmax } else { prog.min(vmax) };
+        let a = axis_limited(cfg.accel, unit);
+        (v > 0.0 && a > 0.0 && v.is_finite() && a.is_finite()).then_some(Block { len, unit, v, a })
+    }
 }
 
 /// min over axes with u_i ≠ 0 of `limit_i / |u_i|` (GRBL limit_value_by_axis_maximum).
@@ -54,46 +78,46 @@ fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
 pub fn estimate(motions: &[Motion], cfg: &CheckConfig) -> TimeEstimate {
     let mut t = TimeEstimate::default();
     let mut blocks: Vec<Block> = Vec::new();
+    let mut rapid: Vec<bool> = Vec::new();
     let rates = cfg.max_rate.map(|r| r / 60.0);
     for m in motions {
         match m.kind {
             MotionKind::Dwell { seconds } => {
-                plan(&blocks, cfg, &mut t);
+                add_times(&blocks, &rapid, cfg, &mut t);
                 blocks.clear();
+                rapid.clear();
                 if seconds.is_finite() {
                     t.dwell += seconds;
                 }
             }
             MotionKind::Rapid | MotionKind::Feed => {
-                let rapid = m.kind == MotionKind::Rapid;
+                let is_rapid = m.kind == MotionKind::Rapid;
                 let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
                 for w in pts.windows(2) {
-                    let d = w[1] - w[0];
-                    let len = d.length();
-                    if !(len > 0.0 && len.is_finite()) {
-                        continue;
-                    }
-                    let unit = d / len;
-                    let vmax = axis_limited(rates, unit);
-                    let prog = if m.feed > 0.0 { m.feed / 60.0 } else { vmax };
-                    let v = if rapid { vmax } else { prog.min(vmax) };
-                    let a = axis_limited(cfg.accel, unit);
-                    if v > 0.0 && a > 0.0 && v.is_finite() && a.is_finite() {
-                        blocks.push(Block {
-                            len,
-                            unit,
-                            v,
-                            a,
-                            rapid,
-                        });
+                    if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, is_rapid, rates, cfg) {
+                        blocks.push(b);
+                        rapid.push(is_rapid);
                     }
                 }
             }
         }
     }
-    plan(&blocks, cfg, &mut t);
+    add_times(&blocks, &rapid, cfg, &mut t);
     t.total = t.feed + t.rapid + t.dwell;
     t
+}
+
+/// Adds the time of a run of blocks planned from rest to rest ([`plan`]).
+fn add_times(blocks: &[Block], rapid: &[bool], cfg: &CheckConfig, t: &mut TimeEstimate) {
+    let e = plan(blocks, cfg);
+    for (i, b) in blocks.iter().enumerate() {
+        let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
+        if rapid[i] {
+            t.rapid += dt;
+        } else {
+            t.feed += dt;
+        }
+    }
 }
 
 /// Squared junction speed limit between blocks `p` and `q`.
@@ -113,13 +137,11 @@ fn junction_speed_sqr(p: &Block, q: &Block, cfg: &CheckConfig) -> f64 {
     vj2.min(lim)
 }
 
-/// Plans a run of blocks from rest to rest and adds its time.
-fn plan(blocks: &[Block], cfg: &CheckConfig, t: &mut TimeEstimate) {
+/// Plans a run of blocks from rest to rest: the squared entry speed of every block,
+/// e[i] for block i and e[n] = 0 for the exit of the last (junction limits, then a backward
+/// and a forward pass over v_next² ≤ v² + 2aL).
+pub(super) fn plan(blocks: &[Block], cfg: &CheckConfig) -> Vec<f64> {
     let n = blocks.len();
-    if n == 0 {
-        return;
-    }
-    // e[i] = squared entry speed of block i; e[n] = squared exit speed of the last (0).
     let mut e = vec![0.0; n + 1];
     for i in 1..n {
         e[i] = junction_speed_sqr(&blocks[i - 1], &blocks[i], cfg);
@@ -132,14 +154,7 @@ fn plan(blocks: &[Block], cfg: &CheckConfig, t: &mut TimeEstimate) {
         let b = &blocks[i];
         e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
     }
-    for (i, b) in blocks.iter().enumerate() {
-        let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
-        if b.rapid {
-            t.rapid += dt;
-        } else {
-            t.feed += dt;
-        }
-    }
+    e
 }
 
 /// Time of a trapezoidal (or triangular) profile over length `len` from `vi` to `vf` with

@@ -10,10 +10,8 @@
 
 use super::config::CheckConfig;
 use super::motion::{Motion, MotionKind};
+use super::time::{Block, block_time, plan};
 use glam::DVec3;
-
-/// Cosine beyond which a junction counts as straight or a full reversal (GRBL).
-const COS_STRAIGHT: f64 = 0.999999;
 
 /// One planner block (a chord of a motion) or a dwell, with its place in time.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -105,38 +103,21 @@ impl Timeline {
     }
 }
 
-#[derive(Clone, Copy, Debug)]
-struct Block {
-    seg: usize,
-    len: f64,
-    unit: DVec3,
-    v: f64,
-    a: f64,
-}
-
-/// min over axes with u_i ≠ 0 of `limit_i / |u_i|` (GRBL limit_value_by_axis_maximum).
-fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
-    let mut v = f64::INFINITY;
-    for (i, &lim) in limit.iter().enumerate() {
-        if u[i] != 0.0 {
-            v = v.min(lim / u[i].abs());
-        }
-    }
-    v
-}
-
 /// The timeline of `motions` (mm) under `cfg` (converted to mm here). The machine starts
 /// and ends at rest and stops for every dwell, as in [`super::time::estimate`].
 pub fn timeline(motions: &[Motion], cfg: &CheckConfig) -> Timeline {
     let cfg = cfg.in_mm();
     let mut segs: Vec<Segment> = Vec::new();
     let mut blocks: Vec<Block> = Vec::new();
+    // The segment of each block.
+    let mut seg_of: Vec<usize> = Vec::new();
     let rates = cfg.max_rate.map(|r| r / 60.0);
     for (mi, m) in motions.iter().enumerate() {
         match m.kind {
             MotionKind::Dwell { seconds } => {
-                plan(&blocks, &cfg, &mut segs);
+                store_speeds(&blocks, &seg_of, &cfg, &mut segs);
                 blocks.clear();
+                seg_of.clear();
                 segs.push(Segment {
                     motion: mi,
                     from: m.to,
@@ -157,8 +138,6 @@ pub fn timeline(motions: &[Motion], cfg: &CheckConfig) -> Timeline {
                 let rapid = m.kind == MotionKind::Rapid;
                 let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
                 for w in pts.windows(2) {
-                    let d = w[1] - w[0];
-                    let len = d.length();
                     segs.push(Segment {
                         motion: mi,
                         from: w[0],
@@ -170,28 +149,15 @@ pub fn timeline(motions: &[Motion], cfg: &CheckConfig) -> Timeline {
                         vf: 0.0,
                         a: 0.0,
                     });
-                    if !(len > 0.0 && len.is_finite()) {
-                        continue;
-                    }
-                    let unit = d / len;
-                    let vmax = axis_limited(rates, unit);
-                    let prog = if m.feed > 0.0 { m.feed / 60.0 } else { vmax };
-                    let v = if rapid { vmax } else { prog.min(vmax) };
-                    let a = axis_limited(cfg.accel, unit);
-                    if v > 0.0 && a > 0.0 && v.is_finite() && a.is_finite() {
-                        blocks.push(Block {
-                            seg: segs.len() - 1,
-                            len,
-                            unit,
-                            v,
-                            a,
-                        });
+                    if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, rapid, rates, &cfg) {
+                        blocks.push(b);
+                        seg_of.push(segs.len() - 1);
                     }
                 }
             }
         }
     }
-    plan(&blocks, &cfg, &mut segs);
+    store_speeds(&blocks, &seg_of, &cfg, &mut segs);
     let mut t = 0.0;
     for s in &mut segs {
         s.t0 = t;
@@ -203,61 +169,25 @@ pub fn timeline(motions: &[Motion], cfg: &CheckConfig) -> Timeline {
     }
 }
 
-/// Squared junction speed limit between blocks `p` and `q` (GRBL junction deviation).
-fn junction_speed_sqr(p: &Block, q: &Block, cfg: &CheckConfig) -> f64 {
-    let cos = -p.unit.dot(q.unit);
-    let lim = p.v.min(q.v).powi(2);
-    if cos > COS_STRAIGHT {
-        return 0.0;
-    }
-    if cos < -COS_STRAIGHT {
-        return lim;
-    }
-    let ju = (q.unit - p.unit).normalize_or_zero();
-    let aj = axis_limited(cfg.accel, ju);
-    let sin_half = (0.5 * (1.0 - cos)).sqrt();
-    let vj2 = aj * cfg.junction_deviation * sin_half / (1.0 - sin_half);
-    vj2.min(lim)
-}
-
-/// Plans a run of blocks from rest to rest (backward then forward pass) and stores each
-/// block's speeds and duration in its segment.
-fn plan(blocks: &[Block], cfg: &CheckConfig, segs: &mut [Segment]) {
-    let n = blocks.len();
-    if n == 0 {
-        return;
-    }
-    let mut e = vec![0.0; n + 1];
-    for i in 1..n {
-        e[i] = junction_speed_sqr(&blocks[i - 1], &blocks[i], cfg);
-    }
-    for i in (0..n).rev() {
-        let b = &blocks[i];
-        e[i] = e[i].min(e[i + 1] + 2.0 * b.a * b.len);
-    }
-    for i in 0..n {
-        let b = &blocks[i];
-        e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
-    }
+/// Plans a run of blocks from rest to rest ([`super::time::plan`]) and stores each block's
+/// entry, cruise (or peak) and exit speed and its duration in its segment.
+fn store_speeds(blocks: &[Block], seg_of: &[usize], cfg: &CheckConfig, segs: &mut [Segment]) {
+    let e = plan(blocks, cfg);
     for (i, b) in blocks.iter().enumerate() {
         let (vi, vf) = (e[i].sqrt(), e[i + 1].sqrt());
         let da = (b.v * b.v - vi * vi) / (2.0 * b.a);
         let dd = (b.v * b.v - vf * vf) / (2.0 * b.a);
-        let (vc, dt) = if da + dd <= b.len {
-            (
-                b.v,
-                (b.v - vi) / b.a + (b.v - vf) / b.a + (b.len - da - dd) / b.v,
-            )
+        let vc = if da + dd <= b.len {
+            b.v
         } else {
-            let vp = (b.a * b.len + 0.5 * (vi * vi + vf * vf)).sqrt().min(b.v);
-            (vp, (vp - vi).max(0.0) / b.a + (vp - vf).max(0.0) / b.a)
+            (b.a * b.len + 0.5 * (vi * vi + vf * vf)).sqrt().min(b.v)
         };
-        let s = &mut segs[b.seg];
+        let s = &mut segs[seg_of[i]];
         s.vi = vi;
         s.vc = vc;
         s.vf = vf;
         s.a = b.a;
-        s.dt = dt;
+        s.dt = block_time(b.len, vi, vf, b.v, b.a);
     }
 }
 
