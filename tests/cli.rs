@@ -1560,3 +1560,31 @@ fn every_example_is_listed() {
     names.sort();
     assert_eq!(names, EXAMPLES.to_vec());
 }
+
+#[test]
+fn build_without_output_writes_the_design_name_here() {
+    // No -o: the design's name in the current folder, .gcode for a G-code machine, .svg for
+    // an SVG laser profile; the G-code passes `check` as usual.
+    let dir = tmpdir("default-output");
+    for (machine, name) in [
+        ("grbl-router", "neon_word.gcode"),
+        ("svg-laser", "neon_word.svg"),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_skinpath"))
+            .current_dir(&dir)
+            .args(["build", s(&example("neon_word")), "--machine", machine])
+            .output()
+            .unwrap();
+        expect_ok(&o, machine);
+        assert!(dir.join(name).is_file(), "{machine}: no {name}");
+    }
+    expect_ok(
+        &skinpath(&[
+            "check",
+            s(&dir.join("neon_word.gcode")),
+            "--machine",
+            "grbl-router",
+        ]),
+        "check",
+    );
+}

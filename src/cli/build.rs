@@ -1,4 +1,4 @@
-//! `skinpath build DESIGN --machine NAME|PATH -o OUT`: machine output from a design.
+//! `skinpath build DESIGN --machine NAME|PATH [-o OUT]`: machine output from a design.
 //!
 //! The output format follows the extension (.gcode/.nc/.ngc/.tap G-code, .svg laser SVG,
 //! .dxf DXF) or `--format`. G-code is read back by the checker before it is written; a
@@ -24,9 +24,10 @@ pub struct Args {
     /// Machine profile: a shipped name (see `skinpath machines`) or a path to a .toml.
     #[arg(short, long)]
     machine: String,
-    /// Output file (.gcode, .nc, .ngc, .tap, .svg or .dxf).
+    /// Output file (.gcode, .nc, .ngc, .tap, .svg or .dxf); default: the design's name in the
+    /// current folder, with .gcode for G-code machines and .svg for SVG laser profiles.
     #[arg(short, long)]
-    output: PathBuf,
+    output: Option<PathBuf>,
     /// Output format, when the extension does not say it.
     #[arg(long, value_parser = ["gcode", "svg", "dxf"])]
     format: Option<String>,
@@ -83,17 +84,17 @@ pub fn load_profile(spec: &str) -> Result<Profile> {
     bail!("no machine profile named {spec:?} (see `skinpath machines`) and no such file")
 }
 
-fn format_of(a: &Args) -> Result<String> {
+fn format_of(a: &Args, output: &Path) -> Result<String> {
     if let Some(f) = &a.format {
         return Ok(f.clone());
     }
-    Ok(match io::extension(&a.output).as_str() {
+    Ok(match io::extension(output).as_str() {
         "gcode" | "nc" | "ngc" | "tap" | "g" => "gcode".into(),
         "svg" => "svg".into(),
         "dxf" => "dxf".into(),
         other => bail!(
             "{}: cannot tell the output format from .{other}; use --format gcode|svg|dxf",
-            a.output.display()
+            output.display()
         ),
     })
 }
@@ -188,17 +189,33 @@ fn explain(
     )
 }
 
+/// The output path when `-o` is not given: the design's file stem in the current folder,
+/// with the profile's natural extension.
+fn default_output(design: &Path, profile: &Profile) -> PathBuf {
+    let stem = design.file_stem().unwrap_or(design.as_os_str());
+    let ext = match profile.kind {
+        MachineKind::Svg => "svg",
+        MachineKind::Laser | MachineKind::Router => "gcode",
+    };
+    PathBuf::from(stem).with_extension(ext)
+}
+
 pub fn run(a: Args) -> Result<u8> {
-    let format = format_of(&a)?;
+    let profile = load_profile(&a.machine)?;
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(&a.design, &profile));
+    let format = format_of(&a, &output)?;
     let mut inputs: Vec<&Path> = vec![&a.design];
     let machine_path = PathBuf::from(&a.machine);
     if machine_path.exists() {
         inputs.push(&machine_path);
     }
-    io::refuse_overwriting_inputs(&a.output, &inputs)?;
+    io::refuse_overwriting_inputs(&output, &inputs)?;
     if let Some(p) = &a.preview {
         io::refuse_overwriting_inputs(p, &inputs)?;
-        if io::same_file(p, &a.output) {
+        if io::same_file(p, &output) {
             bail!(
                 "--preview {} is the output file: give the preview its own name",
                 p.display()
@@ -225,7 +242,6 @@ pub fn run(a: Args) -> Result<u8> {
         "center" => Place::Center,
         _ => Place::LowerLeft,
     };
-    let profile = load_profile(&a.machine)?;
     let text = io::read_text(&a.design)?;
     let file = a.design.display().to_string();
     let original = skinpath::design::load(&text, &file)?;
@@ -388,11 +404,19 @@ pub fn run(a: Args) -> Result<u8> {
         );
         outputs.push((p, super::preview::render(p, &scene, Default::default())?));
     }
-    outputs.insert(0, (&a.output, body_text.into_bytes()));
+    outputs.insert(0, (&output, body_text.into_bytes()));
     io::write_set(&outputs)?;
     let time = report.as_ref().map(|r| r.stats.time.total);
     if a.json {
-        let v = summary_json(&built, &profile, &placement, time, report.as_ref(), &a);
+        let v = summary_json(
+            &built,
+            &profile,
+            &placement,
+            time,
+            report.as_ref(),
+            &a,
+            &output,
+        );
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         println!(
@@ -447,6 +471,7 @@ fn summary_json(
     time: Option<f64>,
     report: Option<&skinpath::sim::Report>,
     a: &Args,
+    output: &Path,
 ) -> serde_json::Value {
     let s = built.toolpath.stats(glam::DVec2::ZERO);
     let ops: Vec<serde_json::Value> = built
@@ -471,7 +496,7 @@ fn summary_json(
     serde_json::json!({
         "design": a.design.display().to_string(),
         "machine": profile.name,
-        "outputs": std::iter::once(&a.output).chain(a.preview.as_ref()).map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        "outputs": std::iter::once(output).chain(a.preview.as_deref()).map(|p| p.display().to_string()).collect::<Vec<_>>(),
         "operations": ops,
         "cut_length": s.cut_length,
         "travel_length": s.travel_length,
