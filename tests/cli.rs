@@ -8,12 +8,10 @@ use skinpath::geom::DVec2;
 use skinpath::geom::predicates::segments_intersect;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-mod examples_common;
-use examples_common::EXAMPLES;
+mod common;
+use common::{EXAMPLES, ROOT, skinpath, tmpdir};
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 /// Golden comparison tolerance for coordinates (mm or inch), per the task.
 const GOLDEN_TOL: f64 = 1e-3;
 /// SVG width/height (mm) against the viewBox size: half of the 0.001 mm the drawing's
@@ -27,24 +25,6 @@ fn example(name: &str) -> PathBuf {
     Path::new(ROOT)
         .join("examples")
         .join(format!("{name}.toml"))
-}
-
-/// A fresh, empty directory unique to this process and call.
-fn tmpdir(tag: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let n = N.fetch_add(1, Ordering::SeqCst);
-    let d = std::env::temp_dir().join(format!("skinpath-itest-{}-{tag}-{n}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn skinpath(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_skinpath"))
-        .args(args)
-        .current_dir(ROOT)
-        .output()
-        .expect("run skinpath")
 }
 
 fn code(o: &Output) -> i32 {

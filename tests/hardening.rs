@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-mod examples_common;
-use examples_common::EXAMPLES;
+mod common;
+use common::EXAMPLES;
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 

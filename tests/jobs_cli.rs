@@ -23,13 +23,11 @@
 
 use serde_json::Value as Json;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::process::Output;
 
-mod examples_common;
-use examples_common::EXAMPLES;
+mod common;
+use common::{EXAMPLES, ROOT, skinpath, tmpdir};
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 const GCODE_PROFILES: [&str; 5] = [
     "grbl-laser",
     "grbl-router",
@@ -53,23 +51,6 @@ const DO_NOT_FIT: [(&str, &str, &str); 8] = [
     ("seahorse", "grbl-router", "--fit"),
     ("snake", "marlin-laser", "--fit"),
 ];
-
-fn tmpdir(tag: &str) -> PathBuf {
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let n = N.fetch_add(1, Ordering::SeqCst);
-    let d = std::env::temp_dir().join(format!("skinpath-jobs-{}-{tag}-{n}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn skinpath(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_skinpath"))
-        .args(args)
-        .current_dir(ROOT)
-        .output()
-        .expect("run skinpath")
-}
 
 fn text(o: &Output) -> String {
     format!(

@@ -19,8 +19,8 @@ use skinpath::machine::{Profile, Units, builtin_profile};
 use skinpath::sim::{Backend, Severity, check_text};
 use std::collections::BTreeMap;
 
-mod examples_common;
-use examples_common::EXAMPLES;
+mod common;
+use common::EXAMPLES;
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 /// Random builds per profile in CI.

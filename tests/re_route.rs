@@ -25,8 +25,8 @@ use skinpath::toolpath::re_route::mat_profile;
 use skinpath::toolpath::region::Region;
 use std::process::Command;
 
-mod examples_common;
-use examples_common::EXAMPLES;
+mod common;
+use common::EXAMPLES;
 
 /// Biarc fitting tolerance of the tests (mm).
 const TOL: f64 = 0.01;
