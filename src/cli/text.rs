@@ -3,7 +3,7 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::design::text::{Align, Font, Text};
+use skinpath::design::text::{Align, Font, Kerning, Text};
 use skinpath::design::{Design, Format, Units, VERSION};
 use std::path::PathBuf;
 
@@ -32,6 +32,10 @@ pub struct Args {
     /// Baseline to baseline, in multiples of the height.
     #[arg(long)]
     line_spacing: Option<f64>,
+    /// Kerning: auto (letter pairs such as AV, To, LT moved together from the glyphs'
+    /// strokes) or none (advance widths only).
+    #[arg(long, default_value = "auto", value_parser = ["auto", "none"])]
+    kerning: String,
     /// Distance of the lettering (its strokes' edges) from the x and y axes, mm: room for a
     /// backboard or an outside cut without leaving the machine's work area.
     #[arg(long, default_value_t = 10.0)]
@@ -61,6 +65,7 @@ pub fn run(a: Args) -> Result<u8> {
     });
     t.letter_spacing = a.letter_spacing;
     t.line_spacing = a.line_spacing;
+    t.kerning = (a.kerning == "none").then_some(Kerning::None);
     // Place the lettering's lower-left corner (stroke radius included) `margin` from the
     // origin, so it builds inside any machine's work area without --place.
     if !(a.margin.is_finite() && a.margin >= 0.0) {

@@ -12,12 +12,17 @@
 //! align = "left"              # "left" | "centre" | "right" (about `at`); default "left"
 //! letter_spacing = 0.0        # extra space between letters; default 0
 //! line_spacing = 1.6          # baseline to baseline, in multiples of `height`; default 1.6
+//! kerning = "auto"            # "auto" | "none"; default "auto"
 //! ```
 //!
 //! The fonts are Hershey fonts (public domain; see `src/design/fonts/README.md`). Each glyph
 //! is a set of polylines on an integer grid with a cap height of 21 units; advance widths
-//! are the glyphs' left and right bounds. The Hershey fonts carry no kerning pairs, so none
-//! is applied. Every pen-down polyline becomes a stroke through its vertices (cubic
+//! are the glyphs' left and right bounds. The Hershey fonts carry no kerning pairs, so with
+//! `kerning = "auto"` (the default) each pair of neighbouring letters is kerned optically
+//! from the glyphs' own strokes (see [`pair_kern`]): a pair that stands farther apart than
+//! the font's own stem gap (the nearest distance between two "n"s) moves together until its
+//! centre lines are that far apart, within a bounded shift ("AV", "To", "LT", "P."). Script letters join at the advance, so the
+//! script font is never kerned. Every pen-down polyline becomes a stroke through its vertices (cubic
 //! interpolation, chord-length parameters: wu-2021 "Interpolation", eq. 16) with a corner
 //! wherever it turns by more than [`CORNER_ANGLE_DEG`](super::corners::CORNER_ANGLE_DEG);
 //! a polyline that ends where it starts is a closed stroke. In the script font the letters'
@@ -27,7 +32,7 @@
 use super::corners::{CORNER_ANGLE_DEG, sharp_turns};
 use super::error::{DesignError, ErrorKind, Item, Part};
 use super::model::{DEFAULT_DEGREE, Stroke};
-use crate::geom::DVec2;
+use crate::geom::{DVec2, Line};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
 
@@ -170,6 +175,123 @@ pub struct Text {
     /// Baseline to baseline, in multiples of `height`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub line_spacing: Option<f64>,
+    /// Kerning of neighbouring letters; default [`Kerning::Auto`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kerning: Option<Kerning>,
+}
+
+/// How neighbouring letters are spaced beyond their advance widths.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kerning {
+    /// Optical kerning from the glyphs' strokes ([`pair_kern`]); the script font is not
+    /// kerned (its letters join at the advance).
+    #[default]
+    Auto,
+    /// Advance widths only.
+    None,
+}
+
+impl Kerning {
+    /// The value's name in design files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Kerning::Auto => "auto",
+            Kerning::None => "none",
+        }
+    }
+}
+
+/// The largest distance (Hershey grid units, cap height 21) [`pair_kern`] moves a letter
+/// towards its left neighbour: a quarter of the cap height, about what typographers give
+/// "AV" or "LT". Bounds the kern where the letters never reach the target gap (a letter
+/// passing under an overhang).
+pub const MAX_TIGHTEN: f64 = 5.25;
+/// Resolution of the kern (grid units): the search steps by this and a kern is a multiple
+/// of it, so layouts do not depend on rounding.
+pub const KERN_STEP: f64 = 0.125;
+
+/// Smallest distance between the segments of two sets of polylines (grid units), the
+/// second set shifted by `dx` along x. Segments are compared by their end points' distances
+/// to the other segment, which is the segments' distance unless they cross; [`pair_kern`]
+/// moves a letter in steps much shorter than the target gap, so it stops before any crossing.
+fn polylines_distance(a: &[Vec<DVec2>], b: &[Vec<DVec2>], dx: f64) -> f64 {
+    let shift = DVec2::new(dx, 0.0);
+    let segments = |polys: &[Vec<DVec2>], by: DVec2| -> Vec<Line> {
+        polys
+            .iter()
+            .flat_map(|p| {
+                let single = (p.len() == 1).then(|| Line::new(p[0] + by, p[0] + by));
+                p.windows(2)
+                    .map(move |w| Line::new(w[0] + by, w[1] + by))
+                    .chain(single)
+            })
+            .collect()
+    };
+    let (sa, sb) = (segments(a, DVec2::ZERO), segments(b, shift));
+    let mut best = f64::INFINITY;
+    for s in &sa {
+        for t in &sb {
+            best = best
+                .min(s.distance(t.p0))
+                .min(s.distance(t.p1))
+                .min(t.distance(s.p0))
+                .min(t.distance(s.p1));
+        }
+    }
+    best
+}
+
+/// The glyph's polylines on its grid with the pen at 0 (x − left), y as in the font.
+fn glyph_polylines(g: &Glyph) -> Vec<Vec<DVec2>> {
+    g.strokes
+        .iter()
+        .map(|p| {
+            p.iter()
+                .map(|&[x, y]| DVec2::new((x - g.left) as f64, y as f64))
+                .collect()
+        })
+        .collect()
+}
+
+/// Optical kern of the pair `a` `b` (grid units, added to `a`'s advance, never positive):
+/// letters whose centre lines are farther apart than `gap` at their advance move together in
+/// steps of [`KERN_STEP`], at most [`MAX_TIGHTEN`], until one more step would come closer
+/// than `gap` (the first such shift, so a letter never slides under its neighbour's
+/// overhang). Letters are never moved apart: pairs with open sides ("EN", "OO") are nearest
+/// at a corner or a bulge and look right at their advance. Empty glyphs (space) are not
+/// kerned. O(n·m·k) for glyphs of n and m segments and k steps.
+pub fn pair_kern(a: &Glyph, b: &Glyph, gap: f64) -> f64 {
+    let (pa, pb) = (glyph_polylines(a), glyph_polylines(b));
+    if pa.iter().all(|p| p.is_empty()) || pb.iter().all(|p| p.is_empty()) {
+        return 0.0;
+    }
+    let advance = (a.right - a.left) as f64;
+    let d = |k: f64| polylines_distance(&pa, &pb, advance + k);
+    let mut kern = 0.0;
+    for i in 1..=(MAX_TIGHTEN / KERN_STEP).round() as i32 {
+        let k = -(i as f64) * KERN_STEP;
+        if d(k) < gap {
+            break;
+        }
+        kern = k;
+    }
+    kern
+}
+
+impl Font {
+    /// The font's stem gap (grid units): the nearest distance between two "n"s at their
+    /// advance, the target of [`pair_kern`].
+    pub fn stem_gap(self) -> f64 {
+        match self.glyph('n') {
+            Some(n) => polylines_distance(
+                &glyph_polylines(n),
+                &glyph_polylines(n),
+                (n.right - n.left) as f64,
+            ),
+            None => 0.0,
+        }
+    }
 }
 
 /// The name part of a character in stroke names: letters and digits as they are, anything
@@ -195,7 +317,37 @@ impl Text {
             align: None,
             letter_spacing: None,
             line_spacing: None,
+            kerning: None,
         }
+    }
+
+    /// The pen advance after each character of `line` (design units): its advance width,
+    /// the kern with the next letter ([`pair_kern`], when kerning applies) and the letter
+    /// spacing. Characters missing from the font advance by 0.
+    fn advances(&self, line: &str) -> Vec<f64> {
+        let s = self.scale();
+        let spacing = self.letter_spacing.unwrap_or(0.0);
+        let kerned = self.font != Font::Script && self.kerning.unwrap_or_default() == Kerning::Auto;
+        let gap = if kerned { self.font.stem_gap() } else { 0.0 };
+        let chars: Vec<char> = line.chars().collect();
+        let glyphs: Vec<Option<&Glyph>> = chars.iter().map(|&c| self.font.glyph(c)).collect();
+        let mut memo = std::collections::HashMap::new();
+        glyphs
+            .iter()
+            .enumerate()
+            .map(|(i, g)| {
+                let Some(g) = g else { return 0.0 };
+                let next = glyphs.get(i + 1).copied().flatten();
+                let kern = match next {
+                    Some(n) if kerned => *memo
+                        .entry((chars[i], chars[i + 1]))
+                        .or_insert_with(|| pair_kern(g, n, gap)),
+                    _ => 0.0,
+                };
+                let last = i + 1 == glyphs.len();
+                (g.right - g.left) as f64 * s + kern * s + if last { 0.0 } else { spacing }
+            })
+            .collect()
     }
 
     fn check(&self, file: &str, index: usize) -> Result<(), DesignError> {
@@ -256,15 +408,7 @@ impl Text {
 
     /// Width of one line of text (advances plus letter spacing), design units.
     pub fn line_width(&self, line: &str) -> f64 {
-        let s = self.scale();
-        let spacing = self.letter_spacing.unwrap_or(0.0);
-        let n = line.chars().count();
-        let adv: f64 = line
-            .chars()
-            .filter_map(|c| self.font.glyph(c))
-            .map(|g| (g.right - g.left) as f64 * s)
-            .sum();
-        adv + spacing * n.saturating_sub(1) as f64
+        self.advances(line).iter().sum()
     }
 
     /// The laid-out polylines: for every character (index into the text, char) its
@@ -273,18 +417,18 @@ impl Text {
         let s = self.scale();
         let at = self.at.unwrap_or([0.0, 0.0]);
         let pitch = self.line_spacing.unwrap_or(DEFAULT_LINE_SPACING) * self.height;
-        let spacing = self.letter_spacing.unwrap_or(0.0);
         let mut out = Vec::new();
         let mut index = 0;
         for (row, line) in self.text.split('\n').enumerate() {
-            let w = self.line_width(line);
+            let advances = self.advances(line);
+            let w: f64 = advances.iter().sum();
             let mut pen = match self.align.unwrap_or_default() {
                 Align::Left => at[0],
                 Align::Centre => at[0] - 0.5 * w,
                 Align::Right => at[0] - w,
             };
             let baseline = at[1] - row as f64 * pitch;
-            for c in line.chars() {
+            for (c, advance) in line.chars().zip(advances) {
                 if let Some(g) = self.font.glyph(c) {
                     let x0 = pen - g.left as f64 * s;
                     let polys = g
@@ -302,7 +446,7 @@ impl Text {
                         })
                         .collect();
                     out.push((index, c, polys));
-                    pen += (g.right - g.left) as f64 * s + spacing;
+                    pen += advance;
                 }
                 index += 1;
             }
@@ -483,6 +627,118 @@ mod tests {
         }
     }
 
+    /// Nearest distance (design units) between the centre lines of two laid-out letters.
+    fn letter_distance(a: &[Vec<DVec2>], b: &[Vec<DVec2>]) -> f64 {
+        polylines_distance(a, b, 0.0)
+    }
+
+    #[test]
+    fn kerning_tightens_open_pairs_to_the_stem_gap() {
+        // Independent check on the laid-out letters (design units, scale 2): every tightened
+        // pair keeps at least the stem gap, a tightened pair would come closer than it one
+        // step further (or is at the bound), and the stem pair "nn" is not moved.
+        let f = Font::Sans;
+        let gap = f.stem_gap();
+        assert!(gap > 0.0);
+        for pair in ["AV", "To", "LT", "Yo", "P.", "nn", "OO", "EN", "HH"] {
+            let c: Vec<char> = pair.chars().collect();
+            let (ga, gb) = (f.glyph(c[0]).unwrap(), f.glyph(c[1]).unwrap());
+            let k = pair_kern(ga, gb, gap);
+            assert!((-MAX_TIGHTEN..=0.0).contains(&k), "{pair}: {k}");
+            let t = Text::new("t", pair, 42.0, 1.0);
+            let l = t.layout();
+            let d = letter_distance(&l[0].2, &l[1].2) / t.scale();
+            assert!(
+                k == 0.0 || d >= gap - 1e-9,
+                "{pair}: distance {d} < gap {gap}"
+            );
+            let kerned = Text {
+                kerning: Some(Kerning::None),
+                ..t.clone()
+            };
+            let plain = kerned.layout();
+            let shift = (l[1].2[0][0].x - plain[1].2[0][0].x) / t.scale();
+            assert!(
+                (shift - k).abs() < 1e-9,
+                "{pair}: shift {shift} vs kern {k}"
+            );
+            if k > -MAX_TIGHTEN && k < 0.0 {
+                let closer = polylines_distance(
+                    &glyph_polylines(ga),
+                    &glyph_polylines(gb),
+                    (ga.right - ga.left) as f64 + k - KERN_STEP,
+                );
+                assert!(closer < gap, "{pair}: one more step keeps {closer} ≥ {gap}");
+            }
+        }
+        for (pair, tight) in [
+            ("AV", true),
+            ("To", true),
+            ("LT", true),
+            ("nn", false),
+            ("OO", false),
+        ] {
+            let c: Vec<char> = pair.chars().collect();
+            let k = pair_kern(f.glyph(c[0]).unwrap(), f.glyph(c[1]).unwrap(), gap);
+            assert_eq!(k < 0.0, tight, "{pair}: {k}");
+        }
+    }
+
+    #[test]
+    fn kerning_none_and_script_keep_the_advances() {
+        for (font, kerning) in [(Font::Sans, Some(Kerning::None)), (Font::Script, None)] {
+            let mut t = Text::new("t", "AVTo", 21.0, 1.0);
+            t.font = font;
+            t.kerning = kerning;
+            let sum: f64 = "AVTo"
+                .chars()
+                .map(|c| {
+                    let g = font.glyph(c).unwrap();
+                    (g.right - g.left) as f64
+                })
+                .sum();
+            assert!((t.line_width("AVTo") - sum).abs() < 1e-12);
+        }
+        // Kerned: the line is narrower by the sum of the kerns, and centring uses it.
+        let mut t = Text::new("t", "AVTo", 21.0, 1.0);
+        let gap = Font::Sans.stem_gap();
+        let g = |c| Font::Sans.glyph(c).unwrap();
+        let kerns = pair_kern(g('A'), g('V'), gap)
+            + pair_kern(g('V'), g('T'), gap)
+            + pair_kern(g('T'), g('o'), gap);
+        assert!(kerns < 0.0);
+        let plain = Text {
+            kerning: Some(Kerning::None),
+            ..t.clone()
+        };
+        assert!((t.line_width("AVTo") - plain.line_width("AVTo") - kerns).abs() < 1e-9);
+        t.align = Some(Align::Right);
+        let right = t
+            .layout()
+            .iter()
+            .flat_map(|g| g.2.concat())
+            .map(|p| p.x)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let o = g('o');
+        let o_right = o.strokes.iter().flatten().map(|p| p[0]).max().unwrap();
+        assert!((right - (o_right - o.right) as f64).abs() < 1e-9, "{right}");
+    }
+
+    #[test]
+    fn kerning_key_parses() {
+        let t: Text = toml::from_str(
+            "name = \"t\"\ntext = \"AV\"\nheight = 10.0\nwidth = 1.0\nkerning = \"none\"",
+        )
+        .unwrap();
+        assert_eq!(t.kerning, Some(Kerning::None));
+        assert!(
+            toml::from_str::<Text>(
+                "name = \"t\"\ntext = \"AV\"\nheight = 10.0\nwidth = 1.0\nkerning = \"tight\""
+            )
+            .is_err()
+        );
+    }
+
     #[test]
     fn cap_height_and_advance() {
         let t = Text::new("t", "H", 80.0, 8.0);
@@ -496,7 +752,7 @@ mod tests {
         );
         // Advance of "HH" is twice that of "H"; centred text is symmetric about `at`.
         let g = Font::Sans.glyph('H').unwrap();
-        let two = Text::new("t", "HH", 21.0, 1.0);
+        let two = Text::new("t", "HH", 21.0, 1.0); // "HH" is a stem pair: not kerned
         assert!((two.line_width("HH") - 2.0 * (g.right - g.left) as f64).abs() < 1e-12);
         let mut c = Text::new("t", "HH", 21.0, 1.0);
         c.align = Some(Align::Centre);
