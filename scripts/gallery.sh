@@ -18,17 +18,17 @@ trap 'rm -rf "$out"' EXIT
 
 # --- the designs ---------------------------------------------------------------------
 
-# 1. Neon sign: the word from `skinpath text`, the letters' outline marked on the board,
-#    wire holes at the stroke ends, and the backboard cut around the lettering. (Channels
-#    along crossing letters need the union of the strokes' regions: issue 12 item 2.)
+# 1. Neon sign: the word from `skinpath text`, a 6.5 mm channel for 6 mm LED neon flex
+#    along the letters (one channel network where strokes meet: the union of their regions),
+#    wire holes at the stroke ends, and the backboard cut around the lettering.
 "$bin" text "OPEN" --height 40 --width 6 --name open -o $g/neon_open.toml
 cat >> $g/neon_open.toml <<'TOML'
 
 [[operation]]
-kind = "profile"
-side = "on"
-depth = 1.0
-power = 30.0
+kind = "channel"
+width = 6.5
+depth = 10.0
+power = 80.0
 
 [[operation]]
 kind = "holes"
