@@ -231,3 +231,103 @@ fn malformed_svg_names_the_file_and_line() {
     assert!(e.starts_with("bad.svg:"), "{e}");
     assert!(e.contains(":3:") || e.contains(":2:"), "{e}");
 }
+
+/// An Inkscape Power Stroke: a filled outline (its `d` is ignored) drawn from the centre line
+/// `inkscape:original-d` and the effect's width points.
+fn power_stroke(id: &str, original_d: &str, offsets: &str, extra: &str, transform: &str) -> String {
+    format!(
+        r##"<defs><inkscape:path-effect id="{id}-lpe" effect="powerstroke" offset_points="{offsets}" {extra}/></defs>
+           <path id="{id}" d="M0 0 H1 V1 Z" fill="black" transform="{transform}"
+                 inkscape:path-effect="#{id}-lpe" inkscape:original-d="{original_d}"/>"##
+    )
+}
+
+#[test]
+fn inkscape_power_stroke_is_imported_with_its_widths() {
+    let ns = r#"xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="100mm" height="100mm" viewBox="0 0 100 100""#;
+    // Two line segments (path time 0..2), butt caps: the width points hold to the ends.
+    let text = svg(
+        ns,
+        &power_stroke(
+            "lines",
+            "M 0,50 L 50,50 L 100,50",
+            "0.5,1 | 1,4 | 1.5,1",
+            r#"start_linecap_type="butt" end_linecap_type="round""#,
+            "",
+        ),
+    );
+    let imp = import(&text, "p.svg", &ImportOptions::default()).unwrap();
+    assert!(imp.skipped.is_empty(), "{:?}", imp.skipped);
+    let d = load(&text, "p.svg").unwrap();
+    let c = &d.strokes().unwrap()[0];
+    let (lo, hi) = c.domain();
+    // Expected half width at x (path time x / 50), linear between the points.
+    let want = |x: f64| {
+        let t = x / 50.0;
+        if t <= 0.5 || t >= 1.5 {
+            1.0
+        } else if t <= 1.0 {
+            1.0 + 3.0 * (t - 0.5) / 0.5
+        } else {
+            4.0 - 3.0 * (t - 1.0) / 0.5
+        }
+    };
+    for k in 0..=40 {
+        let t = lo + (hi - lo) * k as f64 / 40.0;
+        let p = c.center(t);
+        assert!((p.y - 50.0).abs() < 1e-3, "{p}");
+        assert!(
+            (c.radius(t) - want(p.x)).abs() < 0.1,
+            "x {}: r {} want {}",
+            p.x,
+            c.radius(t),
+            want(p.x)
+        );
+    }
+
+    // A curve under a transform, zero-width caps (Inkscape's default): widths scale with the
+    // transform and run down to half the tolerance at both ends; the spine follows the
+    // original centre line, not the filled outline.
+    let text = svg(
+        ns,
+        &power_stroke(
+            "curve",
+            "M 10,50 C 30,10 70,90 90,50",
+            "0.5,3",
+            r#"scale_width="2""#,
+            "scale(0.5)",
+        ),
+    );
+    let d = load(&text, "p.svg").unwrap();
+    let c = &d.strokes().unwrap()[0];
+    let (lo, hi) = c.domain();
+    let tol = ImportOptions::default().tolerance;
+    assert!((c.radius(lo) - 0.5 * tol).abs() < 1e-6, "{}", c.radius(lo));
+    assert!((c.radius(hi) - 0.5 * tol).abs() < 1e-6, "{}", c.radius(hi));
+    let peak = (0..=200)
+        .map(|k| c.radius(lo + (hi - lo) * k as f64 / 200.0))
+        .fold(0.0, f64::max);
+    assert!((peak - 3.0).abs() < 0.05, "peak radius {peak}");
+    let cubic = CubicBez::new(
+        Point::new(10.0, 50.0),
+        Point::new(30.0, 10.0),
+        Point::new(70.0, 90.0),
+        Point::new(90.0, 50.0),
+    );
+    let truth: Vec<DVec2> = (0..=400)
+        .map(|k| {
+            let p = cubic.eval(k as f64 / 400.0);
+            DVec2::new(0.5 * p.x, 100.0 - 0.5 * p.y)
+        })
+        .collect();
+    let h = hausdorff(&spine(&d, "curve"), &truth);
+    assert!(h < tol + 1e-3, "spine {h} from the centre line");
+
+    // A width point that is not "time,width" is an error naming the element.
+    let bad = text.replace("0.5,3", "0.5;3");
+    let e = load(&bad, "p.svg").unwrap_err().to_string();
+    assert!(
+        e.contains("p.svg") && e.contains("element curve") && e.contains("Power Stroke"),
+        "{e}"
+    );
+}

@@ -19,10 +19,17 @@
 //!   widths (user units, like `stroke-width`) at k + 1 points spread evenly along the length
 //!   of each subpath, linear in between. The attribute needs the element's `id` (usvg keeps
 //!   ids but not custom attributes).
+//! - Inkscape's Power Stroke (a filled outline whose element has `inkscape:path-effect`
+//!   pointing to an effect with `effect="powerstroke"`) is imported as the stroke it was
+//!   drawn as: the centre line is `inkscape:original-d` (first subpath, as Inkscape draws
+//!   it), the radius at each point the effect's half width (`offset_points="t,w | …"`, path
+//!   time t = segment index + curve parameter, w × `scale_width`), linear between the width
+//!   points, running to half the tolerance at `zerowidth` caps (Inkscape's default) and
+//!   kept to the ends with other caps.
 //! - Filled paths without a stroke, hidden paths, images and text are skipped, each listed
 //!   by id with the reason. (Outlines of filled shapes would need a design element for
 //!   closed regions to profile or fill; skinpath designs have only strokes, so they are not
-//!   imported. Inkscape's Power Stroke saves a filled outline and is skipped as such.)
+//!   imported.)
 //!
 //! Coordinates: millimetres, 96 px per inch (mm, cm, in, pt, pc and px are resolved by
 //! usvg from `width`/`height` and the viewBox); SVG's y axis points down, so y is flipped
@@ -193,6 +200,9 @@ struct Subpath {
     /// Indices in `pts` of the path's nodes, with the tangent turn there (radians).
     nodes: Vec<(usize, f64)>,
     closed: bool,
+    /// Path time of every point (segment index + parameter in the segment, as Inkscape's
+    /// Power Stroke counts it); filled only for Power Stroke paths.
+    times: Vec<f64>,
 }
 
 fn turn(a: DVec2, b: DVec2) -> f64 {
@@ -256,6 +266,80 @@ fn flatten_into(bp: &BezPath, tol: f64, out: &mut Vec<DVec2>) {
     });
 }
 
+/// Parameter in [0, 1] of the point of the segment `ctrl` (2, 3 or 4 control points) nearest
+/// to `q`, found to `accuracy` (kurbo's nearest-point search on the curve).
+fn segment_time(ctrl: &[DVec2], q: DVec2, accuracy: f64) -> f64 {
+    use kurbo::{Line, ParamCurveNearest};
+    let q = kp(q);
+    match ctrl.len() {
+        2 => Line::new(kp(ctrl[0]), kp(ctrl[1])).nearest(q, accuracy).t,
+        3 => {
+            QuadBez::new(kp(ctrl[0]), kp(ctrl[1]), kp(ctrl[2]))
+                .nearest(q, accuracy)
+                .t
+        }
+        _ => {
+            CubicBez::new(kp(ctrl[0]), kp(ctrl[1]), kp(ctrl[2]), kp(ctrl[3]))
+                .nearest(q, accuracy)
+                .t
+        }
+    }
+}
+
+/// The point at parameter `t` of the segment `ctrl` (2, 3 or 4 control points).
+fn segment_point(ctrl: &[DVec2], t: f64) -> DVec2 {
+    use kurbo::{Line, ParamCurve};
+    dv(match ctrl.len() {
+        2 => Line::new(kp(ctrl[0]), kp(ctrl[1])).eval(t),
+        3 => QuadBez::new(kp(ctrl[0]), kp(ctrl[1]), kp(ctrl[2])).eval(t),
+        _ => CubicBez::new(kp(ctrl[0]), kp(ctrl[1]), kp(ctrl[2]), kp(ctrl[3])).eval(t),
+    })
+}
+
+/// The Inkscape namespace of `inkscape:path-effect` and `inkscape:original-d`.
+const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
+
+/// An Inkscape Power Stroke path effect on an element: its centre line (`inkscape:original-d`)
+/// and its width points (`offset_points="t,w | t,w | …"`: path time t, half width w in user
+/// units, times `scale_width`).
+struct PowerStroke {
+    /// The centre line, in the element's user units.
+    centre: usvg::tiny_skia_path::Path,
+    /// (path time, half width) sorted by time.
+    points: Vec<(f64, f64)>,
+    /// Whether the width runs to zero at the start / end (`zerowidth` caps, Inkscape's
+    /// default); other caps keep the first / last point's width to the end.
+    taper: (bool, bool),
+    /// Path time at the end of the centre line (its number of segments).
+    end: f64,
+}
+
+impl PowerStroke {
+    /// Radius at each path time in `times`: the half widths interpolated linearly between
+    /// the width points (Inkscape draws a smooth interpolating curve through them, by default
+    /// centripetal Catmull–Rom, so between points the widths can differ from Inkscape's by
+    /// that curve's bulge), tapered to `min_radius` at a zero-width cap, times `to_mm`.
+    fn radii(&self, times: &[f64], to_mm: f64, min_radius: f64) -> Vec<f64> {
+        let mut pts = self.points.clone();
+        let (first, last) = (pts[0], pts[pts.len() - 1]);
+        pts.insert(0, (0.0, if self.taper.0 { 0.0 } else { first.1 }));
+        pts.push((self.end, if self.taper.1 { 0.0 } else { last.1 }));
+        times
+            .iter()
+            .map(|&t| {
+                let i = pts.partition_point(|p| p.0 <= t).clamp(1, pts.len() - 1);
+                let (a, b) = (pts[i - 1], pts[i]);
+                let f = if b.0 > a.0 {
+                    ((t - a.0) / (b.0 - a.0)).clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
+                (((1.0 - f) * a.1 + f * b.1) * to_mm).max(min_radius)
+            })
+            .collect()
+    }
+}
+
 impl Ctx<'_> {
     fn to_mm(&self, p: DVec2) -> DVec2 {
         DVec2::new(p.x * MM_PER_PX, (self.page_height - p.y) * MM_PER_PX)
@@ -294,20 +378,30 @@ impl Ctx<'_> {
             self.skip(id, "hidden (visibility or display)");
             return Ok(());
         }
-        let Some(stroke) = p.stroke() else {
-            let reason = if p.fill().is_some() {
-                "filled shape without a stroke: only stroked paths become strokes (give it a \
-                 stroke to import its centre line)"
-            } else {
-                "neither stroked nor filled"
-            };
-            self.skip(id, reason);
-            return Ok(());
+        let power = self.power_stroke(p.id(), &id)?;
+        let stroke_width = match (&power, p.stroke()) {
+            (Some(_), _) => 0.0,
+            (None, Some(stroke)) => stroke.width().get() as f64,
+            (None, None) => {
+                let reason = if p.fill().is_some() {
+                    "filled shape without a stroke: only stroked paths become strokes (give it a \
+                     stroke to import its centre line)"
+                } else {
+                    "neither stroked nor filled"
+                };
+                self.skip(id, reason);
+                return Ok(());
+            }
         };
         let t = p.abs_transform();
         let scale = ((t.sx as f64 * t.sy as f64 - t.kx as f64 * t.ky as f64).abs()).sqrt();
-        let width_mm = stroke.width().get() as f64 * scale * MM_PER_PX;
+        let width_mm = stroke_width * scale * MM_PER_PX;
         let widths = self.widths(p.id(), &id)?;
+        let data = match &power {
+            Some(ps) => ps.centre.clone(),
+            None => p.data().clone(),
+        };
+        let mut segment = 0usize;
         let map = |q: usvg::tiny_skia_path::Point| {
             let x = t.sx as f64 * q.x as f64 + t.kx as f64 * q.y as f64 + t.tx as f64;
             let y = t.ky as f64 * q.x as f64 + t.sy as f64 * q.y as f64 + t.ty as f64;
@@ -324,7 +418,7 @@ impl Ctx<'_> {
                 out.push(s);
             }
         };
-        for seg in p.data().segments() {
+        for seg in data.segments() {
             use usvg::tiny_skia_path::PathSegment as S;
             let ctrl: Vec<DVec2> = match seg {
                 S::MoveTo(q) => {
@@ -335,6 +429,7 @@ impl Ctx<'_> {
                             pts: vec![q],
                             nodes: vec![(0, 0.0)],
                             closed: false,
+                            times: vec![segment as f64],
                         },
                         q,
                         DVec2::ZERO,
@@ -349,6 +444,7 @@ impl Ctx<'_> {
                         let last = *s.pts.last().unwrap_or(start);
                         let mut tin = *tin;
                         if last.distance(*start) > 1e-9 {
+                            segment += 1;
                             let (a, b) = tangents(&[last, *start]);
                             let k = s.pts.len() - 1;
                             if let Some(n) = s.nodes.last_mut()
@@ -357,6 +453,7 @@ impl Ctx<'_> {
                                 n.1 = turn(tin, a);
                             }
                             s.pts.push(*start);
+                            s.times.push(segment as f64);
                             s.nodes.push((s.pts.len() - 1, 0.0));
                             tin = b;
                         }
@@ -375,6 +472,8 @@ impl Ctx<'_> {
             let mut full = vec![prev];
             full.extend(ctrl.iter().map(|&q| self.to_mm(q)));
             let (a, b) = tangents(&full);
+            let index = segment;
+            segment += 1;
             if a == DVec2::ZERO {
                 continue; // a zero-length segment
             }
@@ -387,7 +486,28 @@ impl Ctx<'_> {
             {
                 n.1 = turn(*tin, a);
             }
+            let from = s.pts.len();
             flatten_segment(&full, 0.1 * tol, &mut s.pts);
+            if let Some(ps) = &power {
+                // Path times of the flattened points, and a point at every width point
+                // inside the segment, so the widths are sampled where they turn.
+                let mut timed: Vec<(f64, DVec2)> = s.pts[from..]
+                    .iter()
+                    .map(|&q| (index as f64 + segment_time(&full, q, 1e-9 * tol), q))
+                    .collect();
+                for &(t, _) in &ps.points {
+                    let f = t - index as f64;
+                    if f > 0.0 && f < 1.0 {
+                        timed.push((t, segment_point(&full, f)));
+                    }
+                }
+                timed.sort_by(|a, b| a.0.total_cmp(&b.0));
+                s.pts.truncate(from);
+                for (t, q) in timed {
+                    s.pts.push(q);
+                    s.times.push(t);
+                }
+            }
             s.nodes.push((s.pts.len() - 1, 0.0));
             *tin = b;
         }
@@ -395,6 +515,14 @@ impl Ctx<'_> {
         if subpaths.is_empty() {
             self.skip(id, "stroked path of zero length");
             return Ok(());
+        }
+        if power.is_some() && subpaths.len() > 1 {
+            // Inkscape applies Power Stroke to the first subpath only.
+            subpaths.truncate(1);
+            self.skip(
+                format!("{id} (subpaths after the first)"),
+                "Power Stroke draws only a path's first subpath",
+            );
         }
         let many = subpaths.len() > 1;
         for (j, sp) in subpaths.into_iter().enumerate() {
@@ -404,13 +532,145 @@ impl Ctx<'_> {
                 id.clone()
             };
             let name = self.unique(name);
-            let radii = self.radii(&sp.pts, width_mm, widths.as_deref(), scale);
+            let radii = match &power {
+                Some(ps) => ps.radii(&sp.times, scale * MM_PER_PX, 0.5 * self.opts.tolerance),
+                None => self.radii(&sp.pts, width_mm, widths.as_deref(), scale),
+            };
             match self.fit_subpath(&name, &sp, &radii) {
                 Some(s) => self.strokes.push(s),
                 None => self.skip(name, "subpath of zero length"),
             }
         }
         Ok(())
+    }
+
+    /// The Inkscape Power Stroke on the element with id `id`, if it has one: an
+    /// `inkscape:path-effect` reference to an effect with `effect="powerstroke"` and an
+    /// `inkscape:original-d` centre line. Malformed width points are an error naming the
+    /// element.
+    fn power_stroke(&self, id: &str, shown: &str) -> Result<Option<PowerStroke>, DesignError> {
+        if id.is_empty() {
+            return Ok(None);
+        }
+        let Some(node) = self
+            .xml
+            .descendants()
+            .find(|n| n.is_element() && n.attribute("id") == Some(id))
+        else {
+            return Ok(None);
+        };
+        let (Some(effects), Some(centre)) = (
+            node.attribute((INKSCAPE_NS, "path-effect")),
+            node.attribute((INKSCAPE_NS, "original-d")),
+        ) else {
+            return Ok(None);
+        };
+        let effect = effects
+            .split(';')
+            .filter_map(|r| r.trim().strip_prefix('#'))
+            .filter_map(|r| {
+                self.xml
+                    .descendants()
+                    .find(|n| n.is_element() && n.attribute("id") == Some(r))
+            })
+            .find(|n| n.attribute("effect") == Some("powerstroke"));
+        let Some(effect) = effect else {
+            return Ok(None);
+        };
+        let bad = |m: String| err(self.file, format!("element {shown}: Power Stroke {m}"));
+        let bez = BezPath::from_svg(centre).map_err(|e| {
+            bad(format!(
+                "centre line (inkscape:original-d) is not path data: {e}"
+            ))
+        })?;
+        let mut pb = usvg::tiny_skia_path::PathBuilder::new();
+        let mut end = 0.0;
+        let mut started = false;
+        let (mut first, mut current) = (kurbo::Point::ZERO, kurbo::Point::ZERO);
+        for el in bez.elements() {
+            if let Some(p) = el.end_point() {
+                if let PathEl::MoveTo(_) = el {
+                    first = p;
+                }
+                current = p;
+            }
+            let f = |p: kurbo::Point| (p.x as f32, p.y as f32);
+            match *el {
+                PathEl::MoveTo(p) => {
+                    if started {
+                        break; // Power Stroke draws the first subpath only.
+                    }
+                    started = true;
+                    let (x, y) = f(p);
+                    pb.move_to(x, y);
+                }
+                PathEl::LineTo(p) => {
+                    let (x, y) = f(p);
+                    pb.line_to(x, y);
+                    end += 1.0;
+                }
+                PathEl::QuadTo(a, p) => {
+                    let ((ax, ay), (x, y)) = (f(a), f(p));
+                    pb.quad_to(ax, ay, x, y);
+                    end += 1.0;
+                }
+                PathEl::CurveTo(a, b, p) => {
+                    let ((ax, ay), (bx, by), (x, y)) = (f(a), f(b), f(p));
+                    pb.cubic_to(ax, ay, bx, by, x, y);
+                    end += 1.0;
+                }
+                PathEl::ClosePath => {
+                    pb.close();
+                    if current.distance(first) > 0.0 {
+                        end += 1.0; // a closing line; a closing point adds no segment
+                    }
+                }
+            }
+        }
+        let Some(path) = pb.finish() else {
+            return Err(bad("centre line (inkscape:original-d) is empty".into()));
+        };
+        let scale_width = match effect.attribute("scale_width") {
+            None => 1.0,
+            Some(v) => v
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|w| w.is_finite() && *w > 0.0)
+                .ok_or_else(|| bad(format!("scale_width {v:?} is not a positive number")))?,
+        };
+        let mut points = Vec::new();
+        for item in effect
+            .attribute("offset_points")
+            .unwrap_or("")
+            .split('|')
+            .map(str::trim)
+            .filter(|t| !t.is_empty())
+        {
+            let nums: Vec<Option<f64>> = item
+                .split(',')
+                .map(|v| v.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+                .collect();
+            match nums[..] {
+                [Some(t), Some(w)] if w > 0.0 => points.push((t, w * scale_width)),
+                _ => {
+                    return Err(bad(format!(
+                        "width point {item:?} is not \"time,half-width\" with a positive width"
+                    )));
+                }
+            }
+        }
+        if points.is_empty() {
+            return Err(bad("has no width points (offset_points)".into()));
+        }
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let zero = |key: &str| effect.attribute(key).is_none_or(|c| c == "zerowidth");
+        Ok(Some(PowerStroke {
+            centre: path,
+            points,
+            taper: (zero("start_linecap_type"), zero("end_linecap_type")),
+            end,
+        }))
     }
 
     fn unique(&self, name: String) -> String {
@@ -623,7 +883,7 @@ impl Ctx<'_> {
                     .map(|j| at(total * j as f64 / (count - 1) as f64))
                     .collect()
             };
-            let dev = self.deviation(name, &samples, &ring, closed);
+            let dev = self.deviation(name, &samples, &ring, &ring_r, closed);
             if best.as_ref().is_none_or(|b| dev < b.1) {
                 best = Some((samples, dev));
             }
@@ -639,7 +899,19 @@ impl Ctx<'_> {
 
     /// Both-ways distance between the interpolant of `samples` and the polyline `ring`
     /// (infinite when the fit fails).
-    fn deviation(&self, name: &str, samples: &[[f64; 3]], ring: &[DVec2], closed: bool) -> f64 {
+    /// How far the stroke through `samples` strays from the run (`ring` with radii
+    /// `ring_r`): the largest distance from its spine to the run and from the run to its
+    /// spine, plus the largest radius error at the run's points (the radius at the spine
+    /// sample nearest each point against the point's radius). The sum bounds how far the
+    /// stroke's disks stray from the drawn ones.
+    fn deviation(
+        &self,
+        name: &str,
+        samples: &[[f64; 3]],
+        ring: &[DVec2],
+        ring_r: &[f64],
+        closed: bool,
+    ) -> f64 {
         let mut st = Stroke::from_disks(name, Vec::new());
         st.disks = None;
         st.closed = closed;
@@ -650,9 +922,10 @@ impl Ctx<'_> {
         };
         let (lo, hi) = c.domain();
         let n = (samples.len() * 16).max(64);
-        let spine: Vec<DVec2> = (0..=n)
-            .map(|i| c.center(lo + (hi - lo) * i as f64 / n as f64))
+        let params: Vec<f64> = (0..=n)
+            .map(|i| lo + (hi - lo) * i as f64 / n as f64)
             .collect();
+        let spine: Vec<DVec2> = params.iter().map(|&t| c.center(t)).collect();
         let a = spine
             .iter()
             .map(|&q| dist_polyline(q, ring))
@@ -661,8 +934,44 @@ impl Ctx<'_> {
             .iter()
             .map(|&q| dist_polyline(q, &spine))
             .fold(0.0, f64::max);
-        a.max(b)
+        // Radius error both ways: at each spine sample against the run's radius at the
+        // nearest point of the run, and at each run point against the spine sample nearest it.
+        let to_run = spine
+            .iter()
+            .zip(&params)
+            .map(|(&q, &t)| (c.radius(t) - radius_on_polyline(q, ring, ring_r)).abs())
+            .fold(0.0, f64::max);
+        let to_spine = ring
+            .iter()
+            .zip(ring_r)
+            .map(|(&q, &r)| {
+                let j = (0..spine.len())
+                    .min_by(|&i, &k| q.distance(spine[i]).total_cmp(&q.distance(spine[k])))
+                    .unwrap_or(0);
+                (c.radius(params[j]) - r).abs()
+            })
+            .fold(0.0, f64::max);
+        let radius_error = to_run.max(to_spine);
+        a.max(b) + radius_error
     }
+}
+
+/// The radius (linear along each segment of `poly`, radii `r` at its points) at the point
+/// of `poly` nearest to `p`.
+fn radius_on_polyline(p: DVec2, poly: &[DVec2], r: &[f64]) -> f64 {
+    if poly.len() == 1 {
+        return r[0];
+    }
+    let mut best = (f64::INFINITY, r[0]);
+    for (i, w) in poly.windows(2).enumerate() {
+        let seg = crate::geom::Line::new(w[0], w[1]);
+        let t = seg.nearest_t(p);
+        let d = seg.eval(t).distance(p);
+        if d < best.0 {
+            best = (d, r[i] + t * (r[i + 1] - r[i]));
+        }
+    }
+    best.1
 }
 
 fn dist_polyline(p: DVec2, poly: &[DVec2]) -> f64 {
