@@ -15,7 +15,9 @@
 //! units per minute) instead of the operation's values; a router takes z = −depth(t),
 //! still capped by `max_depth`, instead of −r(t)·cot(θ/2), and clears no flat bottom
 //! (the cap's flat region follows the radius, not the attribute). A laser V-carve
-//! engraves along the spine at z = 0 with the attribute power and feed.
+//! engraves along the spine at z = 0 with the attribute power and feed. On G-code lasers
+//! the `power` and `feed` attributes also drive profile, fill and channel cuts: each piece of
+//! a cut takes the value at the nearest spine parameter ([`attributes_on_moves`]).
 
 use super::JobError;
 use super::outline::re_interp;
@@ -1018,6 +1020,55 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
     }
 }
 
+/// Stroke attributes on the moves of G-code lasers: on profile, fill and channel cuts the
+/// `power` and `feed` attributes of the cut's stroke replace the operation's values,
+/// evaluated at the nearest spine parameter and quantised
+/// ([`crate::toolpath::attrs`]: pieces of at most 0.5 mm, power in steps of 0.5 % of the
+/// S range rounded up to whole S units, feed in steps of 0.5 % of the slower XY maximum).
+/// V-carves carry their attributes already (sampled on the spine); SVG lasers and routers
+/// keep the operation's values (an SVG has no per-move power; a spindle's speed is not a
+/// stroke attribute).
+fn attributes_on_moves(ctx: &Ctx, tp: &mut Toolpath) -> Result<(), JobError> {
+    use crate::toolpath::attrs::{self, AttrField, AttrOptions};
+    if !matches!(ctx.profile.kind, MachineKind::Laser) {
+        return Ok(());
+    }
+    let mut fields = std::collections::BTreeMap::new();
+    for i in 0..ctx.outlines.len() {
+        let Some(c) = spine_of(ctx, i) else { continue };
+        let a = stroke_attributes(ctx, i, c)?;
+        if a.power.is_some() || a.feed.is_some() {
+            fields.insert(
+                ctx.outlines[i].name.clone(),
+                AttrField {
+                    spine: c.clone(),
+                    power_percent: a.power,
+                    feed: a.feed,
+                },
+            );
+        }
+    }
+    if fields.is_empty() {
+        return Ok(());
+    }
+    // The emitter writes S with no decimals when the range reaches 100, else with three.
+    let s_max = ctx.profile.power.max;
+    let s_resolution = if s_max >= 100.0 { 1.0 } else { 0.001 };
+    let max_feed = ctx.profile.max_feed.x.min(ctx.profile.max_feed.y) * ctx.k;
+    let opts = AttrOptions {
+        step: 0.5 * ctx.per_mm,
+        power_quantum: attrs::power_quantum(s_max, s_resolution),
+        feed_quantum: (attrs::FEED_QUANTUM * max_feed).max(ctx.tol),
+        tol: ctx.tol * 1e-3,
+    };
+    for op in &mut tp.operations {
+        if matches!(op.kind, TpKind::Profile | TpKind::Fill | TpKind::Channel) {
+            attrs::apply(op, &fields, &opts);
+        }
+    }
+    Ok(())
+}
+
 /// Plan the whole design for `profile`.
 pub fn build_toolpath(
     design: &Design,
@@ -1105,7 +1156,8 @@ pub fn build_toolpath(
         specs.extend(operation_specs(&ctx, i, Some(i), op)?);
     }
     assign_pockets(&ctx, &mut specs);
-    let (toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
+    let (mut toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
+    attributes_on_moves(&ctx, &mut toolpath)?;
     Ok(BuildResult {
         toolpath,
         stats,
