@@ -16,6 +16,10 @@
 //!
 //! Exit status for the CLI: [`Report::exit_code`] (0 clean, 1 error findings, 2 unusable
 //! input).
+//!
+//! Module layering (imports only go down): [`findings`] (leaf) ← [`motion`] ← [`config`] ←
+//! [`time`] ← [`report`]; the interpreter, the checks and [`check`] sit on top. The CLI times
+//! the stages separately through [`load_with`], [`run_checks`], [`stats`] and [`assemble`].
 
 pub mod checks;
 pub mod config;
