@@ -141,7 +141,7 @@ fn runaway_loop_stops_at_the_time_limit_and_leaves_nothing() {
                 .map(|e| e.file_name().to_string_lossy().into_owned())
                 .filter(|n| {
                     n.strip_prefix("skinpath-rs274-")
-                        .and_then(|p| p.parse::<u32>().ok())
+                        .and_then(|p| p.split('-').next()?.parse::<u32>().ok())
                         .is_some_and(|pid| !Path::new(&format!("/proc/{pid}")).exists())
                 })
                 .collect()

@@ -1,4 +1,4 @@
-//! `skinpath check PROGRAM [--machine P] [--dialect D] [--design D] [--json]
+//! `skinpath check PROGRAM [--machine P] [--dialect D] [--design D] [--json] [--timings]
 //! [--backend builtin|linuxcnc]`. Exit status 0 when clean, 1 when a check fails, 2 when the
 //! input is unusable.
 
@@ -7,7 +7,7 @@ use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::job::check::{check_config, design_boundaries};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
-use skinpath::sim::{Backend, CheckConfig, Dialect, check_text_with, interp};
+use skinpath::sim::{Backend, CheckConfig, Dialect, interp};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -51,12 +51,43 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,
+    /// Print the wall time of each stage (read, interpret, checks, estimate, report) on
+    /// standard error, or as `timings` in the JSON report with --json.
+    #[arg(long)]
+    timings: bool,
+}
+
+/// The JSON report with the stage timings beside its keys.
+#[derive(serde::Serialize)]
+struct TimedReport<'a> {
+    #[serde(flatten)]
+    report: &'a skinpath::sim::Report,
+    timings: &'a Timings,
+}
+
+/// Wall time per stage of one `check` run, in seconds.
+#[derive(Default, serde::Serialize)]
+struct Timings {
+    /// Reading the file and decoding it as text.
+    read: f64,
+    /// Interpreting the G-code (with `--backend linuxcnc`: running rs274 and reading its
+    /// output).
+    interpret: f64,
+    /// The checks (intersections, gouges, bounds, rapids, feeds, program end).
+    checks: f64,
+    /// Statistics and the time estimate.
+    estimate: f64,
+    /// Assembling and writing the report.
+    report: f64,
 }
 
 pub fn run(a: Args) -> Result<u8> {
+    let mut timings = Timings::default();
+    let clock = Instant::now();
     let bytes = std::fs::read(&a.program)
         .with_context(|| format!("cannot read {}", a.program.display()))?;
     let (text, decode_findings) = skinpath::sim::decode(&bytes);
+    timings.read = clock.elapsed().as_secs_f64();
     let (mut cfg, tool_r) = match &a.machine {
         Some(m) => {
             let p = load_profile(m)?;
@@ -117,23 +148,66 @@ pub fn run(a: Args) -> Result<u8> {
     let opts = interp::Options {
         load_sub: Some(&loader),
     };
-    let (backend, input) = if a.backend == "linuxcnc" && !text.trim().is_empty() {
+    let clock = Instant::now();
+    let linuxcnc = a.backend == "linuxcnc" && !text.trim().is_empty();
+    let rs274_out = if linuxcnc {
         let timeout = Duration::from_secs_f64(a.rs274_timeout.clamp(0.1, 3600.0));
-        (
-            Backend::LinuxCnc,
-            run_rs274(&text, timeout, &dirs, a.tool_table.as_deref())?,
-        )
+        run_rs274(&text, timeout, &dirs, a.tool_table.as_deref())?
     } else {
-        (Backend::Builtin, text.into_owned())
+        String::new()
     };
-    let mut report = check_text_with(backend, &input, &cfg, &bounds, &opts);
+    let (backend, input): (Backend, &str) = if linuxcnc {
+        (Backend::LinuxCnc, &rs274_out)
+    } else {
+        (Backend::Builtin, &text)
+    };
+    let prog = skinpath::sim::load_with(backend, input, &cfg, &opts);
+    // The text is no longer needed: free it before the checks build their indexes.
+    drop(rs274_out);
+    drop(text);
+    drop(bytes);
+    timings.interpret = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let findings = skinpath::sim::run_checks(&prog, &cfg, &bounds);
+    timings.checks = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let stats = if prog.unusable.is_some() {
+        skinpath::sim::Stats::default()
+    } else {
+        skinpath::sim::stats(&prog, &cfg.in_mm())
+    };
+    timings.estimate = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let mut report = skinpath::sim::assemble(&prog, &cfg, findings, stats);
+    report.backend = backend.name();
     if report.usable {
         report.findings.splice(0..0, decode_findings);
     }
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+    let text = if a.json && a.timings {
+        timings.report = clock.elapsed().as_secs_f64();
+        serde_json::to_string_pretty(&TimedReport {
+            report: &report,
+            timings: &timings,
+        })?
+    } else if a.json {
+        serde_json::to_string_pretty(&report)?
     } else {
-        println!("{report}");
+        report.to_string()
+    };
+    println!("{text}");
+    timings.report = clock.elapsed().as_secs_f64();
+    if a.timings && !a.json {
+        let t = &timings;
+        eprintln!(
+            "timings: read {:.3} s, interpret {:.3} s, checks {:.3} s, estimate {:.3} s, \
+             report {:.3} s, total {:.3} s",
+            t.read,
+            t.interpret,
+            t.checks,
+            t.estimate,
+            t.report,
+            t.read + t.interpret + t.checks + t.estimate + t.report
+        );
     }
     Ok(report.exit_code() as u8)
 }
@@ -176,14 +250,33 @@ fn remove_stale(tmp: &Path) {
     };
     for e in rd.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        let Some(pid) = name.strip_prefix(TMP_PREFIX) else {
+        let Some(rest) = name.strip_prefix(TMP_PREFIX) else {
             continue;
         };
-        let Ok(pid) = pid.parse::<u32>() else {
+        // `PID` (older runs) or `PID-N`.
+        let Ok(pid) = rest.split('-').next().unwrap_or(rest).parse::<u32>() else {
             continue;
         };
         if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
             let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
+}
+
+/// A new folder `skinpath-rs274-PID-N` in `tmp` that no other run uses: `create_dir` fails
+/// on an existing name, so concurrent runs (parallel tests, several checks in one process)
+/// each get their own and cannot overwrite each other's program or output.
+fn own_tmp_dir(tmp: &Path) -> Result<TmpDir> {
+    static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    loop {
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let path = tmp.join(format!("{TMP_PREFIX}{}-{n}", std::process::id()));
+        match std::fs::create_dir(&path) {
+            Ok(()) => return Ok(TmpDir(path)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 10_000 => continue,
+            Err(e) => {
+                return Err(e).with_context(|| format!("cannot create {}", path.display()));
+            }
         }
     }
 }
@@ -201,9 +294,7 @@ fn run_rs274(
 ) -> Result<String> {
     let tmp = std::env::temp_dir();
     remove_stale(&tmp);
-    let dir = TmpDir(tmp.join(format!("{TMP_PREFIX}{}", std::process::id())));
-    std::fs::create_dir_all(&dir.0)
-        .with_context(|| format!("cannot create {}", dir.0.display()))?;
+    let dir = own_tmp_dir(&tmp)?;
     let file = dir.0.join("program.ngc");
     std::fs::write(&file, skinpath::sim::linuxcnc::number_lines(text))
         .with_context(|| format!("cannot write {}", file.display()))?;

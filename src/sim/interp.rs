@@ -21,9 +21,9 @@
 //! Nothing after M2/M30 or the closing `%` is interpreted.
 
 use super::config::{CheckConfig, Dialect, ToolEntry};
+use super::findings::{Finding, Severity};
 use super::motion::{Event, Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState, Units};
 use super::ngc::{self, Expr, Line, OKind, ParamRef, ParamSource, Syntax};
-use super::report::{Finding, Severity};
 use crate::geom::{Arc, DVec2, perp};
 use glam::DVec3;
 use std::borrow::Cow;
@@ -175,6 +175,8 @@ struct Interp<'a, 'o> {
     cache: HashMap<(usize, usize), std::rc::Rc<Line>>,
     /// The tool table (G10 L1/L10/L11 edit this copy).
     tools: Vec<ToolEntry>,
+    /// The evaluated words of the current block (a buffer reused from line to line).
+    word_buf: Vec<(char, f64, usize)>,
 }
 
 #[derive(Clone, Debug)]
@@ -317,10 +319,17 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
         high_water: Vec::new(),
         cache: HashMap::new(),
         tools: cfg.tool_table.clone(),
+        word_buf: Vec::new(),
     };
     it.params[P_CS] = 1.0;
     it.add_source("program".into(), Cow::Borrowed(src));
+    // About one move per line: reserving it up front avoids the doubling growth whose
+    // spare capacity would count against an address-space limit on long programs; the
+    // unused part is returned at the end.
+    let lines = it.sources.first().map_or(0, |s| s.len());
+    it.prog.motions.reserve(lines);
     it.run();
+    it.prog.motions.shrink_to_fit();
     it.prog.final_tool = it.st.tool;
     it.prog
 }
@@ -414,6 +423,7 @@ impl<'a> Interp<'a, '_> {
         let (mut src, mut i) = (0usize, 0usize);
         let mut started = false;
         let mut percent_open = false;
+        let mut scratch = Line::default();
         while !self.stop {
             if i >= self.sources[src].len() {
                 if src != 0 {
@@ -440,20 +450,23 @@ impl<'a> Interp<'a, '_> {
                 continue;
             }
             // Lines met again (loop bodies, subroutines) are parsed once and cached; lines
-            // read for the first time are not kept (bounded memory on long programs).
-            let parsed: std::rc::Rc<Line> = if i < self.high_water[src] {
-                match self.cache.get(&(src, i)) {
+            // read for the first time are parsed into one reused buffer and not kept
+            // (bounded memory and no allocation per line on long programs).
+            let cached: Option<std::rc::Rc<Line>> = if i < self.high_water[src] {
+                Some(match self.cache.get(&(src, i)) {
                     Some(l) => l.clone(),
                     None => {
                         let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
                         self.cache.insert((src, i), l.clone());
                         l
                     }
-                }
+                })
             } else {
                 self.high_water[src] = i + 1;
-                std::rc::Rc::new(ngc::parse_line(text, self.syn))
+                ngc::parse_line_into(text, self.syn, &mut scratch);
+                None
             };
+            let parsed: &Line = cached.as_deref().unwrap_or(&scratch);
             if parsed.percent && src == 0 {
                 if !started {
                     started = true;
@@ -476,7 +489,7 @@ impl<'a> Interp<'a, '_> {
                 started = true;
             }
             let jumped = std::mem::take(&mut self.jumped);
-            match self.exec(&parsed, src, i, jumped) {
+            match self.exec(parsed, src, i, jumped) {
                 Flow::Next => i += 1,
                 Flow::Goto(s, l) => {
                     src = s;
@@ -629,7 +642,8 @@ impl<'a> Interp<'a, '_> {
         }
         // Read every value first, then assign parameters (LinuxCNC: "parameter setting does
         // not take effect until after all parameter values on the same line have been found").
-        let mut words: Vec<(char, f64, usize)> = Vec::with_capacity(l.words.len());
+        let mut words = std::mem::take(&mut self.word_buf);
+        words.clear();
         let mut bad = false;
         for w in &l.words {
             match self.eval(&w.value, w.column) {
@@ -647,11 +661,19 @@ impl<'a> Interp<'a, '_> {
             self.set_param(p, v, col);
             self.prog.words += 1;
         }
-        if bad || words.is_empty() {
-            return Flow::Next;
-        }
+        let flow = if bad || words.is_empty() {
+            Flow::Next
+        } else {
+            self.exec_words(&words)
+        };
+        self.word_buf = words;
+        flow
+    }
+
+    /// Executes one block of evaluated words.
+    fn exec_words(&mut self, words: &[(char, f64, usize)]) -> Flow {
         let mut b = Block::new();
-        if !self.collect(&mut b, &words) {
+        if !self.collect(&mut b, words) {
             return Flow::Next;
         }
         if self.execute(&b) {

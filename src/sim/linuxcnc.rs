@@ -14,8 +14,8 @@
 //! are not canon commands (rs274's error messages and the offending block it echoes) become
 //! `canon-error` findings.
 
+use super::findings::{Finding, Severity};
 use super::motion::{Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState};
-use super::report::{Finding, Severity};
 use crate::geom::{Arc, DVec2};
 use glam::DVec3;
 use std::f64::consts::TAU;

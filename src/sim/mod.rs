@@ -16,9 +16,14 @@
 //!
 //! Exit status for the CLI: [`Report::exit_code`] (0 clean, 1 error findings, 2 unusable
 //! input).
+//!
+//! Module layering (imports only go down): [`findings`] (leaf) ← [`motion`] ← [`config`] ←
+//! [`time`] ← [`report`]; the interpreter, the checks and [`check`] sit on top. The CLI times
+//! the stages separately through [`load_with`], [`run_checks`], [`stats`] and [`assemble`].
 
 pub mod checks;
 pub mod config;
+pub mod findings;
 pub mod interp;
 pub mod lexer;
 pub mod linuxcnc;
@@ -30,8 +35,9 @@ pub mod timeline;
 
 pub use checks::{DesignBoundary, KeepSide};
 pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry};
+pub use findings::{Finding, Severity};
 pub use motion::{Event, Motion, MotionKind, Program, Spindle, ToolState, Units};
-pub use report::{Finding, Report, Severity, Stats};
+pub use report::{Report, Stats};
 pub use time::TimeEstimate;
 
 use glam::DVec3;
@@ -156,6 +162,29 @@ pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Finding>) {
 /// mm. Interpreter diagnostics come first, then the checks' findings, each check capped at
 /// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
 pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
+    let findings = run_checks(prog, cfg, design);
+    let stats = if prog.unusable.is_some() {
+        Stats::default()
+    } else {
+        stats(prog, &cfg.in_mm())
+    };
+    assemble(prog, cfg, findings, stats)
+}
+
+/// The findings of [`check`] before capping: interpreter diagnostics, then every check's
+/// (nothing when the program is unusable). `cfg` may be in inch; `design` is in mm.
+pub fn run_checks(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Vec<Finding> {
+    if prog.unusable.is_some() {
+        return Vec::new();
+    }
+    let mut all = prog.diagnostics.clone();
+    all.extend(checks::run_all(prog, &cfg.in_mm(), design));
+    all
+}
+
+/// The report of [`check`] from the findings of [`run_checks`] and the [`stats`] of `prog`:
+/// usability, and each check capped at `cfg.max_findings_per_check`.
+pub fn assemble(prog: &Program, cfg: &CheckConfig, all: Vec<Finding>, stats: Stats) -> Report {
     let mm = cfg.in_mm();
     if let Some(reason) = &prog.unusable {
         return Report {
@@ -165,8 +194,6 @@ pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Re
             ..Default::default()
         };
     }
-    let mut all = prog.diagnostics.clone();
-    all.extend(checks::run_all(prog, &mm, design));
     let syntax = prog
         .diagnostics
         .iter()
@@ -210,7 +237,7 @@ pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Re
         reason,
         findings,
         suppressed,
-        stats: stats(prog, &mm),
+        stats,
     }
 }
 

@@ -178,7 +178,7 @@ impl Units {
 #[derive(Clone, Debug, Default)]
 pub struct Program {
     pub motions: Vec<Motion>,
-    pub diagnostics: Vec<super::report::Finding>,
+    pub diagnostics: Vec<super::findings::Finding>,
     pub end: Option<ProgramEnd>,
     /// Tool state after the last line.
     pub final_tool: ToolState,

@@ -703,6 +703,118 @@ pub fn parse_line(raw: &str, syn: Syntax) -> Line {
     out
 }
 
+/// Longest run of significant characters [`parse_simple`] takes; longer lines are read by
+/// the general parser.
+const SIMPLE_MAX: usize = 160;
+
+/// Parses one line (without its terminator) into `out`, reusing its buffers: the allocation
+/// free path of a streaming reader. Gives the same [`Line`] as [`parse_line`] up to the form
+/// of constant values (`X-1` is `Num(-1)` here, `Neg(Num(1))` there; both evaluate alike).
+pub fn parse_line_into(raw: &str, syn: Syntax, out: &mut Line) {
+    out.percent = false;
+    out.block_delete = false;
+    out.words.clear();
+    out.assigns.clear();
+    out.oword = None;
+    out.comments.clear();
+    out.dollar = None;
+    out.errors.clear();
+    out.checksum_ok = false;
+    if !parse_simple(raw.as_bytes(), syn, out) {
+        *out = parse_line(raw, syn);
+    }
+}
+
+/// The fast path of [`parse_line_into`], over bytes: plain ASCII lines of words
+/// `letter [sign] number` with blanks anywhere and `( )` or `;` comments, which is what
+/// CAM output is made of. Numbers are read by `fast_float2` (correctly rounded, as
+/// `str::parse`). Returns false, with `out` partly filled, at the first thing it does not
+/// take (parameters, expressions, O-words, checksums, `%`, `/`, `$`, flags, errors): the
+/// general parser then reads the whole line, so every diagnostic comes from one place.
+fn parse_simple(raw: &[u8], syn: Syntax, out: &mut Line) -> bool {
+    if (syn.ngc && raw.len() > MAX_LINE_LEN) || !raw.is_ascii() {
+        return false;
+    }
+    // Significant bytes (lower case) and their 1-based columns, comments taken out.
+    let mut sig = [0u8; SIMPLE_MAX];
+    let mut col = [0u16; SIMPLE_MAX];
+    let mut n = 0usize;
+    let mut k = 0usize;
+    while k < raw.len() {
+        let c = raw[k];
+        match c {
+            b' ' | b'\t' | b'\r' => {}
+            b';' => {
+                let rest = std::str::from_utf8(&raw[k + 1..]).unwrap_or("");
+                out.comments.push(rest.trim().to_string());
+                break;
+            }
+            b'(' => {
+                let Some(e) = raw[k + 1..].iter().position(|&b| b == b')') else {
+                    return false;
+                };
+                let text = std::str::from_utf8(&raw[k + 1..k + 1 + e]).unwrap_or("");
+                out.comments.push(text.trim().to_string());
+                k += e + 2;
+                continue;
+            }
+            b'0'..=b'9' | b'.' | b'+' | b'-' | b'a'..=b'z' | b'A'..=b'Z' => {
+                if n == SIMPLE_MAX || k >= usize::from(u16::MAX) {
+                    return false;
+                }
+                sig[n] = c.to_ascii_lowercase();
+                col[n] = (k + 1) as u16;
+                n += 1;
+            }
+            _ => return false,
+        }
+        k += 1;
+    }
+    let sig = &sig[..n];
+    let mut i = 0usize;
+    while i < n {
+        let c = sig[i];
+        if !c.is_ascii_alphabetic() || (c == b'o' && syn.ngc) {
+            return false;
+        }
+        let column = usize::from(col[i]);
+        i += 1;
+        let neg = match sig.get(i) {
+            Some(b'-') => {
+                i += 1;
+                true
+            }
+            Some(b'+') => {
+                i += 1;
+                false
+            }
+            _ => false,
+        };
+        let start = i;
+        let mut point = false;
+        while i < n && (sig[i].is_ascii_digit() || (sig[i] == b'.' && !point)) {
+            point |= sig[i] == b'.';
+            i += 1;
+        }
+        let text = &sig[start..i];
+        if !text.iter().any(u8::is_ascii_digit) {
+            return false;
+        }
+        let Ok(v) = fast_float2::parse::<f64, _>(text) else {
+            return false;
+        };
+        if !v.is_finite() {
+            return false;
+        }
+        out.words.push(PWord {
+            letter: char::from(c.to_ascii_uppercase()),
+            value: Expr::Num(if neg { -v } else { v }),
+            column,
+        });
+    }
+    true
+}
+
 fn depth_zero(sig: &[(char, usize)]) -> bool {
     let open = sig.iter().filter(|c| c.0 == '[').count();
     let close = sig.iter().filter(|c| c.0 == ']').count();
@@ -894,5 +1006,75 @@ mod tests {
         );
         let g = parse_line("G1 X#1", Syntax { ngc: false, ..NGC });
         assert_eq!(g.errors[0].id, "unsupported-code");
+    }
+
+    /// `Neg(Num(v))` as `Num(-v)`: the one difference in form the fast path may make.
+    fn norm(mut l: Line) -> Line {
+        for w in &mut l.words {
+            if let Expr::Neg(e) = &w.value
+                && let Expr::Num(v) = **e
+            {
+                w.value = Expr::Num(-v);
+            }
+        }
+        l
+    }
+
+    const DIALECTS: [Syntax; 3] = [
+        NGC,
+        Syntax {
+            ngc: false,
+            checksums: true,
+            dollar: false,
+        },
+        Syntax {
+            ngc: false,
+            checksums: false,
+            dollar: true,
+        },
+    ];
+
+    #[test]
+    fn fast_path_takes_cam_lines() {
+        for line in [
+            "G1 X-1.5 Y2. Z+.25 F1500",
+            "n10 g2 x 1 y 2 i.5 j0 (arc) ; done",
+            "G0X1Y2",
+            "M3 S1000 (spindle on)",
+        ] {
+            let mut l = Line::default();
+            assert!(parse_simple(line.as_bytes(), NGC, &mut l), "{line}");
+            assert_eq!(norm(l), norm(parse_line(line, NGC)), "{line}");
+        }
+        for line in [
+            "#1=2",
+            "G1 X[1+2]",
+            "o100 sub",
+            "%",
+            "/G0 X1",
+            "G1 X1.2.3",
+            "G1 X",
+        ] {
+            let mut l = Line::default();
+            assert!(!parse_simple(line.as_bytes(), NGC, &mut l), "{line}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+        /// The reused-buffer reader gives what the general parser gives, on lines mixing
+        /// words, blanks, comments and stray characters.
+        #[test]
+        fn parse_line_into_matches_parse_line(
+            line in "([GMXYZIJKFSNOgxyoe@#*%/$\\[ \\t]{0,2}[-+]{0,2}[0-9]{0,4}(\\.[0-9]{0,3})?\\.?[ \\t]?(\\([a-z ]{0,4}\\)?)?(;c)?){0,10}",
+            d in 0..3usize,
+        ) {
+            let syn = DIALECTS[d];
+            let mut fast = Line::default();
+            // Stale content from a previous line must not leak into the next.
+            parse_line_into("G1 X9 (old) ; old", syn, &mut fast);
+            parse_line_into(&line, syn, &mut fast);
+            proptest::prop_assert_eq!(norm(fast), norm(parse_line(&line, syn)));
+        }
     }
 }

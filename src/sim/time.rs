@@ -77,8 +77,9 @@ fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
 /// The machine starts and ends at rest and stops for every dwell.
 pub fn estimate(motions: &[Motion], cfg: &CheckConfig) -> TimeEstimate {
     let mut t = TimeEstimate::default();
-    let mut blocks: Vec<Block> = Vec::new();
-    let mut rapid: Vec<bool> = Vec::new();
+    // About one block per move (arcs add more): sized up front, no doubling growth.
+    let mut blocks: Vec<Block> = Vec::with_capacity(motions.len());
+    let mut rapid: Vec<bool> = Vec::with_capacity(motions.len());
     let rates = cfg.max_rate.map(|r| r / 60.0);
     for m in motions {
         match m.kind {
@@ -92,6 +93,14 @@ pub fn estimate(motions: &[Motion], cfg: &CheckConfig) -> TimeEstimate {
             }
             MotionKind::Rapid | MotionKind::Feed => {
                 let is_rapid = m.kind == MotionKind::Rapid;
+                if m.arc.is_none() {
+                    // A line is one chord: no point list to build.
+                    if let Some(b) = Block::of_chord(m.to - m.from, m.feed, is_rapid, rates, cfg) {
+                        blocks.push(b);
+                        rapid.push(is_rapid);
+                    }
+                    continue;
+                }
                 let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
                 for w in pts.windows(2) {
                     if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, is_rapid, rates, cfg) {

@@ -4,8 +4,8 @@
 use super::intersect::SegmentSet;
 use crate::geom::DVec2;
 use crate::sim::config::{CheckConfig, MachineKind};
+use crate::sim::findings::{Finding, Severity};
 use crate::sim::motion::{Motion, MotionKind};
-use crate::sim::report::{Finding, Severity};
 
 /// True when the move removes material: a laser feed with the beam on (M3/M4, S > 0), or a
 /// router feed with an end below `cut_z`.
@@ -91,7 +91,6 @@ pub fn cut_contours_marked(
         {
             out.extend(cur.take());
         }
-        let pts = m.flatten_xy(cfg.flatten_tolerance);
         let c = cur.get_or_insert_with(|| Contour {
             points: vec![m.from.truncate()],
             sources: Vec::new(),
@@ -99,9 +98,15 @@ pub fn cut_contours_marked(
             session: m.tool.session,
             group,
         });
-        for p in pts.into_iter().skip(1) {
-            c.points.push(p);
+        if m.arc.is_none() {
+            // A line flattens to its two ends: no point list to build.
+            c.points.push(m.to.truncate());
             c.sources.push(k as u32);
+        } else {
+            for p in m.flatten_xy(cfg.flatten_tolerance).into_iter().skip(1) {
+                c.points.push(p);
+                c.sources.push(k as u32);
+            }
         }
     }
     out.extend(cur);
@@ -123,6 +128,14 @@ pub fn intersection_findings(
     cfg: &CheckConfig,
 ) -> Vec<Finding> {
     let mut set = SegmentSet::new();
+    // Exact size up front: no doubling growth on long programs.
+    set.segs.reserve(
+        contours
+            .iter()
+            .map(|c| c.points.len().saturating_sub(1))
+            .sum(),
+    );
+    set.contours.reserve(contours.len());
     for c in contours {
         set.push_polyline(&c.points, &c.sources);
     }

@@ -3,8 +3,8 @@
 
 use super::contours::is_cutting;
 use crate::sim::config::{CheckConfig, MachineKind};
+use crate::sim::findings::{Finding, Severity};
 use crate::sim::motion::{Motion, MotionKind, Program};
-use crate::sim::report::{Finding, Severity};
 
 /// Slack on the travel limits relative to the coordinates, so that a move ending exactly on a
 /// limit after unit conversion (25.4 · x) is not flagged.

@@ -28,8 +28,8 @@ pub use gouge::{DesignBoundary, KeepSide};
 pub use intersect::{Contact, Seg, SegmentSet};
 
 use super::config::CheckConfig;
+use super::findings::Finding;
 use super::motion::Program;
-use super::report::Finding;
 
 /// Runs every check (`cfg` in mm, see [`CheckConfig::in_mm`]); findings in program order
 /// within each check.

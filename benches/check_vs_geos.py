@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""`skinpath check` on a 1M-segment program against its peers (issue #16, item 3).
+
+Peers:
+- GEOS `is_simple` (through shapely, `pip install shapely`) on the same points already in
+  memory: the intersection test alone, no reading or parsing;
+- LinuxCNC's stand-alone interpreter `rs274 -n 0 -g` on the same file, when installed.
+
+The program: closed 1000-gons of radius 4 on a 9 mm grid (a nesting or lettering job: many
+contours, no intersections), cut with a laser, written as `G1 X… Y…` lines of about 20 bytes.
+
+Run (release binary built first):
+    python3 benches/check_vs_geos.py --segments 1000000 --skinpath target/release/skinpath
+Not part of CI: it needs shapely and prints wall times, which are machine-dependent.
+"""
+
+import argparse
+import math
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+PER_CIRCLE = 1000
+
+
+def circles(n):
+    """Closed 1000-gons (lists of (x, y) rounded to the program's 3 decimals)."""
+    k = -(-n // PER_CIRCLE)
+    side = math.ceil(math.sqrt(k))
+    out = []
+    for c in range(k):
+        ox, oy = 5.0 + (c % side) * 9.0, 5.0 + (c // side) * 9.0
+        pts = []
+        for i in range(PER_CIRCLE + 1):
+            t = math.tau * (i % PER_CIRCLE) / PER_CIRCLE
+            pts.append((round(ox + 4.0 * math.cos(t), 3), round(oy + 4.0 * math.sin(t), 3)))
+        out.append(pts)
+    return out
+
+
+def write_program(polys, path):
+    with open(path, "w") as f:
+        f.write("G21 G90 G17\nF1500 S800\n")
+        for p in polys:
+            f.write("G0 X%.3f Y%.3f\nM4\n" % p[0])
+            for x, y in p[1:]:
+                f.write("G1 X%.3f Y%.3f\n" % (x, y))
+            f.write("M5\n")
+        f.write("M2\n")
+
+
+def cpu():
+    """CPU seconds (user + system) of this process and its finished children: on a loaded
+    machine wall times mostly measure the other processes."""
+    s, c = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return s.ru_utime + s.ru_stime + c.ru_utime + c.ru_stime
+
+
+def best_of(k, fn):
+    """Best wall time and best CPU time of `k` runs of `fn`."""
+    best, best_cpu = math.inf, math.inf
+    for _ in range(k):
+        t0, c0 = time.perf_counter(), cpu()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+        best_cpu = min(best_cpu, cpu() - c0)
+    return best, best_cpu
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--segments", type=int, default=1_000_000)
+    ap.add_argument("--skinpath", default="target/release/skinpath")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--keep", help="write the program here and keep it")
+    a = ap.parse_args()
+
+    polys = circles(a.segments)
+    tmp = tempfile.mkdtemp(prefix="skinpath-bench-")
+    path = a.keep or os.path.join(tmp, "program.gcode")
+    write_program(polys, path)
+    size = os.path.getsize(path)
+    segs = sum(len(p) - 1 for p in polys)
+    print(f"program: {segs} segments, {size / 2**20:.1f} MiB")
+
+    ours, ours_cpu = best_of(
+        a.repeat,
+        lambda: subprocess.run(
+            [a.skinpath, "check", path], stdout=subprocess.DEVNULL, check=False
+        ),
+    )
+    print(
+        f"skinpath check (whole process): wall {ours:.3f} s, CPU {ours_cpu:.3f} s, "
+        f"{size / 2**20 / ours_cpu:.1f} MiB/s of CPU time"
+    )
+
+    try:
+        import shapely
+
+        geom = shapely.MultiLineString(polys)
+        geos, geos_cpu = best_of(a.repeat, lambda: shapely.is_simple(geom))
+        print(
+            f"GEOS is_simple (points in memory): wall {geos:.3f} s, CPU {geos_cpu:.3f} s; "
+            f"skinpath/GEOS wall {ours / geos:.2f}, CPU {ours_cpu / geos_cpu:.2f}"
+        )
+    except ImportError:
+        print("GEOS: shapely not installed (pip install shapely): skipped")
+
+    rs274 = shutil.which("rs274")
+    if rs274:
+        t, t_cpu = best_of(
+            1,
+            lambda: subprocess.run(
+                [rs274, "-n", "0", "-g", path],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                check=False,
+            ),
+        )
+        print(
+            f"LinuxCNC rs274 -n 0 -g: wall {t:.3f} s, CPU {t_cpu:.3f} s; "
+            f"rs274/skinpath CPU {t_cpu / ours_cpu:.1f}x"
+        )
+    else:
+        print("LinuxCNC rs274: not installed here (linuxcnc-uspace): skipped")
+
+    if not a.keep:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
