@@ -11,6 +11,7 @@ pub mod io;
 mod machines;
 mod outline;
 mod preview;
+mod progress;
 mod text;
 
 use clap::{Parser, Subcommand};

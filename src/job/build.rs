@@ -19,7 +19,8 @@
 
 use super::JobError;
 use super::outline::re_interp;
-use super::outline::{ItemOutline, OutlineOptions, design_outlines};
+use super::outline::{ItemOutline, OutlineOptions, design_outlines_with};
+use super::progress::{ProgressFn, Stage, report};
 use super::re_route::{ReItem, RouteNote, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
 use crate::design::{
@@ -1024,6 +1025,17 @@ pub fn build_toolpath(
     profile: &Profile,
     opts: &BuildOptions,
 ) -> Result<BuildResult, JobError> {
+    build_toolpath_with(design, profile, opts, None)
+}
+
+/// [`build_toolpath`], reporting progress: [`Stage::Skin`] after every item outlined,
+/// [`Stage::Toolpath`] after every operation turned into geometry and once planned.
+pub fn build_toolpath_with(
+    design: &Design,
+    profile: &Profile,
+    opts: &BuildOptions,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<BuildResult, JobError> {
     if !(opts.tolerance > 0.0 && opts.epsilon > 0.0) {
         return Err(JobError::Options(format!(
             "tolerance ({}) and epsilon ({}) must be positive",
@@ -1035,7 +1047,7 @@ pub fn build_toolpath(
         tolerance: opts.tolerance,
         ..OutlineOptions::default()
     };
-    let mut outlines = design_outlines(design, &outline_opts)?;
+    let mut outlines = design_outlines_with(design, &outline_opts, progress)?;
     let strokes = design.strokes()?;
     let mut methods = vec![opts.method];
     for (i, op) in design.operation.iter().enumerate() {
@@ -1092,6 +1104,8 @@ pub fn build_toolpath(
         routes: RefCell::new(Vec::new()),
     };
     let mut specs = Vec::new();
+    let n_ops = design.operation.len().max(1) + 1;
+    report(progress, Stage::Toolpath, 0, n_ops);
     if design.operation.is_empty() {
         // Any design builds: one profile of every outline.
         let op = Operation::new(OperationKind::Profile);
@@ -1103,9 +1117,11 @@ pub fn build_toolpath(
     }
     for (i, op) in design.operation.iter().enumerate() {
         specs.extend(operation_specs(&ctx, i, Some(i), op)?);
+        report(progress, Stage::Toolpath, i + 1, n_ops);
     }
     assign_pockets(&ctx, &mut specs);
     let (toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
+    report(progress, Stage::Toolpath, n_ops, n_ops);
     Ok(BuildResult {
         toolpath,
         stats,
@@ -1152,9 +1168,12 @@ pub struct Placement {
     pub scale: f64,
 }
 
-/// The design with every stroke and circle sequence scaled by `f` about the origin:
-/// centres and radii of disks, points and circles. Operation settings (channel width, hole
-/// diameter, depths, margins) are physical sizes of tools and material and stay as written.
+/// The design with every stroke, circle sequence and text scaled by `f` about the origin:
+/// centres and radii of disks, points and circles; height, stroke width, anchor and letter
+/// spacing of `[[text]]` not yet laid out (a loaded design has its text as strokes); the
+/// corners at which loading split strokes (so that piece ends there stay joints, not stroke
+/// ends that get neon holes). Operation settings (channel width, hole diameter, depths,
+/// margins) are physical sizes of tools and material and stay as written.
 pub fn scaled_design(design: &Design, f: f64) -> Design {
     let mut d = design.clone();
     let sc = |v: &mut [f64; 3]| {
@@ -1169,6 +1188,19 @@ pub fn scaled_design(design: &Design, f: f64) -> Design {
     }
     for c in &mut d.circles {
         c.circles.iter_mut().for_each(sc);
+    }
+    for t in &mut d.text {
+        t.height *= f;
+        t.width *= f;
+        if let Some(at) = &mut t.at {
+            at.iter_mut().for_each(|x| *x *= f);
+        }
+        if let Some(s) = &mut t.letter_spacing {
+            *s *= f;
+        }
+    }
+    for c in &mut d.corners {
+        c.at.iter_mut().for_each(|x| *x *= f);
     }
     d
 }

@@ -4,9 +4,14 @@
 
 pub mod build;
 pub mod check;
+pub mod checked;
 pub mod inspect;
 pub mod outline;
+pub mod progress;
 pub mod re_route;
+
+pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, Summary, design_of_strokes};
+pub use progress::{Progress, ProgressFn, Stage, Timings};
 
 use crate::design::DesignError;
 
@@ -33,4 +38,20 @@ pub enum JobError {
     },
     #[error("{0}")]
     Options(String),
+    /// The machine program could not be written.
+    #[error(transparent)]
+    Emit(#[from] crate::emit::EmitError),
+    /// The G-code program failed its check and [`JobOptions::write_unchecked`] is off;
+    /// `explanations` trace every error finding back to the design (see
+    /// [`checked::explain`]).
+    #[error(
+        "{file}: the program failed {errors} check(s) (listed above with the operation \
+         and stroke that made each); nothing was written (--write-unchecked \
+         writes it anyway, at the risk named above)"
+    )]
+    Unchecked {
+        file: String,
+        errors: usize,
+        explanations: Vec<String>,
+    },
 }

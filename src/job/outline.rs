@@ -3,6 +3,7 @@
 //! circle sequence its skin outline.
 
 use super::JobError;
+use super::progress::{ProgressFn, Stage, report};
 use crate::dbsc::flatten::flatten;
 use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
@@ -137,13 +138,26 @@ pub fn design_outlines(
     design: &Design,
     opts: &OutlineOptions,
 ) -> Result<Vec<ItemOutline>, JobError> {
+    design_outlines_with(design, opts, None)
+}
+
+/// [`design_outlines`], reporting [`Stage::Skin`] progress after every item.
+pub fn design_outlines_with(
+    design: &Design,
+    opts: &OutlineOptions,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<Vec<ItemOutline>, JobError> {
     let strokes = design.strokes()?;
+    let total = strokes.len() + design.circles.len();
+    report(progress, Stage::Skin, 0, total);
     let mut out = Vec::new();
     for (s, c) in design.stroke.iter().zip(&strokes) {
         out.push(stroke_outline(design, &s.name, c, opts)?);
+        report(progress, Stage::Skin, out.len(), total);
     }
     for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
         out.push(circles_outline(design, &seq.name, &circles, seq.closed)?);
+        report(progress, Stage::Skin, out.len(), total);
     }
     Ok(out)
 }
@@ -702,7 +716,18 @@ fn offset_contours(paths: &[Path], delta: f64, opts: &OutlineOptions) -> Vec<Con
 
 /// The outline document of a design (what `skinpath outline` writes).
 pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<OutlineDoc, JobError> {
+    outline_document_with(design, opts, None)
+}
+
+/// [`outline_document`], reporting [`Stage::Skin`] progress after every item.
+pub fn outline_document_with(
+    design: &Design,
+    opts: &OutlineOptions,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<OutlineDoc, JobError> {
     let strokes = design.strokes()?;
+    let total = strokes.len() + design.circles.len();
+    report(progress, Stage::Skin, 0, total);
     let mut doc = OutlineDoc {
         units: match design.units {
             crate::design::Units::Mm => "mm".into(),
@@ -746,6 +771,7 @@ pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<Outlin
         };
         drawing.name = s.name.clone();
         doc.strokes.push(drawing);
+        report(progress, Stage::Skin, doc.strokes.len(), total);
     }
     for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
         let err = |m: String| item_err(design, "circle sequence", &seq.name, m);
@@ -773,6 +799,7 @@ pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<Outlin
             circles: circles.iter().map(|k| refc("circle", k)).collect(),
             markers,
         });
+        report(progress, Stage::Skin, doc.strokes.len(), total);
     }
     Ok(doc)
 }
