@@ -21,7 +21,7 @@ use super::JobError;
 use super::outline::re_interp;
 use super::outline::{ItemOutline, OutlineOptions, design_outlines_with};
 use super::progress::{ProgressFn, Stage, report};
-use super::re_route::{ReItem, RouteNote, re_backboard, re_items, re_profile};
+use super::re_route::{ReItem, RouteNote, RouteRefusal, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
 use crate::design::{
     Design, FillPattern, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
@@ -94,7 +94,7 @@ struct Ctx<'a> {
     /// The build's default route.
     method: OutlineMethod,
     /// RE/MPH skins of every item, per interpolant used by the build.
-    re: Vec<(Interp, Vec<Result<ReItem, String>>)>,
+    re: Vec<(Interp, Vec<Result<ReItem, RouteRefusal>>)>,
     routes: RefCell<Vec<RouteNote>>,
 }
 
@@ -229,7 +229,7 @@ impl Ctx<'_> {
         name: &str,
         items: &[usize],
         general: impl FnOnce() -> Vec<Path>,
-        exact: impl FnOnce(&[(&str, &ReItem)]) -> Result<Vec<Path>, String>,
+        exact: impl FnOnce(&[(&str, &ReItem)]) -> Result<Vec<Path>, RouteRefusal>,
     ) -> Result<Vec<Path>, JobError> {
         let method = op.method.unwrap_or(self.method);
         let note = |route: &str, detail: String, paths: &[Path]| RouteNote {
@@ -260,13 +260,14 @@ impl Ctx<'_> {
                     why = Some(format!("{}: {e}", self.outlines[i].name));
                     break;
                 }
-                None => why = Some("item without a skin".into()),
+                None => why = Some(RouteRefusal::NoSkin.to_string()),
             }
         }
+        // The reason goes into the route note, which is text.
         let result = match why {
             Some(w) => Err(w),
-            None if its.is_empty() => Err("no items".into()),
-            None => exact(&its),
+            None if its.is_empty() => Err(RouteRefusal::NoItems.to_string()),
+            None => exact(&its).map_err(|e| e.to_string()),
         };
         let (paths, n) = match result {
             Ok(p) => {
@@ -606,14 +607,8 @@ fn operation_specs(
                 [(_, it)] if (rho - r).abs() <= 1e-12 * (1.0 + r) => {
                     re_backboard(it, margin + r, ctx.tol)
                 }
-                [_] => Err(format!(
-                    "the inner corner radius {rho} differs from the tool radius {r} \
-                     (the rounding is a closing of the union)"
-                )),
-                _ => Err(format!(
-                    "{} items: the backboard follows their union",
-                    its.len()
-                )),
+                [_] => Err(RouteRefusal::CornerRadius { rho, r }),
+                _ => Err(RouteRefusal::Union(its.len())),
             })?;
             vec![spec(
                 ctx,

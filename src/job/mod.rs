@@ -20,12 +20,13 @@ use crate::design::DesignError;
 pub enum JobError {
     #[error(transparent)]
     Design(#[from] DesignError),
-    #[error("{file}: {item} \"{name}\": {message}")]
+    /// A stroke or circle sequence could not be outlined; `source` says why.
+    #[error("{file}: {item} \"{name}\": {source}")]
     Item {
         file: String,
         item: &'static str,
         name: String,
-        message: String,
+        source: Box<outline::ItemError>,
     },
     /// `index` is the operation's index in the design (0-based; shown 1-based, as the
     /// n-th `[[operation]]` table of the file).
