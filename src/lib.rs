@@ -12,6 +12,38 @@
 //! `design → dbsc → skin → toolpath → emit`, with `sim` depending on `geom` and `machine` only.
 //!
 //! The library never panics on user data and never prints: every stage returns typed errors.
+//!
+//! ## Embedding
+//!
+//! A whole checked build is one [`Job`]: a [`Design`] (loaded with [`design::load`], or
+//! made in code with [`design_of_strokes`]) and a machine [`Profile`] in; the program, the
+//! placed [`Toolpath`], the checker's [`Report`] and a [`Summary`](job::Summary) out. A
+//! G-code program that fails its check is refused ([`JobError::Unchecked`]) unless
+//! [`JobOptions::write_unchecked`] is set. The library writes no files.
+//!
+//! ```
+//! use skinpath::geom::DVec2;
+//! use skinpath::{Circle, DiskBSpline, Job, JobOptions, builtin_profile, design_of_strokes};
+//!
+//! // A stroke made in code: a cubic disk B-spline through five control disks (mm).
+//! let disks: Vec<Circle> = [(0.0, 0.0, 2.0), (15.0, 12.0, 3.0), (30.0, 0.0, 2.5),
+//!                           (45.0, -10.0, 3.5), (60.0, 5.0, 2.0)]
+//!     .iter()
+//!     .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
+//!     .collect();
+//! let wave = DiskBSpline::open(3, &disks, None)?;
+//! let design = design_of_strokes("wave", &[("wave", &wave)], &[])?;
+//! let profile = builtin_profile("grbl-router").ok_or("no such profile")??;
+//!
+//! let out = Job { design: &design, profile: &profile, options: JobOptions::default() }.run()?;
+//! let report = out.report.as_ref().ok_or("G-code is always checked")?;
+//! assert_eq!(report.errors(), 0);
+//! assert!(out.program.lines().any(|l| l.starts_with("G1") || l.starts_with("G2")));
+//! let summary = out.summary(&profile);
+//! assert_eq!(summary.operations.len(), 1);
+//! assert!(summary.cut_length > 0.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 #![forbid(unsafe_code)]
 
@@ -25,3 +57,15 @@ pub mod sim;
 pub mod skin;
 pub mod spline;
 pub mod toolpath;
+
+pub use dbsc::DiskBSpline;
+pub use design::Design;
+pub use geom::Circle;
+pub use job::build::{BuildOptions, Place};
+pub use job::{
+    Job, JobError, JobOptions, JobOutput, OutputFormat, Progress, Scale, Stage, Summary,
+    design_of_strokes,
+};
+pub use machine::{Profile, builtin_profile};
+pub use sim::Report;
+pub use toolpath::Toolpath;

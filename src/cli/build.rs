@@ -6,16 +6,12 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::emit::{
-    DxfOptions, GcodeOptions, LaserSvgOptions, dxf, gcode_with_origins, laser_svg,
-};
-use skinpath::job::build::{
-    BuildOptions, Place, build_toolpath, fit_scale, outline_bounds, place_job, scaled_design,
-};
-use skinpath::job::check::{check_config, design_boundaries};
+use skinpath::job::build::{BuildOptions, Place};
+use skinpath::job::{Job, JobError, JobOptions, OutputFormat, Scale, Stage, Timings};
 use skinpath::machine::{MachineKind, Profile, builtin_profile};
-use skinpath::sim::{Backend, Severity, check_text};
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -69,6 +65,10 @@ pub struct Args {
     /// leave the laser or spindle on during a rapid, or leave the machine's travel.
     #[arg(long)]
     write_unchecked: bool,
+    /// Print the wall time of each stage (read, skin, toolpath, place, emit, check, write):
+    /// a table on stderr, or a "timings" object (seconds) in the `--json` summary.
+    #[arg(long)]
+    timings: bool,
 }
 
 /// A shipped profile by name, or a user's profile file.
@@ -84,19 +84,19 @@ pub fn load_profile(spec: &str) -> Result<Profile> {
     bail!("no machine profile named {spec:?} (see `skinpath machines`) and no such file")
 }
 
-fn format_of(a: &Args, output: &Path) -> Result<String> {
+fn format_of(a: &Args, output: &Path) -> Result<OutputFormat> {
     if let Some(f) = &a.format {
-        return Ok(f.clone());
+        return OutputFormat::from_extension(f)
+            .with_context(|| format!("--format {f}: expected gcode, svg or dxf"));
     }
-    Ok(match io::extension(output).as_str() {
-        "gcode" | "nc" | "ngc" | "tap" | "g" => "gcode".into(),
-        "svg" => "svg".into(),
-        "dxf" => "dxf".into(),
-        other => bail!(
-            "{}: cannot tell the output format from .{other}; use --format gcode|svg|dxf",
+    let ext = io::extension(output);
+    match OutputFormat::from_extension(&ext) {
+        Some(f) => Ok(f),
+        None => bail!(
+            "{}: cannot tell the output format from .{ext}; use --format gcode|svg|dxf",
             output.display()
         ),
-    })
+    }
 }
 
 /// `--fit WxH` as two positive numbers.
@@ -118,77 +118,6 @@ fn parse_fit(s: &str) -> Result<(f64, f64)> {
     Ok((w, h))
 }
 
-/// What to change for each kind of checker finding in a program `build` made.
-fn advice(id: &str) -> &'static str {
-    match id {
-        "self-intersection" => {
-            "the cut folds onto itself where the outline offset by the tool radius \
-             collapses: move the stroke's disks apart there, widen the channel or use a \
-             smaller tool, and please report the design"
-        }
-        "contour-crossing" => {
-            "two cuts that must stay apart cross: move the strokes apart, or give the \
-             operations `strokes = [...]` so they do not both cut here"
-        }
-        "gouge" => {
-            "the tool comes nearer the design than its radius: lower --tolerance or use a \
-             smaller tool"
-        }
-        "out-of-bounds" => "use --place lower-left or --place center, or --fit to scale down",
-        "feed-out-of-range" => "set the operation's `feed` within the machine's range",
-        "power-out-of-range" => "set the operation's `power` within 0..=100 percent",
-        _ => "see the finding's id in `skinpath check --help`",
-    }
-}
-
-/// A checker finding of the program traced back to what the design says: the operation
-/// (its kind, name and number in the design), the stroke and the place.
-fn explain(
-    f: &skinpath::sim::Finding,
-    origins: &[skinpath::emit::LineOrigin],
-    tp: &skinpath::toolpath::Toolpath,
-    file: &str,
-) -> String {
-    // Every distinct operation and stroke among the finding's lines (a crossing has two).
-    let mut whos: Vec<String> = Vec::new();
-    for (oi, ci) in f
-        .lines
-        .iter()
-        .filter_map(|&l| origins.get(l.wrapping_sub(1)).copied().flatten())
-    {
-        let Some(op) = tp.operations.get(oi) else {
-            continue;
-        };
-        let mut w = match op.design_index {
-            Some(d) => format!("[[operation]] {} ({})", d + 1, op.name),
-            None => format!("the default {} (the design has no [[operation]])", op.name),
-        };
-        if let Some(src) = op.cuts.get(ci).and_then(|c| c.source.as_ref()) {
-            w.push_str(&format!(", stroke \"{src}\""));
-        }
-        if !whos.contains(&w) {
-            whos.push(w);
-        }
-    }
-    let who = if whos.is_empty() {
-        String::new()
-    } else {
-        format!("{}: ", whos.join(" and "))
-    };
-    let at =
-        f.at.first()
-            .map(|p| format!(" at x {:.3} y {:.3} z {:.3}", p[0], p[1], p[2]))
-            .unwrap_or_default();
-    let lines: Vec<String> = f.lines.iter().map(|l| l.to_string()).collect();
-    format!(
-        "{file}: {who}{} [{}]{at} (program line {}): {}",
-        f.message,
-        f.id,
-        lines.join(", "),
-        advice(f.id)
-    )
-}
-
 /// The output path when `-o` is not given: the design's file stem in the current folder,
 /// with the profile's natural extension.
 fn default_output(design: &Path, profile: &Profile) -> PathBuf {
@@ -201,6 +130,8 @@ fn default_output(design: &Path, profile: &Profile) -> PathBuf {
 }
 
 pub fn run(a: Args) -> Result<u8> {
+    let mut timings = Timings::default();
+    let t_read = Instant::now();
     let profile = load_profile(&a.machine)?;
     let output = a
         .output
@@ -245,181 +176,107 @@ pub fn run(a: Args) -> Result<u8> {
     let text = io::read_text(&a.design)?;
     let file = a.design.display().to_string();
     let original = skinpath::design::load(&text, &file)?;
-    let mut opts = BuildOptions::default();
+    timings.add(Stage::Read, t_read.elapsed());
+    let mut build = BuildOptions::default();
     if let Some(t) = a.tolerance {
-        opts.tolerance = t;
+        build.tolerance = t;
     }
     if let Some(e) = a.epsilon {
-        opts.epsilon = e;
+        build.epsilon = e;
     }
-    opts.method = match a.method.as_str() {
+    build.method = match a.method.as_str() {
         "re" => skinpath::design::OutlineMethod::Re,
         "mph" => skinpath::design::OutlineMethod::Mph,
         _ => skinpath::design::OutlineMethod::Skin,
     };
-    let mut scale = a.scale.unwrap_or(1.0);
-    let mut design = if scale != 1.0 {
-        scaled_design(&original, scale)
-    } else {
-        original.clone()
-    };
-    let mut built = build_toolpath(&design, &profile, &opts)?;
-    if let Some((w, h)) = fit {
-        // The outlines scale with the design, offsets and margins do not: a few rounds.
-        for _ in 0..4 {
-            let s = built.toolpath.stats(glam::DVec2::ZERO);
-            let job =
-                glam::DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
-            if job.x <= w && job.y <= h && scale != 1.0 {
-                break;
-            }
-            let Some((lo, hi)) = outline_bounds(&built.outlines, opts.tolerance) else {
-                break;
-            };
-            let Some(f) = fit_scale(job, hi - lo, w, h) else {
-                bail!(
-                    "--fit {w}x{h}: the job's fixed parts (tool offsets, margins) alone are \
-                     {:.1} x {:.1}; give a larger size",
-                    job.x - (hi - lo).x,
-                    job.y - (hi - lo).y
-                );
-            };
-            // A hair smaller than exact, so the rounded program stays inside.
-            scale *= f * (1.0 - 1e-6);
-            design = scaled_design(&original, scale);
-            built = build_toolpath(&design, &profile, &opts)?;
-        }
-    }
-    let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
-    let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
-    // One unit of the program's last decimal, so that coordinate rounding cannot put an
-    // arc's extreme point a hair outside the work area.
-    let inset = 10f64.powi(-(decimals as i32)) * k;
-    let placement = place_job(
-        &mut built,
-        &profile,
-        design.units.mm_per_unit(),
-        place,
-        a.margin,
-        inset,
-        scale,
-    )?;
-    let units = match design.units {
-        skinpath::design::Units::Mm => skinpath::machine::Units::Mm,
-        skinpath::design::Units::Inch => skinpath::machine::Units::Inch,
-    };
-    let job = a
+    let name = a
         .design
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "skinpath".into());
-    let mut report = None;
-    let body = match format.as_str() {
-        "gcode" => {
-            if profile.kind == MachineKind::Svg {
-                bail!(
-                    "profile {:?} is for SVG/DXF upload; choose a G-code profile or write .svg/.dxf",
-                    profile.name
-                );
-            }
-            let (g, origins) = gcode_with_origins(
-                &built.toolpath,
-                &profile,
-                &GcodeOptions {
-                    job: job.clone(),
-                    input_units: units,
-                    tolerance: opts.tolerance * 0.1,
-                    check_work_area: true,
-                },
-            )?;
-            // Read the program back and check it before it reaches a machine, exactly as
-            // `skinpath check PROGRAM --machine SAME` will: same configuration, no
-            // allowances (pockets mark their own intended crossings in the program).
-            let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
-            let mut cfg = check_config(&profile, tool_r);
-            // With design boundaries the tool path may come closer to the design than the
-            // tool radius by the errors this build allows itself: arc fitting of the outline
-            // and the boundary's flattening (each `tolerance`, in design units), coordinate
-            // rounding and the checker's own arc flattening.
-            let kk = design.units.mm_per_unit() / profile.units.mm_per_unit();
-            cfg.gouge_tolerance = cfg.gouge_tolerance.max(
-                2.0 * opts.tolerance * kk + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance,
-            );
-            let only_outside_profiles =
-                design.operation.is_empty() && profile.kind == MachineKind::Router;
-            let bounds = if only_outside_profiles {
-                design_boundaries(
-                    &built.outlines,
-                    true,
-                    opts.tolerance,
-                    design.units.mm_per_unit(),
-                )
-            } else {
-                Vec::new()
-            };
-            let r = check_text(Backend::Builtin, &g, &cfg, &bounds);
-            if r.errors() > 0 {
-                for f in r.findings.iter().filter(|f| f.severity == Severity::Error) {
-                    eprintln!("{}", explain(f, &origins, &built.toolpath, &file));
-                }
-                if !a.write_unchecked {
-                    bail!(
-                        "{file}: the program failed {} check(s) (listed above with the operation \
-                         and stroke that made each); nothing was written (--write-unchecked \
-                         writes it anyway, at the risk named above)",
-                        r.errors()
-                    );
-                }
-                eprintln!("skinpath: warning: writing a program that failed its checks");
-            }
-            report = Some(r);
-            g
-        }
-        "svg" => laser_svg(
-            &built.toolpath,
-            &profile,
-            &LaserSvgOptions {
-                job: job.clone(),
-                ..LaserSvgOptions::default()
+    let bar = super::progress::Bar::new();
+    let on_progress = |p: skinpath::job::Progress| bar.show(p);
+    let job = Job {
+        design: &original,
+        profile: &profile,
+        options: JobOptions {
+            build,
+            place,
+            margin: a.margin,
+            scale: match (a.scale, fit) {
+                (Some(s), _) => Scale::By(s),
+                (None, Some((width, height))) => Scale::Fit { width, height },
+                (None, None) => Scale::None,
             },
-        )?,
-        _ => dxf(
-            &built.toolpath,
-            &DxfOptions {
-                colors: profile.svg.as_ref().map(|s| s.colors.clone()),
-                ..DxfOptions::default()
-            },
-        )?,
+            format,
+            name: &name,
+            write_unchecked: a.write_unchecked,
+            progress: bar.active().then_some(&on_progress),
+        },
     };
-    let body_text = body;
+    let result = job.run();
+    bar.finish();
+    let out = match result {
+        Ok(out) => out,
+        Err(JobError::Unchecked {
+            file,
+            errors,
+            explanations,
+        }) => {
+            for e in &explanations {
+                eprintln!("{e}");
+            }
+            return Err(JobError::Unchecked {
+                file,
+                errors,
+                explanations,
+            }
+            .into());
+        }
+        Err(e) => return Err(e.into()),
+    };
+    timings.extend(&out.timings);
+    if !out.explanations.is_empty() {
+        for e in &out.explanations {
+            eprintln!("{e}");
+        }
+        eprintln!("skinpath: warning: writing a program that failed its checks");
+    }
+    let t_write = Instant::now();
     let mut outputs: Vec<(&Path, Vec<u8>)> = Vec::new();
     if let Some(p) = &a.preview {
         let scene = super::preview::scene_of_build(
-            &job,
-            &built.toolpath,
+            &name,
+            &out.built.toolpath,
             &profile,
-            design.units.mm_per_unit(),
-            (format == "gcode").then_some(body_text.as_str()),
+            out.design.units.mm_per_unit(),
+            (format == OutputFormat::Gcode).then_some(out.program.as_str()),
             false,
         );
         outputs.push((p, super::preview::render(p, &scene, Default::default())?));
     }
-    outputs.insert(0, (&output, body_text.into_bytes()));
+    outputs.insert(0, (&output, out.program.clone().into_bytes()));
     io::write_set(&outputs)?;
-    let time = report.as_ref().map(|r| r.stats.time.total);
+    timings.add(Stage::Write, t_write.elapsed());
+    let mut text = String::new();
     if a.json {
-        let v = summary_json(
-            &built,
-            &profile,
-            &placement,
-            time,
-            report.as_ref(),
-            &a,
-            &output,
-        );
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        let mut summary = out.summary(&profile);
+        summary.outputs = outputs
+            .iter()
+            .map(|(p, _)| p.display().to_string())
+            .collect();
+        let mut v = serde_json::to_value(&summary)?;
+        if a.timings
+            && let Some(m) = v.as_object_mut()
+        {
+            m.insert("timings".into(), timings.to_json());
+        }
+        writeln!(text, "{}", serde_json::to_string_pretty(&v)?)?;
     } else {
-        println!(
+        let placement = &out.placement;
+        let scale = placement.scale;
+        writeln!(
+            text,
             "placed ({}): moved by ({:.3}, {:.3}); job x {:.3}..{:.3} y {:.3}..{:.3}{}",
             placement.place.as_str(),
             placement.offset[0],
@@ -433,90 +290,60 @@ pub fn run(a: Args) -> Result<u8> {
             } else {
                 String::new()
             }
-        );
-        print_summary(&built.toolpath, &profile, time);
-        for r in &built.routes {
-            println!(
+        )?;
+        let time = out.report.as_ref().map(|r| r.stats.time.total);
+        print_summary(&mut text, &out.built.toolpath, &profile, time)?;
+        for r in &out.built.routes {
+            writeln!(
+                text,
                 "  route {}: {} ({} arcs, {} lines; {})",
                 r.operation, r.route, r.counts.arcs, r.counts.lines, r.detail
-            );
+            )?;
         }
-        for s in &built.stats {
+        for s in &out.built.stats {
             if s.order.travel_input > 0.0 {
-                println!(
+                writeln!(
+                    text,
                     "  ordering {}: travel {:.1} -> {:.1} ({:.0} % of input order)",
                     s.operation,
                     s.order.travel_input,
                     s.order.travel_ordered,
                     100.0 * s.order.travel_ordered / s.order.travel_input
-                );
+                )?;
             }
         }
-        if let Some(r) = &report {
-            println!("check: {} errors, {} warnings", r.errors(), r.warnings());
+        if let Some(r) = &out.report {
+            writeln!(
+                text,
+                "check: {} errors, {} warnings",
+                r.errors(),
+                r.warnings()
+            )?;
         }
         for (p, _) in &outputs {
-            println!("wrote {}", p.display());
+            writeln!(text, "wrote {}", p.display())?;
+        }
+        if a.timings {
+            eprint!("{}", timings.table());
         }
     }
+    crate::print_stdout(&text)?;
     Ok(0)
 }
 
-/// The preview SVG of the toolpath (the one place that renders previews for `build`).
-/// The `--json` summary.
-fn summary_json(
-    built: &skinpath::job::build::BuildResult,
+fn print_summary(
+    text: &mut String,
+    tp: &skinpath::toolpath::Toolpath,
     profile: &Profile,
-    placement: &skinpath::job::build::Placement,
     time: Option<f64>,
-    report: Option<&skinpath::sim::Report>,
-    a: &Args,
-    output: &Path,
-) -> serde_json::Value {
-    let s = built.toolpath.stats(glam::DVec2::ZERO);
-    let ops: Vec<serde_json::Value> = built
-        .toolpath
-        .operations
-        .iter()
-        .map(|op| {
-            let single = skinpath::toolpath::Toolpath {
-                operations: vec![op.clone()],
-            };
-            let os = single.stats(glam::DVec2::ZERO);
-            serde_json::json!({
-                "name": op.name,
-                "kind": format!("{:?}", op.kind).to_lowercase(),
-                "design_index": op.design_index,
-                "cuts": op.cuts.len(),
-                "cut_length": os.cut_length,
-                "air_assist": op.air_assist,
-            })
-        })
-        .collect();
-    serde_json::json!({
-        "design": a.design.display().to_string(),
-        "machine": profile.name,
-        "outputs": std::iter::once(output).chain(a.preview.as_deref()).map(|p| p.display().to_string()).collect::<Vec<_>>(),
-        "operations": ops,
-        "cut_length": s.cut_length,
-        "travel_length": s.travel_length,
-        "bounds": { "min": s.bbox_min, "max": s.bbox_max },
-        "placement": placement,
-        "time": {
-            "with_acceleration": time,
-            "at_programmed_feeds": s.cut_time,
-        },
-        "findings": report.map(|r| r.findings.clone()).unwrap_or_default(),
-    })
-}
-
-fn print_summary(tp: &skinpath::toolpath::Toolpath, profile: &Profile, time: Option<f64>) {
+) -> std::fmt::Result {
     let s = tp.stats(glam::DVec2::ZERO);
-    println!("machine {} ({:?})", profile.name, profile.kind);
+    writeln!(text, "machine {} ({:?})", profile.name, profile.kind)?;
     for op in &tp.operations {
-        println!("  {:24} {:4} cuts", op.name, op.cuts.len());
+        writeln!(text, "  {:24} {:4} cuts", op.name, op.cuts.len())?;
     }
-    println!(
+    writeln!(
+        text,
         "cut length {:.1}, travel {:.1}, bounds x {:.2}..{:.2} y {:.2}..{:.2} z {:.2}..{:.2}",
         s.cut_length,
         s.travel_length,
@@ -526,10 +353,10 @@ fn print_summary(tp: &skinpath::toolpath::Toolpath, profile: &Profile, time: Opt
         s.bbox_max[1],
         s.bbox_min[2],
         s.bbox_max[2]
-    );
+    )?;
     match time {
-        Some(t) => println!("estimated time {} (with acceleration)", hms(t)),
-        None => println!("time at programmed feeds {}", hms(s.cut_time)),
+        Some(t) => writeln!(text, "estimated time {} (with acceleration)", hms(t)),
+        None => writeln!(text, "time at programmed feeds {}", hms(s.cut_time)),
     }
 }
 

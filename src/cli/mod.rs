@@ -11,6 +11,7 @@ pub mod io;
 mod machines;
 mod outline;
 mod preview;
+mod progress;
 mod text;
 
 use clap::{Parser, Subcommand};
@@ -67,8 +68,23 @@ pub fn run() -> ExitCode {
     match result {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
-            eprintln!("skinpath: error: {e:#}");
+            eprintln!("skinpath: error: {}", chain(&e));
             ExitCode::from(EXIT_UNUSABLE)
         }
     }
+}
+
+/// The error and its causes, `outer: cause: cause`, as anyhow's `{:#}` prints them, except
+/// that a cause whose text the message already holds is not repeated (typed library errors
+/// show their source in their own message and keep it as `source()` for callers).
+fn chain(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let m = cause.to_string();
+        if !text.contains(&m) {
+            text.push_str(": ");
+            text.push_str(&m);
+        }
+    }
+    text
 }

@@ -3,7 +3,8 @@
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::OutlineMethod;
-use skinpath::job::outline::{OutlineOptions, outline_document};
+use skinpath::job::outline::{OutlineOptions, outline_document_with};
+use skinpath::job::{Stage, Timings};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -29,6 +30,9 @@ pub struct Args {
     /// Also draw the control disks.
     #[arg(long)]
     control_disks: bool,
+    /// Print the wall time of each stage (read, skin, emit, write) as a table on stderr.
+    #[arg(long)]
+    timings: bool,
 }
 
 pub fn run(a: Args) -> Result<u8> {
@@ -40,8 +44,11 @@ pub fn run(a: Args) -> Result<u8> {
         );
     }
     io::refuse_overwriting_inputs(&a.output, &[&a.design])?;
-    let text = io::read_text(&a.design)?;
-    let design = skinpath::design::load(&text, &a.design.display().to_string())?;
+    let mut timings = Timings::default();
+    let text = timings.time(Stage::Read, || io::read_text(&a.design))?;
+    let design = timings.time(Stage::Read, || {
+        skinpath::design::load(&text, &a.design.display().to_string())
+    })?;
     let mut opts = OutlineOptions::default();
     if let Some(o) = &design.outline {
         if let Some(m) = o.method {
@@ -76,13 +83,26 @@ pub fn run(a: Args) -> Result<u8> {
             bail!("{name} must be a positive number, got {v}");
         }
     }
-    let doc = outline_document(&design, &opts)?;
-    let body = if ext == "svg" {
-        doc.to_svg()
-    } else {
-        doc.to_json()
-    };
-    io::write_atomic(&a.output, body.as_bytes())
-        .with_context(|| format!("writing {}", a.output.display()))?;
+    let bar = super::progress::Bar::new();
+    let on_progress = |p: skinpath::job::Progress| bar.show(p);
+    let doc = timings.time(Stage::Skin, || {
+        outline_document_with(&design, &opts, bar.active().then_some(&on_progress))
+    });
+    bar.finish();
+    let doc = doc?;
+    let body = timings.time(Stage::Emit, || {
+        if ext == "svg" {
+            doc.to_svg()
+        } else {
+            doc.to_json()
+        }
+    });
+    timings.time(Stage::Write, || {
+        io::write_atomic(&a.output, body.as_bytes())
+            .with_context(|| format!("writing {}", a.output.display()))
+    })?;
+    if a.timings {
+        eprint!("{}", timings.table());
+    }
     Ok(0)
 }

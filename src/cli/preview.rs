@@ -219,13 +219,13 @@ pub fn run(a: Args) -> Result<u8> {
         }
     };
     write(&a.output, &scene, png)?;
-    println!(
-        "wrote {} ({} moves, {} contours, {} findings, time {})",
+    crate::print_stdout(&format!(
+        "wrote {} ({} moves, {} contours, {} findings, time {})\n",
         a.output.display(),
         scene.motions.len(),
         scene.contours.len(),
         scene.findings.len(),
         skinpath::emit::preview::svg::hms(scene.timeline.total)
-    );
+    ))?;
     Ok(0)
 }

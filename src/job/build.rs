@@ -21,8 +21,9 @@
 
 use super::JobError;
 use super::outline::re_interp;
-use super::outline::{ItemOutline, OutlineOptions, design_outlines};
-use super::re_route::{ReItem, RouteNote, re_backboard, re_items, re_profile};
+use super::outline::{ItemOutline, OutlineOptions, design_outlines_with};
+use super::progress::{ProgressFn, Stage, report};
+use super::re_route::{ReItem, RouteNote, RouteRefusal, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
 use crate::design::{
     Design, FillPattern, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
@@ -95,7 +96,7 @@ struct Ctx<'a> {
     /// The build's default route.
     method: OutlineMethod,
     /// RE/MPH skins of every item, per interpolant used by the build.
-    re: Vec<(Interp, Vec<Result<ReItem, String>>)>,
+    re: Vec<(Interp, Vec<Result<ReItem, RouteRefusal>>)>,
     routes: RefCell<Vec<RouteNote>>,
 }
 
@@ -230,7 +231,7 @@ impl Ctx<'_> {
         name: &str,
         items: &[usize],
         general: impl FnOnce() -> Vec<Path>,
-        exact: impl FnOnce(&[(&str, &ReItem)]) -> Result<Vec<Path>, String>,
+        exact: impl FnOnce(&[(&str, &ReItem)]) -> Result<Vec<Path>, RouteRefusal>,
     ) -> Result<Vec<Path>, JobError> {
         let method = op.method.unwrap_or(self.method);
         let note = |route: &str, detail: String, paths: &[Path]| RouteNote {
@@ -261,13 +262,14 @@ impl Ctx<'_> {
                     why = Some(format!("{}: {e}", self.outlines[i].name));
                     break;
                 }
-                None => why = Some("item without a skin".into()),
+                None => why = Some(RouteRefusal::NoSkin.to_string()),
             }
         }
+        // The reason goes into the route note, which is text.
         let result = match why {
             Some(w) => Err(w),
-            None if its.is_empty() => Err("no items".into()),
-            None => exact(&its),
+            None if its.is_empty() => Err(RouteRefusal::NoItems.to_string()),
+            None => exact(&its).map_err(|e| e.to_string()),
         };
         let (paths, n) = match result {
             Ok(p) => {
@@ -607,14 +609,8 @@ fn operation_specs(
                 [(_, it)] if (rho - r).abs() <= 1e-12 * (1.0 + r) => {
                     re_backboard(it, margin + r, ctx.tol)
                 }
-                [_] => Err(format!(
-                    "the inner corner radius {rho} differs from the tool radius {r} \
-                     (the rounding is a closing of the union)"
-                )),
-                _ => Err(format!(
-                    "{} items: the backboard follows their union",
-                    its.len()
-                )),
+                [_] => Err(RouteRefusal::CornerRadius { rho, r }),
+                _ => Err(RouteRefusal::Union(its.len())),
             })?;
             vec![spec(
                 ctx,
@@ -1075,6 +1071,17 @@ pub fn build_toolpath(
     profile: &Profile,
     opts: &BuildOptions,
 ) -> Result<BuildResult, JobError> {
+    build_toolpath_with(design, profile, opts, None)
+}
+
+/// [`build_toolpath`], reporting progress: [`Stage::Skin`] after every item outlined,
+/// [`Stage::Toolpath`] after every operation turned into geometry and once planned.
+pub fn build_toolpath_with(
+    design: &Design,
+    profile: &Profile,
+    opts: &BuildOptions,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<BuildResult, JobError> {
     if !(opts.tolerance > 0.0 && opts.epsilon > 0.0) {
         return Err(JobError::Options(format!(
             "tolerance ({}) and epsilon ({}) must be positive",
@@ -1086,7 +1093,7 @@ pub fn build_toolpath(
         tolerance: opts.tolerance,
         ..OutlineOptions::default()
     };
-    let mut outlines = design_outlines(design, &outline_opts)?;
+    let mut outlines = design_outlines_with(design, &outline_opts, progress)?;
     let strokes = design.strokes()?;
     let mut methods = vec![opts.method];
     for (i, op) in design.operation.iter().enumerate() {
@@ -1143,6 +1150,8 @@ pub fn build_toolpath(
         routes: RefCell::new(Vec::new()),
     };
     let mut specs = Vec::new();
+    let n_ops = design.operation.len().max(1) + 1;
+    report(progress, Stage::Toolpath, 0, n_ops);
     if design.operation.is_empty() {
         // Any design builds: one profile of every outline.
         let op = Operation::new(OperationKind::Profile);
@@ -1154,10 +1163,12 @@ pub fn build_toolpath(
     }
     for (i, op) in design.operation.iter().enumerate() {
         specs.extend(operation_specs(&ctx, i, Some(i), op)?);
+        report(progress, Stage::Toolpath, i + 1, n_ops);
     }
     assign_pockets(&ctx, &mut specs);
     let (mut toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
     attributes_on_moves(&ctx, &mut toolpath)?;
+    report(progress, Stage::Toolpath, n_ops, n_ops);
     Ok(BuildResult {
         toolpath,
         stats,
@@ -1204,9 +1215,12 @@ pub struct Placement {
     pub scale: f64,
 }
 
-/// The design with every stroke and circle sequence scaled by `f` about the origin:
-/// centres and radii of disks, points and circles. Operation settings (channel width, hole
-/// diameter, depths, margins) are physical sizes of tools and material and stay as written.
+/// The design with every stroke, circle sequence and text scaled by `f` about the origin:
+/// centres and radii of disks, points and circles; height, stroke width, anchor and letter
+/// spacing of `[[text]]` not yet laid out (a loaded design has its text as strokes); the
+/// corners at which loading split strokes (so that piece ends there stay joints, not stroke
+/// ends that get neon holes). Operation settings (channel width, hole diameter, depths,
+/// margins) are physical sizes of tools and material and stay as written.
 pub fn scaled_design(design: &Design, f: f64) -> Design {
     let mut d = design.clone();
     let sc = |v: &mut [f64; 3]| {
@@ -1221,6 +1235,19 @@ pub fn scaled_design(design: &Design, f: f64) -> Design {
     }
     for c in &mut d.circles {
         c.circles.iter_mut().for_each(sc);
+    }
+    for t in &mut d.text {
+        t.height *= f;
+        t.width *= f;
+        if let Some(at) = &mut t.at {
+            at.iter_mut().for_each(|x| *x *= f);
+        }
+        if let Some(s) = &mut t.letter_spacing {
+            *s *= f;
+        }
+    }
+    for c in &mut d.corners {
+        c.at.iter_mut().for_each(|x| *x *= f);
     }
     d
 }

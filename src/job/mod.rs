@@ -4,9 +4,14 @@
 
 pub mod build;
 pub mod check;
+pub mod checked;
 pub mod inspect;
 pub mod outline;
+pub mod progress;
 pub mod re_route;
+
+pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, Summary, design_of_strokes};
+pub use progress::{Progress, ProgressFn, Stage, Timings};
 
 use crate::design::DesignError;
 
@@ -15,12 +20,13 @@ use crate::design::DesignError;
 pub enum JobError {
     #[error(transparent)]
     Design(#[from] DesignError),
-    #[error("{file}: {item} \"{name}\": {message}")]
+    /// A stroke or circle sequence could not be outlined; `source` says why.
+    #[error("{file}: {item} \"{name}\": {source}")]
     Item {
         file: String,
         item: &'static str,
         name: String,
-        message: String,
+        source: Box<outline::ItemError>,
     },
     /// `index` is the operation's index in the design (0-based; shown 1-based, as the
     /// n-th `[[operation]]` table of the file).
@@ -33,4 +39,20 @@ pub enum JobError {
     },
     #[error("{0}")]
     Options(String),
+    /// The machine program could not be written.
+    #[error(transparent)]
+    Emit(#[from] crate::emit::EmitError),
+    /// The G-code program failed its check and [`JobOptions::write_unchecked`] is off;
+    /// `explanations` trace every error finding back to the design (see
+    /// [`checked::explain`]).
+    #[error(
+        "{file}: the program failed {errors} check(s) (listed above with the operation \
+         and stroke that made each); nothing was written (--write-unchecked \
+         writes it anyway, at the risk named above)"
+    )]
+    Unchecked {
+        file: String,
+        errors: usize,
+        explanations: Vec<String>,
+    },
 }

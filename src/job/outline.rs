@@ -3,6 +3,7 @@
 //! circle sequence its skin outline.
 
 use super::JobError;
+use super::progress::{ProgressFn, Stage, report};
 use crate::dbsc::flatten::flatten;
 use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
@@ -62,12 +63,56 @@ pub struct ItemOutline {
 /// Parameter tolerance of loop detection: roots of τ± located to 1e-10 of the parameter.
 const LOOP_PARAM_TOL: f64 = 1e-10;
 
-fn item_err(design: &Design, item: &'static str, name: &str, message: String) -> JobError {
+/// Why an RE/MPH outline (or its offsets) could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ReOutlineError {
+    /// No touching points for the circle sequence (Kunkli–Hoffmann construction).
+    #[error(transparent)]
+    Touching(#[from] crate::skin::SkinError),
+    /// The RE/MPH skin or the elimination of envelope intersections failed.
+    #[error(transparent)]
+    Skin(#[from] crate::skin::re::ReError),
+    /// An exact MAT offset failed.
+    #[error(transparent)]
+    Offset(#[from] crate::skin::mat_offset::MatOffsetError),
+    /// The stroke's DBSC skin (whose circles the RE route uses) failed.
+    #[error(transparent)]
+    Dbsc(#[from] DbscSkinError),
+    /// A circle where the stroke's envelope is undefined and the sequence's touching
+    /// points, the fallback, could not be built.
+    #[error("circle {index}: {source}")]
+    Fallback {
+        index: usize,
+        source: crate::skin::SkinError,
+    },
+    /// A circle without touching points in the fallback.
+    #[error("circle {index}: no touching points")]
+    NoTouchingPoints { index: usize },
+}
+
+/// What went wrong with one stroke or circle sequence (see [`JobError::Item`]).
+#[derive(Debug, thiserror::Error)]
+pub enum ItemError {
+    /// Envelope loop detection failed.
+    #[error(transparent)]
+    Loops(#[from] crate::dbsc::LoopError),
+    /// The stroke's skin failed; `hint` names the disks and what to change ("" or "; ...").
+    #[error("{source}{hint}")]
+    Skin { source: DbscSkinError, hint: String },
+    /// The circle sequence's skin failed.
+    #[error(transparent)]
+    Circles(#[from] crate::skin::SkinError),
+    /// The RE/MPH outline failed.
+    #[error(transparent)]
+    Re(#[from] ReOutlineError),
+}
+
+fn item_err(design: &Design, item: &'static str, name: &str, e: impl Into<ItemError>) -> JobError {
     JobError::Item {
         file: design.file.clone(),
         item,
         name: name.to_string(),
-        message,
+        source: Box::new(e.into()),
     }
 }
 
@@ -78,8 +123,7 @@ pub fn stroke_outline(
     c: &DiskBSpline,
     opts: &OutlineOptions,
 ) -> Result<ItemOutline, JobError> {
-    let loops = find_loops(c, LOOP_PARAM_TOL)
-        .map_err(|e| item_err(design, "stroke", name, e.to_string()))?;
+    let loops = find_loops(c, LOOP_PARAM_TOL).map_err(|e| item_err(design, "stroke", name, e))?;
     let mut skin_opts = DbscSkinOptions {
         eps: opts.epsilon,
         ..DbscSkinOptions::default()
@@ -87,7 +131,7 @@ pub fn stroke_outline(
     let fail = |e: DbscSkinError| {
         // Name the disks and what to change, not only the paper's condition.
         let hint = crate::design::corners::skin_hint(c).map_or(String::new(), |h| format!("; {h}"));
-        item_err(design, "stroke", name, format!("{e}{hint}"))
+        item_err(design, "stroke", name, ItemError::Skin { source: e, hint })
     };
     let (sk, self_overlap) = match skin_dbsc(c, &skin_opts) {
         Ok(sk) => (sk, false),
@@ -121,7 +165,7 @@ pub fn circles_outline(
     closed: bool,
 ) -> Result<ItemOutline, JobError> {
     let o = outline_circles(circles, closed, &SkinOptions::default())
-        .map_err(|e| item_err(design, "circle sequence", name, e.to_string()))?;
+        .map_err(|e| item_err(design, "circle sequence", name, e))?;
     Ok(ItemOutline {
         name: name.to_string(),
         contours: o.contours,
@@ -137,13 +181,26 @@ pub fn design_outlines(
     design: &Design,
     opts: &OutlineOptions,
 ) -> Result<Vec<ItemOutline>, JobError> {
+    design_outlines_with(design, opts, None)
+}
+
+/// [`design_outlines`], reporting [`Stage::Skin`] progress after every item.
+pub fn design_outlines_with(
+    design: &Design,
+    opts: &OutlineOptions,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<Vec<ItemOutline>, JobError> {
     let strokes = design.strokes()?;
+    let total = strokes.len() + design.circles.len();
+    report(progress, Stage::Skin, 0, total);
     let mut out = Vec::new();
     for (s, c) in design.stroke.iter().zip(&strokes) {
         out.push(stroke_outline(design, &s.name, c, opts)?);
+        report(progress, Stage::Skin, out.len(), total);
     }
     for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
         out.push(circles_outline(design, &seq.name, &circles, seq.closed)?);
+        report(progress, Stage::Skin, out.len(), total);
     }
     Ok(out)
 }
@@ -290,9 +347,11 @@ fn seq_scale(circles: &[Circle]) -> f64 {
 }
 
 /// Fixed touching points of a circle sequence (Kunkli–Hoffmann, `skin::touching`).
-pub fn sequence_touches(circles: &[Circle], closed: bool) -> Result<Vec<Touch>, String> {
-    let tp =
-        crate::skin::touching_points(circles, closed, TOUCH_REL_TOL).map_err(|e| e.to_string())?;
+pub fn sequence_touches(
+    circles: &[Circle],
+    closed: bool,
+) -> Result<Vec<Touch>, crate::skin::SkinError> {
+    let tp = crate::skin::touching_points(circles, closed, TOUCH_REL_TOL)?;
     Ok(tp
         .iter()
         .map(|t| Touch::Fixed {
@@ -313,7 +372,7 @@ pub fn re_outline(
     closed: bool,
     interp: Interp,
     tol: f64,
-) -> Result<ReOutline, String> {
+) -> Result<ReOutline, ReOutlineError> {
     let scale = seq_scale(circles);
     let mut skin = ReSkin::build(
         circles,
@@ -321,13 +380,11 @@ pub fn re_outline(
         closed,
         interp,
         TOUCH_ON_CIRCLE_REL * scale,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     let mut intersections = detect(&skin, RE_PARAM_TOL);
     let mut failed_pairs = Vec::new();
     if !intersections.is_empty() {
-        let fixes =
-            eliminate(&mut skin, &EliminateOptions::default()).map_err(|e| e.to_string())?;
+        let fixes = eliminate(&mut skin, &EliminateOptions::default())?;
         failed_pairs = fixes
             .iter()
             .filter(|f| matches!(f.fix, PairFix::Failed { .. }))
@@ -532,9 +589,9 @@ fn orient(mut cs: Vec<Vec<DVec2>>) -> Vec<Vec<DVec2>> {
 
 /// Inner and outer δ-offsets of an RE/MPH skin (re-skinning-cnc eq. 13, trimmed where
 /// r < δ; outer: y + (r + δ) m± with local loops cut), flattened within `tol`.
-pub fn re_offsets(skin: &ReSkin, delta: f64, tol: f64) -> Result<Vec<Vec<DVec2>>, String> {
-    let inner = mat_offset::inner_offset(skin, delta, RE_PARAM_TOL).map_err(|e| e.to_string())?;
-    let outer = mat_offset::outer_offset(skin, delta, tol).map_err(|e| e.to_string())?;
+pub fn re_offsets(skin: &ReSkin, delta: f64, tol: f64) -> Result<Vec<Vec<DVec2>>, ReOutlineError> {
+    let inner = mat_offset::inner_offset(skin, delta, RE_PARAM_TOL)?;
+    let outer = mat_offset::outer_offset(skin, delta, tol)?;
     let mut out = flatten_mat(&inner, tol);
     out.extend(flatten_mat(&outer, tol));
     Ok(out)
@@ -561,7 +618,7 @@ fn stroke_touches(
     params: &[f64],
     circles: &[Circle],
     closed: bool,
-) -> Result<Vec<Touch>, String> {
+) -> Result<Vec<Touch>, ReOutlineError> {
     let fallback = sequence_touches(circles, closed);
     let mut out = Vec::with_capacity(params.len());
     for (i, &t) in params.iter().enumerate() {
@@ -580,9 +637,17 @@ fn stroke_touches(
                 }
             }
             _ => {
-                let fb = fallback.as_ref().map_err(|e| format!("circle {i}: {e}"))?;
+                let fb = match &fallback {
+                    Ok(fb) => fb,
+                    Err(e) => {
+                        return Err(ReOutlineError::Fallback {
+                            index: i,
+                            source: e.clone(),
+                        });
+                    }
+                };
                 *fb.get(i)
-                    .ok_or_else(|| format!("circle {i}: no touching points"))?
+                    .ok_or(ReOutlineError::NoTouchingPoints { index: i })?
             }
         };
         out.push(touch);
@@ -595,7 +660,7 @@ fn stroke_touches(
 pub fn stroke_re_input(
     c: &DiskBSpline,
     opts: &OutlineOptions,
-) -> Result<(Vec<Circle>, Vec<Touch>, bool), String> {
+) -> Result<(Vec<Circle>, Vec<Touch>, bool), ReOutlineError> {
     let mut skin_opts = DbscSkinOptions {
         eps: opts.epsilon,
         ..DbscSkinOptions::default()
@@ -604,9 +669,9 @@ pub fn stroke_re_input(
         Ok(sk) => sk,
         Err(DbscSkinError::SelfIntersection { .. }) => {
             skin_opts.allow_global_overlap = true;
-            skin_dbsc(c, &skin_opts).map_err(|e| e.to_string())?
+            skin_dbsc(c, &skin_opts)?
         }
-        Err(e) => return Err(e.to_string()),
+        Err(e) => return Err(e.into()),
     };
     let touches = stroke_touches(c, &sk.params, &sk.circles, sk.closed)?;
     Ok((sk.circles, touches, sk.closed))
@@ -677,7 +742,7 @@ fn re_contours(
     closed: bool,
     interp: Interp,
     opts: &OutlineOptions,
-) -> Result<(Vec<Contour>, Vec<Marker>), String> {
+) -> Result<(Vec<Contour>, Vec<Marker>), ReOutlineError> {
     let o = re_outline(circles, touches, closed, interp, opts.tolerance)?;
     let mut contours: Vec<Contour> = o
         .contours
@@ -702,7 +767,18 @@ fn offset_contours(paths: &[Path], delta: f64, opts: &OutlineOptions) -> Vec<Con
 
 /// The outline document of a design (what `skinpath outline` writes).
 pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<OutlineDoc, JobError> {
+    outline_document_with(design, opts, None)
+}
+
+/// [`outline_document`], reporting [`Stage::Skin`] progress after every item.
+pub fn outline_document_with(
+    design: &Design,
+    opts: &OutlineOptions,
+    progress: Option<ProgressFn<'_>>,
+) -> Result<OutlineDoc, JobError> {
     let strokes = design.strokes()?;
+    let total = strokes.len() + design.circles.len();
+    report(progress, Stage::Skin, 0, total);
     let mut doc = OutlineDoc {
         units: match design.units {
             crate::design::Units::Mm => "mm".into(),
@@ -711,8 +787,9 @@ pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<Outlin
         strokes: Vec::new(),
     };
     for (s, c) in design.stroke.iter().zip(&strokes) {
-        let err = |m: String| item_err(design, "stroke", &s.name, m);
-        let loops = find_loops(c, LOOP_PARAM_TOL).map_err(|e| err(e.to_string()))?;
+        let err = |e: ReOutlineError| item_err(design, "stroke", &s.name, e);
+        let loops =
+            find_loops(c, LOOP_PARAM_TOL).map_err(|e| item_err(design, "stroke", &s.name, e))?;
         let mut drawing = match (opts.method, re_interp(opts.method)) {
             (_, Some(interp)) => {
                 let (circles, touches, closed) = stroke_re_input(c, opts).map_err(err)?;
@@ -746,12 +823,14 @@ pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<Outlin
         };
         drawing.name = s.name.clone();
         doc.strokes.push(drawing);
+        report(progress, Stage::Skin, doc.strokes.len(), total);
     }
     for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
-        let err = |m: String| item_err(design, "circle sequence", &seq.name, m);
+        let err = |e: ReOutlineError| item_err(design, "circle sequence", &seq.name, e);
         let (contours, markers) = match re_interp(opts.method) {
             Some(interp) => {
-                let touches = sequence_touches(&circles, seq.closed).map_err(err)?;
+                let touches = sequence_touches(&circles, seq.closed)
+                    .map_err(|e| err(ReOutlineError::Touching(e)))?;
                 re_contours(&circles, &touches, seq.closed, interp, opts).map_err(err)?
             }
             None => {
@@ -773,6 +852,7 @@ pub fn outline_document(design: &Design, opts: &OutlineOptions) -> Result<Outlin
             circles: circles.iter().map(|k| refc("circle", k)).collect(),
             markers,
         });
+        report(progress, Stage::Skin, doc.strokes.len(), total);
     }
     Ok(doc)
 }

@@ -6,10 +6,13 @@
 //! so that the cut must follow their union — the operation takes the general (Bézier skin)
 //! route and the build says why.
 
-use super::outline::{ItemOutline, OutlineOptions, re_outline, sequence_touches, stroke_re_input};
+use super::outline::{
+    ItemOutline, OutlineOptions, ReOutlineError, re_outline, sequence_touches, stroke_re_input,
+};
 use crate::dbsc::DiskBSpline;
 use crate::design::Design;
 use crate::geom::{DVec2, Line, Path};
+use crate::skin::mat_offset::MatOffsetError;
 use crate::skin::re::{Interp, ReSkin};
 use crate::toolpath::ops::ProfileSide;
 use crate::toolpath::re_route::{SegCounts, mat_backboard, mat_profile};
@@ -23,6 +26,50 @@ pub struct ReItem {
     /// Where an envelope of the skin runs backwards (a local loop, cut off the outline by
     /// the union of the disks): the route is not taken (see [`re_profile`]).
     pub loop_note: Option<String>,
+}
+
+/// Why an item or an operation cannot take the exact (MAT offset) route; the build then
+/// takes the general route and notes this as the reason.
+#[derive(Debug, thiserror::Error)]
+pub enum RouteRefusal {
+    #[error("the spine crosses itself (the cut follows the union)")]
+    SelfOverlap,
+    #[error("stroke without its disk B-spline")]
+    NoCurve,
+    #[error("no stroke or circle sequence of this name")]
+    NoItem,
+    /// The RE/MPH skin or its outline could not be built.
+    #[error(transparent)]
+    Outline(#[from] ReOutlineError),
+    #[error("the envelopes still meet after elimination (segment {segment}, t = {t:.4})")]
+    EnvelopesMeet { segment: usize, t: f64 },
+    #[error("elimination failed between circles {i} and {j}")]
+    EliminationFailed { i: usize, j: usize },
+    /// The exact offset (outline, profile or backboard) failed.
+    #[error(transparent)]
+    Offset(#[from] MatOffsetError),
+    /// An item's envelope runs backwards (see [`ReItem::loop_note`]).
+    #[error("{name}: {note}")]
+    Loop { name: String, note: String },
+    /// The exact profile of item `name` failed.
+    #[error("{name}: {source}")]
+    Profile {
+        name: String,
+        source: MatOffsetError,
+    },
+    #[error("{a} and {b} overlap (the cut follows their union)")]
+    Overlap { a: String, b: String },
+    #[error("item without a skin")]
+    NoSkin,
+    #[error("no items")]
+    NoItems,
+    #[error(
+        "the inner corner radius {rho} differs from the tool radius {r} (the rounding is a \
+         closing of the union)"
+    )]
+    CornerRadius { rho: f64, r: f64 },
+    #[error("{0} items: the backboard follows their union")]
+    Union(usize),
 }
 
 /// Which route an operation took, and why.
@@ -47,42 +94,40 @@ pub fn re_items(
     outlines: &[ItemOutline],
     interp: Interp,
     opts: &OutlineOptions,
-) -> Vec<Result<ReItem, String>> {
+) -> Vec<Result<ReItem, RouteRefusal>> {
     outlines
         .iter()
         .map(|o| {
             if o.self_overlap {
-                return Err("the spine crosses itself (the cut follows the union)".into());
+                return Err(RouteRefusal::SelfOverlap);
             }
             let (circles, touches, closed) =
                 if let Some(k) = design.stroke.iter().position(|s| s.name == o.name) {
-                    let c = strokes
-                        .get(k)
-                        .ok_or_else(|| "stroke without its disk B-spline".to_string())?;
+                    let c = strokes.get(k).ok_or(RouteRefusal::NoCurve)?;
                     stroke_re_input(c, opts)?
                 } else if let Some(seq) = design.circles.iter().find(|s| s.name == o.name) {
                     let cs = seq.to_circles();
-                    let t = sequence_touches(&cs, seq.closed)?;
+                    let t = sequence_touches(&cs, seq.closed).map_err(ReOutlineError::from)?;
                     (cs, t, seq.closed)
                 } else {
-                    return Err("no stroke or circle sequence of this name".into());
+                    return Err(RouteRefusal::NoItem);
                 };
             let ro = re_outline(&circles, &touches, closed, interp, opts.tolerance)?;
             if let Some(e) = ro.intersections.first() {
-                return Err(format!(
-                    "the envelopes still meet after elimination (segment {}, t = {:.4})",
-                    e.segment, e.t
-                ));
+                return Err(RouteRefusal::EnvelopesMeet {
+                    segment: e.segment,
+                    t: e.t,
+                });
             }
             if let Some(&(i, j)) = ro.failed_pairs.first() {
-                return Err(format!("elimination failed between circles {i} and {j}"));
+                return Err(RouteRefusal::EliminationFailed { i, j });
             }
             let loop_note = ro.loops.first().map(|&(_, g0, g1)| {
                 format!(
                     "an envelope runs backwards (local loop) for global t in [{g0:.4}, {g1:.4}]"
                 )
             });
-            crate::skin::mat_offset::outline(&ro.skin).map_err(|e| e.to_string())?;
+            crate::skin::mat_offset::outline(&ro.skin)?;
             Ok(ReItem {
                 loop_note,
                 outline: ro
@@ -103,26 +148,33 @@ pub fn re_profile(
     side: ProfileSide,
     tool_radius: f64,
     tol: f64,
-) -> Result<Vec<Path>, String> {
+) -> Result<Vec<Path>, RouteRefusal> {
     let mut per_item: Vec<Vec<Path>> = Vec::new();
     for (name, it) in items {
         // The outer offset would still be exact (the region is the union of the disks),
         // but the item's outline for fills and gouge checks stays the Bézier skin, which
         // the exact offset of the RE skin can approach closer than the tool radius.
         if let Some(l) = &it.loop_note {
-            return Err(format!("{name}: {l}"));
+            return Err(RouteRefusal::Loop {
+                name: name.to_string(),
+                note: l.clone(),
+            });
         }
-        let p =
-            mat_profile(&it.skin, side, tool_radius, tol).map_err(|e| format!("{name}: {e}"))?;
+        let p = mat_profile(&it.skin, side, tool_radius, tol).map_err(|source| {
+            RouteRefusal::Profile {
+                name: name.to_string(),
+                source,
+            }
+        })?;
         per_item.push(p);
     }
     for a in 0..per_item.len() {
         for b in a + 1..per_item.len() {
             if paths_meet(&per_item[a], &per_item[b], tol) {
-                return Err(format!(
-                    "{} and {} overlap (the cut follows their union)",
-                    items[a].0, items[b].0
-                ));
+                return Err(RouteRefusal::Overlap {
+                    a: items[a].0.to_string(),
+                    b: items[b].0.to_string(),
+                });
             }
         }
     }
@@ -130,8 +182,8 @@ pub fn re_profile(
 }
 
 /// The backboard of one item by the MAT route (outer offset by margin + tool radius).
-pub fn re_backboard(item: &ReItem, distance: f64, tol: f64) -> Result<Vec<Path>, String> {
-    mat_backboard(&item.skin, distance, tol).map_err(|e| e.to_string())
+pub fn re_backboard(item: &ReItem, distance: f64, tol: f64) -> Result<Vec<Path>, RouteRefusal> {
+    Ok(mat_backboard(&item.skin, distance, tol)?)
 }
 
 /// Whether two sets of closed paths cross, touch within `tol`, or one lies inside the

@@ -1,0 +1,653 @@
+//! One checked job, the library's entry point for a whole build: a design (read from a
+//! file or made in code, see [`design_of_strokes`]) and a machine profile in; the machine
+//! program, its toolpath, the checker's report and a summary out.
+//!
+//! [`Job::run`] does what `skinpath build` does between reading its files and writing
+//! them: scale the design (`scale`/`fit`), build the toolpath ([`super::build`]), place it
+//! in the work area, write the program and, for G-code, read it back and check it exactly
+//! as `skinpath check PROGRAM --machine SAME` would, with the allowance the build gives
+//! itself near the design (arc fitting and boundary flattening, each `tolerance`,
+//! coordinate rounding and the checker's arc flattening). A program with findings of error
+//! severity is refused ([`JobError::Unchecked`]) unless
+//! [`JobOptions::write_unchecked`] is set.
+
+use super::JobError;
+use super::build::{
+    BuildOptions, BuildResult, Place, Placement, build_toolpath_with, fit_scale, outline_bounds,
+    place_job, scaled_design,
+};
+use super::check::{check_config, design_boundaries};
+use super::progress::{Progress, ProgressFn, Stage, Timings};
+use crate::dbsc::DiskBSpline;
+use crate::design::{CircleSeq, Design, Stroke};
+use crate::emit::{
+    DxfOptions, GcodeOptions, LaserSvgOptions, LineOrigin, dxf, gcode_with_origins, laser_svg,
+};
+use crate::geom::{Circle, DVec2};
+use crate::machine::{MachineKind, Profile};
+use crate::sim::{Backend, Finding, Report, Severity, check_text};
+use crate::toolpath::Toolpath;
+use std::cell::RefCell;
+use std::time::Instant;
+
+/// The kind of machine program a job writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// G-code, checked before it is returned.
+    Gcode,
+    /// Laser SVG for upload (LightBurn-style colours per operation).
+    Svg,
+    /// DXF.
+    Dxf,
+}
+
+impl OutputFormat {
+    /// The format a file extension names (`gcode`, `nc`, `ngc`, `tap`, `g`, `svg`, `dxf`;
+    /// lower case, without the dot).
+    pub fn from_extension(ext: &str) -> Option<Self> {
+        match ext {
+            "gcode" | "nc" | "ngc" | "tap" | "g" => Some(OutputFormat::Gcode),
+            "svg" => Some(OutputFormat::Svg),
+            "dxf" => Some(OutputFormat::Dxf),
+            _ => None,
+        }
+    }
+
+    /// The format's name: `gcode`, `svg` or `dxf`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            OutputFormat::Gcode => "gcode",
+            OutputFormat::Svg => "svg",
+            OutputFormat::Dxf => "dxf",
+        }
+    }
+
+    /// The format a profile writes by default: laser SVG for SVG profiles, else G-code.
+    pub fn default_for(profile: &Profile) -> Self {
+        match profile.kind {
+            MachineKind::Svg => OutputFormat::Svg,
+            MachineKind::Laser | MachineKind::Router => OutputFormat::Gcode,
+        }
+    }
+}
+
+/// How the design is scaled before it is built.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scale {
+    /// As written.
+    None,
+    /// Strokes, circles and text scaled by this factor about the origin (channel widths,
+    /// hole diameters, depths and margins stay as written, see [`scaled_design`]).
+    By(f64),
+    /// Scaled uniformly so that the whole job (tool paths included) fits `width` ×
+    /// `height` design units.
+    Fit { width: f64, height: f64 },
+}
+
+/// Options of a [`Job`].
+#[derive(Clone, Copy)]
+pub struct JobOptions<'a> {
+    /// Tolerance, ε and skin route of the toolpath.
+    pub build: BuildOptions,
+    /// Where the job goes in the work area.
+    pub place: Place,
+    /// Distance from the work area's corner with [`Place::LowerLeft`], design units.
+    pub margin: f64,
+    /// Scaling of the design.
+    pub scale: Scale,
+    /// The program to write.
+    pub format: OutputFormat,
+    /// The job's name in the program's header.
+    pub name: &'a str,
+    /// Return a G-code program even when its check finds errors (the findings are then in
+    /// [`JobOutput::report`] and [`JobOutput::explanations`]).
+    pub write_unchecked: bool,
+    /// Called with the stage and fraction done during long work.
+    pub progress: Option<ProgressFn<'a>>,
+}
+
+impl Default for JobOptions<'_> {
+    fn default() -> Self {
+        JobOptions {
+            build: BuildOptions::default(),
+            place: Place::LowerLeft,
+            margin: 0.0,
+            scale: Scale::None,
+            format: OutputFormat::Gcode,
+            name: "skinpath",
+            write_unchecked: false,
+            progress: None,
+        }
+    }
+}
+
+impl std::fmt::Debug for JobOptions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("JobOptions")
+            .field("build", &self.build)
+            .field("place", &self.place)
+            .field("margin", &self.margin)
+            .field("scale", &self.scale)
+            .field("format", &self.format)
+            .field("name", &self.name)
+            .field("write_unchecked", &self.write_unchecked)
+            .field("progress", &self.progress.is_some())
+            .finish()
+    }
+}
+
+/// A design to build for a machine.
+#[derive(Clone, Debug)]
+pub struct Job<'a> {
+    pub design: &'a Design,
+    pub profile: &'a Profile,
+    pub options: JobOptions<'a>,
+}
+
+/// What a job made.
+#[derive(Clone, Debug)]
+pub struct JobOutput {
+    /// The machine program (G-code, laser SVG or DXF text).
+    pub program: String,
+    /// The design as built (scaled when [`JobOptions::scale`] asked for it).
+    pub design: Design,
+    /// Toolpath (placed), outlines, skin routes and ordering statistics.
+    pub built: BuildResult,
+    /// Where the job went in the work area, and the scale it was built at.
+    pub placement: Placement,
+    /// The checker's report of a G-code program (`None` for SVG and DXF).
+    pub report: Option<Report>,
+    /// Every finding of error severity traced back to the design's operation and stroke,
+    /// with advice (see [`explain`]); empty when the check passed.
+    pub explanations: Vec<String>,
+    /// For every program line (0-based), the operation and cut that made it (G-code).
+    pub origins: Vec<LineOrigin>,
+    /// Wall time of the job's stages.
+    pub timings: Timings,
+}
+
+impl Job<'_> {
+    /// Builds, places, writes and (G-code) checks the job.
+    pub fn run(&self) -> Result<JobOutput, JobError> {
+        let o = &self.options;
+        let profile = self.profile;
+        if !(o.margin.is_finite() && o.margin >= 0.0) {
+            return Err(JobError::Options(format!(
+                "the margin must be a finite, non-negative distance in design units, got {}",
+                o.margin
+            )));
+        }
+        let clock = StageClock::new(o.progress);
+        let on_progress = |p: Progress| clock.seen(p);
+        let progress: Option<ProgressFn<'_>> = Some(&on_progress);
+        let (design, mut built, scale) = self.scaled_build(progress)?;
+        clock.start(Stage::Place);
+        let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
+        let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
+        // One unit of the program's last decimal, so that coordinate rounding cannot put an
+        // arc's extreme point a hair outside the work area.
+        let inset = 10f64.powi(-(decimals as i32)) * k;
+        let placement = place_job(
+            &mut built,
+            profile,
+            design.units.mm_per_unit(),
+            o.place,
+            o.margin,
+            inset,
+            scale,
+        )?;
+        clock.start(Stage::Emit);
+        let units = match design.units {
+            crate::design::Units::Mm => crate::machine::Units::Mm,
+            crate::design::Units::Inch => crate::machine::Units::Inch,
+        };
+        let mut report = None;
+        let mut explanations = Vec::new();
+        let mut origins = Vec::new();
+        let program = match o.format {
+            OutputFormat::Gcode => {
+                if profile.kind == MachineKind::Svg {
+                    return Err(JobError::Options(format!(
+                        "profile {:?} is for SVG/DXF upload; choose a G-code profile or write \
+                         .svg/.dxf",
+                        profile.name
+                    )));
+                }
+                let (g, orig) = gcode_with_origins(
+                    &built.toolpath,
+                    profile,
+                    &GcodeOptions {
+                        job: o.name.to_string(),
+                        input_units: units,
+                        tolerance: o.build.tolerance * 0.1,
+                        check_work_area: true,
+                    },
+                )?;
+                clock.start(Stage::Check);
+                let r = check_program(&g, &design, &built, profile, &o.build, decimals);
+                explanations = r
+                    .findings
+                    .iter()
+                    .filter(|f| f.severity == Severity::Error)
+                    .map(|f| explain(f, &orig, &built.toolpath, &design.file))
+                    .collect();
+                if r.errors() > 0 && !o.write_unchecked {
+                    return Err(JobError::Unchecked {
+                        file: design.file.clone(),
+                        errors: r.errors(),
+                        explanations,
+                    });
+                }
+                origins = orig;
+                report = Some(r);
+                g
+            }
+            OutputFormat::Svg => laser_svg(
+                &built.toolpath,
+                profile,
+                &LaserSvgOptions {
+                    job: o.name.to_string(),
+                    ..LaserSvgOptions::default()
+                },
+            )?,
+            OutputFormat::Dxf => dxf(
+                &built.toolpath,
+                &DxfOptions {
+                    colors: profile.svg.as_ref().map(|s| s.colors.clone()),
+                    ..DxfOptions::default()
+                },
+            )?,
+        };
+        let timings = clock.finish();
+        Ok(JobOutput {
+            program,
+            design,
+            built,
+            placement,
+            report,
+            explanations,
+            origins,
+            timings,
+        })
+    }
+
+    /// The design scaled as [`JobOptions::scale`] says and its toolpath (not yet placed).
+    fn scaled_build(
+        &self,
+        progress: Option<ProgressFn<'_>>,
+    ) -> Result<(Design, BuildResult, f64), JobError> {
+        let o = &self.options;
+        let original = self.design;
+        let fit = match o.scale {
+            Scale::None => None,
+            Scale::By(s) if !(s.is_finite() && s > 0.0) => {
+                return Err(JobError::Options(format!(
+                    "--scale {s}: must be a positive number"
+                )));
+            }
+            Scale::By(_) => None,
+            Scale::Fit { width, height }
+                if !(width.is_finite() && height.is_finite() && width > 0.0 && height > 0.0) =>
+            {
+                return Err(JobError::Options(format!(
+                    "--fit {width}x{height}: width and height must be positive numbers"
+                )));
+            }
+            Scale::Fit { width, height } => Some((width, height)),
+        };
+        let mut scale = match o.scale {
+            Scale::By(s) => s,
+            _ => 1.0,
+        };
+        let mut design = if scale != 1.0 {
+            scaled_design(original, scale)
+        } else {
+            original.clone()
+        };
+        let build = |d: &Design| build_toolpath_with(d, self.profile, &o.build, progress);
+        let mut built = build(&design)?;
+        if let Some((w, h)) = fit {
+            // The outlines scale with the design, offsets and margins do not: a few rounds.
+            for _ in 0..4 {
+                let s = built.toolpath.stats(DVec2::ZERO);
+                let job = DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
+                if job.x <= w && job.y <= h && scale != 1.0 {
+                    break;
+                }
+                let Some((lo, hi)) = outline_bounds(&built.outlines, o.build.tolerance) else {
+                    break;
+                };
+                let Some(f) = fit_scale(job, hi - lo, w, h) else {
+                    return Err(JobError::Options(format!(
+                        "--fit {w}x{h}: the job's fixed parts (tool offsets, margins) alone are \
+                         {:.1} x {:.1}; give a larger size",
+                        job.x - (hi - lo).x,
+                        job.y - (hi - lo).y
+                    )));
+                };
+                // A hair smaller than exact, so the rounded program stays inside.
+                scale *= f * (1.0 - 1e-6);
+                design = scaled_design(original, scale);
+                built = build(&design)?;
+            }
+        }
+        Ok((design, built, scale))
+    }
+}
+
+/// Reads a G-code program back and checks it exactly as `skinpath check PROGRAM --machine
+/// SAME` will (same configuration, no allowances: pockets mark their own intended crossings
+/// in the program). With design boundaries (a design without operations on a router: its
+/// outlines are parts that must not be gouged) the tool may come nearer the design than its
+/// radius by the errors the build allows itself: arc fitting of the outline and the
+/// boundary's flattening (each `opts.tolerance`, design units), coordinate rounding
+/// (`decimals`) and the checker's own arc flattening.
+pub fn check_program(
+    program: &str,
+    design: &Design,
+    built: &BuildResult,
+    profile: &Profile,
+    opts: &BuildOptions,
+    decimals: u32,
+) -> Report {
+    let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
+    let mut cfg = check_config(profile, tool_r);
+    let kk = design.units.mm_per_unit() / profile.units.mm_per_unit();
+    cfg.gouge_tolerance = cfg
+        .gouge_tolerance
+        .max(2.0 * opts.tolerance * kk + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance);
+    let only_outside_profiles = design.operation.is_empty() && profile.kind == MachineKind::Router;
+    let bounds = if only_outside_profiles {
+        design_boundaries(
+            &built.outlines,
+            true,
+            opts.tolerance,
+            design.units.mm_per_unit(),
+        )
+    } else {
+        Vec::new()
+    };
+    check_text(Backend::Builtin, program, &cfg, &bounds)
+}
+
+/// What to change for each kind of checker finding in a program a job made.
+pub fn advice(id: &str) -> &'static str {
+    match id {
+        "self-intersection" => {
+            "the cut folds onto itself where the outline offset by the tool radius \
+             collapses: move the stroke's disks apart there, widen the channel or use a \
+             smaller tool, and please report the design"
+        }
+        "contour-crossing" => {
+            "two cuts that must stay apart cross: move the strokes apart, or give the \
+             operations `strokes = [...]` so they do not both cut here"
+        }
+        "gouge" => {
+            "the tool comes nearer the design than its radius: lower --tolerance or use a \
+             smaller tool"
+        }
+        "out-of-bounds" => "use --place lower-left or --place center, or --fit to scale down",
+        "feed-out-of-range" => "set the operation's `feed` within the machine's range",
+        "power-out-of-range" => "set the operation's `power` within 0..=100 percent",
+        _ => "see the finding's id in `skinpath check --help`",
+    }
+}
+
+/// A checker finding of the program traced back to what the design says: the operation
+/// (its kind, name and number in the design), the stroke and the place, then [`advice`].
+/// `origins` maps program lines (0-based) to (operation, cut) of `tp`; `file` names the
+/// design.
+pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, file: &str) -> String {
+    // Every distinct operation and stroke among the finding's lines (a crossing has two).
+    let mut whos: Vec<String> = Vec::new();
+    for (oi, ci) in f
+        .lines
+        .iter()
+        .filter_map(|&l| origins.get(l.wrapping_sub(1)).copied().flatten())
+    {
+        let Some(op) = tp.operations.get(oi) else {
+            continue;
+        };
+        let mut w = match op.design_index {
+            Some(d) => format!("[[operation]] {} ({})", d + 1, op.name),
+            None => format!("the default {} (the design has no [[operation]])", op.name),
+        };
+        if let Some(src) = op.cuts.get(ci).and_then(|c| c.source.as_ref()) {
+            w.push_str(&format!(", stroke \"{src}\""));
+        }
+        if !whos.contains(&w) {
+            whos.push(w);
+        }
+    }
+    let who = if whos.is_empty() {
+        String::new()
+    } else {
+        format!("{}: ", whos.join(" and "))
+    };
+    let at =
+        f.at.first()
+            .map(|p| format!(" at x {:.3} y {:.3} z {:.3}", p[0], p[1], p[2]))
+            .unwrap_or_default();
+    let lines: Vec<String> = f.lines.iter().map(|l| l.to_string()).collect();
+    format!(
+        "{file}: {who}{} [{}]{at} (program line {}): {}",
+        f.message,
+        f.id,
+        lines.join(", "),
+        advice(f.id)
+    )
+}
+
+/// One operation of the [`Summary`].
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct OperationSummary {
+    pub name: String,
+    /// The toolpath operation kind, lower case (`profile`, `pocket`, ...).
+    pub kind: String,
+    /// Index of the `[[operation]]` in the design; `None` for the default profile.
+    pub design_index: Option<usize>,
+    pub cuts: usize,
+    pub cut_length: f64,
+    pub air_assist: bool,
+}
+
+/// Bounding box of the job.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Bounds {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+/// Time estimates in seconds.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TimeSummary {
+    /// The checker's estimate with the machine's acceleration (G-code only).
+    pub with_acceleration: Option<f64>,
+    /// Cut length over programmed feeds.
+    pub at_programmed_feeds: f64,
+}
+
+/// The summary of a built job: `skinpath build --json` prints it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Summary {
+    /// The design's file name.
+    pub design: String,
+    /// The machine profile's name.
+    pub machine: String,
+    /// Files written (filled in by the caller, which writes them).
+    pub outputs: Vec<String>,
+    pub operations: Vec<OperationSummary>,
+    pub cut_length: f64,
+    pub travel_length: f64,
+    pub bounds: Bounds,
+    pub placement: Placement,
+    pub time: TimeSummary,
+    /// The checker's findings (G-code only).
+    pub findings: Vec<Finding>,
+}
+
+impl JobOutput {
+    /// The job's summary, with `outputs` empty.
+    pub fn summary(&self, profile: &Profile) -> Summary {
+        let tp = &self.built.toolpath;
+        let s = tp.stats(DVec2::ZERO);
+        let operations = tp
+            .operations
+            .iter()
+            .map(|op| {
+                let single = Toolpath {
+                    operations: vec![op.clone()],
+                };
+                let os = single.stats(DVec2::ZERO);
+                OperationSummary {
+                    name: op.name.clone(),
+                    kind: format!("{:?}", op.kind).to_lowercase(),
+                    design_index: op.design_index,
+                    cuts: op.cuts.len(),
+                    cut_length: os.cut_length,
+                    air_assist: op.air_assist,
+                }
+            })
+            .collect();
+        Summary {
+            design: self.design.file.clone(),
+            machine: profile.name.clone(),
+            outputs: Vec::new(),
+            operations,
+            cut_length: s.cut_length,
+            travel_length: s.travel_length,
+            bounds: Bounds {
+                min: s.bbox_min,
+                max: s.bbox_max,
+            },
+            placement: self.placement,
+            time: TimeSummary {
+                with_acceleration: self.report.as_ref().map(|r| r.stats.time.total),
+                at_programmed_feeds: s.cut_time,
+            },
+            findings: self
+                .report
+                .as_ref()
+                .map(|r| r.findings.clone())
+                .unwrap_or_default(),
+        }
+    }
+}
+
+/// A design of strokes and circle sequences made in code: `strokes` as (name, curve),
+/// `circles` as (name, circles, closed), millimetres, no operations (a profile of every
+/// outline), `file` naming it in messages. A closed curve whose knots are not the uniform
+/// ones its breakpoints give keeps its breakpoints.
+pub fn design_of_strokes(
+    file: &str,
+    strokes: &[(&str, &DiskBSpline)],
+    circles: &[(&str, &[Circle], bool)],
+) -> Result<Design, JobError> {
+    let mut stroke = Vec::with_capacity(strokes.len());
+    for (name, c) in strokes {
+        let disks: Vec<[f64; 3]> = c
+            .control_disks()
+            .iter()
+            .map(|d| [d.c.x, d.c.y, d.r])
+            .collect();
+        let mut s = Stroke::from_disks(name, disks);
+        s.degree = c.degree();
+        s.closed = c.is_closed();
+        s.knots = Some(if c.is_closed() {
+            c.breakpoints()
+        } else {
+            c.curve().knots().to_vec()
+        });
+        stroke.push(s);
+    }
+    let circles = circles
+        .iter()
+        .map(|(name, cs, closed)| CircleSeq {
+            name: name.to_string(),
+            closed: *closed,
+            circles: cs.iter().map(|c| [c.c.x, c.c.y, c.r]).collect(),
+        })
+        .collect();
+    let mut d = Design {
+        version: crate::design::VERSION,
+        units: crate::design::Units::Mm,
+        outline: None,
+        stroke,
+        circles,
+        text: Vec::new(),
+        operation: Vec::new(),
+        file: file.to_string(),
+        corners: Vec::new(),
+    };
+    d.expand()?;
+    crate::design::validate(&d)?;
+    Ok(d)
+}
+
+/// Turns progress reports into stage timings and passes them on.
+struct StageClock<'a> {
+    inner: Option<ProgressFn<'a>>,
+    state: RefCell<(Option<Stage>, Instant, Timings)>,
+}
+
+impl<'a> StageClock<'a> {
+    fn new(inner: Option<ProgressFn<'a>>) -> Self {
+        StageClock {
+            inner,
+            state: RefCell::new((None, Instant::now(), Timings::default())),
+        }
+    }
+
+    /// Closes the running stage and starts `stage` (when it is not the running one).
+    fn start(&self, stage: Stage) {
+        let mut st = self.state.borrow_mut();
+        if st.0 != Some(stage) {
+            let now = Instant::now();
+            if let Some(s) = st.0 {
+                let d = now - st.1;
+                st.2.add(s, d);
+            }
+            *st = (Some(stage), now, std::mem::take(&mut st.2));
+        }
+        drop(st);
+        if let Some(f) = self.inner {
+            f(Progress {
+                stage,
+                fraction: 0.0,
+            });
+        }
+    }
+
+    fn seen(&self, p: Progress) {
+        {
+            let mut st = self.state.borrow_mut();
+            if st.0 != Some(p.stage) {
+                let now = Instant::now();
+                if let Some(s) = st.0 {
+                    let d = now - st.1;
+                    st.2.add(s, d);
+                }
+                st.0 = Some(p.stage);
+                st.1 = now;
+            }
+        }
+        if let Some(f) = self.inner {
+            f(p);
+        }
+    }
+
+    fn finish(&self) -> Timings {
+        let mut st = self.state.borrow_mut();
+        if let Some(s) = st.0.take() {
+            let d = st.1.elapsed();
+            st.2.add(s, d);
+        }
+        if let (Some(f), Some(&(s, _))) = (self.inner, st.2.stages.last()) {
+            f(Progress {
+                stage: s,
+                fraction: 1.0,
+            });
+        }
+        std::mem::take(&mut st.2)
+    }
+}
