@@ -25,3 +25,4 @@ pub mod sim;
 pub mod skin;
 pub mod spline;
 pub mod toolpath;
+pub mod units;

@@ -23,31 +23,9 @@ pub enum MachineKind {
     Svg,
 }
 
-/// Length units of the machine's coordinates and feeds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Units {
-    Mm,
-    Inch,
-}
-
-impl Units {
-    /// Millimetres per unit.
-    pub fn mm_per_unit(self) -> f64 {
-        match self {
-            Units::Mm => 1.0,
-            Units::Inch => 25.4,
-        }
-    }
-
-    /// The G-code word that selects these units.
-    pub fn gcode(self) -> &'static str {
-        match self {
-            Units::Mm => "G21",
-            Units::Inch => "G20",
-        }
-    }
-}
+/// Length units of the machine's coordinates and feeds (the crate's one
+/// [`crate::units::Units`]).
+pub use crate::units::Units;
 
 /// How arcs are written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]

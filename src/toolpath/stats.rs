@@ -65,11 +65,8 @@ impl Toolpath {
                     if let MoveKind::Arc { center, ccw } = m.kind {
                         let a =
                             Arc::from_center_points(center, here.truncate(), m.to.truncate(), ccw);
-                        for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
-                            let q = center + a.radius * d;
-                            if a.contains_angle_of(q) {
-                                grow(DVec3::new(q.x, q.y, here.z.min(m.to.z)));
-                            }
+                        for q in a.extrema() {
+                            grow(DVec3::new(q.x, q.y, here.z.min(m.to.z)));
                         }
                     }
                     match m.kind {
