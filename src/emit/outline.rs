@@ -9,6 +9,7 @@
 //! `offset`. Markers carry point features: envelope loops and spans without an envelope.
 
 use super::preview::draw::{Frame, SvgPage, num};
+use super::xml_escape;
 use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -199,14 +200,6 @@ pub fn path_d(points: &[[f64; 2]], closed: bool) -> String {
         d.push('Z');
     }
     d.trim_end().to_string()
-}
-
-/// Escape text for XML content and attributes.
-pub fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 #[cfg(test)]

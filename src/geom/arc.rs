@@ -7,13 +7,18 @@ use std::f64::consts::PI;
 /// `sweep` (counter-clockwise when positive; |sweep| ≤ 2π, a full circle when |sweep| = 2π).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Arc {
+    /// Centre of the circle.
     pub center: DVec2,
+    /// Radius (> 0 for user data).
     pub radius: f64,
+    /// Angle of the start point, radians counter-clockwise from +x.
     pub start: f64,
+    /// Signed swept angle: counter-clockwise when positive.
     pub sweep: f64,
 }
 
 impl Arc {
+    /// The arc of the circle (`center`, `radius`) from angle `start` through `sweep`.
     pub const fn new(center: DVec2, radius: f64, start: f64, sweep: f64) -> Self {
         Arc {
             center,
@@ -66,10 +71,12 @@ impl Arc {
         (self.sweep / 4.0).tan()
     }
 
+    /// Angle of the end point, `start + sweep`.
     pub fn end_angle(&self) -> f64 {
         self.start + self.sweep
     }
 
+    /// True when the arc runs counter-clockwise (positive sweep).
     pub fn is_ccw(&self) -> bool {
         self.sweep > 0.0
     }
@@ -87,18 +94,22 @@ impl Arc {
         s * DVec2::new(-a.sin(), a.cos())
     }
 
+    /// Start point, `eval(0)`.
     pub fn p0(&self) -> DVec2 {
         self.eval(0.0)
     }
 
+    /// End point, `eval(1)`.
     pub fn p1(&self) -> DVec2 {
         self.eval(1.0)
     }
 
+    /// Arc length r·|sweep|.
     pub fn length(&self) -> f64 {
         self.radius * self.sweep.abs()
     }
 
+    /// The same arc traversed from its end to its start.
     pub fn reversed(&self) -> Self {
         Arc::new(
             self.center,

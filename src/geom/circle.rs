@@ -5,7 +5,9 @@ use super::DVec2;
 /// A circle with centre `c` and radius `r` (r > 0 for user data; validation is the caller's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Circle {
+    /// Centre.
     pub c: DVec2,
+    /// Radius.
     pub r: f64,
 }
 

@@ -6,7 +6,9 @@ use super::predicates::segments_intersect;
 /// The segment from `p0` to `p1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Line {
+    /// Start point.
     pub p0: DVec2,
+    /// End point.
     pub p1: DVec2,
 }
 

@@ -28,7 +28,9 @@ const MAX_FIT_DEPTH: u32 = 24;
 /// Counts of what a MAT route emitted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SegCounts {
+    /// Number of arcs.
     pub arcs: usize,
+    /// Number of lines.
     pub lines: usize,
 }
 

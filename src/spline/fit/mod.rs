@@ -106,9 +106,13 @@ impl Components for DVec3 {
 /// Which system a fit had to solve; named in [`FitError::Singular`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FitSystem {
+    /// Interpolation of open data (clamped knots).
     OpenInterpolation,
+    /// Interpolation of closed data (periodic knots).
     ClosedInterpolation,
+    /// Least squares on open data (ends fixed).
     OpenLeastSquares,
+    /// Least squares on closed data (periodic).
     ClosedLeastSquares,
 }
 
@@ -126,30 +130,68 @@ impl std::fmt::Display for FitSystem {
 /// Errors of B-spline fitting.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FitError {
+    /// The degree is 0.
     #[error("degree must be at least 1, got {0}")]
     Degree(usize),
+    /// Too few data points for the degree.
     #[error("fitting needs at least {need} points, got {got}")]
-    TooFewPoints { need: usize, got: usize },
+    TooFewPoints {
+        /// How many are needed.
+        need: usize,
+        /// How many were given.
+        got: usize,
+    },
+    /// The number of control values is outside `min..=max`.
     #[error("{n_ctrl} control values requested, allowed {min}..={max}")]
     ControlCount {
+        /// Requested number of control values.
         n_ctrl: usize,
+        /// Least allowed (degree + 1).
         min: usize,
+        /// Most allowed (the number of points).
         max: usize,
     },
+    /// A data point has a non-finite component.
     #[error("point {index} is not finite")]
-    NotFinite { index: usize },
+    NotFinite {
+        /// Index of the offending point or parameter.
+        index: usize,
+    },
+    /// Two consecutive points coincide, so chord-length parameters are undefined.
     #[error("points {index} and {next} coincide: zero chord length")]
-    ZeroChord { index: usize, next: usize },
+    ZeroChord {
+        /// Index of the offending point or parameter.
+        index: usize,
+        /// Index of the point that coincides with it.
+        next: usize,
+    },
+    /// A given parameter is not finite or decreases.
     #[error("parameter {index} ({value}) is not finite or decreases")]
-    Parameter { index: usize, value: f64 },
+    Parameter {
+        /// Index of the offending point or parameter.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// The number of given parameters is wrong.
     #[error("expected {expected} parameters, got {got}")]
-    ParameterCount { expected: usize, got: usize },
+    ParameterCount {
+        /// How many were expected.
+        expected: usize,
+        /// How many were given.
+        got: usize,
+    },
+    /// The fitting system is singular (pivot ratio below [`SINGULAR_PIVOT_RATIO`]).
     #[error("singular {system} system ({size}×{size}): pivot ratio {ratio:e}")]
     Singular {
+        /// Which system.
         system: FitSystem,
+        /// Its order.
         size: usize,
+        /// Smallest over largest pivot magnitude.
         ratio: f64,
     },
+    /// The fitted curve could not be built.
     #[error(transparent)]
     Spline(#[from] SplineError),
 }
