@@ -19,7 +19,7 @@
 //! are the glyphs' left and right bounds. The Hershey fonts carry no kerning pairs, so none
 //! is applied. Every pen-down polyline becomes a stroke through its vertices (cubic
 //! interpolation, chord-length parameters: wu-2021 "Interpolation", eq. 16) with a corner
-//! wherever it turns by more than [`CORNER_ANGLE_DEG`](super::corners::CORNER_ANGLE_DEG);
+//! wherever it turns by more than [`super::corners::CORNER_ANGLE_DEG`];
 //! a polyline that ends where it starts is a closed stroke. In the script font the letters'
 //! entry and exit strokes meet the neighbours' at the advance, so a word is one connected
 //! shape once the strokes are united.
@@ -337,7 +337,7 @@ pub fn polyline_stroke(name: &str, poly: &[DVec2], r: f64) -> Option<Stroke> {
 }
 
 /// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. The
-/// polyline is also split where a long straight segment meets short ones ([`LENGTH_JUMP`])
+/// polyline is also split where a long straight segment meets short ones (`LENGTH_JUMP`)
 /// and where an open run loops back over one of its own ends (see `split_returning_runs`).
 pub fn polyline_stroke_radii(
     name: &str,

@@ -30,7 +30,7 @@ const REPEAT_REL: f64 = 1e-9;
 impl Contour {
     /// A contour of `points`. Closed contours never repeat their first point at the end (the
     /// `closed` flag says it; the convention of every output: DXF closed polylines, SVG `Z`
-    /// after the last distinct point): a last point within [`REPEAT_REL`] of the first is
+    /// after the last distinct point): a last point within `REPEAT_REL` of the first is
     /// dropped, so polygon libraries (GEOS, Shapely, geo) do not read a 1e-14 sliver edge.
     pub fn new(role: &str, closed: bool, points: &[DVec2]) -> Self {
         let mut pts: Vec<[f64; 2]> = points.iter().map(|p| [p.x, p.y]).collect();

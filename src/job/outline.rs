@@ -469,7 +469,7 @@ fn chord_subdivide(
 
 /// Flattens every contour of a [`MatOffset`] (outline, inner or outer offset) from its
 /// exact pieces (re-skinning-cnc eq. 13: y + (r + d) m±, and the cap arcs) within `tol` by
-/// [`chord_subdivide`]. Closed polylines do not repeat their first point; contours with
+/// `chord_subdivide`. Closed polylines do not repeat their first point; contours with
 /// fewer than 3 points are dropped.
 pub fn flatten_mat(m: &MatOffset, tol: f64) -> Vec<Vec<DVec2>> {
     let mut out = Vec::new();

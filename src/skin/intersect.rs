@@ -376,7 +376,7 @@ fn seg_box(s: &PathSeg, tol: f64) -> BBox {
 /// All intersections of the segments of `path` with each other within `tol`: cubic
 /// self-intersections, intersections of non-adjacent segments, and points where adjacent
 /// segments (consecutive, and last–first when closed) meet other than at their shared end.
-/// Candidate pairs come from a bounding-volume hierarchy of segment boxes ([`SeqBvh`]).
+/// Candidate pairs come from a bounding-volume hierarchy of segment boxes (`SeqBvh`).
 /// Sorted by segment indices.
 pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
     let segs = &path.segs;

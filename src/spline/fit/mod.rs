@@ -18,7 +18,7 @@
 //! Least squares accumulates the normal equations from the non-zero basis functions in
 //! O(m·p²) and factors them (dense, n × n) by Cholesky in O(n³) for n control values.
 //!
-//! The module is split by concern: [`params`] gives data points their parameters and closed
+//! The module is split by concern: `params` gives data points their parameters and closed
 //! fits their breakpoints, `solve` holds the linear solvers (band, cyclic band with a
 //! Woodbury correction, dense LU, normal equations), and this file the fitting API.
 
