@@ -118,7 +118,7 @@ pub fn radius_energy(r: [f64; 4]) -> f64 {
 /// ∫ κ² ds = ∫₀¹ (Q′×Q″)² / ‖Q′‖⁵ du of the cubic Bézier `q`, by adaptive 5-point
 /// Gauss–Legendre quadrature: a panel is accepted when it agrees with the sum of its two
 /// halves to `rel_tol` of the running total (near-cusps make the integrand spiky, so a
-/// fixed rule is not enough), with depth capped at [`QUAD_MAX_DEPTH`]. ∞ where Q′ = 0 at
+/// fixed rule is not enough), with depth capped at `QUAD_MAX_DEPTH`. ∞ where Q′ = 0 at
 /// a node.
 pub fn bending_energy(q: [DVec2; 4], rel_tol: f64) -> f64 {
     let d1 = [

@@ -3,7 +3,7 @@
 //! These feed the outline roles "spine" and "envelope".
 //!
 //! Error control: adaptive subdivision of the parameter interval. A piece [a, b] is
-//! accepted when the curve points at [`PROBES`] of it lie within [`PROBE_SAFETY`]·`tol`
+//! accepted when the curve points at `PROBES` of it lie within `PROBE_SAFETY`·`tol`
 //! of the chord f(a)f(b) and progress monotonically along it (no backtracking, which
 //! catches envelope cusps); otherwise it is halved. For a C² piece the true deviation is at most
 //! (b − a)²/8 · max‖f″‖, which the probes do not bound rigorously: this is a heuristic that
@@ -57,7 +57,7 @@ pub struct FlatOutline {
     /// Right envelope pieces in the direction of travel.
     pub right: Vec<Vec<DVec2>>,
     /// End caps of open strokes, start cap then end cap, in the contour direction of
-    /// [`super::caps`]. A cap whose end has no envelope is left out; `no_envelope` shows it.
+    /// [`super::caps()`]. A cap whose end has no envelope is left out; `no_envelope` shows it.
     pub caps: Vec<(End, Vec<DVec2>)>,
     /// The no-envelope intervals the envelope sides were split at.
     pub no_envelope: Vec<(f64, f64)>,

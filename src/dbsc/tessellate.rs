@@ -3,7 +3,7 @@
 //!
 //! Region covered: the swept band between the left and right envelopes, i.e. the points
 //! P±(t, u), t in the domain, u ∈ [0, 1]; the end caps are not in the mesh (add
-//! [`super::caps`] for the full stroke). Vertices: the centre q(t_i) (u = 0) and, on each
+//! [`super::caps()`] for the full stroke). Vertices: the centre q(t_i) (u = 0) and, on each
 //! side, rings u_k = k / rings, k = 1..=rings, the last ring lying on the envelope. Where
 //! P±(t, u) does not exist (no real envelope for the scaled family, ‖q′‖ < u|r′|), the
 //! vertex is missing and the triangles using it are left out, so the mesh has a hole
@@ -21,7 +21,7 @@ pub enum Resolution {
     /// This many equal parameter steps over the domain.
     Count(usize),
     /// Adaptive steps keeping spine and both envelopes within this chordal tolerance (the
-    /// heuristic of [`super::flatten`]), started at every knot span.
+    /// heuristic of [`super::flatten()`]), started at every knot span.
     Chordal(f64),
 }
 

@@ -85,24 +85,8 @@ pub struct Design {
     pub corners: Vec<super::corners::Corner>,
 }
 
-/// Length unit of a design.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Units {
-    #[default]
-    Mm,
-    Inch,
-}
-
-impl Units {
-    /// Millimetres per unit.
-    pub fn mm_per_unit(self) -> f64 {
-        match self {
-            Units::Mm => 1.0,
-            Units::Inch => 25.4,
-        }
-    }
-}
+/// Length unit of a design (the crate's one [`crate::units::Units`]).
+pub use crate::units::Units;
 
 /// `[outline]`: the outline method and its tolerance.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]

@@ -24,7 +24,7 @@
 //! centre lines are that far apart, within a bounded shift ("AV", "To", "LT", "P."). Script letters join at the advance, so the
 //! script font is never kerned. Every pen-down polyline becomes a stroke through its vertices (cubic
 //! interpolation, chord-length parameters: wu-2021 "Interpolation", eq. 16) with a corner
-//! wherever it turns by more than [`CORNER_ANGLE_DEG`](super::corners::CORNER_ANGLE_DEG);
+//! wherever it turns by more than [`super::corners::CORNER_ANGLE_DEG`];
 //! a polyline that ends where it starts is a closed stroke. In the script font the letters'
 //! entry and exit strokes meet the neighbours' at the advance, so a word is one connected
 //! shape once the strokes are united.
@@ -212,9 +212,7 @@ pub const MAX_TIGHTEN: f64 = 5.25;
 pub const KERN_STEP: f64 = 0.125;
 
 /// Smallest distance between the segments of two sets of polylines (grid units), the
-/// second set shifted by `dx` along x. Segments are compared by their end points' distances
-/// to the other segment, which is the segments' distance unless they cross; [`pair_kern`]
-/// moves a letter in steps much shorter than the target gap, so it stops before any crossing.
+/// second set shifted by `dx` along x ([`Line::distance_to_line`] over all pairs).
 fn polylines_distance(a: &[Vec<DVec2>], b: &[Vec<DVec2>], dx: f64) -> f64 {
     let shift = DVec2::new(dx, 0.0);
     let segments = |polys: &[Vec<DVec2>], by: DVec2| -> Vec<Line> {
@@ -232,11 +230,7 @@ fn polylines_distance(a: &[Vec<DVec2>], b: &[Vec<DVec2>], dx: f64) -> f64 {
     let mut best = f64::INFINITY;
     for s in &sa {
         for t in &sb {
-            best = best
-                .min(s.distance(t.p0))
-                .min(s.distance(t.p1))
-                .min(t.distance(s.p0))
-                .min(t.distance(s.p1));
+            best = best.min(s.distance_to_line(t));
         }
     }
     best
@@ -481,7 +475,7 @@ pub fn polyline_stroke(name: &str, poly: &[DVec2], r: f64) -> Option<Stroke> {
 }
 
 /// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. The
-/// polyline is also split where a long straight segment meets short ones ([`LENGTH_JUMP`])
+/// polyline is also split where a long straight segment meets short ones (`LENGTH_JUMP`)
 /// and where an open run loops back over one of its own ends (see `split_returning_runs`).
 pub fn polyline_stroke_radii(
     name: &str,

@@ -412,11 +412,8 @@ impl Writer<'_> {
                     let c = center * self.scale;
                     // The arc's own extremes must be inside the work area, not just its ends.
                     let a = arc_of(pos.truncate(), to.truncate(), c, ccw);
-                    for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
-                        let q = c + a.radius * d;
-                        if a.contains_angle_of(q) {
-                            self.check(q.extend(to.z))?;
-                        }
+                    for q in a.extrema() {
+                        self.check(q.extend(to.z))?;
                     }
                     self.tool_on(m)?;
                     self.arc(pos, to, c, ccw, m.feed * self.scale, m.power)?;

@@ -205,12 +205,7 @@ pub fn bounds(cs: &[Contour], extra: &[DVec2]) -> Option<(DVec2, DVec2)> {
             if let Seg::Arc { center, sweep, .. } = *s {
                 let r = from.distance(center);
                 let a = Arc::new(center, r, (from - center).to_angle(), sweep);
-                for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
-                    let q = center + r * d;
-                    if a.contains_angle_of(q) {
-                        add(q);
-                    }
-                }
+                a.extrema().for_each(&mut add);
             }
             add(s.to());
             from = s.to();

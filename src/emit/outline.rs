@@ -13,10 +13,80 @@ use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 
+/// What a drawn contour is; serialised as the outline JSON's `role` strings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContourRole {
+    /// The intersection-free outline of the chosen method (`"outline"`).
+    Outline,
+    /// A piece of the raw envelope or an end cap (`"envelope"`).
+    Envelope,
+    /// The centre curve of a stroke (`"spine"`).
+    Spine,
+    /// An inner or outer offset drawn at the requested distance (`"offset"`).
+    Offset,
+}
+
+/// What a reference circle is; serialised as the outline JSON's `role` strings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CircleRole {
+    /// A circle at a knot of the disk curve (`"knot-circle"`).
+    KnotCircle,
+    /// A control disk of a disk B-spline (`"control-disk"`).
+    ControlDisk,
+    /// A circle of a circle sequence (`"circle"`).
+    Circle,
+}
+
+/// What a marker points at; serialised as the outline JSON's `kind` strings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MarkerKind {
+    /// A loop of the envelope (`"loop"`).
+    Loop,
+    /// A span where the disks have no envelope (`"no-envelope"`).
+    NoEnvelope,
+    /// Two parts of one stroke's outline overlap (`"self-overlap"`).
+    SelfOverlap,
+    /// A loop of a reconstructed-envelope curve (`"re-loop"`).
+    ReLoop,
+    /// Two reconstructed-envelope curves cross (`"re-intersection"`).
+    ReIntersection,
+}
+
+macro_rules! as_str_display {
+    ($t:ty { $($v:ident => $s:literal),* $(,)? }) => {
+        impl $t {
+            /// The JSON string of the value.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $(Self::$v => $s,)*
+                }
+            }
+        }
+        impl std::fmt::Display for $t {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.as_str())
+            }
+        }
+    };
+}
+
+as_str_display!(ContourRole { Outline => "outline", Envelope => "envelope", Spine => "spine", Offset => "offset" });
+as_str_display!(CircleRole { KnotCircle => "knot-circle", ControlDisk => "control-disk", Circle => "circle" });
+as_str_display!(MarkerKind {
+    Loop => "loop",
+    NoEnvelope => "no-envelope",
+    SelfOverlap => "self-overlap",
+    ReLoop => "re-loop",
+    ReIntersection => "re-intersection",
+});
+
 /// One flattened contour with its role.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Contour {
-    pub role: String,
+    pub role: ContourRole,
     pub closed: bool,
     pub points: Vec<[f64; 2]>,
 }
@@ -29,9 +99,9 @@ const REPEAT_REL: f64 = 1e-9;
 impl Contour {
     /// A contour of `points`. Closed contours never repeat their first point at the end (the
     /// `closed` flag says it; the convention of every output: DXF closed polylines, SVG `Z`
-    /// after the last distinct point): a last point within [`REPEAT_REL`] of the first is
+    /// after the last distinct point): a last point within `REPEAT_REL` of the first is
     /// dropped, so polygon libraries (GEOS, Shapely, geo) do not read a 1e-14 sliver edge.
-    pub fn new(role: &str, closed: bool, points: &[DVec2]) -> Self {
+    pub fn new(role: ContourRole, closed: bool, points: &[DVec2]) -> Self {
         let mut pts: Vec<[f64; 2]> = points.iter().map(|p| [p.x, p.y]).collect();
         while closed && pts.len() > 1 {
             let (f, l) = (pts[0], pts[pts.len() - 1]);
@@ -43,7 +113,7 @@ impl Contour {
             }
         }
         Contour {
-            role: role.to_string(),
+            role,
             closed,
             points: pts,
         }
@@ -53,7 +123,7 @@ impl Contour {
 /// A point feature worth showing: an envelope loop, a span with no envelope.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Marker {
-    pub kind: String,
+    pub kind: MarkerKind,
     pub at: [f64; 2],
     pub message: String,
 }
@@ -61,7 +131,7 @@ pub struct Marker {
 /// A circle drawn for reference (control disks, knot circles).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RefCircle {
-    pub role: String,
+    pub role: CircleRole,
     pub center: [f64; 2],
     pub radius: f64,
 }
@@ -129,15 +199,15 @@ impl OutlineDoc {
         let mut page = SvgPage::new(size.x, size.y, mm);
         let map = |p: &[f64; 2]| frame.map(DVec2::new(p[0], p[1]));
         for st in &self.strokes {
-            let has_outline = st.contours.iter().any(|c| c.role == "outline");
+            let has_outline = st.contours.iter().any(|c| c.role == ContourRole::Outline);
             page.open(&st.name, "");
             for c in &st.circles {
-                let stroke = match c.role.as_str() {
-                    "knot-circle" => "#4a90d9",
-                    _ => "#bbbbbb",
+                let stroke = match c.role {
+                    CircleRole::KnotCircle => "#4a90d9",
+                    CircleRole::ControlDisk | CircleRole::Circle => "#bbbbbb",
                 };
                 page.circle(
-                    &xml_escape(&c.role),
+                    c.role.as_str(),
                     map(&c.center),
                     c.radius,
                     &format!(
@@ -148,21 +218,20 @@ impl OutlineDoc {
                 );
             }
             for c in &st.contours {
-                let (stroke, width, dash) = match c.role.as_str() {
-                    "outline" => ("#000000", w * 1.5, String::new()),
-                    "envelope" if has_outline => (
+                let (stroke, width, dash) = match c.role {
+                    ContourRole::Outline => ("#000000", w * 1.5, String::new()),
+                    ContourRole::Envelope if has_outline => (
                         "#d9534f",
                         w,
                         format!(" stroke-dasharray=\"{} {}\"", num(4.0 * w), num(3.0 * w)),
                     ),
-                    "envelope" => ("#000000", w * 1.5, String::new()),
-                    "spine" => ("#888888", w * 0.6, String::new()),
-                    "offset" => ("#2e8b57", w, String::new()),
-                    _ => ("#555555", w, String::new()),
+                    ContourRole::Envelope => ("#000000", w * 1.5, String::new()),
+                    ContourRole::Spine => ("#888888", w * 0.6, String::new()),
+                    ContourRole::Offset => ("#2e8b57", w, String::new()),
                 };
                 let pts: Vec<DVec2> = c.points.iter().map(map).collect();
                 page.polyline(
-                    &xml_escape(&c.role),
+                    c.role.as_str(),
                     &pts,
                     c.closed,
                     &format!(
@@ -173,7 +242,7 @@ impl OutlineDoc {
             }
             for m in &st.markers {
                 page.circle(
-                    &format!("marker {}", xml_escape(&m.kind)),
+                    &format!("marker {}", m.kind),
                     map(&m.at),
                     6.0 * w,
                     &format!(
@@ -201,17 +270,40 @@ pub fn path_d(points: &[[f64; 2]], closed: bool) -> String {
     d.trim_end().to_string()
 }
 
-/// Escape text for XML content and attributes.
-pub fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn roles_and_kinds_serialise_to_their_strings() {
+        let json = |v: String| v.trim_matches('"').to_string();
+        for r in [
+            ContourRole::Outline,
+            ContourRole::Envelope,
+            ContourRole::Spine,
+            ContourRole::Offset,
+        ] {
+            assert_eq!(json(serde_json::to_string(&r).unwrap()), r.as_str());
+        }
+        for r in [
+            CircleRole::KnotCircle,
+            CircleRole::ControlDisk,
+            CircleRole::Circle,
+        ] {
+            assert_eq!(json(serde_json::to_string(&r).unwrap()), r.as_str());
+        }
+        for k in [
+            MarkerKind::Loop,
+            MarkerKind::NoEnvelope,
+            MarkerKind::SelfOverlap,
+            MarkerKind::ReLoop,
+            MarkerKind::ReIntersection,
+        ] {
+            assert_eq!(json(serde_json::to_string(&k).unwrap()), k.to_string());
+        }
+        assert_eq!(MarkerKind::NoEnvelope.as_str(), "no-envelope");
+        assert_eq!(CircleRole::KnotCircle.as_str(), "knot-circle");
+    }
 
     fn doc() -> OutlineDoc {
         OutlineDoc {
@@ -219,7 +311,7 @@ mod tests {
             strokes: vec![StrokeOutline {
                 name: "s<1>".into(),
                 contours: vec![Contour::new(
-                    "outline",
+                    ContourRole::Outline,
                     true,
                     &[
                         DVec2::new(0.0, 0.0),
@@ -228,7 +320,7 @@ mod tests {
                     ],
                 )],
                 circles: vec![RefCircle {
-                    role: "control-disk".into(),
+                    role: CircleRole::ControlDisk,
                     center: [0.0, 0.0],
                     radius: 2.0,
                 }],

@@ -7,13 +7,18 @@ use std::f64::consts::PI;
 /// `sweep` (counter-clockwise when positive; |sweep| ≤ 2π, a full circle when |sweep| = 2π).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Arc {
+    /// Centre of the circle.
     pub center: DVec2,
+    /// Radius (> 0 for user data).
     pub radius: f64,
+    /// Angle of the start point, radians counter-clockwise from +x.
     pub start: f64,
+    /// Signed swept angle: counter-clockwise when positive.
     pub sweep: f64,
 }
 
 impl Arc {
+    /// The arc of the circle (`center`, `radius`) from angle `start` through `sweep`.
     pub const fn new(center: DVec2, radius: f64, start: f64, sweep: f64) -> Self {
         Arc {
             center,
@@ -66,10 +71,12 @@ impl Arc {
         (self.sweep / 4.0).tan()
     }
 
+    /// Angle of the end point, `start + sweep`.
     pub fn end_angle(&self) -> f64 {
         self.start + self.sweep
     }
 
+    /// True when the arc runs counter-clockwise (positive sweep).
     pub fn is_ccw(&self) -> bool {
         self.sweep > 0.0
     }
@@ -87,18 +94,22 @@ impl Arc {
         s * DVec2::new(-a.sin(), a.cos())
     }
 
+    /// Start point, `eval(0)`.
     pub fn p0(&self) -> DVec2 {
         self.eval(0.0)
     }
 
+    /// End point, `eval(1)`.
     pub fn p1(&self) -> DVec2 {
         self.eval(1.0)
     }
 
+    /// Arc length r·|sweep|.
     pub fn length(&self) -> f64 {
         self.radius * self.sweep.abs()
     }
 
+    /// The same arc traversed from its end to its start.
     pub fn reversed(&self) -> Self {
         Arc::new(
             self.center,
@@ -117,6 +128,27 @@ impl Arc {
         let mut d = (a - self.start) * self.sweep.signum();
         d = d.rem_euclid(2.0 * PI);
         d <= self.sweep.abs()
+    }
+
+    /// The arc's axis-extreme points (leftmost, rightmost, lowest, highest points of its
+    /// circle, in the order +x, +y, −x, −y) that lie within the swept angle: with the two
+    /// end points they bound the arc exactly, since a circular arc is monotone in x and y
+    /// between them (x = cₓ + r cos θ has dx/dθ = 0 only at θ = 0, π; y likewise at ±π/2).
+    pub fn extrema(&self) -> impl Iterator<Item = DVec2> + '_ {
+        [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y]
+            .into_iter()
+            .map(|d| self.center + self.radius * d)
+            .filter(|&q| self.contains_angle_of(q))
+    }
+
+    /// The exact axis-aligned bounding box (lo, hi) of the arc: its end points and its
+    /// [`extrema`](Self::extrema).
+    pub fn bounding_box(&self) -> (DVec2, DVec2) {
+        let (p0, p1) = (self.p0(), self.p1());
+        self.extrema()
+            .fold((p0.min(p1), p0.max(p1)), |(lo, hi), q| {
+                (lo.min(q), hi.max(q))
+            })
     }
 
     /// Euclidean distance from `p` to the arc.
@@ -162,6 +194,25 @@ mod tests {
             assert!((a.p1() - p1).length() < 1e-12, "b={b}");
             assert!((a.bulge() - b).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn bounding_box_includes_swept_extremes_only() {
+        // Quarter arc from +x to +y: the box is the unit square's corner [0, 1]².
+        let q = Arc::new(DVec2::ZERO, 1.0, 0.0, PI / 2.0);
+        let (lo, hi) = q.bounding_box();
+        assert!(lo.abs().max_element() < 1e-15 && (hi - DVec2::ONE).abs().max_element() < 1e-15);
+        // Arc from angle −π/4 through 0 to π/4 (centre (2, 3), radius 2): reaches x = 4.
+        let a = Arc::new(DVec2::new(2.0, 3.0), 2.0, -PI / 4.0, PI / 2.0);
+        assert_eq!(a.extrema().collect::<Vec<_>>(), vec![DVec2::new(4.0, 3.0)]);
+        let (lo, hi) = a.bounding_box();
+        assert_eq!(hi.x, 4.0);
+        assert!((lo.x - (2.0 + 2.0_f64.sqrt())).abs() < 1e-12);
+        assert!((hi.y - (3.0 + 2.0_f64.sqrt())).abs() < 1e-12);
+        // The clockwise arc over the same ends sweeps the other three extremes.
+        let cw = Arc::new(DVec2::new(2.0, 3.0), 2.0, -PI / 4.0, -1.5 * PI);
+        assert_eq!(cw.extrema().count(), 3);
+        assert_eq!(cw.bounding_box().0, DVec2::new(0.0, 1.0));
     }
 
     #[test]

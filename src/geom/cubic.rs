@@ -5,13 +5,18 @@ use super::DVec2;
 /// The cubic Bézier curve with control points `p0..p3`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CubicBez {
+    /// Start point B(0).
     pub p0: DVec2,
+    /// First control point (start tangent direction p1 − p0).
     pub p1: DVec2,
+    /// Second control point (end tangent direction p3 − p2).
     pub p2: DVec2,
+    /// End point B(1).
     pub p3: DVec2,
 }
 
 impl CubicBez {
+    /// The cubic with control points `p0`..`p3`.
     pub const fn new(p0: DVec2, p1: DVec2, p2: DVec2, p3: DVec2) -> Self {
         CubicBez { p0, p1, p2, p3 }
     }
@@ -22,6 +27,7 @@ impl CubicBez {
         CubicBez::new(w0, w0 + v0 / 3.0, w1 - v1 / 3.0, w1)
     }
 
+    /// The four control points in order.
     pub fn points(&self) -> [DVec2; 4] {
         [self.p0, self.p1, self.p2, self.p3]
     }
@@ -78,6 +84,7 @@ impl CubicBez {
         left
     }
 
+    /// The same curve traversed from `p3` to `p0` (control points reversed).
     pub fn reversed(&self) -> Self {
         CubicBez::new(self.p3, self.p2, self.p1, self.p0)
     }

@@ -5,12 +5,16 @@ use super::{Arc, CubicBez, DVec2, Line};
 /// One piece of a [`Path`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PathSeg {
+    /// A straight segment.
     Line(Line),
+    /// A circular arc.
     Arc(Arc),
+    /// A cubic Bézier curve.
     Cubic(CubicBez),
 }
 
 impl PathSeg {
+    /// The segment's start point.
     pub fn start(&self) -> DVec2 {
         match self {
             PathSeg::Line(l) => l.p0,
@@ -19,6 +23,7 @@ impl PathSeg {
         }
     }
 
+    /// The segment's end point.
     pub fn end(&self) -> DVec2 {
         match self {
             PathSeg::Line(l) => l.p1,
@@ -27,6 +32,7 @@ impl PathSeg {
         }
     }
 
+    /// Point at the segment's own parameter `t` in [0, 1].
     pub fn eval(&self, t: f64) -> DVec2 {
         match self {
             PathSeg::Line(l) => l.eval(t),
@@ -35,6 +41,7 @@ impl PathSeg {
         }
     }
 
+    /// The same segment traversed backwards.
     pub fn reversed(&self) -> Self {
         match self {
             PathSeg::Line(l) => PathSeg::Line(l.reversed()),
@@ -76,11 +83,14 @@ impl PathSeg {
 /// A connected path; `closed` joins the last end back to the first start.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Path {
+    /// The segments in order, each starting where the previous one ends.
     pub segs: Vec<PathSeg>,
+    /// True when the path returns to its start (last end = first start).
     pub closed: bool,
 }
 
 impl Path {
+    /// A path of `segs`, closed when `closed`.
     pub fn new(segs: Vec<PathSeg>, closed: bool) -> Self {
         Path { segs, closed }
     }
@@ -102,14 +112,17 @@ impl Path {
         Path::new(segs, closed)
     }
 
+    /// True when the path has no segments.
     pub fn is_empty(&self) -> bool {
         self.segs.is_empty()
     }
 
+    /// Start of the first segment, `None` for an empty path.
     pub fn start(&self) -> Option<DVec2> {
         self.segs.first().map(PathSeg::start)
     }
 
+    /// End of the last segment, `None` for an empty path.
     pub fn end(&self) -> Option<DVec2> {
         self.segs.last().map(PathSeg::end)
     }

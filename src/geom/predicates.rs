@@ -47,9 +47,65 @@ pub fn line_intersection(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<DVec2
     Some(a + t * r)
 }
 
+/// The contribution of the directed edge a → b to the winding number of `p`: +1 when the
+/// edge crosses the horizontal ray from `p` towards +x upwards, −1 downwards, 0 otherwise.
+/// Half-open in y (an edge covers a.y ≤ y < b.y or b.y ≤ y < a.y), so a vertex on the ray
+/// counts once; the side of `p` is decided exactly by [`orient2d`] (Sunday's crossing rule
+/// with Shewchuk's predicate). A point on the edge itself contributes 0.
+pub fn edge_winding(a: DVec2, b: DVec2, p: DVec2) -> i32 {
+    if (a.y > p.y) == (b.y > p.y) {
+        return 0;
+    }
+    let o = orient2d(a, b, p);
+    if b.y > a.y && o > 0.0 {
+        1
+    } else if b.y < a.y && o < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Winding number of `p` with respect to the closed polygon `poly` (last vertex joined to
+/// the first): the sum of [`edge_winding`] over its edges, exact for all finite inputs.
+/// Its parity is the even-odd (crossing number) inside test.
+pub fn winding_number(poly: &[DVec2], p: DVec2) -> i32 {
+    let n = poly.len();
+    (0..n)
+        .map(|i| edge_winding(poly[i], poly[(i + 1) % n], p))
+        .sum()
+}
+
+/// Even-odd inside test of `p` against the closed polygon `poly`: an odd
+/// [`winding_number`].
+pub fn inside_even_odd(poly: &[DVec2], p: DVec2) -> bool {
+    winding_number(poly, p) % 2 != 0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn winding_of_square_and_doubly_wound_loop() {
+        let sq = [
+            DVec2::ZERO,
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        assert_eq!(winding_number(&sq, DVec2::ONE), 1);
+        let cw: Vec<DVec2> = sq.iter().rev().copied().collect();
+        assert_eq!(winding_number(&cw, DVec2::ONE), -1);
+        assert_eq!(winding_number(&sq, DVec2::new(3.0, 1.0)), 0);
+        // A ray through a vertex (y = 0 and y = 2 at the corners) counts once.
+        assert_eq!(winding_number(&sq, DVec2::new(-1.0, 0.0)), 0);
+        assert!(inside_even_odd(&sq, DVec2::new(1.0, 0.0)));
+        // The square traversed twice winds twice and is outside by even-odd.
+        let twice: Vec<DVec2> = sq.iter().chain(sq.iter()).copied().collect();
+        assert_eq!(winding_number(&twice, DVec2::ONE), 2);
+        assert!(!inside_even_odd(&twice, DVec2::ONE));
+    }
 
     #[test]
     fn crossing_touching_and_disjoint() {

@@ -7,7 +7,9 @@ use super::progress::{ProgressFn, Stage, report};
 use crate::dbsc::flatten::flatten;
 use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
-use crate::emit::outline::{Contour, Marker, OutlineDoc, RefCircle, StrokeOutline};
+use crate::emit::outline::{
+    CircleRole, Contour, ContourRole, Marker, MarkerKind, OutlineDoc, RefCircle, StrokeOutline,
+};
 use crate::geom::{Circle, DVec2, Path};
 use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, SegmentReport, skin_dbsc};
 use crate::skin::mat_offset::{self, MatOffset, OffsetContour, Piece};
@@ -205,9 +207,9 @@ pub fn design_outlines_with(
     Ok(out)
 }
 
-fn refc(role: &str, c: &Circle) -> RefCircle {
+fn refc(role: CircleRole, c: &Circle) -> RefCircle {
     RefCircle {
-        role: role.to_string(),
+        role,
         center: [c.c.x, c.c.y],
         radius: c.r,
     }
@@ -225,7 +227,7 @@ fn loop_markers(c: &DiskBSpline, report: &LoopReport) -> Vec<Marker> {
             .or(l.cusp_b)
             .unwrap_or_else(|| c.center(0.5 * (l.t_a + l.t_b)));
         m.push(Marker {
-            kind: "loop".into(),
+            kind: MarkerKind::Loop,
             at: [at.x, at.y],
             message: format!(
                 "{side} envelope loops back for t in [{:.6}, {:.6}]",
@@ -236,7 +238,7 @@ fn loop_markers(c: &DiskBSpline, report: &LoopReport) -> Vec<Marker> {
     for &(a, b) in &report.no_envelope {
         let p = c.center(0.5 * (a + b));
         m.push(Marker {
-            kind: "no-envelope".into(),
+            kind: MarkerKind::NoEnvelope,
             at: [p.x, p.y],
             message: format!("no envelope for t in [{a:.6}, {b:.6}] (|q'| <= |r'|)"),
         });
@@ -244,7 +246,7 @@ fn loop_markers(c: &DiskBSpline, report: &LoopReport) -> Vec<Marker> {
     m
 }
 
-fn flat(role: &str, closed: bool, pts: &[DVec2]) -> Contour {
+fn flat(role: ContourRole, closed: bool, pts: &[DVec2]) -> Contour {
     Contour::new(role, closed, pts)
 }
 
@@ -258,22 +260,26 @@ fn stroke_drawing(
     opts: &OutlineOptions,
 ) -> StrokeOutline {
     let f = flatten(c, opts.tolerance);
-    let mut contours = vec![flat("spine", false, &f.spine)];
+    let mut contours = vec![flat(ContourRole::Spine, false, &f.spine)];
     for piece in f.left.iter().chain(&f.right) {
-        contours.push(flat("envelope", false, piece));
+        contours.push(flat(ContourRole::Envelope, false, piece));
     }
     for (_, cap) in &f.caps {
-        contours.push(flat("envelope", false, cap));
+        contours.push(flat(ContourRole::Envelope, false, cap));
     }
     let mut circles = Vec::new();
     if let Some(item) = item {
         for p in &item.contours {
-            contours.push(flat("outline", true, &p.flatten(opts.tolerance)));
+            contours.push(flat(ContourRole::Outline, true, &p.flatten(opts.tolerance)));
         }
-        circles.extend(item.circles.iter().map(|k| refc("knot-circle", k)));
+        circles.extend(item.circles.iter().map(|k| refc(CircleRole::KnotCircle, k)));
     }
     if opts.control_disks {
-        circles.extend(c.control_disks().iter().map(|k| refc("control-disk", k)));
+        circles.extend(
+            c.control_disks()
+                .iter()
+                .map(|k| refc(CircleRole::ControlDisk, k)),
+        );
     }
     let mut markers = loop_markers(c, loops);
     if let Some(item) = item.filter(|i| i.self_overlap) {
@@ -283,7 +289,7 @@ fn stroke_drawing(
             .and_then(|p| p.start())
             .unwrap_or(DVec2::ZERO);
         markers.push(Marker {
-            kind: "self-overlap".into(),
+            kind: MarkerKind::SelfOverlap,
             at: [at.x, at.y],
             message: "the stroke crosses itself: the outline is the boundary of the union".into(),
         });
@@ -526,7 +532,7 @@ fn chord_subdivide(
 
 /// Flattens every contour of a [`MatOffset`] (outline, inner or outer offset) from its
 /// exact pieces (re-skinning-cnc eq. 13: y + (r + d) m±, and the cap arcs) within `tol` by
-/// [`chord_subdivide`]. Closed polylines do not repeat their first point; contours with
+/// `chord_subdivide`. Closed polylines do not repeat their first point; contours with
 /// fewer than 3 points are dropped.
 pub fn flatten_mat(m: &MatOffset, tol: f64) -> Vec<Vec<DVec2>> {
     let mut out = Vec::new();
@@ -687,7 +693,7 @@ fn re_markers(o: &ReOutline) -> Vec<Marker> {
             .map(|s| (s.i, s.j))
             .unwrap_or((e.segment, e.segment + 1));
         m.push(Marker {
-            kind: "re-intersection".into(),
+            kind: MarkerKind::ReIntersection,
             at: [e.point.x, e.point.y],
             message: format!(
                 "circles {i} and {j}: the envelopes meet at t = {:.6} ({:?}) after elimination",
@@ -707,7 +713,7 @@ fn re_markers(o: &ReOutline) -> Vec<Marker> {
             Branch::Minus => "right",
         };
         m.push(Marker {
-            kind: "re-loop".into(),
+            kind: MarkerKind::ReLoop,
             at: [at.x, at.y],
             message: format!(
                 "circles {} and {}: the {side} envelope runs backwards (local loop, cut off by the union; offsets there are approximate)",
@@ -726,7 +732,7 @@ fn re_markers(o: &ReOutline) -> Vec<Marker> {
         }
         let at = o.skin.circles.get(i).map(|c| c.c).unwrap_or(DVec2::ZERO);
         m.push(Marker {
-            kind: "re-intersection".into(),
+            kind: MarkerKind::ReIntersection,
             at: [at.x, at.y],
             message: format!("circles {i} and {j}: elimination failed (f not proved positive)"),
         });
@@ -747,11 +753,11 @@ fn re_contours(
     let mut contours: Vec<Contour> = o
         .contours
         .iter()
-        .map(|c| flat("outline", true, c))
+        .map(|c| flat(ContourRole::Outline, true, c))
         .collect();
     if let Some(delta) = opts.offset {
         for c in re_offsets(&o.skin, delta, opts.tolerance)? {
-            contours.push(flat("offset", true, &c));
+            contours.push(flat(ContourRole::Offset, true, &c));
         }
     }
     Ok((contours, re_markers(&o)))
@@ -761,7 +767,7 @@ fn offset_contours(paths: &[Path], delta: f64, opts: &OutlineOptions) -> Vec<Con
     region_offsets(paths, delta, opts.tolerance)
         .iter()
         .filter(|c| c.len() >= 3)
-        .map(|c| flat("offset", true, c))
+        .map(|c| flat(ContourRole::Offset, true, c))
         .collect()
 }
 
@@ -799,7 +805,7 @@ pub fn outline_document_with(
                 d.contours.extend(cs);
                 d.markers.extend(ms);
                 d.circles
-                    .extend(circles.iter().map(|k| refc("knot-circle", k)));
+                    .extend(circles.iter().map(|k| refc(CircleRole::KnotCircle, k)));
                 d
             }
             (OutlineMethod::Envelope, None) => {
@@ -838,7 +844,7 @@ pub fn outline_document_with(
                 let mut cs: Vec<Contour> = item
                     .contours
                     .iter()
-                    .map(|p| flat("outline", true, &p.flatten(opts.tolerance)))
+                    .map(|p| flat(ContourRole::Outline, true, &p.flatten(opts.tolerance)))
                     .collect();
                 if let Some(delta) = opts.offset {
                     cs.extend(offset_contours(&item.contours, delta, opts));
@@ -849,7 +855,10 @@ pub fn outline_document_with(
         doc.strokes.push(StrokeOutline {
             name: seq.name.clone(),
             contours,
-            circles: circles.iter().map(|k| refc("circle", k)).collect(),
+            circles: circles
+                .iter()
+                .map(|k| refc(CircleRole::Circle, k))
+                .collect(),
             markers,
         });
         report(progress, Stage::Skin, doc.strokes.len(), total);
@@ -992,7 +1001,7 @@ mod tests {
         )
         .unwrap();
         assert!(!o.loops.is_empty());
-        assert!(re_markers(&o).iter().any(|m| m.kind == "re-loop"));
+        assert!(re_markers(&o).iter().any(|m| m.kind == MarkerKind::ReLoop));
         for c in &o.contours {
             let n = c.len();
             for i in 0..n {
@@ -1071,9 +1080,9 @@ circles = [[0.0, 0.0, 1.0], [3.0, 1.0, 1.4], [6.0, 0.5, 0.8], [8.5, -1.5, 1.1]]
         };
         let doc = outline_document(&design, &opts).unwrap();
         let s = &doc.strokes[0];
-        let n = |role: &str| s.contours.iter().filter(|c| c.role == role).count();
-        assert_eq!(n("outline"), 1);
-        assert!(n("offset") >= 2);
+        let n = |role: ContourRole| s.contours.iter().filter(|c| c.role == role).count();
+        assert_eq!(n(ContourRole::Outline), 1);
+        assert!(n(ContourRole::Offset) >= 2);
         // The MPH outline differs from the skin outline of the same circles.
         let skin = outline_document(
             &design,

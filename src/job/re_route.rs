@@ -203,8 +203,12 @@ fn paths_meet(a: &[Path], b: &[Path], tol: f64) -> bool {
             if la.x > hb.x + tol || lb.x > ha.x + tol || la.y > hb.y + tol || lb.y > ha.y + tol {
                 continue;
             }
-            if pa.first().is_some_and(|&p| inside(pb, p))
-                || pb.first().is_some_and(|&p| inside(pa, p))
+            if pa
+                .first()
+                .is_some_and(|&p| crate::geom::predicates::inside_even_odd(pb, p))
+                || pb
+                    .first()
+                    .is_some_and(|&p| crate::geom::predicates::inside_even_odd(pa, p))
             {
                 return true;
             }
@@ -228,16 +232,4 @@ fn paths_meet(a: &[Path], b: &[Path], tol: f64) -> bool {
 fn crosses(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> bool {
     let o = |a: DVec2, b: DVec2, c: DVec2| crate::geom::cross(b - a, c - a);
     (o(p0, p1, q0) > 0.0) != (o(p0, p1, q1) > 0.0) && (o(q0, q1, p0) > 0.0) != (o(q0, q1, p1) > 0.0)
-}
-
-fn inside(poly: &[DVec2], p: DVec2) -> bool {
-    let n = poly.len();
-    let mut c = false;
-    for k in 0..n {
-        let (a, b) = (poly[k], poly[(k + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) && a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) > p.x {
-            c = !c;
-        }
-    }
-    c
 }

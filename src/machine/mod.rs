@@ -7,7 +7,7 @@
 //! silent clamps): work-area bounds within ±1e7 mm; `max_feed` and `acceleration` per axis
 //! in (0, 1e7] (z may be 0); tool `diameter` and beam `kerf` within 0.001..=1000 mm
 //! ([`profile::TOOL_SIZE_MM`], converted to the profile's units); V-bit `angle` in (0, 180)
-//! and `tip_diameter` in [0, diameter); `power` 0 ≤ min ≤ max, max > 0; dwells
+//! and `tip_diameter` in \[0, diameter); `power` 0 ≤ min ≤ max, max > 0; dwells
 //! 0..=600 s; `gcode.decimals` 0..=6; `gcode.path_tolerance` 0..=1e7 mm; `router.safe_z` in
 //! (0, work_area.z max], `clearance_z` in [0, safe_z], `plunge_feed` in (0, max_feed.z];
 //! `svg.stroke_width` in (0, 10] mm. A router profile needs at least one tool. The

@@ -23,31 +23,9 @@ pub enum MachineKind {
     Svg,
 }
 
-/// Length units of the machine's coordinates and feeds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Units {
-    Mm,
-    Inch,
-}
-
-impl Units {
-    /// Millimetres per unit.
-    pub fn mm_per_unit(self) -> f64 {
-        match self {
-            Units::Mm => 1.0,
-            Units::Inch => 25.4,
-        }
-    }
-
-    /// The G-code word that selects these units.
-    pub fn gcode(self) -> &'static str {
-        match self {
-            Units::Mm => "G21",
-            Units::Inch => "G20",
-        }
-    }
-}
+/// Length units of the machine's coordinates and feeds (the crate's one
+/// [`crate::units::Units`]).
+pub use crate::units::Units;
 
 /// How arcs are written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
@@ -66,9 +44,11 @@ pub enum ArcFormat {
 pub struct Range(pub f64, pub f64);
 
 impl Range {
+    /// Lower end of the range.
     pub fn min(&self) -> f64 {
         self.0
     }
+    /// Upper end of the range.
     pub fn max(&self) -> f64 {
         self.1
     }
@@ -82,8 +62,11 @@ impl Range {
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WorkArea {
+    /// Travel of the x axis.
     pub x: Range,
+    /// Travel of the y axis.
     pub y: Range,
+    /// Travel of the z axis.
     pub z: Range,
 }
 
@@ -91,8 +74,11 @@ pub struct WorkArea {
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Axes {
+    /// Value for the x axis.
     pub x: f64,
+    /// Value for the y axis.
     pub y: f64,
+    /// Value for the z axis.
     pub z: f64,
 }
 
@@ -103,6 +89,7 @@ pub struct Axes {
 pub struct PowerRange {
     /// Smallest non-zero value the machine runs at (spindle minimum rpm; 0 for lasers).
     pub min: f64,
+    /// Largest value (full power, or maximum spindle rpm).
     pub max: f64,
 }
 
@@ -124,7 +111,9 @@ pub enum ToolKind {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Tool {
+    /// Name the design's operations refer to the tool by.
     pub name: String,
+    /// What the tool is.
     pub kind: ToolKind,
     /// Cutter diameter (end mills, V-bit shank at full depth); unused for beams.
     #[serde(default)]
@@ -176,6 +165,7 @@ pub enum RapidOff {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LaserSettings {
+    /// Constant (M3) or dynamic (M4) power.
     pub mode: LaserMode,
     /// Power as an `S` word on each cutting move (GRBL, Smoothie, Marlin `M3 I`); otherwise
     /// power is set on the `M3`/`M4` line and changes need a new `M3`/`M4`.
@@ -186,6 +176,7 @@ pub struct LaserSettings {
     /// Whether the dialect needs an `M3`/`M4` at all (Smoothie fires on `G1 S` alone).
     #[serde(default = "default_true")]
     pub needs_on_command: bool,
+    /// How the beam is kept off during rapids.
     pub rapid_off: RapidOff,
     /// Wait after the beam comes on at a cut start, in seconds (0 = none).
     #[serde(default)]
@@ -250,6 +241,7 @@ pub struct RouterSettings {
 pub struct GcodeSettings {
     /// Decimals of coordinates (3 for mm, 4 for inch).
     pub decimals: u32,
+    /// How arcs are written (I J centre, R radius, or flattened to lines).
     pub arcs: ArcFormat,
     /// Path blending tolerance for LinuxCNC `G64 P` (placeholder `{path_tolerance}`).
     #[serde(default)]
@@ -271,11 +263,17 @@ pub struct GcodeSettings {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OperationColors {
+    /// Colour of profile cuts.
     pub profile: String,
+    /// Colour of channel cuts.
     pub channel: String,
+    /// Colour of backboard cuts.
     pub backboard: String,
+    /// Colour of holes.
     pub holes: String,
+    /// Colour of fills.
     pub fill: String,
+    /// Colour of V-carving.
     pub vcarve: String,
 }
 
@@ -285,6 +283,7 @@ pub struct OperationColors {
 pub struct SvgSettings {
     /// Stroke width in mm (hairline: 0.01 mm or the shop's own).
     pub stroke_width: f64,
+    /// Stroke colour per operation kind.
     pub colors: OperationColors,
 }
 
@@ -292,27 +291,40 @@ pub struct SvgSettings {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Profile {
+    /// Profile format version.
     pub version: u32,
+    /// Profile name, as given to `--machine`.
     pub name: String,
+    /// One line saying what the machine is.
     #[serde(default)]
     pub description: String,
+    /// Router (G-code) or laser (G-code or SVG).
     pub kind: MachineKind,
+    /// The G-code dialect of the controller.
     pub dialect: Dialect,
+    /// Units of coordinates and feeds.
     pub units: Units,
+    /// Travel of each axis.
     pub work_area: WorkArea,
     /// Maximum feed per axis, units/min.
     pub max_feed: Axes,
     /// Acceleration per axis, units/s².
     pub acceleration: Axes,
+    /// Range of the power word (laser S or spindle rpm).
     pub power: PowerRange,
+    /// The tools the machine holds.
     #[serde(default)]
     pub tools: Vec<Tool>,
+    /// G-code output settings (G-code machines).
     #[serde(default)]
     pub gcode: Option<GcodeSettings>,
+    /// Laser settings (lasers).
     #[serde(default)]
     pub laser: Option<LaserSettings>,
+    /// Router settings (routers).
     #[serde(default)]
     pub router: Option<RouterSettings>,
+    /// SVG/DXF output settings (SVG lasers).
     #[serde(default)]
     pub svg: Option<SvgSettings>,
 }
@@ -320,11 +332,13 @@ pub struct Profile {
 /// A profile that failed to load: the file, the key (dotted path) and what is wrong.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub struct ProfileError {
+    /// The profile file (or built-in name).
     pub file: String,
     /// Dotted key path (`router.safe_z`), or the line's key for syntax errors.
     pub key: String,
     /// 1-based line number for syntax and type errors, when known.
     pub line: Option<usize>,
+    /// What is wrong.
     pub message: String,
 }
 

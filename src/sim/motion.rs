@@ -133,13 +133,9 @@ impl Motion {
         let mut lo = self.from.min(self.to);
         let mut hi = self.from.max(self.to);
         if let Some(a) = &self.arc {
-            for k in 0..4 {
-                let ang = k as f64 * std::f64::consts::FRAC_PI_2;
-                let p = a.center + a.radius * DVec2::new(ang.cos(), ang.sin());
-                if a.contains_angle_of(p) {
-                    lo = lo.min(p.extend(lo.z));
-                    hi = hi.max(p.extend(hi.z));
-                }
+            for p in a.extrema() {
+                lo = lo.min(p.extend(lo.z));
+                hi = hi.max(p.extend(hi.z));
             }
         }
         (lo, hi)
@@ -155,24 +151,8 @@ pub struct ProgramEnd {
     pub tool_before: ToolState,
 }
 
-/// Length units the program was written in.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Units {
-    #[default]
-    Mm,
-    Inch,
-}
-
-impl Units {
-    /// Millimetres per unit.
-    pub fn to_mm(self) -> f64 {
-        match self {
-            Units::Mm => 1.0,
-            Units::Inch => 25.4,
-        }
-    }
-}
+/// Length units the program was written in (the crate's one [`crate::units::Units`]).
+pub use crate::units::Units;
 
 /// Everything a backend extracts from a program.
 #[derive(Clone, Debug, Default)]

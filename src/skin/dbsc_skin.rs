@@ -451,7 +451,9 @@ impl State<'_> {
         let Some((a, b)) = self.side_neighbours(side, u0, u1) else {
             return false;
         };
-        if radical_centre(&a, m, &b).is_none_or(|s| m.power(s) >= 0.0) {
+        if a.radical_centre(m, &b, 1e-14)
+            .is_none_or(|s| m.power(s) >= 0.0)
+        {
             return false;
         }
         self.touching_uncovered(side, u0, u1, m)
@@ -627,24 +629,6 @@ fn first_crossing(contours: &[Path], tol: f64) -> (usize, usize) {
         .enumerate()
         .find_map(|(k, c)| path_self_intersections(c, tol).first().map(|h| (k, h.a)))
         .unwrap_or((0, 0))
-}
-
-/// The radical centre of three circles (equal powers), `None` for collinear centres.
-fn radical_centre(a: &Circle, b: &Circle, c: &Circle) -> Option<DVec2> {
-    // pow_a(x) = pow_b(x): 2 (c_b − c_a)·x = ‖c_b‖² − r_b² − ‖c_a‖² + r_a².
-    let row = |p: &Circle, q: &Circle| {
-        (
-            2.0 * (q.c - p.c),
-            q.c.length_squared() - q.r * q.r - p.c.length_squared() + p.r * p.r,
-        )
-    };
-    let (n1, d1) = row(a, b);
-    let (n2, d2) = row(a, c);
-    let det = crate::geom::cross(n1, n2);
-    if det.abs() <= 1e-14 * n1.length() * n2.length() {
-        return None;
-    }
-    Some(DVec2::new(d1 * n2.y - d2 * n1.y, n1.x * d2 - n2.x * d1) / det)
 }
 
 /// One side's skin arcs of a circle sequence (adapter over [`super::skin_circles`]): the

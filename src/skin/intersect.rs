@@ -167,18 +167,6 @@ fn boxes_overlap(a: (DVec2, DVec2), b: (DVec2, DVec2), grow: f64) -> bool {
     a.0.x <= b.1.x + g && b.0.x <= a.1.x + g && a.0.y <= b.1.y + g && b.0.y <= a.1.y + g
 }
 
-/// Distance between the segments pq and rs (0 when they cross).
-fn segment_distance(p: DVec2, q: DVec2, r: DVec2, s: DVec2) -> f64 {
-    if segments_intersect(p, q, r, s) {
-        return 0.0;
-    }
-    let (l1, l2) = (Line::new(p, q), Line::new(r, s));
-    l1.distance(r)
-        .min(l1.distance(s))
-        .min(l2.distance(p))
-        .min(l2.distance(q))
-}
-
 struct Search<'a> {
     tol: f64,
     /// Shared points (ta, tb, point) of the two curves to ignore (joints of adjacent
@@ -212,7 +200,8 @@ impl Search<'_> {
         let (fa, fb) = (a.flatness(), b.flatness());
         if !joint && fa <= 0.5 * self.tol && fb <= 0.5 * self.tol {
             let ((p, q), (r, s)) = (a.ends(), b.ends());
-            if segments_intersect(p, q, r, s) || segment_distance(p, q, r, s) <= fa + fb + self.tol
+            if segments_intersect(p, q, r, s)
+                || Line::new(p, q).distance_to_line(&Line::new(r, s)) <= fa + fb + self.tol
             {
                 let x = line_intersection(p, q, r, s)
                     .filter(|x| x.is_finite())
@@ -387,7 +376,7 @@ fn seg_box(s: &PathSeg, tol: f64) -> BBox {
 /// All intersections of the segments of `path` with each other within `tol`: cubic
 /// self-intersections, intersections of non-adjacent segments, and points where adjacent
 /// segments (consecutive, and last–first when closed) meet other than at their shared end.
-/// Candidate pairs come from a bounding-volume hierarchy of segment boxes ([`SeqBvh`]).
+/// Candidate pairs come from a bounding-volume hierarchy of segment boxes (`SeqBvh`).
 /// Sorted by segment indices.
 pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
     let segs = &path.segs;

@@ -103,21 +103,6 @@ mod tests {
     use crate::geom::path::polygon_area;
     use crate::skin::dbsc_skin::{DbscSkinOptions, skin_dbsc};
 
-    /// Winding number of `p` with respect to the closed polygon `poly`.
-    fn winding(poly: &[DVec2], p: DVec2) -> i32 {
-        let mut w = 0;
-        for i in 0..poly.len() {
-            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            let c = crate::geom::cross(b - a, p - a);
-            if a.y <= p.y && b.y > p.y && c > 0.0 {
-                w += 1;
-            } else if a.y > p.y && b.y <= p.y && c < 0.0 {
-                w -= 1;
-            }
-        }
-        w
-    }
-
     fn stroke(d: &[(f64, f64, f64)]) -> DiskBSpline {
         let disks: Vec<Circle> = d
             .iter()
@@ -159,7 +144,7 @@ mod tests {
                     .windows(2)
                     .any(|w| crate::geom::Line::new(w[0], w[1]).distance(p) <= tol);
                 assert!(
-                    on_boundary || winding(&poly, p) == 1,
+                    on_boundary || crate::geom::predicates::winding_number(&poly, p) == 1,
                     "vertex {k} {p} outside"
                 );
             }

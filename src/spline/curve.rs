@@ -75,10 +75,12 @@ impl<P: Vector> BSpline<P> {
         Ok(c)
     }
 
+    /// The degree p.
     pub fn degree(&self) -> usize {
         self.degree
     }
 
+    /// The knot vector u_0..u_m (m = n + p + 1).
     pub fn knots(&self) -> &[f64] {
         &self.knots
     }
@@ -88,6 +90,7 @@ impl<P: Vector> BSpline<P> {
         &self.ctrl
     }
 
+    /// True for a closed (periodic) curve.
     pub fn is_closed(&self) -> bool {
         self.closed
     }

@@ -29,6 +29,7 @@ use std::ops::{Add, Mul, Sub};
 pub trait Vector:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<f64, Output = Self> + std::fmt::Debug
 {
+    /// The zero vector.
     const ZERO: Self;
     /// Euclidean norm, for tolerances and tests.
     fn norm(self) -> f64;
@@ -58,26 +59,74 @@ impl Vector for DVec3 {
 /// Errors of B-spline construction and fitting.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SplineError {
+    /// The degree is 0.
     #[error("degree must be at least 1, got {0}")]
     Degree(usize),
+    /// Fewer than degree + 1 control values.
     #[error("degree {degree} needs at least {need} control values, got {got}")]
     TooFewControl {
+        /// The degree p.
         degree: usize,
+        /// Control values needed (p + 1).
         need: usize,
+        /// Control values given.
         got: usize,
     },
+    /// The knot count is not n + p + 1.
     #[error("knot vector has {got} knots, expected {expected} (control values + degree + 1)")]
-    KnotCount { got: usize, expected: usize },
+    KnotCount {
+        /// How many were given.
+        got: usize,
+        /// How many were expected.
+        expected: usize,
+    },
+    /// The knot vector decreases.
     #[error("knot vector decreases at index {index} ({prev} > {next})")]
-    KnotDecreasing { index: usize, prev: f64, next: f64 },
+    KnotDecreasing {
+        /// Index of the knot.
+        index: usize,
+        /// The knot before it.
+        prev: f64,
+        /// The knot after it, smaller than `prev`.
+        next: f64,
+    },
+    /// A knot is NaN or infinite.
     #[error("knot {index} is not finite ({value})")]
-    KnotNotFinite { index: usize, value: f64 },
+    KnotNotFinite {
+        /// Index of the knot.
+        index: usize,
+        /// The knot value.
+        value: f64,
+    },
+    /// The domain [u_p, u_{n+1}] is empty.
     #[error("knot vector has an empty domain [{lo}, {hi}]")]
-    EmptyDomain { lo: f64, hi: f64 },
+    EmptyDomain {
+        /// Lower end of the domain.
+        lo: f64,
+        /// Upper end of the domain.
+        hi: f64,
+    },
+    /// A knot repeats more than p + 1 times.
     #[error("knot {value} has multiplicity {mult}, more than degree + 1 = {max}")]
-    KnotMultiplicity { value: f64, mult: usize, max: usize },
+    KnotMultiplicity {
+        /// The knot value.
+        value: f64,
+        /// Its multiplicity.
+        mult: usize,
+        /// The largest multiplicity allowed (degree + 1).
+        max: usize,
+    },
+    /// Evaluation outside the curve's domain.
     #[error("parameter {t} outside the domain [{lo}, {hi}]")]
-    OutOfDomain { t: f64, lo: f64, hi: f64 },
+    OutOfDomain {
+        /// The parameter.
+        t: f64,
+        /// Lower end of the domain.
+        lo: f64,
+        /// Upper end of the domain.
+        hi: f64,
+    },
+    /// Fitting failed (message of the fitting error).
     #[error("fitting: {0}")]
     Fit(String),
 }

@@ -32,13 +32,17 @@ pub enum Lead {
 /// Parameters of one cut.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CutOptions {
+    /// Cutting feed, units per minute.
     pub feed: f64,
+    /// Plunge (z down) feed, units per minute.
     pub plunge_feed: f64,
     /// Laser power or spindle speed, fraction of the machine's maximum.
     pub power: f64,
     /// The z of each pass, in order (≤ 0; lasers use 0 for every pass).
     pub levels: Vec<f64>,
+    /// Holding tabs left uncut on the last pass, if any.
     pub tabs: Option<Tabs>,
+    /// How the cut is entered.
     pub lead: Lead,
     /// True when the waste (the side the lead may use) is left of the travel direction.
     pub waste_left: bool,

@@ -14,15 +14,27 @@ pub enum MoveKind {
     /// A straight cutting move (G1), including plunges and retracts along z.
     Line,
     /// A helical or planar arc about `center` (xy), clockwise (G2) or not (G3).
-    Arc { center: DVec2, ccw: bool },
+    /// A circular or helical arc (G2/G3).
+    Arc {
+        /// Centre of the arc (xy).
+        center: DVec2,
+        /// True for counter-clockwise (G3), false for clockwise (G2).
+        ccw: bool,
+    },
     /// Wait in place (G4), for example spindle spin-up or a pierce.
-    Dwell { seconds: f64 },
+    /// A pause (G4).
+    Dwell {
+        /// Length of the pause in seconds.
+        seconds: f64,
+    },
 }
 
 /// One move to `to` (the previous move's end, or the cut's start, is where it begins).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Move {
+    /// What kind of move.
     pub kind: MoveKind,
+    /// End point.
     pub to: DVec3,
     /// Feed in units per minute (ignored for rapids and dwells).
     pub feed: f64,
@@ -40,26 +52,37 @@ pub struct Cut {
     /// marks them in the program (`(skinpath:group N)`) so the checker can tell them from
     /// accidental crossings; unmarked cuts are judged strictly.
     pub group: Option<u32>,
+    /// Where the cut begins (reached by travel).
     pub start: DVec3,
+    /// The moves, in order.
     pub moves: Vec<Move>,
 }
 
 /// The kinds of operation a design can ask for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum OperationKind {
+    /// Cut along the outline of the strokes (on the waste side).
     Profile,
+    /// Cut along the strokes' centre lines.
     Channel,
+    /// Cut out the backboard around the design.
     Backboard,
+    /// Drill or mill the holes.
     Holes,
+    /// Clear the area inside the outlines (pocket or hatch).
     Fill,
+    /// Carve with a V-bit along the medial axis, depth following the width.
     VCarve,
 }
 
 /// An operation: one kind of work with one tool, its cuts in machine order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Operation {
+    /// Operation name (from the design, or the kind).
     pub name: String,
+    /// What the operation does.
     pub kind: OperationKind,
+    /// The cuts in machine order.
     pub cuts: Vec<Cut>,
     /// Index of the `[[operation]]` in the design that produced it (none for the default
     /// profile of a design without operations), for messages that name what the user wrote.
@@ -71,6 +94,7 @@ pub struct Operation {
 /// A whole job.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Toolpath {
+    /// The operations in machine order.
     pub operations: Vec<Operation>,
 }
 

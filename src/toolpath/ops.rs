@@ -36,7 +36,9 @@ pub fn profile(region: &Region, side: ProfileSide, tool_radius: f64, eps: f64) -
 /// is as wide as the hole.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Hole {
+    /// A circular path for the tool centre.
     Circle(Path),
+    /// A plain drill at the point.
     Drill(DVec2),
 }
 

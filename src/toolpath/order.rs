@@ -19,22 +19,6 @@ pub struct OrderStats {
     pub travel_ordered: f64,
 }
 
-fn point_in_polygon(poly: &[DVec2], p: DVec2) -> bool {
-    let mut inside = false;
-    let n = poly.len();
-    for i in 0..n {
-        let a = poly[i];
-        let b = poly[(i + 1) % n];
-        if (a.y > p.y) != (b.y > p.y) {
-            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-            if p.x < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
-}
-
 /// `before[j]` lists the paths that must come before path j: those inside closed path j.
 pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
     let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
@@ -47,7 +31,9 @@ pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
                 .filter(|&i| {
                     i != j
                         && !polys[i].is_empty()
-                        && polys[i].iter().all(|&p| point_in_polygon(&polys[j], p))
+                        && polys[i]
+                            .iter()
+                            .all(|&p| crate::geom::predicates::inside_even_odd(&polys[j], p))
                 })
                 .collect()
         })
@@ -286,7 +272,7 @@ mod tests {
         inner
             .flatten(1e-3)
             .iter()
-            .all(|&p| point_in_polygon(&poly, p))
+            .all(|&p| crate::geom::predicates::inside_even_odd(&poly, p))
     }
 
     #[test]

@@ -31,6 +31,7 @@ pub enum Geometry {
 /// operation's plunge feed and the first point's power.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct AttrPolyline {
+    /// The points in order (x, y and the depth z of each).
     pub points: Vec<DVec3>,
     /// Feed per point, units per minute.
     pub feed: Vec<f64>,
@@ -41,8 +42,11 @@ pub struct AttrPolyline {
 /// One operation's geometry and settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OpSpec {
+    /// Operation name.
     pub name: String,
+    /// What the operation does.
     pub kind: OperationKind,
+    /// Paths, polylines or points to cut.
     pub geometry: Geometry,
     /// Source stroke names per path or point (same length as the geometry, or empty).
     pub sources: Vec<String>,
@@ -59,10 +63,15 @@ pub struct OpSpec {
     pub step_down: f64,
     /// Number of passes at the same level (lasers cutting thick stock); at least 1.
     pub repeat: usize,
+    /// Cutting feed, units per minute.
     pub feed: f64,
+    /// Plunge feed, units per minute.
     pub plunge_feed: f64,
+    /// Laser power or spindle speed, fraction of the machine's maximum.
     pub power: f64,
+    /// Holding tabs, if any.
     pub tabs: Option<Tabs>,
+    /// How cuts are entered.
     pub lead: Lead,
     /// Dwell at each drilled or pierced point, seconds.
     pub dwell: f64,
@@ -83,7 +92,9 @@ fn rank(kind: OperationKind) -> usize {
 /// Travel figures of one planned operation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlanStats {
+    /// Operation name.
     pub operation: String,
+    /// Travel before and after ordering.
     pub order: OrderStats,
 }
 

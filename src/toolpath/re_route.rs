@@ -28,7 +28,9 @@ const MAX_FIT_DEPTH: u32 = 24;
 /// Counts of what a MAT route emitted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SegCounts {
+    /// Number of arcs.
     pub arcs: usize,
+    /// Number of lines.
     pub lines: usize,
 }
 
@@ -88,24 +90,8 @@ fn nesting_depth(flat: &[Vec<DVec2>], i: usize) -> usize {
     let Some(&p) = flat[i].first() else { return 0 };
     flat.iter()
         .enumerate()
-        .filter(|(k, poly)| *k != i && point_in_polygon(poly, p))
+        .filter(|(k, poly)| *k != i && crate::geom::predicates::inside_even_odd(poly, p))
         .count()
-}
-
-/// Even-odd point in polygon test.
-fn point_in_polygon(poly: &[DVec2], p: DVec2) -> bool {
-    let n = poly.len();
-    let mut inside = false;
-    for k in 0..n {
-        let (a, b) = (poly[k], poly[(k + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) {
-            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-            if x > p.x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
 }
 
 /// Outer contours (even nesting depth) clockwise, holes counter-clockwise.

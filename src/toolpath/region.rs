@@ -19,6 +19,7 @@ use cavalier_contours::shape_algorithms::{Shape, ShapeOffsetOptions};
 /// Closed contours of a region: counter-clockwise material, clockwise holes.
 #[derive(Clone, Debug, Default)]
 pub struct Region {
+    /// The contours, each closed.
     pub contours: Vec<Polyline<f64>>,
 }
 
@@ -295,6 +296,7 @@ impl Region {
         Region::from_contours(paths.iter().map(|p| pline_from_path(p, tol)).collect())
     }
 
+    /// True when the region has no contours.
     pub fn is_empty(&self) -> bool {
         self.contours.is_empty()
     }

@@ -7,7 +7,9 @@ use glam::{DVec2, DVec3};
 /// Summary figures of a toolpath (design units; time in seconds).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ToolpathStats {
+    /// Number of operations.
     pub operations: usize,
+    /// Number of cuts.
     pub cuts: usize,
     /// Length of every cutting move (lines, arcs with their helix z change).
     pub cut_length: f64,
@@ -15,7 +17,9 @@ pub struct ToolpathStats {
     pub travel_length: f64,
     /// Cutting time at the programmed feeds (no acceleration).
     pub cut_time: f64,
+    /// Lower corner of the bounding box (x, y, z).
     pub bbox_min: [f64; 3],
+    /// Upper corner of the bounding box (x, y, z).
     pub bbox_max: [f64; 3],
 }
 
@@ -65,11 +69,8 @@ impl Toolpath {
                     if let MoveKind::Arc { center, ccw } = m.kind {
                         let a =
                             Arc::from_center_points(center, here.truncate(), m.to.truncate(), ccw);
-                        for d in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
-                            let q = center + a.radius * d;
-                            if a.contains_angle_of(q) {
-                                grow(DVec3::new(q.x, q.y, here.z.min(m.to.z)));
-                            }
+                        for q in a.extrema() {
+                            grow(DVec3::new(q.x, q.y, here.z.min(m.to.z)));
                         }
                     }
                     match m.kind {

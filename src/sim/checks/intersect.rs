@@ -347,7 +347,7 @@ impl SegmentSet {
     }
 
     /// Exact contact test of two segments; same-contour adjacent pairs are skipped (see
-    /// [`Self::adjacent_overlaps`]).
+    /// `Self::adjacent_overlaps`).
     pub fn test_pair(&self, i: usize, j: usize) -> Option<Contact> {
         let (s, t) = (self.segs.get(i)?, self.segs.get(j)?);
         if s.a.max(s.b).cmplt(t.a.min(t.b)).any() || t.a.max(t.b).cmplt(s.a.min(s.b)).any() {
