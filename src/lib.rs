@@ -74,8 +74,9 @@ pub mod spline;
 pub mod toolpath;
 pub mod units;
 
-// Dependencies of the `skinpath` binary only (argument parsing, error chains, progress bars): the library
-// does not use them, and `unused_crate_dependencies` would otherwise name them.
+// Dependencies of the `skinpath` binary only (argument parsing, error chains, progress
+// bars): the library does not use them, and `unused_crate_dependencies` would otherwise name
+// them.
 use anyhow as _;
 use clap as _;
 use indicatif as _;
