@@ -96,7 +96,7 @@ fn timings_tables_go_to_stderr() {
 fn a_closed_stdout_is_a_quiet_success() {
     let d = tmpdir("api-pipe");
     let out = d.join("w.gcode");
-    let runs: [Vec<String>; 3] = [
+    let runs: [Vec<String>; 4] = [
         vec!["inspect".into(), example("neon_word"), "--json".into()],
         vec![
             "build".into(),
@@ -108,6 +108,13 @@ fn a_closed_stdout_is_a_quiet_success() {
             "--json".into(),
         ],
         vec!["machines".into()],
+        // The program the build above wrote, checked.
+        vec![
+            "check".into(),
+            out.display().to_string(),
+            "--machine".into(),
+            "grbl-router".into(),
+        ],
     ];
     for args in runs {
         // The reading end of stdout is closed before the command writes anything.

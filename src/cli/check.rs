@@ -194,7 +194,7 @@ pub fn run(a: Args) -> Result<u8> {
     } else {
         report.to_string()
     };
-    println!("{text}");
+    crate::print_stdout(&format!("{text}\n"))?;
     timings.report = clock.elapsed().as_secs_f64();
     if a.timings && !a.json {
         let t = &timings;
