@@ -19,6 +19,7 @@
 //! rounding; refinement stops when upper − lower ≤ the requested gap.
 
 use crate::dbsc::{Bern, DiskBSpline, Side, SpanPoly};
+use crate::geom::bernstein;
 use crate::geom::{CubicBez, DVec2, Line};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -327,8 +328,47 @@ impl Jet {
     }
 }
 
-/// Ranges of the t-derivatives 0..=3 of a span polynomial on [t0, t1].
+/// Ranges of the t-derivatives 0..=3 of a span polynomial on [t0, t1]: the Bernstein
+/// coefficients of the piece and of its derivatives enclose them (convex hull property),
+/// computed in a stack buffer ([`bernstein::sub_into`], [`bernstein::deriv_in_place`]).
 fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
+    let n = b.0.len();
+    if n > bernstein::INLINE {
+        return deriv_ranges_heap(b, sp, t0, t1);
+    }
+    let h = sp.b - sp.a;
+    let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
+    let mut buf = [0.0f64; bernstein::INLINE];
+    let mut len = n;
+    bernstein::sub_into(&b.0, u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0), &mut buf[..n]);
+    let w = t1 - t0;
+    let mut out = [Iv::pt(0.0); 4];
+    let mut f = 1.0;
+    for (k, o) in out.iter_mut().enumerate() {
+        if k > 0 {
+            len = bernstein::deriv_in_place(&mut buf[..len]);
+            f /= w;
+        }
+        let (lo, hi) = bernstein::range(&buf[..len]);
+        *o = Iv::new(lo * f, hi * f);
+        if w <= 0.0 && k > 0 {
+            *o = Iv::pt(point_deriv(b, u0, h, k));
+        }
+    }
+    out
+}
+
+/// The k-th t-derivative of a span polynomial at u (for point intervals).
+fn point_deriv(b: &Bern, u0: f64, h: f64, k: usize) -> f64 {
+    let mut q = b.clone();
+    for _ in 0..k {
+        q = q.deriv();
+    }
+    q.eval(u0.clamp(0.0, 1.0)) / h.powi(k as i32)
+}
+
+/// [`deriv_ranges`] for polynomials longer than the stack buffer.
+fn deriv_ranges_heap(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
     let h = sp.b - sp.a;
     let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
     let mut p = b.sub(u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0));
@@ -343,13 +383,7 @@ fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
         let (lo, hi) = p.range();
         *o = Iv::new(lo * f, hi * f);
         if w <= 0.0 && k > 0 {
-            // A point interval: derivatives from the span polynomial at that point.
-            let mut q = b.clone();
-            for _ in 0..k {
-                q = q.deriv();
-            }
-            let v = q.eval(u0.clamp(0.0, 1.0)) / h.powi(k as i32);
-            *o = Iv::pt(v);
+            *o = Iv::pt(point_deriv(b, u0, h, k));
         }
     }
     out
