@@ -137,15 +137,16 @@ pub fn design_outlines(
     design: &Design,
     opts: &OutlineOptions,
 ) -> Result<Vec<ItemOutline>, JobError> {
+    use rayon::prelude::*;
     let strokes = design.strokes()?;
-    let mut out = Vec::new();
-    for (s, c) in design.stroke.iter().zip(&strokes) {
-        out.push(stroke_outline(design, &s.name, c, opts)?);
-    }
-    for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
-        out.push(circles_outline(design, &seq.name, &circles, seq.closed)?);
-    }
-    Ok(out)
+    let sequences = design.circle_sequences();
+    // Items are skinned in parallel; collected in file order, the first error in file order.
+    let strokes = (design.stroke.par_iter().zip(&strokes))
+        .map(|(s, c)| stroke_outline(design, &s.name, c, opts));
+    let seqs = (design.circles.par_iter().zip(&sequences))
+        .map(|(seq, circles)| circles_outline(design, &seq.name, circles, seq.closed));
+    let all: Vec<Result<ItemOutline, JobError>> = strokes.chain(seqs).collect();
+    all.into_iter().collect()
 }
 
 fn refc(role: &str, c: &Circle) -> RefCircle {

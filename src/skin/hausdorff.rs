@@ -204,6 +204,19 @@ impl BoundedCurve for EnvelopeSegment<'_> {
         };
         envelope_d2_bound(sp, self.side.sign(), t0.max(sp.a), t1.min(sp.b))
     }
+    /// The trait's default over [`Self::pieces`], walking the spans without collecting them.
+    fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
+        let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let mut m: f64 = 0.0;
+        for s in &self.spans {
+            let (p0, p1) = (s.a.max(self.t_a), s.b.min(self.t_b));
+            let (u0, u1) = (a.max(p0), b.min(p1));
+            if u1 >= u0 {
+                m = m.max(self.d2_bound(u0, u1));
+            }
+        }
+        m
+    }
 }
 
 /// A closed real interval.
@@ -477,13 +490,17 @@ fn initial_grid(c: &dyn BoundedCurve) -> Vec<f64> {
 }
 
 /// d(x, Y) to within `tol` by best-first branch and bound on Y's chords.
+/// `pieces` are `y.pieces()` and `heap` a buffer reused across calls (cleared here).
+#[allow(clippy::too_many_arguments)]
 fn point_distance(
     x: DVec2,
     y: &dyn BoundedCurve,
     grid: &[(f64, DVec2)],
+    pieces: &[(f64, f64)],
     hint: Option<f64>,
     tol: f64,
     work: &mut Work,
+    heap: &mut BinaryHeap<Node>,
 ) -> Result<PointDist, HausdorffError> {
     let mut best = PointDist {
         lower: 0.0,
@@ -500,7 +517,7 @@ fn point_distance(
     if let Some(h) = hint {
         upd(h, y.point(h)?, &mut best);
     }
-    let mut heap: BinaryHeap<Node> = BinaryHeap::new();
+    heap.clear();
     let lb = |t0: f64, t1: f64, p0: DVec2, p1: DVec2| {
         let e = or_inf((t1 - t0).powi(2) * y.d2_bound(t0, t1) / 8.0);
         let l = Line::new(p0, p1).distance(x) - e;
@@ -508,7 +525,6 @@ fn point_distance(
     };
     // Smallest lower bound of the leaves (nodes too narrow to split).
     let mut leaf_lower = f64::INFINITY;
-    let pieces = y.pieces();
     for w in grid.windows(2) {
         let (t0, p0) = w[0];
         let (t1, p1) = w[1];
@@ -575,6 +591,8 @@ fn directed(
         .map(|t| yc.point(t).map(|p| (t, p)))
         .collect::<Result<_, _>>()?;
     let ptol = 0.25 * gap;
+    let ypieces = yc.pieces();
+    let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
     let mut lower: f64 = 0.0;
     let mut heap: BinaryHeap<Node> = BinaryHeap::new();
     let xs = initial_grid(xc);
@@ -582,7 +600,7 @@ fn directed(
     let mut hint = None;
     for &s in &xs {
         let p = xc.point(s)?;
-        let d = point_distance(p, yc, &ygrid, hint, ptol, work)?;
+        let d = point_distance(p, yc, &ygrid, &ypieces, hint, ptol, work, &mut pheap)?;
         hint = Some(d.t);
         lower = lower.max(d.lower);
         ends.push((s, p, d));
@@ -625,7 +643,8 @@ fn directed(
             continue;
         }
         let pm = xc.point(sm)?;
-        let dm = point_distance(pm, yc, &ygrid, Some(0.5 * (nd.u0 + nd.u1)), ptol, work)?;
+        let hint = Some(0.5 * (nd.u0 + nd.u1));
+        let dm = point_distance(pm, yc, &ygrid, &ypieces, hint, ptol, work, &mut pheap)?;
         lower = lower.max(dm.lower);
         let d0 = PointDist {
             lower: 0.0,
