@@ -21,6 +21,9 @@ use crate::geom::roots::brent;
 /// polynomial of the crate, P = A² − s²B² of a quintic span, has degree 32).
 pub const INLINE: usize = 64;
 
+/// Coefficient count of the small stack buffer (degree ≤ 7: span polynomials of strokes).
+pub const SMALL: usize = 8;
+
 /// Binomial coefficient C(n, k) as f64 (0 for k > n); exact while C(n, k) < 2⁵³.
 pub fn binom(n: usize, k: usize) -> f64 {
     if k > n {
@@ -43,13 +46,30 @@ pub fn from_power(a: &[f64]) -> Vec<f64> {
 /// `n ≤ INLINE`).
 fn with_copy<R>(b: &[f64], f: impl FnOnce(&mut [f64]) -> R) -> R {
     let n = b.len();
-    if n <= INLINE {
+    // Span polynomials of cubic strokes have 4 coefficients: a small array spares the
+    // zeroing of the large one.
+    if n <= SMALL {
+        let mut w = [0.0f64; SMALL];
+        w[..n].copy_from_slice(b);
+        f(&mut w[..n])
+    } else if n <= INLINE {
         let mut w = [0.0f64; INLINE];
         w[..n].copy_from_slice(b);
         f(&mut w[..n])
     } else {
         let mut w = b.to_vec();
         f(&mut w)
+    }
+}
+
+/// Runs `f` on a zeroed scratch slice of length `n` (on the stack when `n ≤ INLINE`).
+fn with_scratch<R>(n: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+    if n <= SMALL {
+        f(&mut [0.0f64; SMALL][..n])
+    } else if n <= INLINE {
+        f(&mut [0.0f64; INLINE][..n])
+    } else {
+        f(&mut vec![0.0; n])
     }
 }
 
@@ -100,19 +120,13 @@ pub fn sub_into(b: &[f64], u0: f64, u1: f64, out: &mut [f64]) {
         return;
     }
     let s = (u1 - u0) / (1.0 - u0);
-    let mut stack = [0.0f64; INLINE];
-    let mut heap = Vec::new();
-    let w: &mut [f64] = if n <= INLINE {
-        &mut stack[..n]
-    } else {
-        heap.resize(n, 0.0);
-        &mut heap
-    };
-    w.copy_from_slice(out);
-    for (r, o) in out.iter_mut().enumerate() {
-        *o = w[0];
-        casteljau_step(w, n - r, s);
-    }
+    with_scratch(n, |w| {
+        w.copy_from_slice(out);
+        for (r, o) in out.iter_mut().enumerate() {
+            *o = w[0];
+            casteljau_step(w, n - r, s);
+        }
+    });
 }
 
 /// The derivative d/du in place: the first `len − 1` entries become n (bᵢ₊₁ − bᵢ) with

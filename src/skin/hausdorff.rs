@@ -346,12 +346,12 @@ impl Jet {
 /// computed in a stack buffer ([`bernstein::sub_into`], [`bernstein::deriv_in_place`]).
 fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
     let n = b.0.len();
-    if n > bernstein::INLINE {
+    if n > bernstein::SMALL {
         return deriv_ranges_heap(b, sp, t0, t1);
     }
     let h = sp.b - sp.a;
     let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
-    let mut buf = [0.0f64; bernstein::INLINE];
+    let mut buf = [0.0f64; bernstein::SMALL];
     let mut len = n;
     bernstein::sub_into(&b.0, u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0), &mut buf[..n]);
     let w = t1 - t0;
@@ -380,7 +380,8 @@ fn point_deriv(b: &Bern, u0: f64, h: f64, k: usize) -> f64 {
     q.eval(u0.clamp(0.0, 1.0)) / h.powi(k as i32)
 }
 
-/// [`deriv_ranges`] for polynomials longer than the stack buffer.
+/// [`deriv_ranges`] for polynomials longer than the small stack buffer (strokes of degree
+/// above 7).
 fn deriv_ranges_heap(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
     let h = sp.b - sp.a;
     let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
