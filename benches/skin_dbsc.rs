@@ -3,6 +3,10 @@
 //! Run: `cargo bench --bench skin_dbsc`. Before timing, each stroke's result is printed
 //! once (circles used, segments within ε, worst error bound) so the numbers can be read
 //! together with the work done.
+//!
+//! Peer in the same run: a 10-disk stroke skinned on a one-thread rayon pool (the serial
+//! path) against the default pool (Hausdorff bounds of a pass in parallel); the ratio of
+//! their median times is printed.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use skinpath::dbsc::{DiskBSpline, find_loops};
@@ -97,6 +101,56 @@ fn bench(c: &mut Criterion) {
         }
         g.bench_function(name, |b| b.iter(|| skin_dbsc(black_box(&s), &opts)));
     }
+    g.finish();
+    // 10-disk stroke: serial (one-thread pool) vs parallel, same result.
+    let ten: Vec<(f64, f64, f64)> = (0..10)
+        .map(|i| {
+            let x = 6.0 * i as f64;
+            (
+                x,
+                5.0 * (0.7 * i as f64).sin(),
+                1.2 + 0.4 * (0.8 * i as f64).cos(),
+            )
+        })
+        .collect();
+    let ten = open(&ten);
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .expect("thread pool")
+    };
+    let (serial, parallel) = (pool(1), pool(0));
+    let same =
+        serial.install(|| skin_dbsc(&ten, &opts)) == parallel.install(|| skin_dbsc(&ten, &opts));
+    println!("ten_disks: serial and parallel results equal: {same}");
+    let median = |p: &rayon::ThreadPool| {
+        let mut ts: Vec<f64> = (0..15)
+            .map(|_| {
+                let t = std::time::Instant::now();
+                let _ = p.install(|| skin_dbsc(black_box(&ten), &opts));
+                t.elapsed().as_secs_f64()
+            })
+            .collect();
+        ts.sort_by(f64::total_cmp);
+        ts[ts.len() / 2]
+    };
+    let (ts, tp) = (median(&serial), median(&parallel));
+    println!(
+        "ten_disks: serial {:.3} ms, parallel ({} threads) {:.3} ms, serial/parallel = {:.2}",
+        ts * 1e3,
+        parallel.current_num_threads(),
+        tp * 1e3,
+        ts / tp
+    );
+    let mut g = c.benchmark_group("skin_dbsc_10_disks");
+    g.sample_size(10);
+    g.bench_function("serial_1_thread", |b| {
+        b.iter(|| serial.install(|| skin_dbsc(black_box(&ten), &opts)))
+    });
+    g.bench_function("parallel", |b| {
+        b.iter(|| parallel.install(|| skin_dbsc(black_box(&ten), &opts)))
+    });
     g.finish();
     let mut g = c.benchmark_group("find_loops");
     for (name, s) in strokes() {

@@ -3,8 +3,8 @@
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use skinpath::job::{Progress, Stage};
-use std::cell::Cell;
 use std::io::IsTerminal;
+use std::sync::Mutex;
 
 /// Steps of the bar per stage (the fraction is shown to a thousandth).
 const STEPS: u64 = 1000;
@@ -12,7 +12,7 @@ const STEPS: u64 = 1000;
 /// The bar, or nothing when stderr is not a terminal.
 pub struct Bar {
     bar: Option<ProgressBar>,
-    stage: Cell<Option<Stage>>,
+    stage: Mutex<Option<Stage>>,
 }
 
 impl Bar {
@@ -27,7 +27,7 @@ impl Bar {
         });
         Bar {
             bar,
-            stage: Cell::new(None),
+            stage: Mutex::new(None),
         }
     }
 
@@ -39,8 +39,10 @@ impl Bar {
     /// Shows one report.
     pub fn show(&self, p: Progress) {
         let Some(b) = &self.bar else { return };
-        if self.stage.get() != Some(p.stage) {
-            self.stage.set(Some(p.stage));
+        if let Ok(mut stage) = self.stage.lock()
+            && *stage != Some(p.stage)
+        {
+            *stage = Some(p.stage);
             b.set_message(p.stage.as_str());
         }
         b.set_position((p.fraction.clamp(0.0, 1.0) * STEPS as f64).round() as u64);

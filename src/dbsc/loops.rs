@@ -24,6 +24,7 @@
 
 use super::{DiskBSpline, Side};
 use crate::geom::DVec2;
+use crate::geom::bernstein::{self, RootOptions, binom};
 
 /// Safety cap on the subdivision depth of Bernstein root isolation: 2^-60 of a span is far
 /// below any parameter tolerance a caller can ask for in f64.
@@ -36,14 +37,10 @@ const MAX_ISOLATION_DEPTH: u32 = 60;
 /// the depth cap (the caller's sign evaluation between roots stays correct).
 const MAX_ISOLATION_BOXES: usize = 20_000;
 
-/// A polynomial on [0, 1] in Bernstein form.
+/// A polynomial on [0, 1] in Bernstein form (the algebra of span polynomials; evaluation,
+/// subdivision and root isolation are the shared kernel [`crate::geom::bernstein`]).
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Bern(pub(crate) Vec<f64>);
-
-fn binom(n: usize, k: usize) -> f64 {
-    let k = k.min(n - k);
-    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
-}
 
 impl Bern {
     pub(crate) fn degree(&self) -> usize {
@@ -72,40 +69,14 @@ impl Bern {
 
     /// Value at u by de Casteljau.
     pub(crate) fn eval(&self, u: f64) -> f64 {
-        let mut b = self.0.clone();
-        let n = b.len();
-        for r in 1..n {
-            for i in 0..n - r {
-                b[i] = b[i] * (1.0 - u) + b[i + 1] * u;
-            }
-        }
-        b.first().copied().unwrap_or(0.0)
-    }
-
-    /// The two halves at u (de Casteljau), each reparametrised to [0, 1].
-    pub(crate) fn split(&self, u: f64) -> (Bern, Bern) {
-        let mut b = self.0.clone();
-        let n = b.len();
-        let mut left = Vec::with_capacity(n);
-        let mut right = Vec::with_capacity(n);
-        for r in 0..n {
-            left.push(b[0]);
-            right.push(b[n - 1 - r]);
-            for i in 0..n - 1 - r {
-                b[i] = b[i] * (1.0 - u) + b[i + 1] * u;
-            }
-        }
-        right.reverse();
-        (Bern(left), Bern(right))
+        bernstein::eval(&self.0, u)
     }
 
     /// The piece on [u0, u1] ⊂ [0, 1], reparametrised to [0, 1].
     pub(crate) fn sub(&self, u0: f64, u1: f64) -> Bern {
-        let (_, right) = self.split(u0);
-        if u0 >= 1.0 {
-            return right;
-        }
-        right.split((u1 - u0) / (1.0 - u0)).0
+        let mut out = vec![0.0; self.0.len()];
+        bernstein::sub_into(&self.0, u0, u1, &mut out);
+        Bern(out)
     }
 
     /// d/du: n (b_{i+1} − b_i), of degree n − 1 (the zero constant for constants).
@@ -166,25 +137,7 @@ impl Bern {
 
     /// [min, max] of the coefficients: an enclosure of the range on [0, 1] (convex hull).
     pub(crate) fn range(&self) -> (f64, f64) {
-        self.0
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-                (lo.min(x), hi.max(x))
-            })
-    }
-
-    fn sign_changes(&self) -> usize {
-        let mut last = 0.0f64;
-        let mut n = 0;
-        for &x in &self.0 {
-            if x != 0.0 {
-                if last != 0.0 && (x > 0.0) != (last > 0.0) {
-                    n += 1;
-                }
-                last = x;
-            }
-        }
-        n
+        bernstein::range(&self.0)
     }
 }
 
@@ -247,47 +200,18 @@ impl SpanPoly {
 pub use crate::geom::roots::brent;
 
 /// Roots in (0, 1) of a Bernstein polynomial, isolated by subdivision (variation
-/// diminishing) and refined by Brent to `tol` (in u). Clusters narrower than `tol` whose
-/// multiplicity cannot be decided are reported once, at their midpoint.
+/// diminishing) and refined by Brent to `tol` (in u) ([`bernstein::isolate_roots`]).
+/// Clusters narrower than `tol` whose multiplicity cannot be decided are reported once, at
+/// their midpoint.
 pub(crate) fn bernstein_roots(f: &Bern, tol: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut boxes = MAX_ISOLATION_BOXES;
-    isolate(f, f, (0.0, 1.0), tol, 0, &mut boxes, &mut out);
-    out.sort_by(f64::total_cmp);
-    out.dedup_by(|a, b| (*a - *b).abs() <= tol);
-    out
-}
-
-fn isolate(
-    whole: &Bern,
-    f: &Bern,
-    (u0, u1): (f64, f64),
-    tol: f64,
-    depth: u32,
-    boxes: &mut usize,
-    out: &mut Vec<f64>,
-) {
-    let v = f.sign_changes();
-    if v == 0 {
-        return;
-    }
-    let (f0, f1) = (f.0[0], f.0[f.0.len() - 1]);
-    if v == 1 && f0 != 0.0 && f1 != 0.0 && (f0 > 0.0) != (f1 > 0.0) {
-        out.push(brent(|u| whole.eval(u), u0, u1, tol));
-        return;
-    }
-    if u1 - u0 <= tol || depth >= MAX_ISOLATION_DEPTH || *boxes == 0 {
-        out.push(0.5 * (u0 + u1));
-        return;
-    }
-    *boxes -= 1;
-    let (l, r) = f.split(0.5);
-    let um = 0.5 * (u0 + u1);
-    if r.0[0] == 0.0 {
-        out.push(um);
-    }
-    isolate(whole, &l, (u0, um), tol, depth + 1, boxes, out);
-    isolate(whole, &r, (um, u1), tol, depth + 1, boxes, out);
+    bernstein::isolate_roots(
+        &f.0,
+        &RootOptions {
+            tol,
+            max_depth: MAX_ISOLATION_DEPTH,
+            max_splits: MAX_ISOLATION_BOXES,
+        },
+    )
 }
 
 /// One local loop of an envelope: τ < 0 on (t_a, t_b), bounded by the cusps at t_a, t_b.

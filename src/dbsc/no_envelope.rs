@@ -14,11 +14,12 @@
 //! there the envelope passes continuously through the limit point q − r r′ q′/‖q′‖².
 
 use super::DiskBSpline;
+use crate::geom::bernstein::{self, Step, Visitor, binom};
 
 /// Subdivision depth cap: after 48 halvings an isolating box is 2⁻⁴⁸ of its span, below
 /// any useful parameter tolerance; a box still holding several sign changes there is a
 /// (near-)multiple root and is taken as one root at its midpoint.
-const MAX_DEPTH: usize = 48;
+const MAX_DEPTH: u32 = 48;
 
 /// Cap on the subdivision boxes of one span's root isolation (the depth cap bounds a path,
 /// not the tree: noise-level coefficients change sign in every box). Once reached, every
@@ -95,105 +96,55 @@ pub fn discriminant_bernstein(c: &DiskBSpline, a: f64, b: f64) -> Vec<f64> {
         .collect()
 }
 
-fn binom(n: usize, k: usize) -> f64 {
-    let mut r = 1.0;
-    for i in 0..k {
-        r = r * (n - i) as f64 / (i + 1) as f64;
-    }
-    r
-}
-
-/// Value of a Bernstein polynomial at u (de Casteljau).
+/// Value of a Bernstein polynomial at u (de Casteljau, [`bernstein::eval`]).
 pub(crate) fn bernstein_eval(coef: &[f64], u: f64) -> f64 {
-    let mut w = coef.to_vec();
-    let n = w.len();
-    for k in 1..n {
-        for i in 0..n - k {
-            w[i] = (1.0 - u) * w[i] + u * w[i + 1];
-        }
-    }
-    w.first().copied().unwrap_or(0.0)
+    bernstein::eval(coef, u)
 }
 
-/// De Casteljau split at 1/2: the coefficients on the left and right halves.
-fn split_half(coef: &[f64]) -> (Vec<f64>, Vec<f64>) {
-    let n = coef.len();
-    let mut w = coef.to_vec();
-    let mut left = Vec::with_capacity(n);
-    let mut right = Vec::with_capacity(n);
-    left.push(w[0]);
-    right.push(w[n - 1]);
-    for k in 1..n {
-        for i in 0..n - k {
-            w[i] = 0.5 * (w[i] + w[i + 1]);
-        }
-        left.push(w[0]);
-        right.push(w[n - 1 - k]);
-    }
-    right.reverse();
-    (left, right)
-}
-
-fn sign_changes(coef: &[f64]) -> usize {
-    let mut last = 0.0f64;
-    let mut n = 0;
-    for &c in coef {
-        if c != 0.0 {
-            if last != 0.0 && (c > 0.0) != (last > 0.0) {
-                n += 1;
-            }
-            last = c;
-        }
-    }
-    n
-}
-
-/// Roots in (u0, u1) of the Bernstein polynomial `full` (on [0, 1]) whose restriction to
-/// [u0, u1] has coefficients `coef`; refined to `utol`.
-fn isolate(
-    full: &[f64],
-    coef: &[f64],
-    (u0, u1): (f64, f64),
-    depth: usize,
+/// The isolation policy of the discriminant's roots on [`bernstein::subdivide`]: no sign
+/// change ⇒ no crossing root (zero end coefficients are roots at the piece's ends), one
+/// change with opposite end values ⇒ one simple root, refined by Brent on the whole span's
+/// polynomial; otherwise split, down to `utol`, [`MAX_DEPTH`] or [`MAX_BOXES`].
+struct Isolate<'a> {
+    full: &'a [f64],
     utol: f64,
-    boxes: &mut usize,
-    out: &mut Vec<f64>,
-) {
-    let n = coef.len();
-    if n == 0 {
-        return;
-    }
-    let changes = sign_changes(coef);
-    if changes == 0 {
-        if coef[0] == 0.0 {
-            out.push(u0);
+    boxes: usize,
+    out: Vec<f64>,
+}
+
+impl Visitor for Isolate<'_> {
+    fn visit(&mut self, coef: &[f64], u0: f64, u1: f64, depth: u32) -> Step {
+        let n = coef.len();
+        let changes = bernstein::sign_changes(coef);
+        if changes == 0 {
+            if coef[0] == 0.0 {
+                self.out.push(u0);
+            }
+            if coef[n - 1] == 0.0 {
+                self.out.push(u1);
+            }
+            return Step::Keep;
         }
-        if coef[n - 1] == 0.0 {
-            out.push(u1);
+        let (f0, f1) = (coef[0], coef[n - 1]);
+        if changes == 1 && f0 != 0.0 && f1 != 0.0 && (f0 > 0.0) != (f1 > 0.0) {
+            let full = self.full;
+            self.out.push(crate::geom::roots::brent_with(
+                |u| bernstein::eval(full, u),
+                u0,
+                u1,
+                f0,
+                f1,
+                self.utol,
+            ));
+            return Step::Keep;
         }
-        return;
+        if depth >= MAX_DEPTH || u1 - u0 <= self.utol || self.boxes == 0 {
+            self.out.push(0.5 * (u0 + u1));
+            return Step::Keep;
+        }
+        self.boxes -= 1;
+        Step::Split
     }
-    let (f0, f1) = (coef[0], coef[n - 1]);
-    if changes == 1 && f0 != 0.0 && f1 != 0.0 && (f0 > 0.0) != (f1 > 0.0) {
-        out.push(crate::geom::roots::brent_with(
-            |u| bernstein_eval(full, u),
-            u0,
-            u1,
-            f0,
-            f1,
-            utol,
-        ));
-        return;
-    }
-    if depth >= MAX_DEPTH || u1 - u0 <= utol || *boxes == 0 {
-        out.push(0.5 * (u0 + u1));
-        return;
-    }
-    *boxes -= 1;
-    let um = 0.5 * (u0 + u1);
-    let (l, r) = split_half(coef);
-    isolate(full, &l, (u0, um), depth + 1, utol, boxes, out);
-    isolate(full, &r, (um, u1), depth + 1, utol, boxes, out);
 }
 
 /// The no-envelope pieces of one span [a, b].
@@ -206,9 +157,14 @@ fn span_intervals(c: &DiskBSpline, a: f64, b: f64, tol: f64) -> Vec<(f64, f64)> 
         return vec![(a, b)];
     }
     let w = b - a;
-    let mut roots = Vec::new();
-    let mut boxes = MAX_BOXES;
-    isolate(&coef, &coef, (0.0, 1.0), 0, tol / w, &mut boxes, &mut roots);
+    let mut iso = Isolate {
+        full: &coef,
+        utol: tol / w,
+        boxes: MAX_BOXES,
+        out: Vec::new(),
+    };
+    bernstein::subdivide(&coef, &mut iso);
+    let roots = iso.out;
     let mut pts: Vec<f64> = Vec::with_capacity(roots.len() + 2);
     pts.push(0.0);
     pts.extend(roots.iter().map(|u| u.clamp(0.0, 1.0)));

@@ -5,6 +5,7 @@
 //! takes its tolerance as an argument; the defaults a caller may use live in [`tol`].
 
 pub mod arc;
+pub mod bernstein;
 pub mod circle;
 pub mod cubic;
 pub mod line;

@@ -186,25 +186,32 @@ pub fn design_outlines(
     design_outlines_with(design, opts, None)
 }
 
-/// [`design_outlines`], reporting [`Stage::Skin`] progress after every item.
+/// [`design_outlines`], reporting [`Stage::Skin`] progress after every item. Items are
+/// skinned in parallel (rayon) and collected in file order, the first error in file order,
+/// so the result does not depend on the number of threads.
 pub fn design_outlines_with(
     design: &Design,
     opts: &OutlineOptions,
     progress: Option<ProgressFn<'_>>,
 ) -> Result<Vec<ItemOutline>, JobError> {
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
     let strokes = design.strokes()?;
-    let total = strokes.len() + design.circles.len();
+    let sequences = design.circle_sequences();
+    let total = strokes.len() + sequences.len();
     report(progress, Stage::Skin, 0, total);
-    let mut out = Vec::new();
-    for (s, c) in design.stroke.iter().zip(&strokes) {
-        out.push(stroke_outline(design, &s.name, c, opts)?);
-        report(progress, Stage::Skin, out.len(), total);
-    }
-    for (seq, circles) in design.circles.iter().zip(design.circle_sequences()) {
-        out.push(circles_outline(design, &seq.name, &circles, seq.closed)?);
-        report(progress, Stage::Skin, out.len(), total);
-    }
-    Ok(out)
+    let done = AtomicUsize::new(0);
+    let step = |r: Result<ItemOutline, JobError>| {
+        let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+        report(progress, Stage::Skin, n, total);
+        r
+    };
+    let strokes = (design.stroke.par_iter().zip(&strokes))
+        .map(|(s, c)| step(stroke_outline(design, &s.name, c, opts)));
+    let seqs = (design.circles.par_iter().zip(&sequences))
+        .map(|(seq, circles)| step(circles_outline(design, &seq.name, circles, seq.closed)));
+    let all: Vec<Result<ItemOutline, JobError>> = strokes.chain(seqs).collect();
+    all.into_iter().collect()
 }
 
 fn refc(role: CircleRole, c: &Circle) -> RefCircle {
@@ -310,13 +317,6 @@ const TOUCH_REL_TOL: f64 = 1e-12;
 const TOUCH_ON_CIRCLE_REL: f64 = 1e-9;
 /// Parameter accuracy of the Corollary 1 root finding and of the offset trim points.
 const RE_PARAM_TOL: f64 = 1e-12;
-/// Every exact piece is first cut into this many equal parameter parts before the chord
-/// test, so that a piece whose probes happen to lie on its chord is still refined.
-const FLATTEN_MIN_PARTS: usize = 4;
-/// Interior probes of the chord test (at k/(CHORD_PROBES + 1) of the parameter interval).
-const CHORD_PROBES: usize = 3;
-/// Deepest bisection of the chord test (2^-FLATTEN_MAX_DEPTH of a part).
-const FLATTEN_MAX_DEPTH: u32 = 30;
 
 /// The interpolant of an RE-type method, `None` for the skin and envelope methods.
 pub fn re_interp(method: OutlineMethod) -> Option<Interp> {
@@ -371,7 +371,7 @@ pub fn sequence_touches(
 /// Sec. 3.1, eqs. 7–12; for [`Interp::PhQuintic`] re-mph-skinning-flexible Sec. 3), detects
 /// the envelope intersections (mph Theorem 1 / Corollary 1) and, when there are any, removes
 /// those caused by roots of f (mph Sec. 4.2: quartic f of eqs. 18–19), then flattens the
-/// envelopes with their end caps within `tol` ([`flatten_mat`]).
+/// envelopes with their end caps within `tol` ([`MatOffset::flatten`]).
 pub fn re_outline(
     circles: &[Circle],
     touches: &[Touch],
@@ -403,7 +403,7 @@ pub fn re_outline(
         Ok(m) => m,
         Err(_) => raw_outline(&skin),
     };
-    let mut contours = flatten_mat(&mat, tol);
+    let mut contours = mat.flatten(tol);
     let loops = mat_offset::envelope_loops(&skin, RE_PARAM_TOL).unwrap_or_default();
     if !loops.is_empty() {
         let paths: Vec<Path> = contours.iter().map(|c| polyline_path(c)).collect();
@@ -492,86 +492,6 @@ fn raw_outline(skin: &ReSkin) -> MatOffset {
     }
 }
 
-/// Distance from `p` to the segment `a`–`b`.
-fn seg_dist(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    crate::geom::Line::new(a, b).distance(p)
-}
-
-/// Adaptive flattening of one exact piece by the chord test: the parameter interval
-/// [s0, s1] is accepted as one chord when the exact points at CHORD_PROBES interior
-/// parameters lie within `tol` of the chord, otherwise it is bisected (at most
-/// FLATTEN_MAX_DEPTH times). The test is checked at the probes, not proved between them.
-#[allow(clippy::too_many_arguments)]
-fn chord_subdivide(
-    f: &dyn Fn(f64) -> Option<DVec2>,
-    s0: f64,
-    p0: DVec2,
-    s1: f64,
-    p1: DVec2,
-    tol: f64,
-    depth: u32,
-    out: &mut Vec<DVec2>,
-) {
-    let flat = (1..=CHORD_PROBES).all(|k| {
-        let s = s0 + (s1 - s0) * k as f64 / (CHORD_PROBES + 1) as f64;
-        f(s).is_none_or(|q| seg_dist(q, p0, p1) <= tol)
-    });
-    if flat || depth >= FLATTEN_MAX_DEPTH {
-        out.push(p1);
-        return;
-    }
-    let sm = 0.5 * (s0 + s1);
-    match f(sm) {
-        Some(pm) => {
-            chord_subdivide(f, s0, p0, sm, pm, tol, depth + 1, out);
-            chord_subdivide(f, sm, pm, s1, p1, tol, depth + 1, out);
-        }
-        None => out.push(p1),
-    }
-}
-
-/// Flattens every contour of a [`MatOffset`] (outline, inner or outer offset) from its
-/// exact pieces (re-skinning-cnc eq. 13: y + (r + d) m±, and the cap arcs) within `tol` by
-/// `chord_subdivide`. Closed polylines do not repeat their first point; contours with
-/// fewer than 3 points are dropped.
-pub fn flatten_mat(m: &MatOffset, tol: f64) -> Vec<Vec<DVec2>> {
-    let mut out = Vec::new();
-    for c in &m.contours {
-        let mut pts: Vec<DVec2> = Vec::new();
-        for piece in &c.pieces {
-            if matches!(piece, Piece::Arc(a) if a.radius <= 0.0) {
-                continue;
-            }
-            let f = |s: f64| m.piece_point(piece, s);
-            let mut s_prev = 0.0;
-            let Some(mut p_prev) = f(0.0) else { continue };
-            if pts.last().is_none_or(|q| q.distance(p_prev) > 0.0) {
-                pts.push(p_prev);
-            }
-            for k in 1..=FLATTEN_MIN_PARTS {
-                let s = k as f64 / FLATTEN_MIN_PARTS as f64;
-                let Some(p) = f(s) else { continue };
-                chord_subdivide(&f, s_prev, p_prev, s, p, tol, 0, &mut pts);
-                s_prev = s;
-                p_prev = p;
-            }
-        }
-        pts.dedup_by(|a, b| a.distance(*b) <= 1e-12 * (1.0 + b.length()));
-        while pts.len() > 1
-            && pts
-                .first()
-                .zip(pts.last())
-                .is_some_and(|(a, b)| a.distance(*b) <= 1e-12 * (1.0 + b.length()))
-        {
-            pts.pop();
-        }
-        if pts.len() >= 3 {
-            out.push(pts);
-        }
-    }
-    out
-}
-
 /// Orients closed contours: the one of largest |area| counter-clockwise, the others
 /// clockwise (holes of a closed sequence or stroke).
 fn orient(mut cs: Vec<Vec<DVec2>>) -> Vec<Vec<DVec2>> {
@@ -598,8 +518,8 @@ fn orient(mut cs: Vec<Vec<DVec2>>) -> Vec<Vec<DVec2>> {
 pub fn re_offsets(skin: &ReSkin, delta: f64, tol: f64) -> Result<Vec<Vec<DVec2>>, ReOutlineError> {
     let inner = mat_offset::inner_offset(skin, delta, RE_PARAM_TOL)?;
     let outer = mat_offset::outer_offset(skin, delta, tol)?;
-    let mut out = flatten_mat(&inner, tol);
-    out.extend(flatten_mat(&outer, tol));
+    let mut out = inner.flatten(tol);
+    out.extend(outer.flatten(tol));
     Ok(out)
 }
 
@@ -909,7 +829,7 @@ mod tests {
 
     fn dist_poly(p: DVec2, c: &[DVec2]) -> f64 {
         (0..c.len())
-            .map(|i| seg_dist(p, c[i], c[(i + 1) % c.len()]))
+            .map(|i| crate::geom::Line::new(c[i], c[(i + 1) % c.len()]).distance(p))
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -927,7 +847,7 @@ mod tests {
                     let o = re_outline(&cs, &touches, closed, interp, tol).unwrap();
                     assert_eq!(o.contours.len(), if closed { 2 } else { 1 });
                     // Before any loop cut: the flattened exact pieces themselves.
-                    let flat = flatten_mat(&mat_offset::outline(&o.skin).unwrap(), tol);
+                    let flat = mat_offset::outline(&o.skin).unwrap().flatten(tol);
                     let all: Vec<DVec2> = flat.concat();
                     let near = |p: DVec2| {
                         flat.iter()

@@ -50,8 +50,9 @@ pub struct Progress {
     pub fraction: f64,
 }
 
-/// A callback that receives [`Progress`] reports.
-pub type ProgressFn<'a> = &'a dyn Fn(Progress);
+/// A callback that receives [`Progress`] reports; `Sync`, since items are skinned on
+/// several threads and each reports when it is done.
+pub type ProgressFn<'a> = &'a (dyn Fn(Progress) + Sync);
 
 /// Reports `done` of `total` steps of `stage` (fraction 1 when `total` is 0).
 pub(crate) fn report(progress: Option<ProgressFn<'_>>, stage: Stage, done: usize, total: usize) {

@@ -29,6 +29,7 @@ use super::touching::triplet_touching;
 use super::{AdmissibilityOptions, SkinError, Skins, TouchingPoints, check_admissible};
 use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, find_loops};
 use crate::geom::{Circle, CubicBez, DVec2, Path};
+use rayon::prelude::*;
 use std::cell::RefCell;
 use std::collections::HashMap;
 
@@ -216,6 +217,57 @@ fn cache_key(arc: &CubicBez, t0: f64, t1: f64, side: usize, full: bool) -> Cache
     (k, side, full)
 }
 
+/// One Hausdorff bound to compute: a skin arc against the envelope on `side` over [t0, t1].
+struct BoundJob {
+    key: CacheKey,
+    arc: CubicBez,
+    side: Side,
+    t0: f64,
+    t1: f64,
+}
+
+type SideSkin = Result<(Vec<f64>, Vec<CubicBez>), SkinError>;
+type Speculative = (Result<HausdorffBounds, HausdorffError>, usize);
+
+/// Runs `bound` in parallel (rayon) on every distinct uncached (arc, span) of the sides up
+/// to the first side that failed, keyed by cache key; the caller decides in serial order
+/// which results stand (a pure function of the job and the budget, so thread count and
+/// scheduling cannot change them).
+fn speculative_bounds(
+    sides: &[SideSkin; 2],
+    hi: f64,
+    full: bool,
+    cache: &HashMap<CacheKey, HausdorffBounds>,
+    bound: impl Fn(&BoundJob) -> Speculative + Sync,
+) -> HashMap<CacheKey, Speculative> {
+    let mut jobs: Vec<BoundJob> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for (k, side) in [Side::Left, Side::Right].into_iter().enumerate() {
+        let Ok((ps, arcs)) = &sides[k] else {
+            break;
+        };
+        for (a, arc) in arcs.iter().enumerate() {
+            let t0 = ps[a];
+            let t1 = ps.get(a + 1).copied().unwrap_or(hi);
+            let key = cache_key(arc, t0, t1, k, full);
+            if !cache.contains_key(&key) && seen.insert(key) {
+                jobs.push(BoundJob {
+                    key,
+                    arc: *arc,
+                    side,
+                    t0,
+                    t1,
+                });
+            }
+        }
+    }
+    // One job gains nothing from a thread; keep it on the caller's.
+    if jobs.len() < 2 {
+        return HashMap::new();
+    }
+    jobs.par_iter().map(|j| (j.key, bound(j))).collect()
+}
+
 fn adm_opts() -> AdmissibilityOptions {
     AdmissibilityOptions::default()
 }
@@ -277,6 +329,11 @@ impl State<'_> {
     }
 
     /// Errors of every side segment, mapped onto the segments of `params`.
+    ///
+    /// The bounds not yet cached are computed in parallel ([`speculative_bounds`]), then
+    /// taken in serial order against the shared work budget exactly as a serial run would
+    /// spend it; a bound whose parallel run might have been cut short by a smaller serial
+    /// budget is recomputed with that budget, so the result does not depend on threads.
     fn errors(&self, full: bool) -> Result<Vec<[HausdorffBounds; 2]>, DbscSkinError> {
         let mut out = vec![
             [HausdorffBounds {
@@ -285,13 +342,28 @@ impl State<'_> {
             }; 2];
             self.n_segments()
         ];
-        for (k, side) in [Side::Left, Side::Right].into_iter().enumerate() {
-            let (ps, arcs) = self.skin_side(side)?;
+        let sides = [self.skin_side(Side::Left), self.skin_side(Side::Right)];
+        let gap = self.opts.gap_fraction * self.opts.eps;
+        let (c, eps) = (self.c, self.opts.eps);
+        let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| {
+            if full {
+                hausdorff_skin_envelope_work(arc, c, side, t0, t1, gap, w)
+            } else {
+                hausdorff_within_work(arc, c, side, (t0, t1), eps, gap, w)
+            }
+        };
+        let par_budget = self.work.borrow().left.min(MAX_BOUND_WORK);
+        let mut pre = speculative_bounds(&sides, self.hi, full, &self.cache.borrow(), |j| {
+            let mut w = Work::new(par_budget);
+            let r = bound(&j.arc, j.side, j.t0, j.t1, &mut w);
+            (r, w.spent)
+        });
+        for (k, (side, skin)) in [Side::Left, Side::Right].into_iter().zip(sides).enumerate() {
+            let (ps, arcs) = skin?;
             let mut j = 0;
             for (a, arc) in arcs.iter().enumerate() {
                 let t0 = ps[a];
                 let t1 = ps.get(a + 1).copied().unwrap_or(self.hi);
-                let gap = self.opts.gap_fraction * self.opts.eps;
                 // An arc and its span determine the error: reuse it across passes (most
                 // arcs are unchanged by insertions elsewhere).
                 let key = cache_key(arc, t0, t1, k, full);
@@ -307,18 +379,16 @@ impl State<'_> {
                             });
                         }
                         let mut w = Work::new(budget.left.min(MAX_BOUND_WORK));
-                        let h = if full {
-                            hausdorff_skin_envelope_work(arc, self.c, side, t0, t1, gap, &mut w)?
-                        } else {
-                            hausdorff_within_work(
-                                arc,
-                                self.c,
-                                side,
-                                (t0, t1),
-                                self.opts.eps,
-                                gap,
-                                &mut w,
-                            )?
+                        let h = match pre.remove(&key) {
+                            // Never ran out and fits this budget: the same run as serial.
+                            Some((r, spent)) if spent < par_budget && spent <= w.left => {
+                                w = Work {
+                                    left: w.left - spent,
+                                    spent,
+                                };
+                                r?
+                            }
+                            _ => bound(arc, side, t0, t1, &mut w)?,
                         };
                         budget.left -= w.spent;
                         budget.spent += w.spent;
@@ -845,6 +915,41 @@ mod tests {
                 )
             })
             .collect()
+    }
+
+    /// The parallel Hausdorff bounds give the serial result: one thread against four, with
+    /// a budget large enough for every bound and one so small that the serial replay must
+    /// recompute bounds cut short by the shared budget (and finally runs out).
+    #[test]
+    fn parallel_skinning_equals_serial() {
+        let pool = |n: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        };
+        for (stroke, max_work) in [
+            (s_stroke(), DEFAULT_MAX_WORK),
+            (bend_stroke(), DEFAULT_MAX_WORK),
+            (s_stroke(), 3_000),
+        ] {
+            let c = open(3, &stroke);
+            let o = DbscSkinOptions {
+                max_work,
+                ..opts(0.01)
+            };
+            let serial = pool(1).install(|| skin_dbsc(&c, &o));
+            let parallel = pool(4).install(|| skin_dbsc(&c, &o));
+            assert_eq!(serial, parallel);
+        }
+        let small = DbscSkinOptions {
+            max_work: 3_000,
+            ..opts(0.01)
+        };
+        assert!(matches!(
+            skin_dbsc(&open(3, &s_stroke()), &small),
+            Err(DbscSkinError::WorkBudget { .. })
+        ));
     }
 
     #[test]

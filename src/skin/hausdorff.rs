@@ -19,6 +19,7 @@
 //! rounding; refinement stops when upper − lower ≤ the requested gap.
 
 use crate::dbsc::{Bern, DiskBSpline, Side, SpanPoly};
+use crate::geom::bernstein;
 use crate::geom::{CubicBez, DVec2, Line};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -203,6 +204,19 @@ impl BoundedCurve for EnvelopeSegment<'_> {
         };
         envelope_d2_bound(sp, self.side.sign(), t0.max(sp.a), t1.min(sp.b))
     }
+    /// The trait's default over [`Self::pieces`], walking the spans without collecting them.
+    fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
+        let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let mut m: f64 = 0.0;
+        for s in &self.spans {
+            let (p0, p1) = (s.a.max(self.t_a), s.b.min(self.t_b));
+            let (u0, u1) = (a.max(p0), b.min(p1));
+            if u1 >= u0 {
+                m = m.max(self.d2_bound(u0, u1));
+            }
+        }
+        m
+    }
 }
 
 /// A closed real interval.
@@ -327,8 +341,48 @@ impl Jet {
     }
 }
 
-/// Ranges of the t-derivatives 0..=3 of a span polynomial on [t0, t1].
+/// Ranges of the t-derivatives 0..=3 of a span polynomial on [t0, t1]: the Bernstein
+/// coefficients of the piece and of its derivatives enclose them (convex hull property),
+/// computed in a stack buffer ([`bernstein::sub_into`], [`bernstein::deriv_in_place`]).
 fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
+    let n = b.0.len();
+    if n > bernstein::SMALL {
+        return deriv_ranges_heap(b, sp, t0, t1);
+    }
+    let h = sp.b - sp.a;
+    let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
+    let mut buf = [0.0f64; bernstein::SMALL];
+    let mut len = n;
+    bernstein::sub_into(&b.0, u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0), &mut buf[..n]);
+    let w = t1 - t0;
+    let mut out = [Iv::pt(0.0); 4];
+    let mut f = 1.0;
+    for (k, o) in out.iter_mut().enumerate() {
+        if k > 0 {
+            len = bernstein::deriv_in_place(&mut buf[..len]);
+            f /= w;
+        }
+        let (lo, hi) = bernstein::range(&buf[..len]);
+        *o = Iv::new(lo * f, hi * f);
+        if w <= 0.0 && k > 0 {
+            *o = Iv::pt(point_deriv(b, u0, h, k));
+        }
+    }
+    out
+}
+
+/// The k-th t-derivative of a span polynomial at u (for point intervals).
+fn point_deriv(b: &Bern, u0: f64, h: f64, k: usize) -> f64 {
+    let mut q = b.clone();
+    for _ in 0..k {
+        q = q.deriv();
+    }
+    q.eval(u0.clamp(0.0, 1.0)) / h.powi(k as i32)
+}
+
+/// [`deriv_ranges`] for polynomials longer than the small stack buffer (strokes of degree
+/// above 7).
+fn deriv_ranges_heap(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
     let h = sp.b - sp.a;
     let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
     let mut p = b.sub(u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0));
@@ -343,13 +397,7 @@ fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
         let (lo, hi) = p.range();
         *o = Iv::new(lo * f, hi * f);
         if w <= 0.0 && k > 0 {
-            // A point interval: derivatives from the span polynomial at that point.
-            let mut q = b.clone();
-            for _ in 0..k {
-                q = q.deriv();
-            }
-            let v = q.eval(u0.clamp(0.0, 1.0)) / h.powi(k as i32);
-            *o = Iv::pt(v);
+            *o = Iv::pt(point_deriv(b, u0, h, k));
         }
     }
     out
@@ -443,13 +491,17 @@ fn initial_grid(c: &dyn BoundedCurve) -> Vec<f64> {
 }
 
 /// d(x, Y) to within `tol` by best-first branch and bound on Y's chords.
+/// `pieces` are `y.pieces()` and `heap` a buffer reused across calls (cleared here).
+#[allow(clippy::too_many_arguments)]
 fn point_distance(
     x: DVec2,
     y: &dyn BoundedCurve,
     grid: &[(f64, DVec2)],
+    pieces: &[(f64, f64)],
     hint: Option<f64>,
     tol: f64,
     work: &mut Work,
+    heap: &mut BinaryHeap<Node>,
 ) -> Result<PointDist, HausdorffError> {
     let mut best = PointDist {
         lower: 0.0,
@@ -466,7 +518,7 @@ fn point_distance(
     if let Some(h) = hint {
         upd(h, y.point(h)?, &mut best);
     }
-    let mut heap: BinaryHeap<Node> = BinaryHeap::new();
+    heap.clear();
     let lb = |t0: f64, t1: f64, p0: DVec2, p1: DVec2| {
         let e = or_inf((t1 - t0).powi(2) * y.d2_bound(t0, t1) / 8.0);
         let l = Line::new(p0, p1).distance(x) - e;
@@ -474,7 +526,6 @@ fn point_distance(
     };
     // Smallest lower bound of the leaves (nodes too narrow to split).
     let mut leaf_lower = f64::INFINITY;
-    let pieces = y.pieces();
     for w in grid.windows(2) {
         let (t0, p0) = w[0];
         let (t1, p1) = w[1];
@@ -541,6 +592,8 @@ fn directed(
         .map(|t| yc.point(t).map(|p| (t, p)))
         .collect::<Result<_, _>>()?;
     let ptol = 0.25 * gap;
+    let ypieces = yc.pieces();
+    let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
     let mut lower: f64 = 0.0;
     let mut heap: BinaryHeap<Node> = BinaryHeap::new();
     let xs = initial_grid(xc);
@@ -548,7 +601,7 @@ fn directed(
     let mut hint = None;
     for &s in &xs {
         let p = xc.point(s)?;
-        let d = point_distance(p, yc, &ygrid, hint, ptol, work)?;
+        let d = point_distance(p, yc, &ygrid, &ypieces, hint, ptol, work, &mut pheap)?;
         hint = Some(d.t);
         lower = lower.max(d.lower);
         ends.push((s, p, d));
@@ -591,7 +644,8 @@ fn directed(
             continue;
         }
         let pm = xc.point(sm)?;
-        let dm = point_distance(pm, yc, &ygrid, Some(0.5 * (nd.u0 + nd.u1)), ptol, work)?;
+        let hint = Some(0.5 * (nd.u0 + nd.u1));
+        let dm = point_distance(pm, yc, &ygrid, &ypieces, hint, ptol, work, &mut pheap)?;
         lower = lower.max(dm.lower);
         let d0 = PointDist {
             lower: 0.0,

@@ -1,6 +1,9 @@
 //! Univariate polynomials on [0, 1]: power basis for algebra, Bernstein basis for root
 //! isolation and positivity certificates (re-mph-skinning-flexible Sec. 4.1–4.2: roots of f
 //! "by Bézier–Bernstein representation"; positivity (17) proved on Bernstein coefficients).
+//! Evaluation, subdivision and proofs are the shared kernel [`crate::geom::bernstein`].
+
+use crate::geom::bernstein::{self, Step, Visitor};
 
 /// A polynomial in the power basis, coefficients in ascending order (`c[k]` of tᵏ).
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -76,12 +79,9 @@ impl Poly {
     }
 
     /// Bernstein coefficients on [0, 1] of the same degree:
-    /// bᵢ = Σ_{k≤i} C(i,k)/C(n,k) aₖ.
+    /// bᵢ = Σ_{k≤i} C(i,k)/C(n,k) aₖ ([`bernstein::from_power`]).
     pub fn to_bernstein(&self) -> Vec<f64> {
-        let n = self.degree();
-        (0..=n)
-            .map(|i| (0..=i).map(|k| binom(i, k) / binom(n, k) * self.c[k]).sum())
-            .collect()
+        bernstein::from_power(&self.c)
     }
 
     /// From Bernstein coefficients on [0, 1]: aₖ = C(n,k) Σ_{i≤k} (−1)^{k−i} C(k,i) bᵢ.
@@ -118,8 +118,13 @@ impl Poly {
     /// sign or vanish within `zero_tol` (absolute, in units of the polynomial's values).
     pub fn roots_01(&self, tol: f64, zero_tol: f64) -> Vec<f64> {
         let b = self.to_bernstein();
-        let mut out = Vec::new();
-        bern_roots(&b, 0.0, 1.0, tol.max(1e-15), zero_tol, 0, &mut out);
+        let mut roots = Roots {
+            tol: tol.max(1e-15),
+            zero_tol,
+            out: Vec::new(),
+        };
+        bernstein::subdivide(&b, &mut roots);
+        let mut out = roots.out;
         out.sort_by(f64::total_cmp);
         // Leaves of one multiple root come in chains `tol` apart: report each chain's middle.
         let mut merged: Vec<f64> = Vec::new();
@@ -135,158 +140,89 @@ impl Poly {
     }
 }
 
-/// Binomial coefficient as f64.
-pub fn binom(n: usize, k: usize) -> f64 {
-    if k > n {
-        return 0.0;
-    }
-    let k = k.min(n - k);
-    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
-}
+pub use crate::geom::bernstein::{Positivity, binom};
 
-/// Value of a Bernstein polynomial at local parameter `s` (de Casteljau).
+/// Value of a Bernstein polynomial at local parameter `s` (de Casteljau,
+/// [`bernstein::eval`]).
 pub fn bern_eval(b: &[f64], s: f64) -> f64 {
-    let mut w = b.to_vec();
-    let n = w.len();
-    for r in 1..n {
-        for i in 0..n - r {
-            w[i] = (1.0 - s) * w[i] + s * w[i + 1];
-        }
-    }
-    w.first().copied().unwrap_or(0.0)
+    bernstein::eval(b, s)
 }
 
-/// De Casteljau split of Bernstein coefficients at local parameter `s`.
-pub fn bern_split(b: &[f64], s: f64) -> (Vec<f64>, Vec<f64>) {
-    let n = b.len();
-    let mut w = b.to_vec();
-    let mut left = Vec::with_capacity(n);
-    let mut right = vec![0.0; n];
-    for r in 0..n {
-        left.push(w[0]);
-        right[n - 1 - r] = w[n - 1 - r];
-        for i in 0..n.saturating_sub(r + 1) {
-            w[i] = (1.0 - s) * w[i] + s * w[i + 1];
-        }
-    }
-    (left, right)
+/// The root policy of [`Poly::roots_01`] on [`bernstein::subdivide`]: zero end
+/// coefficients are roots; a piece without sign change whose coefficients are all clear of
+/// `zero_tol` has none; one change with opposite end values is one simple root, bisected on
+/// the piece's Bernstein form to `tol`; pieces still undecided at width `tol` (or depth
+/// [`MAX_DEPTH`]) report their midpoint when they change sign or nearly vanish there.
+struct Roots {
+    tol: f64,
+    zero_tol: f64,
+    out: Vec<f64>,
 }
 
-fn sign_changes(b: &[f64]) -> usize {
-    let mut n = 0;
-    let mut last = 0.0;
-    for &x in b {
-        if x != 0.0 {
-            if last != 0.0 && (x > 0.0) != (last > 0.0) {
-                n += 1;
-            }
-            last = x;
+impl Visitor for Roots {
+    fn visit(&mut self, b: &[f64], a: f64, c: f64, depth: u32) -> Step {
+        let (first, last) = (b[0], b[b.len() - 1]);
+        if first == 0.0 {
+            self.out.push(a);
         }
-    }
-    n
-}
-
-fn bern_roots(b: &[f64], a: f64, c: f64, tol: f64, zero_tol: f64, depth: u32, out: &mut Vec<f64>) {
-    let (Some(&first), Some(&last)) = (b.first(), b.last()) else {
-        return;
-    };
-    if first == 0.0 {
-        out.push(a);
-    }
-    if last == 0.0 {
-        out.push(c);
-    }
-    let inner = if b.len() > 2 {
-        &b[1..b.len() - 1]
-    } else {
-        &[][..]
-    };
-    let all_pos = b.iter().all(|&x| x >= 0.0) && inner.iter().any(|&x| x > 0.0);
-    let all_neg = b.iter().all(|&x| x <= 0.0) && inner.iter().any(|&x| x < 0.0);
-    let changes = sign_changes(b);
-    if changes == 0
-        && (all_pos || all_neg || b.iter().all(|&x| x != 0.0))
-        && b.iter().all(|&x| x.abs() > zero_tol)
-    {
-        return;
-    }
-    if changes == 1 && first != 0.0 && last != 0.0 && (first > 0.0) != (last > 0.0) {
-        // Exactly one simple root: bisection on the Bernstein form.
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        let neg_at_lo = first < 0.0;
-        while (hi - lo) * (c - a) > tol {
-            let m = 0.5 * (lo + hi);
-            let v = bern_eval(b, m);
-            if v == 0.0 {
-                lo = m;
-                hi = m;
-                break;
-            }
-            if (v < 0.0) == neg_at_lo {
-                lo = m;
-            } else {
-                hi = m;
-            }
+        if last == 0.0 {
+            self.out.push(c);
         }
-        out.push(a + 0.5 * (lo + hi) * (c - a));
-        return;
-    }
-    if c - a <= tol || depth >= MAX_DEPTH {
-        let m = bern_eval(b, 0.5);
-        if changes > 0 || m.abs() <= zero_tol {
-            out.push(0.5 * (a + c));
-        }
-        return;
-    }
-    let (l, r) = bern_split(b, 0.5);
-    let m = 0.5 * (a + c);
-    // A coefficient exactly zero at the split point is reported by both halves; merged later.
-    bern_roots(&l, a, m, tol, zero_tol, depth + 1, out);
-    bern_roots(&r, m, c, tol, zero_tol, depth + 1, out);
-}
-
-/// Outcome of a positivity proof on [0, 1].
-#[derive(Clone, Debug, PartialEq)]
-pub enum Positivity {
-    /// Every Bernstein coefficient on every piece of a subdivision is > 0: p > 0 on [0, 1].
-    Proven { pieces: usize },
-    /// p(t) ≤ 0 at this parameter (a witness).
-    Fails { t: f64, value: f64 },
-    /// Neither proved nor refuted down to the subdivision limit.
-    Undecided,
-}
-
-/// Proves p > 0 on [0, 1] by Bernstein subdivision: a polynomial whose Bernstein
-/// coefficients on an interval are all positive is positive there (convex hull property).
-/// Refutes it with a witness when the end coefficient of a piece (a curve value) is ≤ 0.
-/// `max_depth` bounds the subdivision (pieces ≥ 2^−max_depth wide).
-pub fn prove_positive(p: &Poly, max_depth: u32) -> Positivity {
-    let b = p.to_bernstein();
-    let mut stack = vec![(b, 0.0f64, 1.0f64, 0u32)];
-    let mut pieces = 0;
-    while let Some((b, a, c, d)) = stack.pop() {
-        let (Some(&first), Some(&last)) = (b.first(), b.last()) else {
-            return Positivity::Undecided;
+        let inner = if b.len() > 2 {
+            &b[1..b.len() - 1]
+        } else {
+            &[][..]
         };
-        if first <= 0.0 {
-            return Positivity::Fails { t: a, value: first };
+        let all_pos = b.iter().all(|&x| x >= 0.0) && inner.iter().any(|&x| x > 0.0);
+        let all_neg = b.iter().all(|&x| x <= 0.0) && inner.iter().any(|&x| x < 0.0);
+        let changes = bernstein::sign_changes(b);
+        if changes == 0
+            && (all_pos || all_neg || b.iter().all(|&x| x != 0.0))
+            && b.iter().all(|&x| x.abs() > self.zero_tol)
+        {
+            return Step::Keep;
         }
-        if last <= 0.0 {
-            return Positivity::Fails { t: c, value: last };
+        if changes == 1 && first != 0.0 && last != 0.0 && (first > 0.0) != (last > 0.0) {
+            // Exactly one simple root: bisection on the Bernstein form.
+            let (mut lo, mut hi) = (0.0f64, 1.0f64);
+            let neg_at_lo = first < 0.0;
+            while (hi - lo) * (c - a) > self.tol {
+                let m = 0.5 * (lo + hi);
+                let v = bernstein::eval(b, m);
+                if v == 0.0 {
+                    lo = m;
+                    hi = m;
+                    break;
+                }
+                if (v < 0.0) == neg_at_lo {
+                    lo = m;
+                } else {
+                    hi = m;
+                }
+            }
+            self.out.push(a + 0.5 * (lo + hi) * (c - a));
+            return Step::Keep;
         }
-        if b.iter().all(|&x| x > 0.0) {
-            pieces += 1;
-            continue;
+        if c - a <= self.tol || depth >= MAX_DEPTH {
+            let m = bernstein::eval(b, 0.5);
+            if changes > 0 || m.abs() <= self.zero_tol {
+                self.out.push(0.5 * (a + c));
+            }
+            return Step::Keep;
         }
-        if d >= max_depth {
-            return Positivity::Undecided;
-        }
-        let (l, r) = bern_split(&b, 0.5);
-        let m = 0.5 * (a + c);
-        stack.push((r, m, c, d + 1));
-        stack.push((l, a, m, d + 1));
+        // A coefficient exactly zero at the split point is reported by both halves; merged
+        // by the caller.
+        Step::Split
     }
-    Positivity::Proven { pieces }
+}
+
+/// Proves p > 0 on [0, 1] by Bernstein subdivision ([`bernstein::prove_positive`]): a
+/// polynomial whose Bernstein coefficients on an interval are all positive is positive
+/// there (convex hull property). Refutes it with a witness when the end coefficient of a
+/// piece (a curve value) is ≤ 0. `max_depth` bounds the subdivision (pieces ≥
+/// 2^−max_depth wide).
+pub fn prove_positive(p: &Poly, max_depth: u32) -> Positivity {
+    bernstein::prove_positive(&p.to_bernstein(), max_depth)
 }
 
 /// Real roots in [0, 1] of the cubic a₀ + a₁t + a₂t² + a₃t³ in closed form (Cardano /
@@ -373,6 +309,12 @@ mod tests {
 
     #[test]
     fn bernstein_round_trip_and_values() {
+        let bern_split = |b: &[f64], s: f64| {
+            let mut r = b.to_vec();
+            let mut l = vec![0.0; b.len()];
+            bernstein::split_in_place(&mut r, s, &mut l);
+            (l, r)
+        };
         let p = Poly::new(vec![0.3, -2.0, 5.0, 1.5, -0.7]);
         let b = p.to_bernstein();
         for i in 0..=10 {
