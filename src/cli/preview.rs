@@ -169,10 +169,7 @@ pub fn run(a: Args) -> Result<u8> {
         let program = if profile.kind == MachineKind::Svg {
             None
         } else {
-            let units = match design.units {
-                skinpath::design::Units::Mm => skinpath::machine::Units::Mm,
-                skinpath::design::Units::Inch => skinpath::machine::Units::Inch,
-            };
+            let units = design.units;
             Some(gcode(
                 &built.toolpath,
                 &profile,

@@ -4,7 +4,7 @@
 
 use super::outline::ItemOutline;
 use crate::geom::path::polygon_area;
-use crate::machine::{Dialect, MachineKind, Profile, Units};
+use crate::machine::{Dialect, MachineKind, Profile};
 use crate::sim::{CheckConfig, DesignBoundary, KeepSide};
 
 /// The checker's view of `profile` for a tool of radius `tool_radius` (profile units).
@@ -16,10 +16,7 @@ pub fn check_config(profile: &Profile, tool_radius: f64) -> CheckConfig {
     let f = &profile.max_feed;
     let a = &profile.acceleration;
     CheckConfig {
-        units: match profile.units {
-            Units::Mm => crate::sim::Units::Mm,
-            Units::Inch => crate::sim::Units::Inch,
-        },
+        units: profile.units,
         kind: match profile.kind {
             MachineKind::Router => crate::sim::MachineKind::Router,
             _ => crate::sim::MachineKind::Laser,

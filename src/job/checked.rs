@@ -197,10 +197,7 @@ impl Job<'_> {
             scale,
         )?;
         clock.start(Stage::Emit);
-        let units = match design.units {
-            crate::design::Units::Mm => crate::machine::Units::Mm,
-            crate::design::Units::Inch => crate::machine::Units::Inch,
-        };
+        let units = design.units;
         let mut report = None;
         let mut explanations = Vec::new();
         let mut origins = Vec::new();
