@@ -27,7 +27,7 @@ use crate::geom::{Circle, DVec2};
 use crate::machine::{MachineKind, Profile};
 use crate::sim::{Backend, Finding, Report, Severity, check_text};
 use crate::toolpath::Toolpath;
-use std::cell::RefCell;
+use std::sync::{Mutex, MutexGuard};
 use std::time::Instant;
 
 /// The kind of machine program a job writes.
@@ -584,20 +584,25 @@ pub fn design_of_strokes(
 /// Turns progress reports into stage timings and passes them on.
 struct StageClock<'a> {
     inner: Option<ProgressFn<'a>>,
-    state: RefCell<(Option<Stage>, Instant, Timings)>,
+    state: Mutex<(Option<Stage>, Instant, Timings)>,
 }
 
 impl<'a> StageClock<'a> {
     fn new(inner: Option<ProgressFn<'a>>) -> Self {
         StageClock {
             inner,
-            state: RefCell::new((None, Instant::now(), Timings::default())),
+            state: Mutex::new((None, Instant::now(), Timings::default())),
         }
+    }
+
+    /// The clock's state (a poisoned lock still holds valid times).
+    fn state(&self) -> MutexGuard<'_, (Option<Stage>, Instant, Timings)> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// Closes the running stage and starts `stage` (when it is not the running one).
     fn start(&self, stage: Stage) {
-        let mut st = self.state.borrow_mut();
+        let mut st = self.state();
         if st.0 != Some(stage) {
             let now = Instant::now();
             if let Some(s) = st.0 {
@@ -617,7 +622,7 @@ impl<'a> StageClock<'a> {
 
     fn seen(&self, p: Progress) {
         {
-            let mut st = self.state.borrow_mut();
+            let mut st = self.state();
             if st.0 != Some(p.stage) {
                 let now = Instant::now();
                 if let Some(s) = st.0 {
@@ -634,7 +639,7 @@ impl<'a> StageClock<'a> {
     }
 
     fn finish(&self) -> Timings {
-        let mut st = self.state.borrow_mut();
+        let mut st = self.state();
         if let Some(s) = st.0.take() {
             let d = st.1.elapsed();
             st.2.add(s, d);

@@ -161,11 +161,11 @@ mod tests {
 
     #[test]
     fn report_clamps_and_handles_empty_work() {
-        let seen = std::cell::RefCell::new(Vec::new());
-        let f = |p: Progress| seen.borrow_mut().push(p.fraction);
+        let seen = std::sync::Mutex::new(Vec::new());
+        let f = |p: Progress| seen.lock().unwrap().push(p.fraction);
         report(Some(&f), Stage::Skin, 0, 0);
         report(Some(&f), Stage::Skin, 1, 4);
         report(Some(&f), Stage::Skin, 9, 4);
-        assert_eq!(*seen.borrow(), vec![1.0, 0.25, 1.0]);
+        assert_eq!(*seen.lock().unwrap(), vec![1.0, 0.25, 1.0]);
     }
 }

@@ -34,6 +34,16 @@ pub const JOINT_ZONE: f64 = 4.0;
 /// otherwise report one hit per leaf).
 const MAX_HITS_PER_PAIR: usize = 64;
 
+/// Work bound of one search (one pair of segments, or one cubic's self-intersection test):
+/// at most this many pairs of pieces are visited. With `tol` > 0 a pair is decided once
+/// both pieces are flat within tol/2, which takes about log₄(size²/tol) halvings, so
+/// ordinary input needs a few thousand visits; a zero, tiny or non-finite tolerance (or
+/// two long curves running within a few tol of each other) could otherwise visit up to
+/// 4^[`MAX_DEPTH`] pairs. A search that runs out of budget reports one conservative hit
+/// at the first piece it could not decide, as the depth limit does, so callers turn it into
+/// their intersection error (naming the stroke) instead of hanging.
+pub const MAX_VISITS_PER_SEARCH: usize = 1 << 20;
+
 /// One intersection of two curves: parameters on each and the point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
@@ -173,6 +183,8 @@ struct Search<'a> {
     /// segments).
     joints: &'a [(f64, f64, DVec2)],
     hits: Vec<Hit>,
+    /// Pairs of pieces visited so far (bounded by [`MAX_VISITS_PER_SEARCH`]).
+    visits: usize,
 }
 
 impl Search<'_> {
@@ -196,6 +208,7 @@ impl Search<'_> {
         {
             return;
         }
+        self.visits += 1;
         let joint = self.at_joint(a, b);
         let (fa, fb) = (a.flatness(), b.flatness());
         if !joint && fa <= 0.5 * self.tol && fb <= 0.5 * self.tol {
@@ -216,7 +229,7 @@ impl Search<'_> {
             }
             return;
         }
-        if depth >= MAX_DEPTH {
+        if depth >= MAX_DEPTH || self.visits >= MAX_VISITS_PER_SEARCH {
             let (p, _) = a.ends();
             self.hits.push(Hit {
                 ta: a.t0,
@@ -248,6 +261,16 @@ impl Search<'_> {
         if mono || a.size() <= self.tol || depth >= MAX_DEPTH {
             return;
         }
+        self.visits += 1;
+        if self.visits >= MAX_VISITS_PER_SEARCH {
+            let (p, _) = a.ends();
+            self.hits.push(Hit {
+                ta: a.t0,
+                tb: a.t1,
+                point: p,
+            });
+            return;
+        }
         let (x, y) = a.split();
         self.run_self(&x, depth + 1);
         self.run_self(&y, depth + 1);
@@ -255,8 +278,10 @@ impl Search<'_> {
             tol: self.tol,
             joints: &[(x.t1, y.t0, x.ends().1)],
             hits: Vec::new(),
+            visits: self.visits,
         };
         inner.run(&x, &y, depth + 1);
+        self.visits = inner.visits;
         self.hits.extend(inner.hits);
     }
 }
@@ -277,6 +302,7 @@ fn pair_hits(a: &PathSeg, b: &PathSeg, joints: &[(f64, f64, DVec2)], tol: f64) -
         tol,
         joints,
         hits: Vec::new(),
+        visits: 0,
     };
     s.run(&Piece::of(a), &Piece::of(b), 0);
     dedup(s.hits, tol)
@@ -294,6 +320,7 @@ pub fn cubic_self_intersections(c: &CubicBez, tol: f64) -> Vec<Hit> {
         tol,
         joints: &[],
         hits: Vec::new(),
+        visits: 0,
     };
     s.run_self(&Piece::of(&PathSeg::Cubic(*c)), 0);
     dedup(s.hits, tol)
@@ -539,6 +566,27 @@ mod tests {
         // Lifted off by 1e-3 (more than 3·tol): no contact.
         let up = CubicBez::new(v(-1.0, -1e-3), v(-0.3, -1e-3), v(0.3, -1e-3), v(1.0, -1e-3));
         assert!(cubic_intersections(&par, &up, 1e-9).is_empty());
+    }
+
+    #[test]
+    fn work_bound_ends_an_undecidable_search_conservatively() {
+        // Two arches 1e-12 apart with a tolerance of 1e-300: no piece ever becomes flat
+        // within tol/2 and the boxes of about 2^40 pairs along the curves overlap, so an
+        // unbounded subdivision would not end. The budget stops it and reports a hit.
+        let a = CubicBez::new(v(0.0, 0.0), v(1.0, 2.0), v(2.0, 2.0), v(3.0, 0.0));
+        let d = v(0.0, 1e-12);
+        let b = CubicBez::new(a.p0 + d, a.p1 + d, a.p2 + d, a.p3 + d);
+        let hits = cubic_intersections(&a, &b, 1e-300);
+        assert!(!hits.is_empty());
+        // At an ordinary tolerance they are one contact (well within the budget).
+        assert!(!cubic_intersections(&a, &b, 1e-9).is_empty());
+        let far = CubicBez::new(
+            a.p0 + d * 1e9,
+            a.p1 + d * 1e9,
+            a.p2 + d * 1e9,
+            a.p3 + d * 1e9,
+        );
+        assert!(cubic_intersections(&a, &far, 1e-9).is_empty());
     }
 
     #[test]

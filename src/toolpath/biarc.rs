@@ -101,9 +101,22 @@ pub fn speed_bound(c: &CubicBez) -> f64 {
 /// `tol / BOUND_RESOLUTION` are not split further.
 const BOUND_RESOLUTION: f64 = 64.0;
 
-/// A guaranteed upper bound of the Hausdorff distance between the cubic `c` and the chain
-/// `segs`, refined until it either proves `≤ tol` or reaches a resolution of
-/// `tol / BOUND_RESOLUTION`.
+/// Work bound of [`max_deviation`]: at most this many pieces are examined in each of its
+/// two directions (curve to chain, chain to curve). Bisection down to the resolution
+/// `tol / BOUND_RESOLUTION` needs up to about 6·L/tol pieces to prove a fit (L the
+/// curve's length; the speed bound of a piece is about 3× its length and must drop to
+/// 2·tol), which an ordinary fit (L/tol ≲ 10⁵) stays inside; a cubic very long against `tol` runs out instead of hanging, and the bound
+/// is then unproven ([`f64::INFINITY`]), so [`fit_cubic`] splits the cubic and tries again
+/// on halves (down to [`MAX_DEPTH`]).
+pub const MAX_BOUND_PIECES: usize = 1 << 20;
+
+/// Decides whether the Hausdorff distance between the cubic `c` and the chain `segs` is at
+/// most `tol`: a result ≤ `tol` is a guaranteed upper bound of that distance (refined until
+/// it proves `≤ tol` or reaches a resolution of `tol / BOUND_RESOLUTION`); a result > `tol`
+/// means it is not proven: either a point of one curve lies farther than `tol` from the
+/// other (the result is then that point's distance, a lower bound, and the refinement stops
+/// there), or the resolution bound exceeds `tol`, or [`f64::INFINITY`] when `tol` is not a
+/// positive finite number or the refinement needs more than [`MAX_BOUND_PIECES`] pieces.
 ///
 /// Curve to chain: f(s) = dist(C(s), chain) is Lipschitz with constant M = speed bound of
 /// the sub-cubic on [a, b] (reparametrised to [0, 1]), so on that piece
@@ -117,11 +130,23 @@ pub fn max_deviation(c: &CubicBez, segs: &[PathSeg], tol: f64) -> f64 {
             .map(|s| seg_distance(s, p))
             .fold(f64::INFINITY, f64::min)
     };
+    if !(tol > 0.0 && tol.is_finite()) {
+        return f64::INFINITY;
+    }
     let floor = tol / BOUND_RESOLUTION;
     // Curve to chain, by adaptive bisection on the parameter.
     let mut worst: f64 = 0.0;
     let mut stack = vec![(0.0, 1.0, dist(c.p0), dist(c.p3))];
+    let mut pieces = 0usize;
     while let Some((a, b, fa, fb)) = stack.pop() {
+        pieces += 1;
+        if pieces > MAX_BOUND_PIECES {
+            return f64::INFINITY;
+        }
+        // A point of the curve farther than tol from the chain: not within tol.
+        if fa.max(fb) > tol {
+            return fa.max(fb);
+        }
         let m = speed_bound(&c.subsegment(a, b));
         let bound = 0.5 * (fa + fb + m);
         if bound <= tol || m <= floor {
@@ -139,7 +164,18 @@ pub fn max_deviation(c: &CubicBez, segs: &[PathSeg], tol: f64) -> f64 {
     for s in segs {
         let len = s.length(1e-9);
         let mut stack = vec![(0.0, 1.0, gdist(s.eval(0.0)), gdist(s.eval(1.0)))];
+        let mut pieces = 0usize;
         while let Some((a, b, ga, gb)) = stack.pop() {
+            pieces += 1;
+            if pieces > MAX_BOUND_PIECES {
+                return f64::INFINITY;
+            }
+            // g overestimates the distance to the curve by at most tol/4 (the flattening's
+            // tol/8 both ways): a point of the chain farther than tol from the curve.
+            let lower = ga.max(gb) - 0.25 * tol;
+            if lower > tol {
+                return lower;
+            }
             let l = (b - a) * len;
             let bound = 0.5 * (ga + gb + l);
             if bound <= tol || l <= floor {
@@ -283,6 +319,52 @@ mod tests {
                 PathSeg::Arc(a) => assert!((a.radius - r).abs() < 0.05, "radius {}", a.radius),
                 other => panic!("expected arcs, got {other:?}"),
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::*;
+
+    #[test]
+    fn deviation_bound_is_unproven_without_a_usable_tolerance_or_budget() {
+        let c = CubicBez::new(
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(3.0, 0.0),
+        );
+        let chord = [PathSeg::Line(Line::new(c.p0, c.p3))];
+        for tol in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert_eq!(max_deviation(&c, &chord, tol), f64::INFINITY, "{tol}");
+        }
+        // A straight cubic on its own chord at a tolerance of 1e-12: every sample is on the
+        // chord, but proving the bound would take ~10¹² pieces; the budget ends the
+        // refinement, unproven. At 1e-3 it is proven.
+        let straight = CubicBez::new(
+            DVec2::ZERO,
+            DVec2::new(1.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(3.0, 0.0),
+        );
+        let line = [PathSeg::Line(Line::new(straight.p0, straight.p3))];
+        assert_eq!(max_deviation(&straight, &line, 1e-12), f64::INFINITY);
+        assert!(max_deviation(&straight, &line, 1e-3) <= 1e-3);
+        // An ordinary request ends at the first point found farther than tol: a lower bound
+        // of the true distance 1.5, above tol.
+        let d = max_deviation(&c, &chord, 1e-3);
+        assert!(d > 1e-3 && d <= 1.5 + 1e-12, "{d}");
+        // A chain within tol gets a proven bound ≤ tol.
+        let fit = fit_cubic(&c, 1e-3);
+        assert!(max_deviation(&c, &fit, 1e-3) <= 1e-3);
+        // The fit still ends (split down to MAX_DEPTH), with pieces joined end to end.
+        let segs = fit_cubic(&c, 0.0);
+        assert!(!segs.is_empty() && segs.len() <= 2 << MAX_DEPTH);
+        assert!(segs[0].start().distance(c.p0) < 1e-9);
+        assert!(segs[segs.len() - 1].end().distance(c.p3) < 1e-9);
+        for w in segs.windows(2) {
+            assert!(w[0].end().distance(w[1].start()) < 1e-9);
         }
     }
 }

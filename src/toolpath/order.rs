@@ -2,13 +2,36 @@
 //! travel by nearest neighbour (with the entry point of each closed contour chosen as its
 //! point nearest to the tool) improved by 2-opt moves that respect the precedence.
 //!
-//! Complexity: precedence O(n² · m) for n contours of m points (containment tests);
-//! nearest neighbour O(n² · m); 2-opt O(n²) per sweep, at most `MAX_2OPT_SWEEPS` sweeps.
+//! Complexity: precedence O(n² + k · m) for n contours of m points (a box test per pair,
+//! containment tests only for the k pairs whose boxes nest); nearest neighbour O(n² · m) in
+//! the worst case (candidates whose box is farther than the best so far are skipped); 2-opt
+//! O(n²) per sweep, at most `MAX_2OPT_SWEEPS` sweeps and at most `MAX_2OPT_WORK` pair
+//! tests in all, so a job of many thousands of contours is ordered by nearest neighbour
+//! alone rather than spending hours on improvement sweeps. No loop here refines: each ends
+//! after a number of steps fixed by n and these two constants.
 
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
 
 /// Upper bound on 2-opt improvement sweeps (each O(n²)); improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
+
+/// Upper bound on 2-opt pair tests over all sweeps (≈ 1 s of work): a sweep over m paths
+/// tests m(m − 1)/2 pairs, so the number of sweeps is also limited to
+/// `MAX_2OPT_WORK / (m(m − 1)/2)`; with more than about 20 000 paths 2-opt is skipped.
+const MAX_2OPT_WORK: usize = 200_000_000;
+
+/// Vertex bounding box of a flattened path (min, max); empty paths give an inverted box.
+fn vertex_box(pts: &[DVec2]) -> (DVec2, DVec2) {
+    pts.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    )
+}
+
+/// Distance from `p` to the box `b` (0 inside).
+fn box_distance(b: &(DVec2, DVec2), p: DVec2) -> f64 {
+    (b.0 - p).max(p - b.1).max(DVec2::ZERO).length()
+}
 
 /// Travel figures of an ordering.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,8 +43,15 @@ pub struct OrderStats {
 }
 
 /// `before[j]` lists the paths that must come before path j: those inside closed path j.
+/// A path whose vertices all lie inside polygon j also lies inside j's vertex box, so
+/// pairs whose boxes do not nest are skipped without changing the result.
 pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
     let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
+    let boxes: Vec<(DVec2, DVec2)> = polys.iter().map(|p| vertex_box(p)).collect();
+    let nests = |i: usize, j: usize| {
+        let (a, b) = (&boxes[i], &boxes[j]);
+        a.0.x >= b.0.x && a.0.y >= b.0.y && a.1.x <= b.1.x && a.1.y <= b.1.y
+    };
     (0..paths.len())
         .map(|j| {
             if !paths[j].closed || polys[j].len() < 3 {
@@ -31,6 +61,7 @@ pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
                 .filter(|&i| {
                     i != j
                         && !polys[i].is_empty()
+                        && nests(i, j)
                         && polys[i]
                             .iter()
                             .all(|&p| crate::geom::predicates::inside_even_odd(&polys[j], p))
@@ -154,6 +185,15 @@ fn travel(order: &[Path], home: DVec2) -> f64 {
 pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>, OrderStats) {
     let n = paths.len();
     let before = precedence(paths, tol);
+    // Boxes of the flattenings, grown by the flattening tolerance so that they contain the
+    // paths: no point of path i is nearer to the tool than `box_distance(boxes[i], pos)`.
+    let boxes: Vec<(DVec2, DVec2)> = paths
+        .iter()
+        .map(|p| {
+            let (lo, hi) = vertex_box(&p.flatten(tol));
+            (lo - DVec2::splat(tol), hi + DVec2::splat(tol))
+        })
+        .collect();
     let travel_input = travel(paths, home);
     // Nearest neighbour among the paths whose predecessors are all done.
     let mut done = vec![false; n];
@@ -163,6 +203,13 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
         let mut best: Option<(usize, f64, Path)> = None;
         for i in 0..n {
             if done[i] || before[i].iter().any(|&k| !done[k]) {
+                continue;
+            }
+            // The entry of path i is a point of it (or an end): no nearer than its box.
+            if best
+                .as_ref()
+                .is_some_and(|b| box_distance(&boxes[i], pos) >= b.1)
+            {
                 continue;
             }
             let cand = if paths[i].closed {
@@ -195,7 +242,9 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
         }
         v
     };
-    for _ in 0..MAX_2OPT_SWEEPS {
+    let pairs_per_sweep = (order.len() * order.len().saturating_sub(1) / 2).max(1);
+    let sweeps = MAX_2OPT_SWEEPS.min(MAX_2OPT_WORK / pairs_per_sweep);
+    for _ in 0..sweeps {
         let mut improved = false;
         let m = order.len();
         for a in 0..m {

@@ -243,6 +243,33 @@ pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
     out
 }
 
+/// The closed polyline `pl` traversed once: when its vertices (positions within `eps`,
+/// equal bulges) repeat with a period p that divides the vertex count, the first p
+/// vertices. cavalier_contours' slice joining can return one ring traversed twice (a
+/// channel of the random-design campaign, seed 7 case 58, was cut twice round at one
+/// depth: "cut contour touches itself" along its whole length).
+pub fn single_traversal(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
+    let n = pl.vertex_count();
+    let v: Vec<_> = pl.iter_vertexes().collect();
+    for p in 1..=n / 2 {
+        if !n.is_multiple_of(p) {
+            continue;
+        }
+        let periodic = (p..n).all(|i| {
+            let (a, b) = (v[i], v[i - p]);
+            (a.x - b.x).abs() <= eps && (a.y - b.y).abs() <= eps && a.bulge == b.bulge
+        });
+        if periodic {
+            let mut out = Polyline::with_capacity(p, pl.is_closed());
+            for x in &v[..p] {
+                out.add(x.x, x.y, x.bulge);
+            }
+            return out;
+        }
+    }
+    pl.clone()
+}
+
 /// True for a contour that encloses no width: fewer than two distinct vertices, or an area
 /// below `eps`·perimeter (a circle of radius ρ has area/perimeter = ρ/2, so this keeps every
 /// ring wider than about 2·eps and drops the zero-area slivers an offset can leave where
@@ -308,7 +335,8 @@ impl Region {
 
     /// The region grown by `delta` (shrunk when negative): every boundary moves `delta` along
     /// its outward normal; arcs stay arcs, convex corners get round joins (cavalier_contours
-    /// shape offset). `eps` is the position tolerance for joining offset slices.
+    /// shape offset). `eps` is the position tolerance for joining offset slices. A ring
+    /// returned traversed more than once is traversed once ([`single_traversal`]).
     pub fn offset(&self, delta: f64, eps: f64) -> Region {
         if self.contours.is_empty() || delta == 0.0 {
             return self.clone();
@@ -331,7 +359,7 @@ impl Region {
                 .ccw_plines
                 .into_iter()
                 .chain(out.cw_plines)
-                .map(|ip| despike(&ip.polyline, eps))
+                .map(|ip| single_traversal(&despike(&ip.polyline, eps), eps * 0.1))
                 .filter(|pl| !degenerate(pl, eps))
                 .collect(),
         }
@@ -587,6 +615,27 @@ mod tests {
         let c = clean_ring(ring);
         assert_eq!(c.len(), 5, "{c:?}");
         assert!((crate::geom::path::polygon_area(&c) - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn doubled_ring_is_traversed_once() {
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        let sq = [p(0.0, 0.0), p(2.0, 0.0), p(2.0, 2.0), p(0.0, 2.0)];
+        let twice: Vec<DVec2> = sq.iter().chain(sq.iter()).copied().collect();
+        let once = single_traversal(&pline_from_points(&twice, true), 1e-9);
+        assert_eq!(once.vertex_count(), 4);
+        assert!((once.area() - 4.0).abs() < 1e-12);
+        // A ring that only passes one vertex twice (a figure eight) stays as it is.
+        let eight = [
+            p(0.0, 0.0),
+            p(1.0, 1.0),
+            p(2.0, 0.0),
+            p(2.0, 2.0),
+            p(1.0, 1.0),
+            p(0.0, 2.0),
+        ];
+        let e = single_traversal(&pline_from_points(&eight, true), 1e-9);
+        assert_eq!(e.vertex_count(), 6);
     }
 
     #[test]

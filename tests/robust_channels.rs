@@ -1,0 +1,122 @@
+//! Channels on sharply bent and nearly touching strokes (issue 11), in every frame: the
+//! issue's OPEN sign (tests/jobs_data) and random designs of the campaign
+//! (scripts/campaign.sh) whose programs the checker rejected (tests/robust_data). Each is
+//! built as `skinpath build` runs it (default placement) on a router and a laser profile, also rotated and moved far from the
+//! origin (results must not depend on position), and must either check clean, as
+//! `skinpath check PROGRAM --machine SAME` runs it with no flags, or be refused with a
+//! message naming the design file.
+
+use skinpath::design::{Design, load};
+use skinpath::emit::{GcodeOptions, gcode};
+use skinpath::job::build::{BuildOptions, Place, build_toolpath, place_job};
+use skinpath::job::check::check_config;
+use skinpath::machine::{Units, builtin_profile};
+use skinpath::sim::{Backend, Severity, check_text};
+
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// The design rotated by `angle` about the origin and then moved by `d`.
+fn moved(design: &Design, angle: f64, d: [f64; 2]) -> Design {
+    let mut out = design.clone();
+    let (s, c) = angle.sin_cos();
+    let mv = |v: &mut [f64; 3]| {
+        let (x, y) = (v[0], v[1]);
+        v[0] = c * x - s * y + d[0];
+        v[1] = s * x + c * y + d[1];
+    };
+    for st in &mut out.stroke {
+        for list in [&mut st.disks, &mut st.points].into_iter().flatten() {
+            list.iter_mut().for_each(mv);
+        }
+    }
+    for k in &mut out.circles {
+        k.circles.iter_mut().for_each(mv);
+    }
+    out
+}
+
+/// Builds and checks `design` on `machine`: Ok(None) when it checks clean, Ok(Some(msg))
+/// for a refusal, Err(findings) when the program does not check clean.
+fn build_and_check(design: &Design, machine: &str) -> Result<Option<String>, String> {
+    let p = builtin_profile(machine).unwrap().unwrap();
+    let opts = BuildOptions::default();
+    let mut built = match build_toolpath(design, &p, &opts) {
+        Ok(b) => b,
+        Err(e) => return Ok(Some(e.to_string())),
+    };
+    if let Err(e) = place_job(&mut built, &p, 1.0, Place::LowerLeft, 0.0, 1e-3, 1.0) {
+        return Ok(Some(e.to_string()));
+    }
+    let g = gcode(
+        &built.toolpath,
+        &p,
+        &GcodeOptions {
+            job: "robust".into(),
+            input_units: Units::Mm,
+            tolerance: opts.tolerance * 0.1,
+            check_work_area: true,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let tool_r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
+    let report = check_text(Backend::Builtin, &g, &check_config(&p, tool_r), &[]);
+    let bad: Vec<String> = report
+        .findings
+        .iter()
+        .filter(|f| f.severity > Severity::Info)
+        .map(|f| format!("{} line {:?}: {}", f.id, f.lines, f.message))
+        .collect();
+    if bad.is_empty() {
+        Ok(None)
+    } else {
+        Err(bad.join("; "))
+    }
+}
+
+fn case(dir: &str, name: &str) {
+    let file = format!("{ROOT}/tests/{dir}/{name}.toml");
+    let design = load(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+    let frames = [
+        (0.0, [0.0, 0.0]),
+        (0.0, [10000.0, -5000.0]),
+        (0.7, [0.0, 0.0]),
+        (2.3, [-3000.0, 7000.0]),
+    ];
+    for machine in ["grbl-router", "grbl-laser"] {
+        let mut refused = Vec::new();
+        for (angle, d) in frames {
+            match build_and_check(&moved(&design, angle, d), machine) {
+                Ok(None) => refused.push(false),
+                Ok(Some(msg)) => {
+                    assert!(
+                        msg.contains(&file) || msg.contains("--fit"),
+                        "{name} on {machine}, frame {angle} {d:?}: unclear refusal {msg}"
+                    );
+                    refused.push(true);
+                }
+                Err(f) => panic!("{name} on {machine}, frame {angle} {d:?}: {f}"),
+            }
+        }
+        // Moving the design does not change whether it builds.
+        assert_eq!(refused[0], refused[1], "{name} on {machine}: {refused:?}");
+    }
+}
+
+/// The whole OPEN sign (issue 11), rotated and moved.
+#[test]
+fn open_sign_in_every_frame() {
+    case("jobs_data", "open_sign");
+}
+
+/// A random design of the campaign (scripts/campaign.sh, seed 7, case 58) whose program did
+/// not check clean: cavalier_contours returned a channel ring traversed twice, so the tool ran
+/// it twice round at one depth ("cut contour touches itself" along its whole length);
+/// `Region::offset` now keeps one traversal (`single_traversal`).
+fn random_case(name: &str) {
+    case("robust_data", name);
+}
+
+#[test]
+fn random_s7_c58_doubled_ring() {
+    random_case("random_s7_c58");
+}
