@@ -8,7 +8,7 @@ use skinpath::{
     Circle, DiskBSpline, Job, JobError, JobOptions, OutputFormat, Scale, Stage, builtin_profile,
     design_of_strokes,
 };
-use std::cell::RefCell;
+use std::sync::Mutex;
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
@@ -31,8 +31,8 @@ fn a_stroke_made_in_code_builds_checked_gcode_for_grbl_router() {
     let wave = wave();
     let design = design_of_strokes("wave", &[("wave", &wave)], &[]).unwrap();
     let profile = builtin_profile("grbl-router").unwrap().unwrap();
-    let seen = RefCell::new(Vec::new());
-    let progress = |p: skinpath::Progress| seen.borrow_mut().push(p);
+    let seen = Mutex::new(Vec::new());
+    let progress = |p: skinpath::Progress| seen.lock().unwrap().push(p);
     let out = Job {
         design: &design,
         profile: &profile,
@@ -71,7 +71,7 @@ fn a_stroke_made_in_code_builds_checked_gcode_for_grbl_router() {
         assert!(v.get(key).is_some(), "no {key} in {v}");
     }
     // Progress: stages in pipeline order, fractions in [0, 1], skinning reaches 1.
-    let seen = seen.into_inner();
+    let seen = seen.into_inner().unwrap();
     assert!(!seen.is_empty());
     assert!(
         seen.windows(2).all(|w| w[0].stage <= w[1].stage),

@@ -289,9 +289,17 @@ pub fn isolate_roots(b: &[f64], opts: &RootOptions) -> Vec<f64> {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Positivity {
     /// Every Bernstein coefficient on every piece of a subdivision is > 0: f > 0 on [0, 1].
-    Proven { pieces: usize },
+    Proven {
+        /// Pieces of the subdivision that proved it.
+        pieces: usize,
+    },
     /// f(t) ≤ 0 at this parameter (a witness).
-    Fails { t: f64, value: f64 },
+    Fails {
+        /// The witness parameter.
+        t: f64,
+        /// f(t), ≤ 0.
+        value: f64,
+    },
     /// Neither proved nor refuted down to the subdivision limit.
     Undecided,
 }

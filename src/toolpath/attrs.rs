@@ -156,8 +156,9 @@ impl<'a> SpineIndex<'a> {
 /// What [`apply`] did to an operation.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct AttrStats {
-    /// Moves that took attribute values, and the pieces they became.
+    /// Moves that took attribute values.
     pub moves: usize,
+    /// The pieces those moves became.
     pub pieces: usize,
     /// Range of the power put on moves (fraction), when a power attribute was applied.
     pub power: Option<(f64, f64)>,
