@@ -1019,7 +1019,7 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
 /// Stroke attributes on the moves of G-code lasers: on profile, fill and channel cuts the
 /// `power` and `feed` attributes of the cut's stroke replace the operation's values,
 /// evaluated at the nearest spine parameter and quantised
-/// ([`crate::toolpath::attrs`]: pieces of at most 0.5 mm, power in steps of 0.5 % of the
+/// ([`crate::toolpath::attrs`]: pieces of at most 0.5 mm or 50 tolerances, power in steps of 0.5 % of the
 /// S range rounded up to whole S units, feed in steps of 0.5 % of the slower XY maximum).
 /// V-carves carry their attributes already (sampled on the spine); SVG lasers and routers
 /// keep the operation's values (an SVG has no per-move power; a spindle's speed is not a
@@ -1052,7 +1052,7 @@ fn attributes_on_moves(ctx: &Ctx, tp: &mut Toolpath) -> Result<(), JobError> {
     let s_resolution = if s_max >= 100.0 { 1.0 } else { 0.001 };
     let max_feed = ctx.profile.max_feed.x.min(ctx.profile.max_feed.y) * ctx.k;
     let opts = AttrOptions {
-        step: 0.5 * ctx.per_mm,
+        step: (0.5 * ctx.per_mm).max(attrs::PIECE_TOLERANCES * ctx.tol),
         power_quantum: attrs::power_quantum(s_max, s_resolution),
         feed_quantum: (attrs::FEED_QUANTUM * max_feed).max(ctx.tol),
         tol: ctx.tol * 1e-3,

@@ -20,12 +20,20 @@ use crate::dbsc::DiskBSpline;
 use crate::geom::{Arc, DVec2};
 use crate::spline::BSpline;
 use glam::DVec3;
+use rstar::RTree;
+use rstar::primitives::{GeomWithData, Line as RLine};
 use std::collections::BTreeMap;
 
 /// The default power quantum as a fraction of full power: 0.5 %. Finer steps than this
 /// are below what a diode or CO₂ tube reproduces (their power-to-mark response is not
 /// that repeatable) and only multiply the `S` words of a program.
 pub const POWER_QUANTUM: f64 = 0.005;
+
+/// Longest attribute piece in multiples of the build tolerance. Pieces are at most 0.5 mm
+/// or this many tolerances, whichever is longer: 0.5 mm at the default 0.01 mm tolerance,
+/// and the same number of pieces when a job and its tolerance are scaled together (a job
+/// cut to 1 mm is not sampled every 0.5 mm).
+pub const PIECE_TOLERANCES: f64 = 50.0;
 
 /// The default feed quantum as a fraction of the machine's slower XY maximum feed: 0.5 %
 /// (30 mm/min on a 6000 mm/min machine), well inside a controller's feed-override step.
@@ -77,12 +85,15 @@ pub fn quantise(v: f64, q: f64) -> f64 {
     if q > 0.0 { (v / q).round() * q } else { v }
 }
 
-/// Samples of a spine for nearest-parameter queries.
+/// Samples of a spine for nearest-parameter queries (an R-tree of the sample chords).
 #[derive(Clone, Debug)]
 pub struct SpineIndex<'a> {
     curve: &'a DiskBSpline,
     ts: Vec<f64>,
     pts: Vec<DVec2>,
+    /// The sample chords (index i: pts[i − 1]–pts[i]) for nearest-chord queries in
+    /// O(log n).
+    chords: RTree<GeomWithData<RLine<[f64; 2]>, usize>>,
 }
 
 impl<'a> SpineIndex<'a> {
@@ -105,8 +116,21 @@ impl<'a> SpineIndex<'a> {
         let ts: Vec<f64> = (0..=n)
             .map(|i| lo + (hi - lo) * i as f64 / n as f64)
             .collect();
-        let pts = ts.iter().map(|&t| curve.center(t)).collect();
-        SpineIndex { curve, ts, pts }
+        let pts: Vec<DVec2> = ts.iter().map(|&t| curve.center(t)).collect();
+        let chords = RTree::bulk_load(
+            (1..pts.len())
+                .map(|i| {
+                    let (a, b) = (pts[i - 1], pts[i]);
+                    GeomWithData::new(RLine::new([a.x, a.y], [b.x, b.y]), i)
+                })
+                .collect(),
+        );
+        SpineIndex {
+            curve,
+            ts,
+            pts,
+            chords,
+        }
     }
 
     /// The parameter t of the spine point nearest to `p`: the nearest sample chord gives a
@@ -114,22 +138,14 @@ impl<'a> SpineIndex<'a> {
     /// g(t) = (q(t) − p)·q′(t), g′(t) = ‖q′‖² + (q(t) − p)·q″(t), kept inside the
     /// bracket, refines it until a step moves q by less than `tol`.
     pub fn nearest(&self, p: DVec2, tol: f64) -> f64 {
-        let mut best = (f64::INFINITY, 0usize, 0.0f64);
-        for i in 1..self.pts.len() {
-            let (a, b) = (self.pts[i - 1], self.pts[i]);
-            let d = b - a;
-            let l2 = d.length_squared();
-            let s = if l2 > 0.0 {
-                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let dist = (a + s * d).distance_squared(p);
-            if dist < best.0 {
-                best = (dist, i, s);
-            }
-        }
-        let i = best.1.max(1);
+        let i = self
+            .chords
+            .nearest_neighbor([p.x, p.y])
+            .map_or(1, |c| c.data)
+            .max(1);
+        let (a, b) = (self.pts[i - 1], self.pts[i]);
+        let s = crate::geom::Line::new(a, b).nearest_t(p);
+        let best = (0.0, i, s);
         let (t0, t1) = (self.ts[i - 1], self.ts[i]);
         let lo = self.ts[i.saturating_sub(2)];
         let hi = self.ts[(i + 1).min(self.ts.len() - 1)];
