@@ -549,14 +549,7 @@ impl Ctx<'_> {
     /// `inkscape:original-d` centre line. Malformed width points are an error naming the
     /// element.
     fn power_stroke(&self, id: &str, shown: &str) -> Result<Option<PowerStroke>, DesignError> {
-        if id.is_empty() {
-            return Ok(None);
-        }
-        let Some(node) = self
-            .xml
-            .descendants()
-            .find(|n| n.is_element() && n.attribute("id") == Some(id))
-        else {
+        let Some(node) = self.element(id) else {
             return Ok(None);
         };
         let (Some(effects), Some(centre)) = (
@@ -568,11 +561,7 @@ impl Ctx<'_> {
         let effect = effects
             .split(';')
             .filter_map(|r| r.trim().strip_prefix('#'))
-            .filter_map(|r| {
-                self.xml
-                    .descendants()
-                    .find(|n| n.is_element() && n.attribute("id") == Some(r))
-            })
+            .filter_map(|r| self.element(r))
             .find(|n| n.attribute("effect") == Some("powerstroke"));
         let Some(effect) = effect else {
             return Ok(None);
@@ -684,16 +673,20 @@ impl Ctx<'_> {
             .unwrap_or(name)
     }
 
-    /// The `data-skinpath-widths` of the element with id `id`, if any.
-    fn widths(&self, id: &str, shown: &str) -> Result<Option<Vec<f64>>, DesignError> {
+    /// The source element with id `id` (usvg keeps ids but not custom or Inkscape
+    /// attributes, which are read from the source).
+    fn element(&self, id: &str) -> Option<roxmltree::Node<'_, '_>> {
         if id.is_empty() {
-            return Ok(None);
+            return None;
         }
-        let Some(node) = self
-            .xml
+        self.xml
             .descendants()
             .find(|n| n.is_element() && n.attribute("id") == Some(id))
-        else {
+    }
+
+    /// The `data-skinpath-widths` of the element with id `id`, if any.
+    fn widths(&self, id: &str, shown: &str) -> Result<Option<Vec<f64>>, DesignError> {
+        let Some(node) = self.element(id) else {
             return Ok(None);
         };
         let Some(v) = node.attribute("data-skinpath-widths") else {
