@@ -6,10 +6,11 @@
 //! listed in [`MACHINE_DEPENDENT`] with the reason. Skipped (with a message) when rs274 or
 //! the samples are missing. Runs rs274 once at a time; each run is killed after 5 s.
 
+use skinpath::sim::rs274::{Rs274Error, Rs274Options};
 use skinpath::sim::{self, Backend, CheckConfig, Dialect, Severity, ToolEntry, interp};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 const SAMPLES: &str = "/usr/share/doc/linuxcnc/examples";
 
@@ -120,59 +121,21 @@ fn samples() -> Vec<PathBuf> {
     out
 }
 
-/// rs274's canon output (stdout, then stderr) or None on timeout.
+/// rs274's canon output (stdout, then stderr) or None on timeout. The program keeps the
+/// sample's file name (rs274 treats a file that only defines the subroutine of its own name
+/// as a call of it); the sample's folder supplies called subroutines.
 fn rs274(path: &Path, text: &str, dir: &Path) -> Option<String> {
-    // Same file name as the sample (rs274 treats a file that only defines the subroutine of
-    // its own name as a call of it), in a folder of its own.
-    static SEQ: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let k = SEQ.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tdir =
-        std::env::temp_dir().join(format!("skinpath-conformance-{}-{k}", std::process::id()));
-    std::fs::create_dir_all(&tdir).ok()?;
-    let tmp = tdir.join(path.file_name()?);
-    std::fs::write(&tmp, sim::linuxcnc::number_lines(text)).ok()?;
-    let mut child = Command::new("rs274")
-        .args(["-n", "0", "-g"])
-        .arg(&tmp)
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .ok()?;
-    let mut so = child.stdout.take()?;
-    let mut se = child.stderr.take()?;
-    let t1 = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        let _ = std::io::Read::read_to_end(&mut so, &mut s);
-        s
-    });
-    let t2 = std::thread::spawn(move || {
-        let mut s = Vec::new();
-        let _ = std::io::Read::read_to_end(&mut se, &mut s);
-        s
-    });
-    let start = Instant::now();
-    let mut timed_out = false;
-    while child.try_wait().ok()?.is_none() {
-        if start.elapsed() > Duration::from_secs(5) {
-            let _ = child.kill();
-            let _ = child.wait();
-            timed_out = true;
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
+    let opts = Rs274Options {
+        timeout: Duration::from_secs(5),
+        sub_dirs: vec![dir.to_path_buf()],
+        program_name: path.file_name()?.to_string_lossy().into_owned(),
+        ..Default::default()
+    };
+    match sim::rs274::run(&sim::linuxcnc::number_lines(text), &opts) {
+        Ok(out) => Some(out.combined()),
+        Err(Rs274Error::Timeout(_) | Rs274Error::OutputTooLarge(_)) => None,
+        Err(e) => panic!("rs274 on {}: {e}", path.display()),
     }
-    let _ = std::fs::remove_dir_all(&tdir);
-    let out = t1.join().ok()?;
-    let err = t2.join().ok()?;
-    if timed_out {
-        return None;
-    }
-    let mut s = String::from_utf8_lossy(&out).into_owned();
-    s.push('\n');
-    s += &String::from_utf8_lossy(&err);
-    Some(s)
 }
 
 /// The tool table stand-alone rs274 starts with (seen in its canon output: tools 1–3 with

@@ -13,7 +13,6 @@
 
 use skinpath::geom::DVec2;
 use skinpath::sim::{self, Backend, CheckConfig, DesignBoundary, KeepSide, Severity};
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 struct Case {
@@ -197,40 +196,19 @@ corpus_case! {
     clean_laser_job => "clean_laser.nc",
 }
 
-/// Runs LinuxCNC's standalone interpreter on a numbered copy of `src`: the process part of
-/// the LinuxCNC backend (belongs in the CLI; the library only parses the output).
+/// LinuxCNC's stand-alone interpreter's canon output (standard output only) on a numbered
+/// copy of `src`, or None when rs274 is not installed.
 fn run_rs274(src: &str, name: &str) -> Option<String> {
-    let dir = std::env::temp_dir().join(format!("skinpath-sim-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).ok()?;
-    let file = dir.join(format!("{name}.ngc"));
-    std::fs::write(&file, sim::linuxcnc::number_lines(src)).ok()?;
-    let mut child = std::process::Command::new("rs274")
-        .args(["-n", "0", "-g"])
-        .arg(&file)
-        .stdin(std::process::Stdio::null())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .ok()?;
-    // rs274 can loop on malformed files: give it a deadline, then stop this child.
-    let stdout = child.stdout.take()?;
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        let mut r = std::io::BufReader::new(stdout).take(1 << 24);
-        let _ = std::io::Read::read_to_string(&mut r, &mut s);
-        s
-    });
-    let start = std::time::Instant::now();
-    while child.try_wait().ok()?.is_none() {
-        if start.elapsed() > std::time::Duration::from_secs(20) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("rs274 did not finish on {name}");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(10));
+    let opts = sim::rs274::Rs274Options {
+        timeout: std::time::Duration::from_secs(20),
+        program_name: format!("{name}.ngc"),
+        ..Default::default()
+    };
+    match sim::rs274::run(&sim::linuxcnc::number_lines(src), &opts) {
+        Ok(out) => Some(out.stdout),
+        Err(sim::rs274::Rs274Error::NotRunnable(_)) => None,
+        Err(e) => panic!("rs274 on {name}: {e}"),
     }
-    let out = reader.join().ok()?;
-    Some(out)
 }
 
 #[test]

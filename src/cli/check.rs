@@ -4,12 +4,11 @@
 
 use super::build::load_profile;
 use super::io;
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use skinpath::job::check::{check_config, design_boundaries};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 use skinpath::sim::{Backend, CheckConfig, Dialect, interp};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 #[derive(clap::Args, Debug)]
@@ -152,7 +151,15 @@ pub fn run(a: Args) -> Result<u8> {
     let linuxcnc = a.backend == "linuxcnc" && !text.trim().is_empty();
     let rs274_out = if linuxcnc {
         let timeout = Duration::from_secs_f64(a.rs274_timeout.clamp(0.1, 3600.0));
-        run_rs274(&text, timeout, &dirs, a.tool_table.as_deref())?
+        let opts = skinpath::sim::rs274::Rs274Options {
+            timeout,
+            sub_dirs: dirs.clone(),
+            tool_table: a.tool_table.clone(),
+            ..Default::default()
+        };
+        // Line-numbered, so rs274's findings carry the file's line numbers.
+        let numbered = skinpath::sim::linuxcnc::number_lines(&text);
+        skinpath::sim::rs274::run(&numbered, &opts)?.combined()
     } else {
         String::new()
     };
@@ -226,141 +233,4 @@ fn find_sub(dirs: &[PathBuf], name: &str) -> Option<String> {
         }
     }
     None
-}
-
-/// Largest rs274 output accepted (bytes): a runaway loop that moves would fill the disk.
-const RS274_MAX_OUTPUT: u64 = 1 << 30;
-
-/// Prefix of the temporary folders of `--backend linuxcnc` runs.
-const TMP_PREFIX: &str = "skinpath-rs274-";
-
-/// Removes the temporary folder when dropped (every exit path, panics included).
-struct TmpDir(PathBuf);
-
-impl Drop for TmpDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// Removes folders left by killed runs: `skinpath-rs274-PID` whose process is gone.
-fn remove_stale(tmp: &Path) {
-    let Ok(rd) = std::fs::read_dir(tmp) else {
-        return;
-    };
-    for e in rd.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let Some(rest) = name.strip_prefix(TMP_PREFIX) else {
-            continue;
-        };
-        // `PID` (older runs) or `PID-N`.
-        let Ok(pid) = rest.split('-').next().unwrap_or(rest).parse::<u32>() else {
-            continue;
-        };
-        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
-            let _ = std::fs::remove_dir_all(e.path());
-        }
-    }
-}
-
-/// A new folder `skinpath-rs274-PID-N` in `tmp` that no other run uses: `create_dir` fails
-/// on an existing name, so concurrent runs (parallel tests, several checks in one process)
-/// each get their own and cannot overwrite each other's program or output.
-fn own_tmp_dir(tmp: &Path) -> Result<TmpDir> {
-    static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
-    loop {
-        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let path = tmp.join(format!("{TMP_PREFIX}{}-{n}", std::process::id()));
-        match std::fs::create_dir(&path) {
-            Ok(()) => return Ok(TmpDir(path)),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 10_000 => continue,
-            Err(e) => {
-                return Err(e).with_context(|| format!("cannot create {}", path.display()));
-            }
-        }
-    }
-}
-
-/// Run LinuxCNC's stand-alone interpreter (`rs274 -n 0 -g`) on a line-numbered copy of the
-/// program text ([`skinpath::sim::linuxcnc::number_lines`], so findings carry the file's
-/// line numbers) and return its canonical commands followed by its error messages (standard
-/// error: each message and the block it echoes). rs274 is killed after `timeout` or when its
-/// output passes [`RS274_MAX_OUTPUT`]; the temporary folder goes on every exit path.
-fn run_rs274(
-    text: &str,
-    timeout: Duration,
-    sub_dirs: &[PathBuf],
-    tool_table: Option<&Path>,
-) -> Result<String> {
-    let tmp = std::env::temp_dir();
-    remove_stale(&tmp);
-    let dir = own_tmp_dir(&tmp)?;
-    let file = dir.0.join("program.ngc");
-    std::fs::write(&file, skinpath::sim::linuxcnc::number_lines(text))
-        .with_context(|| format!("cannot write {}", file.display()))?;
-    // Called subroutine files: copied next to the program, where rs274 looks for them.
-    for d in sub_dirs {
-        if let Ok(rd) = std::fs::read_dir(d) {
-            for e in rd.flatten() {
-                let p = e.path();
-                if let Some(n) = p
-                    .file_name()
-                    .filter(|_| p.extension().is_some_and(|x| x == "ngc"))
-                {
-                    let dst = dir.0.join(n);
-                    if !dst.exists() {
-                        let _ = std::fs::copy(&p, dst);
-                    }
-                }
-            }
-        }
-    }
-    let out_path = dir.0.join("out.txt");
-    let err_path = dir.0.join("err.txt");
-    let out = std::fs::File::create(&out_path).context("cannot create rs274 output file")?;
-    let err = std::fs::File::create(&err_path).context("cannot create rs274 error file")?;
-    let mut cmd = Command::new("rs274");
-    if let Some(t) = tool_table {
-        cmd.arg("-t").arg(t);
-    }
-    let mut child = cmd
-        .args(["-n", "0", "-g"])
-        .arg(&file)
-        .current_dir(&dir.0)
-        .stdin(Stdio::null())
-        .stdout(Stdio::from(out))
-        .stderr(Stdio::from(err))
-        .spawn()
-        .context("cannot run rs274 (install the Debian package linuxcnc-uspace)")?;
-    let start = Instant::now();
-    loop {
-        if child.try_wait()?.is_some() {
-            break;
-        }
-        let size = std::fs::metadata(&out_path).map(|m| m.len()).unwrap_or(0);
-        if start.elapsed() > timeout || size > RS274_MAX_OUTPUT {
-            let _ = child.kill();
-            let _ = child.wait();
-            if size > RS274_MAX_OUTPUT {
-                bail!(
-                    "rs274 wrote more than {} MB: stopped (a runaway loop?)",
-                    RS274_MAX_OUTPUT >> 20
-                );
-            }
-            bail!(
-                "rs274 did not finish within {:.1} s: stopped (a runaway loop? raise \
-                 --rs274-timeout if the program is just long)",
-                timeout.as_secs_f64()
-            );
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let mut s = String::from_utf8_lossy(&std::fs::read(&out_path)?).into_owned();
-    let e = String::from_utf8_lossy(&std::fs::read(&err_path)?).into_owned();
-    if s.trim().is_empty() && e.trim().is_empty() {
-        bail!("rs274 produced no output");
-    }
-    s.push('\n');
-    s.push_str(&e);
-    Ok(s)
 }

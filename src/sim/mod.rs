@@ -30,6 +30,7 @@ pub mod linuxcnc;
 pub mod motion;
 pub mod ngc;
 pub mod report;
+pub mod rs274;
 pub mod time;
 pub mod timeline;
 

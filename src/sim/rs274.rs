@@ -1,0 +1,257 @@
+//! Running LinuxCNC's stand-alone interpreter, `rs274 -n 0 -g` (Debian package
+//! linuxcnc-uspace), on a program text: the process half of the LinuxCNC backend; its output
+//! is read by [`super::linuxcnc::parse_canon`].
+//!
+//! Each run gets a folder of its own (`skinpath-rs274-PID-N` under the system temporary
+//! folder) that is its working directory **and its `HOME`**: rs274 maps its tool data
+//! through `$HOME/.tool.mmap`, opened with `O_TRUNC`, so two runs sharing a home truncate
+//! each other's mapping and one dies of `SIGBUS` with its buffered standard output lost
+//! (seen as about 1 in 25 runs when six run at once). A run killed by a signal is an error,
+//! never an empty reading. The folder goes on every exit path; folders left by killed
+//! processes are removed by the next run.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Prefix of the temporary folders of rs274 runs.
+pub const TMP_PREFIX: &str = "skinpath-rs274-";
+
+/// How to run rs274.
+#[derive(Clone, Debug)]
+pub struct Rs274Options {
+    /// rs274 is killed after this long (a runaway `while` loop never ends).
+    pub timeout: Duration,
+    /// rs274 is killed when its standard output passes this many bytes (a runaway loop that
+    /// moves would fill the disk).
+    pub max_output: u64,
+    /// Folders whose `.ngc` files are copied next to the program, where rs274 looks for
+    /// called subroutines. Files of earlier folders win.
+    pub sub_dirs: Vec<PathBuf>,
+    /// A LinuxCNC tool table (`-t`); rs274's own sample table otherwise.
+    pub tool_table: Option<PathBuf>,
+    /// File name the program gets (rs274 treats a file that only defines the subroutine of
+    /// its own name as a call of it).
+    pub program_name: String,
+}
+
+impl Default for Rs274Options {
+    fn default() -> Self {
+        Rs274Options {
+            timeout: Duration::from_secs(60),
+            max_output: 1 << 30,
+            sub_dirs: Vec::new(),
+            tool_table: None,
+            program_name: "program.ngc".into(),
+        }
+    }
+}
+
+/// What rs274 wrote.
+#[derive(Clone, Debug, Default)]
+pub struct Rs274Output {
+    /// Canonical machining commands, one per line.
+    pub stdout: String,
+    /// Error messages, each followed by the block it echoes.
+    pub stderr: String,
+}
+
+impl Rs274Output {
+    /// Standard output, a newline, then standard error: the text
+    /// [`super::linuxcnc::parse_canon`] reads (errors after the moves they stopped).
+    pub fn combined(&self) -> String {
+        let mut s = String::with_capacity(self.stdout.len() + self.stderr.len() + 1);
+        s.push_str(&self.stdout);
+        s.push('\n');
+        s.push_str(&self.stderr);
+        s
+    }
+}
+
+/// Why rs274 gave no reading.
+#[derive(Debug, thiserror::Error)]
+pub enum Rs274Error {
+    /// The program could not be started (not installed, or not executable).
+    #[error("cannot run rs274 (install the Debian package linuxcnc-uspace): {0}")]
+    NotRunnable(#[source] std::io::Error),
+    /// The temporary folder or a file in it could not be made or read.
+    #[error("{what} {}: {source}", path.display())]
+    Io {
+        /// What was being done.
+        what: &'static str,
+        /// The file or folder.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// rs274 ran past [`Rs274Options::timeout`].
+    #[error(
+        "rs274 did not finish within {:.1} s: stopped (a runaway loop? raise \
+         --rs274-timeout if the program is just long)", .0.as_secs_f64()
+    )]
+    Timeout(Duration),
+    /// rs274 wrote more than [`Rs274Options::max_output`] bytes.
+    #[error("rs274 wrote more than {} MB: stopped (a runaway loop?)", .0 >> 20)]
+    OutputTooLarge(u64),
+    /// rs274 was killed by a signal: its reading is incomplete.
+    #[error("rs274 was killed by signal {0}: its reading is incomplete")]
+    Killed(i32),
+    /// rs274 wrote nothing at all.
+    #[error("rs274 produced no output")]
+    NoOutput,
+}
+
+/// Runs `rs274 -n 0 -g` on `text` as it is (number its lines first with
+/// [`super::linuxcnc::number_lines`] for findings with source lines) in a folder of its own.
+pub fn run(text: &str, opts: &Rs274Options) -> Result<Rs274Output, Rs274Error> {
+    let tmp = std::env::temp_dir();
+    remove_stale(&tmp);
+    let dir = own_tmp_dir(&tmp)?;
+    let io = |what: &'static str, path: &Path| {
+        let path = path.to_path_buf();
+        move |source| Rs274Error::Io { what, path, source }
+    };
+    let name = Path::new(&opts.program_name)
+        .file_name()
+        .unwrap_or("program.ngc".as_ref());
+    let file = dir.0.join(name);
+    std::fs::write(&file, text).map_err(io("cannot write", &file))?;
+    for d in &opts.sub_dirs {
+        copy_subroutines(d, &dir.0);
+    }
+    let out_path = dir.0.join("out.txt");
+    let err_path = dir.0.join("err.txt");
+    let out = std::fs::File::create(&out_path).map_err(io("cannot create", &out_path))?;
+    let err = std::fs::File::create(&err_path).map_err(io("cannot create", &err_path))?;
+    let mut cmd = Command::new("rs274");
+    if let Some(t) = &opts.tool_table {
+        cmd.arg("-t").arg(t);
+    }
+    let mut child = cmd
+        .args(["-n", "0", "-g"])
+        .arg(&file)
+        .current_dir(&dir.0)
+        .env("HOME", &dir.0)
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(out))
+        .stderr(Stdio::from(err))
+        .spawn()
+        .map_err(Rs274Error::NotRunnable)?;
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child
+            .try_wait()
+            .map_err(io("cannot wait for rs274 in", &dir.0))?
+        {
+            break status;
+        }
+        let size = std::fs::metadata(&out_path).map(|m| m.len()).unwrap_or(0);
+        if start.elapsed() > opts.timeout || size > opts.max_output {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(if size > opts.max_output {
+                Rs274Error::OutputTooLarge(opts.max_output)
+            } else {
+                Rs274Error::Timeout(opts.timeout)
+            });
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    if let Some(signal) = killed_by(&status) {
+        return Err(Rs274Error::Killed(signal));
+    }
+    let read = |p: &Path| {
+        std::fs::read(p)
+            .map(|b| String::from_utf8_lossy(&b).into_owned())
+            .map_err(io("cannot read", p))
+    };
+    let output = Rs274Output {
+        stdout: read(&out_path)?,
+        stderr: read(&err_path)?,
+    };
+    if output.stdout.trim().is_empty() && output.stderr.trim().is_empty() {
+        return Err(Rs274Error::NoOutput);
+    }
+    Ok(output)
+}
+
+#[cfg(unix)]
+fn killed_by(status: &std::process::ExitStatus) -> Option<i32> {
+    std::os::unix::process::ExitStatusExt::signal(status)
+}
+
+#[cfg(not(unix))]
+fn killed_by(_: &std::process::ExitStatus) -> Option<i32> {
+    None
+}
+
+/// Copies the `.ngc` files of `from` into `to` unless a file of that name is there already.
+fn copy_subroutines(from: &Path, to: &Path) {
+    let Ok(rd) = std::fs::read_dir(from) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let p = e.path();
+        if let Some(n) = p
+            .file_name()
+            .filter(|_| p.extension().is_some_and(|x| x == "ngc"))
+        {
+            let dst = to.join(n);
+            if !dst.exists() {
+                let _ = std::fs::copy(&p, dst);
+            }
+        }
+    }
+}
+
+/// Removes the temporary folder when dropped (every exit path, panics included).
+struct TmpDir(PathBuf);
+
+impl Drop for TmpDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Removes folders left by killed runs: `skinpath-rs274-PID-N` whose process is gone.
+fn remove_stale(tmp: &Path) {
+    let Ok(rd) = std::fs::read_dir(tmp) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(TMP_PREFIX) else {
+            continue;
+        };
+        // `PID` (older runs) or `PID-N`.
+        let Ok(pid) = rest.split('-').next().unwrap_or(rest).parse::<u32>() else {
+            continue;
+        };
+        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
+}
+
+/// A new folder `skinpath-rs274-PID-N` in `tmp` that no other run uses: `create_dir` fails
+/// on an existing name, so concurrent runs (parallel tests, several checks in one process)
+/// each get their own and cannot overwrite each other's program or output.
+fn own_tmp_dir(tmp: &Path) -> Result<TmpDir, Rs274Error> {
+    static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    loop {
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let path = tmp.join(format!("{TMP_PREFIX}{}-{n}", std::process::id()));
+        match std::fs::create_dir(&path) {
+            Ok(()) => return Ok(TmpDir(path)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < 10_000 => continue,
+            Err(source) => {
+                return Err(Rs274Error::Io {
+                    what: "cannot create",
+                    path,
+                    source,
+                });
+            }
+        }
+    }
+}
