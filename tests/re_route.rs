@@ -205,6 +205,10 @@ fn re_and_bezier_routes_differ_by_the_skin_distance() {
 }
 
 fn build_cli(example: &str, machine: &str, method: &str) -> String {
+    build_cli_with(example, machine, method, &[])
+}
+
+fn build_cli_with(example: &str, machine: &str, method: &str, extra: &[&str]) -> String {
     let out = std::env::temp_dir().join(format!(
         "re_route_{example}_{machine}_{method}_{}.gcode",
         std::process::id()
@@ -218,6 +222,7 @@ fn build_cli(example: &str, machine: &str, method: &str) -> String {
         .args(["--machine", machine, "-o"])
         .arg(&out)
         .args(["--method", method, "--place", "lower-left", "--margin", "5"])
+        .args(extra)
         .output()
         .unwrap();
     let _ = std::fs::remove_file(&out);
@@ -249,6 +254,35 @@ fn build_method_re_on_every_example_and_profile() {
     }
     let out = build_cli("circles", "linuxcnc-router", "mph");
     assert!(out.contains("route profile 1: mph ("), "{out}");
+}
+
+/// `build --json` names each operation's route with its segment counts and time, and the
+/// time of the RE skins; the counts are those of the program's own arcs and lines.
+#[test]
+fn json_summary_reports_routes_with_counts_and_times() {
+    let out = build_cli_with("ring_o", "grbl-laser", "re", &["--json"]);
+    let j: serde_json::Value = serde_json::from_str(&out).expect("json summary");
+    let routes = j["routes"].as_array().expect("routes");
+    assert!(!routes.is_empty(), "{out}");
+    for r in routes {
+        assert_eq!(r["route"], "re", "{r}");
+        assert!(
+            r["arcs"].as_u64().unwrap() + r["lines"].as_u64().unwrap() > 0,
+            "{r}"
+        );
+        assert!(r["seconds"].as_f64().unwrap() >= 0.0, "{r}");
+    }
+    assert!(j["re_skin_seconds"].as_f64().unwrap() > 0.0, "{out}");
+    let skin = build_cli_with("ring_o", "grbl-laser", "skin", &["--json"]);
+    let j: serde_json::Value = serde_json::from_str(&skin).expect("json summary");
+    assert_eq!(j["re_skin_seconds"].as_f64(), Some(0.0));
+    assert!(
+        j["routes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|r| r["route"] == "skin")
+    );
 }
 
 #[test]

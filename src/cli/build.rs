@@ -293,11 +293,23 @@ pub fn run(a: Args) -> Result<u8> {
         )?;
         let time = out.report.as_ref().map(|r| r.stats.time.total);
         print_summary(&mut text, &out.built.toolpath, &profile, time)?;
+        if out.built.re_skin_seconds > 0.0 {
+            writeln!(
+                text,
+                "  re/mph skins: {:.1} ms",
+                1e3 * out.built.re_skin_seconds
+            )?;
+        }
         for r in &out.built.routes {
             writeln!(
                 text,
-                "  route {}: {} ({} arcs, {} lines; {})",
-                r.operation, r.route, r.counts.arcs, r.counts.lines, r.detail
+                "  route {}: {} ({} arcs, {} lines, {:.1} ms; {})",
+                r.operation,
+                r.route,
+                r.counts.arcs,
+                r.counts.lines,
+                1e3 * r.seconds,
+                r.detail
             )?;
         }
         for s in &out.built.stats {

@@ -81,6 +81,8 @@ pub struct BuildResult {
     pub outlines: Vec<ItemOutline>,
     /// The route each profile and backboard took (skin, re or mph) and why.
     pub routes: Vec<RouteNote>,
+    /// Wall time spent building the RE/MPH skins of the items (seconds; 0 without them).
+    pub re_skin_seconds: f64,
 }
 
 struct Ctx<'a> {
@@ -234,11 +236,13 @@ impl Ctx<'_> {
         exact: impl FnOnce(&[(&str, &ReItem)]) -> Result<Vec<Path>, RouteRefusal>,
     ) -> Result<Vec<Path>, JobError> {
         let method = op.method.unwrap_or(self.method);
+        let clock = std::time::Instant::now();
         let note = |route: &str, detail: String, paths: &[Path]| RouteNote {
             operation: name.to_string(),
             route: route.to_string(),
             detail,
             counts: SegCounts::of(paths),
+            seconds: clock.elapsed().as_secs_f64(),
         };
         let Some(interp) = re_interp(method) else {
             let paths = general();
@@ -1118,12 +1122,18 @@ pub fn build_toolpath_with(
         ));
     }
     let mut re = Vec::new();
+    let clock = std::time::Instant::now();
     for interp in methods.iter().filter_map(|&m| re_interp(m)) {
         if !re.iter().any(|(i, _)| *i == interp) {
             let items = re_items(design, &strokes, &outlines, interp, &outline_opts);
             re.push((interp, items));
         }
     }
+    let re_skin_seconds = if re.is_empty() {
+        0.0
+    } else {
+        clock.elapsed().as_secs_f64()
+    };
     // With a build-wide RE/MPH route the items are their RE/MPH skins (fills, checks).
     if let Some((_, items)) =
         re_interp(opts.method).and_then(|interp| re.iter().find(|(i, _)| *i == interp))
@@ -1173,6 +1183,7 @@ pub fn build_toolpath_with(
         toolpath,
         stats,
         routes: ctx.routes.into_inner(),
+        re_skin_seconds,
         outlines: ctx.outlines,
     })
 }

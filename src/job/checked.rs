@@ -448,6 +448,23 @@ pub struct OperationSummary {
     pub air_assist: bool,
 }
 
+/// The route one operation's paths took ([`crate::job::re_route::RouteNote`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct RouteSummary {
+    /// The operation's name in the toolpath (e.g. "profile 1").
+    pub operation: String,
+    /// "skin", "re" or "mph".
+    pub route: String,
+    /// What the route did, or why the exact route was not taken.
+    pub detail: String,
+    /// Arcs of the operation's paths.
+    pub arcs: usize,
+    /// Lines of the operation's paths.
+    pub lines: usize,
+    /// Wall time of the operation's paths, seconds (varies from run to run).
+    pub seconds: f64,
+}
+
 /// Bounding box of the job.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Bounds {
@@ -481,6 +498,10 @@ pub struct Summary {
     pub time: TimeSummary,
     /// The checker's findings (G-code only).
     pub findings: Vec<Finding>,
+    /// The route each profile and backboard took, with its time.
+    pub routes: Vec<RouteSummary>,
+    /// Wall time of the RE/MPH skins, seconds (0 when the build used none).
+    pub re_skin_seconds: f64,
 }
 
 impl JobOutput {
@@ -527,6 +548,20 @@ impl JobOutput {
                 .as_ref()
                 .map(|r| r.findings.clone())
                 .unwrap_or_default(),
+            routes: self
+                .built
+                .routes
+                .iter()
+                .map(|r| RouteSummary {
+                    operation: r.operation.clone(),
+                    route: r.route.clone(),
+                    detail: r.detail.clone(),
+                    arcs: r.counts.arcs,
+                    lines: r.counts.lines,
+                    seconds: r.seconds,
+                })
+                .collect(),
+            re_skin_seconds: self.built.re_skin_seconds,
         }
     }
 }

@@ -83,6 +83,10 @@ pub struct RouteNote {
     pub detail: String,
     /// Arcs and lines of the operation's paths.
     pub counts: SegCounts,
+    /// Wall time spent on the operation's paths (seconds): the exact offsets, or the general
+    /// offsets, or both when the exact route was tried and refused. The RE/MPH skins
+    /// themselves are in [`super::build::BuildResult::re_skin_seconds`].
+    pub seconds: f64,
 }
 
 /// The RE/MPH skin of every item of `outlines` (strokes by their DBSC skin's knot and
