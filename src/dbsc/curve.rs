@@ -216,24 +216,7 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    fn dbsc_strategy() -> impl Strategy<Value = DiskBSpline> {
-        (1usize..=4, 0usize..=4, any::<bool>()).prop_flat_map(|(p, extra, closed)| {
-            let n = p + 1 + extra;
-            proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0, 0.2f64..3.0), n).prop_map(
-                move |v| {
-                    let disks: Vec<Circle> = v
-                        .iter()
-                        .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
-                        .collect();
-                    if closed {
-                        DiskBSpline::closed(p, &disks, None).unwrap()
-                    } else {
-                        DiskBSpline::open(p, &disks, None).unwrap()
-                    }
-                },
-            )
-        })
-    }
+    use crate::dbsc::tangent::tests::dbsc_strategy;
 
     proptest! {
         #[test]

@@ -385,7 +385,6 @@ pub fn lemma1(c: &DiskBSpline, side: Side, t: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Circle;
     use proptest::prelude::*;
 
     use crate::dbsc::test_util::open;
@@ -524,20 +523,7 @@ mod tests {
     }
 
     fn stroke() -> impl Strategy<Value = DiskBSpline> {
-        (2usize..=4, 0usize..=3, any::<bool>()).prop_flat_map(|(p, extra, closed)| {
-            proptest::collection::vec((-10.0f64..10.0, -10.0f64..10.0, 0.3f64..3.0), p + 1 + extra)
-                .prop_map(move |v| {
-                    let disks: Vec<Circle> = v
-                        .iter()
-                        .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
-                        .collect();
-                    if closed {
-                        DiskBSpline::closed(p, &disks, None).unwrap()
-                    } else {
-                        DiskBSpline::open(p, &disks, None).unwrap()
-                    }
-                })
-        })
+        crate::dbsc::tangent::tests::dbsc_strategy_in(2..=4, 0..=3, 10.0, 0.3..3.0)
     }
 
     fn in_interval(t: f64, a: f64, b: f64) -> bool {

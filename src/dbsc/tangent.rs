@@ -57,21 +57,30 @@ pub(crate) mod tests {
 
     /// Random open or closed DBSCs of degree 1..=4 (shared by the sibling test modules).
     pub(crate) fn dbsc_strategy() -> impl Strategy<Value = DiskBSpline> {
-        (1usize..=4, 0usize..=4, any::<bool>()).prop_flat_map(|(p, extra, closed)| {
+        dbsc_strategy_in(1..=4, 0..=4, 20.0, 0.2..3.0)
+    }
+
+    /// Random open or closed DBSCs: degree in `degrees`, `extra` disks beyond degree + 1,
+    /// centres in [−xy, xy)², radii in `r`.
+    pub(crate) fn dbsc_strategy_in(
+        degrees: std::ops::RangeInclusive<usize>,
+        extra: std::ops::RangeInclusive<usize>,
+        xy: f64,
+        r: std::ops::Range<f64>,
+    ) -> impl Strategy<Value = DiskBSpline> {
+        (degrees, extra, any::<bool>()).prop_flat_map(move |(p, extra, closed)| {
             let n = p + 1 + extra;
-            proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0, 0.2f64..3.0), n).prop_map(
-                move |v| {
-                    let disks: Vec<Circle> = v
-                        .iter()
-                        .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
-                        .collect();
-                    if closed {
-                        DiskBSpline::closed(p, &disks, None).unwrap()
-                    } else {
-                        DiskBSpline::open(p, &disks, None).unwrap()
-                    }
-                },
-            )
+            proptest::collection::vec((-xy..xy, -xy..xy, r.clone()), n).prop_map(move |v| {
+                let disks: Vec<Circle> = v
+                    .iter()
+                    .map(|&(x, y, r)| Circle::new(DVec2::new(x, y), r))
+                    .collect();
+                if closed {
+                    DiskBSpline::closed(p, &disks, None).unwrap()
+                } else {
+                    DiskBSpline::open(p, &disks, None).unwrap()
+                }
+            })
         })
     }
 
