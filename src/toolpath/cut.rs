@@ -191,9 +191,20 @@ fn leads_clear(leads: &(DVec2, Option<PathSeg>, Option<PathSeg>), path: &Path) -
     {
         ring.push(f);
     }
+    // Only ring segments whose bounding box meets the lead's can meet it (closed boxes, so
+    // touching counts); the exact predicate decides the rest. O(n + k·m) instead of O(n·m).
     let hits = |pts: &[DVec2]| {
+        let (lo, hi) = pts.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let near: Vec<[DVec2; 2]> = ring
+            .windows(2)
+            .filter(|r| r[0].min(r[1]).cmple(hi).all() && r[0].max(r[1]).cmpge(lo).all())
+            .map(|r| [r[0], r[1]])
+            .collect();
         pts.windows(2).any(|w| {
-            ring.windows(2)
+            near.iter()
                 .any(|r| crate::geom::predicates::segments_intersect(w[0], w[1], r[0], r[1]))
         })
     };
