@@ -9,6 +9,7 @@ pub mod inspect;
 pub mod outline;
 pub mod progress;
 pub mod re_route;
+pub mod shapes;
 
 pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, Summary, design_of_strokes};
 pub use progress::{Progress, ProgressFn, Stage, Timings};
