@@ -23,8 +23,9 @@
 //! at least one contour, at most [`MAX_ITEMS`] contours and [`MAX_ITEMS`] points per
 //! contour; at least 3 points per contour; every number finite and within ±[`MAX_COORD`];
 //! no point equal or nearly equal (closer than [`NEAR_FRACTION`] of the shape's size) to
-//! the one before it; no contour of zero area (|area| ≤ [`NEAR_FRACTION`]·size²), none
-//! that crosses, touches or doubles back on itself; the region must not be empty.
+//! the one before it; no contour that crosses or touches itself (running back along its
+//! own edge included), none of zero area (|area| ≤ [`NEAR_FRACTION`]·size²); the region
+//! must not be empty.
 //!
 //! Jobs treat a shape like the outline of a stroke: profile, fill and backboard operations
 //! cut its region (joined with the stroke outlines they select), `outline` draws it and
@@ -111,61 +112,128 @@ pub fn ring_area(pts: &[DVec2]) -> f64 {
     crate::geom::path::polygon_area(pts)
 }
 
-/// Where a closed ring meets itself: `Some((i, j))` for edges i (from point i to i + 1) and
-/// j that cross or touch while not adjacent, or adjacent edges that double back over each
-/// other (then j = i + 1). Exact (orientation predicates, Shewchuk); edges are swept in
-/// order of their smallest x, so only edges whose x ranges overlap are compared.
+/// Where a closed ring meets itself: `Some((i, j))`, i < j, for edges i (from point i to
+/// i + 1) and j that cross or touch while not adjacent. Exact (orientation predicates,
+/// Shewchuk); edges are swept in order of their smallest x, so only edges whose x ranges
+/// overlap are compared. A ring of four or more points that runs back along its own edge (a
+/// spike) always has such a pair (the edge after the spike starts on the edge before it, or
+/// the edge before it ends on the edge after it); a triangle that does has zero area.
 pub fn self_intersection(pts: &[DVec2]) -> Option<(usize, usize)> {
-    let n = pts.len();
-    if n < 3 {
-        return None;
-    }
-    let edge = |i: usize| (pts[i], pts[(i + 1) % n]);
-    // Adjacent edges i, i + 1 meet at point i + 1; they overlap when they are collinear and
-    // the second turns back along the first.
-    for i in 0..n {
-        let (a, b) = edge(i);
-        let c = pts[(i + 2) % n];
-        if orient2d(a, b, c) == 0.0 && (a - b).dot(c - b) > 0.0 {
-            return Some((i, (i + 1) % n));
-        }
-    }
-    let mut order: Vec<usize> = (0..n).collect();
-    let xmin = |i: usize| {
-        let (a, b) = edge(i);
+    edge_meeting(std::slice::from_ref(&pts.to_vec())).map(|((_, i), (_, j))| (i.min(j), i.max(j)))
+}
+
+/// The first pair of edges of `rings` (closed, each edge named by (ring, index of its first
+/// point)) that cross or touch, leaving out the two edges next to each other in one ring
+/// (which share a point). Exact (orientation predicates); edges are swept in order of their
+/// smallest x, so only edges whose x ranges overlap are compared.
+pub fn edge_meeting(rings: &[Vec<DVec2>]) -> Option<((usize, usize), (usize, usize))> {
+    let edge = |(r, i): (usize, usize)| {
+        let ring = &rings[r];
+        (ring[i], ring[(i + 1) % ring.len()])
+    };
+    let mut order: Vec<(usize, usize)> = rings
+        .iter()
+        .enumerate()
+        .filter(|(_, ring)| ring.len() >= 3)
+        .flat_map(|(r, ring)| (0..ring.len()).map(move |i| (r, i)))
+        .collect();
+    let xmin = |e: (usize, usize)| {
+        let (a, b) = edge(e);
         a.x.min(b.x)
     };
-    order.sort_by(|&i, &j| xmin(i).total_cmp(&xmin(j)).then(i.cmp(&j)));
-    for (k, &i) in order.iter().enumerate() {
-        let (a, b) = edge(i);
+    order.sort_by(|&e, &f| xmin(e).total_cmp(&xmin(f)).then(e.cmp(&f)));
+    for (k, &e) in order.iter().enumerate() {
+        let (a, b) = edge(e);
         let xmax = a.x.max(b.x);
         let (ylo, yhi) = (a.y.min(b.y), a.y.max(b.y));
-        for &j in &order[k + 1..] {
-            if xmin(j) > xmax {
+        for &f in &order[k + 1..] {
+            if xmin(f) > xmax {
                 break;
             }
-            let adjacent = (i + 1) % n == j || (j + 1) % n == i;
+            let n = rings[e.0].len();
+            let adjacent = e.0 == f.0 && ((e.1 + 1) % n == f.1 || (f.1 + 1) % n == e.1);
             if adjacent {
                 continue;
             }
-            let (c, d) = edge(j);
+            let (c, d) = edge(f);
             if c.y.max(d.y) < ylo || c.y.min(d.y) > yhi {
                 continue;
             }
             if segments_intersect(a, b, c, d) {
-                return Some((i.min(j), i.max(j)));
+                return Some((e.min(f), e.max(f)));
             }
         }
     }
     None
 }
 
+/// Winding number of the closed ring `ring` around `p` (Sunday's crossing rule with the
+/// exact orientation predicate); `p` must not lie on the ring.
+fn winding(ring: &[DVec2], p: DVec2) -> i32 {
+    let n = ring.len();
+    let mut w = 0;
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        if a.y <= p.y {
+            if b.y > p.y && orient2d(a, b, p) > 0.0 {
+                w += 1;
+            }
+        } else if b.y <= p.y && orient2d(a, b, p) < 0.0 {
+            w -= 1;
+        }
+    }
+    w
+}
+
 /// The region of `rings` under `rule` as simple rings: outer boundaries counter-clockwise,
-/// holes clockwise, no two crossing, so either fill rule gives the same region. Computed
-/// with geo's boolean union under the fill rule (i_overlay's sweep, O((n + k) log n) for n
-/// edges and k crossings), which is exact up to its integer snapping grid (about 1e-9 of
-/// the rings' extent).
+/// holes clockwise, no two crossing or touching, so either fill rule gives the same region.
+///
+/// Rings that neither cross nor touch themselves or each other (the usual case: outlines
+/// and holes) keep their points exactly: the winding number just outside a ring is the sum
+/// of the windings of the rings around it, just inside that plus the ring's own ±1 (its
+/// orientation); the ring bounds the region where the fill rule (SVG 1.1 §11.3: nonzero,
+/// or evenodd on the number of enclosing rings) fills one side and not the other, and is
+/// oriented by which side. Rings that cross or touch are resolved by geo's boolean union
+/// under the fill rule (i_overlay's sweep, O((n + k) log n) for n edges and k crossings),
+/// exact up to its integer snapping grid (about 1e-8 of the rings' extent).
 pub fn resolve_rings(rings: &[Vec<DVec2>], rule: FillRule) -> Vec<Vec<DVec2>> {
+    let rings: Vec<Vec<DVec2>> = rings
+        .iter()
+        .filter(|r| r.len() >= 3 && ring_area(r) != 0.0)
+        .cloned()
+        .collect();
+    if edge_meeting(&rings).is_none() {
+        let filled = |w: i32, depth: usize| match rule {
+            FillRule::Nonzero => w != 0,
+            FillRule::Evenodd => depth % 2 == 1,
+        };
+        let mut out = Vec::new();
+        for (i, r) in rings.iter().enumerate() {
+            let own = if ring_area(r) > 0.0 { 1 } else { -1 };
+            let (mut w, mut depth) = (0, 0);
+            for (j, o) in rings.iter().enumerate() {
+                let k = if j == i { 0 } else { winding(o, r[0]) };
+                if k != 0 {
+                    w += k;
+                    depth += 1;
+                }
+            }
+            let (outside, inside) = (filled(w, depth), filled(w + own, depth + 1));
+            if outside != inside {
+                let mut r = r.clone();
+                if (ring_area(&r) > 0.0) != inside {
+                    r.reverse();
+                }
+                out.push(r);
+            }
+        }
+        return out;
+    }
+    resolve_crossing(&rings, rule)
+}
+
+/// [`resolve_rings`] for rings that cross or touch: geo's union under the fill rule.
+fn resolve_crossing(rings: &[Vec<DVec2>], rule: FillRule) -> Vec<Vec<DVec2>> {
     use geo::BooleanOps;
     use geo::algorithm::bool_ops::{FillRule as GeoRule, OpType};
     let closed = |r: &[DVec2]| {
@@ -313,6 +381,17 @@ impl Shape {
                     ));
                 }
             }
+            if let Some((i, j)) = self_intersection(&pts) {
+                return Err(at(
+                    Some(Part::Contour(c)),
+                    ErrorKind::Invalid(format!(
+                        "contour crosses or touches itself: edge {i} (points {i}–{}) meets \
+                         edge {j} (points {j}–{}); split it into separate contours",
+                        (i + 1) % n,
+                        (j + 1) % n
+                    )),
+                ));
+            }
             let (lo, hi) = pts.iter().fold(
                 (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
                 |(lo, hi), &p| (lo.min(p), hi.max(p)),
@@ -326,23 +405,6 @@ impl Shape {
                          remove it or move its points apart"
                     )),
                 ));
-            }
-            if let Some((i, j)) = self_intersection(&pts) {
-                let msg = if (i + 1) % n == j {
-                    format!(
-                        "contour doubles back on itself at point {} (edges {i} and {j} run \
-                         over each other); remove that point",
-                        (i + 1) % n
-                    )
-                } else {
-                    format!(
-                        "contour crosses or touches itself: edge {i} (points {i}–{}) meets \
-                         edge {j} (points {j}–{}); split it into separate contours",
-                        (i + 1) % n,
-                        (j + 1) % n
-                    )
-                };
-                return Err(at(Some(Part::Contour(c)), ErrorKind::Invalid(msg)));
             }
         }
         if self.region().is_empty() {
