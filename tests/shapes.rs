@@ -586,3 +586,60 @@ mod resolve {
         }
     }
 }
+
+/// Random contours on a small integer grid (so repeats, collinear points, touching and
+/// crossing edges are common) under either rule: loading never panics; it either fails
+/// with an error that names the shape, or gives a shape whose region is non-empty, made of
+/// rings that neither cross nor touch themselves, and that builds on a laser.
+mod robustness {
+    use proptest::prelude::*;
+    use skinpath::design::load;
+    use skinpath::design::shape::self_intersection;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(160))]
+        #[test]
+        fn grid_contours_load_or_name_the_shape(
+            rings in prop::collection::vec(
+                prop::collection::vec((0i32..6, 0i32..6), 2..5), 1..4),
+            evenodd in any::<bool>(),
+        ) {
+            let contours: Vec<String> = rings
+                .iter()
+                .map(|r| {
+                    let pts: Vec<String> =
+                        r.iter().map(|(x, y)| format!("[{x}.0, {y}.0]")).collect();
+                    format!("[{}]", pts.join(", "))
+                })
+                .collect();
+            let text = format!(
+                "version = 1\n[[shape]]\nname = \"r\"\nfill_rule = \"{}\"\ncontours = [{}]\n",
+                if evenodd { "evenodd" } else { "nonzero" },
+                contours.join(", ")
+            );
+            match load(&text, "g.toml") {
+                Err(e) => {
+                    let e = e.to_string();
+                    prop_assert!(e.starts_with("g.toml: shape 0 \"r\""), "{e}");
+                }
+                Ok(d) => {
+                    let region = d.shape[0].region();
+                    prop_assert!(!region.is_empty());
+                    for r in &region {
+                        prop_assert!(r.len() >= 3);
+                        prop_assert!(self_intersection(r).is_none(), "{r:?}");
+                    }
+                    let profile = skinpath::machine::builtin_profile("grbl-laser")
+                        .unwrap()
+                        .unwrap();
+                    let built = skinpath::job::build::build_toolpath(
+                        &d,
+                        &profile,
+                        &skinpath::job::build::BuildOptions::default(),
+                    );
+                    prop_assert!(built.is_ok(), "{text}: {:?}", built.err().map(|e| e.to_string()));
+                }
+            }
+        }
+    }
+}
