@@ -26,11 +26,11 @@
 //!   time t = segment index + curve parameter, w × `scale_width`), linear between the width
 //!   points, running to half the tolerance at `zerowidth` caps (Inkscape's default) and
 //!   kept to the ends with other caps.
-//! - A filled path becomes a [`Shape`](super::Shape) (a closed region, `[[shape]]`): every
+//! - A filled path becomes a [`Shape`] (a closed region, `[[shape]]`): every
 //!   subpath is closed (as SVG fills it) and flattened within the tolerance after the
 //!   element's transform, and the rings are resolved under the element's `fill-rule`
 //!   (nonzero or evenodd) into simple contours, outer counter-clockwise and holes clockwise
-//!   ([`resolve_rings`](super::shape::resolve_rings)), so the written shape needs no fill
+//!   ([`resolve_rings`]), so the written shape needs no fill
 //!   rule. The shape is named after the element's id. As in a laser program (LightBurn,
 //!   Inkscape to laser: fill = an area to engrave, stroke = a line to cut), a path with both
 //!   a fill and a stroke gives both: its stroke as a stroke named by the id and its fill as a
