@@ -383,6 +383,74 @@ strokes = ["sq"]
     assert!(ops[0].cuts[0].moves.iter().any(|m| m.to.x < -5.0));
 }
 
+/// A backboard around shapes on a router: contours at the margin plus the tool radius from
+/// the shapes' union, and the program checks clean.
+#[test]
+fn backboard_goes_around_shapes() {
+    let text = format!(
+        "{PLATES}
+[[operation]]
+kind = \"backboard\"
+margin = 4.0
+depth = 3.0
+"
+    );
+    let d = load(&text, "b.toml").unwrap();
+    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();
+    let board = &built.toolpath.operations[0];
+    let r = profile.tools[0].radius();
+    let rings: Vec<Vec<DVec2>> = d.shape.iter().flat_map(|s| s.region()).collect();
+    let mut n = 0;
+    for c in &board.cuts {
+        for m in &c.moves {
+            let p = DVec2::new(m.to.x, m.to.y);
+            let dmin = rings
+                .iter()
+                .map(|ring| dist_to_ring(p, ring))
+                .fold(f64::INFINITY, f64::min);
+            assert!(dmin >= 4.0 + r - 0.02, "{p}: {dmin}");
+            n += 1;
+        }
+    }
+    assert!(n > 4);
+    // The contour bridges the 20 mm gap between the plates (margin 4 on each side does
+    // not reach): it passes above and below the gap, x in 60..80, at y > 40 or y < 0.
+    // The plates are 20 mm apart, more than twice the margin: one contour around each
+    // (the triangle lies inside the frame's), reaching the margin plus the tool radius
+    // beyond each plate's sides.
+    assert_eq!(board.cuts.len(), 2);
+    let span = |k: usize| {
+        board.cuts[k]
+            .moves
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, m| {
+                (a.0.min(m.to.x), a.1.max(m.to.x))
+            })
+    };
+    let (mut a, mut b) = (span(0), span(1));
+    if a.0 > b.0 {
+        std::mem::swap(&mut a, &mut b);
+    }
+    let reach = 4.0 + r;
+    for (got, want) in [
+        (a.0, -reach),
+        (a.1, 60.0 + reach),
+        (b.0, 80.0 - reach),
+        (b.1, 110.0 + reach),
+    ] {
+        assert!((got - want).abs() < 0.05, "{got} vs {want}");
+    }
+    let dir = tmpdir("shapes-board");
+    let (ds, gs) = (dir.join("b.toml"), dir.join("b.gcode"));
+    std::fs::write(&ds, &text).unwrap();
+    let (ds, gs) = (ds.to_str().unwrap(), gs.to_str().unwrap());
+    let o = skinpath(&["build", ds, "--machine", "grbl-router", "-o", gs]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = skinpath(&["check", gs, "--machine", "grbl-router"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
+}
+
 fn err(text: &str, file: &str) -> String {
     load(text, file).unwrap_err().to_string()
 }
