@@ -352,6 +352,26 @@ fn fill_and_stroke_give_a_stroke_and_a_shape() {
     assert_eq!(prof.cuts.len(), 2, "{}", prof.cuts.len());
 }
 
+/// Fills that paint nothing are skipped and listed by id: fully transparent, or without
+/// area; a half-transparent fill is still an area.
+#[test]
+fn fills_that_paint_nothing_are_listed() {
+    let text = svg(
+        r#"width="50mm" height="50mm" viewBox="0 0 50 50""#,
+        r#"<rect id="ghost" x="5" y="5" width="10" height="10" fill="red" fill-opacity="0"/>
+           <rect id="clear" x="20" y="5" width="10" height="10" fill="transparent"/>
+           <path id="flat" d="M 5 40 L 30 40 L 45 40 Z" fill="black"/>
+           <rect id="half" x="5" y="25" width="10" height="10" fill="red" opacity="0.5"/>"#,
+    );
+    let imp = import(&text, "t.svg", &ImportOptions::default()).unwrap();
+    let shapes: Vec<&str> = imp.design.shape.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(shapes, ["half"]);
+    let ids: Vec<&str> = imp.skipped.iter().map(|s| s.id.as_str()).collect();
+    assert_eq!(ids, ["ghost", "clear", "flat"], "{:?}", imp.skipped);
+    assert!(imp.skipped[0].reason.contains("transparent"));
+    assert!(imp.skipped[2].reason.contains("no area"));
+}
+
 /// A stroke that crosses a shape's edge is profiled with it as one region (one contour),
 /// and an operation may select a shape by name.
 #[test]

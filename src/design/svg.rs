@@ -37,9 +37,9 @@
 //!   shape named `ID.fill`; what the SVG paints is what the design holds. Give a path
 //!   `fill="none"` to import only its stroke (SVG fills a path black unless told otherwise).
 //!   An Inkscape Power Stroke's fill is the stroke's drawing, not a shape.
-//! - Filled paths whose fill encloses no area (listed when they have no stroke), hidden
-//!   paths, paths with neither fill nor stroke, images and text are skipped, each listed by
-//!   id with the reason.
+//! - Filled paths whose fill encloses no area or is fully transparent (listed when they
+//!   have no stroke), hidden paths, paths with neither fill nor stroke, images and text are
+//!   skipped, each listed by id with the reason.
 //!
 //! Coordinates: millimetres, 96 px per inch (mm, cm, in, pt, pc and px are resolved by
 //! usvg from `width`/`height` and the viewBox); SVG's y axis points down, so y is flipped
@@ -394,8 +394,11 @@ impl Ctx<'_> {
             return Ok(());
         }
         let power = self.power_stroke(p.id(), &id)?;
+        // A fully transparent fill (fill-opacity 0, or the colour `transparent`) paints
+        // nothing: it is no area to engrave.
+        let fill = p.fill().filter(|f| f.opacity().get() > 0.0);
         if power.is_none()
-            && let Some(fill) = p.fill()
+            && let Some(fill) = fill
         {
             self.fill_shape(p, &id, fill.rule(), p.stroke().is_some());
         }
@@ -405,6 +408,8 @@ impl Ctx<'_> {
             (None, None) => {
                 if p.fill().is_none() {
                     self.skip(id, "neither stroked nor filled");
+                } else if fill.is_none() {
+                    self.skip(id, "its fill is fully transparent and it has no stroke");
                 }
                 return Ok(());
             }
