@@ -54,8 +54,29 @@ power = 70.0
 depth = 2.0
 TOML
 
-# 3. A drawing imported from an SVG (the filled plate in it is skipped).
+# 3. A drawing imported from an SVG (its filled plate becomes a shape).
 "$bin" import $g/landscape.svg -o $g/landscape.toml
+
+# 3b. A badge imported from an SVG of filled shapes (areas, engraved by a hatch) and strokes
+#     (lines, cut on the line).
+"$bin" import $g/badge.svg -o $g/badge.toml
+cat >> $g/badge.toml <<'TOML'
+
+[[operation]]
+kind = "fill"
+strokes = ["border", "star", "tag.fill"]
+pattern = "hatch"
+angle = 45.0
+spacing = 0.5
+power = 35.0
+depth = 0.3
+
+[[operation]]
+kind = "profile"
+side = "on"
+power = 80.0
+depth = 1.0
+TOML
 
 # 4. Laser engraving: two centred lines, hatched.
 "$bin" text 'SKIN\nPATH' --height 24 --width 5 --align centre --letter-spacing 2 \

@@ -75,6 +75,7 @@ fn random_design(rng: &mut Rng) -> Design {
         outline: None,
         stroke: strokes,
         circles,
+        shape: Vec::new(),
         operation,
         text: Vec::new(),
         corners: Vec::new(),

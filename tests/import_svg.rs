@@ -206,15 +206,19 @@ fn skipped_elements_are_listed_by_id() {
         r#"width="100mm" height="100mm" viewBox="0 0 100 100""#,
         r#"<rect id="plate" x="0" y="0" width="10" height="10" fill="red"/>
            <rect x="20" y="0" width="10" height="10" fill="blue"/>
+           <path d="M0 70 H50" fill="none"/>
            <text id="caption" x="0" y="90">hello</text>
            <path id="keep" d="M0 50 H50" stroke="black"/>"#,
     );
     let imp = import(&text, "s.svg", &ImportOptions::default()).unwrap();
     let ids: Vec<&str> = imp.skipped.iter().map(|s| s.id.as_str()).collect();
-    assert!(
-        ids.contains(&"plate") && ids.contains(&"caption"),
-        "{ids:?}"
-    );
+    assert!(ids.contains(&"caption"), "{ids:?}");
+    // Filled shapes are imported as shapes (issue 12 item 3), not skipped.
+    assert!(!ids.contains(&"plate"), "{ids:?}");
+    let shapes: Vec<&str> = imp.design.shape.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(shapes.len(), 2, "{shapes:?}");
+    assert!(shapes.contains(&"plate"), "{shapes:?}");
+    // The unnamed path with neither fill nor stroke is listed by its place.
     assert!(ids.iter().any(|i| i.starts_with("<path> #")), "{ids:?}");
     assert!(imp.skipped.iter().all(|s| !s.reason.is_empty()));
     assert_eq!(imp.design.stroke.len(), 1);

@@ -1,5 +1,6 @@
 //! `skinpath import drawing.svg -o design.toml [--tolerance T] [--corner-angle DEG]`:
-//! stroked SVG paths become strokes; every skipped element is listed on stderr.
+//! stroked SVG paths become strokes, filled ones shapes; every skipped element is listed on
+//! stderr.
 
 use super::io;
 use anyhow::{Context, Result, bail};
@@ -42,9 +43,9 @@ pub fn run(a: Args) -> Result<u8> {
     for s in &imported.skipped {
         eprintln!("skipped {}: {}", s.id, s.reason);
     }
-    if imported.design.stroke.is_empty() {
+    if imported.design.stroke.is_empty() && imported.design.shape.is_empty() {
         bail!(
-            "{}: no stroked path to import ({} element(s) skipped)",
+            "{}: no stroked or filled path to import ({} element(s) skipped)",
             a.svg.display(),
             imported.skipped.len()
         );
@@ -56,8 +57,12 @@ pub fn run(a: Args) -> Result<u8> {
     skinpath::design::from_str(&body, format, &out_name)?;
     io::write_atomic(&a.output, body.as_bytes()).with_context(|| format!("writing {out_name}"))?;
     eprintln!(
-        "imported {} stroke(s), {} skipped, spines within {:.4} mm of the SVG centre lines",
+        "imported {} stroke(s){}, {} skipped, spines within {:.4} mm of the SVG centre lines",
         design.stroke.len(),
+        match design.shape.len() {
+            0 => String::new(),
+            n => format!(" and {n} filled shape(s)"),
+        },
         imported.skipped.len(),
         imported.max_deviation
     );

@@ -89,6 +89,7 @@ pub fn run(a: Args) -> Result<u8> {
         outline: None,
         stroke: Vec::new(),
         circles: Vec::new(),
+        shape: Vec::new(),
         text: vec![t],
         operation: Vec::new(),
         file: a.output.display().to_string(),

@@ -122,7 +122,7 @@ impl Design {
         self.circles.iter().map(CircleSeq::to_circles).collect()
     }
 
-    /// The index of the stroke or circle sequence called `name`.
+    /// The index of the stroke, circle sequence or shape called `name`.
     pub fn find(&self, name: &str) -> Option<Item> {
         if let Some(index) = self.stroke.iter().position(|s| s.name == name) {
             return Some(Item::Stroke {
@@ -130,10 +130,16 @@ impl Design {
                 name: name.to_string(),
             });
         }
-        self.circles
+        if let Some(index) = self.circles.iter().position(|c| c.name == name) {
+            return Some(Item::Circles {
+                index,
+                name: name.to_string(),
+            });
+        }
+        self.shape
             .iter()
-            .position(|c| c.name == name)
-            .map(|index| Item::Circles {
+            .position(|s| s.name == name)
+            .map(|index| Item::Shape {
                 index,
                 name: name.to_string(),
             })

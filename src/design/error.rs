@@ -1,5 +1,5 @@
 //! Errors of design loading and validation: each names the file, the item (stroke, circle
-//! sequence, operation) and the part (disk, knot, point, attribute value) at fault.
+//! sequence, shape, operation) and the part (disk, knot, point, attribute value) at fault.
 
 use std::fmt;
 
@@ -16,6 +16,8 @@ pub enum Item {
     Outline,
     /// `[[text]]` number `index` (0-based) with its `name`.
     Text { index: usize, name: String },
+    /// `[[shape]]` number `index` (0-based) with its `name`.
+    Shape { index: usize, name: String },
 }
 
 impl fmt::Display for Item {
@@ -26,6 +28,7 @@ impl fmt::Display for Item {
             Item::Operation { index, kind } => write!(f, "operation {index} ({kind})"),
             Item::Outline => write!(f, "outline"),
             Item::Text { index, name } => write!(f, "text {index} \"{name}\""),
+            Item::Shape { index, name } => write!(f, "shape {index} \"{name}\""),
         }
     }
 }
@@ -45,6 +48,10 @@ pub enum Part {
     Attribute { channel: String, index: usize },
     /// A key of the item.
     Key(String),
+    /// Contour `i` of a shape.
+    Contour(usize),
+    /// Point `point` of contour `contour` of a shape.
+    ContourPoint { contour: usize, point: usize },
 }
 
 impl fmt::Display for Part {
@@ -56,6 +63,8 @@ impl fmt::Display for Part {
             Part::Knot(i) => write!(f, "knot {i}"),
             Part::Attribute { channel, index } => write!(f, "attribute {channel} value {index}"),
             Part::Key(k) => write!(f, "key `{k}`"),
+            Part::Contour(i) => write!(f, "contour {i}"),
+            Part::ContourPoint { contour, point } => write!(f, "contour {contour}, point {point}"),
         }
     }
 }

@@ -39,15 +39,21 @@
 //! closed = false
 //! circles = [[0.0, 0.0, 2.0], [6.0, 1.0, 2.5], [12.0, 0.0, 2.0]]
 //!
+//! [[shape]]                   # a closed region: outer contours and holes ([`shape`])
+//! name = "plate"
+//! fill_rule = "nonzero"       # or "evenodd"; default "nonzero"
+//! contours = [[[0.0, -10.0], [40.0, -10.0], [40.0, -4.0], [0.0, -4.0]]]  # [[x, y], ...]
+//!
 //! [[operation]]               # toolpath operations: plain data for the toolpath stage
 //! kind = "channel"            # profile | channel | backboard | holes | fill | vcarve
-//! strokes = ["s1"]            # default: all strokes and circle sequences
+//! strokes = ["s1"]            # default: all strokes, circle sequences and shapes
 //! width = 6.0
 //! depth = 8.0
 //! ```
 //!
 //! JSON files use the same keys: `{"version": 1, "units": "mm", "stroke": [{"name": "s1",
-//! "disks": [[0, 0, 2], ...]}], "circles": [...], "operation": [...]}`. Integers are accepted
+//! "disks": [[0, 0, 2], ...]}], "circles": [...], "shape": [{"name": "p", "contours":
+//! [[[0, 0], [4, 0], [4, 3]]]}], "operation": [...]}`. Integers are accepted
 //! wherever a number is expected.
 //!
 //! Knots. An open stroke's `knots` is the full knot vector: disks + degree + 1 values,
@@ -67,7 +73,14 @@
 //! 2 ≤ `control_disks` ≤ points (its degree lowered to `control_disks` − 1 when needed).
 //! Attribute channels have one value per control disk: `disks.len()`, `points.len()` for an
 //! interpolation (one control disk per point), or `control_disks` for an approximation.
-//! A design needs at least one stroke or circle sequence.
+//! A design needs at least one stroke, circle sequence or shape.
+//!
+//! Shapes. `[[shape]]` holds closed polylines `contours = [[[x, y], ...], ...]` (outer
+//! boundaries and holes) and a `fill_rule`, "nonzero" (default) or "evenodd" as in SVG;
+//! contours may cross each other but not themselves, each has at least 3 points and a
+//! non-zero area. Profile, fill and backboard operations cut a shape's region joined with
+//! the stroke outlines they select; channel, holes and V-carve follow spines and skip
+//! shapes. Names are unique among strokes, circle sequences and shapes. See [`shape`].
 //!
 //! Values. Every disk, point and circle is exactly `[x, y, r]` (a list of another length is
 //! a parse error with line:column). All numbers finite, |x|, |y|, r ≤ 1e7 design units
@@ -92,7 +105,7 @@
 //! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),
 //! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
 //! required), `max_depth`. A per-kind key on another kind is an error, and so is a name in
-//! `strokes` that no stroke or circle sequence has.
+//! `strokes` that no stroke, circle sequence or shape has.
 //!
 //! Geometry: [`Design::strokes`] gives every stroke as a
 //! [`DiskBSpline`](crate::dbsc::DiskBSpline) (points strokes through
@@ -108,6 +121,7 @@ pub mod corners;
 mod error;
 mod load;
 mod model;
+pub mod shape;
 pub mod svg;
 pub mod text;
 mod validate;
@@ -121,6 +135,7 @@ pub use model::{
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
     VERSION,
 };
+pub use shape::{FillRule, Shape};
 pub use text::Text;
 pub use validate::{
     MAX_COORD, MAX_DEGREE, MAX_FEED, MAX_ITEMS, MAX_PASSES, MAX_TABS, MIN_RADIUS, NEAR_FRACTION,

@@ -69,6 +69,9 @@ pub struct Design {
     /// The `[[circles]]` tables: circle sequences skinned directly.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub circles: Vec<CircleSeq>,
+    /// The `[[shape]]` tables: closed regions (see [`crate::design::shape`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shape: Vec<super::shape::Shape>,
     /// The `[[text]]` tables: single-stroke text, laid out into strokes when loaded
     /// (see [`crate::design::Text`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -358,7 +361,7 @@ pub struct Tabs {
 #[serde(deny_unknown_fields)]
 pub struct Operation {
     pub kind: OperationKind,
-    /// The strokes and circle sequences it applies to, by name (default: all).
+    /// The strokes, circle sequences and shapes it applies to, by name (default: all).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strokes: Option<Vec<String>>,
     // Common to all kinds.

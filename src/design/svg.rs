@@ -1,4 +1,4 @@
-//! SVG import: stroked paths become strokes.
+//! SVG import: stroked paths become strokes, filled paths become shapes.
 //!
 //! usvg resolves units, the viewBox, nested transforms, `use`, CSS and presentation
 //! attributes, and turns shapes (rect, circle, ellipse, line, polyline, polygon) and arcs
@@ -26,10 +26,20 @@
 //!   time t = segment index + curve parameter, w × `scale_width`), linear between the width
 //!   points, running to half the tolerance at `zerowidth` caps (Inkscape's default) and
 //!   kept to the ends with other caps.
-//! - Filled paths without a stroke, hidden paths, images and text are skipped, each listed
-//!   by id with the reason. (Outlines of filled shapes would need a design element for
-//!   closed regions to profile or fill; skinpath designs have only strokes, so they are not
-//!   imported.)
+//! - A filled path becomes a [`Shape`] (a closed region, `[[shape]]`): every
+//!   subpath is closed (as SVG fills it) and flattened within the tolerance after the
+//!   element's transform, and the rings are resolved under the element's `fill-rule`
+//!   (nonzero or evenodd) into simple contours, outer counter-clockwise and holes clockwise
+//!   ([`resolve_rings`]), so the written shape needs no fill
+//!   rule. The shape is named after the element's id. As in a laser program (LightBurn,
+//!   Inkscape to laser: fill = an area to engrave, stroke = a line to cut), a path with both
+//!   a fill and a stroke gives both: its stroke as a stroke named by the id and its fill as a
+//!   shape named `ID.fill`; what the SVG paints is what the design holds. Give a path
+//!   `fill="none"` to import only its stroke (SVG fills a path black unless told otherwise).
+//!   An Inkscape Power Stroke's fill is the stroke's drawing, not a shape.
+//! - Filled paths whose fill encloses no area or is fully transparent (listed when they
+//!   have no stroke), hidden paths, paths with neither fill nor stroke, images and text are
+//!   skipped, each listed by id with the reason.
 //!
 //! Coordinates: millimetres, 96 px per inch (mm, cm, in, pt, pc and px are resolved by
 //! usvg from `width`/`height` and the viewBox); SVG's y axis points down, so y is flipped
@@ -38,6 +48,7 @@
 
 use super::error::{DesignError, ErrorKind};
 use super::model::{Design, Stroke, Units, VERSION};
+use super::shape::{Shape, resolve_rings};
 use crate::geom::DVec2;
 use kurbo::{BezPath, CubicBez, PathEl, QuadBez};
 
@@ -84,7 +95,8 @@ pub struct Skipped {
 /// The result of [`import`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Imported {
-    /// The design: one stroke per stroked subpath (with `corners`), not yet expanded.
+    /// The design: one stroke per stroked subpath (with `corners`), not yet expanded, and
+    /// one shape per filled path.
     pub design: Design,
     pub skipped: Vec<Skipped>,
     /// The largest distance between a fitted spine and its SVG centre line, mm.
@@ -130,6 +142,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         xml: &xml,
         page_height: tree.size().height() as f64,
         strokes: Vec::new(),
+        shapes: Vec::new(),
         skipped: Vec::new(),
         counter: 0,
         max_deviation: 0.0,
@@ -162,6 +175,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         outline: None,
         stroke: ctx.strokes,
         circles: Vec::new(),
+        shape: ctx.shapes,
         text: Vec::new(),
         operation: Vec::new(),
         file: file.to_string(),
@@ -189,6 +203,7 @@ struct Ctx<'a> {
     xml: &'a roxmltree::Document<'a>,
     page_height: f64,
     strokes: Vec<Stroke>,
+    shapes: Vec<Shape>,
     skipped: Vec<Skipped>,
     counter: usize,
     max_deviation: f64,
@@ -379,17 +394,23 @@ impl Ctx<'_> {
             return Ok(());
         }
         let power = self.power_stroke(p.id(), &id)?;
+        // A fully transparent fill (fill-opacity 0, or the colour `transparent`) paints
+        // nothing: it is no area to engrave.
+        let fill = p.fill().filter(|f| f.opacity().get() > 0.0);
+        if power.is_none()
+            && let Some(fill) = fill
+        {
+            self.fill_shape(p, &id, fill.rule(), p.stroke().is_some());
+        }
         let stroke_width = match (&power, p.stroke()) {
             (Some(_), _) => 0.0,
             (None, Some(stroke)) => stroke.width().get() as f64,
             (None, None) => {
-                let reason = if p.fill().is_some() {
-                    "filled shape without a stroke: only stroked paths become strokes (give it a \
-                     stroke to import its centre line)"
-                } else {
-                    "neither stroked nor filled"
-                };
-                self.skip(id, reason);
+                if p.fill().is_none() {
+                    self.skip(id, "neither stroked nor filled");
+                } else if fill.is_none() {
+                    self.skip(id, "its fill is fully transparent and it has no stroke");
+                }
                 return Ok(());
             }
         };
@@ -662,8 +683,108 @@ impl Ctx<'_> {
         }))
     }
 
+    /// The fill of `p` as a shape (see the module docs): subpaths closed and flattened within
+    /// the tolerance in millimetres, resolved under `rule`, rounded like stroke points.
+    /// A fill that encloses no area, or whose contours do not make a valid shape after
+    /// rounding, is listed as skipped (a stroked path's empty fill, e.g. a straight line's,
+    /// is not: the path was imported as a stroke).
+    fn fill_shape(&mut self, p: &usvg::Path, id: &str, rule: usvg::FillRule, stroked: bool) {
+        let t = p.abs_transform();
+        let mm = |q: usvg::tiny_skia_path::Point| {
+            let x = t.sx as f64 * q.x as f64 + t.kx as f64 * q.y as f64 + t.tx as f64;
+            let y = t.ky as f64 * q.x as f64 + t.sy as f64 * q.y as f64 + t.ty as f64;
+            self.to_mm(DVec2::new(x, y))
+        };
+        let tol = self.opts.tolerance;
+        let mut rings: Vec<Vec<DVec2>> = Vec::new();
+        let mut cur: Vec<DVec2> = Vec::new();
+        let mut start = DVec2::ZERO;
+        for seg in p.data().segments() {
+            use usvg::tiny_skia_path::PathSegment as S;
+            if !matches!(seg, S::MoveTo(_) | S::Close) && cur.is_empty() {
+                cur.push(start); // drawing on after a close starts at the subpath's start
+            }
+            let last = cur.last().copied().unwrap_or(start);
+            match seg {
+                S::MoveTo(q) => {
+                    rings.push(std::mem::take(&mut cur));
+                    start = mm(q);
+                    cur.push(start);
+                }
+                S::LineTo(q) => cur.push(mm(q)),
+                S::QuadTo(a, b) => flatten_segment(&[last, mm(a), mm(b)], tol, &mut cur),
+                S::CubicTo(a, b, c) => flatten_segment(&[last, mm(a), mm(b), mm(c)], tol, &mut cur),
+                S::Close => rings.push(std::mem::take(&mut cur)),
+            }
+        }
+        rings.push(cur);
+        rings.retain(|r| r.len() >= 3);
+        let rule = match rule {
+            usvg::FillRule::NonZero => super::FillRule::Nonzero,
+            usvg::FillRule::EvenOdd => super::FillRule::Evenodd,
+        };
+        let region = resolve_rings(&rings, rule);
+        let size = region
+            .iter()
+            .flatten()
+            .fold(1.0f64, |m, q| m.max(q.abs().max_element()));
+        // usvg keeps f32 coordinates: digits past 1e-6 mm are noise. Points that rounding
+        // brings within twice the design's near-repeat distance of their predecessor go.
+        let apart = 2.0 * (super::NEAR_FRACTION * size).max(1.0 / ROUND);
+        let contours: Vec<Vec<[f64; 2]>> = region
+            .iter()
+            .map(|r| {
+                let mut out: Vec<[f64; 2]> = Vec::with_capacity(r.len());
+                for q in r {
+                    let v = [q.x, q.y].map(|c| (c * ROUND).round() / ROUND);
+                    let far = |w: &[f64; 2]| (v[0] - w[0]).hypot(v[1] - w[1]) > apart;
+                    if out.last().is_none_or(far) {
+                        out.push(v);
+                    }
+                }
+                while out.len() > 1
+                    && out
+                        .first()
+                        .zip(out.last())
+                        .is_some_and(|(f, l)| (f[0] - l[0]).hypot(f[1] - l[1]) <= apart)
+                {
+                    out.pop();
+                }
+                out
+            })
+            .filter(|r| r.len() >= 3)
+            .collect();
+        let name = if stroked {
+            format!("{id}.fill")
+        } else {
+            id.to_string()
+        };
+        if contours.is_empty() {
+            if !stroked {
+                self.skip(name, "filled shape that encloses no area");
+            }
+            return;
+        }
+        let name = self.unique(name);
+        let shape = Shape {
+            name: name.clone(),
+            fill_rule: None,
+            contours,
+        };
+        match shape.validate(self.file, self.shapes.len()) {
+            Ok(()) => self.shapes.push(shape),
+            Err(e) => {
+                let part = e.part.as_ref().map_or(String::new(), |p| format!("{p}: "));
+                let reason = format!("its fill does not make a valid shape: {part}{}", e.kind);
+                self.skip(name, &reason);
+            }
+        }
+    }
+
     fn unique(&self, name: String) -> String {
-        let taken = |n: &str| self.strokes.iter().any(|s| s.name == n);
+        let taken = |n: &str| {
+            self.strokes.iter().any(|s| s.name == n) || self.shapes.iter().any(|s| s.name == n)
+        };
         if !taken(&name) {
             return name;
         }

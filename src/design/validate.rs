@@ -65,12 +65,12 @@ pub fn validate(d: &Design) -> Result<()> {
             ErrorKind::Invalid(format!("tolerance {t} must be at most {MAX_COORD}")),
         ));
     }
-    if d.stroke.is_empty() && d.circles.is_empty() {
+    if d.stroke.is_empty() && d.circles.is_empty() && d.shape.is_empty() {
         return Err(DesignError::file(
             file,
             ErrorKind::Invalid(
-                "the design has no [[stroke]] and no [[circles]]: nothing to outline or cut; \
-                 add at least one"
+                "the design has no [[stroke]] and no [[circles]] (nor [[shape]]): nothing to \
+                 outline or cut; add at least one"
                     .into(),
             ),
         ));
@@ -110,6 +110,14 @@ pub fn validate(d: &Design) -> Result<()> {
                 },
             ));
         }
+    }
+    for (index, sh) in d.shape.iter().enumerate() {
+        let item = Item::Shape {
+            index,
+            name: sh.name.clone(),
+        };
+        check_name(file, &sh.name, item, &mut names)?;
+        sh.validate(file, index)?;
     }
     for (index, op) in d.operation.iter().enumerate() {
         let item = Item::Operation {

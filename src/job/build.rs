@@ -1260,6 +1260,7 @@ pub fn scaled_design(design: &Design, f: f64) -> Design {
     for c in &mut d.corners {
         c.at.iter_mut().for_each(|x| *x *= f);
     }
+    d.shape.iter_mut().for_each(|s| s.scale(f));
     d
 }
 

@@ -606,6 +606,7 @@ pub fn design_of_strokes(
         outline: None,
         stroke,
         circles,
+        shape: Vec::new(),
         text: Vec::new(),
         operation: Vec::new(),
         file: file.to_string(),

@@ -66,6 +66,9 @@ pub struct DesignInfo {
     pub circles: Vec<CirclesInfo>,
     /// Corners at which strokes were split into pieces (`corners` in the design).
     pub corners: Vec<crate::design::Corner>,
+    /// The `[[shape]]` regions.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub shapes: Vec<super::shapes::ShapeInfo>,
 }
 
 fn radius_range(c: &DiskBSpline) -> [f64; 2] {
@@ -92,6 +95,7 @@ pub fn inspect(design: &Design, opts: &OutlineOptions) -> Result<DesignInfo, Job
         strokes: Vec::new(),
         circles: Vec::new(),
         corners: design.corners.clone(),
+        shapes: super::shapes::shape_infos(design),
     };
     for (s, c) in design.stroke.iter().zip(&strokes) {
         let spine = flatten_spine(c, opts.tolerance);
@@ -251,6 +255,9 @@ impl std::fmt::Display for DesignInfo {
                     Some(e) => format!("NOT admissible: {e}"),
                 }
             )?;
+        }
+        for s in &self.shapes {
+            write!(f, "{s}")?;
         }
         Ok(())
     }

@@ -1,5 +1,5 @@
-//! Whole jobs on a design: outlines of every stroke and circle sequence ([`outline`]), and
-//! toolpaths for a machine ([`build`]). This is the only library module that walks a whole
+//! Whole jobs on a design: outlines of every stroke and circle sequence ([`outline`]) and
+//! shape ([`shapes`]), and toolpaths for a machine ([`build`]). This is the only library module that walks a whole
 //! design through the pipeline; the CLI adds files and terminals around it.
 
 pub mod build;
@@ -9,6 +9,7 @@ pub mod inspect;
 pub mod outline;
 pub mod progress;
 pub mod re_route;
+pub mod shapes;
 
 pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, Summary, design_of_strokes};
 pub use progress::{Progress, ProgressFn, Stage, Timings};

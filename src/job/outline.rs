@@ -211,7 +211,9 @@ pub fn design_outlines_with(
     let seqs = (design.circles.par_iter().zip(&sequences))
         .map(|(seq, circles)| step(circles_outline(design, &seq.name, circles, seq.closed)));
     let all: Vec<Result<ItemOutline, JobError>> = strokes.chain(seqs).collect();
-    all.into_iter().collect()
+    let mut all: Vec<ItemOutline> = all.into_iter().collect::<Result<_, _>>()?;
+    all.extend(super::shapes::shape_outlines(design));
+    Ok(all)
 }
 
 fn refc(role: CircleRole, c: &Circle) -> RefCircle {
@@ -783,6 +785,8 @@ pub fn outline_document_with(
         });
         report(progress, Stage::Skin, doc.strokes.len(), total);
     }
+    doc.strokes
+        .extend(super::shapes::shape_drawings(design, opts));
     Ok(doc)
 }
 
