@@ -403,6 +403,24 @@ strokes = ["sq"]
     assert!(ops[0].cuts[0].moves.iter().any(|m| m.to.x < -5.0));
 }
 
+/// A channel follows stroke spines: one that selects only shapes is an error naming them and
+/// what to use instead, not an empty operation.
+#[test]
+fn channel_of_shapes_only_is_refused_with_the_names() {
+    let text = format!(
+        "{PLATES}\n[[operation]]\nkind = \"channel\"\nwidth = 4.0\ndepth = 2.0\nstrokes = [\"frame\", \"tri\"]\n"
+    );
+    let d = load(&text, "c.toml").unwrap();
+    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let e = build_toolpath(&d, &profile, &BuildOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("c.toml"), "{e}");
+    assert!(e.contains("[[operation]] 1 (channel)"), "{e}");
+    assert!(e.contains("\"frame\", \"tri\""), "{e}");
+    assert!(e.contains("`profile` or `fill`"), "{e}");
+}
+
 /// A backboard around shapes on a router: contours at the margin plus the tool radius from
 /// the shapes' union, and the program checks clean.
 #[test]

@@ -573,6 +573,23 @@ fn operation_specs(
                     )
                 })
                 .collect();
+            if swept.is_empty() && !items.is_empty() {
+                let names: Vec<String> = items
+                    .iter()
+                    .map(|&i| format!("\"{}\"", ctx.outlines[i].name))
+                    .collect();
+                return Err(op_err(
+                    ctx,
+                    index,
+                    op,
+                    format!(
+                        "a channel follows stroke spines, and none of {} is a stroke (shapes \
+                         and circle sequences have no spine): select strokes, or cut shapes \
+                         with `profile` or `fill`",
+                        names.join(", ")
+                    ),
+                ));
+            }
             let regions: Vec<Region> = swept.iter().map(|(_, r)| r.clone()).collect();
             // Crossing and touching channels merge into one pocket (a T-junction is one
             // channel network).
