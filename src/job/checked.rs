@@ -226,7 +226,7 @@ impl Job<'_> {
                     .findings
                     .iter()
                     .filter(|f| f.severity == Severity::Error)
-                    .map(|f| explain(f, &orig, &built.toolpath, &design.file))
+                    .map(|f| explain(f, &orig, &built.toolpath, &design))
                     .collect();
                 if r.errors() > 0 && !o.write_unchecked {
                     return Err(JobError::Unchecked {
@@ -392,9 +392,22 @@ pub fn advice(id: &str) -> &'static str {
 
 /// A checker finding of the program traced back to what the design says: the operation
 /// (its kind, name and number in the design), the stroke and the place, then [`advice`].
+/// What the design calls the item named `name`: "stroke" (also the strokes `[[text]]`
+/// lays out), "circle sequence" or "shape".
+fn item_kind(design: &Design, name: &str) -> &'static str {
+    if design.shape.iter().any(|s| s.name == name) {
+        "shape"
+    } else if design.circles.iter().any(|c| c.name == name) {
+        "circle sequence"
+    } else {
+        "stroke"
+    }
+}
+
 /// `origins` maps program lines (0-based) to (operation, cut) of `tp`; `file` names the
 /// design.
-pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, file: &str) -> String {
+pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, design: &Design) -> String {
+    let file = design.file.as_str();
     // Every distinct operation and stroke among the finding's lines (a crossing has two).
     let mut whos: Vec<String> = Vec::new();
     for (oi, ci) in f
@@ -410,7 +423,7 @@ pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, file: &str) -
             None => format!("the default {} (the design has no [[operation]])", op.name),
         };
         if let Some(src) = op.cuts.get(ci).and_then(|c| c.source.as_ref()) {
-            w.push_str(&format!(", stroke \"{src}\""));
+            w.push_str(&format!(", {} \"{src}\"", item_kind(design, src)));
         }
         if !whos.contains(&w) {
             whos.push(w);
@@ -687,5 +700,29 @@ impl<'a> StageClock<'a> {
             });
         }
         std::mem::take(&mut st.2)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::item_kind;
+
+    #[test]
+    fn checker_explanations_name_the_item_kind() {
+        let text = r#"version = 1
+[[stroke]]
+name = "s"
+disks = [[0.0, 0.0, 1.0], [10.0, 0.0, 1.0]]
+[[circles]]
+name = "c"
+circles = [[20.0, 0.0, 1.0], [30.0, 0.0, 2.0]]
+[[shape]]
+name = "q"
+contours = [[[0.0, 10.0], [5.0, 10.0], [5.0, 15.0]]]
+"#;
+        let d = crate::design::load(text, "k.toml").unwrap();
+        assert_eq!(item_kind(&d, "s"), "stroke");
+        assert_eq!(item_kind(&d, "c"), "circle sequence");
+        assert_eq!(item_kind(&d, "q"), "shape");
     }
 }
