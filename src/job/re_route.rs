@@ -36,7 +36,7 @@ pub enum RouteRefusal {
     SelfOverlap,
     #[error("stroke without its disk B-spline")]
     NoCurve,
-    #[error("no stroke or circle sequence of this name")]
+    #[error("not a stroke or circle sequence (a shape has no RE/MPH skin)")]
     NoItem,
     /// The RE/MPH skin or its outline could not be built.
     #[error(transparent)]
