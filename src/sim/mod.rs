@@ -36,7 +36,7 @@ pub mod timeline;
 pub use checks::{DesignBoundary, KeepSide};
 pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry};
 pub use findings::{Finding, Severity};
-pub use motion::{Event, Motion, MotionKind, Program, Spindle, ToolState, Units};
+pub use motion::{Event, Motion, MotionKind, Motions, Program, Spindle, ToolState, Units};
 pub use report::{Report, Stats};
 pub use time::TimeEstimate;
 

@@ -9,7 +9,7 @@
 //! deceleration began). The sum of the segments' durations is the estimate's total.
 
 use super::config::CheckConfig;
-use super::motion::{Motion, MotionKind};
+use super::motion::{MotionKind, Motions};
 use super::time::{Block, block_time, plan};
 use glam::DVec3;
 
@@ -105,7 +105,7 @@ impl Timeline {
 
 /// The timeline of `motions` (mm) under `cfg` (converted to mm here). The machine starts
 /// and ends at rest and stops for every dwell, as in [`super::time::estimate`].
-pub fn timeline(motions: &[Motion], cfg: &CheckConfig) -> Timeline {
+pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
     let cfg = cfg.in_mm();
     let mut segs: Vec<Segment> = Vec::new();
     let mut blocks: Vec<Block> = Vec::new();

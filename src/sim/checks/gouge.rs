@@ -6,7 +6,7 @@ use crate::geom::predicates::edge_winding;
 use crate::geom::{DVec2, Line};
 use crate::sim::config::CheckConfig;
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::Motion;
+use crate::sim::motion::Motions;
 use rstar::primitives::{GeomWithData, Line as RLine};
 use rstar::{AABB, RTree};
 use serde::{Deserialize, Serialize};
@@ -67,7 +67,7 @@ type Indexed = GeomWithData<RLine<[f64; 2]>, usize>;
 /// closer than `tool_radius − gouge_tolerance` to any boundary, and contours whose start
 /// lies on the wrong side of the nearest boundary. One finding per offending line.
 pub fn gouge_findings(
-    motions: &[Motion],
+    motions: &Motions,
     contours: &[Contour],
     design: &[DesignBoundary],
     cfg: &CheckConfig,
