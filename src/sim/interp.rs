@@ -119,10 +119,20 @@ impl<'a> Source<'a> {
 }
 
 fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
-    b.iter()
-        .enumerate()
-        .filter(|(_, c)| **c == b'\n')
-        .map(|(i, _)| i + 1)
+    memchr::memchr_iter(b'\n', b).map(|i| i + 1)
+}
+
+/// Indexes of the lines of `s` holding an `o` or `O` (the only ones that can hold an O-word),
+/// in order, each once.
+fn lines_with_o(s: &Source<'_>) -> Vec<usize> {
+    let mut out: Vec<usize> = Vec::new();
+    for at in memchr::memchr2_iter(b'o', b'O', s.text.as_bytes()) {
+        let line = s.starts.partition_point(|&st| st <= at).saturating_sub(1);
+        if out.last() != Some(&line) {
+            out.push(line);
+        }
+    }
+    out
 }
 
 /// One O-word statement found by the pre-scan.
@@ -347,11 +357,8 @@ impl<'a> Interp<'a, '_> {
         self.high_water.push(0);
         if self.syn.ngc {
             let mut per: HashMap<String, Vec<OPos>> = HashMap::new();
-            for i in 0..s.len() {
+            for i in lines_with_o(&s) {
                 let l = s.line(i);
-                if !l.bytes().any(|b| b == b'o' || b == b'O') {
-                    continue;
-                }
                 let parsed = ngc::parse_line(l, self.syn);
                 if let Some(o) = parsed.oword {
                     let v = per.entry(o.label.clone()).or_default();

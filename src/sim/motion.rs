@@ -317,6 +317,7 @@ impl Motions {
             list: self,
             next: 0,
             end: self.recs.len(),
+            prev: None,
         }
     }
 
@@ -325,6 +326,7 @@ impl Motions {
         self.iter().collect()
     }
 
+    #[inline]
     fn build(&self, r: &Rec, prev: Option<[f64; 3]>) -> Motion {
         let side = self
             .sides
@@ -409,27 +411,30 @@ impl<'a> IntoIterator for &'a Motions {
 #[derive(Clone)]
 pub struct Iter<'a> {
     list: &'a Motions,
+    /// Index of the next move from the front.
     next: usize,
+    /// One past the index of the next move from the back.
     end: usize,
+    /// End point of the move before `next` (None before the first).
+    prev: Option<[f64; 3]>,
 }
 
 impl Iterator for Iter<'_> {
     type Item = Motion;
+    #[inline]
     fn next(&mut self) -> Option<Motion> {
         if self.next >= self.end {
             return None;
         }
-        let i = self.next;
+        let r = self.list.recs.get(self.next)?;
         self.next += 1;
-        let r = self.list.recs.get(i)?;
-        let prev = i
-            .checked_sub(1)
-            .and_then(|j| self.list.recs.get(j))
-            .map(|p| p.to);
-        Some(self.list.build(r, prev))
+        let m = self.list.build(r, self.prev);
+        self.prev = Some(r.to);
+        Some(m)
     }
+    #[inline]
     fn size_hint(&self) -> (usize, Option<usize>) {
-        let n = self.end - self.next;
+        let n = self.end.saturating_sub(self.next);
         (n, Some(n))
     }
 }
