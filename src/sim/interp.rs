@@ -91,6 +91,7 @@ pub type SubLoader<'a> = &'a dyn Fn(&str) -> Option<String>;
 
 /// Options beyond [`CheckConfig`]: where called subroutine files come from.
 pub struct Options<'a> {
+    /// Loader of called subroutine files (`o<name> call` of a sub not in the program); None: such calls are errors.
     pub load_sub: Option<SubLoader<'a>>,
 }
 

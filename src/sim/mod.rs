@@ -54,6 +54,7 @@ pub enum Backend {
 }
 
 impl Backend {
+    /// The backend's name as the CLI spells it (`builtin`, `linuxcnc`).
     pub fn name(self) -> &'static str {
         match self {
             Backend::Builtin => "builtin",

@@ -10,6 +10,7 @@ use serde::Serialize;
 #[serde(rename_all = "kebab-case")]
 pub enum Spindle {
     #[default]
+    /// M5: spindle or laser off.
     Off,
     /// M3: spindle clockwise; laser constant power.
     Cw,
@@ -20,6 +21,7 @@ pub enum Spindle {
 /// Tool state in effect during a move.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct ToolState {
+    /// Spindle or laser mode.
     pub spindle: Spindle,
     /// Programmed S (spindle rpm or laser power, in the machine's S units).
     pub s: f64,
@@ -54,19 +56,27 @@ pub enum MotionKind {
     /// G1, G2, G3.
     Feed,
     /// G4: wait in place.
-    Dwell { seconds: f64 },
+    Dwell {
+        /// Dwell time, seconds.
+        seconds: f64,
+    },
 }
 
 /// One move from `from` to `to` (mm, machine coordinates). `arc` is set for G2/G3: the xy
 /// projection is that arc (exact, not flattened), z varies linearly along it (helix).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Motion {
+    /// Rapid, feed or dwell.
     pub kind: MotionKind,
+    /// Start point (mm, machine coordinates).
     pub from: DVec3,
+    /// End point (mm, machine coordinates).
     pub to: DVec3,
+    /// The xy arc of a G2/G3 move (None for straight moves).
     pub arc: Option<Arc>,
     /// Programmed feed in mm/min (0 when none was ever set).
     pub feed: f64,
+    /// Spindle or laser state during the move.
     pub tool: ToolState,
     /// 1-based source line.
     pub line: usize,
@@ -468,7 +478,9 @@ pub use crate::units::Units;
 pub struct Program {
     /// The moves, in program order.
     pub motions: Motions,
+    /// What the reader found wrong (syntax, unsupported codes, invalid values, ...).
     pub diagnostics: Vec<super::findings::Finding>,
+    /// How the program ended (None: no M2/M30 or closing `%`).
     pub end: Option<ProgramEnd>,
     /// Tool state after the last line.
     pub final_tool: ToolState,
@@ -494,6 +506,7 @@ pub struct Program {
 /// A machine event that is not a move.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Event {
+    /// 1-based source line.
     pub line: usize,
     /// The code as written, e.g. `M8`, `M64 P2`, `M6 T3`.
     pub code: String,

@@ -21,9 +21,13 @@ const COS_STRAIGHT: f64 = 0.999999;
 /// Estimated seconds, split by kind of move.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct TimeEstimate {
+    /// Whole program, seconds.
     pub total: f64,
+    /// Time spent on feed moves, seconds.
     pub feed: f64,
+    /// Time spent on rapids, seconds.
     pub rapid: f64,
+    /// Time spent in dwells, seconds.
     pub dwell: f64,
 }
 

@@ -18,7 +18,9 @@ use glam::DVec3;
 pub struct Segment {
     /// Index of the motion in the program's motion list.
     pub motion: usize,
+    /// Start point (mm).
     pub from: DVec3,
+    /// End point (mm).
     pub to: DVec3,
     /// Start time, seconds from the program start.
     pub t0: f64,
@@ -26,7 +28,9 @@ pub struct Segment {
     pub dt: f64,
     /// Entry, cruise (or peak) and exit speed, mm/s.
     pub vi: f64,
+    /// Cruise (or peak) speed, mm/s.
     pub vc: f64,
+    /// Exit speed, mm/s.
     pub vf: f64,
     /// Acceleration along the chord, mm/s² (0 for dwells).
     pub a: f64,
@@ -78,6 +82,7 @@ impl Segment {
 /// The whole program in time.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Timeline {
+    /// Blocks and dwells in program order.
     pub segments: Vec<Segment>,
     /// Total seconds (equals the time estimate's total).
     pub total: f64,

@@ -29,6 +29,7 @@ pub struct Contour {
     pub points: Vec<DVec2>,
     /// Motion index of the segment ending at `points[k + 1]`.
     pub sources: Vec<u32>,
+    /// Height (z, mm) the contour is cut at.
     pub z: f64,
     /// Tool session ([`crate::sim::ToolState::session`]) the contour was cut in.
     pub session: u32,

@@ -28,11 +28,14 @@ pub enum KeepSide {
 /// `Either` (the last point joins the first).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DesignBoundary {
+    /// The polyline (mm).
     pub points: Vec<[f64; 2]>,
+    /// Which side of it the tool must stay on.
     pub keep: KeepSide,
 }
 
 impl DesignBoundary {
+    /// A boundary from `points` (mm) with the side to keep.
     pub fn new(points: &[DVec2], keep: KeepSide) -> Self {
         DesignBoundary {
             points: points.iter().map(|p| [p.x, p.y]).collect(),
