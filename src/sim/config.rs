@@ -9,7 +9,9 @@ use serde::{Deserialize, Serialize};
 #[serde(rename_all = "kebab-case")]
 pub enum MachineKind {
     #[default]
+    /// A laser cutter or engraver: cutting means the beam is on.
     Laser,
+    /// A router or mill: cutting means the tool is below the stock top.
     Router,
 }
 
@@ -18,10 +20,13 @@ pub enum MachineKind {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CheckConfig {
+    /// Units of every length, feed and acceleration in this configuration.
     pub units: Units,
+    /// Laser or router.
     pub kind: MachineKind,
     /// Travel limits (min corner, max corner) in machine coordinates.
     pub work_min: [f64; 3],
+    /// Max corner of the travel limits.
     pub work_max: [f64; 3],
     /// Router: rapids that move in xy must stay at or above this z.
     pub safe_z: f64,
@@ -31,9 +36,11 @@ pub struct CheckConfig {
     pub max_rate: [f64; 3],
     /// Allowed programmed feed for cutting moves, units/min.
     pub feed_min: f64,
+    /// Largest allowed programmed feed for cutting moves, units/min.
     pub feed_max: f64,
     /// Allowed S while cutting (laser power or spindle rpm, in S units).
     pub power_min: f64,
+    /// Largest allowed S while cutting.
     pub power_max: f64,
     /// Acceleration per axis, units/s² (GRBL $120–$122).
     pub accel: [f64; 3],
@@ -117,11 +124,13 @@ impl Dialect {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ToolEntry {
+    /// Tool number (T).
     pub number: u32,
     /// Length offset along z (G43).
     pub z: f64,
     /// Offset along x (G43 on lathes).
     pub x: f64,
+    /// Tool diameter (cutter compensation and the gouge check).
     pub diameter: f64,
 }
 

@@ -9,8 +9,11 @@ use std::fmt;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Severity {
+    /// Information: nothing to change.
     Info,
+    /// Worth a look: the program still runs as intended.
     Warning,
+    /// The program is wrong or unsafe as written.
     Error,
 }
 
@@ -28,17 +31,24 @@ impl fmt::Display for Severity {
 /// lines, 1-based; column when known) and the machine coordinates (mm) involved.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Finding {
+    /// Kebab-case identifier of the check or diagnostic (`self-intersection`, `gcode-syntax`, ...).
     pub id: &'static str,
+    /// How serious it is.
     pub severity: Severity,
+    /// What is wrong and, where known, what to change.
     pub message: String,
+    /// 1-based source lines involved.
     pub lines: Vec<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    /// 1-based column in the first line, when known.
     pub column: Option<usize>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
+    /// Points involved (mm, machine coordinates).
     pub at: Vec<[f64; 3]>,
 }
 
 impl Finding {
+    /// A finding without lines, column or points.
     pub fn new(id: &'static str, severity: Severity, message: impl Into<String>) -> Self {
         Finding {
             id,
@@ -50,21 +60,25 @@ impl Finding {
         }
     }
 
+    /// Adds a source line.
     pub fn line(mut self, line: usize) -> Self {
         self.lines.push(line);
         self
     }
 
+    /// Adds source lines.
     pub fn lines(mut self, lines: impl IntoIterator<Item = usize>) -> Self {
         self.lines.extend(lines);
         self
     }
 
+    /// Sets the column.
     pub fn column(mut self, column: usize) -> Self {
         self.column = Some(column);
         self
     }
 
+    /// Adds a point (mm).
     pub fn at(mut self, p: [f64; 3]) -> Self {
         self.at.push(p);
         self

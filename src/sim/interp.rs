@@ -91,6 +91,7 @@ pub type SubLoader<'a> = &'a dyn Fn(&str) -> Option<String>;
 
 /// Options beyond [`CheckConfig`]: where called subroutine files come from.
 pub struct Options<'a> {
+    /// Loader of called subroutine files (`o<name> call` of a sub not in the program); None: such calls are errors.
     pub load_sub: Option<SubLoader<'a>>,
 }
 
@@ -119,10 +120,20 @@ impl<'a> Source<'a> {
 }
 
 fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
-    b.iter()
-        .enumerate()
-        .filter(|(_, c)| **c == b'\n')
-        .map(|(i, _)| i + 1)
+    memchr::memchr_iter(b'\n', b).map(|i| i + 1)
+}
+
+/// Indexes of the lines of `s` holding an `o` or `O` (the only ones that can hold an O-word),
+/// in order, each once.
+fn lines_with_o(s: &Source<'_>) -> Vec<usize> {
+    let mut out: Vec<usize> = Vec::new();
+    for at in memchr::memchr2_iter(b'o', b'O', s.text.as_bytes()) {
+        let line = s.starts.partition_point(|&st| st <= at).saturating_sub(1);
+        if out.last() != Some(&line) {
+            out.push(line);
+        }
+    }
+    out
 }
 
 /// One O-word statement found by the pre-scan.
@@ -347,11 +358,8 @@ impl<'a> Interp<'a, '_> {
         self.high_water.push(0);
         if self.syn.ngc {
             let mut per: HashMap<String, Vec<OPos>> = HashMap::new();
-            for i in 0..s.len() {
+            for i in lines_with_o(&s) {
                 let l = s.line(i);
-                if !l.bytes().any(|b| b == b'o' || b == b'O') {
-                    continue;
-                }
                 let parsed = ngc::parse_line(l, self.syn);
                 if let Some(o) = parsed.oword {
                     let v = per.entry(o.label.clone()).or_default();
@@ -2547,11 +2555,11 @@ mod tests {
         let p = run("G20 G91\nG1 X1 Y1 F10\nX1\nG90 G0 X0 Y0\nM2");
         assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
         assert_eq!(p.motions.len(), 3);
-        let m = &p.motions[1];
+        let m = &p.motions.to_vec()[1];
         assert!(close(m.to, DVec3::new(50.8, 25.4, 0.0)));
         assert_eq!(m.line, 3);
         assert!((m.feed - 254.0).abs() < 1e-12);
-        assert_eq!(p.motions[2].kind, MotionKind::Rapid);
+        assert_eq!(p.motions.to_vec()[2].kind, MotionKind::Rapid);
         assert_eq!(p.end.map(|e| e.line), Some(5));
     }
 
@@ -2559,15 +2567,15 @@ mod tests {
     fn arcs_ij_r_and_full_circle() {
         let p = run("G0 X10 Y0\nG3 X0 Y10 I-10 J0 F100\nG2 X0 Y10 I0 J-10");
         assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
-        let q = p.motions[1]
+        let q = p.motions.to_vec()[1]
             .arc
             .unwrap_or(Arc::new(DVec2::ZERO, 0.0, 0.0, 0.0));
         assert!((q.sweep - PI / 2.0).abs() < 1e-12);
-        let c = p.motions[2].arc.unwrap_or(q);
+        let c = p.motions.to_vec()[2].arc.unwrap_or(q);
         assert!((c.sweep + 2.0 * PI).abs() < 1e-12);
         for (code, r, sweep) in [("G3", 10.0, PI / 2.0), ("G2", -10.0, -1.5 * PI)] {
             let p = run(&format!("G0 X10 Y0\n{code} X0 Y10 R{r} F50"));
-            let a = p.motions[1].arc.unwrap_or(q);
+            let a = p.motions.to_vec()[1].arc.unwrap_or(q);
             assert!((a.sweep - sweep).abs() < 1e-9, "{code} R{r}: {}", a.sweep);
         }
         // The issue's planted arc: end radius 15 against start radius 5.
@@ -2596,7 +2604,7 @@ mod tests {
     fn parameters_are_assigned_after_the_block_reads_them() {
         let p = run("#1 = 5\n#1 = 6 G0 X#1\nY#1\n#<len> = [#1 * 2] Z#<len>");
         assert_eq!(ids(&p), vec![("expression", 4)]);
-        assert!(close(p.motions[1].to, DVec3::new(5.0, 6.0, 0.0)));
+        assert!(close(p.motions.to_vec()[1].to, DVec3::new(5.0, 6.0, 0.0)));
         // #<_x> is read before the block moves: Z gets the X of the line before.
         let q = run("#<len> = 3\nG0 X[#<len> * 2] Y[2 ** 3] Z#<_x>\nG0 Z#<_x>");
         assert!(close(end(&q), DVec3::new(6.0, 8.0, 6.0)), "{:?}", end(&q));
@@ -2609,9 +2617,9 @@ mod tests {
                    o100 call\no101 if [EXISTS[#<local>]]\nG0 Z99\no101 else\nG0 Z1\no101 endif\nM2";
         let p = run(src);
         assert!(ids(&p).is_empty(), "{:?}", p.diagnostics);
-        assert!(close(p.motions[0].to, DVec3::new(9.0, 0.0, 0.0)));
+        assert!(close(p.motions.to_vec()[0].to, DVec3::new(9.0, 0.0, 0.0)));
         // Moves inside a call carry the caller's line.
-        assert_eq!(p.motions[0].line, 5);
+        assert_eq!(p.motions.to_vec()[0].line, 5);
         assert!(close(end(&p), DVec3::new(9.0, 4.0, 1.0)), "{:?}", end(&p));
     }
 
@@ -2731,8 +2739,8 @@ mod tests {
         assert_eq!(info, vec!["depth 2.500000 name ######"]);
         let codes: Vec<&str> = p.events.iter().map(|e| e.code.as_str()).collect();
         assert_eq!(codes, vec!["M8", "M64 P2"]);
-        assert_eq!(p.motions[0].group, Some(3));
-        assert_eq!(p.motions[1].group, None);
+        assert_eq!(p.motions.to_vec()[0].group, Some(3));
+        assert_eq!(p.motions.to_vec()[1].group, None);
         assert_eq!(ids(&p), vec![("cannot-simulate", 10)]);
         assert_eq!(p.uncertain_from, Some(10));
     }
@@ -2774,8 +2782,11 @@ mod tests {
         };
         let m = run_cfg("M3 I S100\nG1 X5 E2 F100 S50 ; cut\nG4 P500\nM5", &marlin);
         assert!(ids(&m).is_empty(), "{:?}", m.diagnostics);
-        assert_eq!(m.motions[0].tool.s, 50.0);
-        assert_eq!(m.motions[1].kind, MotionKind::Dwell { seconds: 0.5 });
+        assert_eq!(m.motions.to_vec()[0].tool.s, 50.0);
+        assert_eq!(
+            m.motions.to_vec()[1].kind,
+            MotionKind::Dwell { seconds: 0.5 }
+        );
     }
 
     #[test]

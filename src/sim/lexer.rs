@@ -9,7 +9,9 @@
 /// One address word such as `X-1.25`: an upper-case letter and its value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Word {
+    /// Upper-case address letter.
     pub letter: char,
+    /// Numeric value.
     pub value: f64,
     /// 1-based column (in characters) of the letter.
     pub column: usize,
@@ -18,10 +20,13 @@ pub struct Word {
 /// What went wrong in a line, with its 1-based column.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LexError {
+    /// 1-based column (in characters).
     pub column: usize,
+    /// What went wrong.
     pub kind: LexErrorKind,
 }
 
+/// The kinds of [`LexError`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum LexErrorKind {
     /// A letter with no number after it (`X` or `G.`).
@@ -33,7 +38,12 @@ pub enum LexErrorKind {
     /// `*` not followed by a decimal checksum.
     MalformedChecksum,
     /// The checksum does not match the XOR of the bytes before `*`.
-    BadChecksum { expected: u8, found: u32 },
+    BadChecksum {
+        /// XOR of the bytes before `*`.
+        expected: u8,
+        /// The number written after `*`.
+        found: u32,
+    },
     /// Text after the checksum.
     TrailingAfterChecksum,
 }
@@ -41,8 +51,11 @@ pub enum LexErrorKind {
 /// The lexed content of one line.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LexedLine {
+    /// Address words in line order.
     pub words: Vec<Word>,
+    /// Comment texts (trimmed), `( )` and `;` alike.
     pub comments: Vec<String>,
+    /// Problems found, in column order.
     pub errors: Vec<LexError>,
     /// The line is a `%` tape mark (nothing else but spaces or a comment).
     pub percent: bool,

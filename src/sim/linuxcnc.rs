@@ -396,7 +396,7 @@ N10 G2 X1 Y1 I5
     fn sample_canon() {
         let p = parse_canon(SAMPLE);
         assert_eq!(p.motions.len(), 4);
-        let m = &p.motions;
+        let m = p.motions.to_vec();
         assert_eq!(m[0].kind, MotionKind::Rapid);
         assert_eq!(m[0].line, 4);
         assert!((m[0].to - DVec3::new(25.4, 0.0, 0.0)).length() < 1e-12);

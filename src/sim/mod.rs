@@ -37,7 +37,7 @@ pub mod timeline;
 pub use checks::{DesignBoundary, KeepSide};
 pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry};
 pub use findings::{Finding, Severity};
-pub use motion::{Event, Motion, MotionKind, Program, Spindle, ToolState, Units};
+pub use motion::{Event, Motion, MotionKind, Motions, Program, Spindle, ToolState, Units};
 pub use report::{Report, Stats};
 pub use time::TimeEstimate;
 
@@ -55,6 +55,7 @@ pub enum Backend {
 }
 
 impl Backend {
+    /// The backend's name as the CLI spells it (`builtin`, `linuxcnc`).
     pub fn name(self) -> &'static str {
         match self {
             Backend::Builtin => "builtin",

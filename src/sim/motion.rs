@@ -10,6 +10,7 @@ use serde::Serialize;
 #[serde(rename_all = "kebab-case")]
 pub enum Spindle {
     #[default]
+    /// M5: spindle or laser off.
     Off,
     /// M3: spindle clockwise; laser constant power.
     Cw,
@@ -20,6 +21,7 @@ pub enum Spindle {
 /// Tool state in effect during a move.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct ToolState {
+    /// Spindle or laser mode.
     pub spindle: Spindle,
     /// Programmed S (spindle rpm or laser power, in the machine's S units).
     pub s: f64,
@@ -54,19 +56,27 @@ pub enum MotionKind {
     /// G1, G2, G3.
     Feed,
     /// G4: wait in place.
-    Dwell { seconds: f64 },
+    Dwell {
+        /// Dwell time, seconds.
+        seconds: f64,
+    },
 }
 
 /// One move from `from` to `to` (mm, machine coordinates). `arc` is set for G2/G3: the xy
 /// projection is that arc (exact, not flattened), z varies linearly along it (helix).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Motion {
+    /// Rapid, feed or dwell.
     pub kind: MotionKind,
+    /// Start point (mm, machine coordinates).
     pub from: DVec3,
+    /// End point (mm, machine coordinates).
     pub to: DVec3,
+    /// The xy arc of a G2/G3 move (None for straight moves).
     pub arc: Option<Arc>,
     /// Programmed feed in mm/min (0 when none was ever set).
     pub feed: f64,
+    /// Spindle or laser state during the move.
     pub tool: ToolState,
     /// 1-based source line.
     pub line: usize,
@@ -142,6 +152,315 @@ impl Motion {
     }
 }
 
+/// The motions of a program, stored compactly: 40 bytes per move instead of the 160 of a
+/// [`Motion`] (a 10M-move program needs 400 MB instead of 1.6 GB).
+///
+/// Each move keeps its end point, kind, source line and two small indexes: one into a table
+/// of distinct (feed, tool state, group) states (consecutive moves mostly share one) and one
+/// into a side table holding what few moves have: an arc, a dwell time, a start point that
+/// is not the previous move's end. The start point of every other move is the end point of
+/// the move before it (compared bit for bit, so nothing is rounded). [`Motion`] values are
+/// built on demand by [`Motions::get`] and [`Motions::iter`]; they equal the ones pushed.
+#[derive(Clone, Default, PartialEq)]
+pub struct Motions {
+    recs: Vec<Rec>,
+    states: Vec<MoveState>,
+    sides: Vec<Side>,
+}
+
+/// One stored move (see [`Motions`]).
+#[derive(Clone, Copy, PartialEq)]
+struct Rec {
+    to: [f64; 3],
+    /// Source line, or [`BIG_LINE`] when it is in the side entry.
+    line: u32,
+    /// Index into [`Motions::states`].
+    state: u32,
+    /// Index into [`Motions::sides`], or [`NO_SIDE`].
+    side: u32,
+    /// 0 rapid, 1 feed, 2 dwell.
+    kind: u8,
+}
+
+/// `Rec::line` of a move whose line does not fit in 32 bits (kept in its side entry).
+const BIG_LINE: u32 = u32::MAX;
+
+/// `Rec::side` of a move without a side entry.
+const NO_SIDE: u32 = u32::MAX;
+
+/// What consecutive moves mostly share.
+#[derive(Clone, Copy, PartialEq)]
+struct MoveState {
+    feed: f64,
+    tool: ToolState,
+    group: Option<u32>,
+}
+
+/// What only some moves have.
+#[derive(Clone, Copy, PartialEq)]
+struct Side {
+    /// Start point when it is not the previous move's end (bit for bit).
+    from: Option<DVec3>,
+    arc: Option<Arc>,
+    /// Dwell time of a G4 (seconds).
+    seconds: f64,
+    /// Source line when it does not fit in `Rec::line`.
+    line: usize,
+}
+
+fn same_bits(a: DVec3, b: [f64; 3]) -> bool {
+    a.x.to_bits() == b[0].to_bits()
+        && a.y.to_bits() == b[1].to_bits()
+        && a.z.to_bits() == b[2].to_bits()
+}
+
+fn same_state(a: &MoveState, b: &MoveState) -> bool {
+    a.feed.to_bits() == b.feed.to_bits()
+        && a.tool.spindle == b.tool.spindle
+        && a.tool.s.to_bits() == b.tool.s.to_bits()
+        && a.tool.session == b.tool.session
+        && a.group == b.group
+}
+
+/// A table index as stored: tables never reach `u32::MAX` entries before memory runs out
+/// (that many moves would take 160 GB), and a saturated index still reads a valid entry.
+fn index32(n: usize) -> u32 {
+    u32::try_from(n).unwrap_or(u32::MAX - 1)
+}
+
+impl Motions {
+    /// An empty list.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of moves.
+    pub fn len(&self) -> usize {
+        self.recs.len()
+    }
+
+    /// True when there is no move.
+    pub fn is_empty(&self) -> bool {
+        self.recs.is_empty()
+    }
+
+    /// Reserves room for `n` more moves.
+    pub fn reserve(&mut self, n: usize) {
+        self.recs.reserve(n);
+    }
+
+    /// Returns unused capacity to the allocator.
+    pub fn shrink_to_fit(&mut self) {
+        self.recs.shrink_to_fit();
+        self.states.shrink_to_fit();
+        self.sides.shrink_to_fit();
+    }
+
+    /// Bytes held by the tables (capacity, not only length).
+    pub fn heap_bytes(&self) -> usize {
+        self.recs.capacity() * std::mem::size_of::<Rec>()
+            + self.states.capacity() * std::mem::size_of::<MoveState>()
+            + self.sides.capacity() * std::mem::size_of::<Side>()
+    }
+
+    /// Appends `m`.
+    pub fn push(&mut self, m: Motion) {
+        let st = MoveState {
+            feed: m.feed,
+            tool: m.tool,
+            group: m.group,
+        };
+        if !self.states.last().is_some_and(|l| same_state(l, &st)) {
+            self.states.push(st);
+        }
+        let state = index32(self.states.len() - 1);
+        let chained = self.recs.last().is_some_and(|r| same_bits(m.from, r.to));
+        let (kind, seconds) = match m.kind {
+            MotionKind::Rapid => (0, 0.0),
+            MotionKind::Feed => (1, 0.0),
+            MotionKind::Dwell { seconds } => (2, seconds),
+        };
+        let line = u32::try_from(m.line).ok().filter(|&l| l != BIG_LINE);
+        let side = if chained && m.arc.is_none() && kind != 2 && line.is_some() {
+            NO_SIDE
+        } else {
+            self.sides.push(Side {
+                from: (!chained).then_some(m.from),
+                arc: m.arc,
+                seconds,
+                line: m.line,
+            });
+            index32(self.sides.len() - 1)
+        };
+        self.recs.push(Rec {
+            to: m.to.to_array(),
+            line: line.unwrap_or(BIG_LINE),
+            state,
+            side,
+            kind,
+        });
+    }
+
+    /// The move at `i` (built from the tables).
+    pub fn get(&self, i: usize) -> Option<Motion> {
+        let r = self.recs.get(i)?;
+        let prev = i
+            .checked_sub(1)
+            .and_then(|j| self.recs.get(j))
+            .map(|p| p.to);
+        Some(self.build(r, prev))
+    }
+
+    /// The first move.
+    pub fn first(&self) -> Option<Motion> {
+        self.get(0)
+    }
+
+    /// The last move.
+    pub fn last(&self) -> Option<Motion> {
+        self.len().checked_sub(1).and_then(|i| self.get(i))
+    }
+
+    /// The moves in order.
+    pub fn iter(&self) -> Iter<'_> {
+        Iter {
+            list: self,
+            next: 0,
+            end: self.recs.len(),
+            prev: None,
+        }
+    }
+
+    /// Every move as a [`Motion`] (160 bytes each).
+    pub fn to_vec(&self) -> Vec<Motion> {
+        self.iter().collect()
+    }
+
+    #[inline]
+    fn build(&self, r: &Rec, prev: Option<[f64; 3]>) -> Motion {
+        let side = self
+            .sides
+            .get(r.side as usize)
+            .filter(|_| r.side != NO_SIDE);
+        let st = self
+            .states
+            .get(r.state as usize)
+            .copied()
+            .unwrap_or(MoveState {
+                feed: 0.0,
+                tool: ToolState::default(),
+                group: None,
+            });
+        let to = DVec3::from_array(r.to);
+        let from = side
+            .and_then(|s| s.from)
+            .or(prev.map(DVec3::from_array))
+            .unwrap_or(to);
+        Motion {
+            kind: match r.kind {
+                0 => MotionKind::Rapid,
+                1 => MotionKind::Feed,
+                _ => MotionKind::Dwell {
+                    seconds: side.map_or(0.0, |s| s.seconds),
+                },
+            },
+            from,
+            to,
+            arc: side.and_then(|s| s.arc),
+            feed: st.feed,
+            tool: st.tool,
+            line: if r.line == BIG_LINE {
+                side.map_or(0, |s| s.line)
+            } else {
+                r.line as usize
+            },
+            group: st.group,
+        }
+    }
+}
+
+impl std::fmt::Debug for Motions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl FromIterator<Motion> for Motions {
+    fn from_iter<I: IntoIterator<Item = Motion>>(it: I) -> Self {
+        let mut out = Motions::new();
+        for m in it {
+            out.push(m);
+        }
+        out
+    }
+}
+
+impl Extend<Motion> for Motions {
+    fn extend<I: IntoIterator<Item = Motion>>(&mut self, it: I) {
+        for m in it {
+            self.push(m);
+        }
+    }
+}
+
+impl From<&[Motion]> for Motions {
+    fn from(ms: &[Motion]) -> Self {
+        ms.iter().copied().collect()
+    }
+}
+
+impl<'a> IntoIterator for &'a Motions {
+    type Item = Motion;
+    type IntoIter = Iter<'a>;
+    fn into_iter(self) -> Iter<'a> {
+        self.iter()
+    }
+}
+
+/// Iterator over [`Motions`], yielding [`Motion`] values.
+#[derive(Clone)]
+pub struct Iter<'a> {
+    list: &'a Motions,
+    /// Index of the next move from the front.
+    next: usize,
+    /// One past the index of the next move from the back.
+    end: usize,
+    /// End point of the move before `next` (None before the first).
+    prev: Option<[f64; 3]>,
+}
+
+impl Iterator for Iter<'_> {
+    type Item = Motion;
+    #[inline]
+    fn next(&mut self) -> Option<Motion> {
+        if self.next >= self.end {
+            return None;
+        }
+        let r = self.list.recs.get(self.next)?;
+        self.next += 1;
+        let m = self.list.build(r, self.prev);
+        self.prev = Some(r.to);
+        Some(m)
+    }
+    #[inline]
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = self.end.saturating_sub(self.next);
+        (n, Some(n))
+    }
+}
+
+impl DoubleEndedIterator for Iter<'_> {
+    fn next_back(&mut self) -> Option<Motion> {
+        if self.next >= self.end {
+            return None;
+        }
+        self.end -= 1;
+        self.list.get(self.end)
+    }
+}
+
+impl ExactSizeIterator for Iter<'_> {}
+
 /// How the program ended.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ProgramEnd {
@@ -157,8 +476,11 @@ pub use crate::units::Units;
 /// Everything a backend extracts from a program.
 #[derive(Clone, Debug, Default)]
 pub struct Program {
-    pub motions: Vec<Motion>,
+    /// The moves, in program order.
+    pub motions: Motions,
+    /// What the reader found wrong (syntax, unsupported codes, invalid values, ...).
     pub diagnostics: Vec<super::findings::Finding>,
+    /// How the program ended (None: no M2/M30 or closing `%`).
     pub end: Option<ProgramEnd>,
     /// Tool state after the last line.
     pub final_tool: ToolState,
@@ -184,6 +506,7 @@ pub struct Program {
 /// A machine event that is not a move.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Event {
+    /// 1-based source line.
     pub line: usize,
     /// The code as written, e.g. `M8`, `M64 P2`, `M6 T3`.
     pub code: String,
@@ -193,6 +516,70 @@ pub struct Event {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    #[test]
+    fn compact_list_gives_back_what_was_pushed() {
+        let on = ToolState {
+            spindle: Spindle::Ccw,
+            s: 800.0,
+            session: 1,
+        };
+        let mv = |kind, from: [f64; 3], to: [f64; 3], line| Motion {
+            kind,
+            from: DVec3::from_array(from),
+            to: DVec3::from_array(to),
+            arc: None,
+            feed: 1500.0,
+            tool: on,
+            line,
+            group: None,
+        };
+        let mut want = [
+            mv(MotionKind::Rapid, [0.0; 3], [1.0, 0.0, 0.0], 1),
+            mv(MotionKind::Feed, [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], 2),
+            // A start that is not the previous end (bit for bit: -0.0 is not 0.0).
+            mv(MotionKind::Feed, [2.0, -0.0, 0.0], [3.0, 0.0, 0.0], 3),
+            mv(
+                MotionKind::Dwell { seconds: 0.5 },
+                [3.0, 0.0, 0.0],
+                [3.0, 0.0, 0.0],
+                4,
+            ),
+            mv(
+                MotionKind::Feed,
+                [3.0, 0.0, 0.0],
+                [f64::NAN, 0.0, 0.0],
+                usize::MAX,
+            ),
+            mv(
+                MotionKind::Feed,
+                [f64::NAN, 0.0, 0.0],
+                [4.0, 0.0, 0.0],
+                u32::MAX as usize,
+            ),
+        ];
+        want[1].arc = Some(Arc::new(DVec2::new(1.5, 0.0), 0.5, PI, -PI));
+        want[2].feed = 900.0;
+        want[2].group = Some(7);
+        want[3].tool.session = 2;
+        let list: Motions = want.iter().copied().collect();
+        assert_eq!(list.len(), want.len());
+        let bits = |m: &Motion| format!("{m:?}");
+        let got: Vec<String> = list.iter().map(|m| bits(&m)).collect();
+        let exp: Vec<String> = want.iter().map(bits).collect();
+        assert_eq!(got, exp);
+        assert_eq!(
+            list.get(2).map(|m| m.from.y.to_bits()),
+            Some((-0.0f64).to_bits())
+        );
+        for (i, m) in want.iter().enumerate() {
+            assert_eq!(list.get(i).map(|g| bits(&g)), Some(bits(m)));
+        }
+        assert!(list.get(want.len()).is_none());
+        let back: Vec<String> = list.iter().rev().map(|m| bits(&m)).collect();
+        assert_eq!(back, exp.iter().rev().cloned().collect::<Vec<_>>());
+        assert_eq!(std::mem::size_of::<Rec>(), 40);
+    }
 
     #[test]
     fn helix_length_and_bounds() {

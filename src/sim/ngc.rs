@@ -32,20 +32,35 @@ const MAX_NESTING: usize = 64;
 /// A binary operator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BinOp {
+    /// `**`
     Pow,
+    /// `*`
     Mul,
+    /// `/`
     Div,
+    /// `MOD`
     Mod,
+    /// `+`
     Add,
+    /// `-`
     Sub,
+    /// `EQ`
     Eq,
+    /// `NE`
     Ne,
+    /// `GT`
     Gt,
+    /// `GE`
     Ge,
+    /// `LT`
     Lt,
+    /// `LE`
     Le,
+    /// `AND`
     And,
+    /// `OR`
     Or,
+    /// `XOR`
     Xor,
 }
 
@@ -65,17 +80,29 @@ impl BinOp {
 /// A unary function taking one bracketed argument.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Func {
+    /// `ABS`
     Abs,
+    /// `ACOS` (degrees)
     Acos,
+    /// `ASIN` (degrees)
     Asin,
+    /// `COS` (of degrees)
     Cos,
+    /// `EXP`
     Exp,
+    /// `FIX`: round down
     Fix,
+    /// `FUP`: round up
     Fup,
+    /// `LN`
     Ln,
+    /// `ROUND`: to the nearest integer
     Round,
+    /// `SIN` (of degrees)
     Sin,
+    /// `SQRT`
     Sqrt,
+    /// `TAN` (of degrees)
     Tan,
 }
 
@@ -98,21 +125,28 @@ const FUNCS: [(&str, Func); 12] = [
 /// removed; a leading `_` makes it global).
 #[derive(Clone, Debug, PartialEq)]
 pub enum ParamRef {
+    /// `#expr`: the parameter numbered by the value.
     Num(Box<Expr>),
+    /// `#<name>`: the name lower-cased, spaces removed.
     Named(String),
 }
 
 /// An expression tree.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Expr {
+    /// A number.
     Num(f64),
+    /// A parameter value.
     Param(ParamRef),
+    /// Unary minus.
     Neg(Box<Expr>),
+    /// A unary function.
     Func(Func, Box<Expr>),
     /// `ATAN[y]/[x]`: the angle of (x, y) in degrees.
     Atan(Box<Expr>, Box<Expr>),
     /// `EXISTS[#<name>]`.
     Exists(String),
+    /// A binary operation.
     Bin(BinOp, Box<Expr>, Box<Expr>),
 }
 
@@ -239,20 +273,35 @@ fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, String> {
 /// O-word keywords.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OKind {
+    /// `sub`: start of a subroutine.
     Sub,
+    /// `endsub`
     EndSub,
+    /// `call`
     Call,
+    /// `return`
     Return,
+    /// `if`
     If,
+    /// `elseif`
     ElseIf,
+    /// `else`
     Else,
+    /// `endif`
     EndIf,
+    /// `while` (or the end of a `do` loop)
     While,
+    /// `endwhile`
     EndWhile,
+    /// `do`
     Do,
+    /// `repeat`
     Repeat,
+    /// `endrepeat`
     EndRepeat,
+    /// `break`
     Break,
+    /// `continue`
     Continue,
 }
 
@@ -278,24 +327,33 @@ const OKINDS: [(&str, OKind); 15] = [
 /// arguments (the condition, the repeat count, call arguments or a return value).
 #[derive(Clone, Debug, PartialEq)]
 pub struct OStmt {
+    /// Label: a number as written or a lower-case name.
     pub label: String,
+    /// The keyword.
     pub kind: OKind,
+    /// Bracketed arguments.
     pub args: Vec<Expr>,
 }
 
 /// One word such as `X[#1 + 2]`: upper-case letter, value expression, 1-based column.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PWord {
+    /// Upper-case address letter.
     pub letter: char,
+    /// Value expression.
     pub value: Expr,
+    /// 1-based column of the letter.
     pub column: usize,
 }
 
 /// A syntax problem with its 1-based column and a kebab-case id.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SyntaxError {
+    /// 1-based column.
     pub column: usize,
+    /// Kebab-case identifier (`gcode-syntax`, ...).
     pub id: &'static str,
+    /// What is wrong.
     pub message: String,
 }
 
@@ -306,14 +364,17 @@ pub struct Line {
     pub percent: bool,
     /// Starts with `/` (block delete).
     pub block_delete: bool,
+    /// Address words in line order.
     pub words: Vec<PWord>,
     /// `#…=expr` assignments, applied after the block's values are read.
     pub assigns: Vec<(ParamRef, Expr, usize)>,
+    /// The O-word statement of the line, if any.
     pub oword: Option<OStmt>,
     /// `( )` comment texts (verbatim, trimmed) and a `;` comment.
     pub comments: Vec<String>,
     /// `$…` GRBL system command text (only at the start of a line).
     pub dollar: Option<String>,
+    /// Problems found in the line.
     pub errors: Vec<SyntaxError>,
     /// A checksum was present and correct.
     pub checksum_ok: bool,

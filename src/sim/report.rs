@@ -8,11 +8,15 @@ use std::fmt;
 /// Totals over the program (mm, seconds).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Stats {
+    /// Number of moves (dwells not counted).
     pub motions: usize,
+    /// Length of feed moves, mm (helical length for arcs).
     pub cut_length: f64,
+    /// Length of rapid moves, mm.
     pub rapid_length: f64,
     /// Bounding box of all moves (min, max), None for a program without moves.
     pub bbox: Option<[[f64; 3]; 2]>,
+    /// Estimated run time.
     pub time: super::time::TimeEstimate,
 }
 
@@ -26,17 +30,21 @@ pub struct Report {
     /// Why the input is not usable (when `usable` is false).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// Findings in order: interpreter diagnostics, then each check (capped per check).
     pub findings: Vec<Finding>,
     /// Findings left out per check id after `max_findings_per_check`.
     pub suppressed: Vec<(String, usize)>,
+    /// Totals over the program.
     pub stats: Stats,
 }
 
 impl Report {
+    /// Number of error findings shown.
     pub fn errors(&self) -> usize {
         self.count(Severity::Error)
     }
 
+    /// Number of warning findings shown.
     pub fn warnings(&self) -> usize {
         self.count(Severity::Warning)
     }

@@ -11,7 +11,7 @@
 //! reaches v, otherwise peaks at v_p² = aL + (vᵢ² + v_f²)/2.
 
 use super::config::CheckConfig;
-use super::motion::{Motion, MotionKind};
+use super::motion::{MotionKind, Motions};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -21,9 +21,13 @@ const COS_STRAIGHT: f64 = 0.999999;
 /// Estimated seconds, split by kind of move.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct TimeEstimate {
+    /// Whole program, seconds.
     pub total: f64,
+    /// Time spent on feed moves, seconds.
     pub feed: f64,
+    /// Time spent on rapids, seconds.
     pub rapid: f64,
+    /// Time spent in dwells, seconds.
     pub dwell: f64,
 }
 
@@ -75,7 +79,7 @@ fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
 
 /// Estimates the run time of `motions` (mm) under `cfg` (mm, see [`CheckConfig::in_mm`]).
 /// The machine starts and ends at rest and stops for every dwell.
-pub fn estimate(motions: &[Motion], cfg: &CheckConfig) -> TimeEstimate {
+pub fn estimate(motions: &Motions, cfg: &CheckConfig) -> TimeEstimate {
     let mut t = TimeEstimate::default();
     // About one block per move (arcs add more): sized up front, no doubling growth.
     let mut blocks: Vec<Block> = Vec::with_capacity(motions.len());

@@ -9,7 +9,7 @@
 //! deceleration began). The sum of the segments' durations is the estimate's total.
 
 use super::config::CheckConfig;
-use super::motion::{Motion, MotionKind};
+use super::motion::{MotionKind, Motions};
 use super::time::{Block, block_time, plan};
 use glam::DVec3;
 
@@ -18,7 +18,9 @@ use glam::DVec3;
 pub struct Segment {
     /// Index of the motion in the program's motion list.
     pub motion: usize,
+    /// Start point (mm).
     pub from: DVec3,
+    /// End point (mm).
     pub to: DVec3,
     /// Start time, seconds from the program start.
     pub t0: f64,
@@ -26,7 +28,9 @@ pub struct Segment {
     pub dt: f64,
     /// Entry, cruise (or peak) and exit speed, mm/s.
     pub vi: f64,
+    /// Cruise (or peak) speed, mm/s.
     pub vc: f64,
+    /// Exit speed, mm/s.
     pub vf: f64,
     /// Acceleration along the chord, mm/s² (0 for dwells).
     pub a: f64,
@@ -78,6 +82,7 @@ impl Segment {
 /// The whole program in time.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Timeline {
+    /// Blocks and dwells in program order.
     pub segments: Vec<Segment>,
     /// Total seconds (equals the time estimate's total).
     pub total: f64,
@@ -105,7 +110,7 @@ impl Timeline {
 
 /// The timeline of `motions` (mm) under `cfg` (converted to mm here). The machine starts
 /// and ends at rest and stops for every dwell, as in [`super::time::estimate`].
-pub fn timeline(motions: &[Motion], cfg: &CheckConfig) -> Timeline {
+pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
     let cfg = cfg.in_mm();
     let mut segs: Vec<Segment> = Vec::new();
     let mut blocks: Vec<Block> = Vec::new();

@@ -21,7 +21,9 @@ pub mod svg;
 
 use crate::sim::checks::{Contour, cut_contours, is_cutting};
 use crate::sim::timeline::{Timeline, timeline};
-use crate::sim::{CheckConfig, Finding, MachineKind, Motion, MotionKind, Program, ToolState};
+use crate::sim::{
+    CheckConfig, Finding, MachineKind, Motion, MotionKind, Motions, Program, ToolState,
+};
 use crate::toolpath::{MoveKind, Toolpath};
 use glam::{DVec2, DVec3};
 
@@ -129,7 +131,8 @@ impl Scene {
     /// A scene from a program the simulator read.
     pub fn from_program(input: ProgramInput<'_>) -> Scene {
         let cfg = input.cfg.in_mm();
-        let (operations, op_of) = operations_from_comments(input.text, &input.program.motions);
+        let motions = input.program.motions.to_vec();
+        let (operations, op_of) = operations_from_comments(input.text, &motions);
         let work_area = input.draw_work_area.then(|| {
             (
                 DVec2::new(cfg.work_min[0], cfg.work_min[1]),
@@ -141,7 +144,7 @@ impl Scene {
             cfg,
             work_area,
             operations,
-            input.program.motions.clone(),
+            motions,
             op_of,
             input.findings,
             input.text.map(str::to_string),
@@ -252,8 +255,9 @@ impl Scene {
         findings: Vec<Finding>,
         source: Option<String>,
     ) -> Scene {
-        let contours = cut_contours(&motions, &cfg);
-        let timeline = timeline(&motions, &cfg);
+        let stored = Motions::from(&motions[..]);
+        let contours = cut_contours(&stored, &cfg);
+        let timeline = timeline(&stored, &cfg);
         Scene {
             kind: cfg.kind,
             title: title.to_string(),
@@ -416,10 +420,10 @@ mod tests {
     fn operations_follow_comments() {
         let src = "(op 0 outline profile)\nG1 X1 F100\n; op 1 inner channel\nG1 X2\nG1 X3\n";
         let p = interpret(src, 0.005);
-        let (ops, of) = operations_from_comments(Some(src), &p.motions);
+        let (ops, of) = operations_from_comments(Some(src), &p.motions.to_vec());
         assert_eq!(ops, vec!["outline (profile)", "inner (channel)"]);
         assert_eq!(of, vec![0, 1, 1]);
-        let (ops, of) = operations_from_comments(None, &p.motions);
+        let (ops, of) = operations_from_comments(None, &p.motions.to_vec());
         assert_eq!(ops, vec!["program"]);
         assert_eq!(of, vec![0, 0, 0]);
     }

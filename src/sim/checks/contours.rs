@@ -5,7 +5,7 @@ use super::intersect::SegmentSet;
 use crate::geom::DVec2;
 use crate::sim::config::{CheckConfig, MachineKind};
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::{Motion, MotionKind};
+use crate::sim::motion::{Motion, MotionKind, Motions};
 
 /// True when the move removes material: a laser feed with the beam on (M3/M4, S > 0), or a
 /// router feed with an end below `cut_z`.
@@ -29,6 +29,7 @@ pub struct Contour {
     pub points: Vec<DVec2>,
     /// Motion index of the segment ending at `points[k + 1]`.
     pub sources: Vec<u32>,
+    /// Height (z, mm) the contour is cut at.
     pub z: f64,
     /// Tool session ([`crate::sim::ToolState::session`]) the contour was cut in.
     pub session: u32,
@@ -62,14 +63,14 @@ pub fn group_at(marks: &[(usize, Option<u32>)], line: usize) -> Option<u32> {
 }
 
 /// The cut contours of a program, arcs flattened to `cfg.flatten_tolerance` (mm).
-pub fn cut_contours(motions: &[Motion], cfg: &CheckConfig) -> Vec<Contour> {
+pub fn cut_contours(motions: &Motions, cfg: &CheckConfig) -> Vec<Contour> {
     cut_contours_marked(motions, &[], cfg)
 }
 
 /// [`cut_contours`] with the program's pocket marks: a contour also ends where the mark
 /// changes, and carries the mark it was cut under.
 pub fn cut_contours_marked(
-    motions: &[Motion],
+    motions: &Motions,
     marks: &[(usize, Option<u32>)],
     cfg: &CheckConfig,
 ) -> Vec<Contour> {
@@ -80,7 +81,7 @@ pub fn cut_contours_marked(
         if matches!(m.kind, MotionKind::Dwell { .. }) {
             continue;
         }
-        if !(is_cutting(m, cfg) && planar) {
+        if !(is_cutting(&m, cfg) && planar) {
             out.extend(cur.take());
             continue;
         }
@@ -124,7 +125,7 @@ pub fn cut_contours_marked(
 /// One finding per pair of source lines.
 pub fn intersection_findings(
     contours: &[Contour],
-    motions: &[Motion],
+    motions: &Motions,
     cfg: &CheckConfig,
 ) -> Vec<Finding> {
     let mut set = SegmentSet::new();

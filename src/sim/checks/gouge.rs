@@ -6,7 +6,7 @@ use crate::geom::predicates::edge_winding;
 use crate::geom::{DVec2, Line};
 use crate::sim::config::CheckConfig;
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::Motion;
+use crate::sim::motion::Motions;
 use rstar::primitives::{GeomWithData, Line as RLine};
 use rstar::{AABB, RTree};
 use serde::{Deserialize, Serialize};
@@ -28,11 +28,14 @@ pub enum KeepSide {
 /// `Either` (the last point joins the first).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DesignBoundary {
+    /// The polyline (mm).
     pub points: Vec<[f64; 2]>,
+    /// Which side of it the tool must stay on.
     pub keep: KeepSide,
 }
 
 impl DesignBoundary {
+    /// A boundary from `points` (mm) with the side to keep.
     pub fn new(points: &[DVec2], keep: KeepSide) -> Self {
         DesignBoundary {
             points: points.iter().map(|p| [p.x, p.y]).collect(),
@@ -67,7 +70,7 @@ type Indexed = GeomWithData<RLine<[f64; 2]>, usize>;
 /// closer than `tool_radius − gouge_tolerance` to any boundary, and contours whose start
 /// lies on the wrong side of the nearest boundary. One finding per offending line.
 pub fn gouge_findings(
-    motions: &[Motion],
+    motions: &Motions,
     contours: &[Contour],
     design: &[DesignBoundary],
     cfg: &CheckConfig,

@@ -31,16 +31,22 @@ const MAX_COVER_PER_SEG: f64 = 4.0;
 /// `source` is the caller's tag (a motion index).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Seg {
+    /// Start point.
     pub a: DVec2,
+    /// End point.
     pub b: DVec2,
+    /// Number of the polyline the segment belongs to.
     pub contour: u32,
+    /// Position of the segment in its polyline.
     pub index: u32,
+    /// The caller's tag (a motion index).
     pub source: u32,
 }
 
 /// Polylines split into segments (zero-length segments dropped).
 #[derive(Clone, Debug, Default)]
 pub struct SegmentSet {
+    /// The segments, polyline by polyline.
     pub segs: Vec<Seg>,
     /// Per contour: number of segments and whether it is closed (last point = first).
     pub contours: Vec<(u32, bool)>,
@@ -51,6 +57,7 @@ pub struct SegmentSet {
 pub struct Contact {
     /// Indices into [`SegmentSet::segs`], i < j.
     pub i: usize,
+    /// The other segment (index into [`SegmentSet::segs`]).
     pub j: usize,
     /// A point they share (the crossing point, or a shared end/overlap point).
     pub point: DVec2,
@@ -59,6 +66,7 @@ pub struct Contact {
 }
 
 impl SegmentSet {
+    /// An empty set.
     pub fn new() -> Self {
         Self::default()
     }

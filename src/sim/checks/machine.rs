@@ -4,7 +4,7 @@
 use super::contours::is_cutting;
 use crate::sim::config::{CheckConfig, MachineKind};
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::{Motion, MotionKind, Program};
+use crate::sim::motion::{MotionKind, Motions, Program};
 
 /// Slack on the travel limits relative to the coordinates, so that a move ending exactly on a
 /// limit after unit conversion (25.4 · x) is not flagged.
@@ -14,7 +14,7 @@ fn limit_slack(v: f64) -> f64 {
 
 /// Moves (rapids included) that leave the work area [work_min, work_max]; arcs by their
 /// exact bounds.
-pub fn out_of_bounds(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
+pub fn out_of_bounds(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
     let mut out = Vec::new();
     for m in motions {
         let (lo, hi) = m.bounds();
@@ -50,7 +50,7 @@ pub fn out_of_bounds(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
 /// Laser: G0 with M3/M4 and S > 0 (a warning in GRBL laser mode, where G0 never fires, an
 /// error elsewhere). Router: a rapid that moves in xy below `safe_z`, or that ends below
 /// `cut_z` (a rapid plunge into the stock).
-pub fn rapids(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
+pub fn rapids(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
     let mut out = Vec::new();
     for m in motions.iter().filter(|m| m.kind == MotionKind::Rapid) {
         match cfg.kind {
@@ -118,7 +118,7 @@ pub fn rapids(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
 
 /// Cutting moves whose feed or S is outside the configured ranges, one finding per run of
 /// consecutive offending moves with the same value.
-pub fn feed_and_power(motions: &[Motion], cfg: &CheckConfig) -> Vec<Finding> {
+pub fn feed_and_power(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
     let mut out = Vec::new();
     let mut last_feed: Option<f64> = None;
     let mut last_power: Option<f64> = None;
