@@ -4,7 +4,8 @@
 //! down: y is flipped about the page.
 
 use super::geometry::{Contour, Seg, bounds, contours, split_arc, validate};
-use super::{EmitError, check_tolerance, fnum, xml_escape};
+use super::svg_page::SvgPage;
+use super::{EmitError, check_tolerance, fnum};
 use crate::machine::{OperationColors, Profile};
 use crate::toolpath::{OperationKind, Toolpath};
 use glam::DVec2;
@@ -176,25 +177,20 @@ pub fn laser_svg(
             }
         }
     };
-    let mut out = String::new();
-    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n");
-    let _ = writeln!(
-        out,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{w}mm\" \
-         height=\"{h}mm\" viewBox=\"0 0 {w} {h}\">",
-        w = fnum(frame.width),
-        h = fnum(frame.height)
-    );
-    let _ = writeln!(out, "<title>{}</title>", xml_escape(&opts.job));
+    let mut page = SvgPage::bare(frame.width, frame.height, 1.0);
+    page.title(&opts.job);
     let sw = fnum(svg.stroke_width);
     for (oi, op) in tp.operations.iter().enumerate() {
         let color = color_of(&svg.colors, op.kind);
-        let _ = writeln!(
-            out,
-            "<g id=\"op{oi}\" data-name=\"{}\" data-kind=\"{:?}\" fill=\"none\" stroke=\"{color}\" \
-             stroke-width=\"{sw}\">",
-            xml_escape(&op.name),
-            op.kind
+        page.open(
+            &format!("op{oi}"),
+            &[
+                ("data-name", &op.name),
+                ("data-kind", &format!("{:?}", op.kind)),
+                ("fill", "none"),
+                ("stroke", color),
+                ("stroke-width", &sw),
+            ],
         );
         for ci in 0..op.cuts.len() {
             let parts: Vec<&Contour> = cs.iter().filter(|c| c.op == oi && c.cut == ci).collect();
@@ -202,13 +198,13 @@ pub fn laser_svg(
                 continue;
             }
             let d = path_data(&parts, &frame, opts.tolerance);
-            let _ = writeln!(
-                out,
-                "<path id=\"op{oi}-cut{ci}\" stroke=\"{color}\" d=\"{d}\"/>"
+            page.path(
+                "",
+                &d,
+                &[("id", &format!("op{oi}-cut{ci}")), ("stroke", color)],
             );
         }
-        out.push_str("</g>\n");
+        page.close();
     }
-    out.push_str("</svg>\n");
-    Ok(out)
+    Ok(page.finish())
 }

@@ -11,13 +11,13 @@ pub mod geometry;
 pub mod laser_svg;
 pub mod outline;
 pub mod preview;
-pub mod preview_svg;
+pub mod svg_page;
 
 pub use dxf::{DxfOptions, dxf};
 pub use gcode::{GROUP_MARK, GcodeOptions, LineOrigin, gcode, gcode_with_origins};
 pub use geometry::{Contour, Seg};
 pub use laser_svg::{LaserSvgOptions, Page, laser_svg};
-pub use preview_svg::{PreviewOptions, preview_svg};
+pub use svg_page::SvgPage;
 
 use std::fmt;
 
@@ -97,23 +97,6 @@ pub(crate) fn check_tolerance(name: &'static str, tol: f64) -> Result<(), EmitEr
             reason: format!("must be a positive number, got {tol}"),
         })
     }
-}
-
-/// `s` escaped for XML text and attribute values.
-pub(crate) fn xml_escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c if (c as u32) < 0x20 && c != '\n' && c != '\t' => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 /// A number for SVG/DXF text at f64 precision: shortest round-trip form, `-0` as `0`.

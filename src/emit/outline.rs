@@ -200,7 +200,7 @@ impl OutlineDoc {
         let map = |p: &[f64; 2]| frame.map(DVec2::new(p[0], p[1]));
         for st in &self.strokes {
             let has_outline = st.contours.iter().any(|c| c.role == ContourRole::Outline);
-            page.open(&st.name, "");
+            page.open(&st.name, &[]);
             for c in &st.circles {
                 let stroke = match c.role {
                     CircleRole::KnotCircle => "#4a90d9",
@@ -210,45 +210,45 @@ impl OutlineDoc {
                     c.role.as_str(),
                     map(&c.center),
                     c.radius,
-                    &format!(
-                        "fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{}\"",
-                        num(w * 0.6)
-                    ),
+                    &[
+                        ("fill", "none"),
+                        ("stroke", stroke),
+                        ("stroke-width", &num(w * 0.6)),
+                    ],
                     None,
                 );
             }
             for c in &st.contours {
-                let (stroke, width, dash) = match c.role {
-                    ContourRole::Outline => ("#000000", w * 1.5, String::new()),
-                    ContourRole::Envelope if has_outline => (
-                        "#d9534f",
-                        w,
-                        format!(" stroke-dasharray=\"{} {}\"", num(4.0 * w), num(3.0 * w)),
-                    ),
-                    ContourRole::Envelope => ("#000000", w * 1.5, String::new()),
-                    ContourRole::Spine => ("#888888", w * 0.6, String::new()),
-                    ContourRole::Offset => ("#2e8b57", w, String::new()),
+                let (stroke, width, dashed) = match c.role {
+                    ContourRole::Outline => ("#000000", w * 1.5, false),
+                    ContourRole::Envelope if has_outline => ("#d9534f", w, true),
+                    ContourRole::Envelope => ("#000000", w * 1.5, false),
+                    ContourRole::Spine => ("#888888", w * 0.6, false),
+                    ContourRole::Offset => ("#2e8b57", w, false),
                 };
                 let pts: Vec<DVec2> = c.points.iter().map(map).collect();
-                page.polyline(
-                    c.role.as_str(),
-                    &pts,
-                    c.closed,
-                    &format!(
-                        "fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{}\"{dash}",
-                        num(width)
-                    ),
-                );
+                let width = num(width);
+                let dash = format!("{} {}", num(4.0 * w), num(3.0 * w));
+                let mut attrs = vec![
+                    ("fill", "none"),
+                    ("stroke", stroke),
+                    ("stroke-width", &width),
+                ];
+                if dashed {
+                    attrs.push(("stroke-dasharray", &dash));
+                }
+                page.polyline(c.role.as_str(), &pts, c.closed, &attrs);
             }
             for m in &st.markers {
                 page.circle(
                     &format!("marker {}", m.kind),
                     map(&m.at),
                     6.0 * w,
-                    &format!(
-                        "fill=\"none\" stroke=\"#e00000\" stroke-width=\"{}\"",
-                        num(w)
-                    ),
+                    &[
+                        ("fill", "none"),
+                        ("stroke", "#e00000"),
+                        ("stroke-width", &num(w)),
+                    ],
                     Some(&m.message),
                 );
             }

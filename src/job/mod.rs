@@ -7,6 +7,7 @@ pub mod check;
 pub mod checked;
 pub mod inspect;
 pub mod outline;
+pub mod preview;
 pub mod progress;
 pub mod re_route;
 

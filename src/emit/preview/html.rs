@@ -147,7 +147,7 @@ pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitErro
         Some(s) if s.len() <= opts.max_source_bytes => script_json(&json!(s)),
         _ => "null".to_string(),
     };
-    let title = crate::emit::xml_escape(&scene.title);
+    let title = crate::emit::svg_page::text_content(&scene.title);
     let parts = [
         ("TITLE", title),
         ("META", script_json(&meta)),
