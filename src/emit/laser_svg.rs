@@ -23,7 +23,10 @@ const MIN_PAGE: f64 = 1.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Page {
     /// The drawing's bounding box grown by `margin` mm on each side.
-    Bounds { margin: f64 },
+    Bounds {
+        /// Margin on each side (mm).
+        margin: f64,
+    },
     /// The profile's work area (the bed): design coordinates keep their place on the bed,
     /// with the design's origin at the bed's bottom-left corner.
     WorkArea,
@@ -32,6 +35,7 @@ pub enum Page {
 /// Options of [`laser_svg`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct LaserSvgOptions {
+    /// The page the drawing sits on.
     pub page: Page,
     /// Job name for `<title>`.
     pub job: String,
@@ -68,11 +72,14 @@ pub struct PageFrame {
     pub x0: f64,
     /// Design y at the page's top edge.
     pub y1: f64,
+    /// Page width (mm).
     pub width: f64,
+    /// Page height (mm).
     pub height: f64,
 }
 
 impl PageFrame {
+    /// Page point (y down) of a design point (y up).
     pub fn map(&self, p: DVec2) -> DVec2 {
         DVec2::new(p.x - self.x0, self.y1 - p.y)
     }

@@ -86,8 +86,11 @@ as_str_display!(MarkerKind {
 /// One flattened contour with its role.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Contour {
+    /// What the contour is.
     pub role: ContourRole,
+    /// Whether the last point joins the first.
     pub closed: bool,
+    /// Points (design units, y up).
     pub points: Vec<[f64; 2]>,
 }
 
@@ -123,34 +126,46 @@ impl Contour {
 /// A point feature worth showing: an envelope loop, a span with no envelope.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Marker {
+    /// What was found.
     pub kind: MarkerKind,
+    /// Where (design units).
     pub at: [f64; 2],
+    /// Explanation shown as a tooltip.
     pub message: String,
 }
 
 /// A circle drawn for reference (control disks, knot circles).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RefCircle {
+    /// What the circle is.
     pub role: CircleRole,
+    /// Centre (design units).
     pub center: [f64; 2],
+    /// Radius (design units).
     pub radius: f64,
 }
 
 /// Everything drawn for one stroke or circle sequence.
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 pub struct StrokeOutline {
+    /// The stroke's or circle sequence's name.
     pub name: String,
+    /// Drawn contours (spine, envelope, outline, offsets).
     pub contours: Vec<Contour>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// Reference circles.
     pub circles: Vec<RefCircle>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// Markers of what the outline found (loops, overlaps, intersections).
     pub markers: Vec<Marker>,
 }
 
 /// The whole document.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OutlineDoc {
+    /// Units of the design: `mm` or `inch`.
     pub units: String,
+    /// One drawing per stroke and circle sequence, in file order.
     pub strokes: Vec<StrokeOutline>,
 }
 

@@ -1,5 +1,5 @@
 //! The one SVG writer of skinpath: the outline drawing ([`super::outline`]), the laser-cutter
-//! SVG ([`super::laser_svg`]) and the toolpath preview ([`super::preview`]) all build their
+//! SVG ([`super::laser_svg::laser_svg`]) and the toolpath preview ([`super::preview`]) all build their
 //! document through [`SvgPage`], which holds it in the `svg` crate's document model and
 //! serialises it with the crate (attribute values and text escaped by it; attributes come
 //! out in name order).

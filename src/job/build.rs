@@ -17,7 +17,7 @@
 //! (the cap's flat region follows the radius, not the attribute). A laser V-carve
 //! engraves along the spine at z = 0 with the attribute power and feed. On G-code lasers
 //! the `power` and `feed` attributes also drive profile, fill and channel cuts: each piece of
-//! a cut takes the value at the nearest spine parameter ([`attributes_on_moves`]).
+//! a cut takes the value at the nearest spine parameter (`attributes_on_moves`).
 
 use super::JobError;
 use super::outline::re_interp;

@@ -10,7 +10,9 @@ use glam::DVec2;
 /// the top edge `hi.y`, shifted by `offset`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
+    /// Lower-left corner of the framed world box.
     pub lo: DVec2,
+    /// Upper-right corner of the framed world box.
     pub hi: DVec2,
     /// Page units per world unit.
     pub scale: f64,

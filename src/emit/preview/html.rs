@@ -20,7 +20,9 @@ use serde_json::json;
 
 /// Style codes of the embedded blocks.
 pub const STYLE_TRAVEL: u8 = 0;
+/// Style code of a cutting block.
 pub const STYLE_CUT: u8 = 1;
+/// Style code of a dwell.
 pub const STYLE_DWELL: u8 = 2;
 
 /// Options of [`player_html`].

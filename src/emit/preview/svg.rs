@@ -48,7 +48,9 @@ const NUMBERED_FINDINGS: usize = 30;
 
 /// Colours of the parts that are not cuts.
 pub const RAPID_COLOR: &str = "#a9b4bd";
+/// Colour of the cut start markers.
 pub const START_COLOR: &str = "#2ca02c";
+/// Colour of the checker's findings.
 pub const FINDING_COLOR: &str = "#e00000";
 const WORK_FILL: &str = "#f6f6f2";
 const WORK_STROKE: &str = "#b8b8b0";
@@ -95,15 +97,22 @@ pub fn view_box(scene: &Scene) -> (DVec2, DVec2) {
 /// Sizes derived from the drawing's larger side `s` (mm).
 #[derive(Clone, Copy, Debug)]
 pub struct Sizes {
+    /// Cut stroke width.
     pub cut: f64,
+    /// Rapid stroke width.
     pub rapid: f64,
+    /// Start marker radius.
     pub marker: f64,
+    /// Height of order numbers.
     pub number: f64,
+    /// Length of direction arrows.
     pub arrow: f64,
+    /// Legend font size.
     pub font: f64,
 }
 
 impl Sizes {
+    /// The sizes for a drawing whose larger side is `s` mm.
     pub fn of(s: f64) -> Sizes {
         let cut = CUT_WIDTH * s;
         Sizes {
