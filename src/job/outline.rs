@@ -21,6 +21,7 @@ pub use crate::skin::re::outline::{ReOutline, ReOutlineError, re_offsets, sequen
 /// Options of an outline job.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OutlineOptions {
+    /// Which outline to draw: skin, raw envelope, RE or MPH skin.
     pub method: OutlineMethod,
     /// Flattening tolerance of every drawn contour (design units).
     pub tolerance: f64,
@@ -47,6 +48,7 @@ impl Default for OutlineOptions {
 /// The exact outline of one stroke or circle sequence, with what was found on the way.
 #[derive(Clone, Debug)]
 pub struct ItemOutline {
+    /// The stroke's or circle sequence's name.
     pub name: String,
     /// Closed, non-intersecting contours: outer counter-clockwise, inner clockwise.
     pub contours: Vec<Path>,
@@ -72,7 +74,12 @@ pub enum ItemError {
     Loops(#[from] crate::dbsc::LoopError),
     /// The stroke's skin failed; `hint` names the disks and what to change ("" or "; ...").
     #[error("{source}{hint}")]
-    Skin { source: DbscSkinError, hint: String },
+    Skin {
+        /// Why the skin failed.
+        source: DbscSkinError,
+        /// Which disks to change and how ("" or "; ...").
+        hint: String,
+    },
     /// The circle sequence's skin failed.
     #[error(transparent)]
     Circles(#[from] crate::skin::SkinError),

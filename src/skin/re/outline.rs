@@ -31,12 +31,17 @@ pub enum ReOutlineError {
     /// points, the fallback, could not be built.
     #[error("circle {index}: {source}")]
     Fallback {
+        /// Index of the circle.
         index: usize,
+        /// Why the sequence's touching points failed.
         source: crate::skin::SkinError,
     },
     /// A circle without touching points in the fallback.
     #[error("circle {index}: no touching points")]
-    NoTouchingPoints { index: usize },
+    NoTouchingPoints {
+        /// Index of the circle.
+        index: usize,
+    },
 }
 
 /// Relative tolerance of the touching-point construction (scaled by the sequence's size).
