@@ -17,7 +17,7 @@
 //!
 //! A whole checked build is one [`Job`]: a [`Design`] (loaded with [`design::load`], or
 //! made in code with [`design_of_strokes`]) and a machine [`Profile`] in; the program, the
-//! placed [`Toolpath`], the checker's [`Report`] and a [`Summary`](job::Summary) out. A
+//! placed [`Toolpath`], the checker's [`Report`] and a [`Summary`] out. A
 //! G-code program that fails its check is refused ([`JobError::Unchecked`]) unless
 //! [`JobOptions::write_unchecked`] is set. The library writes no files.
 //!
@@ -53,17 +53,15 @@
 // A library reports through its return values; printing is the command line's business.
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 
-// `missing_docs` holds in geom, machine, sim, spline, toolpath and units. The modules below are
-// exempt until their public fields and variants are documented (about 630 items; several
-// of these modules are being reworked in parallel).
+// `missing_docs` holds in emit, geom, job, machine, sim, spline, toolpath and units. The
+// modules below are exempt until their public fields and variants are documented (dbsc 67,
+// design 56 and skin 216 items).
 #[allow(missing_docs)]
 pub mod dbsc;
 #[allow(missing_docs)]
 pub mod design;
-#[allow(missing_docs)]
 pub mod emit;
 pub mod geom;
-#[allow(missing_docs)]
 pub mod job;
 pub mod machine;
 pub mod sim;

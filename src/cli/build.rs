@@ -245,7 +245,7 @@ pub fn run(a: Args) -> Result<u8> {
     let t_write = Instant::now();
     let mut outputs: Vec<(&Path, Vec<u8>)> = Vec::new();
     if let Some(p) = &a.preview {
-        let scene = super::preview::scene_of_build(
+        let scene = skinpath::job::preview::scene_of_build(
             &name,
             &out.built.toolpath,
             &profile,

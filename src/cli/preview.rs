@@ -6,13 +6,10 @@ use super::build::load_profile;
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::emit::preview::{
-    HtmlOptions, PngOptions, ProgramInput, Scene, SvgOptions, player_html, rasterize, scene_svg,
+    HtmlOptions, PngOptions, Scene, SvgOptions, player_html, rasterize, scene_svg,
 };
-use skinpath::emit::{GcodeOptions, gcode};
-use skinpath::job::build::{BuildOptions, build_toolpath};
-use skinpath::job::check::check_config;
-use skinpath::machine::{MachineKind, Profile};
-use skinpath::sim::{self, CheckConfig, MotionKind};
+use skinpath::job::build::BuildOptions;
+use skinpath::job::preview::{scene_of_design, scene_of_program};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
@@ -75,46 +72,6 @@ pub fn write(path: &Path, scene: &Scene, png: PngOptions) -> Result<()> {
     io::write_atomic(path, &bytes).with_context(|| format!("writing {}", path.display()))
 }
 
-/// A scene of G-code `text` read by the builtin simulator under `cfg` (findings included).
-pub fn scene_of_gcode(title: &str, text: &str, cfg: &CheckConfig, work_area: bool) -> Scene {
-    let prog = sim::load(sim::Backend::Builtin, text, cfg);
-    let report = sim::check(&prog, cfg, &[]);
-    Scene::from_program(ProgramInput {
-        title,
-        program: &prog,
-        text: Some(text),
-        cfg,
-        findings: report.findings,
-        draw_work_area: work_area,
-    })
-}
-
-/// The scene of a toolpath built for `profile`: its G-code read back by the simulator, or
-/// for SVG/DXF profiles the toolpath itself (no G-code lines).
-pub fn scene_of_build(
-    title: &str,
-    tp: &skinpath::toolpath::Toolpath,
-    profile: &Profile,
-    mm_per_design_unit: f64,
-    program: Option<&str>,
-    allow_crossings: bool,
-) -> Scene {
-    let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
-    let mut cfg = check_config(profile, tool_r);
-    cfg.allow_crossings = allow_crossings;
-    match program {
-        Some(g) => scene_of_gcode(title, g, &cfg, true),
-        None => {
-            let mm = cfg.in_mm();
-            let wa = (
-                glam::DVec2::new(mm.work_min[0], mm.work_min[1]),
-                glam::DVec2::new(mm.work_max[0], mm.work_max[1]),
-            );
-            Scene::from_toolpath(title, tp, mm_per_design_unit, &cfg, Some(wa))
-        }
-    }
-}
-
 fn png_options(a: &Args) -> Result<PngOptions> {
     Ok(match (a.width, a.dpi) {
         (Some(w), _) => PngOptions::Width(w),
@@ -158,62 +115,9 @@ pub fn run(a: Args) -> Result<u8> {
         if let Some(e) = a.epsilon {
             opts.epsilon = e;
         }
-        let built = build_toolpath(&design, &profile, &opts)?;
-        let allow_crossings = design.operation.iter().any(|o| {
-            !matches!(
-                o.kind,
-                skinpath::design::OperationKind::Profile
-                    | skinpath::design::OperationKind::Backboard
-            )
-        });
-        let program = if profile.kind == MachineKind::Svg {
-            None
-        } else {
-            let units = design.units;
-            Some(gcode(
-                &built.toolpath,
-                &profile,
-                &GcodeOptions {
-                    job: title.clone(),
-                    input_units: units,
-                    tolerance: opts.tolerance * 0.1,
-                    // Show a job outside the travel (the checker marks it) instead of
-                    // refusing to draw it.
-                    check_work_area: false,
-                },
-            )?)
-        };
-        scene_of_build(
-            &title,
-            &built.toolpath,
-            &profile,
-            design.units.mm_per_unit(),
-            program.as_deref(),
-            allow_crossings,
-        )
+        scene_of_design(&title, &design, &profile, &opts)?
     } else {
-        match &profile {
-            Some(p) => {
-                let r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
-                scene_of_gcode(&title, &text, &check_config(p, r), true)
-            }
-            None => {
-                // No machine: a laser unless the program feeds below z = 0.
-                let mut cfg = CheckConfig {
-                    allow_crossings: true,
-                    ..CheckConfig::default()
-                };
-                let prog = sim::load(sim::Backend::Builtin, &text, &cfg);
-                if prog
-                    .motions
-                    .iter()
-                    .any(|m| m.kind == MotionKind::Feed && m.to.z.min(m.from.z) < 0.0)
-                {
-                    cfg.kind = sim::MachineKind::Router;
-                }
-                scene_of_gcode(&title, &text, &cfg, false)
-            }
-        }
+        scene_of_program(&title, &text, profile.as_ref())
     };
     write(&a.output, &scene, png)?;
     crate::print_stdout(&format!(

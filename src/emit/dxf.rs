@@ -32,7 +32,9 @@ impl Default for DxfOptions {
 /// One polyline vertex: position and the bulge of the segment that leaves it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
+    /// Vertex position (mm).
     pub p: DVec2,
+    /// DXF bulge of the segment leaving the vertex: tan(sweep / 4), 0 for a line.
     pub bulge: f64,
 }
 

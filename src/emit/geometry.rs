@@ -9,19 +9,25 @@ use glam::{DVec2, DVec3};
 /// A plane segment of a contour, from the previous point to `to`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Seg {
+    /// A straight line.
     Line {
+        /// End point.
         to: DVec2,
     },
     /// A circular arc about `center`; `sweep` is signed (counter-clockwise positive) with
     /// 0 < |sweep| ≤ 2π (a full circle when `to` is the start point).
     Arc {
+        /// End point.
         to: DVec2,
+        /// Arc centre.
         center: DVec2,
+        /// Signed sweep angle (radians, counter-clockwise positive).
         sweep: f64,
     },
 }
 
 impl Seg {
+    /// End point of the segment.
     pub fn to(&self) -> DVec2 {
         match *self {
             Seg::Line { to } | Seg::Arc { to, .. } => to,
@@ -33,16 +39,22 @@ impl Seg {
 /// two rapids. Plunges and retracts (pure z moves) and dwells leave no trace here.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Contour {
+    /// Index of the operation in the toolpath.
     pub op: usize,
+    /// Kind of that operation (chooses the colour or layer).
     pub kind: OperationKind,
+    /// Index of the cut in its operation.
     pub cut: usize,
+    /// Start point.
     pub start: DVec2,
+    /// Segments from the start point on.
     pub segs: Vec<Seg>,
     /// Power fraction of the first cutting move.
     pub power: f64,
 }
 
 impl Contour {
+    /// End point of the contour (the start when it has no segments).
     pub fn end(&self) -> DVec2 {
         self.segs.last().map_or(self.start, |s| s.to())
     }

@@ -4,7 +4,8 @@
 //! down: y is flipped about the page.
 
 use super::geometry::{Contour, Seg, bounds, contours, split_arc, validate};
-use super::{EmitError, check_tolerance, fnum, xml_escape};
+use super::svg_page::SvgPage;
+use super::{EmitError, check_tolerance, fnum};
 use crate::machine::{OperationColors, Profile};
 use crate::toolpath::{OperationKind, Toolpath};
 use glam::DVec2;
@@ -22,7 +23,10 @@ const MIN_PAGE: f64 = 1.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Page {
     /// The drawing's bounding box grown by `margin` mm on each side.
-    Bounds { margin: f64 },
+    Bounds {
+        /// Margin on each side (mm).
+        margin: f64,
+    },
     /// The profile's work area (the bed): design coordinates keep their place on the bed,
     /// with the design's origin at the bed's bottom-left corner.
     WorkArea,
@@ -31,6 +35,7 @@ pub enum Page {
 /// Options of [`laser_svg`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct LaserSvgOptions {
+    /// The page the drawing sits on.
     pub page: Page,
     /// Job name for `<title>`.
     pub job: String,
@@ -67,11 +72,14 @@ pub struct PageFrame {
     pub x0: f64,
     /// Design y at the page's top edge.
     pub y1: f64,
+    /// Page width (mm).
     pub width: f64,
+    /// Page height (mm).
     pub height: f64,
 }
 
 impl PageFrame {
+    /// Page point (y down) of a design point (y up).
     pub fn map(&self, p: DVec2) -> DVec2 {
         DVec2::new(p.x - self.x0, self.y1 - p.y)
     }
@@ -176,25 +184,20 @@ pub fn laser_svg(
             }
         }
     };
-    let mut out = String::new();
-    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n");
-    let _ = writeln!(
-        out,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{w}mm\" \
-         height=\"{h}mm\" viewBox=\"0 0 {w} {h}\">",
-        w = fnum(frame.width),
-        h = fnum(frame.height)
-    );
-    let _ = writeln!(out, "<title>{}</title>", xml_escape(&opts.job));
+    let mut page = SvgPage::bare(frame.width, frame.height, 1.0);
+    page.title(&opts.job);
     let sw = fnum(svg.stroke_width);
     for (oi, op) in tp.operations.iter().enumerate() {
         let color = color_of(&svg.colors, op.kind);
-        let _ = writeln!(
-            out,
-            "<g id=\"op{oi}\" data-name=\"{}\" data-kind=\"{:?}\" fill=\"none\" stroke=\"{color}\" \
-             stroke-width=\"{sw}\">",
-            xml_escape(&op.name),
-            op.kind
+        page.open(
+            &format!("op{oi}"),
+            &[
+                ("data-name", &op.name),
+                ("data-kind", &format!("{:?}", op.kind)),
+                ("fill", "none"),
+                ("stroke", color),
+                ("stroke-width", &sw),
+            ],
         );
         for ci in 0..op.cuts.len() {
             let parts: Vec<&Contour> = cs.iter().filter(|c| c.op == oi && c.cut == ci).collect();
@@ -202,13 +205,13 @@ pub fn laser_svg(
                 continue;
             }
             let d = path_data(&parts, &frame, opts.tolerance);
-            let _ = writeln!(
-                out,
-                "<path id=\"op{oi}-cut{ci}\" stroke=\"{color}\" d=\"{d}\"/>"
+            page.path(
+                "",
+                &d,
+                &[("id", &format!("op{oi}-cut{ci}")), ("stroke", color)],
             );
         }
-        out.push_str("</g>\n");
+        page.close();
     }
-    out.push_str("</svg>\n");
-    Ok(out)
+    Ok(page.finish())
 }

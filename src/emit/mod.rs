@@ -11,13 +11,13 @@ pub mod geometry;
 pub mod laser_svg;
 pub mod outline;
 pub mod preview;
-pub mod preview_svg;
+pub mod svg_page;
 
 pub use dxf::{DxfOptions, dxf};
 pub use gcode::{GROUP_MARK, GcodeOptions, LineOrigin, gcode, gcode_with_origins};
 pub use geometry::{Contour, Seg};
 pub use laser_svg::{LaserSvgOptions, Page, laser_svg};
-pub use preview_svg::{PreviewOptions, preview_svg};
+pub use svg_page::SvgPage;
 
 use std::fmt;
 
@@ -25,9 +25,13 @@ use std::fmt;
 /// cut's start when `mv` is `None`). Indices are 0-based.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Location {
+    /// Operation index.
     pub op: usize,
+    /// Operation name.
     pub op_name: String,
+    /// Cut index in the operation.
     pub cut: usize,
+    /// Move index in the cut; `None` for the cut's start.
     pub mv: Option<usize>,
 }
 
@@ -50,7 +54,12 @@ impl fmt::Display for Location {
 pub enum EmitError {
     /// A move the writer cannot express faithfully.
     #[error("{at}: {reason}")]
-    InvalidMove { at: Location, reason: String },
+    InvalidMove {
+        /// Where in the toolpath.
+        at: Location,
+        /// What is wrong with the move.
+        reason: String,
+    },
     /// A coordinate outside the machine's travel.
     #[error(
         "{at}: {axis} = {value} is outside the work area [{min}, {max}] of profile {profile:?}{}",
@@ -61,28 +70,45 @@ pub enum EmitError {
         }
     )]
     OutOfWorkArea {
+        /// Where in the toolpath.
         at: Location,
+        /// The axis (`X`, `Y` or `Z`).
         axis: char,
+        /// The coordinate (machine units).
         value: f64,
+        /// Lower end of the travel.
         min: f64,
+        /// Upper end of the travel.
         max: f64,
+        /// The machine profile's name.
         profile: String,
     },
     /// The profile is for another kind of output.
     #[error("profile {profile:?} cannot be used for {output}: {reason}")]
     WrongProfile {
+        /// The machine profile's name.
         profile: String,
+        /// The output asked for ("G-code", "laser SVG", "DXF").
         output: &'static str,
+        /// Why the profile does not fit.
         reason: String,
     },
     /// An option out of range.
     #[error("option {name}: {reason}")]
-    InvalidOption { name: &'static str, reason: String },
+    InvalidOption {
+        /// The option's name.
+        name: &'static str,
+        /// Why its value is refused.
+        reason: String,
+    },
     /// A template that failed to render (names the template).
     #[error("profile {profile:?}, {key}: {reason}")]
     Template {
+        /// The machine profile's name.
         profile: String,
+        /// The template's key in the profile.
         key: &'static str,
+        /// What failed.
         reason: String,
     },
 }
@@ -97,23 +123,6 @@ pub(crate) fn check_tolerance(name: &'static str, tol: f64) -> Result<(), EmitEr
             reason: format!("must be a positive number, got {tol}"),
         })
     }
-}
-
-/// `s` escaped for XML text and attribute values.
-pub(crate) fn xml_escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c if (c as u32) < 0x20 && c != '\n' && c != '\t' => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 /// A number for SVG/DXF text at f64 precision: shortest round-trip form, `-0` as `0`.

@@ -86,8 +86,11 @@ as_str_display!(MarkerKind {
 /// One flattened contour with its role.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Contour {
+    /// What the contour is.
     pub role: ContourRole,
+    /// Whether the last point joins the first.
     pub closed: bool,
+    /// Points (design units, y up).
     pub points: Vec<[f64; 2]>,
 }
 
@@ -123,34 +126,46 @@ impl Contour {
 /// A point feature worth showing: an envelope loop, a span with no envelope.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Marker {
+    /// What was found.
     pub kind: MarkerKind,
+    /// Where (design units).
     pub at: [f64; 2],
+    /// Explanation shown as a tooltip.
     pub message: String,
 }
 
 /// A circle drawn for reference (control disks, knot circles).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RefCircle {
+    /// What the circle is.
     pub role: CircleRole,
+    /// Centre (design units).
     pub center: [f64; 2],
+    /// Radius (design units).
     pub radius: f64,
 }
 
 /// Everything drawn for one stroke or circle sequence.
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 pub struct StrokeOutline {
+    /// The stroke's or circle sequence's name.
     pub name: String,
+    /// Drawn contours (spine, envelope, outline, offsets).
     pub contours: Vec<Contour>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// Reference circles.
     pub circles: Vec<RefCircle>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// Markers of what the outline found (loops, overlaps, intersections).
     pub markers: Vec<Marker>,
 }
 
 /// The whole document.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OutlineDoc {
+    /// Units of the design: `mm` or `inch`.
     pub units: String,
+    /// One drawing per stroke and circle sequence, in file order.
     pub strokes: Vec<StrokeOutline>,
 }
 
@@ -200,7 +215,7 @@ impl OutlineDoc {
         let map = |p: &[f64; 2]| frame.map(DVec2::new(p[0], p[1]));
         for st in &self.strokes {
             let has_outline = st.contours.iter().any(|c| c.role == ContourRole::Outline);
-            page.open(&st.name, "");
+            page.open(&st.name, &[]);
             for c in &st.circles {
                 let stroke = match c.role {
                     CircleRole::KnotCircle => "#4a90d9",
@@ -210,45 +225,45 @@ impl OutlineDoc {
                     c.role.as_str(),
                     map(&c.center),
                     c.radius,
-                    &format!(
-                        "fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{}\"",
-                        num(w * 0.6)
-                    ),
+                    &[
+                        ("fill", "none"),
+                        ("stroke", stroke),
+                        ("stroke-width", &num(w * 0.6)),
+                    ],
                     None,
                 );
             }
             for c in &st.contours {
-                let (stroke, width, dash) = match c.role {
-                    ContourRole::Outline => ("#000000", w * 1.5, String::new()),
-                    ContourRole::Envelope if has_outline => (
-                        "#d9534f",
-                        w,
-                        format!(" stroke-dasharray=\"{} {}\"", num(4.0 * w), num(3.0 * w)),
-                    ),
-                    ContourRole::Envelope => ("#000000", w * 1.5, String::new()),
-                    ContourRole::Spine => ("#888888", w * 0.6, String::new()),
-                    ContourRole::Offset => ("#2e8b57", w, String::new()),
+                let (stroke, width, dashed) = match c.role {
+                    ContourRole::Outline => ("#000000", w * 1.5, false),
+                    ContourRole::Envelope if has_outline => ("#d9534f", w, true),
+                    ContourRole::Envelope => ("#000000", w * 1.5, false),
+                    ContourRole::Spine => ("#888888", w * 0.6, false),
+                    ContourRole::Offset => ("#2e8b57", w, false),
                 };
                 let pts: Vec<DVec2> = c.points.iter().map(map).collect();
-                page.polyline(
-                    c.role.as_str(),
-                    &pts,
-                    c.closed,
-                    &format!(
-                        "fill=\"none\" stroke=\"{stroke}\" stroke-width=\"{}\"{dash}",
-                        num(width)
-                    ),
-                );
+                let width = num(width);
+                let dash = format!("{} {}", num(4.0 * w), num(3.0 * w));
+                let mut attrs = vec![
+                    ("fill", "none"),
+                    ("stroke", stroke),
+                    ("stroke-width", &width),
+                ];
+                if dashed {
+                    attrs.push(("stroke-dasharray", &dash));
+                }
+                page.polyline(c.role.as_str(), &pts, c.closed, &attrs);
             }
             for m in &st.markers {
                 page.circle(
                     &format!("marker {}", m.kind),
                     map(&m.at),
                     6.0 * w,
-                    &format!(
-                        "fill=\"none\" stroke=\"#e00000\" stroke-width=\"{}\"",
-                        num(w)
-                    ),
+                    &[
+                        ("fill", "none"),
+                        ("stroke", "#e00000"),
+                        ("stroke-width", &num(w)),
+                    ],
                     Some(&m.message),
                 );
             }

@@ -17,7 +17,7 @@
 //! (the cap's flat region follows the radius, not the attribute). A laser V-carve
 //! engraves along the spine at z = 0 with the attribute power and feed. On G-code lasers
 //! the `power` and `feed` attributes also drive profile, fill and channel cuts: each piece of
-//! a cut takes the value at the nearest spine parameter ([`attributes_on_moves`]).
+//! a cut takes the value at the nearest spine parameter (`attributes_on_moves`).
 
 use super::JobError;
 use super::outline::re_interp;
@@ -75,7 +75,9 @@ const VCARVE_STEP_MM: f64 = 0.25;
 /// The result of a build.
 #[derive(Clone, Debug)]
 pub struct BuildResult {
+    /// The toolpath in design units.
     pub toolpath: Toolpath,
+    /// Planning statistics per operation.
     pub stats: Vec<PlanStats>,
     /// Outlines of the design's items (for gouge checks and previews).
     pub outlines: Vec<ItemOutline>,
@@ -1219,6 +1221,7 @@ pub enum Place {
 }
 
 impl Place {
+    /// The name on the command line (`--place`).
     pub fn as_str(self) -> &'static str {
         match self {
             Place::Design => "design",
@@ -1231,6 +1234,7 @@ impl Place {
 /// Where a job went: the shift applied, the job's size and where it lies, in design units.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Placement {
+    /// The placement asked for.
     pub place: Place,
     /// Shift added to every coordinate.
     pub offset: [f64; 2],
@@ -1238,6 +1242,7 @@ pub struct Placement {
     pub size: [f64; 2],
     /// Lower-left and upper-right corner of the placed job.
     pub min: [f64; 2],
+    /// Upper-right corner of the placed job.
     pub max: [f64; 2],
     /// The design's scale factor (`--scale` or `--fit`), 1 when unscaled.
     pub scale: f64,

@@ -81,7 +81,12 @@ pub enum Scale {
     By(f64),
     /// Scaled uniformly so that the whole job (tool paths included) fits `width` ×
     /// `height` design units.
-    Fit { width: f64, height: f64 },
+    Fit {
+        /// Largest width (design units).
+        width: f64,
+        /// Largest height (design units).
+        height: f64,
+    },
 }
 
 /// Options of a [`Job`].
@@ -139,8 +144,11 @@ impl std::fmt::Debug for JobOptions<'_> {
 /// A design to build for a machine.
 #[derive(Clone, Debug)]
 pub struct Job<'a> {
+    /// The design.
     pub design: &'a Design,
+    /// The machine profile.
     pub profile: &'a Profile,
+    /// How to build, check and write.
     pub options: JobOptions<'a>,
 }
 
@@ -451,13 +459,17 @@ pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, design: &Desi
 /// One operation of the [`Summary`].
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct OperationSummary {
+    /// The operation's name.
     pub name: String,
     /// The toolpath operation kind, lower case (`profile`, `pocket`, ...).
     pub kind: String,
     /// Index of the `[[operation]]` in the design; `None` for the default profile.
     pub design_index: Option<usize>,
+    /// Number of cuts.
     pub cuts: usize,
+    /// Length of the cutting moves (design units).
     pub cut_length: f64,
+    /// Whether the operation switches air assist on.
     pub air_assist: bool,
 }
 
@@ -481,7 +493,9 @@ pub struct RouteSummary {
 /// Bounding box of the job.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Bounds {
+    /// Lowest x, y, z.
     pub min: [f64; 3],
+    /// Highest x, y, z.
     pub max: [f64; 3],
 }
 
@@ -503,11 +517,17 @@ pub struct Summary {
     pub machine: String,
     /// Files written (filled in by the caller, which writes them).
     pub outputs: Vec<String>,
+    /// One summary per operation.
     pub operations: Vec<OperationSummary>,
+    /// Length of all cutting moves (design units).
     pub cut_length: f64,
+    /// Length of all travels (design units).
     pub travel_length: f64,
+    /// Bounding box of the toolpath.
     pub bounds: Bounds,
+    /// Where the job was placed.
     pub placement: Placement,
+    /// Time estimates.
     pub time: TimeSummary,
     /// The checker's findings (G-code only).
     pub findings: Vec<Finding>,

@@ -14,55 +14,89 @@ use serde::Serialize;
 const RADIUS_SAMPLES_PER_SPAN: usize = 64;
 
 #[derive(Clone, Debug, Serialize)]
+/// An envelope loop of a stroke: a parameter interval where one envelope runs backwards.
 pub struct LoopInfo {
+    /// The envelope side that loops.
     pub side: Side,
+    /// Parameter interval of the loop.
     pub t: [f64; 2],
+    /// A cusp of the loop, when one was located.
     pub point: Option<[f64; 2]>,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// One segment of a stroke's skin approximation.
 pub struct SegmentInfo {
+    /// Parameter interval of the segment.
     pub t: [f64; 2],
     /// Upper bounds of the Hausdorff error, left and right.
     pub error: [f64; 2],
+    /// Whether both bounds are within ε.
     pub met: bool,
+    /// The stage the refinement stopped in, when it stopped short of ε.
     pub stopped_in: Option<String>,
+    /// Envelope loops inside the segment.
     pub loops: usize,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// The report on one stroke.
 pub struct StrokeInfo {
+    /// The stroke's name.
     pub name: String,
+    /// Degree of the disk B-spline.
     pub degree: usize,
+    /// Whether the stroke is closed.
     pub closed: bool,
+    /// Number of control disks.
     pub disks: usize,
+    /// Number of non-empty knot spans.
     pub knot_spans: usize,
+    /// Parameter domain.
     pub domain: [f64; 2],
+    /// Length of the spine (design units).
     pub spine_length: f64,
+    /// Smallest and largest radius along the stroke.
     pub radius_range: [f64; 2],
+    /// Parameter intervals without an envelope (|q'| ≤ |r'|).
     pub no_envelope: Vec<[f64; 2]>,
+    /// Envelope loops.
     pub loops: Vec<LoopInfo>,
+    /// Circles the skin touches (knot and inserted circles).
     pub skin_circles: usize,
+    /// The skin approximation's segments.
     pub segments: Vec<SegmentInfo>,
     /// Why no skin could be made, when it could not.
     pub skin_error: Option<String>,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// The report on one circle sequence.
 pub struct CirclesInfo {
+    /// The sequence's name.
     pub name: String,
+    /// Whether the sequence is closed.
     pub closed: bool,
+    /// Number of circles.
     pub circles: usize,
+    /// Whether the sequence meets the skinning conditions.
     pub admissible: bool,
+    /// Why it does not, when it does not.
     pub error: Option<String>,
 }
 
 #[derive(Clone, Debug, Serialize)]
+/// The report on a design (what `skinpath inspect` prints).
 pub struct DesignInfo {
+    /// The design file.
     pub file: String,
+    /// Design units: `mm` or `inch`.
     pub units: String,
+    /// ε of the skin approximation.
     pub epsilon: f64,
+    /// One report per stroke.
     pub strokes: Vec<StrokeInfo>,
+    /// One report per circle sequence.
     pub circles: Vec<CirclesInfo>,
     /// Corners at which strokes were split into pieces (`corners` in the design).
     pub corners: Vec<crate::design::Corner>,

@@ -7,6 +7,7 @@ pub mod check;
 pub mod checked;
 pub mod inspect;
 pub mod outline;
+pub mod preview;
 pub mod progress;
 pub mod re_route;
 pub mod shapes;
@@ -19,25 +20,35 @@ use crate::design::DesignError;
 /// Errors of a job; each names the design file and the stroke or operation at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum JobError {
+    /// The design could not be read or is invalid.
     #[error(transparent)]
     Design(#[from] DesignError),
     /// A stroke or circle sequence could not be outlined; `source` says why.
     #[error("{file}: {item} \"{name}\": {source}")]
     Item {
+        /// The design file.
         file: String,
+        /// `stroke` or `circle sequence`.
         item: &'static str,
+        /// The item's name.
         name: String,
+        /// What went wrong.
         source: Box<outline::ItemError>,
     },
     /// `index` is the operation's index in the design (0-based; shown 1-based, as the
     /// n-th `[[operation]]` table of the file).
     #[error("{file}: [[operation]] {} ({kind}): {message}", index + 1)]
     Operation {
+        /// The design file.
         file: String,
+        /// The operation's index in the design (0-based).
         index: usize,
+        /// The operation's kind.
         kind: String,
+        /// What went wrong.
         message: String,
     },
+    /// Job options out of range (the message names the option).
     #[error("{0}")]
     Options(String),
     /// The machine program could not be written.
@@ -52,8 +63,11 @@ pub enum JobError {
          writes it anyway, at the risk named above)"
     )]
     Unchecked {
+        /// The design file.
         file: String,
+        /// Number of error findings.
         errors: usize,
+        /// Each error finding traced back to its operation and stroke.
         explanations: Vec<String>,
     },
 }

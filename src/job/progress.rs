@@ -46,7 +46,9 @@ impl Stage {
 /// skinned or operation planned.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Progress {
+    /// The stage running.
     pub stage: Stage,
+    /// Share of the stage done, 0 to 1.
     pub fraction: f64,
 }
 
@@ -70,6 +72,7 @@ pub(crate) fn report(progress: Option<ProgressFn<'_>>, stage: Stage, done: usize
 /// once (`--fit` builds the design a few times) adds up.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Timings {
+    /// Each stage with its total wall time.
     pub stages: Vec<(Stage, Duration)>,
 }
 

@@ -20,6 +20,7 @@ use crate::toolpath::re_route::{SegCounts, mat_backboard, mat_profile};
 /// One item's RE/MPH skin, ready for MAT offsets.
 #[derive(Clone, Debug)]
 pub struct ReItem {
+    /// The skin after elimination.
     pub skin: ReSkin,
     /// The skin's outline, flattened within the build tolerance (for checks and fills).
     pub outline: Vec<Path>,
@@ -32,42 +33,79 @@ pub struct ReItem {
 /// takes the general route and notes this as the reason.
 #[derive(Debug, thiserror::Error)]
 pub enum RouteRefusal {
+    /// The stroke's spine crosses itself.
     #[error("the spine crosses itself (the cut follows the union)")]
     SelfOverlap,
+    /// A stroke without its disk B-spline.
     #[error("stroke without its disk B-spline")]
     NoCurve,
+    /// The item is not a stroke or circle sequence of the design (a shape, for example).
     #[error("not a stroke or circle sequence (a shape has no RE/MPH skin)")]
     NoItem,
     /// The RE/MPH skin or its outline could not be built.
     #[error(transparent)]
     Outline(#[from] ReOutlineError),
+    /// Envelope intersections are left after elimination.
     #[error("the envelopes still meet after elimination (segment {segment}, t = {t:.4})")]
-    EnvelopesMeet { segment: usize, t: f64 },
+    EnvelopesMeet {
+        /// Segment of the skin.
+        segment: usize,
+        /// Parameter on the segment.
+        t: f64,
+    },
+    /// Elimination could not fix a circle pair.
     #[error("elimination failed between circles {i} and {j}")]
-    EliminationFailed { i: usize, j: usize },
+    EliminationFailed {
+        /// First circle.
+        i: usize,
+        /// Second circle.
+        j: usize,
+    },
     /// The exact offset (outline, profile or backboard) failed.
     #[error(transparent)]
     Offset(#[from] MatOffsetError),
     /// An item's envelope runs backwards (see [`ReItem::loop_note`]).
     #[error("{name}: {note}")]
-    Loop { name: String, note: String },
+    Loop {
+        /// The item's name.
+        name: String,
+        /// Where the envelope runs backwards.
+        note: String,
+    },
     /// The exact profile of item `name` failed.
     #[error("{name}: {source}")]
     Profile {
+        /// The item's name.
         name: String,
+        /// Why the offset failed.
         source: MatOffsetError,
     },
+    /// Two items overlap.
     #[error("{a} and {b} overlap (the cut follows their union)")]
-    Overlap { a: String, b: String },
+    Overlap {
+        /// First item's name.
+        a: String,
+        /// Second item's name.
+        b: String,
+    },
+    /// An item without a skin.
     #[error("item without a skin")]
     NoSkin,
+    /// The operation has no items.
     #[error("no items")]
     NoItems,
+    /// The rounding of inner corners differs from the tool radius.
     #[error(
         "the inner corner radius {rho} differs from the tool radius {r} (the rounding is a \
          closing of the union)"
     )]
-    CornerRadius { rho: f64, r: f64 },
+    CornerRadius {
+        /// The inner corner radius asked for.
+        rho: f64,
+        /// The tool radius.
+        r: f64,
+    },
+    /// A backboard around several items follows their union.
     #[error("{0} items: the backboard follows their union")]
     Union(usize),
 }

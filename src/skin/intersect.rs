@@ -39,7 +39,7 @@ const MAX_HITS_PER_PAIR: usize = 64;
 /// both pieces are flat within tol/2, which takes about log₄(size²/tol) halvings, so
 /// ordinary input needs a few thousand visits; a zero, tiny or non-finite tolerance (or
 /// two long curves running within a few tol of each other) could otherwise visit up to
-/// 4^[`MAX_DEPTH`] pairs. A search that runs out of budget reports one conservative hit
+/// 4^`MAX_DEPTH` pairs. A search that runs out of budget reports one conservative hit
 /// at the first piece it could not decide, as the depth limit does, so callers turn it into
 /// their intersection error (naming the stroke) instead of hanging.
 pub const MAX_VISITS_PER_SEARCH: usize = 1 << 20;

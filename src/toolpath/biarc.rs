@@ -107,7 +107,7 @@ const BOUND_RESOLUTION: f64 = 64.0;
 /// curve's length; the speed bound of a piece is about 3× its length and must drop to
 /// 2·tol), which an ordinary fit (L/tol ≲ 10⁵) stays inside; a cubic very long against `tol` runs out instead of hanging, and the bound
 /// is then unproven ([`f64::INFINITY`]), so [`fit_cubic`] splits the cubic and tries again
-/// on halves (down to [`MAX_DEPTH`]).
+/// on halves (down to `MAX_DEPTH`).
 pub const MAX_BOUND_PIECES: usize = 1 << 20;
 
 /// Decides whether the Hausdorff distance between the cubic `c` and the chain `segs` is at

@@ -10,7 +10,7 @@
 use super::biarc::biarc;
 use super::ops::ProfileSide;
 use crate::geom::{DVec2, Line, Path, PathSeg};
-use crate::skin::mat_offset::{self, MatOffset, MatOffsetError, Piece};
+use crate::skin::mat_offset::{self, MatOffset, MatOffsetError};
 use crate::skin::re::{Branch, ReSkin};
 
 /// Parameter accuracy of the trim points (roots of r = δ) and loop crossings: far below any
@@ -112,34 +112,21 @@ fn orient_for_climb(paths: Vec<Path>, tol: f64) -> Vec<Path> {
 /// (each piece bisected in its parameter until CHECK_SAMPLES interior points of the exact
 /// curve lie within `tol` of its biarc), with the cap arcs kept as they are.
 pub fn biarc_paths(off: &MatOffset, tol: f64) -> Vec<Path> {
-    off.contours
-        .iter()
-        .map(|c| {
-            let mut segs = Vec::new();
-            for p in &c.pieces {
-                match *p {
-                    Piece::Arc(a) => {
-                        if a.radius > 0.0 && a.sweep != 0.0 {
-                            segs.push(PathSeg::Arc(a));
-                        }
-                    }
-                    Piece::Curve {
-                        segment,
-                        branch,
-                        t0,
-                        t1,
-                    } => {
-                        if t0 != t1 {
-                            fit(off, segment, branch, t0, t1, tol, 0, &mut segs);
-                        }
-                    }
-                }
+    off.fitted_contours(
+        |a| a.radius > 0.0 && a.sweep != 0.0,
+        |segment, branch, t0, t1, segs| {
+            if t0 != t1 {
+                fit(off, segment, branch, t0, t1, tol, 0, segs);
             }
-            close_gaps(&mut segs);
-            Path::new(segs, true)
-        })
-        .filter(|p| !p.is_empty())
-        .collect()
+        },
+    )
+    .into_iter()
+    .map(|mut segs| {
+        close_gaps(&mut segs);
+        Path::new(segs, true)
+    })
+    .filter(|p| !p.is_empty())
+    .collect()
 }
 
 /// Snaps each segment's start to the previous end (the pieces meet exactly in theory; the

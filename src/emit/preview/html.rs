@@ -20,7 +20,9 @@ use serde_json::json;
 
 /// Style codes of the embedded blocks.
 pub const STYLE_TRAVEL: u8 = 0;
+/// Style code of a cutting block.
 pub const STYLE_CUT: u8 = 1;
+/// Style code of a dwell.
 pub const STYLE_DWELL: u8 = 2;
 
 /// Options of [`player_html`].
@@ -147,7 +149,7 @@ pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitErro
         Some(s) if s.len() <= opts.max_source_bytes => script_json(&json!(s)),
         _ => "null".to_string(),
     };
-    let title = crate::emit::xml_escape(&scene.title);
+    let title = crate::emit::svg_page::text_content(&scene.title);
     let parts = [
         ("TITLE", title),
         ("META", script_json(&meta)),

@@ -45,6 +45,7 @@ pub struct Scene {
     pub work_area: Option<(DVec2, DVec2)>,
     /// Operation names; `op_of` indexes this list.
     pub operations: Vec<String>,
+    /// The simulator's motions (mm).
     pub motions: Vec<Motion>,
     /// Operation of each motion.
     pub op_of: Vec<usize>,
@@ -68,7 +69,9 @@ pub struct Scene {
 pub struct ColorScale {
     /// Value range: laser S (power units) or router depth below z = 0 (mm).
     pub lo: f64,
+    /// Upper end of the value range.
     pub hi: f64,
+    /// Laser (power) or router (depth).
     pub kind: MachineKind,
 }
 
@@ -116,11 +119,15 @@ impl ColorScale {
 
 /// Where a scene comes from, for [`Scene::from_program`].
 pub struct ProgramInput<'a> {
+    /// Title shown in the legend and the HTML page.
     pub title: &'a str,
+    /// The program as the simulator read it.
     pub program: &'a Program,
     /// The G-code text (for the HTML player's line display and operation comments).
     pub text: Option<&'a str>,
+    /// Checker configuration the program was read with.
     pub cfg: &'a CheckConfig,
+    /// The checker's findings.
     pub findings: Vec<Finding>,
     /// Whether the checker configuration's travel limits describe a real machine (a
     /// profile was given) and should be drawn.

@@ -4,7 +4,7 @@
 //! that lists the scale, the operations and the findings with their G-code lines. Page in
 //! millimetres, 1 page unit = 1 mm of the machine, y up as on the machine.
 
-use super::draw::{Frame, SvgPage};
+use super::draw::{Frame, SvgPage, num};
 use super::{COLOR_STEPS, Scene};
 use crate::sim::{MachineKind, MotionKind, Severity};
 use glam::DVec2;
@@ -48,7 +48,9 @@ const NUMBERED_FINDINGS: usize = 30;
 
 /// Colours of the parts that are not cuts.
 pub const RAPID_COLOR: &str = "#a9b4bd";
+/// Colour of the cut start markers.
 pub const START_COLOR: &str = "#2ca02c";
+/// Colour of the checker's findings.
 pub const FINDING_COLOR: &str = "#e00000";
 const WORK_FILL: &str = "#f6f6f2";
 const WORK_STROKE: &str = "#b8b8b0";
@@ -95,15 +97,22 @@ pub fn view_box(scene: &Scene) -> (DVec2, DVec2) {
 /// Sizes derived from the drawing's larger side `s` (mm).
 #[derive(Clone, Copy, Debug)]
 pub struct Sizes {
+    /// Cut stroke width.
     pub cut: f64,
+    /// Rapid stroke width.
     pub rapid: f64,
+    /// Start marker radius.
     pub marker: f64,
+    /// Height of order numbers.
     pub number: f64,
+    /// Length of direction arrows.
     pub arrow: f64,
+    /// Legend font size.
     pub font: f64,
 }
 
 impl Sizes {
+    /// The sizes for a drawing whose larger side is `s` mm.
     pub fn of(s: f64) -> Sizes {
         let cut = CUT_WIDTH * s;
         Sizes {
@@ -303,23 +312,27 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
             "work-area",
             a,
             b - a,
-            &format!(
-                "fill=\"{WORK_FILL}\" stroke=\"{WORK_STROKE}\" stroke-width=\"{}\"",
-                super::draw::num(0.5 * sz.cut)
-            ),
+            &[
+                ("fill", WORK_FILL),
+                ("stroke", WORK_STROKE),
+                ("stroke-width", &num(0.5 * sz.cut)),
+            ],
         );
     }
 
     // Rapids and travels: every move that does not cut and moves in xy.
     page.open(
         "rapids",
-        &format!(
-            "fill=\"none\" stroke=\"{RAPID_COLOR}\" stroke-width=\"{}\" stroke-dasharray=\"{} {}\" \
-             stroke-linecap=\"round\"",
-            super::draw::num(sz.rapid),
-            super::draw::num(3.0 * sz.cut),
-            super::draw::num(2.0 * sz.cut)
-        ),
+        &[
+            ("fill", "none"),
+            ("stroke", RAPID_COLOR),
+            ("stroke-width", &num(sz.rapid)),
+            (
+                "stroke-dasharray",
+                &format!("{} {}", num(3.0 * sz.cut), num(2.0 * sz.cut)),
+            ),
+            ("stroke-linecap", "round"),
+        ],
     );
     for (i, m) in scene.motions.iter().enumerate() {
         if matches!(m.kind, MotionKind::Dwell { .. }) || scene.is_cut(i) {
@@ -333,7 +346,7 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
             .iter()
             .map(|p| frame.map(*p))
             .collect();
-        page.polyline("rapid", &pts, false, "");
+        page.polyline("rapid", &pts, false, &[]);
     }
     page.close();
 
@@ -341,12 +354,13 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     for (oi, name) in scene.operations.iter().enumerate() {
         page.open(
             &format!("op{oi}"),
-            &format!(
-                "data-name=\"{}\" fill=\"none\" stroke-width=\"{}\" stroke-linecap=\"round\" \
-                 stroke-linejoin=\"round\"",
-                crate::emit::xml_escape(name),
-                super::draw::num(sz.cut)
-            ),
+            &[
+                ("data-name", name),
+                ("fill", "none"),
+                ("stroke-width", &num(sz.cut)),
+                ("stroke-linecap", "round"),
+                ("stroke-linejoin", "round"),
+            ],
         );
         for (ci, c) in scene.contours.iter().enumerate() {
             if scene.contour_op(c) != oi {
@@ -358,7 +372,7 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 "cut",
                 &pts,
                 false,
-                &format!("id=\"contour{}\" stroke=\"{color}\"", ci + 1),
+                &[("id", &format!("contour{}", ci + 1)), ("stroke", &color)],
             );
         }
         // Cutting moves that change depth (plunges, ramps, helices) belong to no contour.
@@ -372,15 +386,12 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 .map(|p| frame.map(*p))
                 .collect();
             let color = scale.color(scale.step(scene.value_of(m)));
-            page.polyline("ramp", &pts, false, &format!("stroke=\"{color}\""));
+            page.polyline("ramp", &pts, false, &[("stroke", &color)]);
         }
         page.close();
     }
 
-    page.open(
-        "arrows",
-        &format!("fill=\"{TEXT_COLOR}\" fill-opacity=\"0.75\""),
-    );
+    page.open("arrows", &[("fill", TEXT_COLOR), ("fill-opacity", "0.75")]);
     for c in &scene.contours {
         let pts: Vec<DVec2> = c.points.iter().map(|p| frame.map(*p)).collect();
         let len: f64 = pts.windows(2).map(|w| w[0].distance(w[1])).sum();
@@ -396,12 +407,12 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 back + nrm * (0.4 * sz.arrow),
                 back - nrm * (0.4 * sz.arrow),
             ];
-            page.polyline("arrow", &tri, true, "");
+            page.polyline("arrow", &tri, true, &[]);
         }
     }
     page.close();
 
-    page.open("starts", "");
+    page.open("starts", &[]);
     // Many cuts (hatching): small markers, so the cuts stay visible between them.
     let marker = if scene.contours.len() > opts.max_numbers {
         0.6 * sz.marker
@@ -435,7 +446,7 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 "start",
                 p,
                 marker,
-                &format!("fill=\"{START_COLOR}\""),
+                &[("fill", START_COLOR)],
                 Some(&format!("contour {} starts here", k + 1)),
             );
         }
@@ -455,10 +466,11 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
 
     page.open(
         "findings",
-        &format!(
-            "fill=\"none\" stroke=\"{FINDING_COLOR}\" stroke-width=\"{}\"",
-            super::draw::num(0.8 * sz.cut)
-        ),
+        &[
+            ("fill", "none"),
+            ("stroke", FINDING_COLOR),
+            ("stroke-width", &num(0.8 * sz.cut)),
+        ],
     );
     for (fi, f) in scene.findings.iter().enumerate() {
         let pts = scene.finding_points(f);
@@ -473,7 +485,7 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 &format!("finding {}", f.id),
                 q,
                 ring,
-                "",
+                &[],
                 Some(&format!("{}. {f}", fi + 1)),
             );
             if scene.findings.len() > NUMBERED_FINDINGS {
@@ -491,7 +503,7 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     page.close();
 
     if !rows.is_empty() {
-        page.open("legend", "");
+        page.open("legend", &[]);
         let x0 = 0.5 * sz.font;
         let mut y = size.y + line_h;
         for r in &rows {
@@ -499,23 +511,13 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
             if let Some((color, dashed)) = &r.swatch {
                 let a = DVec2::new(x, y - 0.35 * sz.font);
                 let b = a + DVec2::new(1.6 * sz.font, 0.0);
-                let dash = if *dashed {
-                    format!(
-                        " stroke-dasharray=\"{} {}\"",
-                        super::draw::num(0.4 * sz.font),
-                        super::draw::num(0.25 * sz.font)
-                    )
-                } else {
-                    String::new()
-                };
-                page.path(
-                    "swatch",
-                    &SvgPage::path_data(&[a, b], false),
-                    &format!(
-                        "stroke=\"{color}\" stroke-width=\"{}\"{dash}",
-                        super::draw::num(0.45 * sz.font)
-                    ),
-                );
+                let width = num(0.45 * sz.font);
+                let dash = format!("{} {}", num(0.4 * sz.font), num(0.25 * sz.font));
+                let mut attrs = vec![("stroke", color.as_str()), ("stroke-width", &width)];
+                if *dashed {
+                    attrs.push(("stroke-dasharray", &dash));
+                }
+                page.path("swatch", &SvgPage::path_data(&[a, b], false), &attrs);
                 x += 2.2 * sz.font;
             }
             // Average glyph advance of a sans-serif font is about 0.55 em.

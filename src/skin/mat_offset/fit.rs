@@ -63,6 +63,24 @@ impl MatOffset {
     }
 
     fn to_paths(&self, tol: f64, kind: FitKind) -> Vec<Path> {
+        self.fitted_contours(
+            |a| a.radius > 0.0,
+            |segment, branch, t0, t1, segs| self.fit(segment, branch, t0, t1, tol, kind, 0, segs),
+        )
+        .into_iter()
+        .map(|segs| Path::new(segs, true))
+        .collect()
+    }
+
+    /// The one walk over the contours' pieces that every fitting of a MAT offset shares
+    /// (lines, cubics, arcs here; biarcs in `toolpath::re_route`): per contour, the cap arcs
+    /// `keep_arc` accepts pushed as they are, and each exact curve piece (segment, branch,
+    /// t0, t1) handed to `fit`, which appends its approximation.
+    pub fn fitted_contours(
+        &self,
+        keep_arc: impl Fn(&Arc) -> bool,
+        mut fit: impl FnMut(usize, Branch, f64, f64, &mut Vec<PathSeg>),
+    ) -> Vec<Vec<PathSeg>> {
         self.contours
             .iter()
             .map(|c| {
@@ -70,7 +88,7 @@ impl MatOffset {
                 for p in &c.pieces {
                     match *p {
                         Piece::Arc(a) => {
-                            if a.radius > 0.0 {
+                            if keep_arc(&a) {
                                 segs.push(PathSeg::Arc(a));
                             }
                         }
@@ -79,12 +97,10 @@ impl MatOffset {
                             branch,
                             t0,
                             t1,
-                        } => {
-                            self.fit(segment, branch, t0, t1, tol, kind, 0, &mut segs);
-                        }
+                        } => fit(segment, branch, t0, t1, &mut segs),
                     }
                 }
-                Path::new(segs, true)
+                segs
             })
             .collect()
     }

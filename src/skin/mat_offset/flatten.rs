@@ -48,7 +48,7 @@ fn chord_subdivide(
 impl MatOffset {
     /// Flattens every contour (outline, inner or outer offset) from its exact pieces
     /// (re-skinning-cnc eq. 13: y + (r + d) m±, and the cap arcs) within `tol` by the chord
-    /// test ([`chord_subdivide`], checked at probes). Closed polylines do not repeat their
+    /// test (`chord_subdivide`, checked at probes). Closed polylines do not repeat their
     /// first point; contours with fewer than 3 points are dropped.
     pub fn flatten(&self, tol: f64) -> Vec<Vec<DVec2>> {
         let mut out = Vec::new();

@@ -13,6 +13,7 @@ pub mod cyclographic;
 pub mod detect;
 pub mod eliminate;
 pub mod mph;
+pub mod outline;
 pub mod poly;
 pub mod re_curve;
 pub mod skin;

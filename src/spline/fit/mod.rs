@@ -204,6 +204,38 @@ fn check_degree(degree: usize) -> Result<(), FitError> {
     }
 }
 
+/// The entry checks of every fit, in this order: the degree, at least p + 1 points, the
+/// control count p + 1 ≤ `n_ctrl` ≤ m (least squares only), finite points, and the
+/// parameters (m values open, m + 1 closed: the last closes the period). Returns m.
+fn check_input<P: Components>(
+    points: &[P],
+    params: &[f64],
+    degree: usize,
+    closed: bool,
+    n_ctrl: Option<usize>,
+) -> Result<usize, FitError> {
+    check_degree(degree)?;
+    let m = points.len();
+    if m < degree + 1 {
+        return Err(FitError::TooFewPoints {
+            need: degree + 1,
+            got: m,
+        });
+    }
+    if let Some(n_ctrl) = n_ctrl
+        && (n_ctrl < degree + 1 || n_ctrl > m)
+    {
+        return Err(FitError::ControlCount {
+            n_ctrl,
+            min: degree + 1,
+            max: m,
+        });
+    }
+    check_finite(points)?;
+    check_params(params, if closed { m + 1 } else { m })?;
+    Ok(m)
+}
+
 /// Interpolate the data with a degree-`degree` B-spline, parameters chosen by `kind`
 /// (see [`interpolate_with_params`]).
 pub fn interpolate<P: Components>(
@@ -235,18 +267,9 @@ pub fn interpolate_with_params<P: Components>(
     degree: usize,
     closed: bool,
 ) -> Result<BSpline<P>, FitError> {
-    check_degree(degree)?;
-    let m = points.len();
-    if m < degree + 1 {
-        return Err(FitError::TooFewPoints {
-            need: degree + 1,
-            got: m,
-        });
-    }
-    check_finite(points)?;
+    let m = check_input(points, params, degree, closed, None)?;
     let b = rhs(points);
     if closed {
-        check_params(params, m + 1)?;
         let breaks = closed_breaks(params, m, degree);
         let knots = knots::periodic_from_breaks(degree, &breaks);
         knots::validate(&knots, degree, m + degree)?;
@@ -259,7 +282,6 @@ pub fn interpolate_with_params<P: Components>(
         };
         Ok(BSpline::closed_with_breaks(degree, to_points(&x), &breaks)?)
     } else {
-        check_params(params, m)?;
         let knots = knots::clamped_averaged(degree, m, params);
         knots::validate(&knots, degree, m)?;
         let x = solve_open_band(&knots, degree, params, &b)?;
@@ -297,25 +319,9 @@ pub fn least_squares_with_params<P: Components>(
     degree: usize,
     closed: bool,
 ) -> Result<BSpline<P>, FitError> {
-    check_degree(degree)?;
-    let m = points.len();
-    if m < degree + 1 {
-        return Err(FitError::TooFewPoints {
-            need: degree + 1,
-            got: m,
-        });
-    }
-    if n_ctrl < degree + 1 || n_ctrl > m {
-        return Err(FitError::ControlCount {
-            n_ctrl,
-            min: degree + 1,
-            max: m,
-        });
-    }
-    check_finite(points)?;
+    let m = check_input(points, params, degree, closed, Some(n_ctrl))?;
     let n = n_ctrl;
     if closed {
-        check_params(params, m + 1)?;
         let breaks = closed_breaks(params, n, degree);
         let knots = knots::periodic_from_breaks(degree, &breaks);
         knots::validate(&knots, degree, n + degree)?;
@@ -331,7 +337,6 @@ pub fn least_squares_with_params<P: Components>(
         )?;
         return Ok(BSpline::closed_with_breaks(degree, to_points(&x), &breaks)?);
     }
-    check_params(params, m)?;
     let knots = knots::clamped_averaged(degree, n, params);
     knots::validate(&knots, degree, n)?;
     let (q0, qm) = (points[0], points[m - 1]);
