@@ -71,14 +71,17 @@ pub fn shape_drawings(design: &Design, opts: &OutlineOptions) -> Vec<StrokeOutli
 /// What `inspect` says about a shape.
 #[derive(Clone, Debug, Serialize)]
 pub struct ShapeInfo {
+    /// The shape's name.
     pub name: String,
+    /// "nonzero" or "evenodd".
     pub fill_rule: String,
     /// Contours as given.
     pub contours: usize,
     /// Points over all given contours.
     pub points: usize,
-    /// Outer boundaries and holes of the resolved region.
+    /// Outer boundaries of the resolved region.
     pub outer: usize,
+    /// Holes of the resolved region.
     pub holes: usize,
     /// Area of the region (outer areas minus hole areas), design units squared.
     pub area: f64,
