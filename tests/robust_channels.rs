@@ -120,3 +120,23 @@ fn random_case(name: &str) {
 fn random_s7_c58_doubled_ring() {
     random_case("random_s7_c58");
 }
+
+/// Seed 0x5EED0011 case 37: a channel ring came back from the offset traversed twice with
+/// other vertices on each pass (59 and 53), so no vertex period showed it.
+#[test]
+fn random_c37_ring_twice_round_with_other_vertices() {
+    random_case("random_c37");
+}
+
+/// Seed 0x5EED0011 case 52: a channel ring came back seven times round, each pass 6e-4
+/// from the last, and once more as a separate copy: seven passes at one depth.
+#[test]
+fn random_c52_ring_seven_times_round_and_copied() {
+    random_case("random_c52");
+}
+
+/// Seed 0x5EED0011 case 155: a channel ring four times round (42, 41, 44, 42 vertices).
+#[test]
+fn random_c155_ring_four_times_round() {
+    random_case("random_c155");
+}
