@@ -140,3 +140,20 @@ fn random_c52_ring_seven_times_round_and_copied() {
 fn random_c155_ring_four_times_round() {
     random_case("random_c155");
 }
+
+/// Seed 0x5EED0011 cases 177, 188 and 263: channel rings with hairs, there-and-back
+/// excursions a few µm wide (a 1.4 µm arc piece and a line back; 9.5 mm and 3.5 mm long
+/// straight hairs), which the rounded program turned into a cut touching itself.
+#[test]
+fn random_c177_c188_c263_hairs() {
+    for name in ["random_c177", "random_c188", "random_c263"] {
+        random_case(name);
+    }
+}
+
+/// The issue's E alone, rotated by 0.7 rad (its coordinates as written to a file, six
+/// decimals): the library build once failed its check here while the CLI build passed.
+#[test]
+fn issue_e_rotated() {
+    random_case("issue_e_rot");
+}

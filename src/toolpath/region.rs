@@ -191,7 +191,13 @@ pub fn simplify_ring(pts: Vec<DVec2>, eps: f64) -> Vec<DVec2> {
 /// there-and-back excursions where two nearly coincident boundaries meet (seen at the
 /// coincident end caps of the README's example strokes s1 and c1, a 0.02 mm spike); a tool
 /// following one would retrace its own cut.
-pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
+///
+/// `hair` (≥ `eps`) is the widest excursion removed when its edges are longer than `eps`:
+/// offsets also leave hairs, there-and-back excursions millimetres long and a few µm wide
+/// where a channel ring pinches off (seed 0x5EED0011 cases 188 and 263: 0.8 µm and 5.5 µm
+/// wide, 9.5 mm and 3.5 mm long), which the rounded program turns into a cut touching
+/// itself. No tool clears anything by running into such a hair and back.
+pub fn despike(pl: &Polyline<f64>, eps: f64, hair: f64) -> Polyline<f64> {
     use cavalier_contours::polyline::PlineVertex;
     type V = PlineVertex<f64>;
     let p = |v: &V| DVec2::new(v.x, v.y);
@@ -216,7 +222,7 @@ pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
         } else {
             0.0
         };
-        d0.dot(d1) < 0.0 && (width < eps || long < eps)
+        d0.dot(d1) < 0.0 && (width < hair.max(eps) || long < eps)
     };
     // The edge from `a` that replaces a → b → c when b goes: a repeated vertex b passes its
     // own edge's bulge on; a spike's edges are straight (or tiny arcs), so the new edge is
@@ -477,7 +483,7 @@ impl Region {
             .ccw_plines
             .into_iter()
             .chain(out.cw_plines)
-            .map(|ip| single_traversal(&despike(&ip.polyline, eps), eps * 0.1, near))
+            .map(|ip| single_traversal(&despike(&ip.polyline, eps, near), eps * 0.1, near))
             .filter(|pl| !degenerate(pl, eps))
             .collect();
         Region {
@@ -840,7 +846,7 @@ mod tests {
         pl.add(2.0, 0.0, 0.0);
         pl.add(2.0, 2.0, 0.0);
         pl.add(0.0, 2.0, 0.0);
-        let d = despike(&pl, 1e-3);
+        let d = despike(&pl, 1e-3, 1e-3);
         assert_eq!(
             d.vertex_count(),
             4,
@@ -849,6 +855,29 @@ mod tests {
         );
         assert!(d.iter_vertexes().all(|v| v.bulge == 0.0));
         assert!((d.area() - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn despike_removes_hairs_narrower_than_given() {
+        // A square with a hair 3 long out of its side x = 2, 8e-3 wide at its root.
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        let ring = [
+            p(0.0, 0.0),
+            p(2.0, 0.0),
+            p(5.0, 0.005),
+            p(2.0, 0.008),
+            p(2.0, 2.0),
+            p(0.0, 2.0),
+        ];
+        let pl = pline_from_points(&ring, true);
+        let d = despike(&pl, 1e-3, 1e-2);
+        assert_eq!(d.vertex_count(), 5);
+        assert!((d.area() - 4.0).abs() < 1e-12);
+        assert_eq!(
+            despike(&pl, 1e-3, 1e-3).vertex_count(),
+            6,
+            "wider than the hair limit"
+        );
     }
 
     #[test]
