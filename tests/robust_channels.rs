@@ -143,10 +143,11 @@ fn random_c155_ring_four_times_round() {
 
 /// Seed 0x5EED0011 cases 177, 188 and 263: channel rings with hairs, there-and-back
 /// excursions a few µm wide (a 1.4 µm arc piece and a line back; 9.5 mm and 3.5 mm long
-/// straight hairs), which the rounded program turned into a cut touching itself.
+/// straight hairs), which the rounded program turned into a cut touching itself; case 251:
+/// a laser channel's boundary zigzagging 0.03 mm back and forth.
 #[test]
-fn random_c177_c188_c263_hairs() {
-    for name in ["random_c177", "random_c188", "random_c263"] {
+fn random_c177_c188_c251_c263_hairs() {
+    for name in ["random_c177", "random_c188", "random_c251", "random_c263"] {
         random_case(name);
     }
 }

@@ -610,7 +610,8 @@ impl Region {
     /// Rings are cleaned of spikes (zero-width there-and-back excursions a polygon boolean
     /// may leave), so no tool path retraces itself, and of vertices within
     /// [`REPEAT_FRACTION`]·`tol` of their neighbours or of the chord between them
-    /// ([`simplify_ring`]), which offsets would turn into degenerate slivers.
+    /// ([`simplify_ring`]), which offsets would turn into degenerate slivers, and of hairs
+    /// narrower than `tol` ([`despike`]).
     pub fn from_geo(mp: &geo::MultiPolygon<f64>, tol: f64) -> Region {
         let mut contours = Vec::new();
         let conv = |ls: &geo::LineString<f64>| {
@@ -618,7 +619,13 @@ impl Region {
             if pts.len() > 1 && pts.first() == pts.last() {
                 pts.pop();
             }
-            pline_from_points(&simplify_ring(pts, tol * REPEAT_FRACTION), true)
+            // Zigzags of a few µm along a boundary (seed 0x5EED0011 case 251: a laser
+            // channel's union went back and forth 0.03 mm four times) are hairs too.
+            despike(
+                &pline_from_points(&simplify_ring(pts, tol * REPEAT_FRACTION), true),
+                tol * 0.1,
+                tol,
+            )
         };
         for p in &mp.0 {
             contours.push(conv(p.exterior()));
