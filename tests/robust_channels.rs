@@ -120,3 +120,41 @@ fn random_case(name: &str) {
 fn random_s7_c58_doubled_ring() {
     random_case("random_s7_c58");
 }
+
+/// Seed 0x5EED0011 case 37: a channel ring came back from the offset traversed twice with
+/// other vertices on each pass (59 and 53), so no vertex period showed it.
+#[test]
+fn random_c37_ring_twice_round_with_other_vertices() {
+    random_case("random_c37");
+}
+
+/// Seed 0x5EED0011 case 52: a channel ring came back seven times round, each pass 6e-4
+/// from the last, and once more as a separate copy: seven passes at one depth.
+#[test]
+fn random_c52_ring_seven_times_round_and_copied() {
+    random_case("random_c52");
+}
+
+/// Seed 0x5EED0011 case 155: a channel ring four times round (42, 41, 44, 42 vertices).
+#[test]
+fn random_c155_ring_four_times_round() {
+    random_case("random_c155");
+}
+
+/// Seed 0x5EED0011 cases 177, 188 and 263: channel rings with hairs, there-and-back
+/// excursions a few µm wide (a 1.4 µm arc piece and a line back; 9.5 mm and 3.5 mm long
+/// straight hairs), which the rounded program turned into a cut touching itself; case 251:
+/// a laser channel's boundary zigzagging 0.03 mm back and forth.
+#[test]
+fn random_c177_c188_c251_c263_hairs() {
+    for name in ["random_c177", "random_c188", "random_c251", "random_c263"] {
+        random_case(name);
+    }
+}
+
+/// The issue's E alone, rotated by 0.7 rad (its coordinates as written to a file, six
+/// decimals): the library build once failed its check here while the CLI build passed.
+#[test]
+fn issue_e_rotated() {
+    random_case("issue_e_rot");
+}

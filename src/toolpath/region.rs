@@ -184,11 +184,20 @@ pub fn simplify_ring(pts: Vec<DVec2>, eps: f64) -> Vec<DVec2> {
 /// A closed polyline without spikes: a vertex between two straight edges where the path
 /// turns back on itself (the edges point in opposite directions and the excursion is
 /// narrower than `eps`) is removed, and so are vertices within
-/// `eps`·0.1 of the previous one, repeatedly. Offsets can leave such zero-width
+/// `eps`·0.1 of the previous one, repeatedly. An arc whose sagitta is below `eps`·0.1
+/// counts as straight here (it lies that close to its chord): seed 0x5EED0011 case 177
+/// had a 1.4 µm piece of a 5.4 mm arc and a line straight back along it; the edge that
+/// replaces a removed spike vertex is then a line. Offsets can leave such zero-width
 /// there-and-back excursions where two nearly coincident boundaries meet (seen at the
 /// coincident end caps of the README's example strokes s1 and c1, a 0.02 mm spike); a tool
 /// following one would retrace its own cut.
-pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
+///
+/// `hair` (≥ `eps`) is the widest excursion removed when its edges are longer than `eps`:
+/// offsets also leave hairs, there-and-back excursions millimetres long and a few µm wide
+/// where a channel ring pinches off (seed 0x5EED0011 cases 188 and 263: 0.8 µm and 5.5 µm
+/// wide, 9.5 mm and 3.5 mm long), which the rounded program turns into a cut touching
+/// itself. No tool clears anything by running into such a hair and back.
+pub fn despike(pl: &Polyline<f64>, eps: f64, hair: f64) -> Polyline<f64> {
     use cavalier_contours::polyline::PlineVertex;
     type V = PlineVertex<f64>;
     let p = |v: &V| DVec2::new(v.x, v.y);
@@ -197,10 +206,14 @@ pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
         if a.bulge == 0.0 && p(a).distance(p(b)) < eps * 0.1 {
             return true;
         }
-        if a.bulge != 0.0 || b.bulge != 0.0 {
+        let (d0, d1) = (p(b) - p(a), p(c) - p(b));
+        // Sagitta of an arc edge: chord/2·|bulge| (b = tan(θ/4), exact for |b| ≤ 1 within
+        // a factor 2).
+        let bent =
+            |bulge: f64, chord: DVec2| bulge != 0.0 && chord.length() * bulge.abs() > 0.2 * eps;
+        if bent(a.bulge, d0) || bent(b.bulge, d1) {
             return false;
         }
-        let (d0, d1) = (p(b) - p(a), p(c) - p(b));
         // Width of the excursion: the distance of the far end of the shorter edge from the
         // longer edge's line (0 for an exact there-and-back).
         let long = d0.length().max(d1.length());
@@ -209,7 +222,17 @@ pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
         } else {
             0.0
         };
-        d0.dot(d1) < 0.0 && (width < eps || long < eps)
+        d0.dot(d1) < 0.0 && (width < hair.max(eps) || long < eps)
+    };
+    // The edge from `a` that replaces a → b → c when b goes: a repeated vertex b passes its
+    // own edge's bulge on; a spike's edges are straight (or tiny arcs), so the new edge is
+    // a line.
+    let straighten = |a: &mut V, b: &V| {
+        a.bulge = if p(a).distance(p(b)) < eps * 0.1 && a.bulge == 0.0 {
+            b.bulge
+        } else {
+            0.0
+        };
     };
     let mut v: Vec<V> = Vec::with_capacity(pl.vertex_count());
     for x in pl.iter_vertexes() {
@@ -217,6 +240,8 @@ pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
         while v.len() >= 3 {
             let k = v.len();
             if removable(&v[k - 3], &v[k - 2], &v[k - 1]) {
+                let b = v[k - 2];
+                straighten(&mut v[k - 3], &b);
                 v.remove(k - 2);
             } else {
                 break;
@@ -227,10 +252,16 @@ pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
     while v.len() > 3 {
         let k = v.len();
         if removable(&v[k - 2], &v[k - 1], &v[0]) {
+            let b = v[k - 1];
+            straighten(&mut v[k - 2], &b);
             v.pop();
         } else if removable(&v[k - 1], &v[0], &v[1]) {
+            let b = v[0];
+            straighten(&mut v[k - 1], &b);
             v.remove(0);
         } else if removable(&v[0], &v[1], &v[2]) {
+            let b = v[1];
+            straighten(&mut v[0], &b);
             v.remove(1);
         } else {
             break;
@@ -248,7 +279,96 @@ pub fn despike(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
 /// vertices. cavalier_contours' slice joining can return one ring traversed twice (a
 /// channel of the random-design campaign, seed 7 case 58, was cut twice round at one
 /// depth: "cut contour touches itself" along its whole length).
-pub fn single_traversal(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
+///
+/// The passes need not repeat vertex for vertex: the slices of one pass can be split at
+/// other points than those of the next (seed 0x5EED0011 cases 37 and 155: a channel ring
+/// went round 2 and 4 times with 59/53 and 42/41/44/42 vertices per pass; case 52 seven
+/// times, each pass 6e-4 from the last). So when the
+/// ring comes back to its first vertex (within `near`) after vertex k, and every point of
+/// the rest of the ring (flattened within `eps`) lies within `near` of the first loop
+/// v₀…v_k, the rest only retraces the loop and the loop alone is returned. A figure eight
+/// through v₀ keeps both lobes (its second lobe is far from the first). The search stops
+/// unchanged after [`RETRACE_BUDGET`] point–segment distance tests.
+pub fn single_traversal(pl: &Polyline<f64>, eps: f64, near: f64) -> Polyline<f64> {
+    let once = periodic_traversal(pl, eps);
+    if once.vertex_count() < pl.vertex_count() {
+        return once;
+    }
+    retraced_traversal(pl, eps, near).unwrap_or(once)
+}
+
+/// Work limit of [`single_traversal`]'s retrace test (point–segment distances).
+pub const RETRACE_BUDGET: usize = 50_000_000;
+
+/// The first loop of `pl` when the rest of the ring retraces it (see [`single_traversal`]).
+fn retraced_traversal(pl: &Polyline<f64>, eps: f64, near: f64) -> Option<Polyline<f64>> {
+    let v: Vec<_> = pl.iter_vertexes().collect();
+    let n = v.len();
+    let p0 = DVec2::new(v.first()?.x, v[0].y);
+    // The first return to v₀ (within `near`) after leaving it (beyond 2·`near`), closing a
+    // loop of at least three vertices.
+    let dist = |i: usize| DVec2::new(v[i].x, v[i].y).distance(p0);
+    let away = (1..n).find(|&i| dist(i) > 2.0 * near)?;
+    let k = (away.max(3)..n).find(|&i| dist(i) <= near)?;
+    let ring = |from: usize, to: usize, closed: bool| {
+        let mut out = Polyline::with_capacity(to - from, closed);
+        for x in &v[from..to] {
+            out.add(x.x, x.y, x.bulge);
+        }
+        out
+    };
+    let first = ring(0, k, true);
+    // The rest, from v_k round to v₀ (open: its last segment ends at v₀).
+    let mut rest = ring(k, n, false);
+    rest.add(p0.x, p0.y, 0.0);
+    retraces(&rest, &first, eps, near).then_some(first)
+}
+
+/// True when every point of `a` (flattened within `eps`) lies within `near` of `b`'s lines
+/// and arcs; false beyond [`RETRACE_BUDGET`] point–segment tests.
+fn retraces(a: &Polyline<f64>, b: &Polyline<f64>, eps: f64, near: f64) -> bool {
+    let segs = path_from_pline(b).segs;
+    let pts = path_from_pline(a).flatten(eps);
+    if segs.len().saturating_mul(pts.len()) > RETRACE_BUDGET {
+        return false;
+    }
+    pts.into_iter().all(|p| {
+        segs.iter().any(|s| match s {
+            PathSeg::Line(l) => l.distance(p) <= near,
+            PathSeg::Arc(a) => a.distance(p) <= near,
+            PathSeg::Cubic(_) => false,
+        })
+    })
+}
+
+/// `rings` without those that retrace an earlier one: the same orientation, and every
+/// point of each within `near` of the other ([`retraces`], points flattened within
+/// `eps`). cavalier_contours can return one offset ring several times over (seed
+/// 0x5EED0011 case 52: a channel ring seven times, cut seven times round at one depth).
+pub fn drop_repeated_rings(rings: Vec<Polyline<f64>>, eps: f64, near: f64) -> Vec<Polyline<f64>> {
+    let mut kept: Vec<(Polyline<f64>, f64, [f64; 4])> = Vec::with_capacity(rings.len());
+    for r in rings {
+        let area = r.area();
+        let bb = match r.extents() {
+            Some(e) => [e.min_x, e.min_y, e.max_x, e.max_y],
+            None => [0.0; 4],
+        };
+        let repeat = kept.iter().any(|(k, ka, kb)| {
+            (area > 0.0) == (*ka > 0.0)
+                && bb.iter().zip(kb).all(|(x, y)| (x - y).abs() <= near + eps)
+                && retraces(&r, k, eps, near)
+                && retraces(k, &r, eps, near)
+        });
+        if !repeat {
+            kept.push((r, area, bb));
+        }
+    }
+    kept.into_iter().map(|(r, _, _)| r).collect()
+}
+
+/// [`single_traversal`]'s exact case: vertices repeating with a period that divides the
+/// vertex count.
+fn periodic_traversal(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
     let n = pl.vertex_count();
     let v: Vec<_> = pl.iter_vertexes().collect();
     for p in 1..=n / 2 {
@@ -336,7 +456,8 @@ impl Region {
     /// The region grown by `delta` (shrunk when negative): every boundary moves `delta` along
     /// its outward normal; arcs stay arcs, convex corners get round joins (cavalier_contours
     /// shape offset). `eps` is the position tolerance for joining offset slices. A ring
-    /// returned traversed more than once is traversed once ([`single_traversal`]).
+    /// returned traversed more than once is traversed once ([`single_traversal`]), and a
+    /// ring returned more than once is kept once ([`drop_repeated_rings`]).
     pub fn offset(&self, delta: f64, eps: f64) -> Region {
         if self.contours.is_empty() || delta == 0.0 {
             return self.clone();
@@ -347,6 +468,10 @@ impl Region {
         let c = self.center();
         let moved = self.translated(-c);
         let shape = Shape::from_plines(moved.contours.iter().cloned());
+        // Passes of one ring, and copies of a ring, that cavalier returns differ by up to a
+        // few `eps` (2e-3 at eps = 1e-3, seed 0x5EED0011 case 52); within 10·eps (the
+        // build's arc tolerance) they are one path for the tool.
+        let near = 10.0 * eps;
         let opts = ShapeOffsetOptions {
             pos_equal_eps: eps * 0.1,
             offset_dist_eps: eps,
@@ -354,14 +479,15 @@ impl Region {
         };
         // cavalier offsets to the left of travel: inward for counter-clockwise material.
         let out = shape.parallel_offset(-delta, &opts);
+        let rings = out
+            .ccw_plines
+            .into_iter()
+            .chain(out.cw_plines)
+            .map(|ip| single_traversal(&despike(&ip.polyline, eps, near), eps * 0.1, near))
+            .filter(|pl| !degenerate(pl, eps))
+            .collect();
         Region {
-            contours: out
-                .ccw_plines
-                .into_iter()
-                .chain(out.cw_plines)
-                .map(|ip| single_traversal(&despike(&ip.polyline, eps), eps * 0.1))
-                .filter(|pl| !degenerate(pl, eps))
-                .collect(),
+            contours: drop_repeated_rings(rings, eps * 0.1, near),
         }
         .translated(c)
     }
@@ -484,7 +610,8 @@ impl Region {
     /// Rings are cleaned of spikes (zero-width there-and-back excursions a polygon boolean
     /// may leave), so no tool path retraces itself, and of vertices within
     /// [`REPEAT_FRACTION`]·`tol` of their neighbours or of the chord between them
-    /// ([`simplify_ring`]), which offsets would turn into degenerate slivers.
+    /// ([`simplify_ring`]), which offsets would turn into degenerate slivers, and of hairs
+    /// narrower than `tol` ([`despike`]).
     pub fn from_geo(mp: &geo::MultiPolygon<f64>, tol: f64) -> Region {
         let mut contours = Vec::new();
         let conv = |ls: &geo::LineString<f64>| {
@@ -492,7 +619,13 @@ impl Region {
             if pts.len() > 1 && pts.first() == pts.last() {
                 pts.pop();
             }
-            pline_from_points(&simplify_ring(pts, tol * REPEAT_FRACTION), true)
+            // Zigzags of a few µm along a boundary (seed 0x5EED0011 case 251: a laser
+            // channel's union went back and forth 0.03 mm four times) are hairs too.
+            despike(
+                &pline_from_points(&simplify_ring(pts, tol * REPEAT_FRACTION), true),
+                tol * 0.1,
+                tol,
+            )
         };
         for p in &mp.0 {
             contours.push(conv(p.exterior()));
@@ -622,7 +755,7 @@ mod tests {
         let p = |x: f64, y: f64| DVec2::new(x, y);
         let sq = [p(0.0, 0.0), p(2.0, 0.0), p(2.0, 2.0), p(0.0, 2.0)];
         let twice: Vec<DVec2> = sq.iter().chain(sq.iter()).copied().collect();
-        let once = single_traversal(&pline_from_points(&twice, true), 1e-9);
+        let once = single_traversal(&pline_from_points(&twice, true), 1e-9, 1e-9);
         assert_eq!(once.vertex_count(), 4);
         assert!((once.area() - 4.0).abs() < 1e-12);
         // A ring that only passes one vertex twice (a figure eight) stays as it is.
@@ -634,8 +767,124 @@ mod tests {
             p(1.0, 1.0),
             p(0.0, 2.0),
         ];
-        let e = single_traversal(&pline_from_points(&eight, true), 1e-9);
+        let e = single_traversal(&pline_from_points(&eight, true), 1e-9, 1e-9);
         assert_eq!(e.vertex_count(), 6);
+    }
+
+    #[test]
+    fn retraced_ring_with_other_vertices_is_traversed_once() {
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        // Three passes round a square; the later passes split the sides elsewhere (extra
+        // vertices, one 1e-5 off the side), so no vertex period exists.
+        let ring = [
+            p(0.0, 0.0),
+            p(2.0, 0.0),
+            p(2.0, 2.0),
+            p(0.0, 2.0),
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(2.0, 0.0),
+            p(2.0, 2.0),
+            p(0.7, 2.00001),
+            p(0.0, 2.0),
+            p(0.0, 0.0),
+            p(2.0, 0.0),
+            p(2.0, 1.3),
+            p(2.0, 2.0),
+            p(0.0, 2.0),
+        ];
+        let once = single_traversal(&pline_from_points(&ring, true), 1e-9, 1e-4);
+        assert_eq!(once.vertex_count(), 4);
+        assert!((once.area() - 4.0).abs() < 1e-12);
+        // Beyond `near` the later pass is another path: the ring stays as it is.
+        let kept = single_traversal(&pline_from_points(&ring, true), 1e-9, 1e-6);
+        assert_eq!(kept.vertex_count(), ring.len());
+        // A figure eight through its first vertex keeps both lobes.
+        let eight = [
+            p(0.0, 0.0),
+            p(1.0, -1.0),
+            p(2.0, 0.0),
+            p(1.0, 1.0),
+            p(0.0, 0.0),
+            p(-1.0, -1.0),
+            p(-2.0, 0.0),
+            p(-1.0, 1.0),
+        ];
+        let e = single_traversal(&pline_from_points(&eight, true), 1e-9, 1e-3);
+        assert_eq!(e.vertex_count(), 8);
+    }
+
+    #[test]
+    fn repeated_rings_are_kept_once() {
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        let a = pline_from_points(&[p(0.0, 0.0), p(2.0, 0.0), p(2.0, 2.0), p(0.0, 2.0)], true);
+        // The same ring from another start, a side split and 1e-5 off.
+        let b = pline_from_points(
+            &[
+                p(2.0, 2.0),
+                p(0.0, 2.0),
+                p(0.0, 0.0),
+                p(1.0, 1e-5),
+                p(2.0, 0.0),
+            ],
+            true,
+        );
+        let mut hole = a.clone();
+        hole.invert_direction_mut();
+        let other = square(0.0, 0.0, 2.1);
+        let kept = drop_repeated_rings(vec![a, b, hole, other], 1e-9, 1e-4);
+        assert_eq!(
+            kept.len(),
+            3,
+            "the copy goes; the hole and the larger square stay"
+        );
+        assert_eq!(kept[0].vertex_count(), 4);
+        assert!(kept[1].area() < 0.0);
+    }
+
+    #[test]
+    fn despike_removes_a_tiny_arc_and_the_line_back() {
+        // A square whose corner (2, 0) has a 1e-4 long, nearly flat arc out and a line
+        // straight back.
+        let mut pl = Polyline::new_closed();
+        pl.add(0.0, 0.0, 0.0);
+        pl.add(2.0, 0.0, 1e-3);
+        pl.add(2.0001, 0.0, 0.0);
+        pl.add(2.0, 0.0, 0.0);
+        pl.add(2.0, 2.0, 0.0);
+        pl.add(0.0, 2.0, 0.0);
+        let d = despike(&pl, 1e-3, 1e-3);
+        assert_eq!(
+            d.vertex_count(),
+            4,
+            "{:?}",
+            d.iter_vertexes().collect::<Vec<_>>()
+        );
+        assert!(d.iter_vertexes().all(|v| v.bulge == 0.0));
+        assert!((d.area() - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn despike_removes_hairs_narrower_than_given() {
+        // A square with a hair 3 long out of its side x = 2, 8e-3 wide at its root.
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        let ring = [
+            p(0.0, 0.0),
+            p(2.0, 0.0),
+            p(5.0, 0.005),
+            p(2.0, 0.008),
+            p(2.0, 2.0),
+            p(0.0, 2.0),
+        ];
+        let pl = pline_from_points(&ring, true);
+        let d = despike(&pl, 1e-3, 1e-2);
+        assert_eq!(d.vertex_count(), 5);
+        assert!((d.area() - 4.0).abs() < 1e-12);
+        assert_eq!(
+            despike(&pl, 1e-3, 1e-3).vertex_count(),
+            6,
+            "wider than the hair limit"
+        );
     }
 
     #[test]
