@@ -158,3 +158,45 @@ fn random_c177_c188_c251_c263_hairs() {
 fn issue_e_rotated() {
     random_case("issue_e_rot");
 }
+
+/// Seed 0x5EED0011 case 13: a channel 3.176 wide for a 3.175 tool left a 0.001 mm sliver
+/// ring that folded onto itself in the program. A channel the tool's width (within the
+/// tolerance on each wall) is a slot: one pass along each spine. Exactly the tool's width
+/// (a 1/8" slot for a 1/8" bit) and 3.176 build clean in every frame, one cut per stroke
+/// and level, every move on the stroke's spine.
+#[test]
+fn random_c13_channel_the_tool_width_is_a_slot() {
+    random_case("random_c13");
+    let file = format!("{ROOT}/tests/robust_data/random_c13.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    for width in ["3.175", "3.176"] {
+        let t = text.replace("width = 3.176", &format!("width = {width}"));
+        let design = load(&t, &file).unwrap();
+        assert_eq!(build_and_check(&design, "grbl-router"), Ok(None), "{width}");
+        let p = builtin_profile("grbl-router").unwrap().unwrap();
+        let built = build_toolpath(&design, &p, &BuildOptions::default()).unwrap();
+        let channel = &built.toolpath.operations[0];
+        assert_eq!(channel.cuts.len(), 2, "{width}: one cut per stroke");
+        let strokes = design.strokes().unwrap();
+        for cut in &channel.cuts {
+            let k = design
+                .stroke
+                .iter()
+                .position(|s| Some(&s.name) == cut.source.as_ref())
+                .unwrap();
+            let spine = skinpath::dbsc::flatten::flatten_spine(&strokes[k], 1e-4);
+            for m in cut.moves.iter().filter(|m| m.to.z < 0.0) {
+                let q = skinpath::geom::DVec2::new(m.to.x, m.to.y);
+                let d = spine
+                    .windows(2)
+                    .map(|w| {
+                        let (a, b) = (w[0], w[1]);
+                        let t = ((q - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                        q.distance(a + (b - a) * t)
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(d < 0.02, "{width}: move {q:?} is {d} from the spine");
+            }
+        }
+    }
+}

@@ -597,12 +597,31 @@ fn operation_specs(
             // channel network).
             let region = Region::union(&regions, ctx.tol);
             let step = (STEPOVER * 2.0 * r).max(ctx.tol);
-            let paths = if laser {
-                ops::profile(&region, ops::ProfileSide::On, 0.0, eps)
+            // A channel the tool's width (within the tolerance on each wall) is a slot: one
+            // pass along each spine. Offsetting its region by r would leave a sliver ring
+            // that folds onto itself.
+            let slot = !laser && width - 2.0 * r <= 2.0 * ctx.tol;
+            let (paths, sources) = if slot {
+                swept
+                    .iter()
+                    .filter_map(|&(i, _)| spine_of(ctx, i).map(|c| (i, c)))
+                    .map(|(i, c)| {
+                        let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
+                        (
+                            Path::polyline(&pts, c.is_closed()),
+                            ctx.outlines[i].name.clone(),
+                        )
+                    })
+                    .unzip()
             } else {
-                ops::concentric(&region, r, step, r, 10_000, eps)
+                let paths = if laser {
+                    ops::profile(&region, ops::ProfileSide::On, 0.0, eps)
+                } else {
+                    ops::concentric(&region, r, step, r, 10_000, eps)
+                };
+                let sources = attribute(ctx, &swept, &paths);
+                (paths, sources)
             };
-            let sources = attribute(ctx, &swept, &paths);
             let mut s = spec(
                 ctx,
                 design_index,
