@@ -200,3 +200,48 @@ fn random_c13_channel_the_tool_width_is_a_slot() {
         }
     }
 }
+
+/// A channel much wider than its stroke (14 mm on a 2 mm stroke, margin 3): the backboard
+/// carries the channel, so the board's cut keeps at least the margin from every channel
+/// move (before, the board followed the stroke alone and its edge ran through the channel).
+#[test]
+fn backboard_carries_a_channel_wider_than_its_stroke() {
+    let text = r#"version = 1
+units = "mm"
+[[stroke]]
+name = "thin"
+points = [[20.0, 20.0, 1.0], [40.0, 30.0, 1.0], [60.0, 20.0, 1.0], [80.0, 30.0, 1.0]]
+[[operation]]
+kind = "channel"
+width = 14.0
+depth = 3.0
+[[operation]]
+kind = "backboard"
+margin = 3.0
+depth = 6.0
+"#;
+    let design = load(text, "wide.toml").unwrap();
+    for machine in ["grbl-router", "grbl-laser"] {
+        assert_eq!(build_and_check(&design, machine), Ok(None), "{machine}");
+        let p = builtin_profile(machine).unwrap().unwrap();
+        let built = build_toolpath(&design, &p, &BuildOptions::default()).unwrap();
+        let ops = &built.toolpath.operations;
+        let pts = |k: usize| -> Vec<skinpath::geom::DVec2> {
+            ops[k]
+                .cuts
+                .iter()
+                .flat_map(|c| c.moves.iter())
+                .map(|m| skinpath::geom::DVec2::new(m.to.x, m.to.y))
+                .collect()
+        };
+        let (channel, board) = (pts(0), pts(1));
+        let gap = channel
+            .iter()
+            .flat_map(|a| board.iter().map(move |b| a.distance(*b)))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            gap >= 3.0 - 0.05,
+            "{machine}: board cut {gap} from the channel"
+        );
+    }
+}

@@ -444,6 +444,24 @@ fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
         .map(|k| &ctx.strokes[k])
 }
 
+/// The swept regions of the design's channel operations along the strokes among `items`
+/// (the strokes a backboard carries).
+fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
+    let mut out = Vec::new();
+    for op in &ctx.design.operation {
+        let (OperationKind::Channel, Some(width)) = (op.kind, op.width) else {
+            continue;
+        };
+        for i in ctx.selected(op).into_iter().filter(|i| items.contains(i)) {
+            if let Some(c) = spine_of(ctx, i) {
+                let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
+                out.push(ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol));
+            }
+        }
+    }
+    out
+}
+
 /// Parameter samples of a stroke's spine about `step` apart along its length.
 fn spine_params(c: &DiskBSpline, step: f64) -> Vec<f64> {
     let (lo, hi) = c.domain();
@@ -637,17 +655,32 @@ fn operation_specs(
         OperationKind::Backboard => {
             let tool = ctx.tool(&mill);
             let r = ctx.radius(tool);
-            let regions: Vec<Region> = items
+            let mut regions: Vec<Region> = items
                 .iter()
                 .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
                 .collect();
             let margin = op.margin.unwrap_or(BACKBOARD_MARGIN_MM * ctx.per_mm);
             let rho = op.min_inner_radius.unwrap_or(r);
-            let general = || {
-                let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
-                ops::profile(&board, ops::ProfileSide::Outside, r, eps)
+            // The board carries every channel cut into it: a channel wider than its stroke
+            // by more than the margin would otherwise be cut through by the board's own cut.
+            let channels = channel_regions(ctx, &items);
+            let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
+            let channel_outside = channels.iter().any(|c| {
+                c.contours.iter().any(|pl| {
+                    use cavalier_contours::polyline::PlineSource;
+                    pl.iter_vertexes()
+                        .any(|v| !board.contains(DVec2::new(v.x, v.y)))
+                })
+            });
+            let board = if channel_outside {
+                regions.extend(channels);
+                ops::backboard(&regions, margin, rho, ctx.tol, eps)
+            } else {
+                board
             };
+            let general = || ops::profile(&board, ops::ProfileSide::Outside, r, eps);
             let paths = ctx.routed(index, op, &name, &items, general, |its| match its {
+                _ if channel_outside => Err(RouteRefusal::ChannelOutside),
                 [(_, it)] if (rho - r).abs() <= 1e-12 * (1.0 + r) => {
                     re_backboard(it, margin + r, ctx.tol)
                 }

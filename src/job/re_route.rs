@@ -108,6 +108,10 @@ pub enum RouteRefusal {
     /// A backboard around several items follows their union.
     #[error("{0} items: the backboard follows their union")]
     Union(usize),
+    /// A channel reaches beyond the item's outline and the margin: the backboard follows
+    /// the union of the outline and the channel.
+    #[error("a channel reaches beyond the outline and the margin: the backboard follows both")]
+    ChannelOutside,
 }
 
 /// Which route an operation took, and why.
