@@ -209,34 +209,16 @@ fn build_cli(example: &str, machine: &str, method: &str) -> String {
 }
 
 fn build_cli_with(example: &str, machine: &str, method: &str, extra: &[&str]) -> String {
-    let out = std::env::temp_dir().join(format!(
-        "re_route_{example}_{machine}_{method}_{}.gcode",
-        std::process::id()
-    ));
-    let o = Command::new(env!("CARGO_BIN_EXE_skinpath"))
-        .arg("build")
-        .arg(format!(
-            "{}/examples/{example}.toml",
-            env!("CARGO_MANIFEST_DIR")
-        ))
-        .args(["--machine", machine, "-o"])
-        .arg(&out)
-        .args(["--method", method, "--place", "lower-left", "--margin", "5"])
-        .args(extra)
-        .output()
-        .unwrap();
-    let _ = std::fs::remove_file(&out);
-    assert!(
-        o.status.success(),
-        "{example} on {machine} --method {method}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8_lossy(&o.stdout).into_owned()
+    let mut args = vec!["--place", "lower-left", "--margin", "5"];
+    args.extend_from_slice(extra);
+    let (ok, out, err) = try_build(example, machine, method, &args);
+    assert!(ok, "{example} on {machine} --method {method}: {err}");
+    out
 }
 
-/// The build and its exit status (build refuses a program that fails its own check, so a
-/// success is a clean check), stdout and stderr together.
-fn try_build(example: &str, machine: &str, method: &str, extra: &[&str]) -> (bool, String) {
+/// Whether the build succeeded (build refuses a program that fails its own check, so a
+/// success is a clean check), its stdout and its stderr.
+fn try_build(example: &str, machine: &str, method: &str, extra: &[&str]) -> (bool, String, String) {
     let out = std::env::temp_dir().join(format!(
         "re_route_try_{example}_{machine}_{method}_{}.gcode",
         std::process::id()
@@ -256,7 +238,8 @@ fn try_build(example: &str, machine: &str, method: &str, extra: &[&str]) -> (boo
     let _ = std::fs::remove_file(&out);
     (
         o.status.success(),
-        String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
     )
 }
 
@@ -273,14 +256,15 @@ fn build_method_re_on_every_example_and_profile() {
             "marlin-laser",
             "smoothie-laser",
         ] {
-            let (mut ok, mut out) = try_build(ex, m, "re", &[]);
-            if !ok && let Some(at) = out.find("--fit ") {
-                let fit: String = out[at + 6..]
+            let (mut ok, mut out, mut err) = try_build(ex, m, "re", &[]);
+            if !ok && let Some(at) = err.find("--fit ") {
+                let fit: String = err[at + 6..]
                     .chars()
                     .take_while(|c| c.is_ascii_digit() || *c == 'x' || *c == '.')
                     .collect();
-                (ok, out) = try_build(ex, m, "re", &["--fit", &fit]);
+                (ok, out, err) = try_build(ex, m, "re", &["--fit", &fit]);
             }
+            out += &err;
             if ex == "brush" && m.ends_with("router") {
                 assert!(!ok && out.contains("needs `depth`"), "{ex} {m}: {out}");
                 continue;

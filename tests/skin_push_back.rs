@@ -82,6 +82,11 @@ fn push_back_default_needs_no_more_circles_on_the_examples() {
         "all strokes: push-back {} circles ({} segments missed ε), without {} ({})",
         with.0, with.1, without.0, without.1
     );
+    default_needs_no_more(with.0, without.0);
+}
+
+/// The default setting needs no more circles than the other one.
+fn default_needs_no_more(with: usize, without: usize) {
     let default = DbscSkinOptions::default().push_back;
     let (chosen, other) = if default {
         (with, without)
@@ -89,10 +94,8 @@ fn push_back_default_needs_no_more_circles_on_the_examples() {
         (without, with)
     };
     assert!(
-        chosen.0 <= other.0,
-        "the default (push_back = {default}) needs {} circles, the other {}",
-        chosen.0,
-        other.0
+        chosen <= other,
+        "the default (push_back = {default}) needs {chosen} circles, the other {other}"
     );
 }
 
@@ -139,14 +142,5 @@ fn push_back_default_needs_no_more_circles_on_random_sharp_strokes() {
         }
     }
     println!("random strokes: push-back {with} circles, without {without}; {differ} differ");
-    let default = DbscSkinOptions::default().push_back;
-    let (chosen, other) = if default {
-        (with, without)
-    } else {
-        (without, with)
-    };
-    assert!(
-        chosen <= other,
-        "default needs {chosen} circles, the other {other}"
-    );
+    default_needs_no_more(with, without);
 }

@@ -87,6 +87,23 @@ pub enum Piece {
     Arc(Arc),
 }
 
+/// Every segment of one side (`branch`) of an `n`-segment skin as whole curve pieces, in
+/// parameter order (`forwards`) or reversed.
+pub(crate) fn whole_side(n: usize, branch: Branch, forwards: bool) -> Vec<Piece> {
+    let mut v: Vec<Piece> = (0..n)
+        .map(|segment| Piece::Curve {
+            segment,
+            branch,
+            t0: if forwards { 0.0 } else { 1.0 },
+            t1: if forwards { 1.0 } else { 0.0 },
+        })
+        .collect();
+    if !forwards {
+        v.reverse();
+    }
+    v
+}
+
 /// A closed offset contour.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OffsetContour {
@@ -211,18 +228,9 @@ fn contours_of_runs(
     if full_loop {
         // Closed skin without trims: the two sides are separate loops.
         for (b, fwd) in [(Branch::Plus, true), (Branch::Minus, false)] {
-            let mut pieces: Vec<Piece> = (0..nseg)
-                .map(|segment| Piece::Curve {
-                    segment,
-                    branch: b,
-                    t0: if fwd { 0.0 } else { 1.0 },
-                    t1: if fwd { 1.0 } else { 0.0 },
-                })
-                .collect();
-            if !fwd {
-                pieces.reverse();
-            }
-            out.push(OffsetContour { pieces });
+            out.push(OffsetContour {
+                pieces: whole_side(nseg, b, fwd),
+            });
         }
         return Ok(out);
     }

@@ -152,20 +152,7 @@ pub fn re_outline(
 /// (closed skins: the two sides).
 fn raw_outline(skin: &ReSkin) -> MatOffset {
     let n = skin.segments.len();
-    let side = |b: Branch, fwd: bool| -> Vec<Piece> {
-        let mut v: Vec<Piece> = (0..n)
-            .map(|segment| Piece::Curve {
-                segment,
-                branch: b,
-                t0: if fwd { 0.0 } else { 1.0 },
-                t1: if fwd { 1.0 } else { 0.0 },
-            })
-            .collect();
-        if !fwd {
-            v.reverse();
-        }
-        v
-    };
+    let side = |b: Branch, fwd: bool| crate::skin::mat_offset::whole_side(n, b, fwd);
     let mut contours = Vec::new();
     if skin.closed {
         contours.push(OffsetContour {
