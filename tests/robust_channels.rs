@@ -245,3 +245,13 @@ depth = 6.0
         );
     }
 }
+
+/// Seed 0x5EED0011 case 145: with phase 1's push-back on, stroke s0's skin came out with
+/// circles 26–28 not admissible (phase 3); push-back is off by default and the design builds.
+#[test]
+fn random_c145_skins_without_push_back() {
+    random_case("random_c145");
+    let file = format!("{ROOT}/tests/robust_data/random_c145.toml");
+    let design = load(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+    assert_eq!(build_and_check(&design, "grbl-laser"), Ok(None));
+}
