@@ -95,8 +95,8 @@ fn push_back_needs_no_more(with: usize, without: usize) {
 }
 
 /// Random open cubic strokes with sharp turns (up to ±170° per control disk) and radii
-/// changing by up to a factor 2: push-back needs no more circles in all than phase 1 without it
-/// setting. Fixed seed; strokes that cannot be skinned under either setting are skipped.
+/// changing by up to a factor 2: push-back needs no more circles in all than phase 1 without
+/// it. Fixed seed; strokes that cannot be skinned under either setting are skipped.
 #[test]
 fn push_back_needs_no_more_circles_on_random_sharp_strokes() {
     use skinpath::dbsc::DiskBSpline;
