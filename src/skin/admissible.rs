@@ -52,25 +52,47 @@ impl std::fmt::Display for Condition {
 /// Errors of the skinning module. Circle indices are 0-based positions in the input slice.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SkinError {
+    /// Too few circles to skin: an open sequence needs 2, a closed one 3 ([`check_count`]).
     #[error("{kind} sequence needs at least {need} circles, got {got}")]
     TooFewCircles {
+        /// `"open"` or `"closed"`.
         kind: &'static str,
+        /// Minimum number of circles for `kind`.
         need: usize,
+        /// Number of circles given.
         got: usize,
     },
+    /// A circle with a non-finite centre or radius, or a radius ≤ 0 ([`validate_circles`]).
     #[error("circle {index}: centre and radius must be finite with radius > 0")]
-    InvalidCircle { index: usize },
+    InvalidCircle {
+        /// Position of the circle in the input.
+        index: usize,
+    },
+    /// The sequence violates an admissibility condition ([`check_admissible`]).
     #[error("circles {circles:?} violate {condition}")]
     Inadmissible {
+        /// The condition violated.
         condition: Condition,
+        /// The circles involved, in the order the check names them: the triplet (i − 1, i, i + 1)
+        /// for conditions 2 and 3, the pair (lower, higher) for [`Condition::FarDisksOverlap`], and
+        /// for [`Condition::Covered`] the covered circle followed by the circles covering it.
         circles: Vec<usize>,
     },
+    /// The Apollonius problem of the triplet around this circle has no real solution, so it has no
+    /// touching points.
     #[error("circle {index}: no touching points (Apollonius problem has no real solution)")]
-    NoTouchingPoints { index: usize },
+    NoTouchingPoints {
+        /// Position of the circle in the input.
+        index: usize,
+    },
+    /// The number of touching-point entries differs from the number of circles.
     #[error("circle {index}: {touching} touching points given for {circles} circles")]
     TouchingCount {
+        /// First circle without an entry (or first surplus entry): the smaller of the two counts.
         index: usize,
+        /// Number of touching-point entries given.
         touching: usize,
+        /// Number of circles.
         circles: usize,
     },
 }

@@ -17,9 +17,14 @@ use crate::geom::{Circle, CubicBez, DVec2, Path, PathSeg, perp};
 /// the last circle to the first).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skins {
+    /// Left skin: segment i is the cubic Hermite arc from the left touching point of circle i to
+    /// that of circle i + 1.
     pub left: Vec<CubicBez>,
+    /// Right skin, segment by segment as [`Skins::left`].
     pub right: Vec<CubicBez>,
+    /// Touching points used, one entry per circle.
     pub touching: Vec<TouchingPoints>,
+    /// Whether the sequence is cyclic: the last segment joins the last circle to the first.
     pub closed: bool,
 }
 

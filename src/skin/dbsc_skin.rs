@@ -99,16 +99,23 @@ pub const DEFAULT_MAX_WORK: usize = 1_000_000;
 /// Phase of kruppa-2023 Sec. 4 that ended refinement of a segment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Phase {
+    /// Phase 1: paired insertion with weights (eqs. 22–25). [`skin_dbsc`] reopens the segments
+    /// phase 1 stops for phase 2, so its reports do not name this phase.
     One,
+    /// Phase 2: plain midpoint insertion.
     Two,
+    /// Phase 3: two-sided skinning (Sec. 4.3).
     Three,
 }
 
 /// Which skins use a circle (kruppa-2023 Sec. 4.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum CircleUse {
+    /// On both skins (BOTH): every knot circle and every circle of phases 1–2.
     Both,
+    /// On the left skin only (LEFT): inserted in phase 3 for the left side.
     Left,
+    /// On the right skin only (RIGHT): inserted in phase 3 for the right side.
     Right,
 }
 
@@ -124,11 +131,20 @@ impl CircleUse {
 /// Report of one segment [t0, t1] between consecutive circles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SegmentReport {
+    /// DBSC parameter of the circle starting the segment.
     pub t0: f64,
+    /// DBSC parameter of the next circle (the domain end for the last segment of a closed stroke).
     pub t1: f64,
+    /// Hausdorff bounds (eqs. 20–21) between the left skin arc that covers this segment and the
+    /// left envelope over that arc's parameter span. With two-sided skins one arc may cover several
+    /// segments, which then share its bounds.
     pub error_left: HausdorffBounds,
+    /// Hausdorff bounds of the right skin against the right envelope, as
+    /// [`SegmentReport::error_left`].
     pub error_right: HausdorffBounds,
+    /// Whether the left side meets ε: `error_left.upper ≤ ε`.
     pub met_left: bool,
+    /// Whether the right side meets ε: `error_right.upper ≤ ε`.
     pub met_right: bool,
     /// The phase in which insertion into this segment became impossible while ε was still
     /// missed (`None` when ε is met on both sides).
@@ -140,19 +156,30 @@ pub struct SegmentReport {
 /// Result of [`skin_dbsc`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct DbscSkin {
+    /// Whether the DBSC is closed: the circle sequence is cyclic and the last segment ends at the
+    /// domain end.
     pub closed: bool,
     /// Parameters of the circles used, increasing.
     pub params: Vec<f64>,
+    /// The circles at `params`: ⟨q(u); r(u)⟩ (kruppa-2023 eq. 19 for the knot circles), one per
+    /// parameter.
     pub circles: Vec<Circle>,
+    /// Which skins use each circle, one entry per circle.
     pub uses: Vec<CircleUse>,
     /// Left skin: one arc per consecutive pair of LEFT/BOTH circles.
     pub left: Vec<CubicBez>,
+    /// Parameters of the circles of the left skin (LEFT and BOTH), increasing: arc k spans
+    /// `left_params[k]` to `left_params[k + 1]` (to the domain end for the last arc of a closed
+    /// stroke).
     pub left_params: Vec<f64>,
+    /// Right skin: one arc per consecutive pair of RIGHT/BOTH circles.
     pub right: Vec<CubicBez>,
+    /// Parameters of the circles of the right skin (RIGHT and BOTH), as [`DbscSkin::left_params`].
     pub right_params: Vec<f64>,
     /// The outline contours (skin outline assembly): open strokes one counter-clockwise
     /// contour with end caps, closed strokes the outer and the inner contour.
     pub outline: Vec<Path>,
+    /// One report per segment between consecutive circles of `params`, in order.
     pub report: Vec<SegmentReport>,
     /// Hausdorff refinement steps spent (out of [`DbscSkinOptions::max_work`]).
     pub work: usize,
@@ -161,30 +188,54 @@ pub struct DbscSkin {
 /// Errors of [`skin_dbsc`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DbscSkinError {
+    /// The knot circles (eq. 19) are not an admissible sequence (Def. 4.1), so the stroke cannot be
+    /// skinned as it is (kruppa-2023 Fig. 13).
     #[error(
         "knot circles at t = {params:?} (circles {circles:?}, spans [{t0}, {t1}]) are not admissible: {source}"
     )]
     NotAdmissible {
+        /// Indices of the knot circles named by the admissibility error.
         circles: Vec<usize>,
+        /// DBSC parameters of those circles.
         params: Vec<f64>,
+        /// Start of the parameter range of the named circles.
         t0: f64,
+        /// End of the parameter range of the named circles (the domain end when the last circle
+        /// of a closed stroke is among them).
         t1: f64,
+        /// The admissibility error of the knot circle sequence.
         source: SkinError,
     },
+    /// The final outline crosses itself (and [`DbscSkinOptions::allow_global_overlap`] is off).
     #[error("skin outline contour {contour} intersects itself at its segment {segment}")]
-    SelfIntersection { contour: usize, segment: usize },
+    SelfIntersection {
+        /// Index of the contour in the outline.
+        contour: usize,
+        /// Index of the first segment of that contour involved in a crossing.
+        segment: usize,
+    },
+    /// An option is out of range; the message names it.
     #[error("invalid option: {0}")]
     Options(&'static str),
+    /// The Hausdorff refinement ran out of [`DbscSkinOptions::max_work`].
     #[error(
         "skinning needed more than {budget} Hausdorff refinement steps (the stroke is too \
          fine for ε = {eps}: its size, or a kink or near-degenerate spot of its envelope, needs \
          more work than allowed); raise ε (--epsilon) or smooth the stroke"
     )]
-    WorkBudget { budget: usize, eps: f64 },
+    WorkBudget {
+        /// The budget that ran out, in refinement steps.
+        budget: usize,
+        /// The ε asked for.
+        eps: f64,
+    },
+    /// Skinning a circle sequence failed.
     #[error(transparent)]
     Skin(#[from] SkinError),
+    /// A Hausdorff bound failed (for example no real envelope at a parameter).
     #[error(transparent)]
     Hausdorff(#[from] HausdorffError),
+    /// Envelope loop detection failed (kruppa-2023 Sec. 3).
     #[error(transparent)]
     Loops(#[from] LoopError),
 }

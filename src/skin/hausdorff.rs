@@ -83,27 +83,41 @@ fn or_inf(x: f64) -> f64 {
 /// Errors of the Hausdorff bounds.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HausdorffError {
+    /// The requested gap between the bounds is not positive and finite.
     #[error("gap {0} must be positive and finite")]
     Gap(f64),
+    /// The envelope interval is empty or leaves the curve's domain.
     #[error("envelope interval [{t_a}, {t_b}] is empty or outside the domain [{lo}, {hi}]")]
     Interval {
+        /// Start of the requested envelope interval.
         t_a: f64,
+        /// End of the requested envelope interval.
         t_b: f64,
+        /// Start of the DBSC domain.
         lo: f64,
+        /// End of the DBSC domain.
         hi: f64,
     },
+    /// The envelope does not exist at a parameter: there ‖q′‖ ≤ |r′| and m± of wu-2021 eq. 9 is not
+    /// real.
     #[error("no real envelope at t = {t} (‖q′‖ ≤ |r′|)")]
-    NoEnvelope { t: f64 },
+    NoEnvelope {
+        /// The DBSC parameter where the envelope is missing.
+        t: f64,
+    },
 }
 
 /// Guaranteed bounds lower ≤ D_H ≤ upper.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct HausdorffBounds {
+    /// Lower bound of the Hausdorff distance (curve units).
     pub lower: f64,
+    /// Upper bound of the Hausdorff distance (curve units); a segment meets ε when this is ≤ ε.
     pub upper: f64,
 }
 
 impl HausdorffBounds {
+    /// Width of the enclosure, `upper − lower`.
     pub fn gap(&self) -> f64 {
         self.upper - self.lower
     }
@@ -114,6 +128,8 @@ impl HausdorffBounds {
 pub trait BoundedCurve {
     /// Parameter intervals on which the curve is C² (in order, contiguous).
     fn pieces(&self) -> Vec<(f64, f64)>;
+    /// The curve point at parameter `t`; an error where the curve does not exist (an envelope where
+    /// ‖q′‖ ≤ |r′|).
     fn point(&self, t: f64) -> Result<DVec2, HausdorffError>;
     /// Upper bound of sup ‖x″(t)‖ on [t0, t1] ⊂ one piece (may be +∞).
     fn d2_bound(&self, t0: f64, t1: f64) -> f64;
@@ -154,6 +170,8 @@ pub struct EnvelopeSegment<'a> {
 }
 
 impl<'a> EnvelopeSegment<'a> {
+    /// The envelope on `side` of `curve` over [t_a, t_b], which must be a non-empty interval inside
+    /// the curve's domain.
     pub fn new(
         curve: &'a DiskBSpline,
         side: Side,

@@ -47,8 +47,12 @@ pub const MAX_VISITS_PER_SEARCH: usize = 1 << 20;
 /// One intersection of two curves: parameters on each and the point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Parameter of the hit on the first curve, in [0, 1].
     pub ta: f64,
+    /// Parameter of the hit on the second curve, in [0, 1] (for a self-intersection of one cubic,
+    /// the second parameter on the same curve).
     pub tb: f64,
+    /// The intersection point (for a contact, a point between the two curves).
     pub point: DVec2,
 }
 
@@ -56,8 +60,11 @@ pub struct Hit {
 /// a self-intersection of one cubic.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathHit {
+    /// Index of the segment in the first path.
     pub a: usize,
+    /// Index of the segment in the second path (`a` itself for a self-intersection of a cubic).
     pub b: usize,
+    /// The intersection, `ta` on segment `a` and `tb` on segment `b`.
     pub hit: Hit,
 }
 

@@ -19,6 +19,7 @@ pub struct Outline {
     /// Open input: `[outline]`; closed input: `[outer, inner]`. Outer contours are
     /// counter-clockwise, inner ones clockwise.
     pub contours: Vec<Path>,
+    /// The left and right skins the contours were assembled from.
     pub skins: Skins,
 }
 

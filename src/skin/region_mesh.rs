@@ -12,17 +12,30 @@ use crate::geom::{CubicBez, DVec2};
 /// A triangle mesh: vertices and counter-clockwise index triples.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RegionMesh {
+    /// Mesh vertices, row by row along the stroke; each row runs from the right skin (v = 0) to the
+    /// left skin (v = 1).
     pub vertices: Vec<DVec2>,
+    /// Triangles as indices into `vertices`, counter-clockwise.
     pub triangles: Vec<[usize; 3]>,
 }
 
 /// Errors of the tessellation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
+    /// `along` or `across` is zero.
     #[error("need at least 1 division along and across the stroke, got {along} × {across}")]
-    Divisions { along: usize, across: usize },
+    Divisions {
+        /// Steps in u per segment between consecutive circles.
+        along: usize,
+        /// Steps in v across the stroke, from the right skin to the left one.
+        across: usize,
+    },
+    /// A skin has no arcs (or no arc contains a row's parameter).
     #[error("{side} skin is empty")]
-    EmptySkin { side: &'static str },
+    EmptySkin {
+        /// Which skin: `"left"`, `"right"` or `"left or right"`.
+        side: &'static str,
+    },
 }
 
 /// The skin point at DBSC parameter u (eq. 27): arc k with params[k] ≤ u ≤ params[k + 1]

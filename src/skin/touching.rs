@@ -29,7 +29,9 @@ use crate::geom::{Circle, DVec2, cross, perp};
 /// of travel (increasing index).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TouchingPoints {
+    /// Touching point on the left of the direction of travel (on the left skin).
     pub left: DVec2,
+    /// Touching point on the right of the direction of travel (on the right skin).
     pub right: DVec2,
 }
 
@@ -38,10 +40,20 @@ pub struct TouchingPoints {
 pub enum Apollonius {
     /// Centre and signed radius: > 0 when the three circles lie outside it, < 0 when it
     /// encloses them. In both cases ‖center − c_j‖ = |radius + r_j|.
-    Circle { center: DVec2, radius: f64 },
+    Circle {
+        /// Centre of the Apollonius circle.
+        center: DVec2,
+        /// Signed radius: > 0 when the three circles lie outside, < 0 when it encloses them.
+        radius: f64,
+    },
     /// The line n·p = offset (‖n‖ = 1) with the circles on the side n·p < offset, each at
     /// distance r_j: n·c_j + r_j = offset.
-    Line { normal: DVec2, offset: f64 },
+    Line {
+        /// Unit normal n pointing away from the circles.
+        normal: DVec2,
+        /// Signed distance of the line from the origin along `normal`.
+        offset: f64,
+    },
 }
 
 impl Apollonius {
@@ -60,6 +72,7 @@ impl Apollonius {
 /// Touching data of the middle circle of a triplet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TripletTouching {
+    /// The left and right touching points on the middle circle.
     pub points: TouchingPoints,
     /// The Apollonius cycle through the left touching point.
     pub left_cycle: Apollonius,
