@@ -26,22 +26,45 @@ use thiserror::Error;
 /// Errors of MAT offsetting; each names the segment (circle pair) involved.
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum MatOffsetError {
+    /// The offset distance δ is not finite and positive.
     #[error("offset distance {0} must be finite and positive")]
     BadDelta(f64),
+    /// f is not positive on a segment, so r = f‖x′‖ ≤ 0 somewhere: the envelopes cross and must be
+    /// eliminated first ([`crate::skin::re::eliminate`]).
     #[error("segment {segment}: f ≤ 0 at t = {t} (r ≤ 0: the envelopes cross; eliminate first)")]
-    NonPositiveRadius { segment: usize, t: f64 },
+    NonPositiveRadius {
+        /// Index of the segment (circle pair) in the skin.
+        segment: usize,
+        /// Local parameter in [0, 1] where f ≤ 0 (the witness of the positivity proof).
+        t: f64,
+    },
+    /// x′ = 0 or y′ = 0 at a parameter, so the frame (and m±) is undefined there.
     #[error("segment {segment}: singular point of x or y at t = {t}")]
-    Singular { segment: usize, t: f64 },
+    Singular {
+        /// Index of the segment (circle pair) in the skin.
+        segment: usize,
+        /// Local parameter in [0, 1] of the singular point.
+        t: f64,
+    },
+    /// The skin has no segments.
     #[error("the skin has no segments")]
     Empty,
+    /// A segment's circle indices are out of range of the skin's circles.
     #[error("segment {segment} names a circle the skin does not have")]
-    Inconsistent { segment: usize },
+    Inconsistent {
+        /// Index of the inconsistent segment.
+        segment: usize,
+    },
+    /// The trimmed pieces of an outer offset do not chain into closed contours.
     #[error(
         "the trimmed offset does not close at ({:.6}, {:.6}): a crossing was missed; \
          use a smaller tolerance or the general offset route",
         point.x, point.y
     )]
-    OpenContour { point: DVec2 },
+    OpenContour {
+        /// The end of the chain where no next piece starts (model units).
+        point: DVec2,
+    },
 }
 
 mod fit;
@@ -54,8 +77,11 @@ pub use trim::region_distance;
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrimPoint {
+    /// Index of the segment (circle pair) where r = δ.
     pub segment: usize,
+    /// Local parameter in [0, 1] on that segment, a root of r² − δ² = f²‖x′‖² − δ².
     pub t: f64,
+    /// The MAT point y(t) where both offsets meet (model units).
     pub point: DVec2,
 }
 
@@ -64,11 +90,17 @@ pub struct TrimPoint {
 /// parameters `t0` (on segment `seg0`) and `t1` (on `seg1`), at `point`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LoopCut {
+    /// The side of the offset that crosses itself.
     pub branch: Branch,
+    /// Segment of the first crossing parameter.
     pub seg0: usize,
+    /// Local parameter in [0, 1] on `seg0`.
     pub t0: f64,
+    /// Segment of the second crossing parameter.
     pub seg1: usize,
+    /// Local parameter in [0, 1] on `seg1`.
     pub t1: f64,
+    /// The crossing point (model units).
     pub point: DVec2,
 }
 
@@ -78,9 +110,13 @@ pub enum Piece {
     /// The exact curve y + (r + d) m± of `segment` traversed from `t0` to `t1` (t1 < t0
     /// for backwards traversal).
     Curve {
+        /// Index of the segment (circle pair) in the skin.
         segment: usize,
+        /// Which side, y + (r + d) m⁺ or y + (r + d) m⁻.
         branch: Branch,
+        /// Local parameter in [0, 1] where the piece starts.
         t0: f64,
+        /// Local parameter in [0, 1] where the piece ends.
         t1: f64,
     },
     /// An offset cap arc of an end circle.
@@ -107,16 +143,26 @@ pub(crate) fn whole_side(n: usize, branch: Branch, forwards: bool) -> Vec<Piece>
 /// A closed offset contour.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OffsetContour {
+    /// Pieces in order, each starting where the previous one ends; the last ends where the first
+    /// starts.
     pub pieces: Vec<Piece>,
 }
 
 /// The offset of a skin at signed distance `d` (−δ inner, +δ outer) with its exact pieces.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MatOffset {
+    /// Signed offset distance (model units): −δ inner, +δ outer, 0 for the outline itself
+    /// ([`outline`]).
     pub d: f64,
+    /// The RE curves of the skin's segments, indexed by [`Piece::Curve`]'s `segment`.
     pub curves: Vec<ReCurve>,
+    /// The closed contours of the offset. Inner offsets and the outline run the `Plus` side
+    /// forwards and the `Minus` side backwards per parameter run; trimmed outer offsets follow the
+    /// re-chained pieces.
     pub contours: Vec<OffsetContour>,
+    /// Where the inner offset was trimmed (r = δ), in segment order; empty for outer offsets.
     pub trims: Vec<TrimPoint>,
+    /// Self-crossings cut out of an outer offset; empty for inner offsets.
     pub loops: Vec<LoopCut>,
 }
 

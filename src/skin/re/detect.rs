@@ -21,9 +21,13 @@ pub enum IntersectionKind {
 /// One detected intersection of x⁺ and x⁻: segment, parameter and point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnvelopeIntersection {
+    /// Index of the segment (circle pair) in the skin.
     pub segment: usize,
+    /// Which case of Corollary 1 it is.
     pub kind: IntersectionKind,
+    /// Local parameter in [0, 1] on the segment.
     pub t: f64,
+    /// The point x⁺(t) = x(t) where the envelopes meet.
     pub point: DVec2,
 }
 

@@ -59,14 +59,19 @@ pub enum PairFix {
     Clear,
     /// Setting u of circle `circle` to `u` made f > 0 on all segments using that circle.
     TunedU {
+        /// Index of the flexible circle whose u was changed.
         circle: usize,
+        /// The new u ∈ (0, π).
         u: f64,
     },
     /// The quartic f of eqs. 18–19 with this k is proved positive.
     Quartic {
+        /// The k of the quartic, ≥ 0.
         k: f64,
     },
+    /// Neither tuning u nor the quartic made f provably positive.
     Failed {
+        /// Why the pair could not be fixed.
         reason: FailReason,
     },
 }
@@ -74,9 +79,13 @@ pub enum PairFix {
 /// Result per segment (pair of circles i, j).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairResult {
+    /// Index of the segment in the skin.
     pub segment: usize,
+    /// Index of the first circle of the pair.
     pub i: usize,
+    /// Index of the second circle of the pair.
     pub j: usize,
+    /// What was done, or why nothing worked.
     pub fix: PairFix,
 }
 

@@ -41,7 +41,9 @@ const GL_W: [f64; 5] = [
 /// A planar PH quintic: Bézier control points and the preimage coefficients w₀, w₁, w₂.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhQuintic {
+    /// Bézier control points p₀ … p₅.
     pub ctrl: [DVec2; 6],
+    /// The preimage coefficients w₀, w₁, w₂ of the hodograph x′ = w², as complex numbers (re, im).
     pub w: [(f64, f64); 3],
 }
 

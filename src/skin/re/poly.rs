@@ -8,6 +8,7 @@ use crate::geom::bernstein::{self, Step, Visitor};
 /// A polynomial in the power basis, coefficients in ascending order (`c[k]` of tᵏ).
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Poly {
+    /// Coefficients in ascending order: `c[k]` multiplies tᵏ.
     pub c: Vec<f64>,
 }
 
@@ -16,10 +17,12 @@ pub struct Poly {
 const MAX_DEPTH: u32 = 40;
 
 impl Poly {
+    /// The polynomial with power-basis coefficients `c`, ascending.
     pub fn new(c: Vec<f64>) -> Self {
         Poly { c }
     }
 
+    /// The constant polynomial `a`.
     pub fn constant(a: f64) -> Self {
         Poly { c: vec![a] }
     }
@@ -34,6 +37,7 @@ impl Poly {
         self.c.iter().rev().fold(0.0, |acc, &a| acc * t + a)
     }
 
+    /// The derivative (the constant 0 for a constant).
     pub fn deriv(&self) -> Poly {
         if self.c.len() <= 1 {
             return Poly::constant(0.0);
@@ -48,6 +52,7 @@ impl Poly {
         )
     }
 
+    /// The sum (as long as the longer operand).
     pub fn add(&self, o: &Poly) -> Poly {
         let n = self.c.len().max(o.c.len());
         Poly::new(
@@ -57,14 +62,17 @@ impl Poly {
         )
     }
 
+    /// The difference `self − o`.
     pub fn sub(&self, o: &Poly) -> Poly {
         self.add(&o.scale(-1.0))
     }
 
+    /// Every coefficient times `s`.
     pub fn scale(&self, s: f64) -> Poly {
         Poly::new(self.c.iter().map(|a| a * s).collect())
     }
 
+    /// The product (the constant 0 when either has no coefficients).
     pub fn mul(&self, o: &Poly) -> Poly {
         if self.c.is_empty() || o.c.is_empty() {
             return Poly::constant(0.0);

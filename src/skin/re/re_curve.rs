@@ -26,7 +26,9 @@ pub enum Interp {
 /// Which envelope: `Plus` is x⁺ (left of the travel direction), `Minus` is x⁻.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Branch {
+    /// x⁺ = y + r m⁺, the left envelope; it is the planar interpolant x itself.
     Plus,
+    /// x⁻ = y + r m⁻, the right envelope: the mirror image of x⁺ in the tangent line of y.
     Minus,
 }
 
@@ -34,30 +36,49 @@ pub enum Branch {
 /// left touching point w and planar tangent v.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EndData {
+    /// Cyclographic point p = (o, r) ∈ R^{2,1} of the circle.
     pub p: DVec3,
+    /// Tangent vector of p in R^{2,1} (re-skinning-cnc eqs. 7–10 or mph eq. 11).
     pub t: DVec3,
+    /// Left touching point w⁺ on the circle, where x passes.
     pub w: DVec2,
+    /// Planar Hermite tangent of x at `w`, of length α = 2 dist(w, l) with l the radical line of
+    /// the segment's circle pair (re-skinning-cnc eqs. 11–12).
     pub v: DVec2,
 }
 
 /// Everything about ȳ at one parameter: x and its derivatives, y, r and theirs, m±, m±′.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
+    /// x(t), the planar interpolant (= the left envelope x⁺).
     pub x: DVec2,
+    /// x′(t).
     pub x1: DVec2,
+    /// y(t) = x + f x′⊥, the planar MAT point (centre of the circle ȳ(t)).
     pub y: DVec2,
+    /// y′(t).
     pub y1: DVec2,
+    /// y″(t).
     pub y2: DVec2,
+    /// r(t) = f ‖x′‖, the radius of the circle ȳ(t).
     pub r: f64,
+    /// r′(t).
     pub r1: f64,
+    /// r″(t).
     pub r2: f64,
+    /// m⁺ = −x′⊥/‖x′‖: unit direction from y to the left envelope point.
     pub m_plus: DVec2,
+    /// m⁻ = −m⁺ − 2r′y′/‖y′‖²: direction from y to the right envelope point (unit where the
+    /// envelope exists).
     pub m_minus: DVec2,
+    /// Derivative of m⁺ with respect to t.
     pub dm_plus: DVec2,
+    /// Derivative of m⁻ with respect to t.
     pub dm_minus: DVec2,
 }
 
 impl Frame {
+    /// m⁺ or m⁻ for `b`.
     pub fn m(&self, b: Branch) -> DVec2 {
         match b {
             Branch::Plus => self.m_plus,
@@ -65,6 +86,7 @@ impl Frame {
         }
     }
 
+    /// The derivative of m⁺ or m⁻ for `b`.
     pub fn dm(&self, b: Branch) -> DVec2 {
         match b {
             Branch::Plus => self.dm_plus,
@@ -91,9 +113,14 @@ impl Frame {
 /// An RE curve: planar interpolant x = (xx, xy) and the polynomial f, power basis on [0, 1].
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReCurve {
+    /// The kind of planar interpolant.
     pub interp: Interp,
+    /// x component of x(t).
     pub xx: Poly,
+    /// y component of x(t).
     pub xy: Poly,
+    /// f(t), with y = x + f x′⊥ and r = f ‖x′‖ (mph eq. 4); must be > 0 on [0, 1] for the envelopes
+    /// not to cross.
     pub f: Poly,
     /// σ = ‖x′‖ as a polynomial when x is a PH quintic.
     pub sigma: Option<Poly>,
@@ -104,9 +131,13 @@ pub struct ReCurve {
 /// f boundary values (f̃₀, f̃₁, f̃′₀, f̃′₁) of mph eqs. 5–6 / 13–14.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FBoundary {
+    /// f̃₀ = f(0) = p_z/‖v‖ at the first circle.
     pub f0: f64,
+    /// f̃₁ = f(1) at the second circle.
     pub f1: f64,
+    /// f̃′₀ = f′(0).
     pub df0: f64,
+    /// f̃′₁ = f′(1).
     pub df1: f64,
 }
 
@@ -248,10 +279,12 @@ impl ReCurve {
         )
     }
 
+    /// The planar interpolant x(t) (the left envelope).
     pub fn x(&self, t: f64) -> DVec2 {
         d2(&self.xx, &self.xy, t)
     }
 
+    /// x′(t).
     pub fn dx(&self, t: f64) -> DVec2 {
         d2(&self.d[0], &self.d[1], t)
     }

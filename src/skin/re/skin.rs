@@ -15,22 +15,32 @@ use glam::DVec3;
 /// parameter k when f was raised to degree 4 (mph eqs. 18–19).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
+    /// Index of the first circle of the pair.
     pub i: usize,
+    /// Index of the second circle (i + 1, or 0 for the closing segment of a closed skin).
     pub j: usize,
+    /// The RE/MPH curve from circle `i` (t = 0) to circle `j` (t = 1).
     pub curve: ReCurve,
+    /// Boundary values of f, kept to rebuild f with another k ([`ReSkin::set_k`]).
     pub boundary: FBoundary,
+    /// The quartic parameter k of mph eqs. 18–19, `None` for the cubic Hermite f.
     pub k: Option<f64>,
 }
 
 /// An RE/MPH skin: both envelopes of a spline of RE curves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReSkin {
+    /// The circles, in order.
     pub circles: Vec<Circle>,
+    /// Touching-point data per circle.
     pub touches: Vec<Touch>,
     /// Tangent vectors tᵢ ∈ R^{2,1} (eqs. 7–10 or mph eq. 11).
     pub tangents: Vec<DVec3>,
+    /// One segment per consecutive circle pair ([`pairs`]).
     pub segments: Vec<Segment>,
+    /// Whether the last circle is joined to the first.
     pub closed: bool,
+    /// The planar interpolant of every segment: cubic (RE) or PH quintic (MPH).
     pub interp: Interp,
 }
 

@@ -12,10 +12,20 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Touch {
     /// Both touching points fixed (re-skinning-cnc Sec. 3.1): left `plus`, right `minus`.
-    Fixed { plus: DVec2, minus: DVec2 },
+    Fixed {
+        /// Left touching point w⁺.
+        plus: DVec2,
+        /// Right touching point w⁻.
+        minus: DVec2,
+    },
     /// Only the left touching point fixed; `u` ∈ (0, π) picks the tangent on the
     /// semi-ellipse of mph eq. 10 and so the right touching point.
-    Flexible { plus: DVec2, u: f64 },
+    Flexible {
+        /// Left touching point w⁺.
+        plus: DVec2,
+        /// Free parameter u ∈ (0, π) of mph eq. 11.
+        u: f64,
+    },
 }
 
 impl Touch {
