@@ -78,8 +78,9 @@ pub enum SkinError {
         /// for [`Condition::Covered`] the covered circle followed by the circles covering it.
         circles: Vec<usize>,
     },
-    /// The Apollonius problem of the triplet around this circle has no real solution, so it has no
-    /// touching points.
+    /// The circle has no touching points: the Apollonius problem of its triplet has no real
+    /// solution, or (an end circle of an open sequence) it has no outer common tangents with
+    /// its neighbour.
     #[error("circle {index}: no touching points (Apollonius problem has no real solution)")]
     NoTouchingPoints {
         /// Position of the circle in the input.

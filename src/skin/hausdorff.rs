@@ -110,9 +110,9 @@ pub enum HausdorffError {
 /// Guaranteed bounds lower ≤ D_H ≤ upper.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct HausdorffBounds {
-    /// Lower bound of the Hausdorff distance (curve units).
+    /// Lower bound of the Hausdorff distance (model units).
     pub lower: f64,
-    /// Upper bound of the Hausdorff distance (curve units); a segment meets ε when this is ≤ ε.
+    /// Upper bound of the Hausdorff distance (model units); a segment meets ε when this is ≤ ε.
     pub upper: f64,
 }
 

@@ -92,11 +92,11 @@ pub struct TrimPoint {
 pub struct LoopCut {
     /// The side of the offset that crosses itself.
     pub branch: Branch,
-    /// Segment of the first crossing parameter.
+    /// Index of the segment holding `t0`.
     pub seg0: usize,
     /// Local parameter in [0, 1] on `seg0`.
     pub t0: f64,
-    /// Segment of the second crossing parameter.
+    /// Index of the segment holding `t1`.
     pub seg1: usize,
     /// Local parameter in [0, 1] on `seg1`.
     pub t1: f64,

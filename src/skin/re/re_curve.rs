@@ -68,8 +68,8 @@ pub struct Frame {
     pub r2: f64,
     /// m⁺ = −x′⊥/‖x′‖: unit direction from y to the left envelope point.
     pub m_plus: DVec2,
-    /// m⁻ = −m⁺ − 2r′y′/‖y′‖²: direction from y to the right envelope point (unit where the
-    /// envelope exists).
+    /// m⁻ = −m⁺ − 2r′y′/‖y′‖², the mirror image of m⁺ in the line along y′ (as m⁺·y′ = −r′):
+    /// unit direction from y to the right envelope point.
     pub m_minus: DVec2,
     /// Derivative of m⁺ with respect to t.
     pub dm_plus: DVec2,
