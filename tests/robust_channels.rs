@@ -246,6 +246,13 @@ depth = 6.0
     }
 }
 
+/// Seed 0x5EED0011 case 95: stroke s2's skin was a bridge 23 mm short of its hairpin bend;
+/// its outline is now the union of its disks (tests/skin_coverage.rs).
+#[test]
+fn random_c95_hairpin_skin_missed_the_bend() {
+    random_case("random_c95");
+}
+
 /// Seed 0x5EED0011 case 145: with phase 1's push-back on, stroke s0's skin came out with
 /// circles 26–28 not admissible (phase 3); push-back is off by default and the design builds.
 #[test]

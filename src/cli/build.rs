@@ -300,6 +300,16 @@ pub fn run(a: Args) -> Result<u8> {
                 1e3 * out.built.re_skin_seconds
             )?;
         }
+        for o in &out.built.outlines {
+            if let Some(u) = o.disk_union {
+                writeln!(
+                    text,
+                    "  outline {}: the skin cut {:.3} into the stroke near ({:.3}, {:.3}) (no \
+                     admissible circle follows the bend); built on the union of its disks",
+                    o.name, u.depth, u.at.x, u.at.y
+                )?;
+            }
+        }
         for r in &out.built.routes {
             writeln!(
                 text,

@@ -16,7 +16,7 @@
 use super::caps::{End, cap};
 use super::no_envelope::no_envelope_intervals;
 use super::{DiskBSpline, Side};
-use crate::geom::{Arc, DVec2, Line, perp};
+use crate::geom::{Arc, Circle, DVec2, Line, perp};
 
 /// Halvings allowed below each initial piece.
 pub const MAX_DEPTH: usize = 24;
@@ -191,6 +191,19 @@ pub fn flatten_spine(c: &DiskBSpline, tol: f64) -> Vec<DVec2> {
     spine_samples(c, tol)
         .into_iter()
         .map(|(_, p)| p[0])
+        .collect()
+}
+
+/// The disk family c(t) = (q(t), r(t)) sampled so that linear interpolation of centre and
+/// radius between consecutive samples stays within `tol` of both (the same adaptive
+/// subdivision as the spine, applied to q and to r; module docs for the bound). Returns
+/// (t, disk) pairs in parameter order, knots included; a closed curve's last sample
+/// repeats its first.
+pub fn flatten_disks(c: &DiskBSpline, tol: f64) -> Vec<(f64, Circle)> {
+    let f = |t: f64, _left: bool| [c.center(t), DVec2::new(c.radius(t), 0.0)];
+    piecewise(c, c.domain(), &f, tol)
+        .into_iter()
+        .map(|(t, [q, r])| (t, Circle::new(q, r.x)))
         .collect()
 }
 

@@ -53,6 +53,9 @@ pub enum MarkerKind {
     ReLoop,
     /// Two reconstructed-envelope curves cross (`"re-intersection"`).
     ReIntersection,
+    /// The skin cut into the stroke, so its outline is the union of the disks
+    /// (`"disk-union"`).
+    DiskUnion,
 }
 
 macro_rules! as_str_display {
@@ -81,6 +84,7 @@ as_str_display!(MarkerKind {
     SelfOverlap => "self-overlap",
     ReLoop => "re-loop",
     ReIntersection => "re-intersection",
+    DiskUnion => "disk-union",
 });
 
 /// One flattened contour with its role.
@@ -313,6 +317,7 @@ mod tests {
             MarkerKind::SelfOverlap,
             MarkerKind::ReLoop,
             MarkerKind::ReIntersection,
+            MarkerKind::DiskUnion,
         ] {
             assert_eq!(json(serde_json::to_string(&k).unwrap()), k.to_string());
         }

@@ -395,21 +395,20 @@ fn union_paths_with_sources(
     (paths, sources)
 }
 
-/// The item each path comes from: the first of `regions` (item index, region) that holds
-/// the path's first point, or the nearest one.
-fn attribute(ctx: &Ctx, regions: &[(usize, Region)], paths: &[Path]) -> Vec<String> {
-    let only: Vec<Region> = regions.iter().map(|(_, r)| r.clone()).collect();
+/// The item each path comes from: the item `items[k]` of the first of `regions` that holds
+/// the path's first point, or of the nearest one (`items` and `regions` pair up).
+fn attribute(ctx: &Ctx, items: &[usize], regions: &[Region], paths: &[Path]) -> Vec<String> {
     paths
         .iter()
         .map(|p| {
             let q = p.start().unwrap_or_default();
-            let k = only
+            let k = regions
                 .iter()
                 .position(|r| r.contains(q))
-                .unwrap_or_else(|| nearest_region(&only, q));
-            regions
+                .unwrap_or_else(|| nearest_region(regions, q));
+            items
                 .get(k)
-                .map(|(i, _)| ctx.outlines[*i].name.clone())
+                .map(|&i| ctx.outlines[i].name.clone())
                 .unwrap_or_default()
         })
         .collect()
@@ -454,12 +453,19 @@ fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
         };
         for i in ctx.selected(op).into_iter().filter(|i| items.contains(i)) {
             if let Some(c) = spine_of(ctx, i) {
-                let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
-                out.push(ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol));
+                out.push(channel_swept(ctx, c, width).1);
             }
         }
     }
     out
+}
+
+/// A channel of `width` along a stroke's spine: the spine flattened within the build
+/// tolerance, and the region a disk of radius width/2 sweeps along it.
+fn channel_swept(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
+    let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
+    let region = ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol);
+    (Path::polyline(&pts, c.is_closed()), region)
 }
 
 /// Parameter samples of a stroke's spine about `step` apart along its length.
@@ -548,11 +554,11 @@ fn operation_specs(
             let paths = ctx.routed(index, op, &name, &items, general, |its| {
                 re_profile(its, side, r, ctx.tol)
             })?;
-            let own: Vec<(usize, Region)> = items
+            let own: Vec<Region> = items
                 .iter()
-                .map(|&i| (i, Region::from_paths(&ctx.outlines[i].contours, ctx.tol)))
+                .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
                 .collect();
-            let sources = attribute(ctx, &own, &paths);
+            let sources = attribute(ctx, &items, &own, &paths);
             let mut s = spec(
                 ctx,
                 design_index,
@@ -582,15 +588,13 @@ fn operation_specs(
                     ),
                 ));
             }
-            let swept: Vec<(usize, Region)> = items
+            // Per selected stroke: its index, its flattened spine and its channel region.
+            let swept: Vec<(usize, Path, Region)> = items
                 .iter()
                 .filter_map(|&i| spine_of(ctx, i).map(|c| (i, c)))
                 .map(|(i, c)| {
-                    let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
-                    (
-                        i,
-                        ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol),
-                    )
+                    let (spine, region) = channel_swept(ctx, c, width);
+                    (i, spine, region)
                 })
                 .collect();
             if swept.is_empty() && !items.is_empty() {
@@ -610,7 +614,7 @@ fn operation_specs(
                     ),
                 ));
             }
-            let regions: Vec<Region> = swept.iter().map(|(_, r)| r.clone()).collect();
+            let regions: Vec<Region> = swept.iter().map(|(_, _, r)| r.clone()).collect();
             // Crossing and touching channels merge into one pocket (a T-junction is one
             // channel network).
             let region = Region::union(&regions, ctx.tol);
@@ -622,14 +626,7 @@ fn operation_specs(
             let (paths, sources) = if slot {
                 swept
                     .iter()
-                    .filter_map(|&(i, _)| spine_of(ctx, i).map(|c| (i, c)))
-                    .map(|(i, c)| {
-                        let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
-                        (
-                            Path::polyline(&pts, c.is_closed()),
-                            ctx.outlines[i].name.clone(),
-                        )
-                    })
+                    .map(|(i, spine, _)| (spine.clone(), ctx.outlines[*i].name.clone()))
                     .unzip()
             } else {
                 let paths = if laser {
@@ -637,7 +634,8 @@ fn operation_specs(
                 } else {
                     ops::concentric(&region, r, step, r, 10_000, eps)
                 };
-                let sources = attribute(ctx, &swept, &paths);
+                let owners: Vec<usize> = swept.iter().map(|(i, _, _)| *i).collect();
+                let sources = attribute(ctx, &owners, &regions, &paths);
                 (paths, sources)
             };
             let mut s = spec(

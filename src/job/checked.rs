@@ -535,6 +535,20 @@ pub struct Summary {
     pub routes: Vec<RouteSummary>,
     /// Wall time of the RE/MPH skins, seconds (0 when the build used none).
     pub re_skin_seconds: f64,
+    /// Strokes whose skin cut into them, built on the union of their disks instead
+    /// ([`crate::job::outline::ItemOutline::disk_union`]).
+    pub disk_unions: Vec<DiskUnionSummary>,
+}
+
+/// A stroke built on the union of its disks because its skin cut into it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct DiskUnionSummary {
+    /// The stroke's name.
+    pub stroke: String,
+    /// How deep the skin cut into the stroke (design units).
+    pub depth: f64,
+    /// Centre of the deepest-reaching disk (design coordinates, before placement).
+    pub at: [f64; 2],
 }
 
 impl JobOutput {
@@ -595,6 +609,18 @@ impl JobOutput {
                 })
                 .collect(),
             re_skin_seconds: self.built.re_skin_seconds,
+            disk_unions: self
+                .built
+                .outlines
+                .iter()
+                .filter_map(|o| {
+                    o.disk_union.map(|u| DiskUnionSummary {
+                        stroke: o.name.clone(),
+                        depth: u.depth,
+                        at: [u.at.x, u.at.y],
+                    })
+                })
+                .collect(),
         }
     }
 }

@@ -4,16 +4,18 @@
 
 use super::JobError;
 use super::progress::{ProgressFn, Stage, report};
-use crate::dbsc::flatten::flatten;
+use crate::dbsc::flatten::{flatten, flatten_disks};
 use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
 use crate::emit::outline::{
     CircleRole, Contour, ContourRole, Marker, MarkerKind, OutlineDoc, RefCircle, StrokeOutline,
 };
 use crate::geom::{Circle, DVec2, Path};
+use crate::skin::coverage::{Uncovered, uncovered};
 use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, SegmentReport, skin_dbsc};
 use crate::skin::re::{self, Branch, Interp, Touch};
 use crate::skin::{SkinOptions, outline_circles};
+use crate::toolpath::ops::swept_disks;
 use crate::toolpath::region::Region;
 
 pub use crate::skin::re::outline::{ReOutline, ReOutlineError, re_offsets, sequence_touches};
@@ -61,6 +63,11 @@ pub struct ItemOutline {
     /// The stroke overlaps itself (its spine crosses itself): `contours` are the boundary
     /// of the union, flattened within the outline tolerance.
     pub self_overlap: bool,
+    /// Where the skin outline left part of the stroke outside (by more than ε plus the
+    /// flattening): the deepest-reaching disk. `contours` are then the union of the
+    /// stroke's disks ([`crate::toolpath::ops::swept_disks`]), flattened within the
+    /// outline tolerance, instead of the skin.
+    pub disk_union: Option<Uncovered>,
 }
 
 /// Parameter tolerance of loop detection: roots of τ± located to 1e-10 of the parameter.
@@ -123,11 +130,20 @@ pub fn stroke_outline(
         }
         Err(e) => return Err(fail(e)),
     };
-    let contours = if self_overlap {
+    let mut contours = if self_overlap {
         Region::from_overlapping_paths(&sk.outline, opts.tolerance).paths()
     } else {
         sk.outline
     };
+    // Where phase 3 stopped with ε far from met, the skin can cut through the stroke (a
+    // hairpin): measure it, and fall back to the exact shape, the union of the disks.
+    let disks = flatten_disks(c, opts.tolerance);
+    let polygons: Vec<Vec<DVec2>> = contours.iter().map(|p| p.flatten(opts.tolerance)).collect();
+    let missed = uncovered(&disks, &polygons).filter(|u| u.depth > miss_limit(opts));
+    if missed.is_some() {
+        let circles: Vec<Circle> = disks.iter().map(|&(_, d)| d).collect();
+        contours = swept_disks(&circles, opts.tolerance).paths();
+    }
     Ok(ItemOutline {
         name: name.to_string(),
         contours,
@@ -135,7 +151,18 @@ pub fn stroke_outline(
         loops: Some(loops),
         segments: sk.report,
         self_overlap,
+        disk_union: missed,
     })
+}
+
+/// How far a disk of a stroke may reach outside its skin outline before the outline is
+/// replaced by the union of the disks ([`ItemOutline::disk_union`]): ε, which the skin
+/// meets wherever the Hausdorff bound holds, plus the flattening of the outline and of the
+/// disks (one tolerance each), doubled for safety. Where a skin's bound stays unmet at a
+/// sharp bend its smooth outline lies outside the disks (it rounds the inner corner), so
+/// only outlines that cut into the stroke exceed this.
+fn miss_limit(opts: &OutlineOptions) -> f64 {
+    2.0 * (opts.epsilon + 2.0 * opts.tolerance)
 }
 
 /// The skin outline of one circle sequence.
@@ -154,6 +181,7 @@ pub fn circles_outline(
         loops: None,
         segments: Vec::new(),
         self_overlap: false,
+        disk_union: None,
     })
 }
 
@@ -280,6 +308,17 @@ fn stroke_drawing(
             kind: MarkerKind::SelfOverlap,
             at: [at.x, at.y],
             message: "the stroke crosses itself: the outline is the boundary of the union".into(),
+        });
+    }
+    if let Some(u) = item.and_then(|i| i.disk_union) {
+        markers.push(Marker {
+            kind: MarkerKind::DiskUnion,
+            at: [u.at.x, u.at.y],
+            message: format!(
+                "the skin cut {:.3} into the stroke at t = {:.6} (no admissible circle left to \
+                 meet ε = {}): the outline is the union of the stroke's disks",
+                u.depth, u.t, opts.epsilon
+            ),
         });
     }
     StrokeOutline {

@@ -28,6 +28,7 @@ pub fn shape_outline(shape: &Shape) -> ItemOutline {
         loops: None,
         segments: Vec::new(),
         self_overlap: false,
+        disk_union: None,
     }
 }
 

@@ -207,11 +207,14 @@ pub enum DbscSkinError {
         source: SkinError,
     },
     /// The final outline crosses itself (and [`DbscSkinOptions::allow_global_overlap`] is off).
-    #[error("skin outline contour {contour} intersects itself at its segment {segment}")]
+    #[error("skin outline contour {contour} {} at its segment {segment}", crossed(*contour, *other))]
     SelfIntersection {
         /// Index of the contour in the outline.
         contour: usize,
-        /// Index of the first segment of that contour involved in a crossing.
+        /// Index of the contour it crosses: `contour` itself, or the other contour of a
+        /// closed stroke (outer and inner).
+        other: usize,
+        /// Index of the first segment of `contour` involved in the crossing.
         segment: usize,
     },
     /// An option is out of range; the message names it.
@@ -795,24 +798,37 @@ fn assemble_outline(
 }
 
 /// Whether outline contours intersect themselves or each other (skin intersection tests).
+/// Whether the outline contours cross themselves or each other within `tol`.
 fn outline_intersects(contours: &[Path], tol: f64) -> bool {
-    contours
-        .iter()
-        .any(|c| !path_self_intersections(c, tol).is_empty())
-        || contours.iter().enumerate().any(|(i, a)| {
-            contours[i + 1..]
-                .iter()
-                .any(|b| !paths_intersections(a, b, tol).is_empty())
-        })
+    first_crossing(contours, tol).is_some()
 }
 
-/// (contour, segment) of the first crossing found (for the error message).
-fn first_crossing(contours: &[Path], tol: f64) -> (usize, usize) {
-    contours
+/// The first crossing of the outline contours, as (contour, other contour, segment of the
+/// first): a contour crossing itself first, then pairs of contours.
+fn first_crossing(contours: &[Path], tol: f64) -> Option<(usize, usize, usize)> {
+    let own = contours
         .iter()
         .enumerate()
-        .find_map(|(k, c)| path_self_intersections(c, tol).first().map(|h| (k, h.a)))
-        .unwrap_or((0, 0))
+        .find_map(|(k, c)| path_self_intersections(c, tol).first().map(|h| (k, k, h.a)));
+    own.or_else(|| {
+        contours.iter().enumerate().find_map(|(i, a)| {
+            contours
+                .iter()
+                .enumerate()
+                .skip(i + 1)
+                .find_map(|(j, b)| paths_intersections(a, b, tol).first().map(|h| (i, j, h.a)))
+        })
+    })
+}
+
+/// "intersects itself" or "crosses contour N" (the message of
+/// [`DbscSkinError::SelfIntersection`]).
+fn crossed(contour: usize, other: usize) -> String {
+    if contour == other {
+        "intersects itself".into()
+    } else {
+        format!("crosses contour {other}")
+    }
 }
 
 /// One side's skin arcs of a circle sequence (adapter over [`super::skin_circles`]): the
@@ -889,9 +905,14 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     let o = st.outline()?;
     // Safety net: never hand out a crossing outline (phases 1–2 rely on admissibility,
     // phase 3 checks each insertion; this re-checks the final result).
-    if !opts.allow_global_overlap && outline_intersects(&o.contours, opts.intersect_tol) {
-        let (contour, segment) = first_crossing(&o.contours, opts.intersect_tol);
-        return Err(DbscSkinError::SelfIntersection { contour, segment });
+    if !opts.allow_global_overlap
+        && let Some((contour, other, segment)) = first_crossing(&o.contours, opts.intersect_tol)
+    {
+        return Err(DbscSkinError::SelfIntersection {
+            contour,
+            other,
+            segment,
+        });
     }
     let mut report = Vec::with_capacity(err.len());
     for (i, e) in err.iter().enumerate() {
@@ -1034,6 +1055,40 @@ mod tests {
     /// The parallel Hausdorff bounds give the serial result: one thread against four, with
     /// a budget large enough for every bound and one so small that the serial replay must
     /// recompute bounds cut short by the shared budget (and finally runs out).
+    /// Two contours that cross each other but not themselves are named as a pair (the
+    /// message used to say "contour 0 intersects itself at its segment 0").
+    #[test]
+    fn first_crossing_names_both_contours() {
+        let square = |x: f64| {
+            let p = |a: f64, b: f64| DVec2::new(x + a, b);
+            Path::polyline(&[p(0.0, 0.0), p(2.0, 0.0), p(2.0, 2.0), p(0.0, 2.0)], true)
+        };
+        let apart = [square(0.0), square(5.0)];
+        assert_eq!(first_crossing(&apart, 1e-9), None);
+        let (a, b, _) = first_crossing(&[square(0.0), square(1.0)], 1e-9).unwrap();
+        assert_eq!((a, b), (0, 1));
+        let e = DbscSkinError::SelfIntersection {
+            contour: 0,
+            other: 1,
+            segment: 2,
+        };
+        assert_eq!(
+            e.to_string(),
+            "skin outline contour 0 crosses contour 1 at its segment 2"
+        );
+        let bow = Path::polyline(
+            &[
+                DVec2::ZERO,
+                DVec2::new(2.0, 2.0),
+                DVec2::new(2.0, 0.0),
+                DVec2::new(0.0, 2.0),
+            ],
+            true,
+        );
+        let (a, b, _) = first_crossing(&[square(9.0), bow], 1e-9).unwrap();
+        assert_eq!((a, b), (1, 1));
+    }
+
     #[test]
     fn parallel_skinning_equals_serial() {
         let pool = |n: usize| {

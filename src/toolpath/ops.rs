@@ -4,7 +4,7 @@
 //! the paths into cuts with depths, feeds and ordering.
 
 use super::region::{Region, flatten_pline};
-use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use crate::geom::{Arc, Circle, DVec2, Line, Path, PathSeg};
 use geo::Buffer;
 
 /// Where a profile runs relative to the outline.
@@ -183,6 +183,54 @@ pub fn swept_region(spine: &[DVec2], closed: bool, half_width: f64, tol: f64) ->
     Region::from_geo(&ls.buffer_with_style(style), tol)
 }
 
+/// The region swept by a disk that moves from each of `disks` to the next with centre and
+/// radius linear in between: the union of the convex hulls of consecutive disks (the larger
+/// disk alone where one holds the other). A hull is bounded by the two outer common
+/// tangents, which touch disk (c, r) at c + r·n with n·u = (r₀ − r₁)/d for u the unit
+/// vector from c₀ to c₁ and d their distance, and by the two arcs between them. Arcs are
+/// flattened within `tol` by inscribed chords, so the region lies inside the exact one and
+/// within `tol` of it. Every hull winds counter-clockwise, so the non-zero union
+/// ([`Region::from_overlapping_rings`]) is their union; a closed family (last disk equal to
+/// the first) leaves its hole open. Cost: one boolean union of n hulls.
+pub fn swept_disks(disks: &[Circle], tol: f64) -> Region {
+    let hulls: Vec<Vec<DVec2>> = match disks {
+        [] => Vec::new(),
+        [d] => vec![disk_ring(d, tol)],
+        _ => disks
+            .windows(2)
+            .map(|w| hull_ring(&w[0], &w[1], tol))
+            .collect(),
+    };
+    Region::from_overlapping_rings(hulls, tol)
+}
+
+/// A full circle as a counter-clockwise polygon inscribed within `tol`.
+fn disk_ring(d: &Circle, tol: f64) -> Vec<DVec2> {
+    let mut ring = Arc::new(d.c, d.r, 0.0, std::f64::consts::TAU).flatten(tol);
+    ring.pop();
+    ring
+}
+
+/// The convex hull of two disks as a counter-clockwise polygon (see [`swept_disks`]).
+fn hull_ring(a: &Circle, b: &Circle, tol: f64) -> Vec<DVec2> {
+    let d = a.c.distance(b.c);
+    if d <= (a.r - b.r).abs() {
+        return disk_ring(if a.r >= b.r { a } else { b }, tol);
+    }
+    let u = (b.c - a.c) / d;
+    let s = (a.r - b.r) / d;
+    let h = (1.0 - s * s).max(0.0).sqrt();
+    let right = s * u - h * crate::geom::perp(u);
+    let angle = |v: DVec2| v.y.atan2(v.x);
+    // Counter-clockwise: along the right tangent to b, round b's far side to the left
+    // tangent, back along it to a, round a's far side to the right tangent.
+    let sweep_b = 2.0 * h.atan2(s);
+    let mut ring = Arc::new(b.c, b.r, angle(right), sweep_b).flatten(tol);
+    let left = s * u + h * crate::geom::perp(u);
+    ring.extend(Arc::new(a.c, a.r, angle(left), std::f64::consts::TAU - sweep_b).flatten(tol));
+    ring
+}
+
 /// A closed contour around the union of `regions` grown by `margin`, with every inner
 /// (concave) corner rounded to at least `min_inner_radius` (a closing: grow by
 /// margin + ρ, shrink by ρ). Only outer boundaries are kept: a backboard has no holes.
@@ -238,6 +286,61 @@ mod tests {
     use crate::toolpath::region::pline_from_points;
     use cavalier_contours::polyline::PlineSourceMut;
     use std::f64::consts::PI;
+
+    /// Area of the convex hull of two disks (closed form): with cos α = (r₀ − r₁)/d, the
+    /// sector of disk 0 outside the tangents spans 2π − 2α, that of disk 1 spans 2α, and
+    /// the two right trapezoids between centres and tangent points have parallel sides r₀,
+    /// r₁ and height d·sin α.
+    fn hull_area(a: &Circle, b: &Circle) -> f64 {
+        let d = a.c.distance(b.c);
+        let alpha = ((a.r - b.r) / d).acos();
+        a.r * a.r * (PI - alpha) + b.r * b.r * alpha + (a.r + b.r) * d * alpha.sin()
+    }
+
+    #[test]
+    fn swept_disks_match_closed_forms_reversed_and_moved() {
+        let tol = 1e-4;
+        let a = Circle::new(DVec2::new(1.0, 2.0), 3.0);
+        let b = Circle::new(DVec2::new(9.0, -4.0), 1.5);
+        let area = swept_disks(&[a, b], tol).area();
+        let exact = hull_area(&a, &b);
+        let perimeter = 2.0 * PI * 3.0 + 20.0;
+        assert!(
+            area <= exact + 1e-9 && area >= exact - tol * perimeter,
+            "{area} vs {exact}"
+        );
+        let back = swept_disks(&[b, a], tol).area();
+        assert!((back - area).abs() <= tol * perimeter);
+        let shift = DVec2::new(1e4, -5e3);
+        let moved = [Circle::new(a.c + shift, a.r), Circle::new(b.c + shift, b.r)];
+        assert!((swept_disks(&moved, tol).area() - area).abs() <= tol * perimeter);
+        // One disk inside the other: the larger disk alone.
+        let inner = Circle::new(DVec2::new(1.5, 2.0), 1.0);
+        let one = swept_disks(&[a, inner], tol).area();
+        assert!((one - PI * 9.0).abs() <= tol * 2.0 * PI * 3.0);
+    }
+
+    #[test]
+    fn swept_disks_of_a_closed_ring_keep_the_hole() {
+        // 64 disks of radius 1 on a circle of radius 10: an annulus 9..11 (up to the
+        // straight chords between the centres, which move the inner edge by < 0.05).
+        let n = 64;
+        let disks: Vec<Circle> = (0..=n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                Circle::new(10.0 * DVec2::new(a.cos(), a.sin()), 1.0)
+            })
+            .collect();
+        let r = swept_disks(&disks, 1e-3);
+        assert_eq!(r.contours.len(), 2);
+        assert!(!r.contains(DVec2::ZERO) && r.contains(DVec2::new(10.0, 0.0)));
+        let annulus = PI * (121.0 - 81.0);
+        assert!(
+            (r.area() - annulus).abs() < 0.05 * 2.0 * PI * 10.0,
+            "{}",
+            r.area()
+        );
+    }
 
     fn square_region(s: f64) -> Region {
         Region::from_contours(vec![pline_from_points(

@@ -342,7 +342,7 @@ fn retraces(a: &Polyline<f64>, b: &Polyline<f64>, eps: f64, near: f64) -> bool {
 }
 
 /// `rings` without those that retrace an earlier one: the same orientation, and every
-/// point of each within `near` of the other ([`retraces`], points flattened within
+/// point of each within `near` of the other (`retraces`, points flattened within
 /// `eps`). cavalier_contours can return one offset ring several times over (seed
 /// 0x5EED0011 case 52: a channel ring seven times, cut seven times round at one depth).
 pub fn drop_repeated_rings(rings: Vec<Polyline<f64>>, eps: f64, near: f64) -> Vec<Polyline<f64>> {
@@ -536,26 +536,27 @@ impl Region {
     /// union of the lobes, with counter-clockwise material and clockwise holes. The paths
     /// are flattened within `tol`; the result has lines only.
     pub fn from_overlapping_paths(paths: &[Path], tol: f64) -> Region {
-        let rings: Vec<geo::LineString<f64>> = paths
-            .iter()
-            .map(|p| {
-                let mut pts: Vec<geo::Coord<f64>> = p
-                    .flatten(tol)
-                    .into_iter()
-                    .map(|q| geo::Coord { x: q.x, y: q.y })
-                    .collect();
-                if let Some(&f) = pts.first() {
-                    pts.push(f);
-                }
-                geo::LineString::new(pts)
-            })
-            .collect();
-        let subject = geo::MultiLineString::new(rings);
+        Region::from_overlapping_rings(paths.iter().map(|p| p.flatten(tol)).collect(), tol)
+    }
+
+    /// The points of non-zero total winding of closed polygons (last vertex joined to the
+    /// first) that may cross themselves and each other: their union, with
+    /// counter-clockwise material and clockwise holes (i_overlay through geo's
+    /// `BooleanOps`, fill rule non-zero). `tol` is the tolerance of the result's cleaning.
+    pub fn from_overlapping_rings(rings: Vec<Vec<DVec2>>, tol: f64) -> Region {
         let polys = geo::MultiPolygon::new(
-            subject
-                .0
+            rings
                 .into_iter()
-                .map(|r| geo::Polygon::new(r, vec![]))
+                .map(|ring| {
+                    let mut pts: Vec<geo::Coord<f64>> = ring
+                        .into_iter()
+                        .map(|q| geo::Coord { x: q.x, y: q.y })
+                        .collect();
+                    if let Some(&f) = pts.first() {
+                        pts.push(f);
+                    }
+                    geo::Polygon::new(geo::LineString::new(pts), vec![])
+                })
                 .collect(),
         );
         let empty = geo::MultiPolygon::<f64>::new(vec![]);
