@@ -95,9 +95,13 @@ pub use crate::units::Units;
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outline {
+    /// `method`: `"skin"`, `"envelope"`, `"re"` or `"mph"`; unset means `skin`. Read by the
+    /// `outline` command, whose `--method` overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub method: Option<OutlineMethod>,
-    /// Approximation tolerance in design units.
+    /// `tolerance`: approximation tolerance in design units, > 0 and at most
+    /// [`MAX_COORD`](super::MAX_COORD). Read by the `outline` command, whose `--tolerance`
+    /// overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
 }
@@ -121,9 +125,16 @@ pub enum OutlineMethod {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Stroke {
+    /// `name` (required): non-empty and unique among strokes, circle sequences and shapes;
+    /// operations' `strokes` lists refer to it.
     pub name: String,
+    /// `degree`: the B-spline degree p, in 1..=[`MAX_DEGREE`](super::MAX_DEGREE); default
+    /// [`DEFAULT_DEGREE`]. Without `knots` the curve may be built with a lower degree
+    /// ([`Stroke::effective_degree`]).
     #[serde(default = "default_degree")]
     pub degree: usize,
+    /// `closed`: a periodic stroke whose last disk joins its first (the first is not
+    /// repeated at the end); default false.
     #[serde(default, skip_serializing_if = "is_false")]
     pub closed: bool,
     /// Control disks `[x, y, r]`.
@@ -248,6 +259,7 @@ pub struct Attributes {
 }
 
 impl Attributes {
+    /// True when no channel is set (the `attributes` table is then not written).
     pub fn is_empty(&self) -> bool {
         self.power.is_none() && self.depth.is_none() && self.feed.is_none()
     }
@@ -272,7 +284,10 @@ impl Attributes {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CircleSeq {
+    /// `name` (required): non-empty and unique among strokes, circle sequences and shapes.
     pub name: String,
+    /// `closed`: the sequence wraps from its last circle to its first (which is not
+    /// repeated); default false. At least 3 circles when closed, 2 when open.
     #[serde(default, skip_serializing_if = "is_false")]
     pub closed: bool,
     /// Circles `[x, y, r]` in order.
@@ -299,6 +314,7 @@ pub enum OperationKind {
 }
 
 impl OperationKind {
+    /// The kind's value of the `kind` key in design files.
     pub fn as_str(self) -> &'static str {
         match self {
             OperationKind::Profile => "profile",
@@ -315,9 +331,13 @@ impl OperationKind {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProfileSide {
+    /// `"on"`: the tool centre follows the outline.
     #[default]
     On,
+    /// `"outside"`: the path is offset outwards by the tool radius (or half the kerf), so
+    /// the part keeps its size.
     Outside,
+    /// `"inside"`: the path is offset inwards by the tool radius, so a hole keeps its size.
     Inside,
 }
 
@@ -338,8 +358,11 @@ pub enum HoleAt {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FillPattern {
+    /// `"hatch"`: parallel lines `spacing` apart at `angle` (with `cross_hatch`, a second
+    /// set at angle + 90°).
     #[default]
     Hatch,
+    /// `"concentric"`: rings offset inwards from the outline, `spacing` apart.
     Concentric,
 }
 
@@ -360,6 +383,7 @@ pub struct Tabs {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Operation {
+    /// `kind` (required): which operation; decides which of the keys below apply.
     pub kind: OperationKind,
     /// The strokes, circle sequences and shapes it applies to, by name (default: all).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -380,12 +404,16 @@ pub struct Operation {
     /// Laser power in percent (0–100).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub power: Option<f64>,
+    /// `tabs`: holding tabs `{count, width, height}`; count in 1..=[`MAX_TABS`](super::MAX_TABS),
+    /// width and height > 0 and at most [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tabs: Option<Tabs>,
     /// Lead-in length.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lead_in: Option<f64>,
     // profile
+    /// `side` (profile only): where the cut runs relative to the outline. Unset: `on` for a
+    /// laser profile, `outside` otherwise (not [`ProfileSide`]'s `Default`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub side: Option<ProfileSide>,
     // channel
@@ -400,11 +428,15 @@ pub struct Operation {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_inner_radius: Option<f64>,
     // holes
+    /// `diameter` (holes only, required): hole diameter in design units, > 0 and at most
+    /// [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter: Option<f64>,
+    /// `at` (holes only): `"ends"`, `"start"` or `"end"`; default `ends`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<HoleAt>,
     // fill
+    /// `pattern` (fill only): `"hatch"` or `"concentric"`; default `hatch`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pattern: Option<FillPattern>,
     /// fill: hatch angle in degrees from +x; vcarve: the V-bit's included angle in degrees.

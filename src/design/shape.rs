@@ -77,6 +77,7 @@ pub enum FillRule {
 }
 
 impl FillRule {
+    /// The rule's value of the `fill_rule` key in design files.
     pub fn as_str(self) -> &'static str {
         match self {
             FillRule::Nonzero => "nonzero",
@@ -89,6 +90,7 @@ impl FillRule {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Shape {
+    /// `name` (required): non-empty and unique among strokes, circle sequences and shapes.
     pub name: String,
     /// How the contours make a region (default nonzero).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -100,10 +100,13 @@ impl Font {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Align {
+    /// `"left"`: lines start at the anchor.
     #[default]
     Left,
+    /// `"centre"` (or `"center"`): lines are centred on the anchor.
     #[serde(alias = "center")]
     Centre,
+    /// `"right"`: lines end at the anchor.
     Right,
 }
 
@@ -156,8 +159,14 @@ fn parse_jhf(text: &str) -> Vec<Glyph> {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Text {
+    /// `name` (required): the prefix of the generated strokes' names
+    /// (`<name>/<char index>:<char>/<k>`); operations' `strokes` lists may name the text to
+    /// mean all of its strokes.
     pub name: String,
+    /// `text` (required): the characters to set, lines split at `\n`; printable ASCII
+    /// (space to `~`) only, with at least one visible character.
     pub text: String,
+    /// `font`: `"sans"` or `"script"`; default `sans`.
     #[serde(default)]
     pub font: Font,
     /// Cap height (baseline to cap line), design units.
@@ -167,6 +176,7 @@ pub struct Text {
     /// Anchor on the first line's baseline.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<[f64; 2]>,
+    /// `align`: alignment of each line about `at`; default `left`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub align: Option<Align>,
     /// Extra space between letters, design units.
