@@ -160,7 +160,8 @@ pub enum ErrorKind {
     AttributeCount {
         /// Number of values in the channel.
         got: usize,
-        /// Number of control disks ([`Stroke::control_disk_count`](super::Stroke::control_disk_count)).
+        /// Number of control disks
+        /// ([`Stroke::control_disk_count`](super::Stroke::control_disk_count)).
         expected: usize,
     },
     /// Two items with the same name.

@@ -169,23 +169,26 @@ pub struct Text {
     /// `font`: `"sans"` or `"script"`; default `sans`.
     #[serde(default)]
     pub font: Font,
-    /// Cap height (baseline to cap line), design units.
+    /// `height` (required): cap height (baseline to cap line), design units, > 0.
     pub height: f64,
-    /// Stroke width (twice the stroke radius), design units.
+    /// `width` (required): stroke width (twice the stroke radius), design units, > 0.
     pub width: f64,
-    /// Anchor on the first line's baseline.
+    /// `at`: anchor `[x, y]` on the first line's baseline, finite; default [0, 0].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<[f64; 2]>,
     /// `align`: alignment of each line about `at`; default `left`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub align: Option<Align>,
-    /// Extra space between letters, design units.
+    /// `letter_spacing`: extra space between letters, design units, finite (may be
+    /// negative); default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub letter_spacing: Option<f64>,
-    /// Baseline to baseline, in multiples of `height`.
+    /// `line_spacing`: baseline to baseline, in multiples of `height`, > 0; default
+    /// [`DEFAULT_LINE_SPACING`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub line_spacing: Option<f64>,
-    /// Kerning of neighbouring letters; default [`Kerning::Auto`].
+    /// `kerning`: `"auto"` or `"none"`, kerning of neighbouring letters; default
+    /// [`Kerning::Auto`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kerning: Option<Kerning>,
 }
