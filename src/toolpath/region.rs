@@ -342,7 +342,7 @@ fn retraces(a: &Polyline<f64>, b: &Polyline<f64>, eps: f64, near: f64) -> bool {
 }
 
 /// `rings` without those that retrace an earlier one: the same orientation, and every
-/// point of each within `near` of the other ([`retraces`], points flattened within
+/// point of each within `near` of the other (`retraces`, points flattened within
 /// `eps`). cavalier_contours can return one offset ring several times over (seed
 /// 0x5EED0011 case 52: a channel ring seven times, cut seven times round at one depth).
 pub fn drop_repeated_rings(rings: Vec<Polyline<f64>>, eps: f64, near: f64) -> Vec<Polyline<f64>> {
