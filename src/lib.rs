@@ -53,12 +53,8 @@
 // A library reports through its return values; printing is the command line's business.
 #![deny(clippy::print_stdout, clippy::print_stderr)]
 
-// `missing_docs` holds in emit, geom, job, machine, sim, skin, spline, toolpath and units.
-// The modules below are exempt until their public fields and variants are documented (dbsc 67
-// and design 56 items).
-#[allow(missing_docs)]
+// `missing_docs` holds in every module.
 pub mod dbsc;
-#[allow(missing_docs)]
 pub mod design;
 pub mod emit;
 pub mod geom;

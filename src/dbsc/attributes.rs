@@ -12,16 +12,28 @@ use std::collections::BTreeMap;
 /// Errors of attribute channels.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum AttributeError {
+    /// A channel was given a number of values other than one per control disk.
     #[error("attribute channel {channel:?}: {got} values for {expected} control disks")]
     Count {
+        /// Name of the channel.
         channel: String,
+        /// Number of values given.
         got: usize,
+        /// Number of control disks (closed curves: without the wrapped copies).
         expected: usize,
     },
+    /// A channel value is NaN or infinite.
     #[error("attribute channel {channel:?}: value {index} is not finite")]
-    NotFinite { channel: String, index: usize },
+    NotFinite {
+        /// Name of the channel.
+        channel: String,
+        /// Index of the first non-finite value.
+        index: usize,
+    },
+    /// [`AttributedDbsc::eval`] was asked for a channel that was never added; holds its name.
     #[error("no attribute channel named {0:?}")]
     Unknown(String),
+    /// Building the channel's B-spline on the curve's knots failed.
     #[error(transparent)]
     Spline(#[from] SplineError),
 }
@@ -78,6 +90,7 @@ impl AttributedDbsc {
         Ok(self)
     }
 
+    /// The disk B-spline the channels are attached to.
     pub fn curve(&self) -> &DiskBSpline {
         &self.curve
     }

@@ -14,17 +14,27 @@ use crate::geom::Arc;
 /// Which end of an open stroke.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum End {
+    /// The start of the domain, t = u_p.
     Start,
+    /// The end of the domain, t = u_{n+1}.
     End,
 }
 
 /// Errors of cap construction.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CapError {
+    /// The curve is closed, so it has no ends to cap.
     #[error("closed stroke has no end caps")]
     Closed,
+    /// One envelope does not exist at the end (‖q′‖ ≤ |r′|, wu-2021 eq. 9), so the cap arc
+    /// has no end points to join.
     #[error("no real envelope at the {end:?} of the stroke (t = {t}): ‖q′‖ ≤ |r′| there")]
-    NoEnvelope { end: End, t: f64 },
+    NoEnvelope {
+        /// Which end.
+        end: End,
+        /// The end's curve parameter.
+        t: f64,
+    },
 }
 
 /// The cap arc at one end (see the module docs for its direction).

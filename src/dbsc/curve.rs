@@ -10,7 +10,9 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Side {
+    /// b⁺: the envelope on the left of the direction of travel (serialised `"left"`).
     Left,
+    /// b⁻: the envelope on the right of the direction of travel (serialised `"right"`).
     Right,
 }
 
@@ -23,6 +25,7 @@ impl Side {
         }
     }
 
+    /// The opposite side.
     pub fn other(self) -> Side {
         match self {
             Side::Left => Side::Right,
@@ -34,6 +37,7 @@ impl Side {
 /// A point of one envelope with its derivative and the unit vector m = (q± − q)/r.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnvelopePoint {
+    /// q±(t) = q(t) + r(t) m±(t), the envelope point (wu-2021 eq. 9).
     pub point: DVec2,
     /// dq±/dt.
     pub deriv: DVec2,
@@ -111,14 +115,17 @@ impl DiskBSpline {
         &self.curve
     }
 
+    /// The degree p of the centre and radius B-splines.
     pub fn degree(&self) -> usize {
         self.curve.degree()
     }
 
+    /// True for a closed (periodic) DBSC.
     pub fn is_closed(&self) -> bool {
         self.curve.is_closed()
     }
 
+    /// The parameter domain [u_p, u_{n+1}] as (start, end).
     pub fn domain(&self) -> (f64, f64) {
         self.curve.domain()
     }

@@ -64,20 +64,33 @@ pub enum RadiusFairing {
 /// Errors of the extension.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ExtendError {
+    /// The curve is not cubic; holds its degree.
     #[error("extension needs a cubic DBSC, got degree {0}")]
     Degree(usize),
+    /// The curve is closed, or its last p + 1 knots are not all equal to the end b.
     #[error("extension needs an open DBSC clamped at its end")]
     NotClampedEnd,
+    /// The target disk's radius is not positive and finite; holds it.
     #[error("target disk: radius {0} must be positive and finite")]
     TargetRadius(f64),
+    /// The target disk's centre is NaN or infinite.
     #[error("target disk: centre is not finite")]
     TargetNotFinite,
+    /// P′(b) = 0, so there is no end tangent to continue; also returned when no α₁ in
+    /// [`ALPHA1_RANGE`] gives a finite bending energy.
     #[error("the centre curve has zero velocity at its end: no tangent to continue")]
     ZeroEndTangent,
+    /// The target centre Q equals the end point P(b): the chord is zero.
     #[error("target disk centre coincides with the end of the centre curve")]
     TargetAtEnd,
+    /// No α₂ (for [`RadiusFairing::Coupled`]: α₂ = α₁) keeps R₁ and R₂ at or above the
+    /// bound [`MIN_RADIUS_FRACTION`] · min(R₀, R₃).
     #[error("no α₂ keeps the extension's control radii above {min}")]
-    NoPositiveRadius { min: f64 },
+    NoPositiveRadius {
+        /// The control-radius bound, in the curve's length unit.
+        min: f64,
+    },
+    /// Building the extended B-spline failed.
     #[error(transparent)]
     Spline(#[from] crate::spline::SplineError),
 }
@@ -85,8 +98,15 @@ pub enum ExtendError {
 /// The extended curve and the chosen free parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Extension {
+    /// The original curve followed by the extending piece, one clamped cubic DBSC on
+    /// [u_p, b + Δ] (see the module docs for its knots and control disks).
     pub curve: DiskBSpline,
+    /// α₁ > 0, the centre's speed factor Q′(0) = α₁P′(b) (zhang-2014 eq. 2.1), chosen to
+    /// minimise the bending energy ∫κ² ds.
     pub alpha1: f64,
+    /// α₂ > 0, the radius's speed factor R′(0) = α₂r′(b) (zhang-2014 eq. 2.2): the
+    /// minimiser of ∫R″² for [`RadiusFairing::MinEnergy`], α₁ for
+    /// [`RadiusFairing::Coupled`].
     pub alpha2: f64,
     /// The parameter length Δ = α₁ of the new piece: it occupies [b, b + Δ].
     pub delta: f64,

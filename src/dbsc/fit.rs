@@ -23,14 +23,38 @@ use glam::DVec3;
 /// indices to the fitted curve's distinct control disks.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DbscFitError {
+    /// A data disk's centre or radius is NaN or infinite.
     #[error("disk {index}: centre or radius is not finite")]
-    NotFinite { index: usize },
+    NotFinite {
+        /// Index of the data disk.
+        index: usize,
+    },
+    /// A data disk's radius is zero or negative.
     #[error("disk {index}: radius {radius} must be positive")]
-    Radius { index: usize, radius: f64 },
+    Radius {
+        /// Index of the data disk.
+        index: usize,
+        /// The offending radius.
+        radius: f64,
+    },
+    /// Two consecutive data disks (cyclically for closed data) share a centre, so their
+    /// chord is zero and the centre curve would stall between them.
     #[error("disks {index} and {next} have the same centre (zero chord)")]
-    RepeatedCentre { index: usize, next: usize },
+    RepeatedCentre {
+        /// Index of the first disk of the pair.
+        index: usize,
+        /// Index of the second disk: index + 1, or 0 when closing the loop.
+        next: usize,
+    },
+    /// The fit produced a control disk whose radius is zero, negative or NaN.
     #[error("fitted control disk {index} has non-positive radius {radius}")]
-    ControlRadius { index: usize, radius: f64 },
+    ControlRadius {
+        /// Index among the fitted curve's distinct control disks.
+        index: usize,
+        /// The fitted control radius.
+        radius: f64,
+    },
+    /// The underlying B-spline fit failed (too few disks, degree, singular system, …).
     #[error(transparent)]
     Fit(#[from] FitError),
 }

@@ -217,27 +217,34 @@ pub(crate) fn bernstein_roots(f: &Bern, tol: f64) -> Vec<f64> {
 /// One local loop of an envelope: τ < 0 on (t_a, t_b), bounded by the cusps at t_a, t_b.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnvelopeLoop {
+    /// The envelope the loop is on.
     pub side: Side,
     /// Parameter where the envelope turns back (first cusp).
     pub t_a: f64,
     /// Parameter where it turns forward again. For closed curves `t_a > t_b` means the
     /// loop runs through the seam.
     pub t_b: f64,
-    /// The cusp points q±(t_a), q±(t_b) (`None` where the loop ends at a part without a
-    /// real envelope).
+    /// The cusp point q±(t_a) (`None` where the loop starts at a part without a real
+    /// envelope).
     pub cusp_a: Option<DVec2>,
+    /// The cusp point q±(t_b) (`None` where the loop ends at a part without a real
+    /// envelope).
     pub cusp_b: Option<DVec2>,
 }
 
 /// The result of [`find_loops`].
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LoopReport {
+    /// The local loops of both envelopes (maximal runs with τ± < 0, kruppa-2023 eq. 9):
+    /// the left envelope's first, then the right's, each in parameter order (a loop through
+    /// the seam of a closed curve comes first on its side).
     pub loops: Vec<EnvelopeLoop>,
     /// Parameter intervals where ‖q′‖ ≤ |r′|: no real envelope on either side.
     pub no_envelope: Vec<(f64, f64)>,
 }
 
 impl LoopReport {
+    /// The loops of one envelope.
     pub fn loops_on(&self, side: Side) -> impl Iterator<Item = &EnvelopeLoop> {
         self.loops.iter().filter(move |l| l.side == side)
     }
@@ -246,6 +253,8 @@ impl LoopReport {
 /// Errors of loop detection.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LoopError {
+    /// The parameter tolerance given to [`find_loops`] is not positive and finite; holds
+    /// it.
     #[error("root tolerance {0} must be positive and finite")]
     Tolerance(f64),
 }

@@ -22,12 +22,24 @@ use crate::spline::SplineError;
 /// Errors of disk B-spline construction and evaluation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DbscError {
+    /// A control disk's radius is zero or negative (a disk ⟨C; r⟩ has r ∈ R⁺, wu-2021 eq. 1).
     #[error("control disk {index}: radius {radius} must be positive")]
-    Radius { index: usize, radius: f64 },
+    Radius {
+        /// Index of the disk in the slice given to the constructor.
+        index: usize,
+        /// The offending radius, in the disks' length unit.
+        radius: f64,
+    },
+    /// A control disk's centre or radius is NaN or infinite.
     #[error("control disk {index}: coordinate is not finite")]
-    NotFinite { index: usize },
+    NotFinite {
+        /// Index of the disk in the slice given to the constructor.
+        index: usize,
+    },
+    /// The knots or degree were rejected by the underlying B-spline constructor.
     #[error(transparent)]
     Spline(#[from] SplineError),
+    /// Any other invalid input, described by the message.
     #[error("{0}")]
     Invalid(String),
 }

@@ -28,8 +28,15 @@ pub enum Resolution {
 /// Errors of tessellation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TessellateError {
+    /// `Resolution::Count(0)` or zero rings were asked for.
     #[error("tessellation needs at least one step along t and one ring, got {steps} and {rings}")]
-    Resolution { steps: usize, rings: usize },
+    Resolution {
+        /// The requested number of steps along t (1 for [`Resolution::Chordal`]).
+        steps: usize,
+        /// The requested number of rings per side.
+        rings: usize,
+    },
+    /// The [`Resolution::Chordal`] tolerance is not positive and finite; holds it.
     #[error("chordal tolerance {0} must be positive and finite")]
     Tolerance(f64),
 }
@@ -38,9 +45,12 @@ pub enum TessellateError {
 /// loop-free.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Mesh {
+    /// Vertex positions: per t sample the centre q(t), then the left rings P⁺(t, u_k), then
+    /// the right rings P⁻(t, u_k), leaving out the points that do not exist.
     pub vertices: Vec<DVec2>,
     /// The parameters (t, u, side) of each vertex (side `None` for centre vertices).
     pub params: Vec<(f64, f64, Option<Side>)>,
+    /// Triangles as indices into `vertices`.
     pub triangles: Vec<[usize; 3]>,
 }
 

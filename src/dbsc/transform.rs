@@ -13,8 +13,10 @@ use glam::DVec3;
 /// Errors of transformations.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TransformError {
+    /// The scale factor is zero, NaN or infinite; holds it.
     #[error("scale factor {0} must be finite and non-zero")]
     Scale(f64),
+    /// The mirror line's two points coincide or are not finite, so it has no direction.
     #[error("mirror line has coincident end points")]
     DegenerateLine,
 }

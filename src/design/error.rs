@@ -6,18 +6,44 @@ use std::fmt;
 /// The top-level item of a design an error is about.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Item {
-    /// `[[stroke]]` number `index` (0-based) with its `name`.
-    Stroke { index: usize, name: String },
+    /// `[[stroke]]` number `index` (0-based) with its `name`. After loading has expanded
+    /// texts and split strokes at corners, `index` counts the expanded list.
+    Stroke {
+        /// 0-based position among the strokes.
+        index: usize,
+        /// The stroke's `name` key.
+        name: String,
+    },
     /// `[[circles]]` number `index` (0-based) with its `name`.
-    Circles { index: usize, name: String },
+    Circles {
+        /// 0-based position among the circle sequences.
+        index: usize,
+        /// The sequence's `name` key.
+        name: String,
+    },
     /// `[[operation]]` number `index` (0-based) with its `kind`.
-    Operation { index: usize, kind: String },
+    Operation {
+        /// 0-based position among the operations.
+        index: usize,
+        /// The operation's `kind` key as written in the file (`"profile"`, …).
+        kind: String,
+    },
     /// The `[outline]` table.
     Outline,
     /// `[[text]]` number `index` (0-based) with its `name`.
-    Text { index: usize, name: String },
+    Text {
+        /// 0-based position among the texts.
+        index: usize,
+        /// The text's `name` key.
+        name: String,
+    },
     /// `[[shape]]` number `index` (0-based) with its `name`.
-    Shape { index: usize, name: String },
+    Shape {
+        /// 0-based position among the shapes.
+        index: usize,
+        /// The shape's `name` key.
+        name: String,
+    },
 }
 
 impl fmt::Display for Item {
@@ -45,13 +71,23 @@ pub enum Part {
     /// Knot `i` of a stroke's `knots`.
     Knot(usize),
     /// Value `index` of attribute channel `channel`.
-    Attribute { channel: String, index: usize },
+    Attribute {
+        /// The channel's key under `[stroke.attributes]`: `power`, `depth` or `feed`.
+        channel: String,
+        /// 0-based index of the value (= control disk).
+        index: usize,
+    },
     /// A key of the item.
     Key(String),
     /// Contour `i` of a shape.
     Contour(usize),
     /// Point `point` of contour `contour` of a shape.
-    ContourPoint { contour: usize, point: usize },
+    ContourPoint {
+        /// 0-based index of the contour in the shape's `contours`.
+        contour: usize,
+        /// 0-based index of the point in that contour.
+        point: usize,
+    },
 }
 
 impl fmt::Display for Part {
@@ -74,11 +110,14 @@ impl fmt::Display for Part {
 pub enum ErrorKind {
     /// Syntax error, wrong type or unknown key, at a 1-based line and column when known.
     Parse {
+        /// 1-based line of the error, when the parser reports a position.
         line: Option<usize>,
+        /// 1-based column of the error (TOML: in characters), with `line`.
         column: Option<usize>,
+        /// The parser's message, without the parser's own position suffix.
         message: String,
     },
-    /// The file name has no `.toml` or `.json` extension.
+    /// The file name has none of the extensions `.toml`, `.json` and `.svg`.
     UnknownFormat,
     /// No top-level `version` key.
     MissingVersion,
@@ -94,20 +133,42 @@ pub enum ErrorKind {
     RepeatedCentre,
     /// Fewer disks/points/circles than the curve needs.
     TooFew {
+        /// What is counted, as a plural noun: `"disks"`, `"points"`, `"circles"`, ….
         what: &'static str,
+        /// The least number the item needs.
         need: usize,
+        /// The number given.
         got: usize,
     },
     /// A knot vector of the wrong length.
-    KnotCount { got: usize, expected: usize },
+    KnotCount {
+        /// Number of knots given.
+        got: usize,
+        /// Required number: disks + degree + 1 (open), disks + 1 breakpoints (closed).
+        expected: usize,
+    },
     /// A knot smaller than the one before it (or, for closed breakpoints, not larger).
-    KnotDecreasing { prev: f64, next: f64 },
+    KnotDecreasing {
+        /// The knot before the offending one.
+        prev: f64,
+        /// The offending knot.
+        next: f64,
+    },
     /// Any other knot-vector problem (multiplicity, empty domain).
     Knots(String),
     /// An attribute channel with one value per control disk expected.
-    AttributeCount { got: usize, expected: usize },
+    AttributeCount {
+        /// Number of values in the channel.
+        got: usize,
+        /// Number of control disks
+        /// ([`Stroke::control_disk_count`](super::Stroke::control_disk_count)).
+        expected: usize,
+    },
     /// Two items with the same name.
-    DuplicateName { first: String },
+    DuplicateName {
+        /// The item that has the name first, as displayed (e.g. `stroke 0 "s1"`).
+        first: String,
+    },
     /// An operation names a stroke that does not exist.
     UnknownStroke(String),
     /// A value outside its allowed range, or keys that do not go together.
@@ -167,8 +228,11 @@ impl fmt::Display for ErrorKind {
 pub struct ErrorInfo {
     /// The file name given to the loader.
     pub file: String,
+    /// The item at fault; `None` for an error about the whole file.
     pub item: Option<Item>,
+    /// The part of the item at fault; `None` when the error concerns the whole item.
     pub part: Option<Part>,
+    /// What went wrong.
     pub kind: ErrorKind,
 }
 

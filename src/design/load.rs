@@ -8,7 +8,9 @@ use super::validate::validate;
 /// A design file's syntax.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// TOML (`.toml`), the format of the examples in [`crate::design`].
     Toml,
+    /// JSON (`.json`) with the same keys.
     Json,
 }
 

@@ -55,9 +55,10 @@ fn is_false(b: &bool) -> bool {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Design {
-    /// Format version; always [`VERSION`].
+    /// `version` (required, checked before anything else): always [`VERSION`].
     pub version: u32,
-    /// Length unit of every coordinate, radius and length parameter.
+    /// `units`: `"mm"` or `"inch"`, the length unit of every coordinate, radius and length
+    /// parameter; default mm.
     #[serde(default)]
     pub units: Units,
     /// How outlines are computed.
@@ -95,9 +96,13 @@ pub use crate::units::Units;
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outline {
+    /// `method`: `"skin"`, `"envelope"`, `"re"` or `"mph"`; unset means `skin`. Read by the
+    /// `outline` command, whose `--method` overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub method: Option<OutlineMethod>,
-    /// Approximation tolerance in design units.
+    /// `tolerance`: approximation tolerance in design units, > 0 and at most
+    /// [`MAX_COORD`](super::MAX_COORD). Read by the `outline` command, whose `--tolerance`
+    /// overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
 }
@@ -121,43 +126,61 @@ pub enum OutlineMethod {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Stroke {
+    /// `name` (required): non-empty and unique among strokes, circle sequences and shapes;
+    /// operations' `strokes` lists refer to it.
     pub name: String,
+    /// `degree`: the B-spline degree p, in 1..=[`MAX_DEGREE`](super::MAX_DEGREE); default
+    /// [`DEFAULT_DEGREE`]. Without `knots` the curve may be built with a lower degree
+    /// ([`Stroke::effective_degree`]).
     #[serde(default = "default_degree")]
     pub degree: usize,
+    /// `closed`: a periodic stroke whose last disk joins its first (the first is not
+    /// repeated at the end); default false.
     #[serde(default, skip_serializing_if = "is_false")]
     pub closed: bool,
-    /// Control disks `[x, y, r]`.
+    /// `disks`: control disks `[x, y, r]` (exactly three numbers each), at most
+    /// [`MAX_ITEMS`](super::MAX_ITEMS); finite, |x|, |y|, r ≤ [`MAX_COORD`](super::MAX_COORD),
+    /// r ≥ [`MIN_RADIUS`](super::MIN_RADIUS), none (nearly) equal to the one before it.
+    /// Exactly one of `disks` and `points` is given.
     #[serde(
         default,
         skip_serializing_if = "Option::is_none",
         deserialize_with = "xyr::opt_list"
     )]
     pub disks: Option<Vec<[f64; 3]>>,
-    /// Open: the full knot vector (disks + degree + 1 knots). Closed: the disks + 1
-    /// breakpoints of one period.
+    /// `knots` (`disks` strokes only). Open: the full knot vector (disks + degree + 1
+    /// knots, non-decreasing, multiplicity ≤ degree + 1). Closed: the disks + 1 strictly
+    /// increasing breakpoints of one period. Unset: clamped uniform (open) or uniform
+    /// breakpoints (closed) on [0, 1].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub knots: Option<Vec<f64>>,
-    /// Data points `[x, y, r]` the stroke interpolates or approximates.
+    /// `points`: data disks `[x, y, r]` the stroke interpolates or approximates, with the
+    /// limits of `disks` and no centre equal to the one before it.
     #[serde(
         default,
         skip_serializing_if = "Option::is_none",
         deserialize_with = "xyr::opt_list"
     )]
     pub points: Option<Vec<[f64; 3]>>,
-    /// How `points` are fitted (default: interpolate).
+    /// `fit` (`points` strokes only): `"interpolate"` or `"approximate"`; default
+    /// interpolate.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit: Option<Fit>,
-    /// Parameters of the `points` (default: chord length).
+    /// `parametrization` (`points` strokes only): `"chord"`, `"centripetal"` or
+    /// `"uniform"`; default chord length.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub parametrization: Option<Parametrization>,
-    /// Number of control disks of an approximation.
+    /// `control_disks`: number of control disks of an approximation; required for, and only
+    /// for, `fit = "approximate"`, between 2 (3 when closed) and the number of points.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control_disks: Option<usize>,
-    /// Values on the control disks, blended like the radius (wu-2021 eq. 18).
+    /// `[stroke.attributes]`: values on the control disks, blended like the radius
+    /// (wu-2021 eq. 18); each channel has one value per control disk.
     #[serde(default, skip_serializing_if = "Attributes::is_empty")]
     pub attributes: Attributes,
-    /// Indices of `disks` or `points` that are corners: the stroke is split there into
-    /// pieces that share the corner disk (see [`crate::design::Corner`]).
+    /// `corners`: distinct indices of `disks` or `points` that are corners: the stroke is
+    /// split there into pieces that share the corner disk (see [`crate::design::Corner`]).
+    /// Not combined with `knots`; the end indices of an open stroke are ignored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corners: Option<Vec<usize>>,
 }
@@ -236,18 +259,20 @@ pub enum Parametrization {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Attributes {
-    /// Laser power in percent of the machine's maximum (0–100).
+    /// `power`: laser power in percent of the machine's maximum, each in 0..=100.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub power: Option<Vec<f64>>,
-    /// Cut depth (positive, design units).
+    /// `depth`: cut depth in design units, each in 0..=[`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth: Option<Vec<f64>>,
-    /// Feed rate (design units per minute, positive).
+    /// `feed`: feed rate in design units per minute, each in
+    /// (0, [`MAX_FEED`](super::MAX_FEED)].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub feed: Option<Vec<f64>>,
 }
 
 impl Attributes {
+    /// True when no channel is set (the `attributes` table is then not written).
     pub fn is_empty(&self) -> bool {
         self.power.is_none() && self.depth.is_none() && self.feed.is_none()
     }
@@ -272,10 +297,14 @@ impl Attributes {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CircleSeq {
+    /// `name` (required): non-empty and unique among strokes, circle sequences and shapes.
     pub name: String,
+    /// `closed`: the sequence wraps from its last circle to its first (which is not
+    /// repeated); default false. At least 3 circles when closed, 2 when open.
     #[serde(default, skip_serializing_if = "is_false")]
     pub closed: bool,
-    /// Circles `[x, y, r]` in order.
+    /// `circles` (required): circles `[x, y, r]` in order, with the limits of a stroke's
+    /// `disks`.
     #[serde(deserialize_with = "xyr::list")]
     pub circles: Vec<[f64; 3]>,
 }
@@ -299,6 +328,7 @@ pub enum OperationKind {
 }
 
 impl OperationKind {
+    /// The kind's value of the `kind` key in design files.
     pub fn as_str(self) -> &'static str {
         match self {
             OperationKind::Profile => "profile",
@@ -315,9 +345,13 @@ impl OperationKind {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProfileSide {
+    /// `"on"`: the tool centre follows the outline.
     #[default]
     On,
+    /// `"outside"`: the path is offset outwards by the tool radius (or half the kerf), so
+    /// the part keeps its size.
     Outside,
+    /// `"inside"`: the path is offset inwards by the tool radius, so a hole keeps its size.
     Inside,
 }
 
@@ -338,8 +372,11 @@ pub enum HoleAt {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FillPattern {
+    /// `"hatch"`: parallel lines `spacing` apart at `angle` (with `cross_hatch`, a second
+    /// set at angle + 90°).
     #[default]
     Hatch,
+    /// `"concentric"`: rings offset inwards from the outline, `spacing` apart.
     Concentric,
 }
 
@@ -347,11 +384,13 @@ pub enum FillPattern {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Tabs {
-    /// Tabs per contour.
+    /// `tabs.count`: tabs per contour, 1..=[`MAX_TABS`](super::MAX_TABS).
     pub count: u32,
-    /// Tab length along the contour.
+    /// `tabs.width`: tab length along the contour, design units, in
+    /// (0, [`MAX_COORD`](super::MAX_COORD)] (the toolpath gap adds the tool diameter).
     pub width: f64,
-    /// Tab height above the cut's bottom.
+    /// `tabs.height`: tab height above the cut's bottom, design units, in
+    /// (0, [`MAX_COORD`](super::MAX_COORD)].
     pub height: f64,
 }
 
@@ -360,75 +399,102 @@ pub struct Tabs {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Operation {
+    /// `kind` (required): which operation; decides which of the keys below apply.
     pub kind: OperationKind,
-    /// The strokes, circle sequences and shapes it applies to, by name (default: all).
+    /// `strokes`: the strokes, circle sequences, shapes and texts it applies to, by name;
+    /// non-empty, every name defined. Unset: all of them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strokes: Option<Vec<String>>,
     // Common to all kinds.
-    /// Number of passes.
+    /// `passes`: number of passes, in 1..=[`MAX_PASSES`](super::MAX_PASSES); default 1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub passes: Option<u32>,
-    /// Depth per pass.
+    /// `step_down`: depth per pass, design units, > 0; `depth / step_down` at most
+    /// [`MAX_PASSES`](super::MAX_PASSES). Unset: `depth / passes` when both are given, else
+    /// the tool diameter.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step_down: Option<f64>,
-    /// Total depth (positive, downwards).
+    /// `depth`: total cut depth below the surface, design units, > 0 and at most
+    /// [`MAX_COORD`](super::MAX_COORD). Required by router operations other than vcarve;
+    /// ignored by lasers.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth: Option<f64>,
-    /// Feed rate, design units per minute.
+    /// `feed`: feed rate, design units per minute, in (0, [`MAX_FEED`](super::MAX_FEED)].
+    /// Unset: the machine profile's default feed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub feed: Option<f64>,
-    /// Laser power in percent (0–100).
+    /// `power`: laser power in percent, 0..=100. Unset: the profile's
+    /// `laser.default_power`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub power: Option<f64>,
+    /// `tabs`: holding tabs `{count, width, height}`; count in 1..=[`MAX_TABS`](super::MAX_TABS),
+    /// width and height > 0 and at most [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tabs: Option<Tabs>,
-    /// Lead-in length.
+    /// `lead_in`: length of an arc lead-in, design units, ≥ 0 and at most
+    /// [`MAX_COORD`](super::MAX_COORD); 0 or unset: no lead-in.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lead_in: Option<f64>,
     // profile
+    /// `side` (profile only): where the cut runs relative to the outline. Unset: `on` for a
+    /// laser profile, `outside` otherwise (not [`ProfileSide`]'s `Default`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub side: Option<ProfileSide>,
     // channel
-    /// Channel width.
+    /// `width` (channel only, required): channel width, design units, > 0 and at most
+    /// [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub width: Option<f64>,
     // backboard
-    /// Distance of the backboard contour from the outlines.
+    /// `margin` (backboard only): distance of the backboard contour from the outlines,
+    /// design units, > 0 and at most [`MAX_COORD`](super::MAX_COORD); default 5 mm.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margin: Option<f64>,
-    /// Smallest concave corner radius of the backboard contour.
+    /// `min_inner_radius` (backboard only): smallest concave corner radius of the backboard
+    /// contour, design units, ≥ 0 and at most [`MAX_COORD`](super::MAX_COORD); default the
+    /// tool radius.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_inner_radius: Option<f64>,
     // holes
+    /// `diameter` (holes only, required): hole diameter in design units, > 0 and at most
+    /// [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub diameter: Option<f64>,
+    /// `at` (holes only): `"ends"`, `"start"` or `"end"`; default `ends`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<HoleAt>,
     // fill
+    /// `pattern` (fill only): `"hatch"` or `"concentric"`; default `hatch`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pattern: Option<FillPattern>,
-    /// fill: hatch angle in degrees from +x; vcarve: the V-bit's included angle in degrees.
+    /// `angle` (fill and vcarve). Fill: hatch angle in degrees from +x, within ±360,
+    /// default 0. Vcarve (required): the V-bit's included angle in degrees, 0 < angle < 180.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub angle: Option<f64>,
-    /// Distance between hatch lines or concentric rings.
+    /// `spacing` (fill only, required): distance between hatch lines or concentric rings,
+    /// design units, > 0 and at most [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spacing: Option<f64>,
-    /// A second hatch at angle + 90°.
+    /// `cross_hatch` (fill only): a second hatch at angle + 90°; default false.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cross_hatch: Option<bool>,
-    /// Alternate the direction of consecutive hatch lines.
+    /// `alternate` (fill only): alternate the direction of consecutive hatch lines;
+    /// default true.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alternate: Option<bool>,
     // vcarve
-    /// Depth cap of a V-carve (flat bottom beyond it).
+    /// `max_depth` (vcarve only): depth cap of a V-carve (flat bottom beyond it), design
+    /// units, > 0 and at most [`MAX_COORD`](super::MAX_COORD); default `depth`, else
+    /// uncapped.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<f64>,
-    /// Air assist during the operation (lasers; default: the profile's `laser.air_assist`).
+    /// `air_assist`: air assist during the operation (lasers; default: the profile's
+    /// `laser.air_assist`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub air_assist: Option<bool>,
-    /// The skin route of profile and backboard cuts: `skin` (Bézier skin, general offset),
-    /// `re` or `mph` (exact MAT offsets of the RE/MPH skin, re-skinning-cnc eq. 13).
-    /// Unset: the build's `--method`.
+    /// `method`: the skin route of profile and backboard cuts: `skin` (Bézier skin,
+    /// general offset), `re` or `mph` (exact MAT offsets of the RE/MPH skin,
+    /// re-skinning-cnc eq. 13). Unset: the build's `--method`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub method: Option<OutlineMethod>,
 }

@@ -77,6 +77,7 @@ pub enum FillRule {
 }
 
 impl FillRule {
+    /// The rule's value of the `fill_rule` key in design files.
     pub fn as_str(self) -> &'static str {
         match self {
             FillRule::Nonzero => "nonzero",
@@ -89,11 +90,14 @@ impl FillRule {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Shape {
+    /// `name` (required): non-empty and unique among strokes, circle sequences and shapes.
     pub name: String,
-    /// How the contours make a region (default nonzero).
+    /// `fill_rule`: `"nonzero"` or `"evenodd"`, how the contours make a region; default
+    /// nonzero.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fill_rule: Option<FillRule>,
-    /// Closed polylines `[[x, y], ...]`: outer boundaries and holes.
+    /// `contours` (required): closed polylines `[[x, y], ...]`, outer boundaries and holes;
+    /// at least one, each with at least 3 points, a non-zero area, not crossing or touching itself.
     #[serde(deserialize_with = "xy::rings")]
     pub contours: Vec<Vec<[f64; 2]>>,
 }

@@ -89,6 +89,7 @@ impl Default for ImportOptions {
 pub struct Skipped {
     /// The element's id, or `<tag> #k` (k-th such element in document order) without one.
     pub id: String,
+    /// Why it was not imported, in words (e.g. "raster images are not imported").
     pub reason: String,
 }
 
@@ -98,6 +99,7 @@ pub struct Imported {
     /// The design: one stroke per stroked subpath (with `corners`), not yet expanded, and
     /// one shape per filled path.
     pub design: Design,
+    /// The elements that were not imported, with their reasons.
     pub skipped: Vec<Skipped>,
     /// The largest distance between a fitted spine and its SVG centre line, mm.
     pub max_deviation: f64,

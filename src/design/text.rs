@@ -100,10 +100,13 @@ impl Font {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Align {
+    /// `"left"`: lines start at the anchor.
     #[default]
     Left,
+    /// `"centre"` (or `"center"`): lines are centred on the anchor.
     #[serde(alias = "center")]
     Centre,
+    /// `"right"`: lines end at the anchor.
     Right,
 }
 
@@ -156,26 +159,36 @@ fn parse_jhf(text: &str) -> Vec<Glyph> {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Text {
+    /// `name` (required): the prefix of the generated strokes' names
+    /// (`<name>/<char index>:<char>/<k>`); operations' `strokes` lists may name the text to
+    /// mean all of its strokes.
     pub name: String,
+    /// `text` (required): the characters to set, lines split at `\n`; printable ASCII
+    /// (space to `~`) only, with at least one visible character.
     pub text: String,
+    /// `font`: `"sans"` or `"script"`; default `sans`.
     #[serde(default)]
     pub font: Font,
-    /// Cap height (baseline to cap line), design units.
+    /// `height` (required): cap height (baseline to cap line), design units, > 0.
     pub height: f64,
-    /// Stroke width (twice the stroke radius), design units.
+    /// `width` (required): stroke width (twice the stroke radius), design units, > 0.
     pub width: f64,
-    /// Anchor on the first line's baseline.
+    /// `at`: anchor `[x, y]` on the first line's baseline, finite; default [0, 0].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<[f64; 2]>,
+    /// `align`: alignment of each line about `at`; default `left`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub align: Option<Align>,
-    /// Extra space between letters, design units.
+    /// `letter_spacing`: extra space between letters, design units, finite (may be
+    /// negative); default 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub letter_spacing: Option<f64>,
-    /// Baseline to baseline, in multiples of `height`.
+    /// `line_spacing`: baseline to baseline, in multiples of `height`, > 0; default
+    /// [`DEFAULT_LINE_SPACING`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub line_spacing: Option<f64>,
-    /// Kerning of neighbouring letters; default [`Kerning::Auto`].
+    /// `kerning`: `"auto"` or `"none"`, kerning of neighbouring letters; default
+    /// [`Kerning::Auto`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kerning: Option<Kerning>,
 }

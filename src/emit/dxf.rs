@@ -3,7 +3,7 @@
 //! closed flag (70 = 1) on closed contours, `$INSUNITS` = 4 (mm). Arcs are split into pieces
 //! of at most 120° so every bulge stays below tan(30°) and full circles survive.
 
-use super::geometry::{Contour, Seg, bounds, contours, split_arc, validate};
+use super::geometry::{CutContour, Seg, bounds, contours, split_arc, validate};
 use super::laser_svg::{SVG_MAX_SWEEP, color_of};
 use super::{EmitError, check_tolerance, fnum};
 use crate::machine::OperationColors;
@@ -40,7 +40,7 @@ pub struct Vertex {
 
 /// The vertices of a contour and whether it is closed (the closing vertex dropped, its
 /// segment's bulge on the last vertex).
-pub fn polyline(c: &Contour, close_tol: f64) -> (Vec<Vertex>, bool) {
+pub fn polyline(c: &CutContour, close_tol: f64) -> (Vec<Vertex>, bool) {
     let mut vs = vec![Vertex {
         p: c.start,
         bulge: 0.0,

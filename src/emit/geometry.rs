@@ -1,5 +1,10 @@
 //! Validation of toolpath moves and their plane geometry (contours of lines and arcs), shared
 //! by all writers.
+//!
+//! A [`CutContour`] is a run of a toolpath's cutting segments as the writers emit it; not to
+//! be confused with [`OutlineContour`](super::outline::OutlineContour) (a flattened contour
+//! of the outline document) or [`SimContour`](crate::sim::checks::SimContour) (a cut contour
+//! the G-code checker rebuilt from simulated moves).
 
 use super::{EmitError, Location};
 use crate::geom::Arc;
@@ -38,7 +43,7 @@ impl Seg {
 /// A connected run of cutting segments in the plane: one cut, or the part of a cut between
 /// two rapids. Plunges and retracts (pure z moves) and dwells leave no trace here.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Contour {
+pub struct CutContour {
     /// Index of the operation in the toolpath.
     pub op: usize,
     /// Kind of that operation (chooses the colour or layer).
@@ -53,7 +58,7 @@ pub struct Contour {
     pub power: f64,
 }
 
-impl Contour {
+impl CutContour {
     /// End point of the contour (the start when it has no segments).
     pub fn end(&self) -> DVec2 {
         self.segs.last().map_or(self.start, |s| s.to())
@@ -140,7 +145,7 @@ pub fn validate(tp: &Toolpath, tol: f64) -> Result<(), EmitError> {
 }
 
 /// The plane contours of every cut, in cut order (call [`validate`] first).
-pub fn contours(tp: &Toolpath) -> Vec<Contour> {
+pub fn contours(tp: &Toolpath) -> Vec<CutContour> {
     let mut out = Vec::new();
     for (oi, op) in tp.operations.iter().enumerate() {
         for (ci, cut) in op.cuts.iter().enumerate() {
@@ -150,8 +155,8 @@ pub fn contours(tp: &Toolpath) -> Vec<Contour> {
     out
 }
 
-fn cut_contours(op: usize, kind: OperationKind, ci: usize, cut: &Cut, out: &mut Vec<Contour>) {
-    let new = |start: DVec2| Contour {
+fn cut_contours(op: usize, kind: OperationKind, ci: usize, cut: &Cut, out: &mut Vec<CutContour>) {
+    let new = |start: DVec2| CutContour {
         op,
         kind,
         cut: ci,
@@ -202,7 +207,7 @@ fn cut_contours(op: usize, kind: OperationKind, ci: usize, cut: &Cut, out: &mut 
 
 /// The exact bounding box (lo, hi) of `cs` and `extra` points, arcs included through their
 /// axis-extreme points; `None` when there is nothing.
-pub fn bounds(cs: &[Contour], extra: &[DVec2]) -> Option<(DVec2, DVec2)> {
+pub fn bounds(cs: &[CutContour], extra: &[DVec2]) -> Option<(DVec2, DVec2)> {
     let mut b: Option<(DVec2, DVec2)> = None;
     let mut add = |p: DVec2| {
         b = Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))));

@@ -3,7 +3,7 @@
 //! `<path>` per cut in cut order, arcs as SVG `A` commands. The design's y axis points up, SVG's
 //! down: y is flipped about the page.
 
-use super::geometry::{Contour, Seg, bounds, contours, split_arc, validate};
+use super::geometry::{CutContour, Seg, bounds, contours, split_arc, validate};
 use super::svg_page::SvgPage;
 use super::{EmitError, check_tolerance, fnum};
 use crate::machine::{OperationColors, Profile};
@@ -85,7 +85,7 @@ impl PageFrame {
     }
 
     /// The frame of the bounding box of `cs` and `extra` grown by `margin`.
-    pub fn around(cs: &[Contour], extra: &[DVec2], margin: f64) -> PageFrame {
+    pub fn around(cs: &[CutContour], extra: &[DVec2], margin: f64) -> PageFrame {
         let (lo, hi) = bounds(cs, extra).unwrap_or((DVec2::ZERO, DVec2::ZERO));
         let lo = lo - DVec2::splat(margin);
         let hi = hi + DVec2::splat(margin);
@@ -103,7 +103,7 @@ impl PageFrame {
 /// `Z`; a closing arc is drawn and then `Z` joins no gap).
 /// Arcs are split into pieces of at most [`SVG_MAX_SWEEP`]; the sweep flag is 0 for a
 /// counter-clockwise design arc because the page flips y.
-pub fn path_data(cs: &[&Contour], frame: &PageFrame, close_tol: f64) -> String {
+pub fn path_data(cs: &[&CutContour], frame: &PageFrame, close_tol: f64) -> String {
     let mut d = String::new();
     for c in cs {
         let p = frame.map(c.start);
@@ -200,7 +200,7 @@ pub fn laser_svg(
             ],
         );
         for ci in 0..op.cuts.len() {
-            let parts: Vec<&Contour> = cs.iter().filter(|c| c.op == oi && c.cut == ci).collect();
+            let parts: Vec<&CutContour> = cs.iter().filter(|c| c.op == oi && c.cut == ci).collect();
             if parts.is_empty() {
                 continue;
             }

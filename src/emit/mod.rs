@@ -15,7 +15,7 @@ pub mod svg_page;
 
 pub use dxf::{DxfOptions, dxf};
 pub use gcode::{GROUP_MARK, GcodeOptions, LineOrigin, gcode, gcode_with_origins};
-pub use geometry::{Contour, Seg};
+pub use geometry::{CutContour, Seg};
 pub use laser_svg::{LaserSvgOptions, Page, laser_svg};
 pub use svg_page::SvgPage;
 

@@ -7,6 +7,11 @@
 //! Roles: `spine`, `envelope` (each side with its caps), `outline` (the closed
 //! intersection-free contours of the chosen method), `knot-circle`, `control-disk`,
 //! `offset`. Markers carry point features: envelope loops and spans without an envelope.
+//!
+//! An [`OutlineContour`] is a drawn contour of this document; not to be confused with
+//! [`CutContour`](super::CutContour) (a run of emitted cutting segments of a toolpath) or
+//! [`SimContour`](crate::sim::checks::SimContour) (a cut contour the G-code checker rebuilt
+//! from simulated moves).
 
 use super::preview::draw::{Frame, SvgPage, num};
 use crate::geom::DVec2;
@@ -89,7 +94,7 @@ as_str_display!(MarkerKind {
 
 /// One flattened contour with its role.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Contour {
+pub struct OutlineContour {
     /// What the contour is.
     pub role: ContourRole,
     /// Whether the last point joins the first.
@@ -103,7 +108,7 @@ pub struct Contour {
 /// the 1e-14 rounding residue an outline's closing point carries.
 const REPEAT_REL: f64 = 1e-9;
 
-impl Contour {
+impl OutlineContour {
     /// A contour of `points`. Closed contours never repeat their first point at the end (the
     /// `closed` flag says it; the convention of every output: DXF closed polylines, SVG `Z`
     /// after the last distinct point): a last point within `REPEAT_REL` of the first is
@@ -119,7 +124,7 @@ impl Contour {
                 break;
             }
         }
-        Contour {
+        OutlineContour {
             role,
             closed,
             points: pts,
@@ -155,7 +160,7 @@ pub struct StrokeOutline {
     /// The stroke's or circle sequence's name.
     pub name: String,
     /// Drawn contours (spine, envelope, outline, offsets).
-    pub contours: Vec<Contour>,
+    pub contours: Vec<OutlineContour>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     /// Reference circles.
     pub circles: Vec<RefCircle>,
@@ -330,7 +335,7 @@ mod tests {
             units: "mm".into(),
             strokes: vec![StrokeOutline {
                 name: "s<1>".into(),
-                contours: vec![Contour::new(
+                contours: vec![OutlineContour::new(
                     ContourRole::Outline,
                     true,
                     &[

@@ -8,7 +8,8 @@ use crate::dbsc::flatten::{flatten, flatten_disks};
 use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
 use crate::emit::outline::{
-    CircleRole, Contour, ContourRole, Marker, MarkerKind, OutlineDoc, RefCircle, StrokeOutline,
+    CircleRole, ContourRole, Marker, MarkerKind, OutlineContour, OutlineDoc, RefCircle,
+    StrokeOutline,
 };
 use crate::geom::{Circle, DVec2, Path};
 use crate::skin::coverage::{Uncovered, uncovered};
@@ -262,8 +263,8 @@ fn loop_markers(c: &DiskBSpline, report: &LoopReport) -> Vec<Marker> {
     m
 }
 
-fn flat(role: ContourRole, closed: bool, pts: &[DVec2]) -> Contour {
-    Contour::new(role, closed, pts)
+fn flat(role: ContourRole, closed: bool, pts: &[DVec2]) -> OutlineContour {
+    OutlineContour::new(role, closed, pts)
 }
 
 /// The drawing of one stroke: spine, envelope pieces with caps, and (skin method) the
@@ -454,9 +455,9 @@ fn re_contours(
     closed: bool,
     interp: Interp,
     opts: &OutlineOptions,
-) -> Result<(Vec<Contour>, Vec<Marker>), ReOutlineError> {
+) -> Result<(Vec<OutlineContour>, Vec<Marker>), ReOutlineError> {
     let o = re_outline(circles, touches, closed, interp, opts.tolerance)?;
-    let mut contours: Vec<Contour> = o
+    let mut contours: Vec<OutlineContour> = o
         .contours
         .iter()
         .map(|c| flat(ContourRole::Outline, true, c))
@@ -469,7 +470,7 @@ fn re_contours(
     Ok((contours, re_markers(&o)))
 }
 
-fn offset_contours(paths: &[Path], delta: f64, opts: &OutlineOptions) -> Vec<Contour> {
+fn offset_contours(paths: &[Path], delta: f64, opts: &OutlineOptions) -> Vec<OutlineContour> {
     region_offsets(paths, delta, opts.tolerance)
         .iter()
         .filter(|c| c.len() >= 3)
@@ -547,7 +548,7 @@ pub fn outline_document_with(
             }
             None => {
                 let item = circles_outline(design, &seq.name, &circles, seq.closed)?;
-                let mut cs: Vec<Contour> = item
+                let mut cs: Vec<OutlineContour> = item
                     .contours
                     .iter()
                     .map(|p| flat(ContourRole::Outline, true, &p.flatten(opts.tolerance)))

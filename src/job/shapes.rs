@@ -11,7 +11,7 @@
 
 use super::outline::{ItemOutline, OutlineOptions, region_offsets};
 use crate::design::{Design, Shape};
-use crate::emit::outline::{Contour, ContourRole, StrokeOutline};
+use crate::emit::outline::{ContourRole, OutlineContour, StrokeOutline};
 use crate::geom::{DVec2, Path};
 use serde::Serialize;
 
@@ -46,17 +46,19 @@ pub fn shape_drawings(design: &Design, opts: &OutlineOptions) -> Vec<StrokeOutli
         .iter()
         .map(|s| {
             let item = shape_outline(s);
-            let mut contours: Vec<Contour> = item
+            let mut contours: Vec<OutlineContour> = item
                 .contours
                 .iter()
-                .map(|p| Contour::new(ContourRole::Outline, true, &p.flatten(opts.tolerance)))
+                .map(|p| {
+                    OutlineContour::new(ContourRole::Outline, true, &p.flatten(opts.tolerance))
+                })
                 .collect();
             if let Some(delta) = opts.offset {
                 contours.extend(
                     region_offsets(&item.contours, delta, opts.tolerance)
                         .iter()
                         .filter(|c| c.len() >= 3)
-                        .map(|c| Contour::new(ContourRole::Offset, true, c)),
+                        .map(|c| OutlineContour::new(ContourRole::Offset, true, c)),
                 );
             }
             StrokeOutline {

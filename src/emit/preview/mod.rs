@@ -19,7 +19,7 @@ pub mod html;
 pub mod png;
 pub mod svg;
 
-use crate::sim::checks::{Contour, cut_contours, is_cutting};
+use crate::sim::checks::{SimContour, cut_contours, is_cutting};
 use crate::sim::timeline::{Timeline, timeline};
 use crate::sim::{
     CheckConfig, Finding, MachineKind, Motion, MotionKind, Motions, Program, ToolState,
@@ -52,7 +52,7 @@ pub struct Scene {
     /// Checker configuration (mm) the scene was read with: what counts as cutting.
     pub cfg: CheckConfig,
     /// The checker's cut contours (flattened at `cfg.flatten_tolerance`).
-    pub contours: Vec<Contour>,
+    pub contours: Vec<SimContour>,
     /// The checker's findings.
     pub findings: Vec<Finding>,
     /// Whether the checker ran (a scene of a toolpath without G-code is not checked).
@@ -324,7 +324,7 @@ impl Scene {
     }
 
     /// The value a contour is coloured by: the largest over its motions.
-    pub fn contour_value(&self, c: &Contour) -> f64 {
+    pub fn contour_value(&self, c: &SimContour) -> f64 {
         c.sources
             .iter()
             .filter_map(|&k| self.motions.get(k as usize))
@@ -333,7 +333,7 @@ impl Scene {
     }
 
     /// Operation of a contour (that of its first motion).
-    pub fn contour_op(&self, c: &Contour) -> usize {
+    pub fn contour_op(&self, c: &SimContour) -> usize {
         c.sources
             .first()
             .and_then(|&k| self.op_of.get(k as usize))

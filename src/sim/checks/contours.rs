@@ -1,5 +1,10 @@
 //! Cut contours: maximal runs of cutting moves at one depth, flattened for the geometric
 //! checks, and the self-intersection and crossing checks on them.
+//!
+//! A [`SimContour`] is rebuilt from the simulated moves of a program; not to be confused with
+//! [`CutContour`](crate::emit::CutContour) (a run of cutting segments the writers emit from a
+//! toolpath) or [`OutlineContour`](crate::emit::outline::OutlineContour) (a flattened contour
+//! of the outline document).
 
 use super::intersect::SegmentSet;
 use crate::geom::DVec2;
@@ -24,7 +29,7 @@ pub fn is_cutting(m: &Motion, cfg: &CheckConfig) -> bool {
 /// z (plunges, ramps, helices) and dwells end a contour without joining one, so the passes
 /// of a multi-depth cut are separate contours.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Contour {
+pub struct SimContour {
     /// Flattened xy points (sagitta ≤ the flatten tolerance).
     pub points: Vec<DVec2>,
     /// Motion index of the segment ending at `points[k + 1]`.
@@ -63,7 +68,7 @@ pub fn group_at(marks: &[(usize, Option<u32>)], line: usize) -> Option<u32> {
 }
 
 /// The cut contours of a program, arcs flattened to `cfg.flatten_tolerance` (mm).
-pub fn cut_contours(motions: &Motions, cfg: &CheckConfig) -> Vec<Contour> {
+pub fn cut_contours(motions: &Motions, cfg: &CheckConfig) -> Vec<SimContour> {
     cut_contours_marked(motions, &[], cfg)
 }
 
@@ -73,9 +78,9 @@ pub fn cut_contours_marked(
     motions: &Motions,
     marks: &[(usize, Option<u32>)],
     cfg: &CheckConfig,
-) -> Vec<Contour> {
-    let mut out: Vec<Contour> = Vec::new();
-    let mut cur: Option<Contour> = None;
+) -> Vec<SimContour> {
+    let mut out: Vec<SimContour> = Vec::new();
+    let mut cur: Option<SimContour> = None;
     for (k, m) in motions.iter().enumerate() {
         let planar = m.from.z == m.to.z;
         if matches!(m.kind, MotionKind::Dwell { .. }) {
@@ -92,7 +97,7 @@ pub fn cut_contours_marked(
         {
             out.extend(cur.take());
         }
-        let c = cur.get_or_insert_with(|| Contour {
+        let c = cur.get_or_insert_with(|| SimContour {
             points: vec![m.from.truncate()],
             sources: Vec::new(),
             z: m.from.z,
@@ -124,7 +129,7 @@ pub fn cut_contours_marked(
 /// backboards, other tools' programs) are judged strictly.
 /// One finding per pair of source lines.
 pub fn intersection_findings(
-    contours: &[Contour],
+    contours: &[SimContour],
     motions: &Motions,
     cfg: &CheckConfig,
 ) -> Vec<Finding> {

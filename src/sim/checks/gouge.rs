@@ -1,7 +1,7 @@
 //! Gouge check: the tool centre must stay at least `tool_radius − gouge_tolerance` away from
 //! the design boundary, on the side the profile asks for.
 
-use super::contours::{Contour, is_cutting};
+use super::contours::{SimContour, is_cutting};
 use crate::geom::predicates::edge_winding;
 use crate::geom::{DVec2, Line};
 use crate::sim::config::CheckConfig;
@@ -71,7 +71,7 @@ type Indexed = GeomWithData<RLine<[f64; 2]>, usize>;
 /// lies on the wrong side of the nearest boundary. One finding per offending line.
 pub fn gouge_findings(
     motions: &Motions,
-    contours: &[Contour],
+    contours: &[SimContour],
     design: &[DesignBoundary],
     cfg: &CheckConfig,
 ) -> Vec<Finding> {

@@ -23,7 +23,7 @@ pub mod gouge;
 pub mod intersect;
 pub mod machine;
 
-pub use contours::{Contour, cut_contours, is_cutting};
+pub use contours::{SimContour, cut_contours, is_cutting};
 pub use gouge::{DesignBoundary, KeepSide};
 pub use intersect::{Contact, Seg, SegmentSet};
 
