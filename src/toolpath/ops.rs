@@ -25,8 +25,8 @@ pub enum ProfileSide {
 pub fn profile(region: &Region, side: ProfileSide, tool_radius: f64, eps: f64) -> Vec<Path> {
     let moved = match side {
         ProfileSide::On => region.clone(),
-        ProfileSide::Outside => region.offset(tool_radius, eps),
-        ProfileSide::Inside => region.offset(-tool_radius, eps),
+        ProfileSide::Outside => region.offset_checked(tool_radius, eps, eps),
+        ProfileSide::Inside => region.offset_checked(-tool_radius, eps, eps),
     };
     // Region contours have material on their left; reversing puts it on the right.
     moved.paths().iter().map(Path::reversed).collect()
@@ -242,9 +242,18 @@ pub fn backboard(
     eps: f64,
 ) -> Region {
     let union = Region::union(regions, tol);
-    let grown = union
-        .offset(margin + min_inner_radius, eps)
-        .offset(-min_inner_radius, eps);
+    let closed = |grow: &dyn Fn(&Region, f64) -> Region| {
+        grow(&grow(&union, margin + min_inner_radius), -min_inner_radius)
+    };
+    // The board must hold the union. cavalier_contours can split it along chords through
+    // the strokes (seed 0x5EED0011 case 251 rotated by 0.7 rad: the board of two crossing
+    // hairpins came back as four rings); geo's buffer makes it then.
+    let grown = closed(&|r, d| r.offset(d, eps));
+    let grown = if grown.holds(&union) {
+        grown
+    } else {
+        closed(&|r, d| r.buffered(d, tol))
+    };
     Region {
         contours: grown
             .contours

@@ -492,6 +492,78 @@ impl Region {
         .translated(c)
     }
 
+    /// [`Region::offset`], checked: the result must nest as a region should, a grown region
+    /// must hold every vertex of this one and a shrunk one must lie inside it (offsets are
+    /// monotone). Where cavalier_contours' result fails that (it can nest one ring in
+    /// another or split a region along a chord when its input is dense, as the union of a
+    /// stroke's disks is), the offset is made by geo's buffer ([`Region::buffered`])
+    /// instead, with arcs flattened within `tol`. Cost of the check: O(V·W) winding tests
+    /// for V vertices in and W out.
+    pub fn offset_checked(&self, delta: f64, eps: f64, tol: f64) -> Region {
+        let out = self.offset(delta, eps);
+        let sound = if delta > 0.0 {
+            out.holds(self)
+        } else {
+            self.holds(&out)
+        };
+        if sound {
+            out
+        } else {
+            self.buffered(delta, tol)
+        }
+    }
+
+    /// Whether this region nests as a region should ([`Region::well_nested`]) and every
+    /// vertex of `other` lies in its material (winding number 1).
+    pub fn holds(&self, other: &Region) -> bool {
+        self.well_nested()
+            && other
+                .contours
+                .iter()
+                .flat_map(|c| c.iter_vertexes())
+                .all(|v| self.winding(DVec2::new(v.x, v.y)) == 1)
+    }
+
+    /// Total winding number of the contours about `p` (1 inside material, 0 outside, for a
+    /// well-nested region; arcs included).
+    fn winding(&self, p: DVec2) -> i32 {
+        let v = cavalier_contours::core::math::Vector2::new(p.x, p.y);
+        self.contours.iter().map(|c| c.winding_number(v)).sum()
+    }
+
+    /// Whether the contours nest as material and holes should: a counter-clockwise contour
+    /// lies where the others wind 0 times (outside, or in a hole), a clockwise one where
+    /// they wind once (in material). Tested at each contour's first vertex.
+    fn well_nested(&self) -> bool {
+        self.contours.iter().enumerate().all(|(i, c)| {
+            let Some(v) = c.iter_vertexes().next() else {
+                return true;
+            };
+            let p = cavalier_contours::core::math::Vector2::new(v.x, v.y);
+            let others: i32 = (self.contours.iter().enumerate())
+                .filter(|&(j, _)| j != i)
+                .map(|(_, o)| o.winding_number(p))
+                .sum();
+            others == if c.area() > 0.0 { 0 } else { 1 }
+        })
+    }
+
+    /// The region grown by `delta` (shrunk when negative) through geo's buffer (i_overlay)
+    /// with round joins whose chords stay within `tol` of the arc (step φ = √(8·tol/|δ|),
+    /// as in [`super::ops::swept_region`]); coordinates centred first, lines only.
+    pub fn buffered(&self, delta: f64, tol: f64) -> Region {
+        use geo::Buffer;
+        use geo::algorithm::buffer::{BufferStyle, LineJoin};
+        if self.contours.is_empty() || delta == 0.0 {
+            return self.clone();
+        }
+        let c = self.center();
+        let phi = (8.0 * tol / delta.abs()).sqrt().min(1.0);
+        let style = BufferStyle::new(delta).line_join(LineJoin::Round(phi));
+        let grown = self.translated(-c).to_geo(tol).buffer_with_style(style);
+        Region::from_geo(&grown, tol).translated(c)
+    }
+
     /// Centre of the bounding box of the vertices (zero for an empty region).
     pub fn center(&self) -> DVec2 {
         let mut lo = DVec2::splat(f64::INFINITY);
@@ -886,6 +958,39 @@ mod tests {
             6,
             "wider than the hair limit"
         );
+    }
+
+    /// geo's buffer of a square: area s² + 4sδ + πδ² grown (within the chords of the round
+    /// joins), (s − 2δ)² shrunk; the checked offset of a square keeps cavalier's result.
+    #[test]
+    fn buffered_and_checked_offsets_of_a_square() {
+        let (s, d, tol) = (10.0, 2.0, 1e-3);
+        let sq = Region::from_contours(vec![pline_from_points(
+            &[
+                DVec2::new(0.0, 0.0),
+                DVec2::new(s, 0.0),
+                DVec2::new(s, s),
+                DVec2::new(0.0, s),
+            ],
+            true,
+        )]);
+        let grown = sq.buffered(d, tol).area();
+        let exact = s * s + 4.0 * s * d + PI * d * d;
+        assert!(
+            grown <= exact && grown >= exact - 2.0 * PI * d * tol,
+            "{grown} vs {exact}"
+        );
+        let shrunk = sq.buffered(-d, tol).area();
+        assert!((shrunk - (s - 2.0 * d).powi(2)).abs() < 1e-9, "{shrunk}");
+        // cavalier's offsets (with true arcs at the corners) pass the check and are kept.
+        for delta in [d, -d] {
+            let (checked, plain) = (sq.offset_checked(delta, 1e-3, tol), sq.offset(delta, 1e-3));
+            assert_eq!(checked.area(), plain.area());
+            assert_eq!(
+                checked.contours[0].vertex_count(),
+                plain.contours[0].vertex_count()
+            );
+        }
     }
 
     #[test]
