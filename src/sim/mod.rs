@@ -141,23 +141,29 @@ pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Finding>) {
                     }
                 }
             }
-            let more = if total > lines.len() {
-                format!(" and {} more", total - lines.len())
-            } else {
-                String::new()
-            };
-            let f = Finding::new(
-                "invalid-utf8",
-                Severity::Warning,
-                format!(
-                    "bytes that are not UTF-8 were read as U+FFFD on {total} line(s){more} \
-                     (save the file as UTF-8 or ASCII)"
-                ),
-            )
-            .lines(lines);
+            let f = utf8_warning(lines, total);
             (String::from_utf8_lossy(bytes), vec![f])
         }
     }
+}
+
+/// The `invalid-utf8` warning: `total` lines held bytes that are not UTF-8, the first of
+/// them (1-based, at most 10) in `lines`.
+pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
+    let more = if total > lines.len() {
+        format!(" and {} more", total - lines.len())
+    } else {
+        String::new()
+    };
+    Finding::new(
+        "invalid-utf8",
+        Severity::Warning,
+        format!(
+            "bytes that are not UTF-8 were read as U+FFFD on {total} line(s){more} \
+             (save the file as UTF-8 or ASCII)"
+        ),
+    )
+    .lines(lines)
 }
 
 /// Runs every check and the time estimate on `prog`. `cfg` may be in inch; `design` is in
