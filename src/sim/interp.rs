@@ -102,7 +102,10 @@ struct Source<'a> {
 
 enum Body<'a> {
     /// The whole text, with the byte offset of each line start.
-    Mem { text: Cow<'a, str>, starts: Vec<usize> },
+    Mem {
+        text: Cow<'a, str>,
+        starts: Vec<usize>,
+    },
     /// A program read line by line from a seekable stream ([`interpret_stream`]).
     Stream(Box<LineStream<'a>>),
 }
@@ -184,7 +187,11 @@ impl LineStream<'_> {
         let ahead = self.cur != usize::MAX && i >= self.cur && i - self.cur <= CHECKPOINT_EVERY;
         if !ahead {
             let k = self.checkpoints.partition_point(|&(l, _)| l <= i);
-            let (l, off) = self.checkpoints.get(k.wrapping_sub(1)).copied().unwrap_or((0, 0));
+            let (l, off) = self
+                .checkpoints
+                .get(k.wrapping_sub(1))
+                .copied()
+                .unwrap_or((0, 0));
             if let Err(e) = std::io::Seek::seek(&mut self.reader, std::io::SeekFrom::Start(off)) {
                 self.error.get_or_insert_with(|| e.to_string());
             }
