@@ -531,14 +531,14 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
 }
 
 /// Interprets a program read line by line from `input` (never held whole in memory), handing
-/// every move to `sink` as it is produced instead of storing it: the returned program has
-/// no motions. `cfg` as for [`interpret_with`]. Returns the pre-scan's facts beside it, or
+/// every move to `sink` as it is produced (with the pocket marks read so far) instead of
+/// storing it: the returned program has no motions. `cfg` as for [`interpret_with`]. Returns the pre-scan's facts beside it, or
 /// the read error.
 pub fn interpret_stream<'a>(
     mut input: Box<dyn ReadSeek + 'a>,
     cfg: &CheckConfig,
     opts: &Options<'_>,
-    sink: &mut dyn FnMut(Motion),
+    sink: &mut dyn FnMut(Motion, &[(usize, Option<u32>)]),
 ) -> std::io::Result<(Program, Scan)> {
     let mut it = new_interp(cfg, opts);
     let mut sc = scan(&mut *input, it.syn)?;
@@ -675,11 +675,11 @@ impl<'a> Interp<'a, '_> {
         self.prog.diagnostics.push(f);
     }
 
-    fn run(&mut self, mut sink: Option<&mut dyn FnMut(Motion)>) {
+    fn run(&mut self, mut sink: Option<&mut dyn FnMut(Motion, &[(usize, Option<u32>)])>) {
         let mut drain = |it: &mut Self| {
             if let Some(f) = sink.as_mut() {
                 for m in it.pending.drain(..) {
-                    f(m);
+                    f(m, &it.prog.group_marks);
                 }
             }
         };

@@ -31,6 +31,7 @@ pub mod motion;
 pub mod ngc;
 pub mod report;
 pub mod rs274;
+pub mod stream;
 pub mod time;
 pub mod timeline;
 
@@ -193,6 +194,18 @@ pub fn run_checks(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) 
 /// The report of [`check`] from the findings of [`run_checks`] and the [`stats`] of `prog`:
 /// usability, and each check capped at `cfg.max_findings_per_check`.
 pub fn assemble(prog: &Program, cfg: &CheckConfig, all: Vec<Finding>, stats: Stats) -> Report {
+    assemble_with(prog, cfg, all, stats, &[])
+}
+
+/// [`assemble`] of findings already capped: `dropped` counts, per id, findings left out of
+/// `all` that came after the ones kept (the streaming route keeps at most the cap per id).
+pub fn assemble_with(
+    prog: &Program,
+    cfg: &CheckConfig,
+    all: Vec<Finding>,
+    stats: Stats,
+    dropped: &[(&'static str, usize)],
+) -> Report {
     let mm = cfg.in_mm();
     if let Some(reason) = &prog.unusable {
         return Report {
@@ -232,6 +245,12 @@ pub fn assemble(prog: &Program, cfg: &CheckConfig, all: Vec<Finding>, stats: Sta
         slot.1 += 1;
         if slot.1 <= mm.max_findings_per_check {
             findings.push(f);
+        }
+    }
+    for &(id, n) in dropped {
+        match counts.iter_mut().find(|(c, _)| *c == id) {
+            Some(s) => s.1 += n,
+            None => counts.push((id, n)),
         }
     }
     let suppressed = counts

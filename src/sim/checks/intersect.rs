@@ -425,6 +425,12 @@ impl SegmentSet {
         }
     }
 
+    /// Every pair tested (no grid, no folds of consecutive segments): the fallback for
+    /// non-finite coordinates.
+    pub fn brute_force(&self) -> Vec<Contact> {
+        self.brute_force_contacts()
+    }
+
     /// Quadratic fallback for degenerate extents (non-finite coordinates).
     fn brute_force_contacts(&self) -> Vec<Contact> {
         let mut out = Vec::new();
