@@ -40,9 +40,9 @@ use std::path::PathBuf;
 /// smaller ones are read into memory, which is faster.
 pub const STREAM_ABOVE_BYTES: u64 = 64 << 20;
 
-/// Cell entries (a segment in a cell) per tile of the contact test: about 2M entries, a
-/// tile of at most ~150 MB.
-const TILE_ENTRIES: u64 = 1 << 21;
+/// Cell entries (a segment in a cell) per tile of the contact test: about 1M entries, a
+/// tile of about 150 MB at most (unless one cell holds more).
+const TILE_ENTRIES: u64 = 1 << 20;
 
 /// Histogram buckets over the grid's keys, from which the tiles are cut.
 const BUCKETS: u64 = 1 << 16;
@@ -719,8 +719,10 @@ fn load_tile(f: &TempFile) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
 
 /// The records of a file in segment order, and the tile set of them.
 fn load_tile_at(f: &TempFileRef<'_>) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
-    let mut r = BufReader::with_capacity(1 << 16, std::fs::File::open(f.path)?);
-    let mut recs = Vec::new();
+    let file = std::fs::File::open(f.path)?;
+    let n = file.metadata().map_or(0, |m| m.len()) as usize / REC;
+    let mut r = BufReader::with_capacity(1 << 16, file);
+    let mut recs = Vec::with_capacity(n);
     let mut buf = [0u8; REC];
     loop {
         match r.read_exact(&mut buf) {
