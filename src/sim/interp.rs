@@ -138,6 +138,10 @@ impl<'a> Source<'a> {
     }
 }
 
+/// Where [`interpret_stream`] hands each move, with the pocket marks read so far (see
+/// [`Program::group_marks`]).
+pub type MotionSink<'s> = &'s mut dyn FnMut(Motion, &[(usize, Option<u32>)]);
+
 /// Both [`std::io::Read`] and [`std::io::Seek`].
 pub trait ReadSeek: std::io::Read + std::io::Seek {}
 impl<T: std::io::Read + std::io::Seek> ReadSeek for T {}
@@ -249,7 +253,7 @@ fn scan(input: &mut dyn ReadSeek, syn: Syntax) -> std::io::Result<Scan> {
     loop {
         raw.clear();
         let n = r.read_until(b'\n', &mut raw)?;
-        if i % CHECKPOINT_EVERY == 0 || sc.owords.last().is_some_and(|o| o.0 + 1 == i) {
+        if i.is_multiple_of(CHECKPOINT_EVERY) || sc.owords.last().is_some_and(|o| o.0 + 1 == i) {
             sc.checkpoints.push((i, off));
         }
         off += n as u64;
@@ -538,7 +542,7 @@ pub fn interpret_stream<'a>(
     mut input: Box<dyn ReadSeek + 'a>,
     cfg: &CheckConfig,
     opts: &Options<'_>,
-    sink: &mut dyn FnMut(Motion, &[(usize, Option<u32>)]),
+    sink: MotionSink<'_>,
 ) -> std::io::Result<(Program, Scan)> {
     let mut it = new_interp(cfg, opts);
     let mut sc = scan(&mut *input, it.syn)?;
@@ -675,7 +679,7 @@ impl<'a> Interp<'a, '_> {
         self.prog.diagnostics.push(f);
     }
 
-    fn run(&mut self, mut sink: Option<&mut dyn FnMut(Motion, &[(usize, Option<u32>)])>) {
+    fn run(&mut self, mut sink: Option<MotionSink<'_>>) {
         let mut drain = |it: &mut Self| {
             if let Some(f) = sink.as_mut() {
                 for m in it.pending.drain(..) {
