@@ -6,7 +6,10 @@
 //! ```
 //!
 //! [`check`] runs everything on a [`Program`]; [`check_text`] reads G-code (builtin
-//! backend) or rs274 canon output (LinuxCNC backend) first. The library never starts
+//! backend) or rs274 canon output (LinuxCNC backend) first. [`stream::check_stream`] gives
+//! the same report in bounded memory, reading the program line by line and checking each
+//! move as it is read (the CLI's route for programs above
+//! [`stream::STREAM_ABOVE_BYTES`]). The library never starts
 //! processes: for [`Backend::LinuxCnc`] the CLI runs `rs274 -n 0 -g` on
 //! [`linuxcnc::number_lines`]`(src)` and passes its standard output here.
 //!
