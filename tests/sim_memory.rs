@@ -28,20 +28,26 @@ const LARGE_BUDGET_MB: u64 = 512;
 const HUGE_BUDGET_MB: u64 = 1024;
 
 /// Writes a clean laser program of about `bytes`: closed 100-gons of radius 0.4 mm on a
-/// 0.9 mm grid (no crossings, inside the default 300 mm work area).
+/// 0.9 mm grid (no crossings), the grid shrunk where it would not fit inside the default
+/// 300 mm work area (1 GB: radius 0.18 mm on a 0.41 mm grid).
 fn write_program(path: &Path, bytes: usize) {
     const PER: usize = 100;
     let per_circle = 20 * (PER + 1) + 20;
     let circles = bytes.div_ceil(per_circle);
     let side = (circles as f64).sqrt().ceil() as usize;
+    let pitch = (297.0 / side as f64).min(0.9);
+    let radius = 0.4 * pitch / 0.9;
     let mut s = String::with_capacity(bytes + 4096);
     s.push_str("G21 G90 G17\nF1500 S800\n");
     let mut file = std::fs::File::create(path).expect("create program");
     for c in 0..circles {
-        let (ox, oy) = (1.0 + (c % side) as f64 * 0.9, 1.0 + (c / side) as f64 * 0.9);
+        let (ox, oy) = (
+            1.0 + (c % side) as f64 * pitch,
+            1.0 + (c / side) as f64 * pitch,
+        );
         for i in 0..=PER {
             let t = std::f64::consts::TAU * (i % PER) as f64 / PER as f64;
-            let (x, y) = (ox + 0.4 * t.cos(), oy + 0.4 * t.sin());
+            let (x, y) = (ox + radius * t.cos(), oy + radius * t.sin());
             if i == 0 {
                 let _ = write!(s, "G0 X{x:.3} Y{y:.3}\nM4\n");
             } else {
