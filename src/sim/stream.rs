@@ -213,13 +213,24 @@ impl TempFile {
     fn create() -> std::io::Result<(TempFile, BufWriter<std::fs::File>)> {
         use std::sync::atomic::{AtomicUsize, Ordering};
         static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let path = std::env::temp_dir().join(format!(".skinpath-check-{}-{n}", std::process::id()));
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&path)?;
-        Ok((TempFile { path }, BufWriter::with_capacity(1 << 16, file)))
+        loop {
+            let n = NEXT.fetch_add(1, Ordering::Relaxed);
+            let path =
+                std::env::temp_dir().join(format!(".skinpath-check-{}-{n}", std::process::id()));
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(file) => {
+                    return Ok((TempFile { path }, BufWriter::with_capacity(1 << 16, file)));
+                }
+                // Left by an earlier process with this id (killed before it could clean
+                // up): take the next name.
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && n < (1 << 20) => {}
+                Err(e) => return Err(e),
+            }
+        }
     }
 
     fn reader(&self) -> std::io::Result<BufReader<std::fs::File>> {
