@@ -82,11 +82,6 @@ struct Timings {
 
 pub fn run(a: Args) -> Result<u8> {
     let mut timings = Timings::default();
-    let clock = Instant::now();
-    let bytes = std::fs::read(&a.program)
-        .with_context(|| format!("cannot read {}", a.program.display()))?;
-    let (text, decode_findings) = skinpath::sim::decode(&bytes);
-    timings.read = clock.elapsed().as_secs_f64();
     let (mut cfg, tool_r) = match &a.machine {
         Some(m) => {
             let p = load_profile(m)?;
@@ -147,6 +142,32 @@ pub fn run(a: Args) -> Result<u8> {
     let opts = interp::Options {
         load_sub: Some(&loader),
     };
+    let size = std::fs::metadata(&a.program).map_or(0, |m| m.len());
+    let stream = cfg
+        .stream
+        .unwrap_or(size > skinpath::sim::stream::STREAM_ABOVE_BYTES)
+        && a.backend == "builtin";
+    if stream {
+        // Streaming route: reading, interpreting and the per-move checks overlap (all in
+        // `interpret`); `checks` is the contact test after the last move.
+        let clock = Instant::now();
+        let file = std::fs::File::open(&a.program)
+            .with_context(|| format!("cannot read {}", a.program.display()))?;
+        let (mut report, utf8) =
+            skinpath::sim::stream::check_stream(Box::new(file), &cfg, &bounds, &opts)
+                .with_context(|| format!("cannot check {}", a.program.display()))?;
+        timings.interpret = clock.elapsed().as_secs_f64();
+        report.backend = Backend::Builtin.name();
+        if report.usable {
+            report.findings.splice(0..0, utf8);
+        }
+        return write_report(&a, &report, &mut timings, Instant::now());
+    }
+    let clock = Instant::now();
+    let bytes = std::fs::read(&a.program)
+        .with_context(|| format!("cannot read {}", a.program.display()))?;
+    let (text, decode_findings) = skinpath::sim::decode(&bytes);
+    timings.read = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let linuxcnc = a.backend == "linuxcnc" && !text.trim().is_empty();
     let rs274_out = if linuxcnc {
@@ -190,14 +211,22 @@ pub fn run(a: Args) -> Result<u8> {
     if report.usable {
         report.findings.splice(0..0, decode_findings);
     }
+    write_report(&a, &report, &mut timings, clock)
+}
+
+/// Prints `report` as `a` asks (text or JSON, with timings) and returns the exit status;
+/// `clock` started when the report stage did.
+fn write_report(
+    a: &Args,
+    report: &skinpath::sim::Report,
+    timings: &mut Timings,
+    clock: Instant,
+) -> Result<u8> {
     let text = if a.json && a.timings {
         timings.report = clock.elapsed().as_secs_f64();
-        serde_json::to_string_pretty(&TimedReport {
-            report: &report,
-            timings: &timings,
-        })?
+        serde_json::to_string_pretty(&TimedReport { report, timings })?
     } else if a.json {
-        serde_json::to_string_pretty(&report)?
+        serde_json::to_string_pretty(report)?
     } else {
         report.to_string()
     };

@@ -73,6 +73,12 @@ pub struct CheckConfig {
     /// Loop iterations (backward jumps of while/do/repeat/continue) allowed in one program;
     /// beyond it interpretation stops with a `loop-limit` error.
     pub max_loop_iterations: u64,
+    /// Route of the CLI's `check` (not part of the TOML): None reads programs larger than
+    /// [`crate::sim::stream::STREAM_ABOVE_BYTES`] on the streaming route
+    /// ([`crate::sim::stream::check_stream`]) and smaller ones in memory; Some(true) and
+    /// Some(false) force one route.
+    #[serde(skip)]
+    pub stream: Option<bool>,
 }
 
 /// How the controller reads G-code.
@@ -204,6 +210,7 @@ impl Default for CheckConfig {
             dialect: Dialect::Generic,
             tool_table: Vec::new(),
             max_loop_iterations: DEFAULT_MAX_LOOP_ITERATIONS,
+            stream: None,
         }
     }
 }

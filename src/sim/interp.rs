@@ -97,26 +97,203 @@ pub struct Options<'a> {
 
 struct Source<'a> {
     name: String,
-    text: Cow<'a, str>,
-    /// Byte offset of each line start.
-    starts: Vec<usize>,
+    body: Body<'a>,
+}
+
+enum Body<'a> {
+    /// The whole text, with the byte offset of each line start.
+    Mem {
+        text: Cow<'a, str>,
+        starts: Vec<usize>,
+    },
+    /// A program read line by line from a seekable stream ([`interpret_stream`]).
+    Stream(Box<LineStream<'a>>),
 }
 
 impl<'a> Source<'a> {
     fn new(name: String, text: Cow<'a, str>) -> Self {
         let mut starts = vec![0];
         starts.extend(memchr_lines(text.as_bytes()));
-        Source { name, text, starts }
+        Source {
+            name,
+            body: Body::Mem { text, starts },
+        }
     }
     fn len(&self) -> usize {
-        self.starts.len()
+        match &self.body {
+            Body::Mem { starts, .. } => starts.len(),
+            Body::Stream(s) => s.len,
+        }
     }
-    fn line(&self, i: usize) -> &str {
-        let a = self.starts[i];
-        let b = self.starts.get(i + 1).map_or(self.text.len(), |&e| e - 1);
-        let l = &self.text[a..b.max(a)];
-        l.strip_suffix('\r').unwrap_or(l)
+    fn line(&mut self, i: usize) -> &str {
+        match &mut self.body {
+            Body::Mem { text, starts } => {
+                let a = starts[i];
+                let b = starts.get(i + 1).map_or(text.len(), |&e| e - 1);
+                let l = &text[a..b.max(a)];
+                l.strip_suffix('\r').unwrap_or(l)
+            }
+            Body::Stream(s) => s.line(i),
+        }
     }
+}
+
+/// Where [`interpret_stream`] hands each move, with the pocket marks read so far (see
+/// [`Program::group_marks`]).
+pub type MotionSink<'s> = &'s mut dyn FnMut(Motion, &[(usize, Option<u32>)]);
+
+/// Both [`std::io::Read`] and [`std::io::Seek`].
+pub trait ReadSeek: std::io::Read + std::io::Seek {}
+impl<T: std::io::Read + std::io::Seek> ReadSeek for T {}
+
+/// Lines of a program read on demand: forward reading is sequential; a jump back (loops,
+/// subroutine returns) seeks to the nearest recorded line start before the target (every
+/// O-word line, its successor, and every [`CHECKPOINT_EVERY`]th line) and reads on from there.
+struct LineStream<'a> {
+    reader: std::io::BufReader<Box<dyn ReadSeek + 'a>>,
+    /// (line index, byte offset of its start), sorted by line.
+    checkpoints: Vec<(usize, u64)>,
+    /// Number of lines (as [`Source::new`] counts them).
+    len: usize,
+    /// Index of the line in `buf` (`usize::MAX`: none yet).
+    cur: usize,
+    buf: String,
+    raw: Vec<u8>,
+    /// The first read error, if any.
+    error: Option<String>,
+}
+
+/// Distance in lines between the recorded line starts of a [`LineStream`].
+const CHECKPOINT_EVERY: usize = 4096;
+
+impl LineStream<'_> {
+    fn read_next(&mut self) {
+        use std::io::BufRead;
+        self.raw.clear();
+        if let Err(e) = self.reader.read_until(b'\n', &mut self.raw) {
+            self.error.get_or_insert_with(|| e.to_string());
+        }
+        if self.raw.last() == Some(&b'\n') {
+            self.raw.pop();
+        }
+        if self.raw.last() == Some(&b'\r') {
+            self.raw.pop();
+        }
+        self.buf.clear();
+        self.buf.push_str(&String::from_utf8_lossy(&self.raw));
+        self.cur = self.cur.wrapping_add(1);
+    }
+
+    fn line(&mut self, i: usize) -> &str {
+        if i >= self.len {
+            return "";
+        }
+        let ahead = self.cur != usize::MAX && i >= self.cur && i - self.cur <= CHECKPOINT_EVERY;
+        if !ahead {
+            let k = self.checkpoints.partition_point(|&(l, _)| l <= i);
+            let (l, off) = self
+                .checkpoints
+                .get(k.wrapping_sub(1))
+                .copied()
+                .unwrap_or((0, 0));
+            if let Err(e) = std::io::Seek::seek(&mut self.reader, std::io::SeekFrom::Start(off)) {
+                self.error.get_or_insert_with(|| e.to_string());
+            }
+            self.cur = l.wrapping_sub(1);
+        }
+        while self.cur != i && self.error.is_none() {
+            self.read_next();
+        }
+        if self.cur != i {
+            return "";
+        }
+        &self.buf
+    }
+}
+
+/// What one pass over a streamed program finds before it is interpreted
+/// ([`interpret_stream`]).
+#[derive(Clone, Debug, Default)]
+pub struct Scan {
+    /// Length in bytes (the byte-order mark excluded).
+    pub bytes: u64,
+    /// Every character is white space.
+    pub blank: bool,
+    /// A NUL byte occurs.
+    pub nul: bool,
+    /// The `invalid-utf8` warning of [`crate::sim::decode`], when it applies.
+    pub utf8_warning: Option<Finding>,
+    /// Number of lines (one more than the number of line feeds).
+    pub lines: usize,
+    /// Line starts recorded for seeking.
+    checkpoints: Vec<(usize, u64)>,
+    /// Lines with an O-word: (line index, statement).
+    owords: Vec<(usize, ngc::OStmt)>,
+}
+
+/// Reads `input` once: line count, blank/NUL/UTF-8 facts, O-word lines (parsed with the
+/// dialect's syntax) and seek points.
+fn scan(input: &mut dyn ReadSeek, syn: Syntax) -> std::io::Result<Scan> {
+    use std::io::{BufRead, SeekFrom};
+    std::io::Seek::seek(input, SeekFrom::Start(0))?;
+    let mut r = std::io::BufReader::with_capacity(1 << 16, &mut *input);
+    let mut sc = Scan {
+        blank: true,
+        ..Scan::default()
+    };
+    let mut off: u64 = 0;
+    if r.fill_buf()?.starts_with(b"\xEF\xBB\xBF") {
+        r.consume(3);
+        off = 3;
+    }
+    let base = off;
+    let (mut bad_lines, mut bad_total) = (Vec::new(), 0usize);
+    let mut raw = Vec::new();
+    let mut i = 0usize;
+    loop {
+        raw.clear();
+        let n = r.read_until(b'\n', &mut raw)?;
+        if i.is_multiple_of(CHECKPOINT_EVERY) || sc.owords.last().is_some_and(|o| o.0 + 1 == i) {
+            sc.checkpoints.push((i, off));
+        }
+        off += n as u64;
+        let body = raw.strip_suffix(b"\n").unwrap_or(&raw);
+        if memchr::memchr(0, body).is_some() {
+            sc.nul = true;
+        }
+        let text = match std::str::from_utf8(body) {
+            Ok(t) => Cow::Borrowed(t),
+            Err(_) => {
+                bad_total += 1;
+                if bad_lines.len() < 10 {
+                    bad_lines.push(i + 1);
+                }
+                String::from_utf8_lossy(body)
+            }
+        };
+        if sc.blank && !text.trim().is_empty() {
+            sc.blank = false;
+        }
+        if syn.ngc && memchr::memchr2(b'o', b'O', body).is_some() {
+            let l = text.strip_suffix('\r').unwrap_or(&text);
+            if let Some(o) = ngc::parse_line(l, syn).oword {
+                if sc.checkpoints.last().is_none_or(|c| c.0 != i) {
+                    sc.checkpoints.push((i, off - n as u64));
+                }
+                sc.owords.push((i, o));
+            }
+        }
+        i += 1;
+        if raw.last() != Some(&b'\n') {
+            break;
+        }
+    }
+    sc.lines = i;
+    sc.bytes = off - base;
+    if bad_total > 0 {
+        sc.utf8_warning = Some(crate::sim::utf8_warning(bad_lines, bad_total));
+    }
+    Ok(sc)
 }
 
 fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
@@ -125,10 +302,10 @@ fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
 
 /// Indexes of the lines of `s` holding an `o` or `O` (the only ones that can hold an O-word),
 /// in order, each once.
-fn lines_with_o(s: &Source<'_>) -> Vec<usize> {
+fn lines_with_o(text: &str, starts: &[usize]) -> Vec<usize> {
     let mut out: Vec<usize> = Vec::new();
-    for at in memchr::memchr2_iter(b'o', b'O', s.text.as_bytes()) {
-        let line = s.starts.partition_point(|&st| st <= at).saturating_sub(1);
+    for at in memchr::memchr2_iter(b'o', b'O', text.as_bytes()) {
+        let line = starts.partition_point(|&st| st <= at).saturating_sub(1);
         if out.last() != Some(&line) {
             out.push(line);
         }
@@ -155,6 +332,10 @@ struct CallFrame {
 }
 
 struct Interp<'a, 'o> {
+    /// Streaming route ([`interpret_stream`]): moves wait in `pending` until the line is
+    /// done and go to the caller's sink instead of into `prog`.
+    streaming: bool,
+    pending: Vec<Motion>,
     cfg: &'o CheckConfig,
     opts: &'o Options<'o>,
     syn: Syntax,
@@ -279,9 +460,8 @@ pub fn interpret(src: &str, arc_radius_tol: f64) -> Program {
     interpret_with(src, &cfg, &Options { load_sub: None })
 }
 
-/// Interprets G-code text. `cfg` must be in mm ([`CheckConfig::in_mm`]): its dialect, tool
-/// table, loop budget and IJ radius tolerance apply.
-pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Program {
+/// A fresh interpreter for `cfg` (mm) and `opts`, without a source.
+fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a, 'o> {
     let syn = match cfg.dialect {
         Dialect::Generic => Syntax {
             ngc: true,
@@ -305,6 +485,8 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
         },
     };
     let mut it = Interp {
+        streaming: false,
+        pending: Vec::new(),
         cfg,
         opts,
         syn,
@@ -333,16 +515,63 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
         word_buf: Vec::new(),
     };
     it.params[P_CS] = 1.0;
+    it
+}
+
+/// Interprets G-code text. `cfg` must be in mm ([`CheckConfig::in_mm`]): its dialect, tool
+/// table, loop budget and IJ radius tolerance apply.
+pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Program {
+    let mut it = new_interp(cfg, opts);
     it.add_source("program".into(), Cow::Borrowed(src));
     // About one move per line: reserving it up front avoids the doubling growth whose
     // spare capacity would count against an address-space limit on long programs; the
     // unused part is returned at the end.
     let lines = it.sources.first().map_or(0, |s| s.len());
     it.prog.motions.reserve(lines);
-    it.run();
+    it.run(None);
     it.prog.motions.shrink_to_fit();
     it.prog.final_tool = it.st.tool;
     it.prog
+}
+
+/// Interprets a program read line by line from `input` (never held whole in memory), handing
+/// every move to `sink` as it is produced (with the pocket marks read so far) instead of
+/// storing it: the returned program has no motions. `cfg` as for [`interpret_with`]. Returns the pre-scan's facts beside it, or
+/// the read error.
+pub fn interpret_stream<'a>(
+    mut input: Box<dyn ReadSeek + 'a>,
+    cfg: &CheckConfig,
+    opts: &Options<'_>,
+    sink: MotionSink<'_>,
+) -> std::io::Result<(Program, Scan)> {
+    let mut it = new_interp(cfg, opts);
+    let mut sc = scan(&mut *input, it.syn)?;
+    let owords = std::mem::take(&mut sc.owords);
+    let stream = LineStream {
+        reader: std::io::BufReader::with_capacity(1 << 16, input),
+        checkpoints: std::mem::take(&mut sc.checkpoints),
+        len: sc.lines,
+        cur: usize::MAX,
+        buf: String::new(),
+        raw: Vec::new(),
+        error: None,
+    };
+    let src = Source {
+        name: "program".into(),
+        body: Body::Stream(Box::new(stream)),
+    };
+    it.push_source(src, owords);
+    it.streaming = true;
+    it.run(Some(sink));
+    it.prog.final_tool = it.st.tool;
+    let error = match it.sources.first().map(|s| &s.body) {
+        Some(Body::Stream(s)) => s.error.clone(),
+        _ => None,
+    };
+    if let Some(e) = error {
+        return Err(std::io::Error::other(e));
+    }
+    Ok((it.prog, sc))
 }
 
 enum Flow {
@@ -352,16 +581,39 @@ enum Flow {
 }
 
 impl<'a> Interp<'a, '_> {
+    fn emit(&mut self, m: Motion) {
+        if self.streaming {
+            self.pending.push(m);
+        } else {
+            self.prog.motions.push(m);
+        }
+    }
+
     fn add_source(&mut self, name: String, text: Cow<'a, str>) -> usize {
-        let s = Source::new(name, text);
+        let mut s = Source::new(name, text);
+        let owords: Vec<(usize, ngc::OStmt)> = if self.syn.ngc {
+            let lines = match &s.body {
+                Body::Mem { text, starts } => lines_with_o(text, starts),
+                Body::Stream(_) => Vec::new(),
+            };
+            lines
+                .into_iter()
+                .filter_map(|i| ngc::parse_line(s.line(i), self.syn).oword.map(|o| (i, o)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        self.push_source(s, owords)
+    }
+
+    /// Registers a source and its O-word statements (line index, statement) in line order.
+    fn push_source(&mut self, s: Source<'a>, owords: Vec<(usize, ngc::OStmt)>) -> usize {
         let id = self.sources.len();
         self.high_water.push(0);
         if self.syn.ngc {
             let mut per: HashMap<String, Vec<OPos>> = HashMap::new();
-            for i in lines_with_o(&s) {
-                let l = s.line(i);
-                let parsed = ngc::parse_line(l, self.syn);
-                if let Some(o) = parsed.oword {
+            for (i, o) in owords {
+                {
                     let v = per.entry(o.label.clone()).or_default();
                     let do_while = o.kind == OKind::While && {
                         // A while closes a do when the latest open do/while of the label is a do.
@@ -427,12 +679,20 @@ impl<'a> Interp<'a, '_> {
         self.prog.diagnostics.push(f);
     }
 
-    fn run(&mut self) {
+    fn run(&mut self, mut sink: Option<MotionSink<'_>>) {
+        let mut drain = |it: &mut Self| {
+            if let Some(f) = sink.as_mut() {
+                for m in it.pending.drain(..) {
+                    f(m, &it.prog.group_marks);
+                }
+            }
+        };
         let (mut src, mut i) = (0usize, 0usize);
         let mut started = false;
         let mut percent_open = false;
         let mut scratch = Line::default();
         while !self.stop {
+            drain(self);
             if i >= self.sources[src].len() {
                 if src != 0 {
                     self.err(
@@ -511,6 +771,7 @@ impl<'a> Interp<'a, '_> {
                 }
             }
         }
+        drain(self);
     }
 
     /// Reports (once) that non-blank lines follow the end and are ignored.
@@ -518,7 +779,7 @@ impl<'a> Interp<'a, '_> {
         if src != 0 {
             return;
         }
-        let s = &self.sources[0];
+        let s = &mut self.sources[0];
         let syn = self.syn;
         if let Some(l) = (from..s.len()).find(|&l| {
             let t = s.line(l).trim();
@@ -1387,7 +1648,7 @@ impl<'a> Interp<'a, '_> {
             match p {
                 Some(p) if p >= 0.0 => {
                     let m = self.motion(MotionKind::Dwell { seconds: p }, self.st.pos, None);
-                    self.prog.motions.push(m);
+                    self.emit(m);
                 }
                 _ => self.err(
                     "invalid-value",
@@ -1874,7 +2135,7 @@ impl<'a> Interp<'a, '_> {
             FeedMode::PerRev => m.feed * self.st.tool.s,
         };
         m.group = self.group;
-        self.prog.motions.push(m);
+        self.emit(m);
     }
 
     fn straight(&mut self, kind: MotionKind, to: DVec3) {
@@ -2179,7 +2440,7 @@ impl<'a> Interp<'a, '_> {
                     self.straight(MotionKind::Feed, at(z_m));
                     if code != 850 && dwell > 0.0 {
                         let m = self.motion(MotionKind::Dwell { seconds: dwell }, at(z_m), None);
-                        self.prog.motions.push(m);
+                        self.emit(m);
                     }
                     match code {
                         850 | 890 => {

@@ -6,7 +6,10 @@
 //! ```
 //!
 //! [`check`] runs everything on a [`Program`]; [`check_text`] reads G-code (builtin
-//! backend) or rs274 canon output (LinuxCNC backend) first. The library never starts
+//! backend) or rs274 canon output (LinuxCNC backend) first. [`stream::check_stream`] gives
+//! the same report in bounded memory, reading the program line by line and checking each
+//! move as it is read (the CLI's route for programs above
+//! [`stream::STREAM_ABOVE_BYTES`]). The library never starts
 //! processes: for [`Backend::LinuxCnc`] the CLI runs `rs274 -n 0 -g` on
 //! [`linuxcnc::number_lines`]`(src)` and passes its standard output here.
 //!
@@ -31,6 +34,7 @@ pub mod motion;
 pub mod ngc;
 pub mod report;
 pub mod rs274;
+pub mod stream;
 pub mod time;
 pub mod timeline;
 
@@ -141,23 +145,29 @@ pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Finding>) {
                     }
                 }
             }
-            let more = if total > lines.len() {
-                format!(" and {} more", total - lines.len())
-            } else {
-                String::new()
-            };
-            let f = Finding::new(
-                "invalid-utf8",
-                Severity::Warning,
-                format!(
-                    "bytes that are not UTF-8 were read as U+FFFD on {total} line(s){more} \
-                     (save the file as UTF-8 or ASCII)"
-                ),
-            )
-            .lines(lines);
+            let f = utf8_warning(lines, total);
             (String::from_utf8_lossy(bytes), vec![f])
         }
     }
+}
+
+/// The `invalid-utf8` warning: `total` lines held bytes that are not UTF-8, the first of
+/// them (1-based, at most 10) in `lines`.
+pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
+    let more = if total > lines.len() {
+        format!(" and {} more", total - lines.len())
+    } else {
+        String::new()
+    };
+    Finding::new(
+        "invalid-utf8",
+        Severity::Warning,
+        format!(
+            "bytes that are not UTF-8 were read as U+FFFD on {total} line(s){more} \
+             (save the file as UTF-8 or ASCII)"
+        ),
+    )
+    .lines(lines)
 }
 
 /// Runs every check and the time estimate on `prog`. `cfg` may be in inch; `design` is in
@@ -187,6 +197,18 @@ pub fn run_checks(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) 
 /// The report of [`check`] from the findings of [`run_checks`] and the [`stats`] of `prog`:
 /// usability, and each check capped at `cfg.max_findings_per_check`.
 pub fn assemble(prog: &Program, cfg: &CheckConfig, all: Vec<Finding>, stats: Stats) -> Report {
+    assemble_with(prog, cfg, all, stats, &[])
+}
+
+/// [`assemble`] of findings already capped: `dropped` counts, per id, findings left out of
+/// `all` that came after the ones kept (the streaming route keeps at most the cap per id).
+pub fn assemble_with(
+    prog: &Program,
+    cfg: &CheckConfig,
+    all: Vec<Finding>,
+    stats: Stats,
+    dropped: &[(&'static str, usize)],
+) -> Report {
     let mm = cfg.in_mm();
     if let Some(reason) = &prog.unusable {
         return Report {
@@ -226,6 +248,12 @@ pub fn assemble(prog: &Program, cfg: &CheckConfig, all: Vec<Finding>, stats: Sta
         slot.1 += 1;
         if slot.1 <= mm.max_findings_per_check {
             findings.push(f);
+        }
+    }
+    for &(id, n) in dropped {
+        match counts.iter_mut().find(|(c, _)| *c == id) {
+            Some(s) => s.1 += n,
+            None => counts.push((id, n)),
         }
     }
     let suppressed = counts

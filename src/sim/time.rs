@@ -11,7 +11,7 @@
 //! reaches v, otherwise peaks at v_p² = aL + (vᵢ² + v_f²)/2.
 
 use super::config::CheckConfig;
-use super::motion::{MotionKind, Motions};
+use super::motion::{Motion, MotionKind, Motions};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -96,28 +96,160 @@ pub fn estimate(motions: &Motions, cfg: &CheckConfig) -> TimeEstimate {
                 }
             }
             MotionKind::Rapid | MotionKind::Feed => {
-                let is_rapid = m.kind == MotionKind::Rapid;
-                if m.arc.is_none() {
-                    // A line is one chord: no point list to build.
-                    if let Some(b) = Block::of_chord(m.to - m.from, m.feed, is_rapid, rates, cfg) {
-                        blocks.push(b);
-                        rapid.push(is_rapid);
-                    }
-                    continue;
-                }
-                let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
-                for w in pts.windows(2) {
-                    if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, is_rapid, rates, cfg) {
-                        blocks.push(b);
-                        rapid.push(is_rapid);
-                    }
-                }
+                for_blocks(&m, rates, cfg, |b, r| {
+                    blocks.push(b);
+                    rapid.push(r);
+                });
             }
         }
     }
     add_times(&blocks, &rapid, cfg, &mut t);
     t.total = t.feed + t.rapid + t.dwell;
     t
+}
+
+/// The planner blocks of a rapid or feed move, with whether it is a rapid.
+fn for_blocks(m: &Motion, rates: [f64; 3], cfg: &CheckConfig, mut f: impl FnMut(Block, bool)) {
+    let is_rapid = m.kind == MotionKind::Rapid;
+    if m.arc.is_none() {
+        // A line is one chord: no point list to build.
+        if let Some(b) = Block::of_chord(m.to - m.from, m.feed, is_rapid, rates, cfg) {
+            f(b, is_rapid);
+        }
+        return;
+    }
+    let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
+    for w in pts.windows(2) {
+        if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, is_rapid, rates, cfg) {
+            f(b, is_rapid);
+        }
+    }
+}
+
+/// [`estimate`] move by move in bounded memory: the same sums, bit for bit.
+///
+/// [`plan`] needs a whole run of blocks (rest to rest) for its backward pass, but a block's
+/// planned speeds depend on the blocks after it only until the room to brake from them
+/// exceeds its own limit. The planner keeps a window of blocks and plans it twice, once
+/// with the run ending at rest after the window and once with no limit there; where the
+/// two give the same squared entry speed (bit for bit, the passes being monotone), every
+/// earlier block's speeds are final and its time is added.
+#[derive(Clone, Debug)]
+pub struct Estimator {
+    cfg: CheckConfig,
+    rates: [f64; 3],
+    /// The window: block, rapid, its junction limit with the block before (0 for the first
+    /// block of a run).
+    window: Vec<(Block, bool, f64)>,
+    /// Final squared entry speed of the window's first block.
+    entry: f64,
+    /// Window length that triggers an attempt to settle blocks.
+    limit: usize,
+    t: TimeEstimate,
+}
+
+/// Blocks kept before the [`Estimator`] tries to settle some.
+const WINDOW: usize = 8192;
+
+impl Estimator {
+    /// An estimator for `cfg` (mm).
+    pub fn new(cfg: &CheckConfig) -> Self {
+        Estimator {
+            cfg: cfg.clone(),
+            rates: cfg.max_rate.map(|r| r / 60.0),
+            window: Vec::new(),
+            entry: 0.0,
+            limit: WINDOW,
+            t: TimeEstimate::default(),
+        }
+    }
+
+    /// Adds the next move.
+    pub fn motion(&mut self, m: &Motion) {
+        match m.kind {
+            MotionKind::Dwell { seconds } => {
+                self.settle(true);
+                if seconds.is_finite() {
+                    self.t.dwell += seconds;
+                }
+            }
+            MotionKind::Rapid | MotionKind::Feed => {
+                let (rates, cfg) = (self.rates, self.cfg.clone());
+                let mut new = Vec::new();
+                for_blocks(m, rates, &cfg, |b, r| new.push((b, r)));
+                for (b, r) in new {
+                    let j = self
+                        .window
+                        .last()
+                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, &self.cfg));
+                    self.window.push((b, r, j));
+                }
+                if self.window.len() >= self.limit {
+                    self.settle(false);
+                }
+            }
+        }
+    }
+
+    /// The estimate of everything added.
+    pub fn finish(mut self) -> TimeEstimate {
+        self.settle(true);
+        let mut t = self.t;
+        t.total = t.feed + t.rapid + t.dwell;
+        t
+    }
+
+    /// Adds the times of the blocks whose speeds are final (all of them when the run ends
+    /// here, `end`).
+    fn settle(&mut self, end: bool) {
+        let n = self.window.len();
+        if n == 0 {
+            self.entry = 0.0;
+            return;
+        }
+        let back = |last: f64| {
+            let mut e: Vec<f64> = self.window.iter().map(|w| w.2).collect();
+            e.push(last);
+            for i in (0..n).rev() {
+                let b = &self.window[i].0;
+                e[i] = e[i].min(e[i + 1] + 2.0 * b.a * b.len);
+            }
+            e
+        };
+        let lo = back(0.0);
+        let done = if end {
+            n
+        } else {
+            let hi = back(f64::INFINITY);
+            // Highest index whose entry speed does not depend on what follows.
+            (0..=n)
+                .rev()
+                .find(|&i| lo[i].to_bits() == hi[i].to_bits())
+                .unwrap_or(0)
+        };
+        // Forward pass over the settled part, from the final entry speed.
+        let mut e = lo;
+        e[0] = self.entry;
+        for i in 0..done {
+            let b = self.window[i].0;
+            e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
+            let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
+            if self.window[i].1 {
+                self.t.rapid += dt;
+            } else {
+                self.t.feed += dt;
+            }
+        }
+        if end {
+            self.window.clear();
+            self.entry = 0.0;
+            self.limit = WINDOW;
+        } else {
+            self.entry = e[done];
+            self.window.drain(..done);
+            self.limit = WINDOW.max(2 * self.window.len());
+        }
+    }
 }
 
 /// Adds the time of a run of blocks planned from rest to rest ([`plan`]).

@@ -6,7 +6,7 @@ use crate::geom::predicates::edge_winding;
 use crate::geom::{DVec2, Line};
 use crate::sim::config::CheckConfig;
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::Motions;
+use crate::sim::motion::{Motion, Motions};
 use rstar::primitives::{GeomWithData, Line as RLine};
 use rstar::{AABB, RTree};
 use serde::{Deserialize, Serialize};
@@ -66,6 +66,104 @@ impl DesignBoundary {
 
 type Indexed = GeomWithData<RLine<[f64; 2]>, usize>;
 
+/// The design boundaries indexed for the gouge check.
+pub struct GougeIndex<'d> {
+    design: &'d [DesignBoundary],
+    tree: RTree<Indexed>,
+    clearance: f64,
+    tol: f64,
+}
+
+impl<'d> GougeIndex<'d> {
+    /// The index of `design`, None when it has no segment (nothing to check).
+    pub fn new(design: &'d [DesignBoundary], cfg: &CheckConfig) -> Option<Self> {
+        let mut items = Vec::new();
+        for (bi, b) in design.iter().enumerate() {
+            for (a, c) in b.segments() {
+                items.push(Indexed::new(RLine::new([a.x, a.y], [c.x, c.y]), bi));
+            }
+        }
+        if items.is_empty() {
+            return None;
+        }
+        Some(GougeIndex {
+            design,
+            tree: RTree::bulk_load(items),
+            clearance: cfg.tool_radius - cfg.gouge_tolerance,
+            tol: cfg.flatten_tolerance,
+        })
+    }
+
+    /// The gouge of one move: a cutting move (`cutting`) nearer a boundary than the
+    /// clearance.
+    pub fn motion(&self, m: &Motion, cutting: bool) -> Option<Finding> {
+        let clearance = self.clearance;
+        if !(clearance > 0.0 && cutting) {
+            return None;
+        }
+        let pts = m.flatten_xy(self.tol);
+        let mut worst: Option<(f64, DVec2, usize)> = None;
+        for w in pts.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let lo = a.min(b) - DVec2::splat(clearance);
+            let hi = a.max(b) + DVec2::splat(clearance);
+            let env = AABB::from_corners([lo.x, lo.y], [hi.x, hi.y]);
+            for it in self.tree.locate_in_envelope_intersecting(env) {
+                let g = it.geom();
+                let (c, d) = (DVec2::from(g.from), DVec2::from(g.to));
+                let dist = Line::new(a, b).distance_to_line(&Line::new(c, d));
+                if dist < clearance && worst.is_none_or(|(w, _, _)| dist < w) {
+                    let near = Line::new(a, b);
+                    let p = [c, d, a, b]
+                        .into_iter()
+                        .min_by(|x, y| near.distance(*x).total_cmp(&near.distance(*y)))
+                        .unwrap_or(a);
+                    worst = Some((dist, p, it.data));
+                }
+            }
+        }
+        let (dist, p, bi) = worst?;
+        Some(
+            Finding::new(
+                "gouge",
+                Severity::Error,
+                format!(
+                    "tool centre {dist:.4} mm from design boundary {bi} (needs {clearance:.4})"
+                ),
+            )
+            .line(m.line)
+            .at([p.x, p.y, m.to.z]),
+        )
+    }
+
+    /// The gouge of a contour starting at `p` (cut at height `z`, first move on `line`) on
+    /// the wrong side of the nearest boundary.
+    pub fn contour_start(&self, p: DVec2, line: usize, z: f64) -> Option<Finding> {
+        let near = self.tree.nearest_neighbor([p.x, p.y])?;
+        let b = self.design.get(near.data)?;
+        let inside = b.contains(p);
+        let wrong = match b.keep {
+            KeepSide::Outside => inside,
+            KeepSide::Inside => !inside,
+            KeepSide::Either => false,
+        };
+        wrong.then(|| {
+            Finding::new(
+                "gouge",
+                Severity::Error,
+                format!(
+                    "cut contour starts {} design boundary {} but must stay {}",
+                    if inside { "inside" } else { "outside" },
+                    near.data,
+                    if inside { "outside" } else { "inside" }
+                ),
+            )
+            .line(line)
+            .at([p.x, p.y, z])
+        })
+    }
+}
+
 /// Gouges: cutting moves whose flattened xy path (sagitta ≤ `cfg.flatten_tolerance`) comes
 /// closer than `tool_radius − gouge_tolerance` to any boundary, and contours whose start
 /// lies on the wrong side of the nearest boundary. One finding per offending line.
@@ -75,92 +173,24 @@ pub fn gouge_findings(
     design: &[DesignBoundary],
     cfg: &CheckConfig,
 ) -> Vec<Finding> {
-    let mut items = Vec::new();
-    for (bi, b) in design.iter().enumerate() {
-        for (a, c) in b.segments() {
-            items.push(Indexed::new(RLine::new([a.x, a.y], [c.x, c.y]), bi));
-        }
-    }
-    if items.is_empty() {
+    let Some(index) = GougeIndex::new(design, cfg) else {
         return Vec::new();
-    }
-    let tree = RTree::bulk_load(items);
-    let clearance = cfg.tool_radius - cfg.gouge_tolerance;
+    };
     let mut out = Vec::new();
-    if clearance > 0.0 {
-        for m in motions.iter().filter(|m| is_cutting(m, cfg)) {
-            let pts = m.flatten_xy(cfg.flatten_tolerance);
-            let mut worst: Option<(f64, DVec2, usize)> = None;
-            for w in pts.windows(2) {
-                let (a, b) = (w[0], w[1]);
-                let lo = a.min(b) - DVec2::splat(clearance);
-                let hi = a.max(b) + DVec2::splat(clearance);
-                let env = AABB::from_corners([lo.x, lo.y], [hi.x, hi.y]);
-                for it in tree.locate_in_envelope_intersecting(env) {
-                    let g = it.geom();
-                    let (c, d) = (DVec2::from(g.from), DVec2::from(g.to));
-                    let dist = Line::new(a, b).distance_to_line(&Line::new(c, d));
-                    if dist < clearance && worst.is_none_or(|(w, _, _)| dist < w) {
-                        let near = Line::new(a, b);
-                        let p = [c, d, a, b]
-                            .into_iter()
-                            .min_by(|x, y| near.distance(*x).total_cmp(&near.distance(*y)))
-                            .unwrap_or(a);
-                        worst = Some((dist, p, it.data));
-                    }
-                }
-            }
-            if let Some((dist, p, bi)) = worst {
-                out.push(
-                    Finding::new(
-                        "gouge",
-                        Severity::Error,
-                        format!(
-                            "tool centre {dist:.4} mm from design boundary {bi} (needs {clearance:.4})"
-                        ),
-                    )
-                    .line(m.line)
-                    .at([p.x, p.y, m.to.z]),
-                );
-            }
+    if index.clearance > 0.0 {
+        for m in motions {
+            out.extend(index.motion(&m, is_cutting(&m, cfg)));
         }
     }
     for c in contours {
         let Some(&p) = c.points.first() else { continue };
-        let Some(near) = tree.nearest_neighbor([p.x, p.y]) else {
-            continue;
-        };
-        let Some(b) = design.get(near.data) else {
-            continue;
-        };
-        let inside = b.contains(p);
-        let wrong = match b.keep {
-            KeepSide::Outside => inside,
-            KeepSide::Inside => !inside,
-            KeepSide::Either => false,
-        };
-        if wrong {
-            let line = c
-                .sources
-                .first()
-                .and_then(|&s| motions.get(s as usize))
-                .map(|m| m.line)
-                .unwrap_or(0);
-            out.push(
-                Finding::new(
-                    "gouge",
-                    Severity::Error,
-                    format!(
-                        "cut contour starts {} design boundary {} but must stay {}",
-                        if inside { "inside" } else { "outside" },
-                        near.data,
-                        if inside { "outside" } else { "inside" }
-                    ),
-                )
-                .line(line)
-                .at([p.x, p.y, c.z]),
-            );
-        }
+        let line = c
+            .sources
+            .first()
+            .and_then(|&s| motions.get(s as usize))
+            .map(|m| m.line)
+            .unwrap_or(0);
+        out.extend(index.contour_start(p, line, c.z));
     }
     out
 }

@@ -50,6 +50,71 @@ pub struct SegmentSet {
     pub segs: Vec<Seg>,
     /// Per contour: number of segments and whether it is closed (last point = first).
     pub contours: Vec<(u32, bool)>,
+    /// A tile of a larger set ([`SegmentSet::tile`]): each segment's neighbours, since its
+    /// contour is not held whole.
+    links: Option<Vec<Link>>,
+}
+
+/// What a segment of a tile knows of its neighbours in its contour.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Link {
+    /// Start point of the segment before it (the last one's for the first segment of a
+    /// closed contour).
+    pub prev_a: Option<DVec2>,
+    /// End point of the segment after it (the first one's for the last segment of a
+    /// closed contour).
+    pub next_b: Option<DVec2>,
+    /// First or last segment of a closed contour (the two are adjacent).
+    pub wrap: bool,
+}
+
+/// The uniform grid of [`SegmentSet::contacts`]: origin, cell size and rows; a cell's key
+/// is `column · ny + row`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    /// Lower corner of the segments' bounds.
+    pub lo: DVec2,
+    /// Cell size.
+    pub h: f64,
+    /// Columns (keys are below `nx · ny`).
+    pub nx: u64,
+    /// Rows.
+    pub ny: u64,
+}
+
+impl Grid {
+    /// The grid for `n` ≥ 2 segments with bounds `lo`..`hi` and total length `total`
+    /// (summed in segment order); None where it cannot be built (non-finite input) and
+    /// every pair must be tested.
+    pub fn new(lo: DVec2, hi: DVec2, total: f64, n: usize) -> Option<Grid> {
+        if !(lo.is_finite() && hi.is_finite() && total.is_finite()) {
+            return None;
+        }
+        let ext = hi - lo;
+        let mean = total / n as f64;
+        let by_area = (ext.x.max(mean) * ext.y.max(mean) / n as f64).sqrt();
+        let floor = ext.max_element() / MAX_CELLS_PER_AXIS;
+        let mut h = mean.min(by_area).max(floor);
+        // Long segments packed close (a dense hatch) would cover ~n^1.5 cells at the
+        // area-based size: grow the cells until the covers total at most MAX_COVER_PER_SEG·n.
+        if total / h > MAX_COVER_PER_SEG * n as f64 {
+            h = total / (MAX_COVER_PER_SEG * n as f64);
+        }
+        if h.is_nan() || h <= 0.0 {
+            return None;
+        }
+        let ny = (ext.y / h).floor() as u64 + 2;
+        let nx = (ext.x / h).floor() as u64 + 2;
+        Some(Grid { lo, h, nx, ny })
+    }
+
+    /// Calls `f` with the key of every cell segment `a`–`b` may touch.
+    pub fn cover(&self, a: DVec2, b: DVec2, mut f: impl FnMut(u64)) {
+        let ny = self.ny;
+        cover((a - self.lo) / self.h, (b - self.lo) / self.h, |cx, cy| {
+            f(cx * ny + cy)
+        });
+    }
 }
 
 /// Two segments that share a point.
@@ -104,13 +169,17 @@ impl SegmentSet {
 
     /// True when segments `s` and `t` of one contour are consecutive (they share an end
     /// point by construction).
-    fn adjacent(&self, s: &Seg, t: &Seg) -> bool {
+    fn adjacent(&self, i: usize, j: usize, s: &Seg, t: &Seg) -> bool {
         if s.contour != t.contour {
             return false;
         }
         let (lo, hi) = (s.index.min(t.index), s.index.max(t.index));
         if hi - lo == 1 {
             return true;
+        }
+        if let Some(links) = &self.links {
+            let wrap = |k: usize| links.get(k).is_some_and(|l| l.wrap);
+            return wrap(i) && wrap(j);
         }
         let (n, closed) = self
             .contours
@@ -125,6 +194,16 @@ impl SegmentSet {
     /// at `v`.
     fn pass_at(&self, i: usize, v: DVec2) -> Option<(DVec2, DVec2)> {
         let s = self.segs.get(i)?;
+        if let Some(links) = &self.links {
+            let l = links.get(i)?;
+            return if s.a == v {
+                l.prev_a.map(|p| (p - v, s.b - v))
+            } else if s.b == v {
+                l.next_b.map(|q| (s.a - v, q - v))
+            } else {
+                None
+            };
+        }
         let same = |k: usize| self.segs.get(k).filter(|t| t.contour == s.contour);
         let (n, closed) = self.contours.get(s.contour as usize).copied()?;
         let first = i - s.index as usize;
@@ -242,28 +321,33 @@ impl SegmentSet {
             hi = hi.max(s.a).max(s.b);
             total += s.a.distance(s.b);
         }
-        if !(lo.is_finite() && hi.is_finite() && total.is_finite()) {
-            return self.brute_force_contacts();
+        match Grid::new(lo, hi, total, n) {
+            Some(g) => self.cell_contacts(&g, 0..u64::MAX),
+            None => self.brute_force_contacts(),
         }
-        let ext = hi - lo;
-        let mean = total / n as f64;
-        let by_area = (ext.x.max(mean) * ext.y.max(mean) / n as f64).sqrt();
-        let floor = ext.max_element() / MAX_CELLS_PER_AXIS;
-        let mut h = mean.min(by_area).max(floor);
-        // Long segments packed close (a dense hatch) would cover ~n^1.5 cells at the
-        // area-based size: grow the cells until the covers total at most MAX_COVER_PER_SEG·n.
-        if total / h > MAX_COVER_PER_SEG * n as f64 {
-            h = total / (MAX_COVER_PER_SEG * n as f64);
+    }
+
+    /// A tile of a larger set: `segs` with their neighbours `links` (same length), in the
+    /// larger set's order; see [`SegmentSet::cell_contacts`].
+    pub fn tile(segs: Vec<Seg>, links: Vec<Link>) -> Self {
+        SegmentSet {
+            segs,
+            contours: Vec::new(),
+            links: Some(links),
         }
-        if h.is_nan() || h <= 0.0 {
-            return self.brute_force_contacts();
-        }
-        let ny = (ext.y / h).floor() as u64 + 2;
-        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * n);
+    }
+
+    /// The contacts of segment pairs sharing a cell of `grid` whose key is in `keys`,
+    /// tested cell by cell as [`SegmentSet::contacts`] does (without the folds of
+    /// consecutive segments). Unsorted.
+    pub fn cell_contacts(&self, grid: &Grid, keys: std::ops::Range<u64>) -> Vec<Contact> {
+        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * self.segs.len());
         for (k, s) in self.segs.iter().enumerate() {
-            let a = (s.a - lo) / h;
-            let b = (s.b - lo) / h;
-            cover(a, b, |cx, cy| entries.push((cx * ny + cy, k as u32)));
+            grid.cover(s.a, s.b, |key| {
+                if keys.contains(&key) {
+                    entries.push((key, k as u32));
+                }
+            });
         }
         entries.sort_unstable();
         let mut out = Vec::new();
@@ -341,6 +425,12 @@ impl SegmentSet {
         }
     }
 
+    /// Every pair tested (no grid, no folds of consecutive segments): the fallback for
+    /// non-finite coordinates.
+    pub fn brute_force(&self) -> Vec<Contact> {
+        self.brute_force_contacts()
+    }
+
     /// Quadratic fallback for degenerate extents (non-finite coordinates).
     fn brute_force_contacts(&self) -> Vec<Contact> {
         let mut out = Vec::new();
@@ -361,7 +451,7 @@ impl SegmentSet {
         if s.a.max(s.b).cmplt(t.a.min(t.b)).any() || t.a.max(t.b).cmplt(s.a.min(s.b)).any() {
             return None;
         }
-        if self.adjacent(s, t) {
+        if self.adjacent(i, j, s, t) {
             return None;
         }
         let (i, j) = (i.min(j), i.max(j));

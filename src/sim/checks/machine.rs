@@ -4,7 +4,7 @@
 use super::contours::is_cutting;
 use crate::sim::config::{CheckConfig, MachineKind};
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::{MotionKind, Motions, Program};
+use crate::sim::motion::{Motion, MotionKind, Motions, Program};
 
 /// Slack on the travel limits relative to the coordinates, so that a move ending exactly on a
 /// limit after unit conversion (25.4 · x) is not flagged.
@@ -15,36 +15,41 @@ fn limit_slack(v: f64) -> f64 {
 /// Moves (rapids included) that leave the work area [work_min, work_max]; arcs by their
 /// exact bounds.
 pub fn out_of_bounds(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
-    let mut out = Vec::new();
-    for m in motions {
-        let (lo, hi) = m.bounds();
-        let mut bad = Vec::new();
-        for (i, axis) in ["x", "y", "z"].into_iter().enumerate() {
-            if lo[i] < cfg.work_min[i] - limit_slack(cfg.work_min[i]) {
-                bad.push(format!("{axis} {:.3} < {:.3}", lo[i], cfg.work_min[i]));
-            }
-            if hi[i] > cfg.work_max[i] + limit_slack(cfg.work_max[i]) {
-                bad.push(format!("{axis} {:.3} > {:.3}", hi[i], cfg.work_max[i]));
-            }
+    motions
+        .iter()
+        .filter_map(|m| out_of_bounds_move(&m, cfg))
+        .collect()
+}
+
+/// [`out_of_bounds`] of one move.
+pub fn out_of_bounds_move(m: &Motion, cfg: &CheckConfig) -> Option<Finding> {
+    let (lo, hi) = m.bounds();
+    let mut bad = Vec::new();
+    for (i, axis) in ["x", "y", "z"].into_iter().enumerate() {
+        if lo[i] < cfg.work_min[i] - limit_slack(cfg.work_min[i]) {
+            bad.push(format!("{axis} {:.3} < {:.3}", lo[i], cfg.work_min[i]));
         }
-        if !bad.is_empty() {
-            let what = if m.kind == MotionKind::Rapid {
-                "rapid"
-            } else {
-                "move"
-            };
-            out.push(
-                Finding::new(
-                    "out-of-bounds",
-                    Severity::Error,
-                    format!("{what} leaves the work area: {}", bad.join(", ")),
-                )
-                .line(m.line)
-                .at(m.to.to_array()),
-            );
+        if hi[i] > cfg.work_max[i] + limit_slack(cfg.work_max[i]) {
+            bad.push(format!("{axis} {:.3} > {:.3}", hi[i], cfg.work_max[i]));
         }
     }
-    out
+    if bad.is_empty() {
+        return None;
+    }
+    let what = if m.kind == MotionKind::Rapid {
+        "rapid"
+    } else {
+        "move"
+    };
+    Some(
+        Finding::new(
+            "out-of-bounds",
+            Severity::Error,
+            format!("{what} leaves the work area: {}", bad.join(", ")),
+        )
+        .line(m.line)
+        .at(m.to.to_array()),
+    )
 }
 
 /// Laser: G0 with M3/M4 and S > 0 (a warning in GRBL laser mode, where G0 never fires, an
@@ -53,79 +58,105 @@ pub fn out_of_bounds(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
 pub fn rapids(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
     let mut out = Vec::new();
     for m in motions.iter().filter(|m| m.kind == MotionKind::Rapid) {
-        match cfg.kind {
-            MachineKind::Laser => {
-                if m.tool.is_on() {
-                    let (sev, note) = if cfg.grbl_laser_mode {
-                        (
-                            Severity::Warning,
-                            "GRBL laser mode keeps the beam off on G0; other controllers fire it",
-                        )
-                    } else {
-                        (Severity::Error, "the beam fires along the rapid")
-                    };
-                    out.push(
-                        Finding::new(
-                            "laser-on-rapid",
-                            sev,
-                            format!("G0 with the laser on (S{}): {note}", m.tool.s),
-                        )
-                        .line(m.line)
-                        .at(m.to.to_array()),
-                    );
-                }
+        rapid_move(&m, cfg, &mut out);
+    }
+    out
+}
+
+/// [`rapids`] of one move (nothing unless it is a rapid).
+pub fn rapid_move(m: &Motion, cfg: &CheckConfig, out: &mut Vec<Finding>) {
+    if m.kind != MotionKind::Rapid {
+        return;
+    }
+    match cfg.kind {
+        MachineKind::Laser => {
+            if m.tool.is_on() {
+                let (sev, note) = if cfg.grbl_laser_mode {
+                    (
+                        Severity::Warning,
+                        "GRBL laser mode keeps the beam off on G0; other controllers fire it",
+                    )
+                } else {
+                    (Severity::Error, "the beam fires along the rapid")
+                };
+                out.push(
+                    Finding::new(
+                        "laser-on-rapid",
+                        sev,
+                        format!("G0 with the laser on (S{}): {note}", m.tool.s),
+                    )
+                    .line(m.line)
+                    .at(m.to.to_array()),
+                );
             }
-            MachineKind::Router => {
-                let low = m.from.z.min(m.to.z);
-                let xy = m.from.truncate() != m.to.truncate();
-                if xy && low < cfg.safe_z {
-                    let depth = if low < cfg.cut_z {
-                        " (inside the stock)"
-                    } else {
-                        ""
-                    };
-                    out.push(
-                        Finding::new(
-                            "rapid-below-safe-z",
-                            Severity::Error,
-                            format!(
-                                "rapid in xy at z {low:.3}, below safe z {:.3}{depth}",
-                                cfg.safe_z
-                            ),
-                        )
-                        .line(m.line)
-                        .at(m.to.to_array()),
-                    );
-                } else if m.to.z < cfg.cut_z {
-                    out.push(
-                        Finding::new(
-                            "rapid-into-stock",
-                            Severity::Error,
-                            format!(
-                                "rapid plunges to z {:.3}, below the stock top {:.3}",
-                                m.to.z, cfg.cut_z
-                            ),
-                        )
-                        .line(m.line)
-                        .at(m.to.to_array()),
-                    );
-                }
+        }
+        MachineKind::Router => {
+            let low = m.from.z.min(m.to.z);
+            let xy = m.from.truncate() != m.to.truncate();
+            if xy && low < cfg.safe_z {
+                let depth = if low < cfg.cut_z {
+                    " (inside the stock)"
+                } else {
+                    ""
+                };
+                out.push(
+                    Finding::new(
+                        "rapid-below-safe-z",
+                        Severity::Error,
+                        format!(
+                            "rapid in xy at z {low:.3}, below safe z {:.3}{depth}",
+                            cfg.safe_z
+                        ),
+                    )
+                    .line(m.line)
+                    .at(m.to.to_array()),
+                );
+            } else if m.to.z < cfg.cut_z {
+                out.push(
+                    Finding::new(
+                        "rapid-into-stock",
+                        Severity::Error,
+                        format!(
+                            "rapid plunges to z {:.3}, below the stock top {:.3}",
+                            m.to.z, cfg.cut_z
+                        ),
+                    )
+                    .line(m.line)
+                    .at(m.to.to_array()),
+                );
             }
         }
     }
-    out
 }
 
 /// Cutting moves whose feed or S is outside the configured ranges, one finding per run of
 /// consecutive offending moves with the same value.
 pub fn feed_and_power(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
     let mut out = Vec::new();
-    let mut last_feed: Option<f64> = None;
-    let mut last_power: Option<f64> = None;
-    for m in motions.iter().filter(|m| is_cutting(m, cfg)) {
+    let mut st = FeedPower::default();
+    for m in motions {
+        st.motion(&m, cfg, &mut out);
+    }
+    out
+}
+
+/// The state of [`feed_and_power`] between moves (the value of the current run of
+/// offending moves).
+#[derive(Clone, Debug, Default)]
+pub struct FeedPower {
+    last_feed: Option<f64>,
+    last_power: Option<f64>,
+}
+
+impl FeedPower {
+    /// Checks the next move (nothing unless it cuts).
+    pub fn motion(&mut self, m: &Motion, cfg: &CheckConfig, out: &mut Vec<Finding>) {
+        if !is_cutting(m, cfg) {
+            return;
+        }
         let f = m.feed;
         if f < cfg.feed_min || f > cfg.feed_max {
-            if last_feed != Some(f) {
+            if self.last_feed != Some(f) {
                 let msg = if f <= 0.0 {
                     "cutting move without a feed rate (no F set)".to_string()
                 } else {
@@ -140,14 +171,14 @@ pub fn feed_and_power(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
                         .at(m.from.to_array()),
                 );
             }
-            last_feed = Some(f);
+            self.last_feed = Some(f);
         } else {
-            last_feed = None;
+            self.last_feed = None;
         }
         let s = m.tool.s;
         let powered = m.tool.spindle != crate::sim::motion::Spindle::Off;
         if powered && (s < cfg.power_min || s > cfg.power_max) {
-            if last_power != Some(s) {
+            if self.last_power != Some(s) {
                 out.push(
                     Finding::new(
                         "power-out-of-range",
@@ -158,12 +189,11 @@ pub fn feed_and_power(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
                     .at(m.from.to_array()),
                 );
             }
-            last_power = Some(s);
+            self.last_power = Some(s);
         } else {
-            last_power = None;
+            self.last_power = None;
         }
     }
-    out
 }
 
 /// The end of the program: no M2/M30 (a warning: GRBL streams need none, but a missing end
