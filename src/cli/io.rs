@@ -52,44 +52,10 @@ fn dir_of(path: &Path) -> PathBuf {
     }
 }
 
-/// Age after which a temporary file counts as stale where process ids cannot be checked.
-const STALE_AGE: std::time::Duration = std::time::Duration::from_secs(3600);
-
-/// True when the process `pid` no longer runs (Linux: no /proc entry). Elsewhere a file
-/// older than [`STALE_AGE`] counts as left behind.
-fn stale(pid: u32, file: &Path) -> bool {
-    if pid == std::process::id() {
-        return false;
-    }
-    let proc_fs = Path::new("/proc/self");
-    if proc_fs.exists() {
-        return !Path::new(&format!("/proc/{pid}")).exists();
-    }
-    fs::metadata(file)
-        .and_then(|m| m.modified())
-        .ok()
-        .and_then(|t| t.elapsed().ok())
-        .is_some_and(|age| age > STALE_AGE)
-}
-
-/// Removes the temporary files of killed runs ([`TMP_PREFIX`]) from `dir`; errors are
-/// ignored (a file another run is still writing is kept).
+/// Removes the temporary files of killed runs ([`TMP_PREFIX`]) from `dir`
+/// ([`skinpath::sim::temp::remove_left_behind`]).
 pub fn remove_stale_temporaries(dir: &Path) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let Some(rest) = name.strip_prefix(TMP_PREFIX) else {
-            continue;
-        };
-        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
-            continue;
-        };
-        if stale(pid, &e.path()) {
-            let _ = fs::remove_file(e.path());
-        }
-    }
+    skinpath::sim::temp::remove_left_behind(dir, TMP_PREFIX);
 }
 
 /// Writes `bytes` to a temporary file beside `path`, flushed and synced; returns its path.

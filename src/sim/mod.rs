@@ -35,6 +35,7 @@ pub mod ngc;
 pub mod report;
 pub mod rs274;
 pub mod stream;
+pub mod temp;
 pub mod time;
 pub mod timeline;
 

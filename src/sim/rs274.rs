@@ -106,7 +106,7 @@ pub enum Rs274Error {
 /// [`super::linuxcnc::number_lines`] for findings with source lines) in a folder of its own.
 pub fn run(text: &str, opts: &Rs274Options) -> Result<Rs274Output, Rs274Error> {
     let tmp = std::env::temp_dir();
-    remove_stale(&tmp);
+    super::temp::remove_left_behind(&tmp, TMP_PREFIX);
     let dir = own_tmp_dir(&tmp)?;
     let io = |what: &'static str, path: &Path| {
         let path = path.to_path_buf();
@@ -211,26 +211,6 @@ struct TmpDir(PathBuf);
 impl Drop for TmpDir {
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// Removes folders left by killed runs: `skinpath-rs274-PID-N` whose process is gone.
-fn remove_stale(tmp: &Path) {
-    let Ok(rd) = std::fs::read_dir(tmp) else {
-        return;
-    };
-    for e in rd.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let Some(rest) = name.strip_prefix(TMP_PREFIX) else {
-            continue;
-        };
-        // `PID` (older runs) or `PID-N`.
-        let Ok(pid) = rest.split('-').next().unwrap_or(rest).parse::<u32>() else {
-            continue;
-        };
-        if pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
-            let _ = std::fs::remove_dir_all(e.path());
-        }
     }
 }
 

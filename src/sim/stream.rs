@@ -9,7 +9,8 @@
 //!   most `max_findings_per_check` findings per id, counting the rest.
 //! - Cut contours are split into segments as they are cut; each segment is written to a
 //!   temporary file (`.skinpath-check-PID-N` in the system's temporary folder, removed on
-//!   every return) with what the contact test needs of its neighbours. After the last move
+//!   every return; files a killed run left are removed by the next streaming check, see
+//!   [`super::temp`]) with what the contact test needs of its neighbours. After the last move
 //!   the contact grid of [`SegmentSet::contacts`] is laid over all segments, its cells are
 //!   split into key ranges (tiles) of bounded size, each segment is copied to the tile files
 //!   its cells fall in, and each tile is tested in memory cell by cell, exactly as the
@@ -204,6 +205,10 @@ impl SegRec {
     }
 }
 
+/// Prefix of the streaming check's temporary files (`.skinpath-check-PID-N`); the first
+/// file a process makes removes those killed runs left ([`super::temp`]).
+pub const TEMP_PREFIX: &str = ".skinpath-check-";
+
 /// A temporary file named `.skinpath-check-PID-N`, removed when dropped.
 struct TempFile {
     path: PathBuf,
@@ -213,10 +218,13 @@ impl TempFile {
     fn create() -> std::io::Result<(TempFile, BufWriter<std::fs::File>)> {
         use std::sync::atomic::{AtomicUsize, Ordering};
         static NEXT: AtomicUsize = AtomicUsize::new(0);
+        if NEXT.load(Ordering::Relaxed) == 0 {
+            super::temp::remove_left_behind(&std::env::temp_dir(), TEMP_PREFIX);
+        }
         loop {
             let n = NEXT.fetch_add(1, Ordering::Relaxed);
             let path =
-                std::env::temp_dir().join(format!(".skinpath-check-{}-{n}", std::process::id()));
+                std::env::temp_dir().join(format!("{TEMP_PREFIX}{}-{n}", std::process::id()));
             match std::fs::OpenOptions::new()
                 .write(true)
                 .create_new(true)
