@@ -286,7 +286,7 @@ fn random_build(text: &str, p: &Profile) -> Result<(), String> {
     let design = load(text, file).map_err(|e| e.to_string())?;
     let opts = BuildOptions::default();
     let mut built = build_toolpath(&design, p, &opts).map_err(|e| e.to_string())?;
-    place_job(&mut built, p, 1.0, Place::LowerLeft, 0.0, 1e-3, 1.0).map_err(|e| e.to_string())?;
+    place_job(&mut built, p, 1.0, Place::LowerLeft, 0.0, 2e-3, 1.0).map_err(|e| e.to_string())?;
     let g = gcode(
         &built.toolpath,
         p,

@@ -44,7 +44,7 @@ fn build_and_check(design: &Design, machine: &str) -> Result<Option<String>, Str
         Ok(b) => b,
         Err(e) => return Ok(Some(e.to_string())),
     };
-    if let Err(e) = place_job(&mut built, &p, 1.0, Place::LowerLeft, 0.0, 1e-3, 1.0) {
+    if let Err(e) = place_job(&mut built, &p, 1.0, Place::LowerLeft, 0.0, 2e-3, 1.0) {
         return Ok(Some(e.to_string()));
     }
     let g = gcode(
@@ -251,6 +251,16 @@ depth = 6.0
 #[test]
 fn random_c95_hairpin_skin_missed_the_bend() {
     random_case("random_c95");
+}
+
+/// Seed 0x5EED0013 case 138: a hole's circle at the left edge of the work area reached
+/// x = −0.0004 after rounding; placement keeps two units of the last decimal.
+#[test]
+fn random_s13_c138_hole_at_the_work_area_edge() {
+    random_case("random_s13_c138");
+    let file = format!("{ROOT}/tests/robust_data/random_s13_c138.toml");
+    let design = load(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
+    assert_eq!(build_and_check(&design, "grbl-laser"), Ok(None));
 }
 
 /// Seed 0x5EED0011 case 145: with phase 1's push-back on, stroke s0's skin came out with

@@ -1351,7 +1351,7 @@ pub fn outline_bounds(outlines: &[ItemOutline], tol: f64) -> Option<(DVec2, DVec
 
 /// Moves the built job as `place` says and checks that it fits the work area of `profile`
 /// (in xy). `margin` (design units) keeps the job that far from the area's edges with
-/// [`Place::LowerLeft`]; `inset` (design units, one unit of the program's last decimal) more
+/// [`Place::LowerLeft`]; `inset` (design units, two units of the program's last decimal) more
 /// keeps rounding from pushing an arc's extreme over the edge. A job that does not fit
 /// fails with its size, the area's size and the option that would help.
 pub fn place_job(

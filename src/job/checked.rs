@@ -192,9 +192,12 @@ impl Job<'_> {
         clock.start(Stage::Place);
         let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
         let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
-        // One unit of the program's last decimal, so that coordinate rounding cannot put an
-        // arc's extreme point a hair outside the work area.
-        let inset = 10f64.powi(-(decimals as i32)) * k;
+        // Two units of the program's last decimal, so that coordinate rounding cannot put an
+        // arc's extreme point a hair outside the work area: a reader takes the arc's radius
+        // from the rounded start and the rounded centre offset, each off by up to half a unit
+        // per axis, so the radius (and the extreme) moves by up to √2 units (seed 0x5EED0013
+        // case 138: a hole's circle reached x = −0.0004 with one unit).
+        let inset = 2.0 * 10f64.powi(-(decimals as i32)) * k;
         let placement = place_job(
             &mut built,
             profile,
