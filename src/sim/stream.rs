@@ -26,7 +26,7 @@ use super::checks::gouge::GougeIndex;
 use super::checks::intersect::{Contact, Grid, Link, Seg, SegmentSet};
 use super::checks::{DesignBoundary, contours, machine};
 use super::config::CheckConfig;
-use super::findings::{Finding, Severity};
+use super::findings::Finding;
 use super::interp::{self, ReadSeek};
 use super::motion::{Motion, MotionKind, Program};
 use super::report::{Report, Stats};
@@ -651,24 +651,12 @@ impl<'d> Checker<'d> {
             if !seen.insert(key) {
                 continue;
             }
-            let f = if same {
-                Finding::new(
-                    "self-intersection",
-                    Severity::Error,
-                    format!(
-                        "cut contour {} {} itself",
-                        c.contour[0],
-                        if c.proper { "crosses" } else { "touches" }
-                    ),
-                )
-            } else {
-                Finding::new(
-                    "contour-crossing",
-                    Severity::Error,
-                    format!("cut contours {} and {} cross", c.contour[0], c.contour[1]),
-                )
-            };
-            out.push(f.lines([key.1, key.2]).at([c.point.x, c.point.y, c.z]));
+            out.push(contours::contact_finding(
+                c.contour,
+                c.proper,
+                [key.1, key.2],
+                [c.point.x, c.point.y, c.z],
+            ));
         }
         Ok(())
     }

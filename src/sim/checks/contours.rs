@@ -174,24 +174,42 @@ pub fn intersection_findings(
             continue;
         }
         let z = contours.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
-        let f = if same {
-            Finding::new(
-                "self-intersection",
-                Severity::Error,
-                format!(
-                    "cut contour {} {} itself",
-                    s.contour,
-                    if c.proper { "crosses" } else { "touches" }
-                ),
-            )
-        } else {
-            Finding::new(
-                "contour-crossing",
-                Severity::Error,
-                format!("cut contours {} and {} cross", s.contour, t.contour),
-            )
-        };
-        out.push(f.lines([key.1, key.2]).at([c.point.x, c.point.y, z]));
+        out.push(contact_finding(
+            [s.contour, t.contour],
+            c.proper,
+            [key.1, key.2],
+            [c.point.x, c.point.y, z],
+        ));
     }
     out
+}
+
+/// The finding of a contact between a segment of contour `contours[0]` (program line
+/// `lines[0]`) and one of `contours[1]` at `at`: `self-intersection` when both are one
+/// contour (it crosses itself when `proper`, touches itself otherwise), else
+/// `contour-crossing`. Shared by both routes of the intersection check.
+pub(crate) fn contact_finding(
+    contours: [u32; 2],
+    proper: bool,
+    lines: [usize; 2],
+    at: [f64; 3],
+) -> Finding {
+    let f = if contours[0] == contours[1] {
+        Finding::new(
+            "self-intersection",
+            Severity::Error,
+            format!(
+                "cut contour {} {} itself",
+                contours[0],
+                if proper { "crosses" } else { "touches" }
+            ),
+        )
+    } else {
+        Finding::new(
+            "contour-crossing",
+            Severity::Error,
+            format!("cut contours {} and {} cross", contours[0], contours[1]),
+        )
+    };
+    f.lines(lines).at(at)
 }
