@@ -128,7 +128,7 @@ fn for_blocks(m: &Motion, rates: [f64; 3], cfg: &CheckConfig, mut f: impl FnMut(
 
 /// [`estimate`] move by move in bounded memory: the same sums, bit for bit.
 ///
-/// [`plan`] needs a whole run of blocks (rest to rest) for its backward pass, but a block's
+/// `plan` needs a whole run of blocks (rest to rest) for its backward pass, but a block's
 /// planned speeds depend on the blocks after it only until the room to brake from them
 /// exceeds its own limit. The planner keeps a window of blocks and plans it twice, once
 /// with the run ending at rest after the window and once with no limit there; where the

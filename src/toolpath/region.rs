@@ -513,7 +513,7 @@ impl Region {
         }
     }
 
-    /// Whether this region nests as a region should ([`Region::well_nested`]) and every
+    /// Whether this region nests as a region should (`well_nested`: material and holes alternate) and every
     /// vertex of `other` lies in its material (winding number 1).
     pub fn holds(&self, other: &Region) -> bool {
         self.well_nested()
