@@ -311,8 +311,8 @@ fn bounds(j: &Json) -> [f64; 4] {
 #[test]
 fn placement_lower_left_center_design_scale_and_fit() {
     let ring = example("ring_o");
-    // Default: the job's lower-left corner at the work origin (plus one unit of the last
-    // decimal, 0.001 mm), and the run says where it went.
+    // Default: the job's lower-left corner at the work origin (plus two units of the last
+    // decimal, 0.002 mm), and the run says where it went.
     let d = tmpdir("place");
     let out = d.join("a.gcode");
     let o = skinpath(&[
@@ -328,7 +328,7 @@ fn placement_lower_left_center_design_scale_and_fit() {
     let j = build_json(&ring, "grbl-laser", &[]);
     let b = bounds(&j);
     assert!(
-        (b[0] - 0.001).abs() < 1e-9 && (b[1] - 0.001).abs() < 1e-9,
+        (b[0] - 0.002).abs() < 1e-9 && (b[1] - 0.002).abs() < 1e-9,
         "{b:?}"
     );
     let (w, h) = (b[2] - b[0], b[3] - b[1]);
@@ -336,7 +336,7 @@ fn placement_lower_left_center_design_scale_and_fit() {
     // --margin moves the corner.
     let bm = bounds(&build_json(&ring, "grbl-laser", &["--margin", "7"]));
     assert!(
-        (bm[0] - 7.001).abs() < 1e-9 && (bm[1] - 7.001).abs() < 1e-9,
+        (bm[0] - 7.002).abs() < 1e-9 && (bm[1] - 7.002).abs() < 1e-9,
         "{bm:?}"
     );
     // Centre: the job's centre at the 400 x 400 area's centre, same size.
