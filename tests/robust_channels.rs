@@ -272,3 +272,29 @@ fn random_c145_skins_without_push_back() {
     let design = load(&std::fs::read_to_string(&file).unwrap(), &file).unwrap();
     assert_eq!(build_and_check(&design, "grbl-laser"), Ok(None));
 }
+
+/// Seed 0x5EED0012 case 164: where strokes cross, the channels' union is fat, and a
+/// clearing ring's offset came out as a fat patch with spurs 0.08 mm wide along the spines
+/// (the offset just below the channel's half-width). The spur ran out and back 0.08 apart,
+/// a cut touching itself; rings after the first are now opened, spurs narrower than the
+/// tool can use dropped (`ops::concentric`). Seed 0x5EED0014 case 138: a clearing ring
+/// had a separate lens 4.3 mm long and about 0.01 wide, which crossed itself once
+/// rounded; it has almost no area, so the choice of the opening goes by boundary length.
+#[test]
+fn random_s12_c164_s14_c138_sliver_spurs_and_lenses_of_clearing_rings() {
+    for name in ["random_s12_c164", "random_s14_c138"] {
+        random_case(name);
+    }
+}
+
+/// Seed 0x5EED0014 case 52 and seed 0x5EED0012 case 111: the backboard's profile offset
+/// came back as two rings sharing a chord through a channel (52), and the board's closing
+/// as one ring looping over itself across a channel (111); both passed every vertex test,
+/// and the board cut ran straight through the channel. Offsets are now also checked for
+/// simple, disjoint rings (`Region::simple`).
+#[test]
+fn random_s14_c52_s12_c111_board_cut_across_a_channel() {
+    for name in ["random_s14_c52", "random_s12_c111"] {
+        random_case(name);
+    }
+}

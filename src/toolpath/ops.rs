@@ -129,9 +129,23 @@ pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f6
 /// Concentric clearing: offsets of the region inward by `first`, then by `stepover` more
 /// each time, outermost ring first (the ordering stage decides the cut order). A tool that
 /// clears `reach` to each side of its path (its radius) needs no further ring once the
-/// region shrunk by the last ring's offset plus `reach` is empty; this keeps degenerate
-/// sliver rings (a ring collapsing onto a line retraces itself) out of the result. At most
-/// `max_rings` rings.
+/// region shrunk by the last ring's offset plus `reach` is empty. At most `max_rings` rings.
+///
+/// **No sliver rings.** Where the region's inradius is only a little above a ring's offset
+/// d, the offset R₋d has slivers: spurs whose two sides run a hair apart along a channel's
+/// spine, which touch or cross once the output is rounded. Every ring after the first is
+/// therefore checked against the morphological opening of R₋d by
+/// δ = max(½(reach − stepover), [`SLIVER_EPS`]·eps), that is (R₋₍d+δ₎)₊δ: R₋d without its
+/// parts narrower than 2δ. Where the opening's boundary is shorter by more than
+/// [`SLIVER_LENGTH`]·δ (a sliver, or sharp corners), the ring is the opening; otherwise R₋d
+/// itself, which keeps the ring free of the small arcs the opening puts at every vertex of
+/// a flattened curve. (Length, not area: a sliver 0.01 wide and 4 long has almost none.)
+/// The opening lies inside R₋d, so the tool stays where R₋d allows. Nothing is left uncut
+/// when δ ≤ reach − stepover: after the ring at d − stepover the material left is
+/// R₋₍d−stepover+reach₎ ⊆ R₋₍d+δ₎, which lies inside the opening, and the opening's points
+/// farther than `reach` from its boundary lie in R₋₍d+reach₎, which the next ring takes
+/// on. The first ring (the wall pass) is R₋first itself, so walls and corners are cut
+/// exactly. Cost: four offsets of the region per ring.
 pub fn concentric(
     region: &Region,
     first: f64,
@@ -144,9 +158,20 @@ pub fn concentric(
     if stepover <= 0.0 {
         return out;
     }
+    let delta = (0.5 * (reach - stepover)).max(SLIVER_EPS * eps);
     let mut d = first;
-    for _ in 0..max_rings {
-        let r = region.offset(-d, eps);
+    for k in 0..max_rings {
+        let plain = region.offset(-d, eps);
+        let r = if k == 0 {
+            plain
+        } else {
+            let opened = region.offset(-(d + delta), eps).offset(delta, eps);
+            if plain.perimeter() - opened.perimeter() > SLIVER_LENGTH * delta {
+                opened
+            } else {
+                plain
+            }
+        };
         if r.is_empty() {
             break;
         }
@@ -158,6 +183,19 @@ pub fn concentric(
     }
     out
 }
+
+/// Narrowest part a clearing ring keeps after the first, in units of the offset accuracy
+/// `eps`, when the tool's reach leaves no room for a wider opening (stepover ≥ reach): 20
+/// eps is twice the distance within which [`Region::offset`] treats two passes as one path,
+/// so a kept part's sides stay apart after the output is rounded.
+pub const SLIVER_EPS: f64 = 20.0;
+
+/// Length, in units of δ, by which a clearing ring's opening must be shorter than the ring
+/// for the opening to replace it (see [`concentric`]). A spur loses both its sides, twice
+/// its length, so spurs longer than δ/2 count; rounding a convex corner of interior angle
+/// α shortens the boundary by 2δ(cot(α/2) − (π − α)/2), 0.43·δ at 90°, and the many nearly
+/// straight vertices of a flattened curve almost nothing.
+pub const SLIVER_LENGTH: f64 = 1.0;
 
 /// The region swept by a disk of radius `half_width` along the polyline `spine` (a
 /// channel's footprint), with round ends; the arcs of the buffer are flattened within
@@ -245,11 +283,12 @@ pub fn backboard(
     let closed = |grow: &dyn Fn(&Region, f64) -> Region| {
         grow(&grow(&union, margin + min_inner_radius), -min_inner_radius)
     };
-    // The board must hold the union. cavalier_contours can split it along chords through
-    // the strokes (seed 0x5EED0011 case 251 rotated by 0.7 rad: the board of two crossing
-    // hairpins came back as four rings); geo's buffer makes it then.
-    let grown = closed(&|r, d| r.offset(d, eps));
-    let grown = if grown.holds(&union) {
+    // Each offset is checked, and the board must hold the union and be simple.
+    // cavalier_contours can split it along chords through the strokes (seed 0x5EED0011
+    // case 251 rotated by 0.7 rad: the board of two crossing hairpins came back as four
+    // rings); geo's buffer makes it then.
+    let grown = closed(&|r, d| r.offset_checked(d, eps, tol));
+    let grown = if grown.holds(&union) && grown.simple(eps) {
         grown
     } else {
         closed(&|r, d| r.buffered(d, tol))
@@ -437,6 +476,97 @@ mod tests {
             .map(|p| crate::geom::path::polygon_area(&p.flatten(1e-3)).abs())
             .collect();
         assert!(areas.windows(2).all(|w| w[1] < w[0]));
+    }
+
+    /// Distance from `p` to the nearest point of any of `paths` (flattened within 1e-4).
+    fn distance_to_paths(p: DVec2, paths: &[Path]) -> f64 {
+        let mut best = f64::INFINITY;
+        for path in paths {
+            let pts = path.flatten(1e-4);
+            for w in pts.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                let ab = b - a;
+                let t = ((p - a).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);
+                best = best.min(p.distance(a + ab * t));
+            }
+        }
+        best
+    }
+
+    /// The smallest distance between two points of one ring that lie farther apart than
+    /// `gap` along it (how close the ring comes to touching itself).
+    fn self_clearance(path: &Path, gap: f64) -> f64 {
+        let pts = path.flatten(1e-4);
+        let mut along = vec![0.0];
+        for w in pts.windows(2) {
+            along.push(along.last().unwrap() + w[0].distance(w[1]));
+        }
+        let total = *along.last().unwrap();
+        let mut best = f64::INFINITY;
+        for i in 0..pts.len() {
+            for j in i + 1..pts.len() {
+                let s = (along[j] - along[i]).min(total - (along[j] - along[i]));
+                if s > gap {
+                    best = best.min(pts[i].distance(pts[j]));
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn concentric_channel_has_no_sliver_ring_and_clears_everything() {
+        // A channel of half-width h = 1.8·r + 0.04 along a V of two gently curved arms
+        // (polylines, as a flattened spine is) with a 60° bend: the offset at r + 0.8·r is
+        // a fat patch at the bend, where the inner corner lies (h + h/sin 30°)/2 = 1.5·h >
+        // 2r from the walls, out of the first ring's reach, plus spurs 0.08 wide along both
+        // arms. The second ring must clear the patch and leave the spurs out.
+        let (r, step) = (1.5875, 0.8 * 1.5875);
+        let h = r + step + 0.04;
+        let arm = |from: DVec2, to: DVec2| -> Vec<DVec2> {
+            let n = (to - from).normalize().perp();
+            (0..=40)
+                .map(|i| {
+                    let t = i as f64 / 40.0;
+                    from.lerp(to, t) + n * (3.0 * t * (1.0 - t))
+                })
+                .collect()
+        };
+        let bend = DVec2::new(40.0, 0.0);
+        let mut spine = arm(DVec2::ZERO, bend);
+        spine.extend(
+            arm(bend, DVec2::new(20.0, 20.0 * 3f64.sqrt()))
+                .into_iter()
+                .skip(1),
+        );
+        // The build's tolerances: 0.01 mm, offsets to a tenth of it.
+        let region = swept_region(&spine, false, h, 1e-2);
+        let rings = concentric(&region, r, step, r, 100, 1e-3);
+        assert!(
+            rings.len() >= 2,
+            "the bend needs a second ring: {}",
+            rings.len()
+        );
+        // No ring comes within 0.1 mm of itself away from its own neighbourhood.
+        for (k, ring) in rings.iter().enumerate().skip(1) {
+            let c = self_clearance(ring, 1.0);
+            assert!(c > 0.1, "ring {k} comes {c} from itself");
+        }
+        // Every point of the region lies within the tool's reach of a ring (a 0.5 mm grid,
+        // within the region's flattening and offset accuracy).
+        let mut y = -h - 3.0;
+        while y <= 35.0 + h {
+            let mut x = -h;
+            while x <= 43.0 + h {
+                let p = DVec2::new(x, y);
+                if region.contains(p) {
+                    let d = distance_to_paths(p, &rings);
+                    assert!(d <= r + 2e-2, "{p} is {d} from every ring");
+                }
+                x += 0.5;
+            }
+            y += 0.5;
+        }
     }
 
     #[test]

@@ -13,6 +13,7 @@
 
 use super::biarc::fit_cubic;
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use crate::skin::intersect::{path_self_intersections, paths_intersections};
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
 use cavalier_contours::shape_algorithms::{Shape, ShapeOffsetOptions};
 
@@ -453,6 +454,11 @@ impl Region {
         self.contours.iter().map(|c| c.area()).sum()
     }
 
+    /// Total length of the contours (arcs exact).
+    pub fn perimeter(&self) -> f64 {
+        self.contours.iter().map(|c| c.path_length()).sum()
+    }
+
     /// The region grown by `delta` (shrunk when negative): every boundary moves `delta` along
     /// its outward normal; arcs stay arcs, convex corners get round joins (cavalier_contours
     /// shape offset). `eps` is the position tolerance for joining offset slices. A ring
@@ -492,20 +498,23 @@ impl Region {
         .translated(c)
     }
 
-    /// [`Region::offset`], checked: the result must nest as a region should, a grown region
-    /// must hold every vertex of this one and a shrunk one must lie inside it (offsets are
-    /// monotone). Where cavalier_contours' result fails that (it can nest one ring in
-    /// another or split a region along a chord when its input is dense, as the union of a
-    /// stroke's disks is), the offset is made by geo's buffer ([`Region::buffered`])
-    /// instead, with arcs flattened within `tol`. Cost of the check: O(V·W) winding tests
-    /// for V vertices in and W out.
+    /// [`Region::offset`], checked: the result must be [`simple`](Region::simple) and nest
+    /// as a region should; a grown region must hold every vertex of this one and have none
+    /// of its own inside it, a shrunk one must lie inside it (offsets are monotone, and an
+    /// offset curve lies |δ| from this region's boundary, on the side it moved to). Where
+    /// cavalier_contours' result fails that (it can nest one ring in another, split a
+    /// region along a chord or loop a ring over itself when its input is dense, as the
+    /// union of a stroke's disks is), the offset is made by geo's buffer
+    /// ([`Region::buffered`]) instead, with arcs flattened within `tol`. Cost of the check:
+    /// O(V·W) winding tests for V vertices in and W out, plus the segment tests of
+    /// [`Region::simple`].
     pub fn offset_checked(&self, delta: f64, eps: f64, tol: f64) -> Region {
         let out = self.offset(delta, eps);
         let sound = if delta > 0.0 {
-            out.holds(self)
+            out.holds(self) && self.excludes(&out)
         } else {
             self.holds(&out)
-        };
+        } && out.simple(eps);
         if sound {
             out
         } else {
@@ -522,6 +531,51 @@ impl Region {
                 .iter()
                 .flat_map(|c| c.iter_vertexes())
                 .all(|v| self.winding(DVec2::new(v.x, v.y)) == 1)
+    }
+
+    /// Whether every contour is simple and no two meet within `tol`: no contour crosses or
+    /// touches itself (a grown board came back as one ring looping over itself across a
+    /// channel, seed 0x5EED0012 case 111), and rings that share an edge, which pass every
+    /// vertex test, are caught too (a grown board came back as two rings split along a
+    /// chord through a channel, seed 0x5EED0014 case 52). Either way the profile cut the
+    /// channel. Pairs are prefiltered by bounding boxes; segments are tested through
+    /// [`path_self_intersections`] and [`paths_intersections`] (bounding-volume trees).
+    pub fn simple(&self, tol: f64) -> bool {
+        let paths = self.paths();
+        if paths
+            .iter()
+            .any(|p| !path_self_intersections(p, tol).is_empty())
+        {
+            return false;
+        }
+        let boxes: Vec<Option<(DVec2, DVec2)>> = self
+            .contours
+            .iter()
+            .map(|c| {
+                c.extents().map(|b| {
+                    let lo = DVec2::new(b.min_x, b.min_y) - DVec2::splat(tol);
+                    (lo, DVec2::new(b.max_x, b.max_y) + DVec2::splat(tol))
+                })
+            })
+            .collect();
+        (0..paths.len()).all(|i| {
+            (i + 1..paths.len()).all(|j| {
+                let (Some(a), Some(b)) = (boxes[i], boxes[j]) else {
+                    return true;
+                };
+                let overlap = a.0.cmple(b.1).all() && b.0.cmple(a.1).all();
+                !overlap || paths_intersections(&paths[i], &paths[j], tol).is_empty()
+            })
+        })
+    }
+
+    /// Whether no vertex of `other` lies in this region's material (winding number 0).
+    pub fn excludes(&self, other: &Region) -> bool {
+        other
+            .contours
+            .iter()
+            .flat_map(|c| c.iter_vertexes())
+            .all(|v| self.winding(DVec2::new(v.x, v.y)) == 0)
     }
 
     /// Total winding number of the contours about `p` (1 inside material, 0 outside, for a
