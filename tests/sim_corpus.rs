@@ -11,8 +11,9 @@
 //! Every error finding must be expected. When `rs274` (linuxcnc-uspace) is installed, each
 //! program is also run through it and its motions are compared with the builtin ones.
 
-use skinpath::geom::DVec2;
-use skinpath::sim::{self, Backend, CheckConfig, DesignBoundary, KeepSide, Severity};
+mod common;
+
+use skinpath::sim::{self, Backend, CheckConfig, DesignBoundary, Severity};
 use std::path::{Path, PathBuf};
 
 struct Case {
@@ -38,12 +39,12 @@ fn nums(s: &str) -> Vec<f64> {
 
 fn load(path: &Path) -> Case {
     let src = std::fs::read_to_string(path).expect("read corpus file");
-    let mut toml_cfg = String::new();
+    let (cfg, design) = common::corpus_header(&src);
     let mut c = Case {
         path: path.to_path_buf(),
         src: src.clone(),
-        cfg: CheckConfig::default(),
-        design: Vec::new(),
+        cfg,
+        design,
         findings: Vec::new(),
         motions: None,
         ends: Vec::new(),
@@ -59,19 +60,6 @@ fn load(path: &Path) -> Case {
         let d = d.trim();
         if d.starts_with("nolinuxcnc") {
             c.linuxcnc = false;
-        } else if let Some(t) = d.strip_prefix("config ") {
-            toml_cfg.push_str(t);
-            toml_cfg.push('\n');
-        } else if let Some(t) = d.strip_prefix("design ") {
-            let (side, pts) = t.split_once(' ').expect("design side");
-            let keep = match side {
-                "outside" => KeepSide::Outside,
-                "inside" => KeepSide::Inside,
-                _ => KeepSide::Either,
-            };
-            let v = nums(pts);
-            let p: Vec<DVec2> = v.chunks(2).map(|q| DVec2::new(q[0], q[1])).collect();
-            c.design.push(DesignBoundary::new(&p, keep));
         } else if let Some(t) = d.strip_prefix("expect ") {
             let mut it = t.split_whitespace();
             match it.next() {
@@ -92,7 +80,6 @@ fn load(path: &Path) -> Case {
             }
         }
     }
-    c.cfg = toml::from_str(&toml_cfg).expect("config lines");
     c
 }
 

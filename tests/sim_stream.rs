@@ -6,6 +6,8 @@
 //! cap, odd bytes). Each streamed check runs with the default tiles and with tiny ones, so
 //! that the contact test is split over many tiles.
 
+mod common;
+
 use skinpath::sim::{
     self, Backend, CheckConfig, DesignBoundary, KeepSide, MachineKind, interp, stream,
 };
@@ -68,41 +70,6 @@ fn same_on_both_routes(name: &str, bytes: &[u8], cfg: &CheckConfig, design: &[De
     }
 }
 
-/// Config (`; config` lines) and design (`; design` lines) of a corpus file, as
-/// tests/sim_corpus.rs reads them.
-fn corpus_setup(src: &str) -> (CheckConfig, Vec<DesignBoundary>) {
-    let mut toml_cfg = String::new();
-    let mut design = Vec::new();
-    for line in src.lines() {
-        let Some(d) = line.trim().strip_prefix(';') else {
-            continue;
-        };
-        let d = d.trim();
-        if let Some(t) = d.strip_prefix("config ") {
-            toml_cfg.push_str(t);
-            toml_cfg.push('\n');
-        } else if let Some(t) = d.strip_prefix("design ") {
-            let (side, pts) = t.split_once(' ').expect("design side");
-            let keep = match side {
-                "outside" => KeepSide::Outside,
-                "inside" => KeepSide::Inside,
-                _ => KeepSide::Either,
-            };
-            let v: Vec<f64> = pts
-                .split([' ', ','])
-                .filter(|t| !t.is_empty())
-                .map(|t| t.parse().expect("number"))
-                .collect();
-            let p: Vec<_> = v
-                .chunks(2)
-                .map(|q| skinpath::geom::DVec2::new(q[0], q[1]))
-                .collect();
-            design.push(DesignBoundary::new(&p, keep));
-        }
-    }
-    (toml::from_str(&toml_cfg).expect("config lines"), design)
-}
-
 fn files(dir: &str) -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
     let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -120,7 +87,7 @@ fn corpus_and_golden_programs_agree() {
     assert!(corpus.len() >= 14);
     for p in &corpus {
         let bytes = std::fs::read(p).expect("read");
-        let (cfg, design) = corpus_setup(&String::from_utf8_lossy(&bytes));
+        let (cfg, design) = common::corpus_header(&String::from_utf8_lossy(&bytes));
         same_on_both_routes(&p.display().to_string(), &bytes, &cfg, &design);
         // Also as a router and with crossings allowed: other checks fire.
         let router = CheckConfig {

@@ -1,6 +1,7 @@
 //! What several integration tests share: the list of shipped examples (examples/*.toml,
 //! kept in step with the folder by `cli::every_example_is_listed`), a fresh temporary
-//! directory and a run of the built binary. Each test crate uses only part of it.
+//! directory, a run of the built binary and the header of a check-corpus program. Each
+//! test crate uses only part of it.
 #![allow(dead_code)]
 
 use std::path::PathBuf;
@@ -40,4 +41,47 @@ pub fn skinpath(args: &[&str]) -> Output {
         .current_dir(ROOT)
         .output()
         .expect("run skinpath")
+}
+
+/// The setup a check-corpus program (tests/sim_corpus) carries in its `;` comments: the
+/// `; config <toml line>` lines as one CheckConfig, and each
+/// `; design outside|inside|either x,y x,y ...` line as a design boundary for the gouge
+/// check.
+pub fn corpus_header(
+    src: &str,
+) -> (
+    skinpath::sim::CheckConfig,
+    Vec<skinpath::sim::DesignBoundary>,
+) {
+    use skinpath::sim::{DesignBoundary, KeepSide};
+    let mut toml_cfg = String::new();
+    let mut design = Vec::new();
+    for line in src.lines() {
+        let Some(d) = line.trim().strip_prefix(';') else {
+            continue;
+        };
+        let d = d.trim();
+        if let Some(t) = d.strip_prefix("config ") {
+            toml_cfg.push_str(t);
+            toml_cfg.push('\n');
+        } else if let Some(t) = d.strip_prefix("design ") {
+            let (side, pts) = t.split_once(' ').expect("design side");
+            let keep = match side {
+                "outside" => KeepSide::Outside,
+                "inside" => KeepSide::Inside,
+                _ => KeepSide::Either,
+            };
+            let v: Vec<f64> = pts
+                .split([' ', ','])
+                .filter(|t| !t.is_empty())
+                .map(|t| t.parse().unwrap_or_else(|_| panic!("bad number {t:?}")))
+                .collect();
+            let p: Vec<_> = v
+                .chunks(2)
+                .map(|q| skinpath::geom::DVec2::new(q[0], q[1]))
+                .collect();
+            design.push(DesignBoundary::new(&p, keep));
+        }
+    }
+    (toml::from_str(&toml_cfg).expect("config lines"), design)
 }
