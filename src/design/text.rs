@@ -32,6 +32,7 @@
 use super::corners::{CORNER_ANGLE_DEG, sharp_turns};
 use super::error::{DesignError, ErrorKind, Item, Part};
 use super::model::{DEFAULT_DEGREE, Stroke};
+use super::validate::MAX_COORD;
 use crate::geom::{DVec2, Line};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
@@ -370,25 +371,39 @@ impl Text {
                 ErrorKind::Invalid(m),
             )
         };
+        // Lengths are bounded like every other design length (MAX_COORD): a letter 1e300
+        // high would lay out to infinite coordinates.
         for (key, v) in [("height", self.height), ("width", self.width)] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(bad(key, format!("{key} {v} must be a positive number")));
+            if !(v.is_finite() && v > 0.0 && v <= MAX_COORD) {
+                return Err(bad(
+                    key,
+                    format!("{key} {v} must be a positive number of at most {MAX_COORD}"),
+                ));
             }
         }
         if let Some(at) = self.at
-            && !at.iter().all(|v| v.is_finite())
+            && !at.iter().all(|v| v.abs() <= MAX_COORD)
         {
-            return Err(bad("at", "`at` must be two finite numbers".into()));
+            return Err(bad(
+                "at",
+                format!("`at` must be two numbers within ±{MAX_COORD}"),
+            ));
         }
         if let Some(s) = self.letter_spacing
-            && !s.is_finite()
+            && !(s.is_finite() && s.abs() <= MAX_COORD)
         {
-            return Err(bad("letter_spacing", "must be a finite number".into()));
+            return Err(bad(
+                "letter_spacing",
+                format!("must be a number within ±{MAX_COORD}"),
+            ));
         }
         if let Some(s) = self.line_spacing
-            && !(s.is_finite() && s > 0.0)
+            && !(s.is_finite() && s > 0.0 && s <= MAX_COORD)
         {
-            return Err(bad("line_spacing", "must be a positive number".into()));
+            return Err(bad(
+                "line_spacing",
+                format!("must be a positive number of at most {MAX_COORD}"),
+            ));
         }
         if self.text.trim().is_empty() {
             return Err(bad("text", "the text has no visible character".into()));
@@ -621,6 +636,27 @@ fn split_returning_runs(pts: &[DVec2], rs: &[f64], corners: &mut Vec<usize>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lengths_beyond_the_design_limit_are_refused_by_key() {
+        let ok = Text::new("t", "OPEN", 20.0, 1.0);
+        assert!(ok.check("f.toml", 0).is_ok());
+        type Spoil = fn(&mut Text);
+        let cases: [(&str, Spoil); 6] = [
+            ("height", |t| t.height = 1e300),
+            ("width", |t| t.width = 2.0 * MAX_COORD),
+            ("at", |t| t.at = Some([0.0, -1e8])),
+            ("letter_spacing", |t| t.letter_spacing = Some(f64::NAN)),
+            ("letter_spacing", |t| t.letter_spacing = Some(-1e9)),
+            ("line_spacing", |t| t.line_spacing = Some(f64::INFINITY)),
+        ];
+        for (key, spoil) in cases {
+            let mut t = ok.clone();
+            spoil(&mut t);
+            let e = t.check("f.toml", 0).expect_err(key).to_string();
+            assert!(e.contains("f.toml") && e.contains(key), "{key}: {e}");
+        }
+    }
 
     #[test]
     fn fonts_have_all_printable_ascii() {

@@ -442,6 +442,8 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
             }
         }
     }
+    // The tree reports candidates in its own order.
+    out.sort_by_key(|h| (h.a, h.b));
     out
 }
 
@@ -636,6 +638,15 @@ mod tests {
         assert_eq!(h.len(), 1);
         assert_eq!((h[0].a, h[0].b), (0, 2));
         assert!(h[0].hit.point.distance(v(0.5, 0.5)) < 1e-9);
+        // A zigzag crossed by its own closing run: many hits, reported in segment order.
+        let mut zig: Vec<DVec2> = (0..40)
+            .map(|i| v(i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }))
+            .collect();
+        zig.push(v(39.0, 0.5));
+        zig.push(v(-1.0, 0.5));
+        let h = path_self_intersections(&sq(&zig, false), 1e-9);
+        assert!(h.len() >= 39, "{}", h.len());
+        assert!(h.windows(2).all(|w| (w[0].a, w[0].b) <= (w[1].a, w[1].b)));
         // Doubling back: adjacent segments overlap beyond their shared end.
         let back = sq(&[v(0.0, 0.0), v(2.0, 0.0), v(1.0, 0.0)], false);
         assert!(!path_self_intersections(&back, 1e-9).is_empty());
