@@ -3,7 +3,7 @@
 //! Every function here is pure geometry on [`Region`]s and polylines; [`super::plan`] turns
 //! the paths into cuts with depths, feeds and ordering.
 
-use super::region::{Region, flatten_pline};
+use super::region::{MEET_FRACTION, Region, flatten_pline};
 use crate::geom::{Arc, Circle, DVec2, Line, Path, PathSeg};
 use geo::Buffer;
 
@@ -145,7 +145,11 @@ pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f6
 /// R₋₍d−stepover+reach₎ ⊆ R₋₍d+δ₎, which lies inside the opening, and the opening's points
 /// farther than `reach` from its boundary lie in R₋₍d+reach₎, which the next ring takes
 /// on. The first ring (the wall pass) is R₋first itself, so walls and corners are cut
-/// exactly. Cost: four offsets of the region per ring.
+/// exactly. A ring that is not [simple](Region::simple) (cavalier_contours once returned
+/// one touching itself along an arc, seed 0x5EED0011 case 61 rotated) is replaced by its
+/// opening too, and an opening that is not simple is never used; where neither is, geo's
+/// buffer makes the ring (flattened within [`BUFFER_TOL_EPS`]·eps). Cost: three offsets
+/// of the region per ring and two O(n log n) segment tests.
 pub fn concentric(
     region: &Region,
     first: f64,
@@ -166,10 +170,15 @@ pub fn concentric(
             plain
         } else {
             let opened = region.offset(-(d + delta), eps).offset(delta, eps);
-            if plain.perimeter() - opened.perimeter() > SLIVER_LENGTH * delta {
+            let sliver = plain.perimeter() - opened.perimeter() > SLIVER_LENGTH * delta;
+            let meet = eps * MEET_FRACTION;
+            let plain_simple = plain.simple(meet);
+            if (sliver || !plain_simple) && opened.simple(meet) {
                 opened
-            } else {
+            } else if plain_simple {
                 plain
+            } else {
+                region.buffered(-d, BUFFER_TOL_EPS * eps)
             }
         };
         if r.is_empty() {
@@ -189,6 +198,10 @@ pub fn concentric(
 /// eps is twice the distance within which [`Region::offset`] treats two passes as one path,
 /// so a kept part's sides stay apart after the output is rounded.
 pub const SLIVER_EPS: f64 = 20.0;
+
+/// Flattening tolerance of the buffered ring in [`concentric`], in units of the offset
+/// accuracy `eps`: the build passes eps = tolerance / 10, so this is the build's tolerance.
+pub const BUFFER_TOL_EPS: f64 = 10.0;
 
 /// Length, in units of δ, by which a clearing ring's opening must be shorter than the ring
 /// for the opening to replace it (see [`concentric`]). A spur loses both its sides, twice
@@ -288,7 +301,7 @@ pub fn backboard(
     // case 251 rotated by 0.7 rad: the board of two crossing hairpins came back as four
     // rings); geo's buffer makes it then.
     let grown = closed(&|r, d| r.offset_checked(d, eps, tol));
-    let grown = if grown.holds(&union) && grown.simple(eps) {
+    let grown = if grown.holds(&union) && grown.simple(eps * MEET_FRACTION) {
         grown
     } else {
         closed(&|r, d| r.buffered(d, tol))
