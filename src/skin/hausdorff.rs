@@ -508,19 +508,54 @@ fn initial_grid(c: &dyn BoundedCurve) -> Vec<f64> {
     ts
 }
 
-/// d(x, Y) to within `tol` by best-first branch and bound on Y's chords.
-/// `pieces` are `y.pieces()` and `heap` a buffer reused across calls (cleared here).
-#[allow(clippy::too_many_arguments)]
+/// The curve Y of one directed distance with its initial grid and the enclosure slack of
+/// each grid window, computed once: every point-distance search of the directed bound (one
+/// per sample of X) starts from all windows of the grid.
+struct Target<'a> {
+    c: &'a dyn BoundedCurve,
+    /// The initial grid (parameter, point).
+    grid: Vec<(f64, DVec2)>,
+    /// Per grid window: its [`slack`], or `None` when the window lies in no single
+    /// piece.
+    windows: Vec<Option<f64>>,
+}
+
+impl<'a> Target<'a> {
+    fn new(c: &'a dyn BoundedCurve) -> Result<Self, HausdorffError> {
+        let grid: Vec<(f64, DVec2)> = initial_grid(c)
+            .into_iter()
+            .map(|t| c.point(t).map(|p| (t, p)))
+            .collect::<Result<_, _>>()?;
+        let pieces = c.pieces();
+        let windows = grid
+            .windows(2)
+            .map(|w| {
+                let (t0, t1) = (w[0].0, w[1].0);
+                let inside = t1 > t0 && pieces.iter().any(|&(a, b)| t0 >= a && t1 <= b);
+                inside.then(|| slack(c, t0, t1))
+            })
+            .collect();
+        Ok(Target { c, grid, windows })
+    }
+}
+
+/// How far `c` on [t0, t1] may stray from its chord: (t1 − t0)²·M₂/8 (+∞ for no
+/// information).
+fn slack(c: &dyn BoundedCurve, t0: f64, t1: f64) -> f64 {
+    or_inf((t1 - t0).powi(2) * c.d2_bound(t0, t1) / 8.0)
+}
+
+/// d(x, Y) to within `tol` by best-first branch and bound on Y's chords, starting from the
+/// windows of Y's initial grid. `heap` is a buffer reused across calls (cleared here).
 fn point_distance(
     x: DVec2,
-    y: &dyn BoundedCurve,
-    grid: &[(f64, DVec2)],
-    pieces: &[(f64, f64)],
+    y: &Target,
     hint: Option<f64>,
     tol: f64,
     work: &mut Work,
     heap: &mut BinaryHeap<Node>,
 ) -> Result<PointDist, HausdorffError> {
+    let grid = &y.grid;
     let mut best = PointDist {
         lower: 0.0,
         upper: f64::INFINITY,
@@ -534,25 +569,25 @@ fn point_distance(
         }
     };
     if let Some(h) = hint {
-        upd(h, y.point(h)?, &mut best);
+        upd(h, y.c.point(h)?, &mut best);
     }
     heap.clear();
-    let lb = |t0: f64, t1: f64, p0: DVec2, p1: DVec2| {
-        let e = or_inf((t1 - t0).powi(2) * y.d2_bound(t0, t1) / 8.0);
+    let lb_e = |e: f64, p0: DVec2, p1: DVec2| {
         let l = Line::new(p0, p1).distance(x) - e;
         if l.is_nan() { f64::NEG_INFINITY } else { l }
     };
+    let lb = |t0: f64, t1: f64, p0: DVec2, p1: DVec2| lb_e(slack(y.c, t0, t1), p0, p1);
     // Smallest lower bound of the leaves (nodes too narrow to split).
     let mut leaf_lower = f64::INFINITY;
-    for w in grid.windows(2) {
+    for (w, e) in grid.windows(2).zip(&y.windows) {
         let (t0, p0) = w[0];
         let (t1, p1) = w[1];
         upd(t0, p0, &mut best);
         upd(t1, p1, &mut best);
-        if t1 <= t0 || !pieces.iter().any(|&(a, b)| t0 >= a && t1 <= b) {
+        let Some(e) = *e else {
             continue;
-        }
-        let key = lb(t0, t1, p0, p1);
+        };
+        let key = lb_e(e, p0, p1);
         heap.push(node(-key, t0, t1, p0, p1));
     }
     let mut count = 0;
@@ -569,7 +604,7 @@ fn point_distance(
             leaf_lower = leaf_lower.min(l);
             continue;
         }
-        let pm = y.point(tm)?;
+        let pm = y.c.point(tm)?;
         upd(tm, pm, &mut best);
         for (a, pa, b, pb) in [(nd.t0, nd.p0, tm, pm), (tm, pm, nd.t1, nd.p1)] {
             let key = lb(a, b, pa, pb);
@@ -605,12 +640,8 @@ fn directed(
     threshold: Option<f64>,
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
-    let ygrid: Vec<(f64, DVec2)> = initial_grid(yc)
-        .into_iter()
-        .map(|t| yc.point(t).map(|p| (t, p)))
-        .collect::<Result<_, _>>()?;
+    let y = Target::new(yc)?;
     let ptol = 0.25 * gap;
-    let ypieces = yc.pieces();
     let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
     let mut lower: f64 = 0.0;
     let mut heap: BinaryHeap<Node> = BinaryHeap::new();
@@ -619,7 +650,7 @@ fn directed(
     let mut hint = None;
     for &s in &xs {
         let p = xc.point(s)?;
-        let d = point_distance(p, yc, &ygrid, &ypieces, hint, ptol, work, &mut pheap)?;
+        let d = point_distance(p, &y, hint, ptol, work, &mut pheap)?;
         hint = Some(d.t);
         lower = lower.max(d.lower);
         ends.push((s, p, d));
@@ -663,7 +694,7 @@ fn directed(
         }
         let pm = xc.point(sm)?;
         let hint = Some(0.5 * (nd.u0 + nd.u1));
-        let dm = point_distance(pm, yc, &ygrid, &ypieces, hint, ptol, work, &mut pheap)?;
+        let dm = point_distance(pm, &y, hint, ptol, work, &mut pheap)?;
         lower = lower.max(dm.lower);
         let d0 = PointDist {
             lower: 0.0,
