@@ -133,6 +133,10 @@ pub trait BoundedCurve {
     fn point(&self, t: f64) -> Result<DVec2, HausdorffError>;
     /// Upper bound of sup ‖x″(t)‖ on [t0, t1] ⊂ one piece (may be +∞).
     fn d2_bound(&self, t0: f64, t1: f64) -> f64;
+    /// The curve point and first derivative at `t`, for the foot-point searches of the
+    /// matching bounds (any parameter gives a valid bound; the derivative only helps to
+    /// find a near one).
+    fn point_tangent(&self, t: f64) -> Result<(DVec2, DVec2), HausdorffError>;
     /// Upper bound of sup ‖x″‖ on [t0, t1], which may cross pieces.
     fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
         let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
@@ -156,6 +160,9 @@ impl BoundedCurve for CubicBez {
     }
     fn d2_bound(&self, t0: f64, t1: f64) -> f64 {
         self.deriv2(t0).length().max(self.deriv2(t1).length())
+    }
+    fn point_tangent(&self, t: f64) -> Result<(DVec2, DVec2), HausdorffError> {
+        Ok((self.eval(t), self.deriv(t)))
     }
 }
 
@@ -209,6 +216,12 @@ impl BoundedCurve for EnvelopeSegment<'_> {
         self.curve
             .envelope(self.side, t)
             .map(|e| e.point)
+            .ok_or(HausdorffError::NoEnvelope { t })
+    }
+    fn point_tangent(&self, t: f64) -> Result<(DVec2, DVec2), HausdorffError> {
+        self.curve
+            .envelope(self.side, t)
+            .map(|e| (e.point, e.deriv))
             .ok_or(HausdorffError::NoEnvelope { t })
     }
     fn d2_bound(&self, t0: f64, t1: f64) -> f64 {
@@ -631,6 +644,198 @@ fn node(key: f64, t0: f64, t1: f64, p0: DVec2, p1: DVec2) -> Node {
     }
 }
 
+/// Upper bound of sup d(x(s), Y) over s ∈ [s0, s1] (inside one piece of X) from points
+/// y(a.t), y(b.t) at distances ≤ a.upper, b.upper of the ends (any points of Y will do).
+fn match_bound(
+    xc: &dyn BoundedCurve,
+    yc: &dyn BoundedCurve,
+    (s0, p0, a): (f64, DVec2, &PointDist),
+    (s1, p1, b): (f64, DVec2, &PointDist),
+) -> f64 {
+    let ex = (s1 - s0).powi(2) * xc.d2_bound(s0, s1) / 8.0;
+    let ey = (b.t - a.t).powi(2) * yc.d2_bound_any(a.t, b.t) / 8.0;
+    let linear = or_inf(a.upper.max(b.upper) + or_inf(ex) + or_inf(ey));
+    // Constant matching: ‖x(s) − y(t_i)‖ is convex along the chord of x, so at most
+    // its larger end value, and ‖x(s1) − y(t0)‖ ≤ ‖x(s0) − y(t0)‖ + ‖x(s1) − x(s0)‖.
+    let c = or_inf(a.upper.min(b.upper) + p1.distance(p0) + or_inf(ex));
+    linear.min(c)
+}
+
+/// A node of X on [s0, s1] keyed by [`match_bound`], with its ends' near-point data.
+fn match_node(
+    xc: &dyn BoundedCurve,
+    yc: &dyn BoundedCurve,
+    (s0, p0, a): (f64, DVec2, &PointDist),
+    (s1, p1, b): (f64, DVec2, &PointDist),
+) -> Node {
+    let mut nd = node(
+        match_bound(xc, yc, (s0, p0, a), (s1, p1, b)),
+        s0,
+        s1,
+        p0,
+        p1,
+    );
+    (nd.u0, nd.u1, nd.n0, nd.n1) = (a.t, b.t, a.upper, b.upper);
+    nd
+}
+
+/// Cap on the refinement steps (bisections of X and point-distance searches) of one
+/// [`match_search`]; beyond it the caller falls back to [`directed`].
+const MATCH_STEPS: usize = 48;
+
+/// Gauss–Newton steps of [`foot_point`].
+const FOOT_STEPS: usize = 3;
+
+/// A point of Y near x by a few Gauss–Newton steps t ← t + (x − y)·y′/‖y′‖² from `t`,
+/// kept inside Y's parameter range `(lo, hi)`: `upper` is its distance (an upper bound of
+/// d(x, Y)), `lower` is 0. `None` where Y cannot be evaluated.
+fn foot_point(x: DVec2, yc: &dyn BoundedCurve, (lo, hi): (f64, f64), t: f64) -> Option<PointDist> {
+    let mut t = t.clamp(lo, hi);
+    let mut best = PointDist {
+        lower: 0.0,
+        upper: f64::INFINITY,
+        t,
+    };
+    for _ in 0..FOOT_STEPS {
+        let (p, d) = yc.point_tangent(t).ok()?;
+        let dist = x.distance(p);
+        if dist < best.upper {
+            best.upper = dist;
+            best.t = t;
+        }
+        let dd = d.length_squared();
+        let next = (t + (x - p).dot(d) / dd).clamp(lo, hi);
+        if !(dd > 0.0 && next.is_finite()) || next == t {
+            return Some(best);
+        }
+        t = next;
+    }
+    let dist = x.distance(yc.point(t).ok()?);
+    if dist < best.upper {
+        best.upper = dist;
+        best.t = t;
+    }
+    Some(best)
+}
+
+/// What a [`match_search`] is to show about h(X → Y).
+enum Goal<'a> {
+    /// h(X → Y) ≤ this value (an upper bound alone).
+    Below(f64),
+    /// Bounds with upper − lower ≤ `gap`; lower bounds from point-distance searches on `y`
+    /// to within `ptol`.
+    Gap {
+        gap: f64,
+        y: &'a Target<'a>,
+        ptol: f64,
+    },
+}
+
+/// h(X → Y) by the matching bound ([`match_bound`]): samples of X with near points of Y
+/// from [`foot_point`] (upper bounds of d(x, Y) only), the piece of X with the largest
+/// bound bisected first, and for [`Goal::Gap`] a certified point-distance search only at
+/// the sample whose near point is farthest, when that can close the gap. [`directed`] runs
+/// one such search at every sample, most of its work. `None` when the goal is not reached
+/// within [`MATCH_STEPS`] or Y cannot be evaluated where looked: the caller then runs
+/// [`directed`].
+fn match_search(
+    xc: &dyn BoundedCurve,
+    yc: &dyn BoundedCurve,
+    goal: &Goal,
+    work: &mut Work,
+) -> Option<HausdorffBounds> {
+    let (xp, yp) = (xc.pieces(), yc.pieces());
+    let xd = (xp.first()?.0, xp.last()?.1);
+    let yd = (yp.first()?.0, yp.last()?.1);
+    if xd.1.partial_cmp(&xd.0) != Some(Ordering::Greater) {
+        return None;
+    }
+    // X and Y run over corresponding parameter ranges: a sample's search starts at the
+    // proportional parameter of Y, a bisection's between its ends' near points.
+    let map = |s: f64| yd.0 + (s - xd.0) / (xd.1 - xd.0) * (yd.1 - yd.0);
+    // Samples of X: point, near-point data, whether its distance was certified.
+    let mut samples: Vec<(DVec2, PointDist, bool)> = Vec::new();
+    let mut heap: BinaryHeap<Node> = BinaryHeap::new();
+    let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
+    let mut prev: Option<(f64, DVec2, PointDist)> = None;
+    for s in initial_grid(xc) {
+        let p = xc.point(s).ok()?;
+        let d = foot_point(p, yc, yd, map(s))?;
+        if let Some((s0, p0, d0)) = prev
+            && s > s0
+            && xp.iter().any(|&(a, b)| s0 >= a && s <= b)
+        {
+            heap.push(match_node(xc, yc, (s0, p0, &d0), (s, p, &d)));
+        }
+        samples.push((p, d, false));
+        prev = Some((s, p, d));
+    }
+    let mut lower: f64 = 0.0;
+    let mut steps = 0;
+    while let Some(nd) = heap.pop() {
+        let upper = nd.key;
+        match *goal {
+            Goal::Below(bound) => {
+                if upper <= bound {
+                    return Some(HausdorffBounds { lower, upper });
+                }
+                // A near point farther than the bound: give the proof up early.
+                if nd.n0.max(nd.n1) > bound {
+                    return None;
+                }
+            }
+            Goal::Gap { gap, .. } => {
+                if upper <= lower + gap {
+                    return Some(HausdorffBounds {
+                        lower,
+                        upper: upper.max(lower),
+                    });
+                }
+            }
+        }
+        if steps >= MATCH_STEPS || !work.take() {
+            return None;
+        }
+        steps += 1;
+        if let Goal::Gap { gap, y, ptol } = *goal {
+            let far = samples
+                .iter_mut()
+                .filter(|s| !s.2)
+                .max_by(|a, b| a.1.upper.total_cmp(&b.1.upper));
+            if let Some(f) = far
+                && f.1.upper > lower
+                && upper - f.1.upper <= gap
+            {
+                let d = point_distance(f.0, y, Some(f.1.t), ptol, work, &mut pheap).ok()?;
+                lower = lower.max(d.lower);
+                f.2 = true;
+                heap.push(nd);
+                continue;
+            }
+        }
+        let sm = 0.5 * (nd.t0 + nd.t1);
+        if !(nd.t1 - nd.t0 > MIN_SPLIT_WIDTH && sm > nd.t0 && sm < nd.t1) {
+            return None;
+        }
+        let pm = xc.point(sm).ok()?;
+        let dm = foot_point(pm, yc, yd, 0.5 * (nd.u0 + nd.u1))?;
+        samples.push((pm, dm, false));
+        let d0 = PointDist {
+            lower: 0.0,
+            upper: nd.n0,
+            t: nd.u0,
+        };
+        let d1 = PointDist {
+            lower: 0.0,
+            upper: nd.n1,
+            t: nd.u1,
+        };
+        heap.push(match_node(xc, yc, (nd.t0, nd.p0, &d0), (sm, pm, &dm)));
+        heap.push(match_node(xc, yc, (sm, pm, &dm), (nd.t1, nd.p1, &d1)));
+    }
+    None
+}
+
 /// The directed Hausdorff distance h(X → Y) = sup_x d(x, Y), bounded to `gap`; stops early
 /// once the answer relative to `threshold` is decided (lower > threshold or upper ≤ it).
 fn directed(
@@ -642,6 +847,11 @@ fn directed(
 ) -> Result<HausdorffBounds, HausdorffError> {
     let y = Target::new(yc)?;
     let ptol = 0.25 * gap;
+    if threshold.is_none()
+        && let Some(h) = match_search(xc, yc, &Goal::Gap { gap, y: &y, ptol }, work)
+    {
+        return Ok(h);
+    }
     let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
     let mut lower: f64 = 0.0;
     let mut heap: BinaryHeap<Node> = BinaryHeap::new();
@@ -657,13 +867,7 @@ fn directed(
     }
     let xpieces = xc.pieces();
     let key = |s0: f64, s1: f64, a: &PointDist, b: &PointDist, p0: DVec2, p1: DVec2| {
-        let ex = (s1 - s0).powi(2) * xc.d2_bound(s0, s1) / 8.0;
-        let ey = (b.t - a.t).powi(2) * yc.d2_bound_any(a.t, b.t) / 8.0;
-        let linear = or_inf(a.upper.max(b.upper) + or_inf(ex) + or_inf(ey));
-        // Constant matching: ‖x(s) − y(t_i)‖ is convex along the chord of x, so at most
-        // its larger end value, and ‖x(s1) − y(t0)‖ ≤ ‖x(s0) − y(t0)‖ + ‖x(s1) − x(s0)‖.
-        let c = or_inf(a.upper.min(b.upper) + p1.distance(p0) + or_inf(ex));
-        linear.min(c)
+        match_bound(xc, yc, (s0, p0, a), (s1, p1, b))
     };
     // Largest upper bound of the leaves (nodes too narrow to split).
     let mut leaf_upper: f64 = 0.0;
@@ -739,6 +943,21 @@ fn bounds_impl(
 ) -> Result<HausdorffBounds, HausdorffError> {
     if !(gap > 0.0 && gap.is_finite()) {
         return Err(HausdorffError::Gap(gap));
+    }
+    // Quick proof of D_H ≤ ε − gap by upper bounds alone. Below ε − gap the searches of
+    // `directed` decide "≤ ε" as well (their lower bound never exceeds D_H, so they cannot
+    // stop at a gap ≤ `gap` with upper > ε): the same decision, found cheaper.
+    if let Some(eps) = threshold {
+        let below = Goal::Below(eps - gap);
+        if eps - gap > 0.0
+            && let Some(a) = match_search(x, y, &below, work)
+            && let Some(b) = match_search(y, x, &below, work)
+        {
+            return Ok(HausdorffBounds {
+                lower: 0.0,
+                upper: a.upper.max(b.upper),
+            });
+        }
     }
     let a = directed(x, y, gap, threshold, work)?;
     if threshold.is_some_and(|e| a.lower > e) {
@@ -852,6 +1071,13 @@ mod tests {
         }
         fn d2_bound(&self, _: f64, _: f64) -> f64 {
             self.r * (self.a1 - self.a0).powi(2)
+        }
+        fn point_tangent(&self, t: f64) -> Result<(DVec2, DVec2), HausdorffError> {
+            let (w, a) = (self.a1 - self.a0, self.a0 + t * (self.a1 - self.a0));
+            Ok((
+                self.c + self.r * DVec2::new(a.cos(), a.sin()),
+                self.r * w * DVec2::new(-a.sin(), a.cos()),
+            ))
         }
     }
 
