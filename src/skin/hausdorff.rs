@@ -705,7 +705,8 @@ fn foot_point(x: DVec2, yc: &dyn BoundedCurve, (lo, hi): (f64, f64), t: f64) -> 
         }
         let dd = d.length_squared();
         let next = (t + (x - p).dot(d) / dd).clamp(lo, hi);
-        if !(dd > 0.0 && next.is_finite()) || next == t {
+        // A step this small moves the point by ~1e-9 of the curve: converged.
+        if !(dd > 0.0 && next.is_finite()) || (next - t).abs() <= 1e-9 * (hi - lo) {
             return Some(best);
         }
         t = next;
@@ -719,16 +720,16 @@ fn foot_point(x: DVec2, yc: &dyn BoundedCurve, (lo, hi): (f64, f64), t: f64) -> 
 }
 
 /// What a [`match_search`] is to show about h(X → Y).
-enum Goal<'a> {
+enum Goal {
     /// h(X → Y) ≤ this value (an upper bound alone).
     Below(f64),
+    /// h(X → Y) > this value, shown by a point-distance search on `y` at the sample whose
+    /// near point is farthest (one try; the upper bound is the matching bound of the
+    /// samples).
+    Above(f64),
     /// Bounds with upper − lower ≤ `gap`; lower bounds from point-distance searches on `y`
     /// to within `ptol`.
-    Gap {
-        gap: f64,
-        y: &'a Target<'a>,
-        ptol: f64,
-    },
+    Gap { gap: f64, ptol: f64 },
 }
 
 /// h(X → Y) by the matching bound ([`match_bound`]): samples of X with near points of Y
@@ -771,6 +772,25 @@ fn match_search(
         prev = Some((s, p, d));
     }
     let mut lower: f64 = 0.0;
+    // Y's grid for point-distance searches, made on first use.
+    let mut target: Option<Target> = None;
+    if let Goal::Above(bound) = *goal {
+        let (p, d, _) = samples
+            .iter()
+            .max_by(|a, b| a.1.upper.total_cmp(&b.1.upper))?;
+        if d.upper.partial_cmp(&bound) != Some(Ordering::Greater) || !work.take() {
+            return None;
+        }
+        // Searched only until its lower bound passes the bound (or cannot).
+        let tol = 0.5 * (d.upper - bound);
+        let y = Target::new(yc).ok()?;
+        let d = point_distance(*p, &y, Some(d.t), tol, work, &mut pheap).ok()?;
+        let upper = heap.peek()?.key;
+        return (d.lower > bound).then_some(HausdorffBounds {
+            lower: d.lower,
+            upper: upper.max(d.lower),
+        });
+    }
     let mut steps = 0;
     while let Some(nd) = heap.pop() {
         let upper = nd.key;
@@ -784,6 +804,7 @@ fn match_search(
                     return None;
                 }
             }
+            Goal::Above(_) => return None,
             Goal::Gap { gap, .. } => {
                 if upper <= lower + gap {
                     return Some(HausdorffBounds {
@@ -797,7 +818,7 @@ fn match_search(
             return None;
         }
         steps += 1;
-        if let Goal::Gap { gap, y, ptol } = *goal {
+        if let Goal::Gap { gap, ptol } = *goal {
             let far = samples
                 .iter_mut()
                 .filter(|s| !s.2)
@@ -806,6 +827,10 @@ fn match_search(
                 && f.1.upper > lower
                 && upper - f.1.upper <= gap
             {
+                if target.is_none() {
+                    target = Some(Target::new(yc).ok()?);
+                }
+                let y = target.as_ref()?;
                 let d = point_distance(f.0, y, Some(f.1.t), ptol, work, &mut pheap).ok()?;
                 lower = lower.max(d.lower);
                 f.2 = true;
@@ -845,13 +870,13 @@ fn directed(
     threshold: Option<f64>,
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
-    let y = Target::new(yc)?;
     let ptol = 0.25 * gap;
     if threshold.is_none()
-        && let Some(h) = match_search(xc, yc, &Goal::Gap { gap, y: &y, ptol }, work)
+        && let Some(h) = match_search(xc, yc, &Goal::Gap { gap, ptol }, work)
     {
         return Ok(h);
     }
+    let y = Target::new(yc)?;
     let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
     let mut lower: f64 = 0.0;
     let mut heap: BinaryHeap<Node> = BinaryHeap::new();
@@ -934,11 +959,23 @@ pub fn hausdorff_curves(
     bounds_impl(x, y, gap, None, &mut Work::new(MAX_BOUND_WORK))
 }
 
+/// How [`hausdorff_within_work`] may show D_H > ε.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rejection {
+    /// By a point-distance search at the sample of either curve whose near point is
+    /// farthest: cheap, the upper bound returned is then only the matching bound of the
+    /// samples.
+    Quick,
+    /// By the full search alone (its upper bound when D_H > ε is the one earlier versions
+    /// returned, for callers that compare upper bounds of failing segments).
+    Full,
+}
+
 fn bounds_impl(
     x: &dyn BoundedCurve,
     y: &dyn BoundedCurve,
     gap: f64,
-    threshold: Option<f64>,
+    threshold: Option<(f64, Rejection)>,
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
     if !(gap > 0.0 && gap.is_finite()) {
@@ -947,7 +984,7 @@ fn bounds_impl(
     // Quick proof of D_H ≤ ε − gap by upper bounds alone. Below ε − gap the searches of
     // `directed` decide "≤ ε" as well (their lower bound never exceeds D_H, so they cannot
     // stop at a gap ≤ `gap` with upper > ε): the same decision, found cheaper.
-    if let Some(eps) = threshold {
+    if let Some((eps, rejection)) = threshold {
         let below = Goal::Below(eps - gap);
         if eps - gap > 0.0
             && let Some(a) = match_search(x, y, &below, work)
@@ -958,7 +995,17 @@ fn bounds_impl(
                 upper: a.upper.max(b.upper),
             });
         }
+        // Quick proof of D_H > ε at the farthest sample of either direction.
+        for (p, q) in [(x, y), (y, x)]
+            .into_iter()
+            .filter(|_| rejection == Rejection::Quick)
+        {
+            if let Some(h) = match_search(p, q, &Goal::Above(eps), work) {
+                return Ok(h);
+            }
+        }
     }
+    let threshold = threshold.map(|t| t.0);
     let a = directed(x, y, gap, threshold, work)?;
     if threshold.is_some_and(|e| a.lower > e) {
         return Ok(a);
@@ -1022,25 +1069,26 @@ pub fn hausdorff_within(
         curve,
         side,
         (t_a, t_b),
-        eps,
+        (eps, Rejection::Quick),
         gap,
         &mut Work::new(MAX_BOUND_WORK),
     )
 }
 
-/// [`hausdorff_within`] on the span `(t_a, t_b)` spending at most `work.left` refinement
-/// steps (the bounds stay valid when the budget runs out, only their gap may exceed `gap`).
+/// [`hausdorff_within`] on the span `(t_a, t_b)` with ε and the way to show D_H > ε,
+/// spending at most `work.left` refinement steps (the bounds stay valid when the budget
+/// runs out, only their gap may exceed `gap`).
 pub fn hausdorff_within_work(
     skin: &CubicBez,
     curve: &DiskBSpline,
     side: Side,
     (t_a, t_b): (f64, f64),
-    eps: f64,
+    (eps, rejection): (f64, Rejection),
     gap: f64,
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
     let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
-    bounds_impl(skin, &env, gap, Some(eps), work)
+    bounds_impl(skin, &env, gap, Some((eps, rejection)), work)
 }
 
 #[cfg(test)]
