@@ -963,11 +963,12 @@ pub fn hausdorff_curves(
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Rejection {
     /// By a point-distance search at the sample of either curve whose near point is
-    /// farthest: cheap, the upper bound returned is then only the matching bound of the
-    /// samples.
+    /// farthest: cheap; the upper bound returned is then the matching bound of the samples
+    /// of both directions.
     Quick,
-    /// By the full search alone (its upper bound when D_H > ε is the one earlier versions
-    /// returned, for callers that compare upper bounds of failing segments).
+    /// By the full search alone, with the bounds earlier versions returned (for callers
+    /// that compare upper bounds of failing segments). When the first direction
+    /// h(skin → envelope) already exceeds ε, `upper` bounds that direction only, not D_H.
     Full,
 }
 
@@ -1001,7 +1002,13 @@ fn bounds_impl(
             .filter(|_| rejection == Rejection::Quick)
         {
             if let Some(h) = match_search(p, q, &Goal::Above(eps), work) {
-                return Ok(h);
+                // With the other direction's matching bound `upper` bounds D_H too.
+                let other = match_search(q, p, &Goal::Below(f64::INFINITY), work)
+                    .map_or(f64::INFINITY, |o| o.upper);
+                return Ok(HausdorffBounds {
+                    lower: h.lower,
+                    upper: h.upper.max(other),
+                });
             }
         }
     }
