@@ -17,6 +17,14 @@
 //! span polynomials q′, q″, q‴, r, r′, r″, r‴ taken from their Bernstein coefficients on the
 //! sub-interval (convex hull property). Every bound is rigorous up to floating-point
 //! rounding; refinement stops when upper − lower ≤ the requested gap.
+//!
+//! The matching bound needs near points, not nearest ones: any y(t) gives an upper bound of
+//! d(x, Y). So every bound first tries a matching-bound search whose near points come from
+//! a few Gauss–Newton foot-point steps, with a certified point-distance search (the lower
+//! bound) only where it can settle the question: none for "D_H ≤ ε − gap" (which the full
+//! search would decide the same way), one at the farthest sample for "D_H > ε", one or two
+//! for the gap of the final report. Only when that fails does the full search run, with a
+//! point-distance search at every sample of X.
 
 use crate::dbsc::{Bern, DiskBSpline, Side, SpanPoly};
 use crate::geom::bernstein;
