@@ -490,6 +490,18 @@ struct Node {
     n1: f64,
 }
 
+impl Node {
+    /// The near-point data of a directed node's ends (upper bounds only).
+    fn ends(&self) -> (PointDist, PointDist) {
+        let end = |upper, t| PointDist {
+            lower: 0.0,
+            upper,
+            t,
+        };
+        (end(self.n0, self.u0), end(self.n1, self.u1))
+    }
+}
+
 impl PartialEq for Node {
     fn eq(&self, o: &Self) -> bool {
         self.key == o.key
@@ -853,16 +865,7 @@ fn match_search(
         let pm = xc.point(sm).ok()?;
         let dm = foot_point(pm, yc, yd, 0.5 * (nd.u0 + nd.u1))?;
         samples.push((pm, dm, false));
-        let d0 = PointDist {
-            lower: 0.0,
-            upper: nd.n0,
-            t: nd.u0,
-        };
-        let d1 = PointDist {
-            lower: 0.0,
-            upper: nd.n1,
-            t: nd.u1,
-        };
+        let (d0, d1) = nd.ends();
         heap.push(match_node(xc, yc, (nd.t0, nd.p0, &d0), (sm, pm, &dm)));
         heap.push(match_node(xc, yc, (sm, pm, &dm), (nd.t1, nd.p1, &d1)));
     }
@@ -899,9 +902,6 @@ fn directed(
         ends.push((s, p, d));
     }
     let xpieces = xc.pieces();
-    let key = |s0: f64, s1: f64, a: &PointDist, b: &PointDist, p0: DVec2, p1: DVec2| {
-        match_bound(xc, yc, (s0, p0, a), (s1, p1, b))
-    };
     // Largest upper bound of the leaves (nodes too narrow to split).
     let mut leaf_upper: f64 = 0.0;
     for w in ends.windows(2) {
@@ -909,9 +909,7 @@ fn directed(
         if s1 <= s0 || !xpieces.iter().any(|&(a, b)| s0 >= a && s1 <= b) {
             continue;
         }
-        let mut nd = node(key(s0, s1, &d0, &d1, p0, p1), s0, s1, p0, p1);
-        (nd.u0, nd.u1, nd.n0, nd.n1) = (d0.t, d1.t, d0.upper, d1.upper);
-        heap.push(nd);
+        heap.push(match_node(xc, yc, (s0, p0, &d0), (s1, p1, &d1)));
     }
     let mut count = 0;
     while let Some(nd) = heap.pop() {
@@ -933,22 +931,9 @@ fn directed(
         let hint = Some(0.5 * (nd.u0 + nd.u1));
         let dm = point_distance(pm, &y, hint, ptol, work, &mut pheap)?;
         lower = lower.max(dm.lower);
-        let d0 = PointDist {
-            lower: 0.0,
-            upper: nd.n0,
-            t: nd.u0,
-        };
-        let d1 = PointDist {
-            lower: 0.0,
-            upper: nd.n1,
-            t: nd.u1,
-        };
-        let mut a = node(key(nd.t0, sm, &d0, &dm, nd.p0, pm), nd.t0, sm, nd.p0, pm);
-        (a.u0, a.u1, a.n0, a.n1) = (d0.t, dm.t, d0.upper, dm.upper);
-        let mut b = node(key(sm, nd.t1, &dm, &d1, pm, nd.p1), sm, nd.t1, pm, nd.p1);
-        (b.u0, b.u1, b.n0, b.n1) = (dm.t, d1.t, dm.upper, d1.upper);
-        heap.push(a);
-        heap.push(b);
+        let (d0, d1) = nd.ends();
+        heap.push(match_node(xc, yc, (nd.t0, nd.p0, &d0), (sm, pm, &dm)));
+        heap.push(match_node(xc, yc, (sm, pm, &dm), (nd.t1, nd.p1, &d1)));
     }
     Ok(HausdorffBounds {
         lower,
