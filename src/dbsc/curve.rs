@@ -187,10 +187,10 @@ impl DiskBSpline {
     /// m±′ = [(−r″q′ − r′q″ ± (q″⊥ s + q′⊥ s′)) L − (−r′q′ ± q′⊥ s) 2 q′·q″] / L².
     /// `None` where no real envelope exists (‖q′‖ ≤ |r′|).
     pub fn envelope(&self, side: Side, t: f64) -> Option<EnvelopePoint> {
-        let d = self.derivs(t, 2);
-        let (q, r) = d[0];
-        let (q1, r1) = d[1];
-        let (q2, r2) = d[2];
+        let d = self.curve.derivs_array::<3>(t);
+        let (q, r) = (DVec2::new(d[0].x, d[0].y), d[0].z);
+        let (q1, r1) = (DVec2::new(d[1].x, d[1].y), d[1].z);
+        let (q2, r2) = (DVec2::new(d[2].x, d[2].y), d[2].z);
         let l = q1.length_squared();
         let disc = l - r1 * r1;
         if disc.is_nan() || disc <= 0.0 || l == 0.0 {

@@ -65,45 +65,98 @@ pub fn ders_basis_funs(
     t: f64,
     k: usize,
 ) -> Vec<Vec<f64>> {
-    let p = degree;
-    let mut ndu = vec![vec![0.0; p + 1]; p + 1];
-    let mut left = vec![0.0; p + 1];
-    let mut right = vec![0.0; p + 1];
-    ndu[0][0] = 1.0;
+    with_ders_basis_funs(knots, degree, span, t, k, |d| {
+        d.chunks(degree + 1).map(<[f64]>::to_vec).collect()
+    })
+}
+
+/// Degrees below this (and derivative orders below [`STACK_ORDERS`]) keep the work of
+/// [`with_ders_basis_funs`] on the stack.
+const STACK_P1: usize = 8;
+/// See [`STACK_P1`].
+const STACK_ORDERS: usize = 4;
+
+/// [`ders_basis_funs`] handed to `f` as one row-major slice (`ders[d·(p + 1) + j]`) without
+/// heap allocation for degrees below 8 and orders below 4: point evaluation in the inner
+/// loops of the Hausdorff bounds calls this millions of times.
+pub fn with_ders_basis_funs<R>(
+    knots: &[f64],
+    degree: usize,
+    span: usize,
+    t: f64,
+    k: usize,
+    f: impl FnOnce(&[f64]) -> R,
+) -> R {
+    let p1 = degree + 1;
+    if p1 <= STACK_P1 && k < STACK_ORDERS {
+        let mut ndu = [0.0; STACK_P1 * STACK_P1];
+        let mut a = [0.0; 2 * STACK_P1];
+        let mut lr = [0.0; 2 * STACK_P1];
+        let mut ders = [0.0; STACK_ORDERS * STACK_P1];
+        let ders = &mut ders[..(k + 1) * p1];
+        ders_core(knots, degree, span, t, k, &mut ndu, &mut a, &mut lr, ders);
+        f(ders)
+    } else {
+        let mut ndu = vec![0.0; p1 * p1];
+        let mut a = vec![0.0; 2 * p1];
+        let mut lr = vec![0.0; 2 * p1];
+        let mut ders = vec![0.0; (k + 1) * p1];
+        ders_core(
+            knots, degree, span, t, k, &mut ndu, &mut a, &mut lr, &mut ders,
+        );
+        f(&ders)
+    }
+}
+
+/// P&T A2.3 on row-major scratch of stride p + 1 (`ndu` (p + 1)², `a` and `lr` 2 (p + 1))
+/// into `ders` ((k + 1)(p + 1)).
+#[allow(clippy::too_many_arguments)]
+fn ders_core(
+    knots: &[f64],
+    p: usize,
+    span: usize,
+    t: f64,
+    k: usize,
+    ndu: &mut [f64],
+    a: &mut [f64],
+    lr: &mut [f64],
+    ders: &mut [f64],
+) {
+    let w = p + 1;
+    let (left, right) = lr.split_at_mut(w);
+    ndu[0] = 1.0;
     for j in 1..=p {
         left[j] = t - knots[span + 1 - j];
         right[j] = knots[span + j] - t;
         let mut saved = 0.0;
         for r in 0..j {
             // Lower triangle: knot differences.
-            ndu[j][r] = right[r + 1] + left[j - r];
-            let temp = if ndu[j][r] != 0.0 {
-                ndu[r][j - 1] / ndu[j][r]
+            ndu[j * w + r] = right[r + 1] + left[j - r];
+            let temp = if ndu[j * w + r] != 0.0 {
+                ndu[r * w + j - 1] / ndu[j * w + r]
             } else {
                 0.0
             };
             // Upper triangle: basis functions.
-            ndu[r][j] = saved + right[r + 1] * temp;
+            ndu[r * w + j] = saved + right[r + 1] * temp;
             saved = left[j - r] * temp;
         }
-        ndu[j][j] = saved;
+        ndu[j * w + j] = saved;
     }
-    let mut ders = vec![vec![0.0; p + 1]; k + 1];
     for j in 0..=p {
-        ders[0][j] = ndu[j][p];
+        ders[j] = ndu[j * w + p];
     }
-    let mut a = [vec![0.0; p + 1], vec![0.0; p + 1]];
     for r in 0..=p {
-        let (mut s1, mut s2) = (0usize, 1usize);
-        a[0][0] = 1.0;
+        let (mut s1, mut s2) = (0usize, w);
+        a[0] = 1.0;
         for kk in 1..=k.min(p) {
             let mut d = 0.0;
             let rk = r as isize - kk as isize;
             let pk = p - kk;
             if r >= kk {
-                let den = ndu[pk + 1][rk as usize];
-                a[s2][0] = if den != 0.0 { a[s1][0] / den } else { 0.0 };
-                d = a[s2][0] * ndu[rk as usize][pk];
+                let den = ndu[(pk + 1) * w + rk as usize];
+                a[s2] = if den != 0.0 { a[s1] / den } else { 0.0 };
+                d = a[s2] * ndu[rk as usize * w + pk];
             }
             let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
             let j2 = if (r as isize - 1) <= pk as isize {
@@ -113,35 +166,34 @@ pub fn ders_basis_funs(
             };
             for j in j1..=j2 {
                 let idx = (rk + j as isize) as usize;
-                let den = ndu[pk + 1][idx];
-                a[s2][j] = if den != 0.0 {
-                    (a[s1][j] - a[s1][j - 1]) / den
+                let den = ndu[(pk + 1) * w + idx];
+                a[s2 + j] = if den != 0.0 {
+                    (a[s1 + j] - a[s1 + j - 1]) / den
                 } else {
                     0.0
                 };
-                d += a[s2][j] * ndu[idx][pk];
+                d += a[s2 + j] * ndu[idx * w + pk];
             }
             if r <= pk {
-                let den = ndu[pk + 1][r];
-                a[s2][kk] = if den != 0.0 {
-                    -a[s1][kk - 1] / den
+                let den = ndu[(pk + 1) * w + r];
+                a[s2 + kk] = if den != 0.0 {
+                    -a[s1 + kk - 1] / den
                 } else {
                     0.0
                 };
-                d += a[s2][kk] * ndu[r][pk];
+                d += a[s2 + kk] * ndu[r * w + pk];
             }
-            ders[kk][r] = d;
+            ders[kk * w + r] = d;
             std::mem::swap(&mut s1, &mut s2);
         }
     }
     let mut fac = p as f64;
-    for (kk, row) in ders.iter_mut().enumerate().take(k.min(p) + 1).skip(1) {
-        for v in row.iter_mut() {
+    for kk in 1..=k.min(p) {
+        for v in &mut ders[kk * w..(kk + 1) * w] {
             *v *= fac;
         }
         fac *= (p - kk) as f64;
     }
-    ders
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! The B-spline curve type: evaluation (de Boor), derivatives, knot insertion, splitting.
 
-use super::basis::{basis_funs, ders_basis_funs, find_span};
+use super::basis::{basis_funs, find_span, with_ders_basis_funs};
 use super::knots;
 use super::{SplineError, Vector};
 
@@ -142,19 +142,35 @@ impl<P: Vector> BSpline<P> {
     pub fn derivs(&self, t: f64, k: usize) -> Vec<P> {
         let t = self.wrap(t);
         let span = find_span(&self.knots, self.degree, self.ctrl.len(), t);
-        let d = ders_basis_funs(&self.knots, self.degree, span, t, k);
-        (0..=k)
-            .map(|order| {
-                let mut acc = P::ZERO;
-                if order <= self.degree {
-                    let base = span - self.degree;
-                    for (cj, dj) in self.ctrl[base..=span].iter().zip(&d[order]) {
-                        acc = acc + *cj * *dj;
-                    }
-                }
-                acc
-            })
-            .collect()
+        with_ders_basis_funs(&self.knots, self.degree, span, t, k, |d| {
+            (0..=k).map(|order| self.ders_row(span, d, order)).collect()
+        })
+    }
+
+    /// [`BSpline::derivs`] for k = N − 1 into an array (no heap allocation for degrees
+    /// below 8 and N ≤ 4).
+    pub fn derivs_array<const N: usize>(&self, t: f64) -> [P; N] {
+        let t = self.wrap(t);
+        let span = find_span(&self.knots, self.degree, self.ctrl.len(), t);
+        with_ders_basis_funs(&self.knots, self.degree, span, t, N - 1, |d| {
+            std::array::from_fn(|order| self.ders_row(span, d, order))
+        })
+    }
+
+    /// C^{(order)}(t) from the basis derivatives `d` (row-major, stride p + 1).
+    fn ders_row(&self, span: usize, d: &[f64], order: usize) -> P {
+        let mut acc = P::ZERO;
+        if order <= self.degree {
+            let base = span - self.degree;
+            let w = self.degree + 1;
+            for (cj, dj) in self.ctrl[base..=span]
+                .iter()
+                .zip(&d[order * w..(order + 1) * w])
+            {
+                acc = acc + *cj * *dj;
+            }
+        }
+        acc
     }
 
     /// The derivative curve C′(t) of degree p − 1, with control values
