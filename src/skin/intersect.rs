@@ -9,8 +9,10 @@
 //!
 //! Guarantees for a tolerance `tol`:
 //! - curves that come within `tol` of each other are reported (so every true intersection
-//!   is; a hit lies within 2·tol of it), except within [`JOINT_ZONE`]·tol of a shared end
-//!   of adjacent segments (the joint itself);
+//!   is; a hit lies within 2·tol of it), except within the zone of a shared end of adjacent
+//!   segments (the joint itself): [`JOINT_ZONE`]·tol, widened at a sharp kink to
+//!   `JOINT_ZONE·tol / sin φ` (φ the angle between the two curves leaving the joint), at
+//!   most [`JOINT_ZONE_MAX`]·tol;
 //! - curves farther apart than 3·tol are never reported.
 //!
 //! Tangency: curves that touch without crossing are reported as a contact (like a
@@ -29,6 +31,100 @@ const MAX_DEPTH: u32 = 60;
 /// are the joint itself and are not tested against each other: beyond it, a G1 continuation
 /// (pieces of size ≤ 2·tol at distance ≥ tol) no longer looks like a contact.
 pub const JOINT_ZONE: f64 = 4.0;
+
+/// Widest joint zone, in units of `tol`. Two curves leaving a joint at an angle φ < 90° (a
+/// kink turning by 180° − φ) stay within `s·sin φ` of each other at a distance `s` from it,
+/// so a fixed zone would report the kink itself as a contact: a grown board's concave
+/// corner turning by 167° (φ = 13°) came within `tol` at 4.4·tol from the corner
+/// (`examples/gallery/neon_open.toml`, `tol` = eps/1000). The zone is therefore
+/// `JOINT_ZONE·tol / sin φ`, but at most this: a sharper kink (φ below asin(4/64) ≈ 3.6°)
+/// is reported as the curves doubling back along each other.
+pub const JOINT_ZONE_MAX: f64 = 64.0;
+
+/// A shared end of two adjacent curves whose neighbourhood is not tested.
+#[derive(Clone, Copy, Debug)]
+struct Joint {
+    /// Parameter of the joint on the first curve.
+    ta: f64,
+    /// Parameter of the joint on the second curve.
+    tb: f64,
+    /// The joint.
+    point: DVec2,
+    /// Pieces lying entirely within this distance of `point` are not tested.
+    zone: f64,
+}
+
+impl Joint {
+    /// The joint of `a`'s end (`ta` = 1) with `b`'s start (`tb` = 0), or of `a`'s start with
+    /// `b`'s end (`ta` = 0, `tb` = 1), with its zone from the angle φ between the two curves'
+    /// directions away from it: cos φ = u·v for unit directions u, v; the zone is
+    /// `JOINT_ZONE·tol / sin φ` for φ < 90°, clamped to [`JOINT_ZONE`, `JOINT_ZONE_MAX`]·tol.
+    fn between(a: &PathSeg, ta: f64, b: &PathSeg, tb: f64, tol: f64) -> Joint {
+        let point = if ta == 1.0 { a.end() } else { a.start() };
+        let u = leaving(a, ta == 1.0);
+        let v = leaving(b, tb == 1.0);
+        let sin = if u.dot(v) <= 0.0 {
+            1.0
+        } else {
+            u.perp_dot(v).abs()
+        };
+        let factor = if sin * JOINT_ZONE_MAX > JOINT_ZONE {
+            JOINT_ZONE / sin
+        } else {
+            JOINT_ZONE
+        };
+        Joint {
+            ta,
+            tb,
+            point,
+            zone: factor * tol,
+        }
+    }
+
+    /// A G1 joint (the halves of a split curve).
+    fn smooth(ta: f64, tb: f64, point: DVec2, tol: f64) -> Joint {
+        Joint {
+            ta,
+            tb,
+            point,
+            zone: JOINT_ZONE * tol,
+        }
+    }
+}
+
+/// Unit direction in which `seg` leaves its end (`at_end`) or its start, pointing away from
+/// that end along the curve (zero for a curve of zero length). A cubic whose first control
+/// point coincides with its end leaves along the next distinct one.
+fn leaving(seg: &PathSeg, at_end: bool) -> DVec2 {
+    let d = match *seg {
+        PathSeg::Line(l) => {
+            if at_end {
+                l.p0 - l.p1
+            } else {
+                l.p1 - l.p0
+            }
+        }
+        PathSeg::Arc(a) => {
+            if at_end {
+                -a.tangent(1.0)
+            } else {
+                a.tangent(0.0)
+            }
+        }
+        PathSeg::Cubic(c) => {
+            let (e, rest) = if at_end {
+                (c.p3, [c.p2, c.p1, c.p0])
+            } else {
+                (c.p0, [c.p1, c.p2, c.p3])
+            };
+            rest.iter()
+                .map(|&q| q - e)
+                .find(|d| *d != DVec2::ZERO)
+                .unwrap_or(DVec2::ZERO)
+        }
+    };
+    d.normalize_or_zero()
+}
 
 /// At most this many hits are collected per pair of segments (overlapping curves would
 /// otherwise report one hit per leaf).
@@ -186,9 +282,8 @@ fn boxes_overlap(a: (DVec2, DVec2), b: (DVec2, DVec2), grow: f64) -> bool {
 
 struct Search<'a> {
     tol: f64,
-    /// Shared points (ta, tb, point) of the two curves to ignore (joints of adjacent
-    /// segments).
-    joints: &'a [(f64, f64, DVec2)],
+    /// Shared ends of the two curves to ignore (joints of adjacent segments).
+    joints: &'a [Joint],
     hits: Vec<Hit>,
     /// Pairs of pieces visited so far (bounded by [`MAX_VISITS_PER_SEARCH`]).
     visits: usize,
@@ -198,14 +293,13 @@ impl Search<'_> {
     fn at_joint(&self, a: &Piece, b: &Piece) -> bool {
         self.joints
             .iter()
-            .any(|&(ja, jb, _)| a.touches_param(ja) && b.touches_param(jb))
+            .any(|j| a.touches_param(j.ta) && b.touches_param(j.tb))
     }
 
     fn in_joint_zone(&self, a: &Piece, b: &Piece) -> bool {
-        let rad = JOINT_ZONE * self.tol;
         self.joints
             .iter()
-            .any(|&(_, _, p)| a.within(p, rad) || b.within(p, rad))
+            .any(|j| a.within(j.point, j.zone) || b.within(j.point, j.zone))
     }
 
     fn run(&mut self, a: &Piece, b: &Piece, depth: u32) {
@@ -283,7 +377,7 @@ impl Search<'_> {
         self.run_self(&y, depth + 1);
         let mut inner = Search {
             tol: self.tol,
-            joints: &[(x.t1, y.t0, x.ends().1)],
+            joints: &[Joint::smooth(x.t1, y.t0, x.ends().1, self.tol)],
             hits: Vec::new(),
             visits: self.visits,
         };
@@ -304,7 +398,7 @@ fn dedup(hits: Vec<Hit>, tol: f64) -> Vec<Hit> {
     out
 }
 
-fn pair_hits(a: &PathSeg, b: &PathSeg, joints: &[(f64, f64, DVec2)], tol: f64) -> Vec<Hit> {
+fn pair_hits(a: &PathSeg, b: &PathSeg, joints: &[Joint], tol: f64) -> Vec<Hit> {
     let mut s = Search {
         tol,
         joints,
@@ -432,10 +526,10 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
             let mut joints = Vec::new();
             let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
             if j == i + 1 && near(s.end(), segs[j].start()) {
-                joints.push((1.0, 0.0, s.end()));
+                joints.push(Joint::between(s, 1.0, &segs[j], 0.0, tol));
             }
             if path.closed && i == 0 && j == n - 1 && near(segs[j].end(), s.start()) {
-                joints.push((0.0, 1.0, s.start()));
+                joints.push(Joint::between(s, 0.0, &segs[j], 1.0, tol));
             }
             for hit in pair_hits(s, &segs[j], &joints, tol) {
                 out.push(PathHit { a: i, b: j, hit });
@@ -669,5 +763,84 @@ mod tests {
         let x = (1.0f64 - 0.01).sqrt();
         assert!(h.iter().any(|p| p.hit.point.distance(v(x, 0.1)) < 1e-8));
         assert!(h.iter().any(|p| p.hit.point.distance(v(-x, 0.1)) < 1e-8));
+    }
+
+    /// A closed ring with a sharp concave kink: a line down the y axis to the origin, then an
+    /// arc leaving at angle `phi` from the line (turning by 180° − φ), curving back across the
+    /// line at `cross` from the kink when `cross` is finite (clockwise arc of radius
+    /// cross / (2 sin φ)), else curving away (counter-clockwise), closed by lines.
+    fn kinked_ring(phi: f64, cross: Option<f64>, rot: f64, scale: f64, shift: DVec2) -> Path {
+        let q = DVec2::from_angle(rot);
+        let f = |p: DVec2| q.rotate(p) * scale + shift;
+        let dir = v(-phi.sin(), phi.cos()); // leaving the kink
+        let arc = match cross {
+            // Centre to the right of the leaving direction; the arc re-crosses the y axis
+            // after turning by 2φ; run it 0.3 rad further.
+            Some(c) => {
+                let r = c / (2.0 * phi.sin());
+                let centre = v(dir.y, -dir.x) * r;
+                let start = (-centre).to_angle();
+                Arc::new(f(centre), r * scale, start + rot, -(2.0 * phi + 0.3))
+            }
+            None => {
+                let r = 1.0;
+                let centre = v(-dir.y, dir.x) * r;
+                let start = (-centre).to_angle();
+                Arc::new(f(centre), r * scale, start + rot, 0.5)
+            }
+        };
+        let top = f(v(0.0, 3.0));
+        let line = PathSeg::Line(Line::new(top, f(DVec2::ZERO)));
+        let end = arc.p1();
+        let far = f(v(-3.0, 4.0));
+        Path::new(
+            vec![
+                line,
+                PathSeg::Arc(arc),
+                PathSeg::Line(Line::new(end, far)),
+                PathSeg::Line(Line::new(far, top)),
+            ],
+            true,
+        )
+    }
+
+    #[test]
+    fn sharp_kinks_are_not_contacts_but_crossings_beyond_them_are() {
+        let frames = [
+            (0.0, 1.0, DVec2::ZERO),
+            (0.7, 1e-2, v(1e4, -5e3)),
+            (-2.3, 1e3, v(-3e3, 7e3)),
+        ];
+        for (rot, scale, shift) in frames {
+            let tol = 1e-6 * scale;
+            // (φ, crossing distance in units of tol, expect a hit)
+            let cases = [
+                (13f64.to_radians(), None, false), // neon_open's board corner
+                (5f64.to_radians(), None, false),
+                (60f64.to_radians(), None, false),
+                (13f64.to_radians(), Some(40.0), true), // beyond the zone (17.8·tol)
+                (5f64.to_radians(), Some(80.0), true),  // beyond the zone (45.9·tol)
+                (2f64.to_radians(), None, true),        // below asin(4/64): doubling back
+            ];
+            for (phi, cross, want) in cases {
+                let ring = kinked_ring(phi, cross.map(|c| c * 1e-6), rot, scale, shift);
+                assert!(ring.max_gap() < 1e-9 * scale, "{ring:?}");
+                let hits = path_self_intersections(&ring, tol);
+                assert_eq!(
+                    !hits.is_empty(),
+                    want,
+                    "φ = {:.1}°, cross {cross:?}, frame {rot} {scale}: {hits:?}",
+                    phi.to_degrees()
+                );
+                if let Some(c) = cross {
+                    // The crossing lies on the line, c from the kink.
+                    let at = DVec2::from_angle(rot).rotate(v(0.0, c * 1e-6)) * scale + shift;
+                    assert!(
+                        hits.iter().any(|h| h.hit.point.distance(at) <= 4.0 * tol),
+                        "{hits:?} not near {at}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -296,12 +296,12 @@ pub fn backboard(
     let closed = |grow: &dyn Fn(&Region, f64) -> Region| {
         grow(&grow(&union, margin + min_inner_radius), -min_inner_radius)
     };
-    // Each offset is checked, and the board must hold the union and be simple.
-    // cavalier_contours can split it along chords through the strokes (seed 0x5EED0011
-    // case 251 rotated by 0.7 rad: the board of two crossing hairpins came back as four
-    // rings); geo's buffer makes it then.
+    // Each offset is checked (simple and nested, else made by geo's buffer), and the board
+    // must hold the union. cavalier_contours can split it along chords through the strokes
+    // (seed 0x5EED0011 case 251 rotated by 0.7 rad: the board of two crossing hairpins came
+    // back as four rings); geo's buffer makes the whole closing then.
     let grown = closed(&|r, d| r.offset_checked(d, eps, tol));
-    let grown = if grown.holds(&union) && grown.simple(eps * MEET_FRACTION) {
+    let grown = if grown.holds(&union) {
         grown
     } else {
         closed(&|r, d| r.buffered(d, tol))

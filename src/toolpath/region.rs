@@ -531,12 +531,7 @@ impl Region {
     /// Whether this region nests as a region should (`well_nested`: material and holes alternate) and every
     /// vertex of `other` lies in its material (winding number 1).
     pub fn holds(&self, other: &Region) -> bool {
-        self.well_nested()
-            && other
-                .contours
-                .iter()
-                .flat_map(|c| c.iter_vertexes())
-                .all(|v| self.winding(DVec2::new(v.x, v.y)) == 1)
+        self.well_nested() && self.winds_every_vertex(other, 1)
     }
 
     /// Whether every contour is simple and no two meet within `tol`: no contour crosses or
@@ -577,11 +572,16 @@ impl Region {
 
     /// Whether no vertex of `other` lies in this region's material (winding number 0).
     pub fn excludes(&self, other: &Region) -> bool {
+        self.winds_every_vertex(other, 0)
+    }
+
+    /// Whether this region's contours wind `n` times about every vertex of `other`.
+    fn winds_every_vertex(&self, other: &Region, n: i32) -> bool {
         other
             .contours
             .iter()
             .flat_map(|c| c.iter_vertexes())
-            .all(|v| self.winding(DVec2::new(v.x, v.y)) == 0)
+            .all(|v| self.winding(DVec2::new(v.x, v.y)) == n)
     }
 
     /// Total winding number of the contours about `p` (1 inside material, 0 outside, for a
