@@ -77,10 +77,89 @@ pub fn builtin_profile(name: &str) -> Option<Result<Profile, ProfileError>> {
 /// `v` rounded to `decimals` places, without trailing zeros, a trailing point or `-0`:
 /// `format_number(-0.0004, 3) == "0"`, `format_number(12.5, 3) == "12.5"`.
 /// Non-finite input prints as "0" (callers reject non-finite values before formatting).
+///
+/// The digits are those of the exact binary value of `v` rounded to `decimals` places, as
+/// `format!("{:.*}", decimals, v)` gives them, but computed in integer arithmetic where that
+/// is provably the same ([`rounded_scaled`]); otherwise (ties, huge values, many decimals)
+/// by `format!`.
 pub fn format_number(v: f64, decimals: u32) -> String {
     if !v.is_finite() {
         return "0".to_string();
     }
+    match rounded_scaled(v.abs(), decimals) {
+        Some(n) => digits_of_scaled(v < 0.0, n, decimals),
+        None => format_number_std(v, decimals),
+    }
+}
+
+/// Most decimals of the integer route: 10^`decimals` must be exact in `f64` and leave
+/// room below 2⁵³ for the integer part.
+const FAST_DECIMALS: u32 = 9;
+
+/// `a` (≥ 0, finite) times 10^`decimals`, rounded to the nearest integer, when the product
+/// computed in floating point decides that rounding. 10^d is exact for d ≤ 22, so
+/// p = fl(a·10^d) is the exact product x rounded once. Below 2⁵² every k + ½ is an `f64`,
+/// and rounding is monotone, so x < k + ½ gives p ≤ k + ½ and x > k + ½ gives p ≥ k + ½:
+/// where p's fraction is not exactly ½, x rounds to the same integer as p. Where it is ½
+/// (x a tie, which `format!` breaks to even, or within half an ulp of one), for p ≥ 2⁵²,
+/// or for d > [`FAST_DECIMALS`]: `None`.
+fn rounded_scaled(a: f64, decimals: u32) -> Option<u64> {
+    if decimals > FAST_DECIMALS {
+        return None;
+    }
+    let p = a * 10f64.powi(decimals as i32);
+    if !(p < 4_503_599_627_370_496.0) {
+        return None; // 2⁵²
+    }
+    let floor = p.floor();
+    let frac = p - floor; // exact (Sterbenz)
+    if frac == 0.5 {
+        return None;
+    }
+    Some(floor as u64 + u64::from(frac > 0.5))
+}
+
+/// The text of ±n/10^`decimals` without trailing zeros, a trailing point or `-0`, written
+/// right to left into a stack buffer (n < 2⁵³ has at most 16 digits; with the point, a
+/// leading "0" and the sign that is at most 19 bytes for `decimals` ≤ [`FAST_DECIMALS`]).
+fn digits_of_scaled(negative: bool, n: u64, decimals: u32) -> String {
+    let mut buf = [0u8; 32];
+    let mut at = buf.len();
+    let mut rest = n;
+    let mut put = |b: u8, at: &mut usize| {
+        *at -= 1;
+        buf[*at] = b;
+    };
+    // Fraction digits, trailing zeros dropped.
+    let mut places = decimals;
+    while places > 0 && rest % 10 == 0 {
+        rest /= 10;
+        places -= 1;
+    }
+    if places > 0 {
+        for _ in 0..places {
+            put(b'0' + (rest % 10) as u8, &mut at);
+            rest /= 10;
+        }
+        put(b'.', &mut at);
+    }
+    loop {
+        put(b'0' + (rest % 10) as u8, &mut at);
+        rest /= 10;
+        if rest == 0 {
+            break;
+        }
+    }
+    if negative && n != 0 {
+        put(b'-', &mut at);
+    }
+    buf[at..].iter().map(|&b| b as char).collect()
+}
+
+/// [`format_number`] by the standard formatter alone, `format!("{:.*}")` (exact decimal
+/// expansion of the binary value, ties to even), then trimmed: its fallback, and the
+/// reference its integer route is tested and benchmarked against.
+pub fn format_number_std(v: f64, decimals: u32) -> String {
     let mut s = format!("{:.*}", decimals as usize, v);
     if s.contains('.') {
         while s.ends_with('0') {

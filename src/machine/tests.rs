@@ -122,6 +122,81 @@ fn number_formatting() {
     }
 }
 
+/// The integer route of `format_number` gives the same text as `format!` (the exact
+/// decimal expansion, ties to even) on random values, on values a few ulps either side of
+/// every kind of rounding tie, and at the limits of the route; and it is the route taken
+/// for ordinary coordinates.
+#[test]
+fn number_formatting_matches_exact_formatting() {
+    let mut state = 0x5EED_F0F0_u64;
+    let mut next = || {
+        // splitmix64
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let check = |v: f64, d: u32| {
+        assert_eq!(
+            format_number(v, d),
+            super::format_number_std(v, d),
+            "{v:e} ({:#x}) to {d} places",
+            v.to_bits()
+        );
+    };
+    let (mut fast, mut total) = (0usize, 0usize);
+    for _ in 0..200_000 {
+        let r = next();
+        let d = (r % 13) as u32;
+        let mag = 10f64.powi(((r >> 8) % 18) as i32 - 8);
+        let u = (next() >> 11) as f64 / (1u64 << 53) as f64;
+        let v = if r & (1 << 40) != 0 {
+            -u * mag
+        } else {
+            u * mag
+        };
+        check(v, d);
+        // Coordinates (below 10⁴) to at most 6 places take the integer route.
+        if d <= 6 && mag <= 1e4 {
+            total += 1;
+            fast += usize::from(super::rounded_scaled(v.abs(), d).is_some());
+        }
+        // Near a tie: (k + ½)/10^d and its neighbours a few ulps away.
+        let k = (next() % 1_000_000) as f64;
+        let tie = (k + 0.5) / 10f64.powi(d as i32);
+        let mut t = tie;
+        for _ in 0..4 {
+            t = f64::from_bits(t.to_bits() - 1);
+        }
+        for _ in 0..9 {
+            check(t, d);
+            check(-t, d);
+            t = f64::from_bits(t.to_bits() + 1);
+        }
+    }
+    for v in [
+        0.0,
+        -0.0,
+        f64::MIN_POSITIVE,
+        5e-324,
+        4_503_599_627_370_495.5,
+        4_503_599_627_370_496.0,
+        9_007_199_254_740_993.0,
+        1e300,
+        0.125,
+        0.375,
+        2.5,
+        -2.5,
+        999_999.999_5,
+    ] {
+        for d in 0..=12 {
+            check(v, d);
+        }
+    }
+    assert!(fast * 1000 >= total * 999, "{fast} of {total}");
+}
+
 /// Numbers outside their documented ranges and preambles that would end the program or
 /// start the spindle are refused, naming the file, the key and the tool.
 #[test]

@@ -164,12 +164,18 @@ pub struct PathHit {
     pub hit: Hit,
 }
 
-/// A sub-curve of a segment with its parameter range in the segment.
+/// A sub-curve of a segment with its parameter range in the segment, with its ends,
+/// flatness and box computed once (a piece meets many others in a search, and an arc's
+/// ends cost a sine and a cosine each).
 #[derive(Clone, Copy, Debug)]
 struct Piece {
     geom: Geom,
     t0: f64,
     t1: f64,
+    ends: (DVec2, DVec2),
+    /// Upper bound of the distance of the curve from its chord segment.
+    flat: f64,
+    bbox: BBox,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -179,6 +185,31 @@ enum Geom {
 }
 
 impl Piece {
+    fn new(geom: Geom, t0: f64, t1: f64) -> Piece {
+        let (ends, flat, bbox) = match geom {
+            Geom::Cubic(c) => ((c.p0, c.p3), c.flatness(), c.control_bbox()),
+            Geom::Arc(a) => {
+                let (p, q) = (a.p0(), a.p1());
+                let s = a.sweep.abs();
+                let f = if s <= PI {
+                    a.radius * (1.0 - (0.5 * s).cos())
+                } else {
+                    2.0 * a.radius
+                };
+                let g = DVec2::splat(f);
+                ((p, q), f, (p.min(q) - g, p.max(q) + g))
+            }
+        };
+        Piece {
+            geom,
+            t0,
+            t1,
+            ends,
+            flat,
+            bbox,
+        }
+    }
+
     fn of(seg: &PathSeg) -> Piece {
         let geom = match *seg {
             PathSeg::Line(l) => {
@@ -188,44 +219,20 @@ impl Piece {
             PathSeg::Cubic(c) => Geom::Cubic(c),
             PathSeg::Arc(a) => Geom::Arc(a),
         };
-        Piece {
-            geom,
-            t0: 0.0,
-            t1: 1.0,
-        }
+        Piece::new(geom, 0.0, 1.0)
     }
 
     fn ends(&self) -> (DVec2, DVec2) {
-        match self.geom {
-            Geom::Cubic(c) => (c.p0, c.p3),
-            Geom::Arc(a) => (a.p0(), a.p1()),
-        }
+        self.ends
     }
 
     /// Upper bound of the distance of the curve from its chord segment.
     fn flatness(&self) -> f64 {
-        match self.geom {
-            Geom::Cubic(c) => c.flatness(),
-            Geom::Arc(a) => {
-                let s = a.sweep.abs();
-                if s <= PI {
-                    a.radius * (1.0 - (0.5 * s).cos())
-                } else {
-                    2.0 * a.radius
-                }
-            }
-        }
+        self.flat
     }
 
     fn bbox(&self) -> (DVec2, DVec2) {
-        match self.geom {
-            Geom::Cubic(c) => c.control_bbox(),
-            Geom::Arc(_) => {
-                let (p, q) = self.ends();
-                let f = self.flatness();
-                (p.min(q) - DVec2::splat(f), p.max(q) + DVec2::splat(f))
-            }
-        }
+        self.bbox
     }
 
     fn within(&self, p: DVec2, rad: f64) -> bool {
@@ -255,18 +262,7 @@ impl Piece {
                 )
             }
         };
-        (
-            Piece {
-                geom: g0,
-                t0: self.t0,
-                t1: tm,
-            },
-            Piece {
-                geom: g1,
-                t0: tm,
-                t1: self.t1,
-            },
-        )
+        (Piece::new(g0, self.t0, tm), Piece::new(g1, tm, self.t1))
     }
 
     fn touches_param(&self, t: f64) -> bool {
