@@ -575,20 +575,28 @@ impl Region {
         self.winds_every_vertex(other, 0)
     }
 
-    /// Whether this region's contours wind `n` times about every vertex of `other`.
+    /// Whether this region's contours wind `n` times about every vertex of `other`. A
+    /// closed contour winds 0 times about a point outside its extents (arcs included), so
+    /// only the contours whose box holds the vertex are walked: O(V·W) for V vertices
+    /// against W only where the boxes overlap.
     fn winds_every_vertex(&self, other: &Region, n: i32) -> bool {
+        let boxes: Vec<_> = self.contours.iter().map(|c| c.extents()).collect();
         other
             .contours
             .iter()
             .flat_map(|c| c.iter_vertexes())
-            .all(|v| self.winding(DVec2::new(v.x, v.y)) == n)
-    }
-
-    /// Total winding number of the contours about `p` (1 inside material, 0 outside, for a
-    /// well-nested region; arcs included).
-    fn winding(&self, p: DVec2) -> i32 {
-        let v = cavalier_contours::core::math::Vector2::new(p.x, p.y);
-        self.contours.iter().map(|c| c.winding_number(v)).sum()
+            .all(|v| {
+                let p = cavalier_contours::core::math::Vector2::new(v.x, v.y);
+                let w: i32 = (self.contours.iter().zip(&boxes))
+                    .filter(|(_, b)| {
+                        b.is_some_and(|b| {
+                            b.min_x <= v.x && v.x <= b.max_x && b.min_y <= v.y && v.y <= b.max_y
+                        })
+                    })
+                    .map(|(c, _)| c.winding_number(p))
+                    .sum();
+                w == n
+            })
     }
 
     /// Whether the contours nest as material and holes should: a counter-clockwise contour
