@@ -427,8 +427,9 @@ pub struct Operation {
     /// `laser.default_power`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub power: Option<f64>,
-    /// `tabs`: holding tabs `{count, width, height}`; count in 1..=[`MAX_TABS`](super::MAX_TABS),
-    /// width and height > 0 and at most [`MAX_COORD`](super::MAX_COORD).
+    /// `tabs` (profile and backboard only: the cuts that free a part): holding tabs
+    /// `{count, width, height}`; count in 1..=[`MAX_TABS`](super::MAX_TABS), width and
+    /// height > 0 and at most [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tabs: Option<Tabs>,
     /// `lead_in`: length of an arc lead-in, design units, ≥ 0 and at most
@@ -492,7 +493,7 @@ pub struct Operation {
     /// `laser.air_assist`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub air_assist: Option<bool>,
-    /// `method`: the skin route of profile and backboard cuts: `skin` (Bézier skin,
+    /// `method` (profile and backboard only): the skin route of the cut: `skin` (Bézier skin,
     /// general offset), `re` or `mph` (exact MAT offsets of the RE/MPH skin,
     /// re-skinning-cnc eq. 13). Unset: the build's `--method`.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -342,6 +342,35 @@ fn operation_unknown_stroke_and_keys() {
     let op = "\n[[operation]]\nkind = \"profile\"\ntabs = { count = 0, width = 2, height = 1 }\n";
     let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
     assert!(msg.contains("key `tabs.count`"), "{msg}");
+    // Tabs and the skin route belong to the cuts that free a part; elsewhere they would be
+    // ignored, so they are refused.
+    for (kind, extra) in [
+        ("channel", "width = 6.0\n"),
+        ("fill", "spacing = 0.5\n"),
+        ("holes", "diameter = 3\n"),
+        ("vcarve", "angle = 60\n"),
+    ] {
+        for key in [
+            "tabs = { count = 2, width = 2, height = 1 }",
+            "method = \"re\"",
+        ] {
+            let op = format!("\n[[operation]]\nkind = \"{kind}\"\n{extra}{key}\n");
+            let msg = err_of(&format!("{}{op}", with_b(GOOD_B)));
+            let name = key.split(' ').next().unwrap_or_default();
+            assert!(
+                msg.contains(&format!("operation 0 ({kind}), key `{name}`"))
+                    && msg.contains("does not apply"),
+                "{msg}"
+            );
+        }
+    }
+    for kind in ["profile", "backboard"] {
+        let op = format!(
+            "\n[[operation]]\nkind = \"{kind}\"\ntabs = {{ count = 2, width = 2, height = 1 }}\n\
+             method = \"re\"\n"
+        );
+        assert!(from_str(&format!("{}{op}", with_b(GOOD_B)), Format::Toml, FILE).is_ok());
+    }
 }
 
 #[test]

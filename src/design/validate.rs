@@ -517,6 +517,8 @@ fn applies(key: &str) -> &'static [OperationKind] {
         "pattern" | "spacing" | "cross_hatch" | "alternate" => &[Fill],
         "angle" => &[Fill, Vcarve],
         "max_depth" => &[Vcarve],
+        // Tabs hold a part cut free; the skin route is chosen for outline cuts.
+        "tabs" | "method" => &[Profile, Backboard],
         _ => &[Profile, Channel, Backboard, Holes, Fill, Vcarve],
     }
 }
@@ -540,6 +542,8 @@ fn check_operation(
         ("alternate", op.alternate.is_some()),
         ("angle", op.angle.is_some()),
         ("max_depth", op.max_depth.is_some()),
+        ("tabs", op.tabs.is_some()),
+        ("method", op.method.is_some()),
     ];
     for (key, present) in set {
         if present && !applies(key).contains(&op.kind) {
