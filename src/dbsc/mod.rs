@@ -39,9 +39,6 @@ pub enum DbscError {
     /// The knots or degree were rejected by the underlying B-spline constructor.
     #[error(transparent)]
     Spline(#[from] SplineError),
-    /// Any other invalid input, described by the message.
-    #[error("{0}")]
-    Invalid(String),
 }
 
 pub mod attributes;

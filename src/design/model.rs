@@ -341,12 +341,12 @@ impl OperationKind {
     }
 }
 
-/// Where a profile cut runs relative to the outline.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// Where a profile cut runs relative to the outline. There is no default side: an unset
+/// `side` means `on` for a laser and `outside` for a router (the build decides).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProfileSide {
     /// `"on"`: the tool centre follows the outline.
-    #[default]
     On,
     /// `"outside"`: the path is offset outwards by the tool radius (or half the kerf), so
     /// the part keeps its size.

@@ -108,8 +108,9 @@ fn rounded_scaled(a: f64, decimals: u32) -> Option<u64> {
         return None;
     }
     let p = a * 10f64.powi(decimals as i32);
-    if !(p < 4_503_599_627_370_496.0) {
-        return None; // 2⁵²
+    // 2⁵² (a is finite and ≥ 0, so p is not NaN).
+    if p >= 4_503_599_627_370_496.0 {
+        return None;
     }
     let floor = p.floor();
     let frac = p - floor; // exact (Sterbenz)
@@ -132,7 +133,7 @@ fn digits_of_scaled(negative: bool, n: u64, decimals: u32) -> String {
     };
     // Fraction digits, trailing zeros dropped.
     let mut places = decimals;
-    while places > 0 && rest % 10 == 0 {
+    while places > 0 && rest.is_multiple_of(10) {
         rest /= 10;
         places -= 1;
     }
