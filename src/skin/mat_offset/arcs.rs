@@ -6,20 +6,28 @@
 //! # Hulls of the exact curve
 //!
 //! Each curve piece is sampled adaptively (points and unit tangents of the exact curve, in
-//! the direction of travel). A sample interval from P (tangent Tₐ) to Q (tangent T_b) is
-//! accepted when both tangents make an angle below 90° with the chord u = (Q − P)/‖Q − P‖
-//! and lie on opposite sides of it (cross(u, Tₐ)·cross(u, T_b) ≤ 0, no inflection seen at
-//! the ends), and the apex
+//! the direction of travel). A sample interval from P (tangent Tₐ) to Q (tangent T_b) has a
+//! triangle hull when both tangents make an angle below 90° with the chord
+//! u = (Q − P)/‖Q − P‖ and lie on opposite sides of it (cross(u, Tₐ)·cross(u, T_b) ≤ 0, no
+//! inflection seen at the ends); its apex
 //!
-//!   X = P + s Tₐ,  s = ‖Q − P‖ sin β / sin(α + β)   (α = ∠(Tₐ, u), β = ∠(u, T_b)),
+//!   X = P + s Tₐ,  s = ‖Q − P‖ sin β / sin(α + β)   (α = ∠(Tₐ, u), β = ∠(u, T_b))
 //!
-//! the meeting point of the two end tangents, lies at most `tol`/2 from the chord, and the
-//! sample at the parameter midpoint M passes the same tangent test on both halves with the
-//! tangent turning one way from P through M to Q; the interval is then kept as its two
-//! halves (P, M) and (M, Q) with their own, smaller triangles. Otherwise it is bisected. A convex arc whose tangent turns by less than π lies
-//! in the triangle of its chord and its end tangents (P, X, Q), so under the hypothesis that
-//! the curvature keeps its sign within each accepted interval (checked at three tangents,
-//! not proved between them) the whole exact curve lies in the union of these triangles.
+//! is the meeting point of the two end tangents. An interval is kept when X lies at most
+//! `tol`/2 from the chord and the sample at the parameter midpoint M passes the same test
+//! on both halves with the tangent turning one way from P through M to Q; it is then kept
+//! as its two halves (P, M) and (M, Q) with their own, smaller triangles. A convex arc whose
+//! tangent turns by less than π lies in the triangle of its chord and its end tangents.
+//!
+//! An interval that fails these tests but is nearly straight (an inflection, or tangents
+//! equal up to rounding) is kept when all three sampled tangents make angles below ψ/2 < π/8
+//! with the chord: if the tangent stays within ψ of the chord, the curve lies in the rhombus
+//! of P, Q and M' ± (‖Q − P‖/2) tan ψ · n (M' the chord's midpoint, n its normal), whose
+//! half-height must be at most `tol`/2. Every other interval is bisected.
+//!
+//! So under the hypothesis that within each kept interval the curvature keeps its sign
+//! (triangles) or the tangent stays within ψ of the chord (rhombi) — checked at three
+//! tangents, not proved between them — the whole exact curve lies in the union of the hulls.
 //!
 //! # The deviation bound of an arc
 //!
@@ -95,6 +103,9 @@ enum Hull {
     Seg,
     /// The curve lies in the triangle of the chord and this apex.
     Tri(DVec2),
+    /// The curve lies in the rhombus of the chord's ends and these two vertices (a nearly
+    /// straight interval, possibly with an inflection).
+    Quad(DVec2, DVec2),
     /// Nothing proved (bisection depth reached, or a singular point): emitted as a chord.
     Unproved,
 }
@@ -144,6 +155,15 @@ fn hull(a: &Node, b: &Node) -> Option<Hull> {
 /// Distance of the hull's apex from its chord (0 for a segment).
 fn apex_height(a: &Node, b: &Node, h: &Hull) -> f64 {
     match h {
+        Hull::Quad(x, _) => {
+            let v = b.p - a.p;
+            let l = v.length();
+            if l > 0.0 {
+                cross(v / l, *x - a.p).abs()
+            } else {
+                0.0
+            }
+        }
         Hull::Tri(x) => {
             let v = b.p - a.p;
             let l = v.length();
@@ -176,11 +196,12 @@ fn dist_to_hull(c: DVec2, verts: &[DVec2]) -> f64 {
 }
 
 /// The vertices of interval `k`'s hull.
-fn hull_verts(nodes: &[Node], hulls: &[Hull], k: usize) -> Option<([DVec2; 3], usize)> {
+fn hull_verts(nodes: &[Node], hulls: &[Hull], k: usize) -> Option<([DVec2; 4], usize)> {
     let (a, b) = (nodes.get(k)?.p, nodes.get(k + 1)?.p);
     match hulls.get(k)? {
-        Hull::Seg => Some(([a, b, b], 2)),
-        Hull::Tri(x) => Some(([a, *x, b], 3)),
+        Hull::Seg => Some(([a, b, b, b], 2)),
+        Hull::Tri(x) => Some(([a, *x, b, b], 3)),
+        Hull::Quad(x, y) => Some(([a, *x, b, *y], 4)),
         Hull::Unproved => None,
     }
 }
@@ -277,6 +298,7 @@ fn poly_bound(sh: &Shape, verts: &[DVec2]) -> Option<f64> {
 
 /// The part of the convex polygon `verts` where (x − j)·t ≤ 0 (`behind`) or ≥ 0.
 fn clip(verts: &[DVec2], j: DVec2, t: DVec2, behind: bool) -> ([DVec2; 6], usize) {
+    // A convex polygon of at most 4 vertices clipped by a half-plane has at most 5.
     let s = if behind { -1.0 } else { 1.0 };
     let side = |x: DVec2| s * (x - j).dot(t);
     let mut out = [DVec2::ZERO; 6];
@@ -392,6 +414,13 @@ fn refine(
         nodes.extend([nm, n1]);
         return;
     }
+    if let Some(nm) = nm
+        && let Some(h) = flat_hull(&n0, &nm, &n1, budget)
+    {
+        hulls.push(h);
+        nodes.push(n1);
+        return;
+    }
     match nm {
         Some(nm) if depth < MAX_DEPTH && nodes.len() < MAX_NODES => {
             refine(ev, u0, n0, um, nm, budget, depth + 1, nodes, hulls);
@@ -402,6 +431,38 @@ fn refine(
             nodes.push(n1);
         }
     }
+}
+
+/// The rhombus hull (module docs) of a nearly straight interval from `a` through `m` to
+/// `b`: ψ is twice the largest angle of the three sampled tangents with the chord; the
+/// curve, whose tangent is assumed to stay within ψ of the chord, lies in the rhombus
+/// between the lines through both ends at angles ±ψ, of half-height (‖b − a‖/2)·tan ψ,
+/// which must be at most `budget`.
+fn flat_hull(a: &Node, m: &Node, b: &Node, budget: f64) -> Option<Hull> {
+    let v = b.p - a.p;
+    let l = v.length();
+    if l == 0.0 || !l.is_finite() {
+        return None;
+    }
+    let u = v / l;
+    let mut psi: f64 = 0.0;
+    for d in [a.d?, m.d?, b.d?] {
+        if u.dot(d) <= 0.0 {
+            return None;
+        }
+        psi = psi.max(cross(u, d).atan2(u.dot(d)).abs());
+    }
+    let psi = 2.0 * psi + 1e-12;
+    if psi >= std::f64::consts::FRAC_PI_4 {
+        return None;
+    }
+    let h = 0.5 * l * psi.tan();
+    if h > budget {
+        return None;
+    }
+    let mid = a.p + 0.5 * v;
+    let n = perp(u);
+    Some(Hull::Quad(mid + h * n, mid - h * n))
 }
 
 /// Whether the tangent turns one way from `a` through `m` to `b` (no inflection seen at
@@ -691,6 +752,7 @@ mod tests {
     /// biarcs) counts (3-point arcs are not G1 and may be fewer).
     fn check(off: &MatOffset, tol: f64, scale: f64) -> (usize, usize, usize) {
         let m = off.to_merged_arc_paths(tol).unwrap();
+        assert_eq!(m.unproved, 0, "unproved intervals");
         assert!(m.bound <= tol, "bound {} > {tol}", m.bound);
         assert_eq!(m.paths.len(), off.contours.len());
         // Sagitta of the dense polyline's chords: well below tol at 2000 samples per piece.
