@@ -14,7 +14,7 @@
 //!   X = P + s Tₐ,  s = ‖Q − P‖ sin β / sin(α + β)   (α = ∠(Tₐ, u), β = ∠(u, T_b))
 //!
 //! is the meeting point of the two end tangents. An interval is kept when X lies at most
-//! `tol`/2 from the chord and the sample at the parameter midpoint M passes the same test
+//! `tol`/8 from the chord and the sample at the parameter midpoint M passes the same test
 //! on both halves with the tangent turning one way from P through M to Q; it is then kept
 //! as its two halves (P, M) and (M, Q) with their own, smaller triangles. A convex arc whose
 //! tangent turns by less than π lies in the triangle of its chord and its end tangents.
@@ -23,7 +23,7 @@
 //! equal up to rounding) is kept when all three sampled tangents make angles below ψ/2 < π/8
 //! with the chord: if the tangent stays within ψ of the chord, the curve lies in the rhombus
 //! of P, Q and M' ± (‖Q − P‖/2) tan ψ · n (M' the chord's midpoint, n its normal), whose
-//! half-height must be at most `tol`/2. Every other interval is bisected.
+//! half-height must be at most `tol`/8. Every other interval is bisected.
 //!
 //! So under the hypothesis that within each kept interval the curvature keeps its sign
 //! (triangles) or the tangent stays within ψ of the chord (rhombi) — checked at three
@@ -43,9 +43,11 @@
 //! sector and within e of the circle, so within e of the arc; conversely the curve is
 //! connected from the ray through P to the ray through Q inside the sector's band of width
 //! 2e around the circle, so it crosses every ray in between, at a point within e of the arc
-//! point on that ray. A line candidate (an arc whose sagitta is below `tol`·1e-4) is bounded
-//! the same way by the largest distance of a hull vertex to the line, with every vertex
-//! projecting into the segment. Rounding is not accounted for (its relative size is 1e-15).
+//! point on that ray. A line (in place of an arc whose sagitta is below `tol`·1e-4) is
+//! bounded by the largest distance of a hull vertex to the segment (a convex function);
+//! the other direction follows as for arcs, up to the angle (below 4·10⁻⁴ `tol`/length)
+//! between the line and the arc it replaces. Rounding is not accounted for (its relative
+//! size is 1e-15).
 //!
 //! # Merging
 //!
@@ -73,7 +75,7 @@ const MIN_PARTS: usize = 4;
 /// still not accepted there (singular points) is unproved and becomes a chord.
 const MAX_DEPTH: u32 = 24;
 /// Largest distance of a hull's apex from its chord, as a fraction of the tolerance.
-const APEX_FRACTION: f64 = 0.5;
+const APEX_FRACTION: f64 = 0.125;
 /// A line replaces an arc whose sagitta is below this fraction of the tolerance.
 const STRAIGHT_FRACTION: f64 = 1e-4;
 /// Pieces meet G1 when their tangents differ by less than this angle (radians) and their
@@ -227,8 +229,7 @@ impl Shape {
     }
 }
 
-/// The arc leaving `p` with unit tangent `d` and ending at `q` (sweep below π, radius
-/// above `tol`), or the line p q when the arc's sagitta (‖q − p‖/2)·tan(φ/2), φ = ∠(d, q − p),
+/// The arc leaving `p` with unit tangent `d` and ending at `q` (sweep below π), or the line p q when the arc's sagitta (‖q − p‖/2)·tan(φ/2), φ = ∠(d, q − p),
 /// is at most `tol`·STRAIGHT_FRACTION (the line's start tangent then differs from `d` by φ).
 fn arc_from(p: DVec2, d: DVec2, q: DVec2, tol: f64) -> Option<Shape> {
     let v = q - p;
@@ -251,7 +252,7 @@ fn arc_from(p: DVec2, d: DVec2, q: DVec2, tol: f64) -> Option<Shape> {
     let rs = l2 / (2.0 * h);
     let c = p + rs * perp(d);
     let r = rs.abs();
-    if r <= tol || !c.is_finite() {
+    if !(c.is_finite() && r > 0.0) {
         return None;
     }
     Some(Shape {
@@ -277,21 +278,13 @@ fn poly_bound(sh: &Shape, verts: &[DVec2]) -> Option<f64> {
                 }
                 bound = bound.max(x.length() - r);
             }
-            Some(bound.max(r - dist_to_hull(c, verts)))
+            // The band of half-width `bound` around the circle must not reach the centre.
+            Some(bound.max(r - dist_to_hull(c, verts))).filter(|&e| e < r)
         }
         None => {
-            let v = sh.q - sh.p;
-            let l = v.length();
-            let u = v / l;
-            let eps = CONTAIN_EPS * l;
-            for w in verts {
-                let along = u.dot(*w - sh.p);
-                if along < -eps || along > l + eps {
-                    return None;
-                }
-                bound = bound.max(cross(u, *w - sh.p).abs());
-            }
-            Some(bound)
+            // Distance to the segment is convex: its maximum over the polygon is at a vertex.
+            let seg = Line::new(sh.p, sh.q);
+            Some(verts.iter().map(|w| seg.distance(*w)).fold(0.0, f64::max))
         }
     }
 }
@@ -643,7 +636,7 @@ fn merge_run(
     let mut i = 0;
     while i < n {
         let Some(mut best) = biarc_candidate(nodes, hulls, i, i + 1, tol) else {
-            // A chord over one interval: within tol/2 of a proved hull (APEX_FRACTION),
+            // A chord over one interval: within tol/8 of a proved hull (APEX_FRACTION),
             // unbounded over an unproved one.
             let (a, b) = (nodes[i], nodes[i + 1]);
             match hulls[i] {
