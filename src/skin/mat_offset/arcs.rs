@@ -58,7 +58,8 @@
 //! arc by arc as above after splitting each hull by the arcs' common normal line at the
 //! joint (each arc lies on its own side of that line, and the line is the ray from either
 //! centre through the joint). The farthest sample whose biarc is within `tol` is found by
-//! galloping and then binary search on the sample index, so each biarc replaces as many
+//! galloping and then binary search on the sample index (first trying the previous biarc's
+//! reach), so each biarc replaces as many
 //! osculating-circle pieces as the tolerance allows; consecutive arcs of one circle are
 //! merged into one. Every joint is G1: between the two arcs of a biarc by construction,
 //! between biarcs and at the cap arcs because each biarc ends with the exact curve's
@@ -271,15 +272,28 @@ fn poly_bound(sh: &Shape, verts: &[DVec2]) -> Option<f64> {
         Some((c, r, sig)) => {
             let (ra, rb) = (sh.p - c, sh.q - c);
             let eps = CONTAIN_EPS * r * r;
-            for w in verts {
+            let (mut near, mut edge) = (f64::INFINITY, 0.0f64);
+            for (k, w) in verts.iter().enumerate() {
                 let x = *w - c;
                 if sig * cross(ra, x) < -eps || sig * cross(x, rb) < -eps {
                     return None;
                 }
-                bound = bound.max(x.length() - r);
+                let len = x.length();
+                bound = bound.max(len - r);
+                near = near.min(len);
+                edge = edge.max(w.distance(verts[(k + 1) % verts.len()]));
             }
+            // dist(C, H) ≥ √(m² − (L/2)²) with m the nearest vertex and L the longest edge
+            // (the foot of the nearest point lies within L/2 of an edge's end); the exact
+            // distance only where this cheaper bound is not enough.
+            let cheap = r - (near * near - 0.25 * edge * edge).max(0.0).sqrt();
+            let inner = if cheap <= bound {
+                cheap
+            } else {
+                r - dist_to_hull(c, verts)
+            };
             // The band of half-width `bound` around the circle must not reach the centre.
-            Some(bound.max(r - dist_to_hull(c, verts))).filter(|&e| e < r)
+            Some(bound.max(inner)).filter(|&e| e < r)
         }
         None => {
             // Distance to the segment is convex: its maximum over the polygon is at a vertex.
@@ -624,6 +638,52 @@ fn close_gaps(segs: &mut [PathSeg]) {
     }
 }
 
+/// The largest j in (i, n] for which `f(j)` succeeds, with its result, searched by trying
+/// i + `hint` first, then galloping and binary search (success is assumed to shrink with
+/// j); `None` when `f(i + 1)` fails.
+fn farthest<T>(
+    i: usize,
+    n: usize,
+    hint: usize,
+    mut f: impl FnMut(usize) -> Option<T>,
+) -> Option<(usize, T)> {
+    let mut best = f(i + 1)?;
+    let (mut lo, mut hi) = (i + 1, n + 1);
+    let guess = (i + hint).min(n);
+    if guess > lo {
+        match f(guess) {
+            Some(c) => {
+                lo = guess;
+                best = c;
+            }
+            None => hi = guess,
+        }
+    }
+    let mut step = hint.max(1);
+    while hi == n + 1 && lo < n {
+        let j = (lo + step).min(n);
+        match f(j) {
+            Some(c) => {
+                lo = j;
+                best = c;
+                step *= 2;
+            }
+            None => hi = j,
+        }
+    }
+    while hi - lo > 1 {
+        let m = lo + (hi - lo) / 2;
+        match f(m) {
+            Some(c) => {
+                lo = m;
+                best = c;
+            }
+            None => hi = m,
+        }
+    }
+    Some((lo, best))
+}
+
 /// Greedy merging of one run (module docs).
 fn merge_run(
     nodes: &[Node],
@@ -634,8 +694,11 @@ fn merge_run(
 ) {
     let n = nodes.len().saturating_sub(1).min(hulls.len());
     let mut i = 0;
+    let mut hint = 1;
     while i < n {
-        let Some(mut best) = biarc_candidate(nodes, hulls, i, i + 1, tol) else {
+        let Some((j, (shapes, bound))) =
+            farthest(i, n, hint, |j| biarc_candidate(nodes, hulls, i, j, tol))
+        else {
             // A chord over one interval: within tol/8 of a proved hull (APEX_FRACTION),
             // unbounded over an unproved one.
             let (a, b) = (nodes[i], nodes[i + 1]);
@@ -647,41 +710,15 @@ fn merge_run(
             i += 1;
             continue;
         };
-        let mut lo = i + 1;
-        let mut hi = n + 1;
-        let mut step = 2;
-        while lo < n {
-            let j = (i + step).min(n);
-            match biarc_candidate(nodes, hulls, i, j, tol) {
-                Some(c) => {
-                    lo = j;
-                    best = c;
-                    step *= 2;
-                }
-                None => {
-                    hi = j;
-                    break;
-                }
-            }
-        }
-        while hi - lo > 1 {
-            let m = lo + (hi - lo) / 2;
-            match biarc_candidate(nodes, hulls, i, m, tol) {
-                Some(c) => {
-                    lo = m;
-                    best = c;
-                }
-                None => hi = m,
-            }
-        }
-        let (shapes, bound) = best;
         res.bound = res.bound.max(bound);
         for sh in &shapes {
             push_merged(out, sh);
         }
-        i = lo;
+        hint = j - i;
+        i = j;
     }
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
