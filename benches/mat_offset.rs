@@ -1,7 +1,9 @@
-//! MAT offset + trim of an RE skin (re-skinning-cnc eq. 13) against the general route on
-//! the same outline: arc approximation of the outline within TOL (caps as true arcs) and
-//! cavalier_contours `parallel_offset` with self-intersection handling, at equal tolerance.
-//! Prints the time ratio and each route's Hausdorff distance to the exact offset.
+//! MAT offset + trim of an RE skin (re-skinning-cnc eq. 13) emitted as merged G1 arcs
+//! (issue #16 item 5) against the general routes on the same outline, all at TOL: the
+//! outline fitted with arcs and offset by cavalier_contours `parallel_offset` with
+//! self-intersection handling, and the outline flattened and shrunk by geo's buffer.
+//! Prints times, ratios, arc and line counts and each route's Hausdorff distance to the
+//! exact offset.
 
 use cavalier_contours::polyline::{PlineOffsetOptions, PlineSource, PlineSourceMut, Polyline};
 use criterion::Criterion;
@@ -49,9 +51,11 @@ fn touches(cs: &[Circle]) -> Vec<Touch> {
         .collect()
 }
 
+/// The exact inner offset and its trim, emitted as merged G1 arcs within TOL.
 fn mat_route(skin: &ReSkin) -> Vec<Path> {
     inner_offset(skin, DELTA, 1e-12)
-        .map(|o| o.to_line_paths(TOL))
+        .and_then(|o| o.to_merged_arc_paths(TOL))
+        .map(|m| m.paths)
         .unwrap_or_default()
 }
 
@@ -68,11 +72,19 @@ fn to_pline(path: &Path) -> Polyline<f64> {
     pl
 }
 
-fn general_route(skin: &ReSkin) -> Vec<Vec<DVec2>> {
+/// The general route: the outline fitted with 3-point arcs within TOL (cavalier_contours
+/// takes arcs and lines), offset by cavalier_contours with self-intersection handling.
+fn general_route(skin: &ReSkin) -> Vec<Path> {
     let Ok(out) = outline(skin) else {
         return Vec::new();
     };
-    let path = &out.to_arc_paths(TOL)[0];
+    let Some(path) = out.to_arc_paths(TOL).into_iter().next() else {
+        return Vec::new();
+    };
+    cavalier_offset(&path)
+}
+
+fn cavalier_offset(path: &Path) -> Vec<Path> {
     let pl = to_pline(path);
     let area = polygon_area(&path.flatten(TOL));
     let off = if area > 0.0 { DELTA } else { -DELTA };
@@ -95,9 +107,48 @@ fn general_route(skin: &ReSkin) -> Vec<Vec<DVec2>> {
                     }
                 })
                 .collect();
-            Path::new(segs, true).flatten(TOL * 0.1)
+            Path::new(segs, true)
         })
         .collect()
+}
+
+/// geo's buffer (i_overlay) of the outline flattened within TOL (geo has no arcs), shrunk
+/// by DELTA with round joins of the angle step `Region::buffered` uses for TOL.
+fn geo_route(skin: &ReSkin) -> Vec<Vec<DVec2>> {
+    let Ok(out) = outline(skin) else {
+        return Vec::new();
+    };
+    geo_buffer(&out.flatten(TOL))
+}
+
+fn geo_buffer(rings: &[Vec<DVec2>]) -> Vec<Vec<DVec2>> {
+    use geo::Buffer;
+    use geo::algorithm::buffer::{BufferStyle, LineJoin};
+    let polys: Vec<geo::Polygon<f64>> = rings
+        .iter()
+        .map(|r| {
+            let mut pts: Vec<geo::Coord<f64>> =
+                r.iter().map(|p| geo::Coord { x: p.x, y: p.y }).collect();
+            if let Some(&f) = pts.first() {
+                pts.push(f);
+            }
+            geo::Polygon::new(geo::LineString::new(pts), vec![])
+        })
+        .collect();
+    let phi = (8.0 * TOL / DELTA).sqrt().min(1.0);
+    let style = BufferStyle::new(-DELTA).line_join(LineJoin::Round(phi));
+    let shrunk = geo::MultiPolygon::new(polys).buffer_with_style(style);
+    let ring = |l: &geo::LineString<f64>| -> Vec<DVec2> {
+        let mut v: Vec<DVec2> = l.0.iter().map(|c| DVec2::new(c.x, c.y)).collect();
+        v.pop();
+        v
+    };
+    let mut out = Vec::new();
+    for p in &shrunk.0 {
+        out.push(ring(p.exterior()));
+        out.extend(p.interiors().iter().map(ring));
+    }
+    out
 }
 
 /// Dense samples of each exact contour (closed polylines).
@@ -150,6 +201,27 @@ fn time<F: FnMut() -> R, R>(n: usize, mut f: F) -> f64 {
     t.elapsed().as_secs_f64() / n as f64
 }
 
+/// Median of `rounds` timings of `n` calls each (seconds per call).
+fn median_time<F: FnMut() -> R, R>(rounds: usize, n: usize, mut f: F) -> f64 {
+    let mut v: Vec<f64> = (0..rounds).map(|_| time(n, &mut f)).collect();
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn counts(paths: &[Path]) -> (usize, usize) {
+    let arcs = paths
+        .iter()
+        .flat_map(|p| &p.segs)
+        .filter(|s| matches!(s, PathSeg::Arc(_)))
+        .count();
+    let all: usize = paths.iter().map(|p| p.segs.len()).sum();
+    (arcs, all - arcs)
+}
+
+fn flat(paths: &[Path]) -> Vec<Vec<DVec2>> {
+    paths.iter().map(|p| p.flatten(TOL * 0.01)).collect()
+}
+
 fn main() {
     let cs = circles();
     let skin = match ReSkin::build(&cs, &touches(&cs), false, Interp::Cubic, 1e-9) {
@@ -159,90 +231,98 @@ fn main() {
             return;
         }
     };
-    let Ok(exact) = inner_offset(&skin, DELTA, 1e-12) else {
+    let (Ok(exact), Ok(ol)) = (inner_offset(&skin, DELTA, 1e-12), outline(&skin)) else {
         eprintln!("exact offset failed");
         return;
     };
     let ex = exact_samples(&exact, 1000);
-    let mat: Vec<Vec<DVec2>> = mat_route(&skin)
-        .iter()
-        .map(|p| p.flatten(TOL * 0.1))
-        .collect();
-    let gen_ = general_route(&skin);
-    let (tm, tg) = (
-        time(20, || mat_route(&skin)),
-        time(20, || general_route(&skin)),
-    );
+    let merged = exact.to_merged_arc_paths(TOL).unwrap_or_default();
+    let biarcs = skinpath::toolpath::re_route::biarc_paths(&exact, TOL);
+    let arcs3 = exact.to_arc_paths(TOL);
+    let lines = exact.to_line_paths(TOL);
+    let cav = general_route(&skin);
+    let geo_ = geo_route(&skin);
     println!(
-        "mat_offset: {} circles, delta {DELTA}, tol {TOL}: {} trims, {} contours (general: {})",
+        "mat_offset: {} circles, delta {DELTA}, tol {TOL}: {} trims, {} contours (cavalier: {}, geo: {})",
         cs.len(),
         exact.trims.len(),
         exact.contours.len(),
-        gen_.len()
+        cav.len(),
+        geo_.len()
     );
     println!(
-        "mat_offset: MAT route {:.3} ms, general route {:.3} ms, ratio general/MAT {:.2}",
-        tm * 1e3,
-        tg * 1e3,
-        tg / tm
+        "mat_offset: merged arcs: {} samples of the exact curve, certified bound {:.3e}, {} unproved chords",
+        merged.samples, merged.bound, merged.unproved
     );
-    println!(
-        "mat_offset: Hausdorff to exact offset: MAT {:.2e}, general {:.2e}",
-        hausdorff(&ex, &mat),
-        hausdorff(&ex, &gen_)
-    );
-    let t_trim = time(50, || {
-        inner_offset(&skin, DELTA, 1e-12).map(|o| o.trims.len())
-    });
-    let t_cubic = time(20, || {
-        inner_offset(&skin, DELTA, 1e-12).map(|o| o.to_cubic_paths(TOL))
-    });
-    let cub: Vec<Vec<DVec2>> = exact
-        .to_cubic_paths(TOL)
-        .iter()
-        .map(|p| p.flatten(TOL * 0.1))
-        .collect();
-    println!(
-        "mat_offset: exact offset + trim only {:.3} ms; with cubic output {:.3} ms (Hausdorff {:.2e}, {} cubics vs {} arcs)",
-        t_trim * 1e3,
-        t_cubic * 1e3,
-        hausdorff(&ex, &cub),
-        exact
-            .to_cubic_paths(TOL)
-            .iter()
-            .map(|p| p.segs.len())
-            .sum::<usize>(),
-        mat_route(&skin).iter().map(|p| p.segs.len()).sum::<usize>(),
-    );
-    // Breakdown of the general route: the arc fit of the outline vs cavalier alone.
-    if let Ok(ol) = outline(&skin) {
-        let t_fit = time(20, || ol.to_arc_paths(TOL));
-        let path = &ol.to_arc_paths(TOL)[0];
-        let pl = to_pline(path);
-        let off = if polygon_area(&path.flatten(TOL)) > 0.0 {
-            DELTA
-        } else {
-            -DELTA
-        };
-        let opts = PlineOffsetOptions {
-            handle_self_intersects: true,
-            ..Default::default()
-        };
-        let t_cav = time(20, || pl.parallel_offset_opt(off, &opts).len());
+    for (name, paths) in [
+        ("MAT merged G1 arcs", &merged.paths),
+        ("MAT biarcs (G-code route before)", &biarcs),
+        ("MAT 3-point arcs (cavalier input before)", &arcs3),
+        ("MAT lines", &lines),
+        ("cavalier offset of the arc-fitted outline", &cav),
+    ] {
+        let (a, l) = counts(paths);
         println!(
-            "mat_offset: general route = outline arc fit {:.3} ms ({} arcs) + cavalier offset {:.3} ms",
-            t_fit * 1e3,
-            path.segs.len(),
-            t_cav * 1e3
+            "mat_offset: {name}: {a} arcs + {l} lines, Hausdorff to exact offset {:.3e}",
+            hausdorff(&ex, &flat(paths))
         );
     }
+    println!(
+        "mat_offset: geo buffer of the outline flattened within tol: {} segments, Hausdorff to exact offset {:.3e}",
+        geo_.iter().map(|r| r.len()).sum::<usize>(),
+        hausdorff(&ex, &geo_)
+    );
+    // Times: each route from the skin to its output at TOL, and the stages.
+    let t_mat = median_time(7, 40, || mat_route(&skin));
+    let t_trim = median_time(7, 40, || {
+        inner_offset(&skin, DELTA, 1e-12).map(|o| o.contours.len())
+    });
+    let t_merge = median_time(7, 40, || {
+        exact.to_merged_arc_paths(TOL).map(|m| m.paths.len())
+    });
+    let t_biarc = median_time(7, 40, || {
+        skinpath::toolpath::re_route::biarc_paths(&exact, TOL).len()
+    });
+    let t_cav = median_time(7, 40, || general_route(&skin));
+    let ol_arcs = ol.to_arc_paths(TOL);
+    let t_cav_only = match ol_arcs.first() {
+        Some(p) => median_time(7, 40, || cavalier_offset(p)),
+        None => f64::NAN,
+    };
+    let t_geo = median_time(7, 40, || geo_route(&skin));
+    let ol_flat = ol.flatten(TOL);
+    let t_geo_only = median_time(7, 40, || geo_buffer(&ol_flat));
+    println!(
+        "mat_offset: MAT offset + trim + merged arcs {:.4} ms (offset + trim {:.4} ms, merging {:.4} ms; biarcs instead {:.4} ms)",
+        t_mat * 1e3,
+        t_trim * 1e3,
+        t_merge * 1e3,
+        t_biarc * 1e3
+    );
+    println!(
+        "mat_offset: cavalier route (outline arc fit + offset) {:.4} ms (offset alone {:.4} ms); geo route (outline flattening + buffer) {:.4} ms (buffer alone {:.4} ms)",
+        t_cav * 1e3,
+        t_cav_only * 1e3,
+        t_geo * 1e3,
+        t_geo_only * 1e3
+    );
+    println!(
+        "mat_offset: ratios: cavalier route / MAT route {:.2}, geo route / MAT route {:.2}; offsets alone: cavalier / MAT offset+trim {:.2}, geo buffer / MAT offset+trim {:.2}",
+        t_cav / t_mat,
+        t_geo / t_mat,
+        t_cav_only / t_trim,
+        t_geo_only / t_trim
+    );
     routes_on_examples();
     let mut c = Criterion::default().configure_from_args();
-    c.bench_function("mat_offset/re_mat_trim", |b| {
+    c.bench_function("mat_offset/re_mat_trim_merged_arcs", |b| {
         b.iter(|| mat_route(black_box(&skin)))
     });
     c.bench_function("mat_offset/cavalier_general", |b| {
         b.iter(|| general_route(black_box(&skin)))
+    });
+    c.bench_function("mat_offset/geo_buffer", |b| {
+        b.iter(|| geo_route(black_box(&skin)))
     });
     c.final_summary();
 }

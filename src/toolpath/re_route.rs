@@ -1,10 +1,12 @@
 //! The MAT route of profiles and backboards (re-skinning-cnc-kruppa-2021 Sec. 4): the tool
 //! path of an RE/MPH skin is its exact offset y + (r ± δ) m± (eq. 13) by the tool radius or
 //! half the kerf, trimmed where r < δ (inner side), emitted as true arcs where the offset is
-//! a circle arc (the end caps) and as G1 biarcs within the tolerance elsewhere.
+//! a circle arc (the end caps) and elsewhere as merged G1 arcs, each within the tolerance of
+//! the exact offset curve by a bound on the whole curve
+//! ([`MatOffset::to_merged_arc_paths`]).
 //!
 //! The general route ([`super::ops::profile`]) offsets a flattened or arc-fitted Bézier skin
-//! with cavalier_contours; this one never offsets an approximation: each biarc is fitted to
+//! with cavalier_contours; this one never offsets an approximation: each arc is fitted to
 //! the exact offset curve, so the only error is the fitting tolerance.
 
 use super::biarc::biarc;
@@ -51,8 +53,8 @@ impl SegCounts {
 }
 
 /// Profile paths of an RE/MPH skin: the outline (`On`, or `tool_radius` = 0), its exact
-/// outer offset (`Outside`) or its exact inner offset trimmed where r < δ (`Inside`), fitted
-/// by biarcs within `tol` and oriented like [`super::ops::profile`]'s (material on the right:
+/// outer offset (`Outside`) or its exact inner offset trimmed where r < δ (`Inside`), as
+/// merged G1 arcs within `tol` (`arc_paths`) and oriented like [`super::ops::profile`]'s (material on the right:
 /// outer contours clockwise, holes counter-clockwise).
 pub fn mat_profile(
     skin: &ReSkin,
@@ -66,7 +68,19 @@ pub fn mat_profile(
         ProfileSide::Outside => mat_offset::outer_offset(skin, tool_radius, PARAM_TOL)?,
         ProfileSide::Inside => mat_offset::inner_offset(skin, tool_radius, PARAM_TOL)?,
     };
-    Ok(orient_for_climb(biarc_paths(&off, tol), tol))
+    Ok(orient_for_climb(arc_paths(&off, tol)?, tol))
+}
+
+/// The merged, certified G1 arcs of `off` ([`MatOffset::to_merged_arc_paths`]), or the
+/// bisected biarcs ([`biarc_paths`]) when some sample interval of the exact curve could not
+/// be bounded (an inflection or a singular point the sampling does not resolve).
+fn arc_paths(off: &MatOffset, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
+    let merged = off.to_merged_arc_paths(tol)?;
+    Ok(if merged.unproved == 0 {
+        merged.paths
+    } else {
+        biarc_paths(off, tol)
+    })
 }
 
 /// The backboard of a single skin: its exact outer offset by `distance` (margin plus tool
@@ -75,7 +89,7 @@ pub fn mat_profile(
 /// outer contours only (a backboard has no holes), oriented for climb milling.
 pub fn mat_backboard(skin: &ReSkin, distance: f64, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
     let off = mat_offset::outer_offset(skin, distance, PARAM_TOL)?;
-    let paths = orient_for_climb(biarc_paths(&off, tol), tol);
+    let paths = orient_for_climb(arc_paths(&off, tol)?, tol);
     let flat: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
     Ok(paths
         .into_iter()
@@ -110,7 +124,9 @@ fn orient_for_climb(paths: Vec<Path>, tol: f64) -> Vec<Path> {
 
 /// The contours of `off` as G1 chains of biarcs within `tol` of the exact offset curves
 /// (each piece bisected in its parameter until CHECK_SAMPLES interior points of the exact
-/// curve lie within `tol` of its biarc), with the cap arcs kept as they are.
+/// curve lie within `tol` of its biarc), with the cap arcs kept as they are. The profiles
+/// and backboards of the MAT route use the fewer, certified arcs of
+/// [`MatOffset::to_merged_arc_paths`]; this fit is kept for comparison (benches, tests).
 pub fn biarc_paths(off: &MatOffset, tol: f64) -> Vec<Path> {
     off.fitted_contours(
         |a| a.radius > 0.0 && a.sweep != 0.0,

@@ -29,6 +29,9 @@ pub enum MatOffsetError {
     /// The offset distance δ is not finite and positive.
     #[error("offset distance {0} must be finite and positive")]
     BadDelta(f64),
+    /// The output tolerance is not finite and positive.
+    #[error("tolerance {0} must be finite and positive")]
+    BadTolerance(f64),
     /// f is not positive on a segment, so r = f‖x′‖ ≤ 0 somewhere: the envelopes cross and must be
     /// eliminated first ([`crate::skin::re::eliminate`]).
     #[error("segment {segment}: f ≤ 0 at t = {t} (r ≤ 0: the envelopes cross; eliminate first)")]
@@ -67,11 +70,13 @@ pub enum MatOffsetError {
     },
 }
 
+mod arcs;
 mod fit;
 mod flatten;
 #[cfg(test)]
 mod global_tests;
 mod trim;
+pub use arcs::MergedArcs;
 pub use trim::region_distance;
 
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
