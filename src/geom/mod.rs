@@ -8,6 +8,7 @@ pub mod arc;
 pub mod bernstein;
 pub mod circle;
 pub mod cubic;
+pub mod hull;
 pub mod line;
 pub mod path;
 pub mod predicates;

@@ -178,6 +178,19 @@ impl Path {
     }
 }
 
+/// Snaps the start of every line of the closed chain `segs` to the previous segment's end
+/// (pieces computed separately, such as cap arcs and curve ends, meet only up to rounding;
+/// arcs keep their exact ends, lines absorb the gap).
+pub fn close_line_gaps(segs: &mut [PathSeg]) {
+    let n = segs.len();
+    for k in 0..n {
+        let prev_end = segs[(k + n - 1) % n].end();
+        if let PathSeg::Line(l) = &mut segs[k] {
+            l.p0 = prev_end;
+        }
+    }
+}
+
 /// Signed area of a closed polygon (shoelace formula): positive when counter-clockwise.
 pub fn polygon_area(pts: &[DVec2]) -> f64 {
     let n = pts.len();

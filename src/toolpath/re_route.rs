@@ -138,23 +138,11 @@ pub fn biarc_paths(off: &MatOffset, tol: f64) -> Vec<Path> {
     )
     .into_iter()
     .map(|mut segs| {
-        close_gaps(&mut segs);
+        crate::geom::path::close_line_gaps(&mut segs);
         Path::new(segs, true)
     })
     .filter(|p| !p.is_empty())
     .collect()
-}
-
-/// Snaps each segment's start to the previous end (the pieces meet exactly in theory; the
-/// cap arcs and the curve ends are computed separately and differ by rounding).
-fn close_gaps(segs: &mut [PathSeg]) {
-    let n = segs.len();
-    for k in 0..n {
-        let prev_end = segs[(k + n - 1) % n].end();
-        if let PathSeg::Line(l) = &mut segs[k] {
-            l.p0 = prev_end;
-        }
-    }
 }
 
 /// Point and unit tangent (in the direction of travel from t0 to t1) of the exact curve.

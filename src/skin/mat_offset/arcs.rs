@@ -67,6 +67,7 @@
 //! arcs are kept as they are (they are exact).
 
 use super::{MatOffset, MatOffsetError, Piece};
+use crate::geom::hull::{arc_hull_bound, segment_hull_bound};
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg, cross, perp};
 use crate::skin::re::Branch;
 
@@ -180,24 +181,6 @@ fn apex_height(a: &Node, b: &Node, h: &Hull) -> f64 {
     }
 }
 
-/// Distance from `c` to the convex polygon `verts` (0 inside; a polygon of zero area is
-/// measured by its edges).
-fn dist_to_hull(c: DVec2, verts: &[DVec2]) -> f64 {
-    let n = verts.len();
-    let (mut pos, mut neg) = (false, false);
-    for k in 0..n {
-        let s = cross(verts[(k + 1) % n] - verts[k], c - verts[k]);
-        pos |= s > 0.0;
-        neg |= s < 0.0;
-    }
-    if n >= 3 && pos != neg {
-        return 0.0;
-    }
-    (0..n)
-        .map(|k| Line::new(verts[k], verts[(k + 1) % n]).distance(c))
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// The vertices of interval `k`'s hull.
 fn hull_verts(nodes: &[Node], hulls: &[Hull], k: usize) -> Option<([DVec2; 4], usize)> {
     let (a, b) = (nodes.get(k)?.p, nodes.get(k + 1)?.p);
@@ -265,41 +248,12 @@ fn arc_from(p: DVec2, d: DVec2, q: DVec2, tol: f64) -> Option<Shape> {
 }
 
 /// The deviation bound (module docs) of the convex polygon `verts` (a part of the curve's
-/// hull) against `sh`: `None` when a vertex lies outside the arc's sector (the line's slab).
+/// hull) against `sh` ([`arc_hull_bound`], [`segment_hull_bound`]): `None` when a vertex
+/// lies outside the arc's sector.
 fn poly_bound(sh: &Shape, verts: &[DVec2]) -> Option<f64> {
-    let mut bound: f64 = 0.0;
     match sh.circle {
-        Some((c, r, sig)) => {
-            let (ra, rb) = (sh.p - c, sh.q - c);
-            let eps = CONTAIN_EPS * r * r;
-            let (mut near, mut edge) = (f64::INFINITY, 0.0f64);
-            for (k, w) in verts.iter().enumerate() {
-                let x = *w - c;
-                if sig * cross(ra, x) < -eps || sig * cross(x, rb) < -eps {
-                    return None;
-                }
-                let len = x.length();
-                bound = bound.max(len - r);
-                near = near.min(len);
-                edge = edge.max(w.distance(verts[(k + 1) % verts.len()]));
-            }
-            // dist(C, H) ≥ √(m² − (L/2)²) with m the nearest vertex and L the longest edge
-            // (the foot of the nearest point lies within L/2 of an edge's end); the exact
-            // distance only where this cheaper bound is not enough.
-            let cheap = r - (near * near - 0.25 * edge * edge).max(0.0).sqrt();
-            let inner = if cheap <= bound {
-                cheap
-            } else {
-                r - dist_to_hull(c, verts)
-            };
-            // The band of half-width `bound` around the circle must not reach the centre.
-            Some(bound.max(inner)).filter(|&e| e < r)
-        }
-        None => {
-            // Distance to the segment is convex: its maximum over the polygon is at a vertex.
-            let seg = Line::new(sh.p, sh.q);
-            Some(verts.iter().map(|w| seg.distance(*w)).fold(0.0, f64::max))
-        }
+        Some((c, r, sig)) => arc_hull_bound(c, r, sh.p, sh.q, sig > 0.0, verts, CONTAIN_EPS),
+        None => Some(segment_hull_bound(&Line::new(sh.p, sh.q), verts)),
     }
 }
 
@@ -617,24 +571,12 @@ impl MatOffset {
                     }
                 }
             }
-            close_gaps(&mut segs);
+            crate::geom::path::close_line_gaps(&mut segs);
             if !segs.is_empty() {
                 res.paths.push(Path::new(segs, true));
             }
         }
         Ok(res)
-    }
-}
-
-/// Snaps each line's start to the previous segment's end (pieces computed separately meet
-/// up to rounding).
-fn close_gaps(segs: &mut [PathSeg]) {
-    let n = segs.len();
-    for k in 0..n {
-        let prev_end = segs[(k + n - 1) % n].end();
-        if let PathSeg::Line(l) = &mut segs[k] {
-            l.p0 = prev_end;
-        }
     }
 }
 
@@ -723,6 +665,7 @@ fn merge_run(
 mod tests {
     use super::*;
     use crate::geom::Circle;
+    use crate::skin::mat_offset::tests::gentle;
     use crate::skin::mat_offset::{inner_offset, outer_offset, outline};
     use crate::skin::re::skin::tests::{test_touches, transform};
     use crate::skin::re::{Interp, ReSkin};
@@ -832,16 +775,6 @@ mod tests {
             off.d
         );
         (merged, arcs3, biarcs)
-    }
-
-    fn gentle() -> Vec<Circle> {
-        vec![
-            Circle::new(DVec2::new(0.0, 0.0), 1.2),
-            Circle::new(DVec2::new(3.0, 0.6), 0.7),
-            Circle::new(DVec2::new(6.0, 0.4), 1.4),
-            Circle::new(DVec2::new(9.0, -0.5), 0.5),
-            Circle::new(DVec2::new(11.5, -0.4), 0.9),
-        ]
     }
 
     #[test]

@@ -578,14 +578,15 @@ impl MatOffset {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geom::Circle;
     use crate::geom::Line;
     use crate::skin::re::skin::tests::{test_touches, transform};
     use crate::skin::re::{Interp, Touch};
 
-    fn gentle() -> Vec<Circle> {
+    /// Five circles along a gentle wave (the shared fixture of the MAT offset tests).
+    pub(crate) fn gentle() -> Vec<Circle> {
         vec![
             Circle::new(DVec2::new(0.0, 0.0), 1.2),
             Circle::new(DVec2::new(3.0, 0.6), 0.7),
