@@ -251,7 +251,7 @@ fn main() {
         geo_.len()
     );
     println!(
-        "mat_offset: merged arcs: {} samples of the exact curve, certified bound {:.3e}, {} unproved chords",
+        "mat_offset: merged arcs: {} samples of the exact curve, hull bound {:.3e}, {} unproved chords",
         merged.samples, merged.bound, merged.unproved
     );
     for (name, paths) in [

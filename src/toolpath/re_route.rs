@@ -71,7 +71,7 @@ pub fn mat_profile(
     Ok(orient_for_climb(arc_paths(&off, tol)?, tol))
 }
 
-/// The merged, certified G1 arcs of `off` ([`MatOffset::to_merged_arc_paths`]), or the
+/// The merged G1 arcs of `off` ([`MatOffset::to_merged_arc_paths`]), or the
 /// bisected biarcs ([`biarc_paths`]) when some sample interval of the exact curve could not
 /// be bounded (an inflection or a singular point the sampling does not resolve).
 fn arc_paths(off: &MatOffset, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
@@ -125,7 +125,7 @@ fn orient_for_climb(paths: Vec<Path>, tol: f64) -> Vec<Path> {
 /// The contours of `off` as G1 chains of biarcs within `tol` of the exact offset curves
 /// (each piece bisected in its parameter until CHECK_SAMPLES interior points of the exact
 /// curve lie within `tol` of its biarc), with the cap arcs kept as they are. The profiles
-/// and backboards of the MAT route use the fewer, certified arcs of
+/// and backboards of the MAT route use the fewer, hull-bounded arcs of
 /// [`MatOffset::to_merged_arc_paths`]; this fit is kept for comparison (benches, tests).
 pub fn biarc_paths(off: &MatOffset, tol: f64) -> Vec<Path> {
     off.fitted_contours(

@@ -766,7 +766,7 @@ mod tests {
             .map(|p| p.segs.len())
             .sum();
         // Where some sample interval stays unproved the MAT route keeps the biarc fit
-        // (toolpath::re_route::mat_profile), so the count is compared on certified output.
+        // (toolpath::re_route::mat_profile), so the count is compared on tangent-continuous output.
         assert!(
             m.unproved > 0 || merged <= biarcs,
             "{merged} merged vs {biarcs} biarcs ({} unproved, {} samples, d = {}, tol {tol})",
