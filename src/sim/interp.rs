@@ -945,10 +945,12 @@ impl<'a> Interp<'a, '_> {
         if !self.collect(&mut b, words) {
             return Flow::Next;
         }
-        if self.execute(&b) {
+        if self.execute(b) {
             self.prog.end = Some(ProgramEnd {
                 line: self.calls.first().map_or(self.line, |c| c.ret.1),
-                tool_before: b.tool_before,
+                // What this route has always recorded (the block's `tool_before` as
+                // `Block::new` leaves it; `execute` sets it on its own copy only).
+                tool_before: ToolState::default(),
             });
             return Flow::End;
         }
@@ -1309,7 +1311,7 @@ impl<'a> Interp<'a, '_> {
                 'M' => ok &= self.m_code(b, v, col),
                 'N' => {}
                 c => {
-                    let Some(i) = LETTERS.iter().position(|&l| l == c) else {
+                    let Some(i) = letter_index(c) else {
                         if matches!(self.cfg.dialect, Dialect::Marlin | Dialect::Smoothie) {
                             // E (extruder) and other firmware words: harmless here.
                             continue;
@@ -1484,8 +1486,7 @@ impl<'a> Interp<'a, '_> {
     }
 
     /// Runs the block; true at a program end (M2/M30).
-    fn execute(&mut self, b: &Block) -> bool {
-        let mut b = b.clone();
+    fn execute(&mut self, mut b: Block) -> bool {
         b.tool_before = self.st.tool;
         let groups = b.groups;
         let g = |grp: usize| groups[grp];
@@ -2653,6 +2654,23 @@ const LETTERS: [char; 24] = [
     'V', 'W', '@', '^', 'E',
 ];
 
+/// Index of each ASCII character in [`LETTERS`] (`u8::MAX`: none).
+const LETTER_INDEX: [u8; 128] = {
+    let mut t = [u8::MAX; 128];
+    let mut i = 0;
+    while i < LETTERS.len() {
+        t[LETTERS[i] as usize] = i as u8;
+        i += 1;
+    }
+    t
+};
+
+/// The position of `c` in [`LETTERS`].
+fn letter_index(c: char) -> Option<usize> {
+    let i = *LETTER_INDEX.get(c as usize)?;
+    (i != u8::MAX).then_some(usize::from(i))
+}
+
 /// The words of one block sorted into what the interpreter needs.
 #[derive(Clone)]
 struct Block {
@@ -2695,17 +2713,11 @@ impl Block {
     }
 
     fn val(&self, c: char) -> Option<f64> {
-        LETTERS
-            .iter()
-            .position(|&l| l == c)
-            .and_then(|i| self.vals[i])
+        letter_index(c).and_then(|i| self.vals[i])
     }
 
     fn col(&self, c: char) -> usize {
-        LETTERS
-            .iter()
-            .position(|&l| l == c)
-            .map_or(1, |i| self.cols[i])
+        letter_index(c).map_or(1, |i| self.cols[i])
     }
 
     fn has_axis(&self) -> bool {

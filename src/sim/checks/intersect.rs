@@ -341,6 +341,9 @@ impl SegmentSet {
     /// tested cell by cell as [`SegmentSet::contacts`] does (without the folds of
     /// consecutive segments). Unsorted.
     pub fn cell_contacts(&self, grid: &Grid, keys: std::ops::Range<u64>) -> Vec<Contact> {
+        if let Some(out) = self.packed_cell_contacts(grid, &keys) {
+            return out;
+        }
         let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * self.segs.len());
         for (k, s) in self.segs.iter().enumerate() {
             grid.cover(s.a, s.b, |key| {
@@ -351,6 +354,7 @@ impl SegmentSet {
         }
         entries.sort_unstable();
         let mut out = Vec::new();
+        let mut ids = Vec::new();
         let mut g = 0;
         while g < entries.len() {
             let key = entries[g].0;
@@ -358,10 +362,56 @@ impl SegmentSet {
             while e < entries.len() && entries[e].0 == key {
                 e += 1;
             }
-            self.cell_pairs(&entries[g..e], &mut out);
+            ids.clear();
+            ids.extend(entries[g..e].iter().map(|e| e.1));
+            self.cell_pairs(&ids, &mut out);
             g = e;
         }
         out
+    }
+
+    /// [`SegmentSet::cell_contacts`] with each (cell, segment) entry packed into one u64
+    /// (`key << 32 | segment`) and sorted by a stable radix sort on the key bits: the
+    /// entries are made in segment order, so the order is the one `sort_unstable` gives the
+    /// (key, segment) pairs, and the contacts are the same in the same order. None (nothing
+    /// done) when the set has 2³² segments or more or a key needs more than 32 bits.
+    fn packed_cell_contacts(
+        &self,
+        grid: &Grid,
+        keys: &std::ops::Range<u64>,
+    ) -> Option<Vec<Contact>> {
+        u32::try_from(self.segs.len()).ok()?;
+        let mut entries: Vec<u64> = Vec::with_capacity(2 * self.segs.len());
+        let mut max_key = 0u64;
+        for (k, s) in self.segs.iter().enumerate() {
+            grid.cover(s.a, s.b, |key| {
+                if keys.contains(&key) {
+                    max_key = max_key.max(key);
+                    entries.push((key << 32) | k as u64);
+                }
+            });
+            if max_key > u64::from(u32::MAX) {
+                return None;
+            }
+        }
+        radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
+        let mut out = Vec::new();
+        let mut ids: Vec<u32> = Vec::new();
+        let mut g = 0;
+        while g < entries.len() {
+            let key = entries[g] >> 32;
+            let mut e = g + 1;
+            while e < entries.len() && entries[e] >> 32 == key {
+                e += 1;
+            }
+            if e - g >= 2 {
+                ids.clear();
+                ids.extend(entries[g..e].iter().map(|&v| v as u32));
+                self.cell_pairs(&ids, &mut out);
+            }
+            g = e;
+        }
+        Some(out)
     }
 
     /// Tests the segment pairs of one grid cell. Exact copies of a segment (same end points,
@@ -371,15 +421,15 @@ impl SegmentSet {
     /// holding k copies of a segment thus gives O(k) tests and contacts instead of O(k²)
     /// (2,000 coincident contours stay linear); contacts a copy would add are repeats of
     /// its first copy's at the same place.
-    fn cell_pairs(&self, cell: &[(u64, u32)], out: &mut Vec<Contact>) {
+    fn cell_pairs(&self, cell: &[u32], out: &mut Vec<Contact>) {
         let mut test = |i: u32, j: u32| {
             if let Some(c) = self.test_pair(i as usize, j as usize) {
                 out.push(c);
             }
         };
         if cell.len() <= TWIN_CELL_MIN {
-            for (x, &(_, i)) in cell.iter().enumerate() {
-                for &(_, j) in &cell[x + 1..] {
+            for (x, &i) in cell.iter().enumerate() {
+                for &j in &cell[x + 1..] {
                     test(i, j);
                 }
             }
@@ -394,7 +444,7 @@ impl SegmentSet {
             };
             [p.x.to_bits(), p.y.to_bits(), q.x.to_bits(), q.y.to_bits()]
         };
-        let mut ids: Vec<u32> = cell.iter().map(|e| e.1).collect();
+        let mut ids: Vec<u32> = cell.to_vec();
         ids.sort_by_key(|&k| (key(k), k));
         let mut groups: Vec<(usize, usize)> = Vec::new();
         let mut g = 0;
@@ -492,13 +542,48 @@ impl SegmentSet {
     }
 }
 
+/// Sorts `v` by bits 32..32 + `bits` (the bits above are zero), stably: a least significant
+/// digit radix sort, at most 14 bits per pass.
+fn radix_sort_high(v: &mut Vec<u64>, bits: u32) {
+    if v.len() < 2 || bits == 0 {
+        return;
+    }
+    let passes = bits.div_ceil(14);
+    let width = bits.div_ceil(passes);
+    let mask = (1u64 << width) - 1;
+    let mut tmp: Vec<u64> = vec![0; v.len()];
+    let mut count = vec![0usize; 1 << width];
+    for p in 0..passes {
+        let shift = 32 + p * width;
+        count.iter_mut().for_each(|c| *c = 0);
+        for &x in v.iter() {
+            count[((x >> shift) & mask) as usize] += 1;
+        }
+        let mut sum = 0;
+        for c in count.iter_mut() {
+            let n = *c;
+            *c = sum;
+            sum += n;
+        }
+        for &x in v.iter() {
+            let d = ((x >> shift) & mask) as usize;
+            tmp[count[d]] = x;
+            count[d] += 1;
+        }
+        std::mem::swap(v, &mut tmp);
+    }
+}
+
 /// Calls `f(cx, cy)` for every grid cell the segment from `a` to `b` (grid coordinates,
 /// ≥ 0) may touch: per row, the cells between the segment's x at the row's lower and upper
 /// y, widened by [`COVER_EPS`].
 fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
     let (ylo, yhi) = (a.y.min(b.y), a.y.max(b.y));
-    let r0 = (ylo - COVER_EPS).floor().max(0.0) as u64;
-    let r1 = (yhi + COVER_EPS).floor().max(0.0) as u64;
+    // `x as u64` is `x.floor().max(0.0) as u64` for every f64 (truncation equals floor
+    // at and above 0, both give 0 below 0 and for NaN, and both saturate), without a call
+    // to `floor`.
+    let r0 = (ylo - COVER_EPS) as u64;
+    let r1 = (yhi + COVER_EPS) as u64;
     let dy = b.y - a.y;
     for r in r0..=r1 {
         let (xa, xb) = if dy == 0.0 {
@@ -509,8 +594,8 @@ fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
             let x_at = |y: f64| a.x + (y - a.y) * (b.x - a.x) / dy;
             (x_at(y0), x_at(y1))
         };
-        let c0 = (xa.min(xb).max(a.x.min(b.x)) - COVER_EPS).floor().max(0.0) as u64;
-        let c1 = (xa.max(xb).min(a.x.max(b.x)) + COVER_EPS).floor().max(0.0) as u64;
+        let c0 = (xa.min(xb).max(a.x.min(b.x)) - COVER_EPS) as u64;
+        let c1 = (xa.max(xb).min(a.x.max(b.x)) + COVER_EPS) as u64;
         for c in c0..=c1 {
             f(c, r);
         }
