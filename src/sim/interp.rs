@@ -915,7 +915,12 @@ impl<'a> Interp<'a, '_> {
         words.clear();
         let mut bad = false;
         for w in &l.words {
-            match self.eval(&w.value, w.column) {
+            let v = match w.value {
+                // What `eval` gives a finite number, without the call.
+                Expr::Num(v) if v.is_finite() => Some(v),
+                ref e => self.eval(e, w.column),
+            };
+            match v {
                 Some(v) => words.push((w.letter, v, w.column)),
                 None => bad = true,
             }
@@ -1342,7 +1347,7 @@ impl<'a> Interp<'a, '_> {
     }
 
     fn modal(&mut self, b: &mut Block, group: usize, code: i64, col: usize, prefix: char) -> bool {
-        if let Some(prev) = b.groups[group] {
+        if let Some(prev) = b.group(group) {
             self.err(
                 "modal-conflict",
                 Some(col),
@@ -1355,7 +1360,7 @@ impl<'a> Interp<'a, '_> {
             );
             return false;
         }
-        b.groups[group] = Some(code);
+        b.set_group(group, code);
         true
     }
 
@@ -1447,7 +1452,7 @@ impl<'a> Interp<'a, '_> {
             6 | 61 => M_TOOL,
             3..=5 => M_SPINDLE,
             7..=9 => {
-                if code == 9 || b.groups[M_COOLANT].is_none_or(|c| c == 9) {
+                if code == 9 || b.group(M_COOLANT).is_none_or(|c| c == 9) {
                     M_COOLANT
                 } else {
                     M_COOLANT2
@@ -1489,7 +1494,7 @@ impl<'a> Interp<'a, '_> {
     fn execute(&mut self, mut b: Block) -> bool {
         b.tool_before = self.st.tool;
         let groups = b.groups;
-        let g = |grp: usize| groups[grp];
+        let g = |grp: usize| (groups[grp] >= 0).then_some(i64::from(groups[grp]));
         // Feed mode and F.
         if let Some(c) = g(G_FEED_MODE) {
             self.st.feed_mode = match c {
@@ -2674,7 +2679,8 @@ fn letter_index(c: char) -> Option<usize> {
 /// The words of one block sorted into what the interpreter needs.
 #[derive(Clone)]
 struct Block {
-    groups: [Option<i64>; GROUPS],
+    /// Code per modal group (as [`tenths`] gives it), −1 for none: codes are below 10⁹.
+    groups: [i32; GROUPS],
     vals: [Option<f64>; 24],
     cols: [usize; 24],
     tool_before: ToolState,
@@ -2694,7 +2700,7 @@ struct Block {
 impl Block {
     fn new() -> Self {
         Block {
-            groups: [None; GROUPS],
+            groups: [-1; GROUPS],
             vals: [None; 24],
             cols: [0; 24],
             tool_before: ToolState::default(),
@@ -2710,6 +2716,16 @@ impl Block {
             used_d: false,
             used_all: false,
         }
+    }
+
+    /// The code of modal group `g` in the block.
+    fn group(&self, g: usize) -> Option<i64> {
+        (self.groups[g] >= 0).then_some(i64::from(self.groups[g]))
+    }
+
+    /// Records `code` (a [`tenths`] value, 0..10⁹) for modal group `g`.
+    fn set_group(&mut self, g: usize, code: i64) {
+        self.groups[g] = i32::try_from(code).unwrap_or(i32::MAX);
     }
 
     fn val(&self, c: char) -> Option<f64> {

@@ -1231,6 +1231,98 @@ mod tests {
         }
     }
 
+    /// The values and columns of a line's words, values as bits (−0.0 is not 0.0).
+    fn word_bits(l: &Line) -> Vec<(char, u64, usize)> {
+        l.words
+            .iter()
+            .map(|w| match w.value {
+                Expr::Num(v) => (w.letter, v.to_bits(), w.column),
+                _ => (w.letter, u64::MAX, w.column),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn plain_path_takes_cam_lines_and_leaves_the_rest() {
+        for line in [
+            "G1 X-1.5 Y2. Z+.25 F1500",
+            "G0X1Y2",
+            "g1 x0.1 y-0 e1.5e3",
+            "G1 X1234567.89012345 Y0.30000000000000004",
+            "",
+            "   \t",
+        ] {
+            let mut l = Line::default();
+            assert!(parse_plain(line.as_bytes(), NGC, &mut l), "{line}");
+            let mut s = Line::default();
+            assert!(parse_simple(line.as_bytes(), NGC, &mut s), "{line}");
+            assert_eq!(word_bits(&l), word_bits(&s), "{line}");
+        }
+        for line in [
+            "G1 X 1",
+            "G1 X1 2",
+            "M3 S1000 (on)",
+            "G1 X1 ; c",
+            "G1 X1.2.3",
+            "G1 X",
+            "o100 sub",
+            "#1=2",
+            "G1 X--1",
+            "G1 X1é",
+        ] {
+            let mut l = Line::default();
+            assert!(!parse_plain(line.as_bytes(), NGC, &mut l), "{line}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2048))]
+        /// Short decimals read by integer and power of ten are the f64 `str::parse` gives,
+        /// bit for bit, across digit counts on both sides of the 15-digit bound.
+        #[test]
+        fn plain_numbers_are_correctly_rounded(
+            int in "[0-9]{0,12}",
+            frac in "[0-9]{0,12}",
+            point in proptest::bool::ANY,
+            sign in "[-+]?",
+        ) {
+            let text = if point || int.is_empty() {
+                format!("{sign}{int}.{frac}")
+            } else {
+                format!("{sign}{int}")
+            };
+            let got = plain_number(text.as_bytes(), 0);
+            let digits = int.len() + if point || int.is_empty() { frac.len() } else { 0 };
+            if digits == 0 {
+                proptest::prop_assert!(got.is_none());
+            } else {
+                let want: f64 = text.parse().map_err(|e| {
+                    proptest::test_runner::TestCaseError::fail(format!("{text}: {e}"))
+                })?;
+                let (v, end) = got.ok_or_else(|| {
+                    proptest::test_runner::TestCaseError::fail(text.clone())
+                })?;
+                proptest::prop_assert_eq!(v.to_bits(), want.to_bits(), "{}", text);
+                proptest::prop_assert_eq!(end, text.len());
+            }
+        }
+
+        /// Where the plain reader takes a line, it gives what the byte fast path gives.
+        #[test]
+        fn plain_matches_simple(
+            line in "([GMXYZFSogx][-+]?[0-9]{0,9}(\\.[0-9]{0,9})?[ \t]{0,2}){0,8}",
+            d in 0..3usize,
+        ) {
+            let syn = DIALECTS[d];
+            let mut plain = Line::default();
+            if parse_plain(line.as_bytes(), syn, &mut plain) {
+                let mut simple = Line::default();
+                proptest::prop_assert!(parse_simple(line.as_bytes(), syn, &mut simple));
+                proptest::prop_assert_eq!(word_bits(&plain), word_bits(&simple));
+            }
+        }
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
         /// The reused-buffer reader gives what the general parser gives, on lines mixing

@@ -542,13 +542,17 @@ impl SegmentSet {
     }
 }
 
+/// Largest digit of [`radix_sort_high`]: 2¹⁰ buckets keep the scatter's destinations in
+/// cache.
+const RADIX_BITS: u32 = 10;
+
 /// Sorts `v` by bits 32..32 + `bits` (the bits above are zero), stably: a least significant
-/// digit radix sort, at most 14 bits per pass.
+/// digit radix sort, at most [`RADIX_BITS`] bits per pass.
 fn radix_sort_high(v: &mut Vec<u64>, bits: u32) {
     if v.len() < 2 || bits == 0 {
         return;
     }
-    let passes = bits.div_ceil(14);
+    let passes = bits.div_ceil(RADIX_BITS);
     let width = bits.div_ceil(passes);
     let mask = (1u64 << width) - 1;
     let mut tmp: Vec<u64> = vec![0; v.len()];
@@ -605,6 +609,23 @@ fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn radix_sort_orders_as_sort_unstable() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut v: Vec<u64> = (0..5000u64)
+            .map(|k| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                ((x % 3000) << 32) | k
+            })
+            .collect();
+        let mut want = v.clone();
+        want.sort_unstable();
+        radix_sort_high(&mut v, 12);
+        assert_eq!(v, want);
+    }
 
     fn naive(set: &SegmentSet) -> Vec<(usize, usize)> {
         let mut v: Vec<_> = set
