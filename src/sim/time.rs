@@ -243,16 +243,13 @@ impl Estimator {
                 }
             }
             MotionKind::Rapid | MotionKind::Feed => {
-                let (rates, cfg) = (self.rates, self.cfg.clone());
-                let mut new = Vec::new();
-                for_blocks(m, rates, &cfg, |b, r| new.push((b, r)));
-                for (b, r) in new {
-                    let j = self
-                        .window
+                let (window, cfg) = (&mut self.window, &self.cfg);
+                for_blocks(m, self.rates, cfg, |b, r| {
+                    let j = window
                         .last()
-                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, &self.cfg));
-                    self.window.push((b, r, j));
-                }
+                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, cfg));
+                    window.push((b, r, j));
+                });
                 if self.window.len() >= self.limit {
                     self.settle(false);
                 }
