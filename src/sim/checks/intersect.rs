@@ -27,6 +27,20 @@ const TWIN_CELL_MIN: usize = 32;
 /// [`SegmentSet::contacts`]): 4 keeps the (cell, segment) list within a few times n.
 const MAX_COVER_PER_SEG: f64 = 4.0;
 
+/// Steps per segment [`SegmentSet::proven_apart`] may take before it leaves the decision to
+/// the grid.
+const CHAIN_BUDGET: usize = 16;
+
+/// A run of segments `start..end` whose x strictly increases (or decreases when `rev`),
+/// with its bounding box (see [`SegmentSet::proven_apart`]).
+struct Chain {
+    start: u32,
+    end: u32,
+    rev: bool,
+    lo: DVec2,
+    hi: DVec2,
+}
+
 /// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it,
 /// `source` is the caller's tag (a motion index).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -311,7 +325,7 @@ impl SegmentSet {
 
     fn grid_contacts(&self) -> Vec<Contact> {
         let n = self.segs.len();
-        if n < 2 {
+        if n < 2 || self.proven_apart() {
             return Vec::new();
         }
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
@@ -325,6 +339,120 @@ impl SegmentSet {
             Some(g) => self.cell_contacts(&g, 0..u64::MAX),
             None => self.brute_force_contacts(),
         }
+    }
+
+    /// True when no two segments meet ([`SegmentSet::test_pair`] gives None for every
+    /// pair), proven by a sweep over x-monotone chains: then the grid, which only reports
+    /// pairs `test_pair` reports, finds nothing either, and is not built. False when a pair
+    /// meets, when coordinates are not finite, for tiles, and when the sweep would take
+    /// more than [`CHAIN_BUDGET`] steps per segment (many chains over one another, as in a
+    /// dense hatch): the grid decides then.
+    ///
+    /// A chain is a maximal run of consecutive segments of one contour whose x strictly
+    /// increases, or strictly decreases (a segment with constant x is a chain of its own).
+    /// Two segments of one chain that are not consecutive have disjoint x ranges, so only
+    /// segments of two chains can meet, and only where the chains' bounding boxes overlap
+    /// (closed): for such chains every pair of segments with overlapping x ranges (closed)
+    /// is tested, walking both chains in x order.
+    fn proven_apart(&self) -> bool {
+        if self.links.is_some() {
+            return false;
+        }
+        let n = self.segs.len();
+        let mut budget = CHAIN_BUDGET.saturating_mul(n).saturating_add(4096);
+        let mut spend = |k: usize| {
+            budget = budget.saturating_sub(k);
+            budget > 0
+        };
+        let dir = |s: &Seg| (s.b.x - s.a.x).partial_cmp(&0.0);
+        let mut chains: Vec<Chain> = Vec::new();
+        let mut k = 0;
+        while k < n {
+            let s = &self.segs[k];
+            if !(s.a.is_finite() && s.b.is_finite()) {
+                return false;
+            }
+            let d = dir(s);
+            let mut e = k + 1;
+            if d != Some(std::cmp::Ordering::Equal) {
+                while e < n {
+                    let t = &self.segs[e];
+                    if t.contour != s.contour
+                        || t.index != self.segs[e - 1].index + 1
+                        || dir(t) != d
+                    {
+                        break;
+                    }
+                    e += 1;
+                }
+            }
+            let (mut lo, mut hi) = (s.a.min(s.b), s.a.max(s.b));
+            for t in &self.segs[k + 1..e] {
+                if !t.b.is_finite() {
+                    return false;
+                }
+                lo = lo.min(t.b);
+                hi = hi.max(t.b);
+            }
+            chains.push(Chain {
+                start: k as u32,
+                end: e as u32,
+                rev: d == Some(std::cmp::Ordering::Less),
+                lo,
+                hi,
+            });
+            k = e;
+        }
+        chains.sort_by(|a, b| a.lo.x.total_cmp(&b.lo.x));
+        let mut active: Vec<usize> = Vec::new();
+        for (c, ch) in chains.iter().enumerate() {
+            active.retain(|&a| chains[a].hi.x >= ch.lo.x);
+            if !spend(active.len() + 1) {
+                return false;
+            }
+            for &a in &active {
+                let o = &chains[a];
+                if o.hi.y >= ch.lo.y && ch.hi.y >= o.lo.y && !self.chains_apart(o, ch, &mut spend) {
+                    return false;
+                }
+            }
+            active.push(c);
+        }
+        true
+    }
+
+    /// True when no segment of chain `a` meets one of chain `b` (see
+    /// [`SegmentSet::proven_apart`]); false when a pair meets or the budget runs out.
+    fn chains_apart(&self, a: &Chain, b: &Chain, spend: &mut impl FnMut(usize) -> bool) -> bool {
+        let xs = |c: &Chain, i: usize| {
+            let k = if c.rev {
+                c.end as usize - 1 - i
+            } else {
+                c.start as usize + i
+            };
+            let s = &self.segs[k];
+            (k, s.a.x.min(s.b.x), s.a.x.max(s.b.x))
+        };
+        let (na, nb) = ((a.end - a.start) as usize, (b.end - b.start) as usize);
+        let mut j0 = 0;
+        for i in 0..na {
+            let (ka, lo, hi) = xs(a, i);
+            while j0 < nb && xs(b, j0).2 < lo {
+                j0 += 1;
+            }
+            let mut j = j0;
+            while j < nb {
+                let (kb, blo, _) = xs(b, j);
+                if blo > hi {
+                    break;
+                }
+                if !spend(1) || self.test_pair(ka, kb).is_some() {
+                    return false;
+                }
+                j += 1;
+            }
+        }
+        spend(na + nb)
     }
 
     /// A tile of a larger set: `segs` with their neighbours `links` (same length), in the
@@ -777,6 +905,67 @@ mod tests {
             let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
             assert_eq!(got, naive(&s));
             assert!(!got.is_empty());
+        }
+    }
+
+    /// Polylines on a coarse integer lattice (shared vertices, collinear overlaps, vertical
+    /// runs, retraced and coincident contours), spread apart by `spread`.
+    fn lattice_set(steps: &[(i8, i8)], spread: f64, closed: bool) -> SegmentSet {
+        let mut s = SegmentSet::new();
+        for (c, run) in steps.chunks(7).enumerate() {
+            let o = DVec2::new(spread * c as f64, 0.5 * spread * (c % 3) as f64);
+            let mut p = vec![o];
+            for &(dx, dy) in run {
+                let q = *p.last().unwrap_or(&o) + DVec2::new(f64::from(dx), f64::from(dy));
+                p.push(q);
+            }
+            if closed {
+                p.push(o);
+            }
+            s.push_polyline(&p, &[]);
+        }
+        s
+    }
+
+    #[test]
+    fn chains_prove_disjoint_circles_apart() {
+        let mut s = SegmentSet::new();
+        for c in 0..9 {
+            let o = DVec2::new(9.0 * (c % 3) as f64, 9.0 * (c / 3) as f64);
+            let p: Vec<DVec2> = (0..=200)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * (i % 200) as f64 / 200.0;
+                    let q = o + 4.0 * DVec2::new(t.cos(), t.sin());
+                    // Rounded as G-code writes them: runs of equal x (vertical segments).
+                    (q * 1e2).round() / 1e2
+                })
+                .collect();
+            s.push_polyline(&p, &[]);
+        }
+        assert!(s.proven_apart());
+        assert!(s.contacts().is_empty());
+        assert!(naive(&s).is_empty());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+        /// The chain sweep never declares apart a set in which some pair meets, and where
+        /// nothing meets the contacts are the same either way (none).
+        #[test]
+        fn chains_never_miss_a_contact(
+            steps in proptest::collection::vec((-2i8..=2, -2i8..=2), 1..60),
+            spread in proptest::sample::select(vec![0.0, 1.0, 3.0, 50.0]),
+            closed in proptest::bool::ANY,
+        ) {
+            let s = lattice_set(&steps, spread, closed);
+            let meets = (0..s.segs.len())
+                .any(|i| (i + 1..s.segs.len()).any(|j| s.test_pair(i, j).is_some()));
+            if s.proven_apart() {
+                proptest::prop_assert!(!meets);
+            }
+            if spread == 50.0 && !meets {
+                proptest::prop_assert!(s.proven_apart());
+            }
         }
     }
 }
