@@ -369,6 +369,9 @@ struct Interp<'a, 'o> {
     tools: Vec<ToolEntry>,
     /// The evaluated words of the current block (a buffer reused from line to line).
     word_buf: Vec<(char, f64, usize)>,
+    /// Plain motion blocks take [`Interp::plain_block`] (off only to test it against the
+    /// general route).
+    plain_moves: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -513,6 +516,7 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
         cache: HashMap::new(),
         tools: cfg.tool_table.clone(),
         word_buf: Vec::new(),
+        plain_moves: true,
     };
     it.params[P_CS] = 1.0;
     it
@@ -884,6 +888,9 @@ impl<'a> Interp<'a, '_> {
     }
 
     fn exec(&mut self, l: &Line, src: usize, i: usize, jumped: bool) -> Flow {
+        if self.plain_moves && self.plain_block(l) {
+            return Flow::Next;
+        }
         for e in &l.errors {
             self.err(e.id, Some(e.column), e.message.clone());
         }
@@ -2104,19 +2111,102 @@ impl<'a> Interp<'a, '_> {
             t.x = r * k * a.to_radians().cos();
             t.y = r * k * a.to_radians().sin();
         }
-        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-            if let Some(mut v) = b.val(c) {
+        let xyz = [b.val('X'), b.val('Y'), b.val('Z')];
+        self.axes(t, cur, xyz, b.machine_coords) + off
+    }
+
+    /// `t` with the axis words `xyz` applied (program units, relative to `cur` in G91
+    /// unless `machine`): the axis part of [`Interp::target`], before the offsets are
+    /// added back.
+    fn axes(&self, mut t: DVec3, cur: DVec3, xyz: [Option<f64>; 3], machine: bool) -> DVec3 {
+        let k = self.st.k();
+        for (i, v) in xyz.into_iter().enumerate() {
+            if let Some(mut v) = v {
                 if i == 0 && self.st.diameter_mode {
                     v *= 0.5;
                 }
-                t[i] = if self.st.absolute || b.machine_coords {
+                t[i] = if self.st.absolute || machine {
                     v * k
                 } else {
                     cur[i] + v * k
                 };
             }
         }
-        t + off
+        t
+    }
+
+    /// A block of plain words `G0`/`G1`, `X`, `Y`, `Z` and `F` (each at most once, numbers,
+    /// F ≥ 0) in a feed per minute mode with G0 or G1 in force or given: what CAM programs
+    /// are made of. Runs it as [`Interp::exec`] would (the same state changes, word count
+    /// and move) without sorting it into a [`Block`]; returns false, having changed
+    /// nothing, for any other line.
+    fn plain_block(&mut self, l: &Line) -> bool {
+        if !(l.errors.is_empty()
+            && l.dollar.is_none()
+            && l.oword.is_none()
+            && l.comments.is_empty()
+            && l.assigns.is_empty()
+            && self.st.feed_mode == FeedMode::PerMinute)
+        {
+            return false;
+        }
+        let mut mode = self.st.mode;
+        let mut xyz: [Option<f64>; 3] = [None; 3];
+        let mut feed: Option<f64> = None;
+        let mut g = false;
+        for w in &l.words {
+            let Expr::Num(v) = w.value else {
+                return false;
+            };
+            if !v.is_finite() {
+                return false;
+            }
+            let slot = match w.letter {
+                'G' if !g => {
+                    g = true;
+                    mode = match tenths(v) {
+                        Some(0) => Mode::Rapid,
+                        Some(10) => Mode::Linear,
+                        _ => return false,
+                    };
+                    continue;
+                }
+                'X' => &mut xyz[0],
+                'Y' => &mut xyz[1],
+                'Z' => &mut xyz[2],
+                'F' if v >= 0.0 => &mut feed,
+                _ => return false,
+            };
+            if slot.is_some() {
+                return false;
+            }
+            *slot = Some(v);
+        }
+        let kind = match mode {
+            Mode::Rapid => MotionKind::Rapid,
+            Mode::Linear => MotionKind::Feed,
+            _ => return false,
+        };
+        if l.words.is_empty() {
+            return false;
+        }
+        // As exec, collect and execute do it, in their order.
+        if self.src == 0 {
+            self.prog.last_line = self.line;
+        }
+        self.prog.words += l.words.len();
+        if let Some(f) = feed {
+            self.st.feed = f;
+            self.st.feed_k = self.st.k();
+        }
+        self.st.mode = mode;
+        if xyz.iter().any(Option::is_some) {
+            let off = self.st.offset();
+            let cur = self.st.pos - off;
+            let to = self.axes(cur, cur, xyz, false) + off;
+            self.straight(kind, to);
+        }
+        true
     }
 
     fn motion(&self, kind: MotionKind, to: DVec3, arc: Option<Arc>) -> Motion {
@@ -2821,6 +2911,89 @@ mod tests {
 
     fn run_cfg(src: &str, cfg: &CheckConfig) -> Program {
         interpret_with(src, cfg, &Options { load_sub: None })
+    }
+
+    /// [`interpret_with`] without the plain block route: every block goes through
+    /// `collect` and `execute`.
+    fn run_general(src: &str, cfg: &CheckConfig) -> Program {
+        let opts = Options { load_sub: None };
+        let mut it = new_interp(cfg, &opts);
+        it.plain_moves = false;
+        it.add_source("program".into(), Cow::Borrowed(src));
+        it.run(None);
+        it.prog.final_tool = it.st.tool;
+        it.prog
+    }
+
+    /// Lines the plain route takes or must refuse, mixed with the modal state they depend on.
+    const PLAIN_MIX: [&str; 32] = [
+        "G0 X1 Y2",
+        "G1 X3.5 Y-1 F1200",
+        "X2 Y2",
+        "Y0.25",
+        "Z-1",
+        "G1 Z0 F-5",
+        "G1 X1 X2",
+        "G0 G1 X4",
+        "F300",
+        "G1",
+        "G01 X0.5",
+        "G91",
+        "G90",
+        "G20",
+        "G21",
+        "G93",
+        "G94",
+        "G95",
+        "G2 X1 Y0 I0.5 J0",
+        "M3 S100",
+        "M5",
+        "G7",
+        "G8",
+        "G53 G0 X1",
+        "G92 X0 Y0",
+        "G92.1",
+        "G80",
+        "G81 X1 Y1 Z-1 R1",
+        "G55",
+        "G54",
+        "X1 I2",
+        "G1 X2 (c)",
+    ];
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+        /// The plain block route gives the program the general route gives: moves, state,
+        /// words, findings, end, bit for bit.
+        #[test]
+        fn plain_blocks_match_the_general_route(
+            picks in proptest::collection::vec(0usize..PLAIN_MIX.len(), 1..40),
+            values in proptest::collection::vec(-50i32..50, 40),
+            d in 0usize..5,
+        ) {
+            let mut src = String::new();
+            for (k, &p) in picks.iter().enumerate() {
+                // Vary the numbers: every digit string a value of `values`.
+                let v = f64::from(values[k % values.len()]) / 8.0;
+                src += &PLAIN_MIX[p].replace("0.5", &format!("{v}"));
+                src.push('\n');
+            }
+            src += "M2\n";
+            let dialect = [
+                Dialect::Generic,
+                Dialect::Linuxcnc,
+                Dialect::Grbl,
+                Dialect::Marlin,
+                Dialect::Smoothie,
+            ][d];
+            let cfg = CheckConfig {
+                dialect,
+                ..CheckConfig::default()
+            };
+            let fast = run_cfg(&src, &cfg);
+            let general = run_general(&src, &cfg);
+            proptest::prop_assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{}", src);
+        }
     }
 
     fn ids(p: &Program) -> Vec<(&'static str, usize)> {
