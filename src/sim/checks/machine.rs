@@ -47,7 +47,7 @@ impl Limits {
     /// [`out_of_bounds_move`] with these limits (those of `cfg`).
     pub fn motion(&self, m: &Motion, cfg: &CheckConfig) -> Option<Finding> {
         let (lo, hi) = m.bounds();
-        if (0..3).all(|i| !(lo[i] < self.lo[i]) && !(hi[i] > self.hi[i])) {
+        if !(0..3).any(|i| lo[i] < self.lo[i] || hi[i] > self.hi[i]) {
             return None;
         }
         out_of_bounds_finding(m, cfg, lo, hi, self)
