@@ -2136,7 +2136,7 @@ impl<'a> Interp<'a, '_> {
     }
 
     /// A block of plain words `G0`/`G1`, `X`, `Y`, `Z` and `F` (each at most once, numbers,
-    /// F ≥ 0) in a feed per minute mode with G0 or G1 in force or given: what CAM programs
+    /// F ≥ 0) and `N` in a feed per minute mode with G0 or G1 in force or given: what CAM programs
     /// are made of. Runs it as [`Interp::exec`] would (the same state changes, word count
     /// and move) without sorting it into a [`Block`]; returns false, having changed
     /// nothing, for any other line.
@@ -2171,6 +2171,8 @@ impl<'a> Interp<'a, '_> {
                     };
                     continue;
                 }
+                // Line numbers are counted as words and otherwise ignored (as in `collect`).
+                'N' => continue,
                 'X' => &mut xyz[0],
                 'Y' => &mut xyz[1],
                 'Z' => &mut xyz[2],
@@ -2926,7 +2928,10 @@ mod tests {
     }
 
     /// Lines the plain route takes or must refuse, mixed with the modal state they depend on.
-    const PLAIN_MIX: [&str; 32] = [
+    const PLAIN_MIX: [&str; 35] = [
+        "N10 G1 X1 Y1",
+        "N20 N30 X2",
+        "N5",
         "G0 X1 Y2",
         "G1 X3.5 Y-1 F1200",
         "X2 Y2",
