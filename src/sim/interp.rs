@@ -369,6 +369,9 @@ struct Interp<'a, 'o> {
     tools: Vec<ToolEntry>,
     /// The evaluated words of the current block (a buffer reused from line to line).
     word_buf: Vec<(char, f64, usize)>,
+    /// Plain motion blocks take [`Interp::plain_block`] (off only to test it against the
+    /// general route).
+    plain_moves: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -513,6 +516,7 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
         cache: HashMap::new(),
         tools: cfg.tool_table.clone(),
         word_buf: Vec::new(),
+        plain_moves: true,
     };
     it.params[P_CS] = 1.0;
     it
@@ -884,6 +888,9 @@ impl<'a> Interp<'a, '_> {
     }
 
     fn exec(&mut self, l: &Line, src: usize, i: usize, jumped: bool) -> Flow {
+        if self.plain_moves && self.plain_block(l) {
+            return Flow::Next;
+        }
         for e in &l.errors {
             self.err(e.id, Some(e.column), e.message.clone());
         }
@@ -915,7 +922,12 @@ impl<'a> Interp<'a, '_> {
         words.clear();
         let mut bad = false;
         for w in &l.words {
-            match self.eval(&w.value, w.column) {
+            let v = match w.value {
+                // What `eval` gives a finite number, without the call.
+                Expr::Num(v) if v.is_finite() => Some(v),
+                ref e => self.eval(e, w.column),
+            };
+            match v {
                 Some(v) => words.push((w.letter, v, w.column)),
                 None => bad = true,
             }
@@ -945,10 +957,12 @@ impl<'a> Interp<'a, '_> {
         if !self.collect(&mut b, words) {
             return Flow::Next;
         }
-        if self.execute(&b) {
+        if self.execute(b) {
             self.prog.end = Some(ProgramEnd {
                 line: self.calls.first().map_or(self.line, |c| c.ret.1),
-                tool_before: b.tool_before,
+                // What this route has always recorded (the block's `tool_before` as
+                // `Block::new` leaves it; `execute` sets it on its own copy only).
+                tool_before: ToolState::default(),
             });
             return Flow::End;
         }
@@ -1309,7 +1323,7 @@ impl<'a> Interp<'a, '_> {
                 'M' => ok &= self.m_code(b, v, col),
                 'N' => {}
                 c => {
-                    let Some(i) = LETTERS.iter().position(|&l| l == c) else {
+                    let Some(i) = letter_index(c) else {
                         if matches!(self.cfg.dialect, Dialect::Marlin | Dialect::Smoothie) {
                             // E (extruder) and other firmware words: harmless here.
                             continue;
@@ -1340,7 +1354,7 @@ impl<'a> Interp<'a, '_> {
     }
 
     fn modal(&mut self, b: &mut Block, group: usize, code: i64, col: usize, prefix: char) -> bool {
-        if let Some(prev) = b.groups[group] {
+        if let Some(prev) = b.group(group) {
             self.err(
                 "modal-conflict",
                 Some(col),
@@ -1353,7 +1367,7 @@ impl<'a> Interp<'a, '_> {
             );
             return false;
         }
-        b.groups[group] = Some(code);
+        b.set_group(group, code);
         true
     }
 
@@ -1445,7 +1459,7 @@ impl<'a> Interp<'a, '_> {
             6 | 61 => M_TOOL,
             3..=5 => M_SPINDLE,
             7..=9 => {
-                if code == 9 || b.groups[M_COOLANT].is_none_or(|c| c == 9) {
+                if code == 9 || b.group(M_COOLANT).is_none_or(|c| c == 9) {
                     M_COOLANT
                 } else {
                     M_COOLANT2
@@ -1484,11 +1498,10 @@ impl<'a> Interp<'a, '_> {
     }
 
     /// Runs the block; true at a program end (M2/M30).
-    fn execute(&mut self, b: &Block) -> bool {
-        let mut b = b.clone();
+    fn execute(&mut self, mut b: Block) -> bool {
         b.tool_before = self.st.tool;
         let groups = b.groups;
-        let g = |grp: usize| groups[grp];
+        let g = |grp: usize| (groups[grp] >= 0).then_some(i64::from(groups[grp]));
         // Feed mode and F.
         if let Some(c) = g(G_FEED_MODE) {
             self.st.feed_mode = match c {
@@ -2098,19 +2111,104 @@ impl<'a> Interp<'a, '_> {
             t.x = r * k * a.to_radians().cos();
             t.y = r * k * a.to_radians().sin();
         }
-        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-            if let Some(mut v) = b.val(c) {
+        let xyz = [b.val('X'), b.val('Y'), b.val('Z')];
+        self.axes(t, cur, xyz, b.machine_coords) + off
+    }
+
+    /// `t` with the axis words `xyz` applied (program units, relative to `cur` in G91
+    /// unless `machine`): the axis part of [`Interp::target`], before the offsets are
+    /// added back.
+    fn axes(&self, mut t: DVec3, cur: DVec3, xyz: [Option<f64>; 3], machine: bool) -> DVec3 {
+        let k = self.st.k();
+        for (i, v) in xyz.into_iter().enumerate() {
+            if let Some(mut v) = v {
                 if i == 0 && self.st.diameter_mode {
                     v *= 0.5;
                 }
-                t[i] = if self.st.absolute || b.machine_coords {
+                t[i] = if self.st.absolute || machine {
                     v * k
                 } else {
                     cur[i] + v * k
                 };
             }
         }
-        t + off
+        t
+    }
+
+    /// A block of plain words `G0`/`G1`, `X`, `Y`, `Z` and `F` (each at most once, numbers,
+    /// F ≥ 0) and `N` in a feed per minute mode with G0 or G1 in force or given: what CAM programs
+    /// are made of. Runs it as [`Interp::exec`] would (the same state changes, word count
+    /// and move) without sorting it into a [`Block`]; returns false, having changed
+    /// nothing, for any other line.
+    fn plain_block(&mut self, l: &Line) -> bool {
+        if !(l.errors.is_empty()
+            && l.dollar.is_none()
+            && l.oword.is_none()
+            && l.comments.is_empty()
+            && l.assigns.is_empty()
+            && self.st.feed_mode == FeedMode::PerMinute)
+        {
+            return false;
+        }
+        let mut mode = self.st.mode;
+        let mut xyz: [Option<f64>; 3] = [None; 3];
+        let mut feed: Option<f64> = None;
+        let mut g = false;
+        for w in &l.words {
+            let Expr::Num(v) = w.value else {
+                return false;
+            };
+            if !v.is_finite() {
+                return false;
+            }
+            let slot = match w.letter {
+                'G' if !g => {
+                    g = true;
+                    mode = match tenths(v) {
+                        Some(0) => Mode::Rapid,
+                        Some(10) => Mode::Linear,
+                        _ => return false,
+                    };
+                    continue;
+                }
+                // Line numbers are counted as words and otherwise ignored (as in `collect`).
+                'N' => continue,
+                'X' => &mut xyz[0],
+                'Y' => &mut xyz[1],
+                'Z' => &mut xyz[2],
+                'F' if v >= 0.0 => &mut feed,
+                _ => return false,
+            };
+            if slot.is_some() {
+                return false;
+            }
+            *slot = Some(v);
+        }
+        let kind = match mode {
+            Mode::Rapid => MotionKind::Rapid,
+            Mode::Linear => MotionKind::Feed,
+            _ => return false,
+        };
+        if l.words.is_empty() {
+            return false;
+        }
+        // As exec, collect and execute do it, in their order.
+        if self.src == 0 {
+            self.prog.last_line = self.line;
+        }
+        self.prog.words += l.words.len();
+        if let Some(f) = feed {
+            self.st.feed = f;
+            self.st.feed_k = self.st.k();
+        }
+        self.st.mode = mode;
+        if xyz.iter().any(Option::is_some) {
+            let off = self.st.offset();
+            let cur = self.st.pos - off;
+            let to = self.axes(cur, cur, xyz, false) + off;
+            self.straight(kind, to);
+        }
+        true
     }
 
     fn motion(&self, kind: MotionKind, to: DVec3, arc: Option<Arc>) -> Motion {
@@ -2653,10 +2751,28 @@ const LETTERS: [char; 24] = [
     'V', 'W', '@', '^', 'E',
 ];
 
+/// Index of each ASCII character in [`LETTERS`] (`u8::MAX`: none).
+const LETTER_INDEX: [u8; 128] = {
+    let mut t = [u8::MAX; 128];
+    let mut i = 0;
+    while i < LETTERS.len() {
+        t[LETTERS[i] as usize] = i as u8;
+        i += 1;
+    }
+    t
+};
+
+/// The position of `c` in [`LETTERS`].
+fn letter_index(c: char) -> Option<usize> {
+    let i = *LETTER_INDEX.get(c as usize)?;
+    (i != u8::MAX).then_some(usize::from(i))
+}
+
 /// The words of one block sorted into what the interpreter needs.
 #[derive(Clone)]
 struct Block {
-    groups: [Option<i64>; GROUPS],
+    /// Code per modal group (as [`tenths`] gives it), −1 for none: codes are below 10⁹.
+    groups: [i32; GROUPS],
     vals: [Option<f64>; 24],
     cols: [usize; 24],
     tool_before: ToolState,
@@ -2676,7 +2792,7 @@ struct Block {
 impl Block {
     fn new() -> Self {
         Block {
-            groups: [None; GROUPS],
+            groups: [-1; GROUPS],
             vals: [None; 24],
             cols: [0; 24],
             tool_before: ToolState::default(),
@@ -2694,18 +2810,22 @@ impl Block {
         }
     }
 
+    /// The code of modal group `g` in the block.
+    fn group(&self, g: usize) -> Option<i64> {
+        (self.groups[g] >= 0).then_some(i64::from(self.groups[g]))
+    }
+
+    /// Records `code` (a [`tenths`] value, 0..10⁹) for modal group `g`.
+    fn set_group(&mut self, g: usize, code: i64) {
+        self.groups[g] = i32::try_from(code).unwrap_or(i32::MAX);
+    }
+
     fn val(&self, c: char) -> Option<f64> {
-        LETTERS
-            .iter()
-            .position(|&l| l == c)
-            .and_then(|i| self.vals[i])
+        letter_index(c).and_then(|i| self.vals[i])
     }
 
     fn col(&self, c: char) -> usize {
-        LETTERS
-            .iter()
-            .position(|&l| l == c)
-            .map_or(1, |i| self.cols[i])
+        letter_index(c).map_or(1, |i| self.cols[i])
     }
 
     fn has_axis(&self) -> bool {
@@ -2793,6 +2913,92 @@ mod tests {
 
     fn run_cfg(src: &str, cfg: &CheckConfig) -> Program {
         interpret_with(src, cfg, &Options { load_sub: None })
+    }
+
+    /// [`interpret_with`] without the plain block route: every block goes through
+    /// `collect` and `execute`.
+    fn run_general(src: &str, cfg: &CheckConfig) -> Program {
+        let opts = Options { load_sub: None };
+        let mut it = new_interp(cfg, &opts);
+        it.plain_moves = false;
+        it.add_source("program".into(), Cow::Borrowed(src));
+        it.run(None);
+        it.prog.final_tool = it.st.tool;
+        it.prog
+    }
+
+    /// Lines the plain route takes or must refuse, mixed with the modal state they depend on.
+    const PLAIN_MIX: [&str; 35] = [
+        "N10 G1 X1 Y1",
+        "N20 N30 X2",
+        "N5",
+        "G0 X1 Y2",
+        "G1 X3.5 Y-1 F1200",
+        "X2 Y2",
+        "Y0.25",
+        "Z-1",
+        "G1 Z0 F-5",
+        "G1 X1 X2",
+        "G0 G1 X4",
+        "F300",
+        "G1",
+        "G01 X0.5",
+        "G91",
+        "G90",
+        "G20",
+        "G21",
+        "G93",
+        "G94",
+        "G95",
+        "G2 X1 Y0 I0.5 J0",
+        "M3 S100",
+        "M5",
+        "G7",
+        "G8",
+        "G53 G0 X1",
+        "G92 X0 Y0",
+        "G92.1",
+        "G80",
+        "G81 X1 Y1 Z-1 R1",
+        "G55",
+        "G54",
+        "X1 I2",
+        "G1 X2 (c)",
+    ];
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+        /// The plain block route gives the program the general route gives: moves, state,
+        /// words, findings, end, bit for bit.
+        #[test]
+        fn plain_blocks_match_the_general_route(
+            picks in proptest::collection::vec(0usize..PLAIN_MIX.len(), 1..40),
+            values in proptest::collection::vec(-50i32..50, 40),
+            d in 0usize..5,
+        ) {
+            let mut src = String::new();
+            for (k, &p) in picks.iter().enumerate() {
+                // Vary the numbers: every digit string a value of `values`.
+                let v = f64::from(values[k % values.len()]) / 8.0;
+                src += &PLAIN_MIX[p].replace("0.5", &format!("{v}"));
+                src.push('\n');
+            }
+            src += "M2\n";
+            let dialect = [
+                Dialect::Generic,
+                Dialect::Linuxcnc,
+                Dialect::Grbl,
+                Dialect::Marlin,
+                Dialect::Smoothie,
+            ][d];
+            let cfg = CheckConfig {
+                dialect,
+                ..CheckConfig::default()
+            };
+            let fast = run_cfg(&src, &cfg);
+            let general = run_general(&src, &cfg);
+            proptest::prop_assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{}", src);
+        }
     }
 
     fn ids(p: &Program) -> Vec<(&'static str, usize)> {

@@ -274,23 +274,21 @@ pub fn assemble_with(
 
 /// Move count, cut and rapid lengths (helical lengths for arcs), bounds, time.
 pub fn stats(prog: &Program, cfg: &CheckConfig) -> Stats {
-    let mut s = Stats {
-        time: time::estimate(&prog.motions, cfg),
-        ..Default::default()
-    };
+    let mut s = Stats::default();
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for m in &prog.motions {
+    // One pass over the moves: the estimate hands each to the length and bounds sums.
+    s.time = time::estimate_each(&prog.motions, cfg, |m| {
         match m.kind {
             MotionKind::Rapid => s.rapid_length += m.length(),
             MotionKind::Feed => s.cut_length += m.length(),
-            MotionKind::Dwell { .. } => continue,
+            MotionKind::Dwell { .. } => return,
         }
         s.motions += 1;
         let (a, b) = m.bounds();
         lo = lo.min(a);
         hi = hi.max(b);
-    }
+    });
     if s.motions > 0 {
         s.bbox = Some([lo.to_array(), hi.to_array()]);
     }

@@ -781,9 +781,119 @@ pub fn parse_line_into(raw: &str, syn: Syntax, out: &mut Line) {
     out.dollar = None;
     out.errors.clear();
     out.checksum_ok = false;
+    if parse_plain(raw.as_bytes(), syn, out) {
+        return;
+    }
+    out.words.clear();
     if !parse_simple(raw.as_bytes(), syn, out) {
         *out = parse_line(raw, syn);
     }
+}
+
+/// Longest line [`parse_plain`] takes (bytes): within [`SIMPLE_MAX`] and [`MAX_LINE_LEN`],
+/// so [`parse_simple`] would not refuse it for its length.
+const PLAIN_MAX: usize = 128;
+
+/// Most digits [`plain_number`] reads as an integer: 10¹⁵ < 2⁵³, so the digits are exact in
+/// an f64.
+const PLAIN_DIGITS: usize = 15;
+
+/// Exact powers of ten 10⁰…10²² (every one is an f64 exactly).
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// The fastest path of [`parse_line_into`]: lines of words `letter [sign] number` separated
+/// by blanks or nothing, each number written without blanks inside it (`G1 Y2`,
+/// `G0X1Y2`), which is what CAM output is made of. Gives exactly what [`parse_simple`] gives
+/// (same words, columns and bit-identical values); returns false, with `out.words` partly
+/// filled, for anything else (comments, blanks between a letter and its number, other
+/// characters, long lines), which [`parse_simple`] or the general parser then read.
+fn parse_plain(raw: &[u8], syn: Syntax, out: &mut Line) -> bool {
+    if raw.len() > PLAIN_MAX {
+        return false;
+    }
+    let n = raw.len();
+    let mut k = 0usize;
+    loop {
+        while k < n && matches!(raw[k], b' ' | b'\t' | b'\r') {
+            k += 1;
+        }
+        if k == n {
+            return true;
+        }
+        let c = raw[k];
+        if !c.is_ascii_alphabetic() || (syn.ngc && (c == b'o' || c == b'O')) {
+            return false;
+        }
+        let column = k + 1;
+        k += 1;
+        let Some((v, end)) = plain_number(raw, k) else {
+            return false;
+        };
+        // The number must end at a blank, the next letter or the end of the line.
+        if end < n && !matches!(raw[end], b' ' | b'\t' | b'\r' | b'a'..=b'z' | b'A'..=b'Z') {
+            return false;
+        }
+        k = end;
+        out.words.push(PWord {
+            letter: char::from(c.to_ascii_uppercase()),
+            value: Expr::Num(v),
+            column,
+        });
+    }
+}
+
+/// Reads `[sign] digits [. digits]` (at least one digit) from `raw[k..]`: its value and the
+/// index after it. The value is the correctly rounded f64 of the decimal, as `fast_float2`
+/// and `str::parse` give it: up to [`PLAIN_DIGITS`] digits with at most 22 after the point,
+/// the digits are an exact integer m < 2⁵³ and 10^f is exact, so m / 10^f is one correctly
+/// rounded IEEE division; longer numbers go to `fast_float2`. The sign is applied last
+/// (`-0` is −0.0, as in [`parse_simple`]).
+fn plain_number(raw: &[u8], mut k: usize) -> Option<(f64, usize)> {
+    let neg = match raw.get(k) {
+        Some(b'-') => {
+            k += 1;
+            true
+        }
+        Some(b'+') => {
+            k += 1;
+            false
+        }
+        _ => false,
+    };
+    let start = k;
+    let mut m: u64 = 0;
+    let mut digits = 0usize;
+    let mut frac = 0usize;
+    let mut point = false;
+    while let Some(&b) = raw.get(k) {
+        if b.is_ascii_digit() {
+            m = m.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+            digits += 1;
+            frac += usize::from(point);
+        } else if b == b'.' && !point {
+            point = true;
+        } else {
+            break;
+        }
+        k += 1;
+    }
+    if digits == 0 {
+        return None;
+    }
+    let v = if digits <= PLAIN_DIGITS {
+        // frac ≤ digits ≤ 15 < 23.
+        m as f64 / POW10[frac]
+    } else {
+        let v = fast_float2::parse::<f64, _>(&raw[start..k]).ok()?;
+        if !v.is_finite() {
+            return None;
+        }
+        v
+    };
+    Some((if neg { -v } else { v }, k))
 }
 
 /// The fast path of [`parse_line_into`], over bytes: plain ASCII lines of words
@@ -1118,6 +1228,98 @@ mod tests {
         ] {
             let mut l = Line::default();
             assert!(!parse_simple(line.as_bytes(), NGC, &mut l), "{line}");
+        }
+    }
+
+    /// The values and columns of a line's words, values as bits (−0.0 is not 0.0).
+    fn word_bits(l: &Line) -> Vec<(char, u64, usize)> {
+        l.words
+            .iter()
+            .map(|w| match w.value {
+                Expr::Num(v) => (w.letter, v.to_bits(), w.column),
+                _ => (w.letter, u64::MAX, w.column),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn plain_path_takes_cam_lines_and_leaves_the_rest() {
+        for line in [
+            "G1 X-1.5 Y2. Z+.25 F1500",
+            "G0X1Y2",
+            "g1 x0.1 y-0 e1.5e3",
+            "G1 X1234567.89012345 Y0.30000000000000004",
+            "",
+            "   \t",
+        ] {
+            let mut l = Line::default();
+            assert!(parse_plain(line.as_bytes(), NGC, &mut l), "{line}");
+            let mut s = Line::default();
+            assert!(parse_simple(line.as_bytes(), NGC, &mut s), "{line}");
+            assert_eq!(word_bits(&l), word_bits(&s), "{line}");
+        }
+        for line in [
+            "G1 X 1",
+            "G1 X1 2",
+            "M3 S1000 (on)",
+            "G1 X1 ; c",
+            "G1 X1.2.3",
+            "G1 X",
+            "o100 sub",
+            "#1=2",
+            "G1 X--1",
+            "G1 X1é",
+        ] {
+            let mut l = Line::default();
+            assert!(!parse_plain(line.as_bytes(), NGC, &mut l), "{line}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2048))]
+        /// Short decimals read by integer and power of ten are the f64 `str::parse` gives,
+        /// bit for bit, across digit counts on both sides of the 15-digit bound.
+        #[test]
+        fn plain_numbers_are_correctly_rounded(
+            int in "[0-9]{0,12}",
+            frac in "[0-9]{0,12}",
+            point in proptest::bool::ANY,
+            sign in "[-+]?",
+        ) {
+            let text = if point || int.is_empty() {
+                format!("{sign}{int}.{frac}")
+            } else {
+                format!("{sign}{int}")
+            };
+            let got = plain_number(text.as_bytes(), 0);
+            let digits = int.len() + if point || int.is_empty() { frac.len() } else { 0 };
+            if digits == 0 {
+                proptest::prop_assert!(got.is_none());
+            } else {
+                let want: f64 = text.parse().map_err(|e| {
+                    proptest::test_runner::TestCaseError::fail(format!("{text}: {e}"))
+                })?;
+                let (v, end) = got.ok_or_else(|| {
+                    proptest::test_runner::TestCaseError::fail(text.clone())
+                })?;
+                proptest::prop_assert_eq!(v.to_bits(), want.to_bits(), "{}", text);
+                proptest::prop_assert_eq!(end, text.len());
+            }
+        }
+
+        /// Where the plain reader takes a line, it gives what the byte fast path gives.
+        #[test]
+        fn plain_matches_simple(
+            line in "([GMXYZFSogx][-+]?[0-9]{0,9}(\\.[0-9]{0,9})?[ \t]{0,2}){0,8}",
+            d in 0..3usize,
+        ) {
+            let syn = DIALECTS[d];
+            let mut plain = Line::default();
+            if parse_plain(line.as_bytes(), syn, &mut plain) {
+                let mut simple = Line::default();
+                proptest::prop_assert!(parse_simple(line.as_bytes(), syn, &mut simple));
+                proptest::prop_assert_eq!(word_bits(&plain), word_bits(&simple));
+            }
         }
     }
 

@@ -320,6 +320,7 @@ struct Checker<'d> {
     rapids: Capped,
     feed_power: Capped,
     fp: machine::FeedPower,
+    limits: machine::Limits,
     scratch: Vec<Finding>,
     stats: Stats,
     lo: DVec3,
@@ -351,6 +352,7 @@ impl<'d> Checker<'d> {
             rapids: Capped::new(cap),
             feed_power: Capped::new(cap),
             fp: machine::FeedPower::default(),
+            limits: machine::Limits::new(cfg),
             scratch: Vec::new(),
             stats: Stats::default(),
             lo: DVec3::splat(f64::INFINITY),
@@ -391,7 +393,7 @@ impl<'d> Checker<'d> {
         {
             self.gouge_moves.push(f);
         }
-        if let Some(f) = machine::out_of_bounds_move(&m, cfg) {
+        if let Some(f) = self.limits.motion(&m, cfg) {
             self.oob.push(f);
         }
         machine::rapid_move(&m, cfg, &mut self.scratch);

@@ -80,32 +80,101 @@ fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
 /// Estimates the run time of `motions` (mm) under `cfg` (mm, see [`CheckConfig::in_mm`]).
 /// The machine starts and ends at rest and stops for every dwell.
 pub fn estimate(motions: &Motions, cfg: &CheckConfig) -> TimeEstimate {
+    estimate_each(motions, cfg, |_| {})
+}
+
+/// [`estimate`], calling `f` with every motion in program order on the way: callers that
+/// need the moves too read them once.
+pub fn estimate_each(
+    motions: &Motions,
+    cfg: &CheckConfig,
+    mut f: impl FnMut(&Motion),
+) -> TimeEstimate {
     let mut t = TimeEstimate::default();
-    // About one block per move (arcs add more): sized up front, no doubling growth.
-    let mut blocks: Vec<Block> = Vec::with_capacity(motions.len());
-    let mut rapid: Vec<bool> = Vec::with_capacity(motions.len());
+    let mut run = Run {
+        prev: None,
+        steps: Vec::with_capacity(motions.len()),
+        e: Vec::with_capacity(motions.len() + 1),
+    };
     let rates = cfg.max_rate.map(|r| r / 60.0);
     for m in motions {
+        f(&m);
         match m.kind {
             MotionKind::Dwell { seconds } => {
-                add_times(&blocks, &rapid, cfg, &mut t);
-                blocks.clear();
-                rapid.clear();
+                run.settle(&mut t);
                 if seconds.is_finite() {
                     t.dwell += seconds;
                 }
             }
             MotionKind::Rapid | MotionKind::Feed => {
-                for_blocks(&m, rates, cfg, |b, r| {
-                    blocks.push(b);
-                    rapid.push(r);
-                });
+                for_blocks(&m, rates, cfg, |b, r| run.push(b, r, cfg));
             }
         }
     }
-    add_times(&blocks, &rapid, cfg, &mut t);
+    run.settle(&mut t);
     t.total = t.feed + t.rapid + t.dwell;
     t
+}
+
+/// What [`block_time`] needs of a block, and whether it is a rapid.
+#[derive(Clone, Copy)]
+struct Step {
+    len: f64,
+    v: f64,
+    a: f64,
+    rapid: bool,
+}
+
+/// The blocks between two stops, with the junction speeds of [`plan`] computed as the
+/// blocks come (only the previous block's direction is kept).
+struct Run {
+    prev: Option<Block>,
+    steps: Vec<Step>,
+    /// Squared speed limit at the start of each block (0 at the first).
+    e: Vec<f64>,
+}
+
+impl Run {
+    fn push(&mut self, b: Block, rapid: bool, cfg: &CheckConfig) {
+        self.e
+            .push(self.prev.map_or(0.0, |p| junction_speed_sqr(&p, &b, cfg)));
+        self.steps.push(Step {
+            len: b.len,
+            v: b.v,
+            a: b.a,
+            rapid,
+        });
+        self.prev = Some(b);
+    }
+
+    /// Plans the run from rest to rest (the passes of [`plan`]), adds the time of each
+    /// block to `t` in order and empties the run.
+    fn settle(&mut self, t: &mut TimeEstimate) {
+        let n = self.steps.len();
+        if n > 0 {
+            let e = &mut self.e;
+            e.push(0.0);
+            for i in (0..n).rev() {
+                let b = &self.steps[i];
+                e[i] = e[i].min(e[i + 1] + 2.0 * b.a * b.len);
+            }
+            for i in 0..n {
+                let b = &self.steps[i];
+                e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
+            }
+            for (i, b) in self.steps.iter().enumerate() {
+                let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
+                if b.rapid {
+                    t.rapid += dt;
+                } else {
+                    t.feed += dt;
+                }
+            }
+        }
+        self.steps.clear();
+        self.e.clear();
+        self.prev = None;
+    }
 }
 
 /// The planner blocks of a rapid or feed move, with whether it is a rapid.
@@ -174,16 +243,13 @@ impl Estimator {
                 }
             }
             MotionKind::Rapid | MotionKind::Feed => {
-                let (rates, cfg) = (self.rates, self.cfg.clone());
-                let mut new = Vec::new();
-                for_blocks(m, rates, &cfg, |b, r| new.push((b, r)));
-                for (b, r) in new {
-                    let j = self
-                        .window
+                let (window, cfg) = (&mut self.window, &self.cfg);
+                for_blocks(m, self.rates, cfg, |b, r| {
+                    let j = window
                         .last()
-                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, &self.cfg));
-                    self.window.push((b, r, j));
-                }
+                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, cfg));
+                    window.push((b, r, j));
+                });
                 if self.window.len() >= self.limit {
                     self.settle(false);
                 }
@@ -248,19 +314,6 @@ impl Estimator {
             self.entry = e[done];
             self.window.drain(..done);
             self.limit = WINDOW.max(2 * self.window.len());
-        }
-    }
-}
-
-/// Adds the time of a run of blocks planned from rest to rest ([`plan`]).
-fn add_times(blocks: &[Block], rapid: &[bool], cfg: &CheckConfig, t: &mut TimeEstimate) {
-    let e = plan(blocks, cfg);
-    for (i, b) in blocks.iter().enumerate() {
-        let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
-        if rapid[i] {
-            t.rapid += dt;
-        } else {
-            t.feed += dt;
         }
     }
 }

@@ -27,6 +27,20 @@ const TWIN_CELL_MIN: usize = 32;
 /// [`SegmentSet::contacts`]): 4 keeps the (cell, segment) list within a few times n.
 const MAX_COVER_PER_SEG: f64 = 4.0;
 
+/// Steps per segment [`SegmentSet::proven_apart`] may take before it leaves the decision to
+/// the grid.
+const CHAIN_BUDGET: usize = 16;
+
+/// A run of segments `start..end` whose x strictly increases (or decreases when `rev`),
+/// with its bounding box (see [`SegmentSet::proven_apart`]).
+struct Chain {
+    start: u32,
+    end: u32,
+    rev: bool,
+    lo: DVec2,
+    hi: DVec2,
+}
+
 /// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it,
 /// `source` is the caller's tag (a motion index).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -311,7 +325,7 @@ impl SegmentSet {
 
     fn grid_contacts(&self) -> Vec<Contact> {
         let n = self.segs.len();
-        if n < 2 {
+        if n < 2 || self.proven_apart() {
             return Vec::new();
         }
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
@@ -325,6 +339,120 @@ impl SegmentSet {
             Some(g) => self.cell_contacts(&g, 0..u64::MAX),
             None => self.brute_force_contacts(),
         }
+    }
+
+    /// True when no two segments meet ([`SegmentSet::test_pair`] gives None for every
+    /// pair), proven by a sweep over x-monotone chains: then the grid, which only reports
+    /// pairs `test_pair` reports, finds nothing either, and is not built. False when a pair
+    /// meets, when coordinates are not finite, for tiles, and when the sweep would take
+    /// more than [`CHAIN_BUDGET`] steps per segment (many chains over one another, as in a
+    /// dense hatch): the grid decides then.
+    ///
+    /// A chain is a maximal run of consecutive segments of one contour whose x strictly
+    /// increases, or strictly decreases (a segment with constant x is a chain of its own).
+    /// Two segments of one chain that are not consecutive have disjoint x ranges, so only
+    /// segments of two chains can meet, and only where the chains' bounding boxes overlap
+    /// (closed): for such chains every pair of segments with overlapping x ranges (closed)
+    /// is tested, walking both chains in x order.
+    fn proven_apart(&self) -> bool {
+        if self.links.is_some() {
+            return false;
+        }
+        let n = self.segs.len();
+        let mut budget = CHAIN_BUDGET.saturating_mul(n).saturating_add(4096);
+        let mut spend = |k: usize| {
+            budget = budget.saturating_sub(k);
+            budget > 0
+        };
+        let dir = |s: &Seg| (s.b.x - s.a.x).partial_cmp(&0.0);
+        let mut chains: Vec<Chain> = Vec::new();
+        let mut k = 0;
+        while k < n {
+            let s = &self.segs[k];
+            if !(s.a.is_finite() && s.b.is_finite()) {
+                return false;
+            }
+            let d = dir(s);
+            let mut e = k + 1;
+            if d != Some(std::cmp::Ordering::Equal) {
+                while e < n {
+                    let t = &self.segs[e];
+                    if t.contour != s.contour
+                        || t.index != self.segs[e - 1].index + 1
+                        || dir(t) != d
+                    {
+                        break;
+                    }
+                    e += 1;
+                }
+            }
+            let (mut lo, mut hi) = (s.a.min(s.b), s.a.max(s.b));
+            for t in &self.segs[k + 1..e] {
+                if !t.b.is_finite() {
+                    return false;
+                }
+                lo = lo.min(t.b);
+                hi = hi.max(t.b);
+            }
+            chains.push(Chain {
+                start: k as u32,
+                end: e as u32,
+                rev: d == Some(std::cmp::Ordering::Less),
+                lo,
+                hi,
+            });
+            k = e;
+        }
+        chains.sort_by(|a, b| a.lo.x.total_cmp(&b.lo.x));
+        let mut active: Vec<usize> = Vec::new();
+        for (c, ch) in chains.iter().enumerate() {
+            active.retain(|&a| chains[a].hi.x >= ch.lo.x);
+            if !spend(active.len() + 1) {
+                return false;
+            }
+            for &a in &active {
+                let o = &chains[a];
+                if o.hi.y >= ch.lo.y && ch.hi.y >= o.lo.y && !self.chains_apart(o, ch, &mut spend) {
+                    return false;
+                }
+            }
+            active.push(c);
+        }
+        true
+    }
+
+    /// True when no segment of chain `a` meets one of chain `b` (see
+    /// [`SegmentSet::proven_apart`]); false when a pair meets or the budget runs out.
+    fn chains_apart(&self, a: &Chain, b: &Chain, spend: &mut impl FnMut(usize) -> bool) -> bool {
+        let xs = |c: &Chain, i: usize| {
+            let k = if c.rev {
+                c.end as usize - 1 - i
+            } else {
+                c.start as usize + i
+            };
+            let s = &self.segs[k];
+            (k, s.a.x.min(s.b.x), s.a.x.max(s.b.x))
+        };
+        let (na, nb) = ((a.end - a.start) as usize, (b.end - b.start) as usize);
+        let mut j0 = 0;
+        for i in 0..na {
+            let (ka, lo, hi) = xs(a, i);
+            while j0 < nb && xs(b, j0).2 < lo {
+                j0 += 1;
+            }
+            let mut j = j0;
+            while j < nb {
+                let (kb, blo, _) = xs(b, j);
+                if blo > hi {
+                    break;
+                }
+                if !spend(1) || self.test_pair(ka, kb).is_some() {
+                    return false;
+                }
+                j += 1;
+            }
+        }
+        spend(na + nb)
     }
 
     /// A tile of a larger set: `segs` with their neighbours `links` (same length), in the
@@ -341,6 +469,9 @@ impl SegmentSet {
     /// tested cell by cell as [`SegmentSet::contacts`] does (without the folds of
     /// consecutive segments). Unsorted.
     pub fn cell_contacts(&self, grid: &Grid, keys: std::ops::Range<u64>) -> Vec<Contact> {
+        if let Some(out) = self.packed_cell_contacts(grid, &keys) {
+            return out;
+        }
         let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * self.segs.len());
         for (k, s) in self.segs.iter().enumerate() {
             grid.cover(s.a, s.b, |key| {
@@ -351,6 +482,7 @@ impl SegmentSet {
         }
         entries.sort_unstable();
         let mut out = Vec::new();
+        let mut ids = Vec::new();
         let mut g = 0;
         while g < entries.len() {
             let key = entries[g].0;
@@ -358,10 +490,56 @@ impl SegmentSet {
             while e < entries.len() && entries[e].0 == key {
                 e += 1;
             }
-            self.cell_pairs(&entries[g..e], &mut out);
+            ids.clear();
+            ids.extend(entries[g..e].iter().map(|e| e.1));
+            self.cell_pairs(&ids, &mut out);
             g = e;
         }
         out
+    }
+
+    /// [`SegmentSet::cell_contacts`] with each (cell, segment) entry packed into one u64
+    /// (`key << 32 | segment`) and sorted by a stable radix sort on the key bits: the
+    /// entries are made in segment order, so the order is the one `sort_unstable` gives the
+    /// (key, segment) pairs, and the contacts are the same in the same order. None (nothing
+    /// done) when the set has 2³² segments or more or a key needs more than 32 bits.
+    fn packed_cell_contacts(
+        &self,
+        grid: &Grid,
+        keys: &std::ops::Range<u64>,
+    ) -> Option<Vec<Contact>> {
+        u32::try_from(self.segs.len()).ok()?;
+        let mut entries: Vec<u64> = Vec::with_capacity(2 * self.segs.len());
+        let mut max_key = 0u64;
+        for (k, s) in self.segs.iter().enumerate() {
+            grid.cover(s.a, s.b, |key| {
+                if keys.contains(&key) {
+                    max_key = max_key.max(key);
+                    entries.push((key << 32) | k as u64);
+                }
+            });
+            if max_key > u64::from(u32::MAX) {
+                return None;
+            }
+        }
+        radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
+        let mut out = Vec::new();
+        let mut ids: Vec<u32> = Vec::new();
+        let mut g = 0;
+        while g < entries.len() {
+            let key = entries[g] >> 32;
+            let mut e = g + 1;
+            while e < entries.len() && entries[e] >> 32 == key {
+                e += 1;
+            }
+            if e - g >= 2 {
+                ids.clear();
+                ids.extend(entries[g..e].iter().map(|&v| v as u32));
+                self.cell_pairs(&ids, &mut out);
+            }
+            g = e;
+        }
+        Some(out)
     }
 
     /// Tests the segment pairs of one grid cell. Exact copies of a segment (same end points,
@@ -371,15 +549,15 @@ impl SegmentSet {
     /// holding k copies of a segment thus gives O(k) tests and contacts instead of O(k²)
     /// (2,000 coincident contours stay linear); contacts a copy would add are repeats of
     /// its first copy's at the same place.
-    fn cell_pairs(&self, cell: &[(u64, u32)], out: &mut Vec<Contact>) {
+    fn cell_pairs(&self, cell: &[u32], out: &mut Vec<Contact>) {
         let mut test = |i: u32, j: u32| {
             if let Some(c) = self.test_pair(i as usize, j as usize) {
                 out.push(c);
             }
         };
         if cell.len() <= TWIN_CELL_MIN {
-            for (x, &(_, i)) in cell.iter().enumerate() {
-                for &(_, j) in &cell[x + 1..] {
+            for (x, &i) in cell.iter().enumerate() {
+                for &j in &cell[x + 1..] {
                     test(i, j);
                 }
             }
@@ -394,7 +572,7 @@ impl SegmentSet {
             };
             [p.x.to_bits(), p.y.to_bits(), q.x.to_bits(), q.y.to_bits()]
         };
-        let mut ids: Vec<u32> = cell.iter().map(|e| e.1).collect();
+        let mut ids: Vec<u32> = cell.to_vec();
         ids.sort_by_key(|&k| (key(k), k));
         let mut groups: Vec<(usize, usize)> = Vec::new();
         let mut g = 0;
@@ -492,13 +670,52 @@ impl SegmentSet {
     }
 }
 
+/// Largest digit of [`radix_sort_high`]: 2¹⁰ buckets keep the scatter's destinations in
+/// cache.
+const RADIX_BITS: u32 = 10;
+
+/// Sorts `v` by bits 32..32 + `bits` (the bits above are zero), stably: a least significant
+/// digit radix sort, at most [`RADIX_BITS`] bits per pass.
+fn radix_sort_high(v: &mut Vec<u64>, bits: u32) {
+    if v.len() < 2 || bits == 0 {
+        return;
+    }
+    let passes = bits.div_ceil(RADIX_BITS);
+    let width = bits.div_ceil(passes);
+    let mask = (1u64 << width) - 1;
+    let mut tmp: Vec<u64> = vec![0; v.len()];
+    let mut count = vec![0usize; 1 << width];
+    for p in 0..passes {
+        let shift = 32 + p * width;
+        count.iter_mut().for_each(|c| *c = 0);
+        for &x in v.iter() {
+            count[((x >> shift) & mask) as usize] += 1;
+        }
+        let mut sum = 0;
+        for c in count.iter_mut() {
+            let n = *c;
+            *c = sum;
+            sum += n;
+        }
+        for &x in v.iter() {
+            let d = ((x >> shift) & mask) as usize;
+            tmp[count[d]] = x;
+            count[d] += 1;
+        }
+        std::mem::swap(v, &mut tmp);
+    }
+}
+
 /// Calls `f(cx, cy)` for every grid cell the segment from `a` to `b` (grid coordinates,
 /// ≥ 0) may touch: per row, the cells between the segment's x at the row's lower and upper
 /// y, widened by [`COVER_EPS`].
 fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
     let (ylo, yhi) = (a.y.min(b.y), a.y.max(b.y));
-    let r0 = (ylo - COVER_EPS).floor().max(0.0) as u64;
-    let r1 = (yhi + COVER_EPS).floor().max(0.0) as u64;
+    // `x as u64` is `x.floor().max(0.0) as u64` for every f64 (truncation equals floor
+    // at and above 0, both give 0 below 0 and for NaN, and both saturate), without a call
+    // to `floor`.
+    let r0 = (ylo - COVER_EPS) as u64;
+    let r1 = (yhi + COVER_EPS) as u64;
     let dy = b.y - a.y;
     for r in r0..=r1 {
         let (xa, xb) = if dy == 0.0 {
@@ -509,8 +726,8 @@ fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
             let x_at = |y: f64| a.x + (y - a.y) * (b.x - a.x) / dy;
             (x_at(y0), x_at(y1))
         };
-        let c0 = (xa.min(xb).max(a.x.min(b.x)) - COVER_EPS).floor().max(0.0) as u64;
-        let c1 = (xa.max(xb).min(a.x.max(b.x)) + COVER_EPS).floor().max(0.0) as u64;
+        let c0 = (xa.min(xb).max(a.x.min(b.x)) - COVER_EPS) as u64;
+        let c1 = (xa.max(xb).min(a.x.max(b.x)) + COVER_EPS) as u64;
         for c in c0..=c1 {
             f(c, r);
         }
@@ -520,6 +737,23 @@ fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn radix_sort_orders_as_sort_unstable() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut v: Vec<u64> = (0..5000u64)
+            .map(|k| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                ((x % 3000) << 32) | k
+            })
+            .collect();
+        let mut want = v.clone();
+        want.sort_unstable();
+        radix_sort_high(&mut v, 12);
+        assert_eq!(v, want);
+    }
 
     fn naive(set: &SegmentSet) -> Vec<(usize, usize)> {
         let mut v: Vec<_> = set
@@ -671,6 +905,67 @@ mod tests {
             let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
             assert_eq!(got, naive(&s));
             assert!(!got.is_empty());
+        }
+    }
+
+    /// Polylines on a coarse integer lattice (shared vertices, collinear overlaps, vertical
+    /// runs, retraced and coincident contours), spread apart by `spread`.
+    fn lattice_set(steps: &[(i8, i8)], spread: f64, closed: bool) -> SegmentSet {
+        let mut s = SegmentSet::new();
+        for (c, run) in steps.chunks(7).enumerate() {
+            let o = DVec2::new(spread * c as f64, 0.5 * spread * (c % 3) as f64);
+            let mut p = vec![o];
+            for &(dx, dy) in run {
+                let q = *p.last().unwrap_or(&o) + DVec2::new(f64::from(dx), f64::from(dy));
+                p.push(q);
+            }
+            if closed {
+                p.push(o);
+            }
+            s.push_polyline(&p, &[]);
+        }
+        s
+    }
+
+    #[test]
+    fn chains_prove_disjoint_circles_apart() {
+        let mut s = SegmentSet::new();
+        for c in 0..9 {
+            let o = DVec2::new(9.0 * (c % 3) as f64, 9.0 * (c / 3) as f64);
+            let p: Vec<DVec2> = (0..=200)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * (i % 200) as f64 / 200.0;
+                    let q = o + 4.0 * DVec2::new(t.cos(), t.sin());
+                    // Rounded as G-code writes them: runs of equal x (vertical segments).
+                    (q * 1e2).round() / 1e2
+                })
+                .collect();
+            s.push_polyline(&p, &[]);
+        }
+        assert!(s.proven_apart());
+        assert!(s.contacts().is_empty());
+        assert!(naive(&s).is_empty());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+        /// The chain sweep never declares apart a set in which some pair meets, and where
+        /// nothing meets the contacts are the same either way (none).
+        #[test]
+        fn chains_never_miss_a_contact(
+            steps in proptest::collection::vec((-2i8..=2, -2i8..=2), 1..60),
+            spread in proptest::sample::select(vec![0.0, 1.0, 3.0, 50.0]),
+            closed in proptest::bool::ANY,
+        ) {
+            let s = lattice_set(&steps, spread, closed);
+            let meets = (0..s.segs.len())
+                .any(|i| (i + 1..s.segs.len()).any(|j| s.test_pair(i, j).is_some()));
+            if s.proven_apart() {
+                proptest::prop_assert!(!meets);
+            }
+            if spread == 50.0 && !meets {
+                proptest::prop_assert!(s.proven_apart());
+            }
         }
     }
 }

@@ -15,21 +15,59 @@ fn limit_slack(v: f64) -> f64 {
 /// Moves (rapids included) that leave the work area [work_min, work_max]; arcs by their
 /// exact bounds.
 pub fn out_of_bounds(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
+    let limits = Limits::new(cfg);
     motions
         .iter()
-        .filter_map(|m| out_of_bounds_move(&m, cfg))
+        .filter_map(|m| limits.motion(&m, cfg))
         .collect()
 }
 
 /// [`out_of_bounds`] of one move.
 pub fn out_of_bounds_move(m: &Motion, cfg: &CheckConfig) -> Option<Finding> {
-    let (lo, hi) = m.bounds();
+    Limits::new(cfg).motion(m, cfg)
+}
+
+/// The travel limits of a configuration with their slack ([`limit_slack`]), computed once
+/// for many moves.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    lo: [f64; 3],
+    hi: [f64; 3],
+}
+
+impl Limits {
+    /// The limits of `cfg`.
+    pub fn new(cfg: &CheckConfig) -> Self {
+        Limits {
+            lo: [0, 1, 2].map(|i| cfg.work_min[i] - limit_slack(cfg.work_min[i])),
+            hi: [0, 1, 2].map(|i| cfg.work_max[i] + limit_slack(cfg.work_max[i])),
+        }
+    }
+
+    /// [`out_of_bounds_move`] with these limits (those of `cfg`).
+    pub fn motion(&self, m: &Motion, cfg: &CheckConfig) -> Option<Finding> {
+        let (lo, hi) = m.bounds();
+        if !(0..3).any(|i| lo[i] < self.lo[i] || hi[i] > self.hi[i]) {
+            return None;
+        }
+        out_of_bounds_finding(m, cfg, lo, hi, self)
+    }
+}
+
+/// The finding of a move with bounds `lo`..`hi` outside `limits`, if any.
+fn out_of_bounds_finding(
+    m: &Motion,
+    cfg: &CheckConfig,
+    lo: glam::DVec3,
+    hi: glam::DVec3,
+    limits: &Limits,
+) -> Option<Finding> {
     let mut bad = Vec::new();
     for (i, axis) in ["x", "y", "z"].into_iter().enumerate() {
-        if lo[i] < cfg.work_min[i] - limit_slack(cfg.work_min[i]) {
+        if lo[i] < limits.lo[i] {
             bad.push(format!("{axis} {:.3} < {:.3}", lo[i], cfg.work_min[i]));
         }
-        if hi[i] > cfg.work_max[i] + limit_slack(cfg.work_max[i]) {
+        if hi[i] > limits.hi[i] {
             bad.push(format!("{axis} {:.3} > {:.3}", hi[i], cfg.work_max[i]));
         }
     }

@@ -42,9 +42,19 @@ pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> 
         cfg,
     ));
     out.extend(gouge::gouge_findings(&prog.motions, &contours, design, cfg));
-    out.extend(machine::out_of_bounds(&prog.motions, cfg));
-    out.extend(machine::rapids(&prog.motions, cfg));
-    out.extend(machine::feed_and_power(&prog.motions, cfg));
+    // The per-move checks in one pass over the moves; their findings in the order of
+    // `out_of_bounds`, `rapids` and `feed_and_power` one after the other.
+    let limits = machine::Limits::new(cfg);
+    let (mut bounds, mut rapids, mut feeds) = (Vec::new(), Vec::new(), Vec::new());
+    let mut fp = machine::FeedPower::default();
+    for m in &prog.motions {
+        bounds.extend(limits.motion(&m, cfg));
+        machine::rapid_move(&m, cfg, &mut rapids);
+        fp.motion(&m, cfg, &mut feeds);
+    }
+    out.extend(bounds);
+    out.extend(rapids);
+    out.extend(feeds);
     out.extend(machine::program_end(prog, cfg));
     out
 }
