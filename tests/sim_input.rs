@@ -95,3 +95,23 @@ fn dialect_flag_and_not_supported_messages() {
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("line 3: G5.2 is not supported"), "{out}");
 }
+
+/// M2/M30 reached with the spindle on is a warning naming the M2 line; an M5 before it, or
+/// in the same block (it runs before the stop), is not. The tool is on through the stop
+/// block's own moves, so the state is taken where the stop happens, not at the block start.
+#[test]
+fn program_end_with_the_tool_on_is_a_warning() {
+    for (text, warned) in [
+        ("G21 G90\nM3 S1000\nG1 X10 F100\nM2\n", true),
+        ("G21 G90\nM3 S1000\nG1 X10 F100\nM30\n", true),
+        ("G21 G90\nM3 S1000\nG1 X10 F100\nM5\nM2\n", false),
+        ("G21 G90\nM3 S1000\nG1 X10 F100\nM5 M2\n", false),
+        ("G21 G90\nG1 X10 F100\nM2\n", false),
+    ] {
+        let (_, out) = check(text.as_bytes(), "end.nc", &[]);
+        let line = text.lines().count();
+        let want = format!("warning [tool-on-at-end] line {line}");
+        assert_eq!(out.contains(&want), warned, "{text}\n{out}");
+        assert_eq!(out.contains("tool-on-at-end"), warned, "{text}\n{out}");
+    }
+}

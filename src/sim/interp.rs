@@ -369,6 +369,9 @@ struct Interp<'a, 'o> {
     tools: Vec<ToolEntry>,
     /// The evaluated words of the current block (a buffer reused from line to line).
     word_buf: Vec<(char, f64, usize)>,
+    /// The spindle/laser as M2/M30 found it, after the rest of its block (an M5 in the same
+    /// block runs first) and before the stop turns it off.
+    tool_at_stop: ToolState,
     /// Plain motion blocks take [`Interp::plain_block`] (off only to test it against the
     /// general route).
     plain_moves: bool,
@@ -516,6 +519,7 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
         cache: HashMap::new(),
         tools: cfg.tool_table.clone(),
         word_buf: Vec::new(),
+        tool_at_stop: ToolState::default(),
         plain_moves: true,
     };
     it.params[P_CS] = 1.0;
@@ -960,9 +964,7 @@ impl<'a> Interp<'a, '_> {
         if self.execute(b) {
             self.prog.end = Some(ProgramEnd {
                 line: self.calls.first().map_or(self.line, |c| c.ret.1),
-                // What this route has always recorded (the block's `tool_before` as
-                // `Block::new` leaves it; `execute` sets it on its own copy only).
-                tool_before: ToolState::default(),
+                tool_before: self.tool_at_stop,
             });
             return Flow::End;
         }
@@ -1459,7 +1461,9 @@ impl<'a> Interp<'a, '_> {
             6 | 61 => M_TOOL,
             3..=5 => M_SPINDLE,
             7..=9 => {
-                if code == 9 || b.group(M_COOLANT).is_none_or(|c| c == 9) {
+                // M7 and M8 may share a block (mist and flood); M9 shares it with neither.
+                // Codes are stored in tenths: M9 is 90.
+                if code == 9 || b.group(M_COOLANT).is_none_or(|c| c == 90) {
                     M_COOLANT
                 } else {
                     M_COOLANT2
@@ -1499,7 +1503,6 @@ impl<'a> Interp<'a, '_> {
 
     /// Runs the block; true at a program end (M2/M30).
     fn execute(&mut self, mut b: Block) -> bool {
-        b.tool_before = self.st.tool;
         let groups = b.groups;
         let g = |grp: usize| (groups[grp] >= 0).then_some(i64::from(groups[grp]));
         // Feed mode and F.
@@ -1866,6 +1869,7 @@ impl<'a> Interp<'a, '_> {
             }
             Some(20) | Some(300) => {
                 // M2/M30: spindle and coolant off, G54, G17, G90, G94, G80 (LinuxCNC).
+                self.tool_at_stop = self.st.tool;
                 self.st.tool.switch(Spindle::Off, self.st.tool.s);
                 self.st.absolute = true;
                 true
@@ -2775,7 +2779,6 @@ struct Block {
     groups: [i32; GROUPS],
     vals: [Option<f64>; 24],
     cols: [usize; 24],
-    tool_before: ToolState,
     machine_coords: bool,
     axes_used: bool,
     used_arc: bool,
@@ -2795,7 +2798,6 @@ impl Block {
             groups: [-1; GROUPS],
             vals: [None; 24],
             cols: [0; 24],
-            tool_before: ToolState::default(),
             machine_coords: false,
             axes_used: false,
             used_arc: false,
@@ -3126,10 +3128,20 @@ mod tests {
             ("G20 G21", 5),
             ("G0 G1 X1", 4),
             ("M3 M5", 4),
+            ("M7 M9", 4),
+            ("M9 M7", 4),
+            ("M9 M8", 4),
         ] {
             let p = run(src);
             assert_eq!(ids(&p), vec![("modal-conflict", 1)], "{src}");
             assert_eq!(p.diagnostics[0].column, Some(col), "{src}");
+        }
+    }
+
+    #[test]
+    fn mist_and_flood_share_a_block() {
+        for src in ["M7 M8", "M8 M7"] {
+            assert!(ids(&run(src)).is_empty(), "{src}");
         }
     }
 

@@ -23,7 +23,7 @@
 //! with non-finite coordinates fall back to testing all pairs in memory.
 
 use super::checks::gouge::GougeIndex;
-use super::checks::intersect::{Contact, Grid, Link, Seg, SegmentSet};
+use super::checks::intersect::{Contact, Grid, Link, MAX_CONTACTS, Seg, SegmentSet};
 use super::checks::{DesignBoundary, contours, machine};
 use super::config::CheckConfig;
 use super::findings::Finding;
@@ -335,6 +335,8 @@ struct Checker<'d> {
     seg_hi: DVec2,
     seg_total: f64,
     contacts: Vec<ContactRec>,
+    /// The contact search stopped at [`MAX_CONTACTS`] (in a tile, or over all tiles).
+    contacts_capped: bool,
     error: Option<std::io::Error>,
     tile_entries: u64,
 }
@@ -367,6 +369,7 @@ impl<'d> Checker<'d> {
             seg_hi: DVec2::splat(f64::NEG_INFINITY),
             seg_total: 0.0,
             contacts: Vec::new(),
+            contacts_capped: false,
             error: None,
             tile_entries: TILE_ENTRIES,
         })
@@ -545,7 +548,9 @@ impl<'d> Checker<'d> {
         let Some(grid) = Grid::new(self.seg_lo, self.seg_hi, self.seg_total, n as usize) else {
             // Non-finite coordinates: every pair, in memory.
             let (set, recs) = load_tile(&self.spill)?;
-            for c in set.brute_force() {
+            let found = set.brute_force();
+            self.contacts_capped |= found.len() >= MAX_CONTACTS;
+            for c in found {
                 self.contacts
                     .push(ContactRec::new(&c, &recs[c.i], &recs[c.j]));
             }
@@ -623,9 +628,15 @@ impl<'d> Checker<'d> {
         grid: &Grid,
         keys: std::ops::Range<u64>,
     ) -> std::io::Result<()> {
+        if self.contacts.len() >= MAX_CONTACTS {
+            self.contacts_capped = true;
+            return Ok(());
+        }
         let tmp = TempFileRef { path };
         let (set, recs) = load_tile_at(&tmp)?;
-        for c in set.cell_contacts(grid, keys) {
+        let found = set.cell_contacts(grid, keys);
+        self.contacts_capped |= found.len() >= MAX_CONTACTS;
+        for c in found {
             self.contacts
                 .push(ContactRec::new(&c, &recs[c.i], &recs[c.j]));
         }
@@ -636,6 +647,9 @@ impl<'d> Checker<'d> {
     /// [`contours::intersection_findings`]).
     fn intersection(&mut self, out: &mut Capped) -> std::io::Result<()> {
         self.grid_contacts()?;
+        if self.contacts_capped {
+            out.push(contours::too_many_contacts());
+        }
         let mut all = std::mem::take(&mut self.contacts);
         all.sort_by_key(|c| (c.i, c.j));
         all.dedup_by(|p, q| p.i == q.i && p.j == q.j);

@@ -6,7 +6,7 @@
 //! toolpath) or [`OutlineContour`](crate::emit::outline::OutlineContour) (a flattened contour
 //! of the outline document).
 
-use super::intersect::SegmentSet;
+use super::intersect::{MAX_CONTACTS, SegmentSet};
 use crate::geom::DVec2;
 use crate::sim::config::{CheckConfig, MachineKind};
 use crate::sim::findings::{Finding, Severity};
@@ -148,7 +148,11 @@ pub fn intersection_findings(
     let mut seen = std::collections::BTreeSet::new();
     let mut out = Vec::new();
     let line_of = |src: u32| motions.get(src as usize).map(|m| m.line).unwrap_or(0);
-    for c in set.contacts() {
+    let (contacts, capped) = set.contacts_capped();
+    if capped {
+        out.push(too_many_contacts());
+    }
+    for c in contacts {
         let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
             continue;
         };
@@ -182,6 +186,19 @@ pub fn intersection_findings(
         ));
     }
     out
+}
+
+/// The finding of a contact search stopped at [`MAX_CONTACTS`]. Shared by both routes of
+/// the intersection check.
+pub(crate) fn too_many_contacts() -> Finding {
+    Finding::new(
+        "too-many-contacts",
+        Severity::Error,
+        format!(
+            "the cut contours meet in more than {MAX_CONTACTS} places: the check stopped there \
+             and lists only the first it found"
+        ),
+    )
 }
 
 /// The finding of a contact between a segment of contour `contours[0]` (program line

@@ -27,6 +27,12 @@ const TWIN_CELL_MIN: usize = 32;
 /// [`SegmentSet::contacts`]): 4 keeps the (cell, segment) list within a few times n.
 const MAX_COVER_PER_SEG: f64 = 4.0;
 
+/// Most contacts the grid collects (memory guard): a program that crosses itself
+/// everywhere, such as a random scribble of n segments, has O(n²) contacts (a 30 000-line
+/// one needed 23 GB and 88 s to list them all). Beyond this many the grid stops and
+/// [`SegmentSet::contacts_capped`] says so; 2²⁰ contacts take about 40 MB.
+pub const MAX_CONTACTS: usize = 1 << 20;
+
 /// Steps per segment [`SegmentSet::proven_apart`] may take before it leaves the decision to
 /// the grid.
 const CHAIN_BUDGET: usize = 16;
@@ -282,11 +288,19 @@ impl SegmentSet {
     /// All contacts: non-adjacent pairs that share any point (proper or not), and adjacent
     /// pairs that fold back onto each other (collinear overlap beyond the shared end).
     pub fn contacts(&self) -> Vec<Contact> {
+        self.contacts_capped().0
+    }
+
+    /// [`SegmentSet::contacts`], and whether the grid stopped at [`MAX_CONTACTS`] (then
+    /// the contacts are those of the cells tested first, not all).
+    pub fn contacts_capped(&self) -> (Vec<Contact>, bool) {
         let mut out = self.adjacent_overlaps();
-        out.extend(self.grid_contacts());
+        let grid = self.grid_contacts();
+        let capped = grid.len() >= MAX_CONTACTS;
+        out.extend(grid);
         out.sort_by_key(|c| (c.i, c.j));
         out.dedup_by(|p, q| p.i == q.i && p.j == q.j);
-        out
+        (out, capped)
     }
 
     /// Consecutive segments ab, bc where c lies on the ray from b through a: the path
@@ -493,6 +507,9 @@ impl SegmentSet {
             ids.clear();
             ids.extend(entries[g..e].iter().map(|e| e.1));
             self.cell_pairs(&ids, &mut out);
+            if out.len() >= MAX_CONTACTS {
+                break;
+            }
             g = e;
         }
         out
@@ -536,6 +553,9 @@ impl SegmentSet {
                 ids.clear();
                 ids.extend(entries[g..e].iter().map(|&v| v as u32));
                 self.cell_pairs(&ids, &mut out);
+                if out.len() >= MAX_CONTACTS {
+                    break;
+                }
             }
             g = e;
         }
@@ -549,9 +569,12 @@ impl SegmentSet {
     /// holding k copies of a segment thus gives O(k) tests and contacts instead of O(k²)
     /// (2,000 coincident contours stay linear); contacts a copy would add are repeats of
     /// its first copy's at the same place.
+    /// Stops adding at [`MAX_CONTACTS`].
     fn cell_pairs(&self, cell: &[u32], out: &mut Vec<Contact>) {
         let mut test = |i: u32, j: u32| {
-            if let Some(c) = self.test_pair(i as usize, j as usize) {
+            if out.len() < MAX_CONTACTS
+                && let Some(c) = self.test_pair(i as usize, j as usize)
+            {
                 out.push(c);
             }
         };
@@ -616,6 +639,9 @@ impl SegmentSet {
             for j in i + 1..self.segs.len() {
                 if let Some(c) = self.test_pair(i, j) {
                     out.push(c);
+                    if out.len() >= MAX_CONTACTS {
+                        return out;
+                    }
                 }
             }
         }

@@ -4,6 +4,7 @@
 //! |---|---|---|
 //! | `self-intersection` | error | a cut contour crosses or touches itself |
 //! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`; contours of one marked pocket may) |
+//! | `too-many-contacts` | error | the contours meet in more than `MAX_CONTACTS` places; only the first are listed |
 //! | `gouge` | error | tool centre nearer the design than tool radius − tolerance, or on the wrong side |
 //! | `out-of-bounds` | error | a move leaves the work area |
 //! | `laser-on-rapid` | warning (GRBL laser mode) / error | G0 with M3/M4 and S > 0 |
@@ -96,6 +97,53 @@ mod tests {
             s += &format!("G1 X{:.6} Y{:.6} F1000\n", q.x, q.y);
         }
         s + "M5\nM2\n"
+    }
+
+    /// A scribble that crosses itself everywhere: a boustrophedon of 1100 rows and then 1100
+    /// columns, one contour with 1100² = 1.21 M crossings. The search stops at
+    /// MAX_CONTACTS (2²⁰) and the report says so, besides listing the first crossings.
+    #[test]
+    fn contacts_stop_at_the_limit_and_the_report_says_so() {
+        let k = 1100;
+        let side = k as f64 + 1.0;
+        let mut pts = Vec::new();
+        for r in 0..k {
+            let y = r as f64 + 0.5;
+            let (a, b) = if r % 2 == 0 { (0.0, side) } else { (side, 0.0) };
+            pts.push(DVec2::new(a, y));
+            pts.push(DVec2::new(b, y));
+        }
+        for c in 0..k {
+            let x = c as f64 + 0.25;
+            let (a, b) = if c % 2 == 0 { (side, 0.0) } else { (0.0, side) };
+            pts.push(DVec2::new(x, a));
+            pts.push(DVec2::new(x, b));
+        }
+        let mut s = SegmentSet::new();
+        s.push_polyline(&pts, &[]);
+        let (contacts, capped) = s.contacts_capped();
+        assert!(capped);
+        assert!(contacts.len() <= intersect::MAX_CONTACTS + pts.len());
+        assert!(
+            contacts.len() >= intersect::MAX_CONTACTS / 2,
+            "{}",
+            contacts.len()
+        );
+        let r = check_text(Backend::Builtin, &gcode(&pts), &CheckConfig::default(), &[]);
+        assert!(
+            r.findings.iter().any(|f| f.id == "too-many-contacts"),
+            "{r}"
+        );
+        assert!(r.findings.iter().any(|f| f.id == "self-intersection"));
+        // Below the limit nothing is said: 100 rows and columns, 10⁴ crossings.
+        let small: Vec<DVec2> = pts
+            .iter()
+            .filter(|p| (p.x.fract() == 0.25 && p.x < 100.0) || (p.y.fract() == 0.5 && p.y < 100.0))
+            .copied()
+            .collect();
+        let mut s = SegmentSet::new();
+        s.push_polyline(&small, &[]);
+        assert!(!s.contacts_capped().1);
     }
 
     proptest! {
