@@ -300,6 +300,19 @@ fn fit_rec(c: &CubicBez, tol: f64, depth: u32, out: &mut Vec<PathSeg>) {
     fit_rec(&b, tol, depth + 1, out);
 }
 
+/// The standard cubic of a quarter circle of radius `r` about the origin (k = 0.5523; it
+/// deviates from the circle by 2.7e-4 r).
+#[cfg(test)]
+fn quarter_circle(r: f64) -> CubicBez {
+    let k = 0.552_284_749_8;
+    CubicBez::new(
+        DVec2::new(r, 0.0),
+        DVec2::new(r, k * r),
+        DVec2::new(k * r, r),
+        DVec2::new(0.0, r),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -368,14 +381,8 @@ mod tests {
     fn quarter_circle_bezier_fits_with_one_biarc() {
         // The standard quarter-circle cubic (k = 0.5523) deviates from the circle by 2.7e-4 r;
         // with tolerance 1e-3 r one biarc must do.
-        let k = 0.552_284_749_8;
         let r = 10.0;
-        let c = CubicBez::new(
-            DVec2::new(r, 0.0),
-            DVec2::new(r, k * r),
-            DVec2::new(k * r, r),
-            DVec2::new(0.0, r),
-        );
+        let c = quarter_circle(r);
         let segs = fit_cubic(&c, 1e-2);
         assert_eq!(segs.len(), 2);
         for s in &segs {
@@ -445,14 +452,7 @@ mod hull_tests {
     /// enough); with the hull bound 512 prove it.
     #[test]
     fn hull_bound_proves_a_fit_with_few_pieces() {
-        let k = 0.552_284_749_8;
-        let r = 10.0;
-        let c = CubicBez::new(
-            DVec2::new(r, 0.0),
-            DVec2::new(r, k * r),
-            DVec2::new(k * r, r),
-            DVec2::new(0.0, r),
-        );
+        let c = quarter_circle(10.0);
         let fit = fit_cubic(&c, 1e-2);
         assert!(max_deviation_within(&c, &fit, 1e-2, 512) <= 1e-2);
         // A fit of a wavy cubic, both directions.

@@ -159,16 +159,7 @@ fn hull(a: &Node, b: &Node) -> Option<Hull> {
 /// Distance of the hull's apex from its chord (0 for a segment).
 fn apex_height(a: &Node, b: &Node, h: &Hull) -> f64 {
     match h {
-        Hull::Quad(x, _) => {
-            let v = b.p - a.p;
-            let l = v.length();
-            if l > 0.0 {
-                cross(v / l, *x - a.p).abs()
-            } else {
-                0.0
-            }
-        }
-        Hull::Tri(x) => {
+        Hull::Quad(x, _) | Hull::Tri(x) => {
             let v = b.p - a.p;
             let l = v.length();
             if l > 0.0 {
@@ -800,16 +791,21 @@ mod tests {
         }
     }
 
-    #[test]
-    fn merged_arcs_are_g1_where_the_offset_is() {
-        let skin = ReSkin::build(
+    /// The cubic RE skin of the `gentle` circles.
+    fn gentle_skin() -> ReSkin {
+        ReSkin::build(
             &gentle(),
             &test_touches(&gentle(), &[]),
             false,
             Interp::Cubic,
             1e-9,
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    #[test]
+    fn merged_arcs_are_g1_where_the_offset_is() {
+        let skin = gentle_skin();
         let tangent = |s: &PathSeg, t: f64| match s {
             PathSeg::Arc(a) => a.tangent(t),
             PathSeg::Line(l) => (l.p1 - l.p0).normalize(),
@@ -847,14 +843,7 @@ mod tests {
 
     #[test]
     fn bad_tolerance_is_an_error() {
-        let skin = ReSkin::build(
-            &gentle(),
-            &test_touches(&gentle(), &[]),
-            false,
-            Interp::Cubic,
-            1e-9,
-        )
-        .unwrap();
+        let skin = gentle_skin();
         let off = inner_offset(&skin, 0.2, 1e-12).unwrap();
         for tol in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(matches!(
@@ -867,18 +856,7 @@ mod tests {
     /// Open sequences of 3–6 circles with turns and radius changes (fixed proptest seed,
     /// see .cargo/config.toml).
     fn sequence() -> impl Strategy<Value = Vec<Circle>> {
-        prop::collection::vec((-0.7f64..0.7, 2.0f64..4.0, 0.4f64..1.6), 3..7).prop_map(|steps| {
-            let mut dir = 0.3f64;
-            let mut p = DVec2::ZERO;
-            steps
-                .iter()
-                .map(|&(turn, len, r)| {
-                    dir += turn;
-                    p += len * DVec2::new(dir.cos(), dir.sin());
-                    Circle::new(p, r)
-                })
-                .collect()
-        })
+        crate::skin::mat_offset::global_tests::wandering(0.7, 2.0..4.0, 0.4..1.6, 0.3)
     }
 
     proptest! {

@@ -132,11 +132,17 @@ fn wreath_matches_geo_buffer() {
     }
 }
 
-/// Random admissible-looking open sequences: centres along a wandering path with steps
-/// longer than the radius change, radii in [0.5, 2].
-fn sequence() -> impl Strategy<Value = Vec<Circle>> {
-    prop::collection::vec((-0.9f64..0.9, 2.0f64..3.5, 0.5f64..2.0), 3..7).prop_map(|steps| {
-        let mut dir = 0.0f64;
+/// Random admissible-looking open sequences: centres along a wandering path starting in
+/// direction `dir0`, each step turning by up to ±`turn` and `len` long (longer than the
+/// radius change), radii in `radii`. Shared with the merged-arc tests.
+pub(crate) fn wandering(
+    turn: f64,
+    len: std::ops::Range<f64>,
+    radii: std::ops::Range<f64>,
+    dir0: f64,
+) -> impl Strategy<Value = Vec<Circle>> {
+    prop::collection::vec((-turn..turn, len, radii), 3..7).prop_map(move |steps| {
+        let mut dir = dir0;
         let mut p = DVec2::ZERO;
         steps
             .iter()
@@ -147,6 +153,11 @@ fn sequence() -> impl Strategy<Value = Vec<Circle>> {
             })
             .collect()
     })
+}
+
+/// [`wandering`] with turns up to ±0.9, steps 2–3.5 and radii in [0.5, 2].
+fn sequence() -> impl Strategy<Value = Vec<Circle>> {
+    wandering(0.9, 2.0..3.5, 0.5..2.0, 0.0)
 }
 
 proptest! {
