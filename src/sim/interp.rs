@@ -1504,7 +1504,7 @@ impl<'a> Interp<'a, '_> {
     /// Runs the block; true at a program end (M2/M30).
     fn execute(&mut self, mut b: Block) -> bool {
         let groups = b.groups;
-        let g = |grp: usize| (groups[grp] >= 0).then_some(i64::from(groups[grp]));
+        let g = |grp: usize| group_code(groups[grp]);
         // Feed mode and F.
         if let Some(c) = g(G_FEED_MODE) {
             self.st.feed_mode = match c {
@@ -2772,6 +2772,11 @@ fn letter_index(c: char) -> Option<usize> {
     (i != u8::MAX).then_some(usize::from(i))
 }
 
+/// A stored group code: −1 is none.
+fn group_code(stored: i32) -> Option<i64> {
+    (stored >= 0).then_some(i64::from(stored))
+}
+
 /// The words of one block sorted into what the interpreter needs.
 #[derive(Clone)]
 struct Block {
@@ -2814,7 +2819,7 @@ impl Block {
 
     /// The code of modal group `g` in the block.
     fn group(&self, g: usize) -> Option<i64> {
-        (self.groups[g] >= 0).then_some(i64::from(self.groups[g]))
+        group_code(self.groups[g])
     }
 
     /// Records `code` (a [`tenths`] value, 0..10⁹) for modal group `g`.

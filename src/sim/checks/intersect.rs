@@ -495,20 +495,29 @@ impl SegmentSet {
             });
         }
         entries.sort_unstable();
+        self.sorted_cell_contacts(entries.len(), |i| entries[i])
+    }
+
+    /// The contacts of the cells of `n` (cell, segment) entries sorted by cell, `entry(i)`
+    /// the i-th: [`SegmentSet::cell_pairs`] on each cell of two or more, until
+    /// [`MAX_CONTACTS`].
+    fn sorted_cell_contacts(&self, n: usize, entry: impl Fn(usize) -> (u64, u32)) -> Vec<Contact> {
         let mut out = Vec::new();
-        let mut ids = Vec::new();
+        let mut ids: Vec<u32> = Vec::new();
         let mut g = 0;
-        while g < entries.len() {
-            let key = entries[g].0;
+        while g < n {
+            let key = entry(g).0;
             let mut e = g + 1;
-            while e < entries.len() && entries[e].0 == key {
+            while e < n && entry(e).0 == key {
                 e += 1;
             }
-            ids.clear();
-            ids.extend(entries[g..e].iter().map(|e| e.1));
-            self.cell_pairs(&ids, &mut out);
-            if out.len() >= MAX_CONTACTS {
-                break;
+            if e - g >= 2 {
+                ids.clear();
+                ids.extend((g..e).map(|i| entry(i).1));
+                self.cell_pairs(&ids, &mut out);
+                if out.len() >= MAX_CONTACTS {
+                    break;
+                }
             }
             g = e;
         }
@@ -540,26 +549,7 @@ impl SegmentSet {
             }
         }
         radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
-        let mut out = Vec::new();
-        let mut ids: Vec<u32> = Vec::new();
-        let mut g = 0;
-        while g < entries.len() {
-            let key = entries[g] >> 32;
-            let mut e = g + 1;
-            while e < entries.len() && entries[e] >> 32 == key {
-                e += 1;
-            }
-            if e - g >= 2 {
-                ids.clear();
-                ids.extend(entries[g..e].iter().map(|&v| v as u32));
-                self.cell_pairs(&ids, &mut out);
-                if out.len() >= MAX_CONTACTS {
-                    break;
-                }
-            }
-            g = e;
-        }
-        Some(out)
+        Some(self.sorted_cell_contacts(entries.len(), |i| (entries[i] >> 32, entries[i] as u32)))
     }
 
     /// Tests the segment pairs of one grid cell. Exact copies of a segment (same end points,
