@@ -547,7 +547,8 @@ impl<'d> Checker<'d> {
         }
         let Some(grid) = Grid::new(self.seg_lo, self.seg_hi, self.seg_total, n as usize) else {
             // Non-finite coordinates: every pair, in memory.
-            let (set, recs) = load_tile(&self.spill)?;
+            let (mut set, recs) = load_tile(&self.spill)?;
+            set.across = contours::across(&self.cfg);
             let found = set.brute_force();
             self.contacts_capped |= found.len() >= MAX_CONTACTS;
             for c in found {
@@ -633,7 +634,8 @@ impl<'d> Checker<'d> {
             return Ok(());
         }
         let tmp = TempFileRef { path };
-        let (set, recs) = load_tile_at(&tmp)?;
+        let (mut set, recs) = load_tile_at(&tmp)?;
+        set.across = contours::across(&self.cfg);
         let found = set.cell_contacts(grid, keys);
         self.contacts_capped |= found.len() >= MAX_CONTACTS;
         for c in found {

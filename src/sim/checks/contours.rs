@@ -6,7 +6,7 @@
 //! toolpath) or [`OutlineContour`](crate::emit::outline::OutlineContour) (a flattened contour
 //! of the outline document).
 
-use super::intersect::{MAX_CONTACTS, SegmentSet};
+use super::intersect::{Across, MAX_CONTACTS, SegmentSet};
 use crate::geom::DVec2;
 use crate::sim::config::{CheckConfig, MachineKind};
 use crate::sim::findings::{Finding, Severity};
@@ -134,6 +134,7 @@ pub fn intersection_findings(
     cfg: &CheckConfig,
 ) -> Vec<Finding> {
     let mut set = SegmentSet::new();
+    set.across = across(cfg);
     // Exact size up front: no doubling growth on long programs.
     set.segs.reserve(
         contours
@@ -186,6 +187,16 @@ pub fn intersection_findings(
         ));
     }
     out
+}
+
+/// The contacts between two cut contours the intersection check looks for: proper
+/// crossings, or none with `allow_crossings`. Shared by both routes of the check.
+pub(crate) fn across(cfg: &CheckConfig) -> Across {
+    if cfg.allow_crossings {
+        Across::Never
+    } else {
+        Across::Crossings
+    }
 }
 
 /// The finding of a contact search stopped at [`MAX_CONTACTS`]. Shared by both routes of

@@ -63,6 +63,21 @@ pub struct Seg {
     pub source: u32,
 }
 
+/// Which contacts between segments of two different contours [`SegmentSet::test_pair`]
+/// reports (within one contour every contact counts).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Across {
+    /// Every contact: crossings, touches and overlaps.
+    #[default]
+    All,
+    /// Proper crossings only (interiors crossing transversally). The passes of a
+    /// multi-depth cut lie on one another in xy; their touches and overlaps are not
+    /// tested further, stored or sorted, and do not count towards [`MAX_CONTACTS`].
+    Crossings,
+    /// None: contours may cross one another.
+    Never,
+}
+
 /// Polylines split into segments (zero-length segments dropped).
 #[derive(Clone, Debug, Default)]
 pub struct SegmentSet {
@@ -70,6 +85,8 @@ pub struct SegmentSet {
     pub segs: Vec<Seg>,
     /// Per contour: number of segments and whether it is closed (last point = first).
     pub contours: Vec<(u32, bool)>,
+    /// The contacts between different contours that count.
+    pub across: Across,
     /// A tile of a larger set ([`SegmentSet::tile`]): each segment's neighbours, since its
     /// contour is not held whole.
     links: Option<Vec<Link>>,
@@ -475,6 +492,7 @@ impl SegmentSet {
         SegmentSet {
             segs,
             contours: Vec::new(),
+            across: Across::All,
             links: Some(links),
         }
     }
@@ -639,13 +657,14 @@ impl SegmentSet {
     }
 
     /// Exact contact test of two segments; same-contour adjacent pairs are skipped (see
-    /// `Self::adjacent_overlaps`).
+    /// `Self::adjacent_overlaps`), and pairs of two contours follow [`SegmentSet::across`].
     pub fn test_pair(&self, i: usize, j: usize) -> Option<Contact> {
         let (s, t) = (self.segs.get(i)?, self.segs.get(j)?);
         if s.a.max(s.b).cmplt(t.a.min(t.b)).any() || t.a.max(t.b).cmplt(s.a.min(s.b)).any() {
             return None;
         }
-        if self.adjacent(i, j, s, t) {
+        let across = s.contour != t.contour;
+        if across && self.across == Across::Never || self.adjacent(i, j, s, t) {
             return None;
         }
         let (i, j) = (i.min(j), i.max(j));
@@ -662,7 +681,7 @@ impl SegmentSet {
                 proper: true,
             });
         }
-        if !segments_intersect(s.a, s.b, t.a, t.b) {
+        if across && self.across == Across::Crossings || !segments_intersect(s.a, s.b, t.a, t.b) {
             return None;
         }
         // The path passing twice through one of its vertices without crossing there (a

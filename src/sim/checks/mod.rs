@@ -26,7 +26,7 @@ pub mod machine;
 
 pub use contours::{SimContour, cut_contours, is_cutting};
 pub use gouge::{DesignBoundary, KeepSide};
-pub use intersect::{Contact, Seg, SegmentSet};
+pub use intersect::{Across, Contact, Seg, SegmentSet};
 
 use super::config::CheckConfig;
 use super::findings::Finding;
@@ -144,6 +144,46 @@ mod tests {
         let mut s = SegmentSet::new();
         s.push_polyline(&small, &[]);
         assert!(!s.contacts_capped().1);
+    }
+
+    /// The eight passes of a multi-depth cut lie on one another in xy: every segment touches
+    /// three segments of each other pass, 20 000 · 8 · 3 · 7 / 2 = 1.68 M contacts in all,
+    /// beyond MAX_CONTACTS. The intersection check counts only crossings between contours,
+    /// so it finds none and does not stop; a contour planted across the passes is found.
+    #[test]
+    fn coincident_passes_are_not_contacts_but_crossings_between_them_are() {
+        let n = 20_000;
+        let ring: Vec<DVec2> = (0..=n)
+            .map(|k| {
+                let t = k as f64 * std::f64::consts::TAU / n as f64;
+                DVec2::new(50.0 * t.cos(), 50.0 * t.sin())
+            })
+            .collect();
+        let passes = |across| {
+            let mut s = SegmentSet::new();
+            s.across = across;
+            for _ in 0..8 {
+                s.push_polyline(&ring, &[]);
+            }
+            s
+        };
+        let (all, capped) = passes(Across::All).contacts_capped();
+        assert!(capped, "{}", all.len());
+        for across in [Across::Crossings, Across::Never] {
+            let (c, capped) = passes(across).contacts_capped();
+            assert!(c.is_empty() && !capped, "{across:?}: {}", c.len());
+        }
+        let mut s = passes(Across::Crossings);
+        s.push_polyline(&[DVec2::new(0.0, 0.0), DVec2::new(60.0, 1.0)], &[]);
+        let c = s.contacts();
+        assert_eq!(c.len(), 8, "one crossing per pass: {c:?}");
+        assert!(
+            c.iter()
+                .all(|c| c.proper && (c.point.length() - 50.0).abs() < 1e-3)
+        );
+        let mut s = passes(Across::Never);
+        s.push_polyline(&[DVec2::new(0.0, 0.0), DVec2::new(60.0, 1.0)], &[]);
+        assert!(s.contacts().is_empty());
     }
 
     proptest! {
