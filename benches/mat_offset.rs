@@ -78,7 +78,7 @@ fn general_route(skin: &ReSkin) -> Vec<Path> {
     let Ok(out) = outline(skin) else {
         return Vec::new();
     };
-    let Some(path) = out.to_arc_paths(TOL).into_iter().next() else {
+    let Some(path) = out.to_arc_paths(TOL).unwrap().into_iter().next() else {
         return Vec::new();
     };
     cavalier_offset(&path)
@@ -237,9 +237,9 @@ fn main() {
     };
     let ex = exact_samples(&exact, 1000);
     let merged = exact.to_merged_arc_paths(TOL).unwrap_or_default();
-    let biarcs = skinpath::toolpath::re_route::biarc_paths(&exact, TOL);
-    let arcs3 = exact.to_arc_paths(TOL);
-    let lines = exact.to_line_paths(TOL);
+    let biarcs = skinpath::toolpath::re_route::biarc_paths(&exact, TOL).unwrap();
+    let arcs3 = exact.to_arc_paths(TOL).unwrap();
+    let lines = exact.to_line_paths(TOL).unwrap();
     let cav = general_route(&skin);
     let geo_ = geo_route(&skin);
     println!(
@@ -281,10 +281,12 @@ fn main() {
         exact.to_merged_arc_paths(TOL).map(|m| m.paths.len())
     });
     let t_biarc = median_time(7, 40, || {
-        skinpath::toolpath::re_route::biarc_paths(&exact, TOL).len()
+        skinpath::toolpath::re_route::biarc_paths(&exact, TOL)
+            .unwrap()
+            .len()
     });
     let t_cav = median_time(7, 40, || general_route(&skin));
-    let ol_arcs = ol.to_arc_paths(TOL);
+    let ol_arcs = ol.to_arc_paths(TOL).unwrap();
     let t_cav_only = match ol_arcs.first() {
         Some(p) => median_time(7, 40, || cavalier_offset(p)),
         None => f64::NAN,

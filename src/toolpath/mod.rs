@@ -13,5 +13,6 @@ pub mod plan;
 pub mod re_route;
 pub mod region;
 pub mod stats;
+pub mod winding;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

@@ -79,7 +79,7 @@ fn arc_paths(off: &MatOffset, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
     Ok(if merged.unproved == 0 {
         merged.paths
     } else {
-        biarc_paths(off, tol)
+        biarc_paths(off, tol)?
     })
 }
 
@@ -127,22 +127,25 @@ fn orient_for_climb(paths: Vec<Path>, tol: f64) -> Vec<Path> {
 /// curve lie within `tol` of its biarc), with the cap arcs kept as they are. The profiles
 /// and backboards of the MAT route use the fewer, hull-bounded arcs of
 /// [`MatOffset::to_merged_arc_paths`]; this fit is kept for comparison (benches, tests).
-pub fn biarc_paths(off: &MatOffset, tol: f64) -> Vec<Path> {
-    off.fitted_contours(
-        |a| a.radius > 0.0 && a.sweep != 0.0,
-        |segment, branch, t0, t1, segs| {
-            if t0 != t1 {
-                fit(off, segment, branch, t0, t1, tol, 0, segs);
-            }
-        },
-    )
-    .into_iter()
-    .map(|mut segs| {
-        crate::geom::path::close_line_gaps(&mut segs);
-        Path::new(segs, true)
-    })
-    .filter(|p| !p.is_empty())
-    .collect()
+/// `tol` must be positive and finite ([`MatOffsetError::BadTolerance`]).
+pub fn biarc_paths(off: &MatOffset, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
+    crate::skin::mat_offset::check_tolerance(tol)?;
+    Ok(off
+        .fitted_contours(
+            |a| a.radius > 0.0 && a.sweep != 0.0,
+            |segment, branch, t0, t1, segs| {
+                if t0 != t1 {
+                    fit(off, segment, branch, t0, t1, tol, 0, segs);
+                }
+            },
+        )
+        .into_iter()
+        .map(|mut segs| {
+            crate::geom::path::close_line_gaps(&mut segs);
+            Path::new(segs, true)
+        })
+        .filter(|p| !p.is_empty())
+        .collect())
 }
 
 /// Point and unit tangent (in the direction of travel from t0 to t1) of the exact curve.

@@ -12,6 +12,7 @@
 //! union O((n + k) log n) (i_overlay sweep).
 
 use super::biarc::fit_cubic;
+use super::winding::WindingIndex;
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
 use crate::skin::intersect::{path_self_intersections, paths_intersections};
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
@@ -400,6 +401,36 @@ fn degenerate(pl: &Polyline<f64>, eps: f64) -> bool {
     pl.vertex_count() < 2 || pl.area().abs() <= eps * pl.path_length()
 }
 
+/// Winding numbers of contours about many points: each contour's extents (a closed contour
+/// winds 0 times about a point outside them, arcs included) and its [`WindingIndex`]. The
+/// numbers are cavalier's `winding_number`.
+struct Windings {
+    /// (min x, min y, max x, max y).
+    boxes: Vec<Option<[f64; 4]>>,
+    index: Vec<WindingIndex>,
+}
+
+impl Windings {
+    fn new(contours: &[Polyline<f64>]) -> Windings {
+        Windings {
+            boxes: (contours.iter())
+                .map(|c| c.extents().map(|b| [b.min_x, b.min_y, b.max_x, b.max_y]))
+                .collect(),
+            index: contours.iter().map(WindingIndex::new).collect(),
+        }
+    }
+
+    /// The winding number of contour `k` about (x, y).
+    fn of(&self, k: usize, x: f64, y: f64) -> i32 {
+        let inside = (self.boxes.get(k).copied().flatten())
+            .is_some_and(|[x0, y0, x1, y1]| x0 <= x && x <= x1 && y0 <= y && y <= y1);
+        match self.index.get(k) {
+            Some(w) if inside => w.winding(cavalier_contours::core::math::Vector2::new(x, y)),
+            _ => 0,
+        }
+    }
+}
+
 /// Fraction of the offset accuracy `eps` within which [`Region::simple`] counts two
 /// segments as meeting, as the offset checks use it. Rings that share an edge or cross meet
 /// exactly; a whole `eps` would also catch the segments on either side of an arc shorter
@@ -411,6 +442,7 @@ impl Region {
     /// nesting depth become material (counter-clockwise), odd depth holes (clockwise).
     /// Contours must not cross each other (outlines from the skin stage do not).
     pub fn from_contours(contours: Vec<Polyline<f64>>) -> Region {
+        let windings = Windings::new(&contours);
         let depth: Vec<usize> = contours
             .iter()
             .enumerate()
@@ -418,15 +450,8 @@ impl Region {
                 let Some(v) = c.iter_vertexes().next() else {
                     return 0;
                 };
-                contours
-                    .iter()
-                    .enumerate()
-                    .filter(|(j, o)| {
-                        *j != i
-                            && o.winding_number(cavalier_contours::core::math::Vector2::new(
-                                v.x, v.y,
-                            )) != 0
-                    })
+                (0..contours.len())
+                    .filter(|&j| j != i && windings.of(j, v.x, v.y) != 0)
                     .count()
             })
             .collect();
@@ -577,25 +602,20 @@ impl Region {
 
     /// Whether this region's contours wind `n` times about every vertex of `other`. A
     /// closed contour winds 0 times about a point outside its extents (arcs included), so
-    /// only the contours whose box holds the vertex are walked: O(V·W) for V vertices
-    /// against W only where the boxes overlap.
+    /// only the contours whose box holds the vertex are asked, each through a
+    /// [`WindingIndex`] (the same number as cavalier's `winding_number`): O(W) to build and
+    /// O(1 + k) per vertex for the k segments in its slab, instead of O(V·W).
     fn winds_every_vertex(&self, other: &Region, n: i32) -> bool {
-        let boxes: Vec<_> = self.contours.iter().map(|c| c.extents()).collect();
+        let windings = Windings::new(&self.contours);
         other
             .contours
             .iter()
             .flat_map(|c| c.iter_vertexes())
             .all(|v| {
-                let p = cavalier_contours::core::math::Vector2::new(v.x, v.y);
-                let w: i32 = (self.contours.iter().zip(&boxes))
-                    .filter(|(_, b)| {
-                        b.is_some_and(|b| {
-                            b.min_x <= v.x && v.x <= b.max_x && b.min_y <= v.y && v.y <= b.max_y
-                        })
-                    })
-                    .map(|(c, _)| c.winding_number(p))
-                    .sum();
-                w == n
+                (0..self.contours.len())
+                    .map(|k| windings.of(k, v.x, v.y))
+                    .sum::<i32>()
+                    == n
             })
     }
 
@@ -603,14 +623,14 @@ impl Region {
     /// lies where the others wind 0 times (outside, or in a hole), a clockwise one where
     /// they wind once (in material). Tested at each contour's first vertex.
     fn well_nested(&self) -> bool {
+        let windings = Windings::new(&self.contours);
         self.contours.iter().enumerate().all(|(i, c)| {
             let Some(v) = c.iter_vertexes().next() else {
                 return true;
             };
-            let p = cavalier_contours::core::math::Vector2::new(v.x, v.y);
-            let others: i32 = (self.contours.iter().enumerate())
-                .filter(|&(j, _)| j != i)
-                .map(|(_, o)| o.winding_number(p))
+            let others: i32 = (0..self.contours.len())
+                .filter(|&j| j != i)
+                .map(|j| windings.of(j, v.x, v.y))
                 .sum();
             others == if c.area() > 0.0 { 0 } else { 1 }
         })

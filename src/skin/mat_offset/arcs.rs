@@ -547,9 +547,7 @@ impl MatOffset {
     /// of the module docs (re-skinning-cnc eq. 13 for the curve; the cap arcs kept exact).
     /// `tol` must be finite and positive.
     pub fn to_merged_arc_paths(&self, tol: f64) -> Result<MergedArcs, MatOffsetError> {
-        if !(tol.is_finite() && tol > 0.0) {
-            return Err(MatOffsetError::BadTolerance(tol));
-        }
+        super::fit::check_tolerance(tol)?;
         let mut res = MergedArcs::default();
         for elems in self.elements(tol) {
             let mut segs: Vec<PathSeg> = Vec::new();
@@ -751,8 +749,14 @@ mod tests {
         // G1 inside the chain: consecutive arcs (not caps) meet with equal tangents except
         // at the corners of the offset and the ends of runs.
         let merged: usize = m.paths.iter().map(|p| p.segs.len()).sum();
-        let arcs3: usize = off.to_arc_paths(tol).iter().map(|p| p.segs.len()).sum();
+        let arcs3: usize = off
+            .to_arc_paths(tol)
+            .unwrap()
+            .iter()
+            .map(|p| p.segs.len())
+            .sum();
         let biarcs: usize = crate::toolpath::re_route::biarc_paths(off, tol)
+            .unwrap()
             .iter()
             .map(|p| p.segs.len())
             .sum();
@@ -845,12 +849,25 @@ mod tests {
     fn bad_tolerance_is_an_error() {
         let skin = gentle_skin();
         let off = inner_offset(&skin, 0.2, 1e-12).unwrap();
+        // Every fit of the offset refuses it: at 0 or NaN each piece would be bisected
+        // 2³⁰ times.
+        let bad = |r: Result<Vec<crate::geom::Path>, MatOffsetError>| {
+            matches!(r, Err(MatOffsetError::BadTolerance(_)))
+        };
         for tol in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(matches!(
                 off.to_merged_arc_paths(tol),
                 Err(MatOffsetError::BadTolerance(_))
             ));
+            assert!(bad(off.to_line_paths(tol)), "{tol}");
+            assert!(bad(off.to_arc_paths(tol)), "{tol}");
+            assert!(bad(off.to_cubic_paths(tol)), "{tol}");
+            assert!(
+                bad(crate::toolpath::re_route::biarc_paths(&off, tol)),
+                "{tol}"
+            );
         }
+        assert!(off.to_line_paths(1e-3).is_ok_and(|p| !p.is_empty()));
     }
 
     /// Open sequences of 3–6 circles with turns and radius changes (fixed proptest seed,

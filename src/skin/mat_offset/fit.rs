@@ -2,7 +2,7 @@
 //! Sec. 4: the exact offsets y + (r ± δ) m± of eq. 13 handed to G-code as G1/G2/G3), and
 //! flattening them to polylines.
 
-use super::{MatOffset, Piece};
+use super::{MatOffset, MatOffsetError, Piece};
 use crate::geom::{Arc, CubicBez, DVec2, Line, Path, PathSeg};
 use crate::skin::re::Branch;
 
@@ -38,6 +38,15 @@ fn arc3(p0: DVec2, pm: DVec2, p1: DVec2) -> PathSeg {
     let center = m1 + s * d1;
     PathSeg::Arc(Arc::from_center_points(center, p0, p1, cr > 0.0))
 }
+/// Ok when `tol` is a tolerance the fits can meet: positive and finite.
+pub(crate) fn check_tolerance(tol: f64) -> Result<(), MatOffsetError> {
+    if tol.is_finite() && tol > 0.0 {
+        Ok(())
+    } else {
+        Err(MatOffsetError::BadTolerance(tol))
+    }
+}
+
 /// Deepest bisection of a piece when fitting.
 const MAX_FIT_DEPTH: u32 = 30;
 
@@ -45,12 +54,12 @@ impl MatOffset {
     /// The contours as paths of cubic Béziers (Hermite fits of the exact curve, bisected
     /// until the parametric distance at CHECK_SAMPLES interior points is ≤ `tol`) and true
     /// arcs for caps.
-    pub fn to_cubic_paths(&self, tol: f64) -> Vec<Path> {
+    pub fn to_cubic_paths(&self, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
         self.to_paths(tol, FitKind::Cubic)
     }
 
     /// The contours as paths of line segments within `tol` (same test) and true arcs.
-    pub fn to_line_paths(&self, tol: f64) -> Vec<Path> {
+    pub fn to_line_paths(&self, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
         self.to_paths(tol, FitKind::Line)
     }
 
@@ -58,18 +67,24 @@ impl MatOffset {
     /// of each piece, bisected until the distance of CHECK_SAMPLES interior points of the
     /// exact curve to the arc is ≤ `tol`) and the true cap arcs: ready for G2/G3 and for
     /// arc-and-line offsetting.
-    pub fn to_arc_paths(&self, tol: f64) -> Vec<Path> {
+    pub fn to_arc_paths(&self, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
         self.to_paths(tol, FitKind::Arc)
     }
 
-    fn to_paths(&self, tol: f64, kind: FitKind) -> Vec<Path> {
-        self.fitted_contours(
-            |a| a.radius > 0.0,
-            |segment, branch, t0, t1, segs| self.fit(segment, branch, t0, t1, tol, kind, 0, segs),
-        )
-        .into_iter()
-        .map(|segs| Path::new(segs, true))
-        .collect()
+    /// `tol` must be positive and finite ([`MatOffsetError::BadTolerance`]): at 0 or NaN
+    /// every piece would be bisected to depth MAX_FIT_DEPTH, 2³⁰ pieces each.
+    fn to_paths(&self, tol: f64, kind: FitKind) -> Result<Vec<Path>, MatOffsetError> {
+        check_tolerance(tol)?;
+        Ok(self
+            .fitted_contours(
+                |a| a.radius > 0.0,
+                |segment, branch, t0, t1, segs| {
+                    self.fit(segment, branch, t0, t1, tol, kind, 0, segs)
+                },
+            )
+            .into_iter()
+            .map(|segs| Path::new(segs, true))
+            .collect())
     }
 
     /// The one walk over the contours' pieces that every fitting of a MAT offset shares

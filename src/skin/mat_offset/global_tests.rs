@@ -59,6 +59,7 @@ fn piece_samples(off: &MatOffset, per_piece: usize) -> Vec<DVec2> {
 /// Signed area of the contours (flattened), counter-clockwise positive.
 fn signed_area(off: &MatOffset, tol: f64) -> f64 {
     off.to_line_paths(tol)
+        .unwrap()
         .iter()
         .map(|p| crate::geom::path::polygon_area(&p.flatten(tol)))
         .sum()
@@ -69,6 +70,7 @@ fn skin_polygon(skin: &ReSkin, tol: f64) -> geo::MultiPolygon<f64> {
     let ol = outline(skin).unwrap();
     let mut rings: Vec<(f64, geo::LineString<f64>)> = ol
         .to_line_paths(tol)
+        .unwrap()
         .iter()
         .map(|p| {
             let pts = p.flatten(tol);
@@ -102,7 +104,7 @@ fn wreath_hole_side_at_large_delta_is_at_delta() {
             assert!((d - delta).abs() < 1e-6, "δ = {delta}: {q} at {d}");
         }
         // The exact contours close and do not cross themselves.
-        for p in off.to_cubic_paths(1e-5) {
+        for p in off.to_cubic_paths(1e-5).unwrap() {
             assert!(p.max_gap() < 1e-7, "gap {}", p.max_gap());
             let hits = crate::skin::intersect::path_self_intersections(&p, 1e-9);
             assert!(hits.is_empty(), "δ = {delta}: {hits:?}");
@@ -119,6 +121,7 @@ fn wreath_matches_geo_buffer() {
         let buf = poly.buffer(delta);
         let areas: Vec<f64> = off
             .to_line_paths(1e-3)
+            .unwrap()
             .iter()
             .map(|p| crate::geom::path::polygon_area(&p.flatten(1e-3)))
             .collect();

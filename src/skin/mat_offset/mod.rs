@@ -72,6 +72,7 @@ pub enum MatOffsetError {
 
 mod arcs;
 mod fit;
+pub(crate) use fit::check_tolerance;
 mod flatten;
 #[cfg(test)]
 mod global_tests;
@@ -695,9 +696,9 @@ pub(crate) mod tests {
                     }
                 }
                 // Paths: closed, within tolerance of the exact pieces.
-                let mut all = off.to_cubic_paths(1e-4 * scale);
-                all.extend(off.to_arc_paths(1e-4 * scale));
-                all.extend(off.to_line_paths(1e-4 * scale));
+                let mut all = off.to_cubic_paths(1e-4 * scale).unwrap();
+                all.extend(off.to_arc_paths(1e-4 * scale).unwrap());
+                all.extend(off.to_line_paths(1e-4 * scale).unwrap());
                 let nc = off.contours.len();
                 for (q, path) in all.iter().enumerate() {
                     let c = &off.contours[q % nc];
@@ -742,11 +743,14 @@ pub(crate) mod tests {
                     assert!((fr.offset(Branch::Minus, 0.0).0 - tp.right).length() < 1e-9 * scale);
                 }
                 assert!(envelope_loops(&skin, 1e-10).unwrap().is_empty());
-                let path = &outline(&skin).unwrap().to_cubic_paths(1e-6 * scale)[0];
+                let path = &outline(&skin)
+                    .unwrap()
+                    .to_cubic_paths(1e-6 * scale)
+                    .unwrap()[0];
                 let hits = crate::skin::intersect::path_self_intersections(path, 1e-9 * scale);
                 assert!(hits.is_empty(), "{interp:?}: {hits:?}");
                 let off = inner_offset(&skin, 0.6 * scale, 1e-12).unwrap();
-                for p in off.to_cubic_paths(1e-6 * scale) {
+                for p in off.to_cubic_paths(1e-6 * scale).unwrap() {
                     assert!(
                         crate::skin::intersect::path_self_intersections(&p, 1e-9 * scale)
                             .is_empty()
@@ -789,7 +793,7 @@ pub(crate) mod tests {
                 assert!(a.radius > 0.0 && a.sweep < 0.0);
             }
         }
-        let path = &off.to_line_paths(1e-4)[0];
+        let path = &off.to_line_paths(1e-4).unwrap()[0];
         assert!(path.max_gap() < 1e-9);
         assert!(matches!(
             inner_offset(&skin, -1.0, 1e-9),
@@ -828,7 +832,7 @@ pub(crate) mod tests {
         let off = inner_offset(&skin, 1.1, 1e-12).unwrap();
         assert_eq!(off.trims.len(), 8);
         assert_eq!(off.contours.len(), 4);
-        for (path, c) in off.to_line_paths(1e-5).iter().zip(&off.contours) {
+        for (path, c) in off.to_line_paths(1e-5).unwrap().iter().zip(&off.contours) {
             assert!(path.max_gap() < 1e-8, "gap {}", path.max_gap());
             assert!(c.pieces.iter().all(|p| matches!(p, Piece::Curve { .. })));
         }
@@ -845,7 +849,7 @@ pub(crate) mod tests {
         let skin = skin_of(&gentle(), Interp::PhQuintic);
         let ol = outline(&skin).unwrap();
         assert_eq!(ol.contours.len(), 1);
-        let path = &ol.to_cubic_paths(1e-6)[0];
+        let path = &ol.to_cubic_paths(1e-6).unwrap()[0];
         assert!(path.max_gap() < 1e-9);
         // Clockwise (left skin forward, end cap, right skin back, start cap).
         assert!(crate::geom::path::polygon_area(&path.flatten(1e-4)) < 0.0);
@@ -883,7 +887,7 @@ pub(crate) mod tests {
                     assert!(dd > delta - 1e-6 && dd < delta + 2e-3, "δ={delta}: {dd}");
                 }
             }
-            let path = &off.to_cubic_paths(1e-4)[0];
+            let path = &off.to_cubic_paths(1e-4).unwrap()[0];
             assert!(path.max_gap() < 1e-7, "gap {}", path.max_gap());
         }
         // Large δ on this bent outline must produce loops on the concave side.
