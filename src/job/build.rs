@@ -39,7 +39,8 @@ use crate::toolpath::re_route::SegCounts;
 use crate::toolpath::region::Region;
 use crate::toolpath::{OperationKind as TpKind, Toolpath};
 use glam::DVec3;
-use std::cell::RefCell;
+use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// Options of a build.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -101,7 +102,19 @@ struct Ctx<'a> {
     method: OutlineMethod,
     /// RE/MPH skins of every item, per interpolant used by the build.
     re: Vec<(Interp, Vec<Result<ReItem, RouteRefusal>>)>,
-    routes: RefCell<Vec<RouteNote>>,
+    /// Route notes with the number of the operation that took them (operations are built
+    /// in parallel; the notes are put in operation order at the end).
+    routes: Mutex<Vec<(usize, RouteNote)>>,
+}
+
+impl Ctx<'_> {
+    /// Records the route operation `index` took.
+    fn note_route(&self, index: usize, note: RouteNote) {
+        self.routes
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push((index, note));
+    }
 }
 
 fn op_err(ctx: &Ctx, index: usize, op: &Operation, message: impl Into<String>) -> JobError {
@@ -249,7 +262,7 @@ impl Ctx<'_> {
         let Some(interp) = re_interp(method) else {
             let paths = general();
             let n = note("skin", "Bézier skin, general offset".into(), &paths);
-            self.routes.borrow_mut().push(n);
+            self.note_route(index, n);
             return Ok(paths);
         };
         let route = if interp == Interp::Cubic { "re" } else { "mph" };
@@ -289,7 +302,7 @@ impl Ctx<'_> {
                 (p, n)
             }
         };
-        self.routes.borrow_mut().push(n);
+        self.note_route(index, n);
         Ok(paths)
     }
 
@@ -1226,7 +1239,7 @@ pub fn build_toolpath_with(
         k: profile.units.mm_per_unit() / design.units.mm_per_unit(),
         method: opts.method,
         re,
-        routes: RefCell::new(Vec::new()),
+        routes: Mutex::new(Vec::new()),
     };
     let mut specs = Vec::new();
     let n_ops = design.operation.len().max(1) + 1;
@@ -1240,9 +1253,19 @@ pub fn build_toolpath_with(
         }
         specs.extend(operation_specs(&ctx, 0, None, &op)?);
     }
-    for (i, op) in design.operation.iter().enumerate() {
-        specs.extend(operation_specs(&ctx, i, Some(i), op)?);
-        report(progress, Stage::Toolpath, i + 1, n_ops);
+    // Operations are independent: built in parallel, joined in order (the first error in
+    // operation order is the one returned, as in a serial build).
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let built: Vec<Result<Vec<_>, JobError>> = (design.operation.par_iter().enumerate())
+        .map(|(i, op)| {
+            let r = operation_specs(&ctx, i, Some(i), op);
+            let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            report(progress, Stage::Toolpath, k + 1, n_ops);
+            r
+        })
+        .collect();
+    for b in built {
+        specs.extend(b?);
     }
     assign_pockets(&ctx, &mut specs);
     let (mut toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
@@ -1251,7 +1274,11 @@ pub fn build_toolpath_with(
     Ok(BuildResult {
         toolpath,
         stats,
-        routes: ctx.routes.into_inner(),
+        routes: {
+            let mut r = ctx.routes.into_inner().unwrap_or_else(|e| e.into_inner());
+            r.sort_by_key(|(i, _)| *i);
+            r.into_iter().map(|(_, n)| n).collect()
+        },
         re_skin_seconds,
         outlines: ctx.outlines,
     })

@@ -845,6 +845,33 @@ mod tests {
         }
     }
 
+    /// f > 0 is proved before offsetting: an f that dips below 0 is refused with its
+    /// witness; one whose minimum, 5·10⁻²⁰ at t₀ = 0.003 (in the middle of a depth-30 piece
+    /// of width h = 2⁻³⁰, where the middle Bernstein coefficient is 5·10⁻²⁰ − h²/4 < 0), is
+    /// below what the subdivision can separate from 0 is refused as undecided instead of
+    /// offset through r ≈ 0.
+    #[test]
+    fn radius_proofs_refuse_what_they_cannot_prove() {
+        use crate::skin::re::poly::Poly;
+        let t0 = 0.003;
+        let with_f = |c: Vec<f64>| {
+            let mut skin = gentle_skin();
+            skin.segments[1].curve.f = Poly { c };
+            skin
+        };
+        let dips = with_f(vec![t0 * t0 - 1e-9, -2.0 * t0, 1.0]);
+        assert!(matches!(
+            outline(&dips),
+            Err(MatOffsetError::NonPositiveRadius { segment: 1, t }) if (t - t0).abs() < 1e-3
+        ));
+        let grazes = with_f(vec![t0 * t0 + 5e-20, -2.0 * t0, 1.0]);
+        assert_eq!(
+            inner_offset(&grazes, 0.2, 1e-12).err(),
+            Some(MatOffsetError::UndecidedRadius { segment: 1 })
+        );
+        assert!(outline(&gentle_skin()).is_ok());
+    }
+
     #[test]
     fn bad_tolerance_is_an_error() {
         let skin = gentle_skin();

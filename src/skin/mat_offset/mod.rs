@@ -41,6 +41,17 @@ pub enum MatOffsetError {
         /// Local parameter in [0, 1] where f ≤ 0 (the witness of the positivity proof).
         t: f64,
     },
+    /// f > 0 on a segment could be neither proved nor refuted down to the proof's
+    /// subdivision limit: f comes within rounding of 0, r = f‖x′‖ ≈ 0, the envelopes all but
+    /// touch and the offset frame is ill-conditioned there.
+    #[error(
+        "segment {segment}: f > 0 not proved (f comes within rounding of 0: the envelopes \
+         nearly touch)"
+    )]
+    UndecidedRadius {
+        /// Index of the segment (circle pair) in the skin.
+        segment: usize,
+    },
     /// x′ = 0 or y′ = 0 at a parameter, so the frame (and m±) is undefined there.
     #[error("segment {segment}: singular point of x or y at t = {t}")]
     Singular {
@@ -207,8 +218,12 @@ fn check_f(skin: &ReSkin) -> Result<(), MatOffsetError> {
         if seg.i >= skin.circles.len() || seg.j >= skin.circles.len() {
             return Err(MatOffsetError::Inconsistent { segment });
         }
-        if let Positivity::Fails { t, .. } = prove_positive(&seg.curve.f, F_PROOF_DEPTH) {
-            return Err(MatOffsetError::NonPositiveRadius { segment, t });
+        match prove_positive(&seg.curve.f, F_PROOF_DEPTH) {
+            Positivity::Proven { .. } => {}
+            Positivity::Fails { t, .. } => {
+                return Err(MatOffsetError::NonPositiveRadius { segment, t });
+            }
+            Positivity::Undecided => return Err(MatOffsetError::UndecidedRadius { segment }),
         }
     }
     Ok(())
