@@ -239,3 +239,46 @@ fn an_unchecked_program_names_its_findings() {
          named above)"
     );
 }
+
+/// Strokes, circle sequences and operations are built in parallel: the gallery's neon sign
+/// (three operations: channel, holes, backboard, and an exact-route profile of its
+/// strokes added here, whose RE route is refused and noted) gives the same program and the same route notes, operation by
+/// operation, in a one-thread pool and a four-thread pool.
+#[test]
+fn a_parallel_build_equals_a_serial_one() {
+    let path = format!("{ROOT}/examples/gallery/neon_open.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = format!(
+        "{text}\n[[operation]]\nkind = \"profile\"\nside = \"outside\"\ndepth = 1.0\nmethod = \"re\"\n"
+    );
+    let design = skinpath::design::load(&text, &path).unwrap();
+    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let out = pool
+            .install(|| {
+                Job {
+                    design: &design,
+                    profile: &profile,
+                    options: JobOptions {
+                        name: "neon",
+                        ..JobOptions::default()
+                    },
+                }
+                .run()
+            })
+            .unwrap();
+        let routes: Vec<(String, String, String)> = (out.summary(&profile).routes.iter())
+            .map(|r| (r.operation.clone(), r.route.clone(), r.detail.clone()))
+            .collect();
+        (out.program, routes)
+    };
+    let (serial, serial_routes) = run(1);
+    let (parallel, parallel_routes) = run(4);
+    assert_eq!(serial_routes.len(), 2, "{serial_routes:?}");
+    assert_eq!(serial_routes, parallel_routes);
+    assert!(serial == parallel, "the programs differ");
+}
