@@ -14,10 +14,11 @@ use super::geometry::{arc_of, split_arc, validate};
 use super::{EmitError, Location, check_tolerance};
 use crate::machine::{
     ArcFormat, Dialect, GcodeSettings, LaserMode, LaserSettings, MachineKind, Profile, RapidOff,
-    RouterSettings, Units, format_number, template,
+    RouterSettings, Units, format_number, push_number, template,
 };
 use crate::toolpath::{Cut, Move, MoveKind, Toolpath};
 use glam::{DVec2, DVec3};
+use std::fmt::Write as _;
 
 /// Largest sweep of one `R`-format arc: 120°. The centre recomputed from `R` gets
 /// ill-conditioned as the sweep nears 180° (the chord nears the diameter) and `R` cannot
@@ -531,13 +532,13 @@ impl Writer<'_> {
     /// Writes a motion line with the axis words that changed and `extra` words; returns
     /// false (writing nothing) when no axis changes and `g` is not an arc.
     fn move_words(&mut self, g: u8, axes: [Option<f64>; 3], extra: &[(&str, String)]) -> bool {
-        let mut words = Vec::new();
+        let mut print = [None; 3];
         let mut moved = false;
-        for (i, (letter, v)) in ["X", "Y", "Z"].iter().zip(axes).enumerate() {
+        for (i, v) in axes.into_iter().enumerate() {
             if let Some(v) = v {
                 let r = self.round(v);
                 if self.printed[i] != Some(r) || (g >= 2 && i < 2) {
-                    words.push(format!("{letter}{}", self.num(v)));
+                    print[i] = Some(v);
                     moved |= self.printed[i] != Some(r) || g >= 2;
                     self.printed[i] = Some(r);
                 }
@@ -546,16 +547,22 @@ impl Writer<'_> {
         if !moved {
             return false;
         }
-        let mut line = String::new();
+        // Written straight into the program: the motion word when it changes (or the
+        // dialect is not modal), the axis words, then the extra words that changed.
+        let start = self.out.len();
         if self.motion != Some(g) || !self.dialect().modal_motion() {
-            line.push_str(&format!("G{g}"));
+            // Writing into a String cannot fail.
+            let _ = write!(self.out, "G{g}");
             self.motion = Some(g);
         }
-        for w in words {
-            if !line.is_empty() {
-                line.push(' ');
+        for (letter, v) in ['X', 'Y', 'Z'].into_iter().zip(print) {
+            if let Some(v) = v {
+                if self.out.len() > start {
+                    self.out.push(' ');
+                }
+                self.out.push(letter);
+                push_number(&mut self.out, v, self.g.decimals);
             }
-            line.push_str(&w);
         }
         for (letter, v) in extra {
             match *letter {
@@ -573,11 +580,12 @@ impl Writer<'_> {
                 }
                 _ => {}
             }
-            line.push(' ');
-            line.push_str(letter);
-            line.push_str(v);
+            self.out.push(' ');
+            self.out.push_str(letter);
+            self.out.push_str(v);
         }
-        self.line(&line);
+        self.out.push('\n');
+        self.origins.push(self.origin);
         true
     }
 

@@ -83,12 +83,20 @@ pub fn builtin_profile(name: &str) -> Option<Result<Profile, ProfileError>> {
 /// is provably the same ([`rounded_scaled`]); otherwise (ties, huge values, many decimals)
 /// by `format!`.
 pub fn format_number(v: f64, decimals: u32) -> String {
+    let mut s = String::new();
+    push_number(&mut s, v, decimals);
+    s
+}
+
+/// [`format_number`] appended to `out`: no allocation on the integer route.
+pub fn push_number(out: &mut String, v: f64, decimals: u32) {
     if !v.is_finite() {
-        return "0".to_string();
+        out.push('0');
+        return;
     }
     match rounded_scaled(v.abs(), decimals) {
-        Some(n) => digits_of_scaled(v < 0.0, n, decimals),
-        None => format_number_std(v, decimals),
+        Some(n) => push_digits_of_scaled(out, v < 0.0, n, decimals),
+        None => out.push_str(&format_number_std(v, decimals)),
     }
 }
 
@@ -122,8 +130,9 @@ fn rounded_scaled(a: f64, decimals: u32) -> Option<u64> {
 
 /// The text of ±n/10^`decimals` without trailing zeros, a trailing point or `-0`, written
 /// right to left into a stack buffer (n < 2⁵³ has at most 16 digits; with the point, a
-/// leading "0" and the sign that is at most 19 bytes for `decimals` ≤ [`FAST_DECIMALS`]).
-fn digits_of_scaled(negative: bool, n: u64, decimals: u32) -> String {
+/// leading "0" and the sign that is at most 19 bytes for `decimals` ≤ [`FAST_DECIMALS`]),
+/// then appended to `out`.
+fn push_digits_of_scaled(out: &mut String, negative: bool, n: u64, decimals: u32) {
     let mut buf = [0u8; 32];
     let mut at = buf.len();
     let mut rest = n;
@@ -154,7 +163,7 @@ fn digits_of_scaled(negative: bool, n: u64, decimals: u32) -> String {
     if negative && n != 0 {
         put(b'-', &mut at);
     }
-    buf[at..].iter().map(|&b| b as char).collect()
+    out.extend(buf[at..].iter().map(|&b| b as char));
 }
 
 /// [`format_number`] by the standard formatter alone, `format!("{:.*}")` (exact decimal
