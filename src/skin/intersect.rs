@@ -184,29 +184,44 @@ enum Geom {
     Arc(Arc),
 }
 
+/// Distance bound of an arc from its chord: the sagitta r·(1 − cos(|sweep|/2)) up to a half
+/// turn, the diameter beyond.
+fn arc_flatness(a: &Arc) -> f64 {
+    let s = a.sweep.abs();
+    if s <= PI {
+        a.radius * (1.0 - (0.5 * s).cos())
+    } else {
+        2.0 * a.radius
+    }
+}
+
 impl Piece {
     fn new(geom: Geom, t0: f64, t1: f64) -> Piece {
-        let (ends, flat, bbox) = match geom {
-            Geom::Cubic(c) => ((c.p0, c.p3), c.flatness(), c.control_bbox()),
-            Geom::Arc(a) => {
-                let (p, q) = (a.p0(), a.p1());
-                let s = a.sweep.abs();
-                let f = if s <= PI {
-                    a.radius * (1.0 - (0.5 * s).cos())
-                } else {
-                    2.0 * a.radius
-                };
-                let g = DVec2::splat(f);
-                ((p, q), f, (p.min(q) - g, p.max(q) + g))
-            }
-        };
+        match geom {
+            Geom::Cubic(c) => Piece {
+                geom,
+                t0,
+                t1,
+                ends: (c.p0, c.p3),
+                flat: c.flatness(),
+                bbox: c.control_bbox(),
+            },
+            Geom::Arc(a) => Piece::arc(a, t0, t1, (a.p0(), a.p1()), arc_flatness(&a)),
+        }
+    }
+
+    /// The piece of arc `a` with its end points and [`arc_flatness`] already known (the
+    /// halves of a split share the middle point and their sweep).
+    fn arc(a: Arc, t0: f64, t1: f64, ends: (DVec2, DVec2), flat: f64) -> Piece {
+        let (p, q) = ends;
+        let g = DVec2::splat(flat);
         Piece {
-            geom,
+            geom: Geom::Arc(a),
             t0,
             t1,
             ends,
             flat,
-            bbox,
+            bbox: (p.min(q) - g, p.max(q) + g),
         }
     }
 
@@ -249,20 +264,29 @@ impl Piece {
 
     fn split(&self) -> (Piece, Piece) {
         let tm = 0.5 * (self.t0 + self.t1);
-        let (g0, g1) = match self.geom {
+        match self.geom {
             Geom::Cubic(c) => {
                 let (a, b) = c.split(0.5);
-                (Geom::Cubic(a), Geom::Cubic(b))
-            }
-            Geom::Arc(a) => {
-                let h = 0.5 * a.sweep;
                 (
-                    Geom::Arc(Arc::new(a.center, a.radius, a.start, h)),
-                    Geom::Arc(Arc::new(a.center, a.radius, a.start + h, h)),
+                    Piece::new(Geom::Cubic(a), self.t0, tm),
+                    Piece::new(Geom::Cubic(b), tm, self.t1),
                 )
             }
-        };
-        (Piece::new(g0, self.t0, tm), Piece::new(g1, tm, self.t1))
+            Geom::Arc(a) => {
+                // The first half starts where this piece does and ends where the second
+                // starts (both at the angle start + h): one point and one sagitta computed.
+                let h = 0.5 * a.sweep;
+                let (a0, a1) = (
+                    Arc::new(a.center, a.radius, a.start, h),
+                    Arc::new(a.center, a.radius, a.start + h, h),
+                );
+                let (mid, flat) = (a1.p0(), arc_flatness(&a0));
+                (
+                    Piece::arc(a0, self.t0, tm, (self.ends.0, mid), flat),
+                    Piece::arc(a1, tm, self.t1, (mid, a1.p1()), flat),
+                )
+            }
+        }
     }
 
     fn touches_param(&self, t: f64) -> bool {
