@@ -1,8 +1,10 @@
 //! Toolpath benches: offsetting an outline with arcs (cavalier_contours, via
 //! `Region::offset`) against geo's `Buffer` of the same outline flattened, in the same run;
 //! plus hatch filling and ordering, on a synthetic flower and on the shipped examples'
-//! outlines (`bench_example_offsets`: inward and outward, with accuracy and area ratio). Accuracy of both offsets (largest deviation of the
-//! result's vertices from distance δ to the source) is printed once per size.
+//! outlines (`bench_example_offsets`: inward and outward, with accuracy and area ratio),
+//! and winding numbers through `toolpath::winding` against cavalier's (`bench_winding`).
+//! Accuracy of both offsets (largest deviation of the result's vertices from distance δ to
+//! the source) is printed once per size.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use geo::Buffer;
@@ -70,6 +72,42 @@ fn bench_offsets(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("geo_buffer", n), &n, |b, _| {
             b.iter(|| black_box(poly.buffer(delta)))
         });
+    }
+    g.finish();
+}
+
+/// Winding numbers of every vertex of an offset flower about the flower (what
+/// `Region::holds` asks after an offset): the slab index of `toolpath::winding` against
+/// cavalier_contours' `winding_number` walking every segment, in the same run. The two
+/// counts are compared once.
+fn bench_winding(c: &mut Criterion) {
+    use cavalier_contours::core::math::Vector2;
+    use cavalier_contours::polyline::{PlineSource, Polyline};
+    use skinpath::toolpath::winding::WindingIndex;
+    let mut g = c.benchmark_group("winding_of_offset_vertices");
+    for &n in &[100usize, 1000, 10_000] {
+        let region = Region::from_contours(vec![pline_from_points(&flower(n), true)]);
+        let grown = region.offset(1.5, 1e-6);
+        let pl: &Polyline<f64> = &region.contours[0];
+        let probes: Vec<Vector2<f64>> = (grown.contours.iter())
+            .flat_map(|c| c.iter_vertexes().map(|v| Vector2::new(v.x, v.y)))
+            .collect();
+        let index = WindingIndex::new(pl);
+        let same = probes
+            .iter()
+            .all(|&p| index.winding(p) == pl.winding_number(p));
+        println!("n={n}: {} probes, index == cavalier: {same}", probes.len());
+        g.bench_with_input(BenchmarkId::new("index_build_and_query", n), &n, |b, _| {
+            b.iter(|| {
+                let w = WindingIndex::new(pl);
+                black_box(probes.iter().map(|&p| w.winding(p)).sum::<i32>())
+            })
+        });
+        g.bench_with_input(
+            BenchmarkId::new("cavalier_winding_number", n),
+            &n,
+            |b, _| b.iter(|| black_box(probes.iter().map(|&p| pl.winding_number(p)).sum::<i32>())),
+        );
     }
     g.finish();
 }
@@ -217,6 +255,6 @@ fn bench_hatch_and_order(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = bench_offsets, bench_hatch_and_order, bench_example_offsets
+    targets = bench_offsets, bench_hatch_and_order, bench_example_offsets, bench_winding
 }
 criterion_main!(benches);
