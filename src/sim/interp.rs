@@ -2139,9 +2139,9 @@ impl<'a> Interp<'a, '_> {
         t
     }
 
-    /// A block of plain words `G0`/`G1`, `X`, `Y`, `Z` and `F` (each at most once, numbers,
-    /// F ≥ 0) and `N` in a feed per minute mode with G0 or G1 in force or given: what CAM programs
-    /// are made of. Runs it as [`Interp::exec`] would (the same state changes, word count
+    /// A block of plain words `G0`/`G1`, `X`, `Y`, `Z`, `F` and `S` (each at most once,
+    /// numbers, F ≥ 0, S ≥ 0) and `N` in a feed per minute mode with G0 or G1 in force or
+    /// given: what CAM programs are made of (a laser's inline power in S too). Runs it as [`Interp::exec`] would (the same state changes, word count
     /// and move) without sorting it into a [`Block`]; returns false, having changed
     /// nothing, for any other line.
     fn plain_block(&mut self, l: &Line) -> bool {
@@ -2157,6 +2157,7 @@ impl<'a> Interp<'a, '_> {
         let mut mode = self.st.mode;
         let mut xyz: [Option<f64>; 3] = [None; 3];
         let mut feed: Option<f64> = None;
+        let mut speed: Option<f64> = None;
         let mut g = false;
         for w in &l.words {
             let Expr::Num(v) = w.value else {
@@ -2181,6 +2182,7 @@ impl<'a> Interp<'a, '_> {
                 'Y' => &mut xyz[1],
                 'Z' => &mut xyz[2],
                 'F' if v >= 0.0 => &mut feed,
+                'S' if v >= 0.0 => &mut speed,
                 _ => return false,
             };
             if slot.is_some() {
@@ -2204,6 +2206,10 @@ impl<'a> Interp<'a, '_> {
         if let Some(f) = feed {
             self.st.feed = f;
             self.st.feed_k = self.st.k();
+        }
+        if let Some(s) = speed {
+            let spindle = self.st.tool.spindle;
+            self.st.tool.switch(spindle, s);
         }
         self.st.mode = mode;
         if xyz.iter().any(Option::is_some) {
@@ -2935,7 +2941,7 @@ mod tests {
     }
 
     /// Lines the plain route takes or must refuse, mixed with the modal state they depend on.
-    const PLAIN_MIX: [&str; 35] = [
+    const PLAIN_MIX: [&str; 42] = [
         "N10 G1 X1 Y1",
         "N20 N30 X2",
         "N5",
@@ -2971,6 +2977,13 @@ mod tests {
         "G54",
         "X1 I2",
         "G1 X2 (c)",
+        "G1 X1 Y2 S500",
+        "X3 S0",
+        "G0 X1 S-5",
+        "S250",
+        "M4",
+        "G1 X2 S12.5 S3",
+        "M3",
     ];
 
     proptest::proptest! {
