@@ -172,6 +172,11 @@ impl Writer<'_> {
 
     fn line(&mut self, s: &str) {
         self.out.push_str(s);
+        self.end_line();
+    }
+
+    /// Ends the line written into `out` and records its origin.
+    fn end_line(&mut self) {
         self.out.push('\n');
         self.origins.push(self.origin);
     }
@@ -584,8 +589,7 @@ impl Writer<'_> {
             self.out.push_str(letter);
             self.out.push_str(v);
         }
-        self.out.push('\n');
-        self.origins.push(self.origin);
+        self.end_line();
         true
     }
 

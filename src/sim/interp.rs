@@ -2141,9 +2141,9 @@ impl<'a> Interp<'a, '_> {
 
     /// A block of plain words `G0`/`G1`, `X`, `Y`, `Z`, `F` and `S` (each at most once,
     /// numbers, F ≥ 0, S ≥ 0) and `N` in a feed per minute mode with G0 or G1 in force or
-    /// given: what CAM programs are made of (a laser's inline power in S too). Runs it as [`Interp::exec`] would (the same state changes, word count
-    /// and move) without sorting it into a [`Block`]; returns false, having changed
-    /// nothing, for any other line.
+    /// given: what CAM programs are made of (a laser's inline power in S too). Runs it as
+    /// [`Interp::exec`] would (the same state changes, word count and move) without sorting
+    /// it into a [`Block`]; returns false, having changed nothing, for any other line.
     fn plain_block(&mut self, l: &Line) -> bool {
         if !(l.errors.is_empty()
             && l.dollar.is_none()

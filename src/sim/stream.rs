@@ -23,7 +23,7 @@
 //! with non-finite coordinates fall back to testing all pairs in memory.
 
 use super::checks::gouge::GougeIndex;
-use super::checks::intersect::{Contact, Grid, Link, MAX_CONTACTS, Seg, SegmentSet};
+use super::checks::intersect::{Across, Contact, Grid, Link, MAX_CONTACTS, Seg, SegmentSet};
 use super::checks::{DesignBoundary, contours, machine};
 use super::config::CheckConfig;
 use super::findings::Finding;
@@ -547,8 +547,7 @@ impl<'d> Checker<'d> {
         }
         let Some(grid) = Grid::new(self.seg_lo, self.seg_hi, self.seg_total, n as usize) else {
             // Non-finite coordinates: every pair, in memory.
-            let (mut set, recs) = load_tile(&self.spill)?;
-            set.across = contours::across(&self.cfg);
+            let (set, recs) = load_tile(&self.spill, contours::across(&self.cfg))?;
             let found = set.brute_force();
             self.contacts_capped |= found.len() >= MAX_CONTACTS;
             for c in found {
@@ -634,8 +633,7 @@ impl<'d> Checker<'d> {
             return Ok(());
         }
         let tmp = TempFileRef { path };
-        let (mut set, recs) = load_tile_at(&tmp)?;
-        set.across = contours::across(&self.cfg);
+        let (set, recs) = load_tile_at(&tmp, contours::across(&self.cfg))?;
         let found = set.cell_contacts(grid, keys);
         self.contacts_capped |= found.len() >= MAX_CONTACTS;
         for c in found {
@@ -738,12 +736,12 @@ struct TempFileRef<'p> {
     path: &'p std::path::Path,
 }
 
-fn load_tile(f: &TempFile) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
-    load_tile_at(&TempFileRef { path: &f.path })
+fn load_tile(f: &TempFile, across: Across) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
+    load_tile_at(&TempFileRef { path: &f.path }, across)
 }
 
 /// The records of a file in segment order, and the tile set of them.
-fn load_tile_at(f: &TempFileRef<'_>) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
+fn load_tile_at(f: &TempFileRef<'_>, across: Across) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
     let file = std::fs::File::open(f.path)?;
     let n = file.metadata().map_or(0, |m| m.len()) as usize / REC;
     let mut r = BufReader::with_capacity(1 << 16, file);
@@ -768,5 +766,5 @@ fn load_tile_at(f: &TempFileRef<'_>) -> std::io::Result<(SegmentSet, Vec<SegRec>
         })
         .collect();
     let links = recs.iter().map(|r| r.link).collect();
-    Ok((SegmentSet::tile(segs, links), recs))
+    Ok((SegmentSet::tile(segs, links, across), recs))
 }

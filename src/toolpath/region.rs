@@ -401,33 +401,22 @@ fn degenerate(pl: &Polyline<f64>, eps: f64) -> bool {
     pl.vertex_count() < 2 || pl.area().abs() <= eps * pl.path_length()
 }
 
-/// Winding numbers of contours about many points: each contour's extents (a closed contour
-/// winds 0 times about a point outside them, arcs included) and its [`WindingIndex`]. The
-/// numbers are cavalier's `winding_number`.
-struct Windings {
-    /// (min x, min y, max x, max y).
-    boxes: Vec<Option<[f64; 4]>>,
-    index: Vec<WindingIndex>,
-}
+/// Winding numbers of contours about many points, one [`WindingIndex`] per contour (a
+/// point outside a contour's height range costs one comparison). The numbers are
+/// cavalier's `winding_number`. No box prefilter: cavalier's extents miss the extremes of
+/// arcs sweeping more than a half turn.
+struct Windings(Vec<WindingIndex>);
 
 impl Windings {
     fn new(contours: &[Polyline<f64>]) -> Windings {
-        Windings {
-            boxes: (contours.iter())
-                .map(|c| c.extents().map(|b| [b.min_x, b.min_y, b.max_x, b.max_y]))
-                .collect(),
-            index: contours.iter().map(WindingIndex::new).collect(),
-        }
+        Windings(contours.iter().map(WindingIndex::new).collect())
     }
 
     /// The winding number of contour `k` about (x, y).
     fn of(&self, k: usize, x: f64, y: f64) -> i32 {
-        let inside = (self.boxes.get(k).copied().flatten())
-            .is_some_and(|[x0, y0, x1, y1]| x0 <= x && x <= x1 && y0 <= y && y <= y1);
-        match self.index.get(k) {
-            Some(w) if inside => w.winding(cavalier_contours::core::math::Vector2::new(x, y)),
-            _ => 0,
-        }
+        self.0.get(k).map_or(0, |w| {
+            w.winding(cavalier_contours::core::math::Vector2::new(x, y))
+        })
     }
 }
 
@@ -600,11 +589,10 @@ impl Region {
         self.winds_every_vertex(other, 0)
     }
 
-    /// Whether this region's contours wind `n` times about every vertex of `other`. A
-    /// closed contour winds 0 times about a point outside its extents (arcs included), so
-    /// only the contours whose box holds the vertex are asked, each through a
-    /// [`WindingIndex`] (the same number as cavalier's `winding_number`): O(W) to build and
-    /// O(1 + k) per vertex for the k segments in its slab, instead of O(V·W).
+    /// Whether this region's contours wind `n` times about every vertex of `other`, each
+    /// contour asked through a [`WindingIndex`] (the same number as cavalier's
+    /// `winding_number`): O(W) to build and O(1 + k) per vertex for the k segments in its
+    /// slab, instead of O(V·W).
     fn winds_every_vertex(&self, other: &Region, n: i32) -> bool {
         let windings = Windings::new(&self.contours);
         other

@@ -487,12 +487,13 @@ impl SegmentSet {
     }
 
     /// A tile of a larger set: `segs` with their neighbours `links` (same length), in the
-    /// larger set's order; see [`SegmentSet::cell_contacts`].
-    pub fn tile(segs: Vec<Seg>, links: Vec<Link>) -> Self {
+    /// larger set's order, contacts between contours counted by `across`; see
+    /// [`SegmentSet::cell_contacts`].
+    pub fn tile(segs: Vec<Seg>, links: Vec<Link>, across: Across) -> Self {
         SegmentSet {
             segs,
             contours: Vec::new(),
-            across: Across::All,
+            across,
             links: Some(links),
         }
     }

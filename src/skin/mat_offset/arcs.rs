@@ -547,7 +547,7 @@ impl MatOffset {
     /// of the module docs (re-skinning-cnc eq. 13 for the curve; the cap arcs kept exact).
     /// `tol` must be finite and positive.
     pub fn to_merged_arc_paths(&self, tol: f64) -> Result<MergedArcs, MatOffsetError> {
-        super::fit::check_tolerance(tol)?;
+        super::check_tolerance(tol)?;
         let mut res = MergedArcs::default();
         for elems in self.elements(tol) {
             let mut segs: Vec<PathSeg> = Vec::new();

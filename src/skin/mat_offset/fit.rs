@@ -2,7 +2,7 @@
 //! Sec. 4: the exact offsets y + (r ± δ) m± of eq. 13 handed to G-code as G1/G2/G3), and
 //! flattening them to polylines.
 
-use super::{MatOffset, MatOffsetError, Piece};
+use super::{MatOffset, MatOffsetError, Piece, check_tolerance};
 use crate::geom::{Arc, CubicBez, DVec2, Line, Path, PathSeg};
 use crate::skin::re::Branch;
 
@@ -38,15 +38,6 @@ fn arc3(p0: DVec2, pm: DVec2, p1: DVec2) -> PathSeg {
     let center = m1 + s * d1;
     PathSeg::Arc(Arc::from_center_points(center, p0, p1, cr > 0.0))
 }
-/// Ok when `tol` is a tolerance the fits can meet: positive and finite.
-pub(crate) fn check_tolerance(tol: f64) -> Result<(), MatOffsetError> {
-    if tol.is_finite() && tol > 0.0 {
-        Ok(())
-    } else {
-        Err(MatOffsetError::BadTolerance(tol))
-    }
-}
-
 /// Deepest bisection of a piece when fitting.
 const MAX_FIT_DEPTH: u32 = 30;
 

@@ -83,7 +83,6 @@ pub enum MatOffsetError {
 
 mod arcs;
 mod fit;
-pub(crate) use fit::check_tolerance;
 mod flatten;
 #[cfg(test)]
 mod global_tests;
@@ -204,6 +203,16 @@ fn check_delta(delta: f64) -> Result<(), MatOffsetError> {
         Ok(())
     } else {
         Err(MatOffsetError::BadDelta(delta))
+    }
+}
+
+/// Ok when `tol` is a tolerance the fits of an offset can meet: positive and finite (at 0
+/// or NaN they would bisect every piece to their depth limit).
+pub(crate) fn check_tolerance(tol: f64) -> Result<(), MatOffsetError> {
+    if tol.is_finite() && tol > 0.0 {
+        Ok(())
+    } else {
+        Err(MatOffsetError::BadTolerance(tol))
     }
 }
 
