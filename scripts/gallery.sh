@@ -10,8 +10,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
-cargo build --quiet
-bin="${CARGO_TARGET_DIR:-$root/target}/debug/skinpath"
+cargo build --release --quiet
+bin="${CARGO_TARGET_DIR:-$root/target}/release/skinpath"
 g=examples/gallery
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
