@@ -187,27 +187,7 @@ impl DiskBSpline {
     /// m±′ = [(−r″q′ − r′q″ ± (q″⊥ s + q′⊥ s′)) L − (−r′q′ ± q′⊥ s) 2 q′·q″] / L².
     /// `None` where no real envelope exists (‖q′‖ ≤ |r′|).
     pub fn envelope(&self, side: Side, t: f64) -> Option<EnvelopePoint> {
-        let d = self.curve.derivs_array::<3>(t);
-        let (q, r) = (DVec2::new(d[0].x, d[0].y), d[0].z);
-        let (q1, r1) = (DVec2::new(d[1].x, d[1].y), d[1].z);
-        let (q2, r2) = (DVec2::new(d[2].x, d[2].y), d[2].z);
-        let l = q1.length_squared();
-        let disc = l - r1 * r1;
-        if disc.is_nan() || disc <= 0.0 || l == 0.0 {
-            return None;
-        }
-        let sg = side.sign();
-        let s = disc.sqrt();
-        let num = -r1 * q1 + sg * s * perp(q1);
-        let m = num / l;
-        let s1 = (q1.dot(q2) - r1 * r2) / s;
-        let num1 = -r2 * q1 - r1 * q2 + sg * (perp(q2) * s + perp(q1) * s1);
-        let m1 = (num1 * l - num * (2.0 * q1.dot(q2))) / (l * l);
-        Some(EnvelopePoint {
-            point: q + r * m,
-            deriv: q1 + r1 * m + r * m1,
-            m,
-        })
+        envelope_of_jet(side, &self.curve.derivs_array::<3>(t))
     }
 
     /// τ±(t) = q±′(t)·q′(t) (kruppa-2023 Sec. 3): the envelope runs along the centre curve
@@ -216,6 +196,31 @@ impl DiskBSpline {
         let e = self.envelope(side, t)?;
         Some(e.deriv.dot(self.derivs(t, 1)[1].0))
     }
+}
+
+/// [`DiskBSpline::envelope`] from (x, y, r) and its first two derivatives at one parameter
+/// (wu-2021 eq. 9 and its derivative, as documented there).
+pub(crate) fn envelope_of_jet(side: Side, d: &[DVec3; 3]) -> Option<EnvelopePoint> {
+    let (q, r) = (DVec2::new(d[0].x, d[0].y), d[0].z);
+    let (q1, r1) = (DVec2::new(d[1].x, d[1].y), d[1].z);
+    let (q2, r2) = (DVec2::new(d[2].x, d[2].y), d[2].z);
+    let l = q1.length_squared();
+    let disc = l - r1 * r1;
+    if disc.is_nan() || disc <= 0.0 || l == 0.0 {
+        return None;
+    }
+    let sg = side.sign();
+    let s = disc.sqrt();
+    let num = -r1 * q1 + sg * s * perp(q1);
+    let m = num / l;
+    let s1 = (q1.dot(q2) - r1 * r2) / s;
+    let num1 = -r2 * q1 - r1 * q2 + sg * (perp(q2) * s + perp(q1) * s1);
+    let m1 = (num1 * l - num * (2.0 * q1.dot(q2))) / (l * l);
+    Some(EnvelopePoint {
+        point: q + r * m,
+        deriv: q1 + r1 * m + r * m1,
+        m,
+    })
 }
 
 #[cfg(test)]
@@ -245,6 +250,25 @@ mod tests {
                     let lateral = r * (1.0 - r1 * r1 / q1.length_squared()).sqrt() * q1.length();
                     prop_assert!(cr * side.sign() >= -1e-9 * scale, "side {side:?}");
                     prop_assert!((cr.abs() - lateral).abs() <= 1e-7 * scale.max(lateral));
+                }
+            }
+        }
+
+        #[test]
+        fn span_jets_match_de_boor(c in dbsc_strategy(), s in 0.0f64..=1.0) {
+            // The Bernstein form of each span (Hausdorff bounds evaluate through it) against
+            // the B-spline's own derivatives (P&T A2.3) at the same parameter.
+            for sp in crate::dbsc::SpanPoly::all(&c) {
+                let t = sp.a + s * (sp.b - sp.a);
+                let jet = sp.jet(t);
+                let de_boor = c.curve().derivs_array::<3>(t);
+                let size = c.curve().ctrl().iter().map(|v| v.abs().max_element()).fold(1.0, f64::max);
+                for (k, (a, b)) in jet.iter().zip(&de_boor).enumerate() {
+                    let scale = size / (sp.b - sp.a).powi(k as i32);
+                    prop_assert!((*a - *b).abs().max_element() <= 1e-9 * scale, "order {k}: {a} vs {b}");
+                }
+                if let (Some(e), Some(f)) = (envelope_of_jet(Side::Left, &jet), c.envelope(Side::Left, t)) {
+                    prop_assert!((e.point - f.point).length() <= 1e-9 * size);
                 }
             }
         }

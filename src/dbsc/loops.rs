@@ -25,6 +25,7 @@
 use super::{DiskBSpline, Side};
 use crate::geom::DVec2;
 use crate::geom::bernstein::{self, RootOptions, binom};
+use glam::DVec3;
 
 /// Safety cap on the subdivision depth of Bernstein root isolation: 2^-60 of a span is far
 /// below any parameter tolerance a caller can ask for in f64.
@@ -168,6 +169,21 @@ impl SpanPoly {
             y: Bern::from_taylor(&ys, h),
             r: Bern::from_taylor(&rs, h),
         }
+    }
+
+    /// (x, y, r) and their first two t-derivatives at `t` ∈ [a, b], from the Bernstein
+    /// form ([`bernstein::eval_d2`]; d/dt = d/du / h): the same values as the B-spline's
+    /// de Boor evaluation up to rounding, without the basis functions.
+    pub(crate) fn jet(&self, t: f64) -> [DVec3; 3] {
+        let h = self.b - self.a;
+        let u = ((t - self.a) / h).clamp(0.0, 1.0);
+        let [x, y, r] = [&self.x, &self.y, &self.r].map(|c| bernstein::eval_d2(&c.0, u));
+        let (k1, k2) = (1.0 / h, 1.0 / (h * h));
+        [
+            DVec3::new(x[0], y[0], r[0]),
+            DVec3::new(x[1], y[1], r[1]) * k1,
+            DVec3::new(x[2], y[2], r[2]) * k2,
+        ]
     }
 
     /// The spans of the curve's domain.

@@ -12,6 +12,7 @@ mod fit;
 mod loops;
 
 pub use crate::spline::fit::Parametrization;
+pub(crate) use curve::envelope_of_jet;
 pub use curve::{DiskBSpline, EnvelopePoint, Side};
 pub use fit::{DbscFitError, disk_parameters};
 pub(crate) use loops::{Bern, SpanPoly};

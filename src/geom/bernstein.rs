@@ -95,6 +95,35 @@ pub fn eval(b: &[f64], u: f64) -> f64 {
     })
 }
 
+/// (f(u), f′(u), f″(u)) by de Casteljau's algorithm: the last three levels hold the
+/// derivatives, f″ = n(n − 1)(w₀ − 2w₁ + w₂) on the level of three points and
+/// f′ = n(v₁ − v₀) on the level of two (Farin, *Curves and Surfaces for CAGD*, eq. 5.21).
+/// Zeros for no coefficients.
+pub fn eval_d2(b: &[f64], u: f64) -> [f64; 3] {
+    let n = b.len();
+    match n {
+        0 => return [0.0; 3],
+        1 => return [b[0], 0.0, 0.0],
+        _ => {}
+    }
+    with_copy(b, |w| {
+        // Reduce to three points (two for degree 1).
+        for r in 1..n.saturating_sub(2) {
+            casteljau_step(w, n - r + 1, u);
+        }
+        let deg = (n - 1) as f64;
+        let d2 = if n >= 3 {
+            let d2 = deg * (deg - 1.0) * (w[0] - 2.0 * w[1] + w[2]);
+            casteljau_step(w, 3, u);
+            d2
+        } else {
+            0.0
+        };
+        let d1 = deg * (w[1] - w[0]);
+        [w[0] * (1.0 - u) + w[1] * u, d1, d2]
+    })
+}
+
 /// De Casteljau split at `u` in place: `work` (the coefficients on [0, 1] on entry) ends
 /// as the piece on [u, 1] and `left` receives the piece on [0, u], both reparametrised to
 /// [0, 1]. `left.len()` must equal `work.len()`.
@@ -397,6 +426,24 @@ mod tests {
         // More coefficients than the stack array: the heap path gives the same value.
         let big = from_power(&from_roots(&[0.5; 70], 1.0));
         assert!(eval(&big, 0.5).abs() < 1e-12 && eval(&big, 1.0) > 0.0);
+    }
+
+    proptest! {
+        #[test]
+        fn value_and_derivatives_match_the_power_form(
+            a in proptest::collection::vec(-5.0f64..5.0, 1..12),
+            u in 0.0f64..=1.0,
+        ) {
+            // f, f′, f″ of the power form by Horner against eval_d2 of the Bernstein form.
+            let da: Vec<f64> = (1..a.len()).map(|k| k as f64 * a[k]).collect();
+            let dda: Vec<f64> = (1..da.len()).map(|k| k as f64 * da[k]).collect();
+            let [f, f1, f2] = eval_d2(&from_power(&a), u);
+            let scale = a.iter().map(|x| x.abs()).sum::<f64>() * (a.len() * a.len()) as f64;
+            prop_assert!((f - horner(&a, u)).abs() <= 1e-12 * scale);
+            prop_assert!((f1 - horner(&da, u)).abs() <= 1e-11 * scale);
+            prop_assert!((f2 - horner(&dda, u)).abs() <= 1e-10 * scale);
+            prop_assert_eq!(f, eval(&from_power(&a), u));
+        }
     }
 
     #[test]

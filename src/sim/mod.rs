@@ -175,13 +175,19 @@ pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
 /// mm. Interpreter diagnostics come first, then the checks' findings, each check capped at
 /// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
 pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
-    let findings = run_checks(prog, cfg, design);
-    let stats = if prog.unusable.is_some() {
+    let (findings, stats) =
+        rayon::join(|| run_checks(prog, cfg, design), || usable_stats(prog, cfg));
+    assemble(prog, cfg, findings, stats)
+}
+
+/// The [`stats`] of `prog` (`cfg` may be in inch), or none when the program is unusable.
+/// Independent of [`run_checks`]: [`check`] runs the two side by side.
+pub fn usable_stats(prog: &Program, cfg: &CheckConfig) -> Stats {
+    if prog.unusable.is_some() {
         Stats::default()
     } else {
         stats(prog, &cfg.in_mm())
-    };
-    assemble(prog, cfg, findings, stats)
+    }
 }
 
 /// The findings of [`check`] before capping: interpreter diagnostics, then every check's

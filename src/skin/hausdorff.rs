@@ -26,7 +26,7 @@
 //! for the gap of the final report. Only when that fails does the full search run, with a
 //! point-distance search at every sample of X.
 
-use crate::dbsc::{Bern, DiskBSpline, Side, SpanPoly};
+use crate::dbsc::{Bern, DiskBSpline, EnvelopePoint, Side, SpanPoly, envelope_of_jet};
 use crate::geom::bernstein;
 use crate::geom::{CubicBez, DVec2, Line};
 use std::cmp::Ordering;
@@ -213,6 +213,18 @@ impl<'a> EnvelopeSegment<'a> {
     }
 }
 
+impl EnvelopeSegment<'_> {
+    /// The envelope point at `t` from the Bernstein form of its span (the curve's own
+    /// evaluation outside the spans, which [`Self::pieces`] never asks for).
+    fn envelope(&self, t: f64) -> Result<EnvelopePoint, HausdorffError> {
+        let jet = match self.spans.iter().find(|s| t >= s.a && t <= s.b) {
+            Some(sp) => sp.jet(t),
+            None => self.curve.curve().derivs_array::<3>(t),
+        };
+        envelope_of_jet(self.side, &jet).ok_or(HausdorffError::NoEnvelope { t })
+    }
+}
+
 impl BoundedCurve for EnvelopeSegment<'_> {
     fn pieces(&self) -> Vec<(f64, f64)> {
         self.spans
@@ -221,16 +233,10 @@ impl BoundedCurve for EnvelopeSegment<'_> {
             .collect()
     }
     fn point(&self, t: f64) -> Result<DVec2, HausdorffError> {
-        self.curve
-            .envelope(self.side, t)
-            .map(|e| e.point)
-            .ok_or(HausdorffError::NoEnvelope { t })
+        self.envelope(t).map(|e| e.point)
     }
     fn point_tangent(&self, t: f64) -> Result<(DVec2, DVec2), HausdorffError> {
-        self.curve
-            .envelope(self.side, t)
-            .map(|e| (e.point, e.deriv))
-            .ok_or(HausdorffError::NoEnvelope { t })
+        self.envelope(t).map(|e| (e.point, e.deriv))
     }
     fn d2_bound(&self, t0: f64, t1: f64) -> f64 {
         let Some(sp) = self
