@@ -117,17 +117,18 @@ fn null_space(m1: &V4, m2: &V4) -> Option<[V4; 2]> {
         return None;
     }
     let u2 = scale4(1.0 / n2, &v2);
-    let mut basis: Vec<V4> = vec![u1, u2];
-    for _ in 0..2 {
+    // The rows' basis, completed to all of R⁴ (on the stack: this runs once per circle).
+    let mut basis: [V4; 4] = [u1, u2, [0.0; 4], [0.0; 4]];
+    for len in 2..4 {
         let mut best: Option<(f64, V4)> = None;
         for k in 0..4 {
             let mut e = [0.0; 4];
             e[k] = 1.0;
-            for b in &basis {
+            for b in &basis[..len] {
                 e = axpy(-dot4(b, &e), b, &e);
             }
             // Second pass for orthogonality to working precision.
-            for b in &basis {
+            for b in &basis[..len] {
                 e = axpy(-dot4(b, &e), b, &e);
             }
             let n = dot4(&e, &e).sqrt();
@@ -136,7 +137,7 @@ fn null_space(m1: &V4, m2: &V4) -> Option<[V4; 2]> {
             }
         }
         let (n, e) = best?;
-        basis.push(scale4(1.0 / n, &e));
+        basis[len] = scale4(1.0 / n, &e);
     }
     Some([basis[2], basis[3]])
 }
