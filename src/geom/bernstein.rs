@@ -97,9 +97,9 @@ pub fn eval(b: &[f64], u: f64) -> f64 {
 
 /// (f(u), f′(u), f″(u)) by de Casteljau's algorithm: the last three levels hold the
 /// derivatives, f″ = n(n − 1)(w₀ − 2w₁ + w₂) on the level of three points and
-/// f′ = n(v₁ − v₀) on the level of two (f⁽ᵏ⁾ = n!/(n − k)! Σ Δᵏbᵢ Bᵢⁿ⁻ᵏ, and the level of
-/// k + 1 points is the degree-k polynomial whose k-th forward difference that sum
-/// evaluates). Zeros for no coefficients.
+/// f′ = n(v₁ − v₀) on the level of two: the k + 1 points left after n − k steps are
+/// wⱼ = Σᵢ bᵢ₊ⱼ Bᵢⁿ⁻ᵏ(u), so Δᵏw₀ = Σᵢ Δᵏbᵢ Bᵢⁿ⁻ᵏ(u) = f⁽ᵏ⁾(u) (n − k)!/n!. Zeros for no
+/// coefficients.
 pub fn eval_d2(b: &[f64], u: f64) -> [f64; 3] {
     let n = b.len();
     match n {
