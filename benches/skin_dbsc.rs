@@ -6,12 +6,13 @@
 //!
 //! Peer in the same run: a 10-disk stroke skinned on a one-thread rayon pool (the serial
 //! path) against the default pool (Hausdorff bounds of a pass in parallel); the ratio of
-//! their median times is printed.
+//! their median times is printed. The same stroke with `ReportBounds::Decided` (what
+//! `build` asks for: no tight bounds for the final report) is timed beside them.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use skinpath::dbsc::{DiskBSpline, find_loops};
 use skinpath::geom::{Circle, DVec2};
-use skinpath::skin::dbsc_skin::{DbscSkinOptions, skin_dbsc};
+use skinpath::skin::dbsc_skin::{DbscSkinOptions, ReportBounds, skin_dbsc};
 use std::hint::black_box;
 
 fn open(d: &[(f64, f64, f64)]) -> DiskBSpline {
@@ -124,24 +125,32 @@ fn bench(c: &mut Criterion) {
     let same =
         serial.install(|| skin_dbsc(&ten, &opts)) == parallel.install(|| skin_dbsc(&ten, &opts));
     println!("ten_disks: serial and parallel results equal: {same}");
-    let median = |p: &rayon::ThreadPool| {
+    let decided = DbscSkinOptions {
+        report: ReportBounds::Decided,
+        ..opts
+    };
+    let median = |p: &rayon::ThreadPool, o: &DbscSkinOptions| {
         let mut ts: Vec<f64> = (0..15)
             .map(|_| {
                 let t = std::time::Instant::now();
-                let _ = p.install(|| skin_dbsc(black_box(&ten), &opts));
+                let _ = p.install(|| skin_dbsc(black_box(&ten), o));
                 t.elapsed().as_secs_f64()
             })
             .collect();
         ts.sort_by(f64::total_cmp);
         ts[ts.len() / 2]
     };
-    let (ts, tp) = (median(&serial), median(&parallel));
+    let (ts, tp) = (median(&serial, &opts), median(&parallel, &opts));
+    let td = median(&parallel, &decided);
     println!(
-        "ten_disks: serial {:.3} ms, parallel ({} threads) {:.3} ms, serial/parallel = {:.2}",
+        "ten_disks: serial {:.3} ms, parallel ({} threads) {:.3} ms, serial/parallel = {:.2}; \
+         decided report {:.3} ms, tight/decided = {:.2}",
         ts * 1e3,
         parallel.current_num_threads(),
         tp * 1e3,
-        ts / tp
+        ts / tp,
+        td * 1e3,
+        tp / td
     );
     let mut g = c.benchmark_group("skin_dbsc_10_disks");
     g.sample_size(10);
@@ -150,6 +159,10 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("parallel", |b| {
         b.iter(|| parallel.install(|| skin_dbsc(black_box(&ten), &opts)))
+    });
+    // What `build` asks for: the same skin with the bounds that decided ε, no tight report.
+    g.bench_function("parallel_decided_report", |b| {
+        b.iter(|| parallel.install(|| skin_dbsc(black_box(&ten), &decided)))
     });
     g.finish();
     let mut g = c.benchmark_group("find_loops");

@@ -30,6 +30,7 @@ use crate::design::{
 };
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
+use crate::skin::dbsc_skin::ReportBounds;
 use crate::skin::re::Interp;
 use crate::spline::BSpline;
 use crate::toolpath::cut::{Lead, Tabs};
@@ -1177,6 +1178,8 @@ pub fn build_toolpath_with(
     let outline_opts = OutlineOptions {
         epsilon: opts.epsilon,
         tolerance: opts.tolerance,
+        // Toolpaths use the contours, not the skins' error numbers.
+        report: ReportBounds::Decided,
         ..OutlineOptions::default()
     };
     let mut outlines = design_outlines_with(design, &outline_opts, progress)?;

@@ -13,7 +13,9 @@ use crate::emit::outline::{
 };
 use crate::geom::{Circle, DVec2, Path};
 use crate::skin::coverage::{Uncovered, uncovered};
-use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, SegmentReport, skin_dbsc};
+use crate::skin::dbsc_skin::{
+    DbscSkinError, DbscSkinOptions, ReportBounds, SegmentReport, skin_dbsc,
+};
 use crate::skin::re::{self, Branch, Interp, Touch};
 use crate::skin::{SkinOptions, outline_circles};
 use crate::toolpath::ops::swept_disks;
@@ -34,6 +36,10 @@ pub struct OutlineOptions {
     pub control_disks: bool,
     /// Also draw the inner and outer offsets at this distance (role `offset`).
     pub offset: Option<f64>,
+    /// How tight the per-segment error bounds of disk B-spline skins are
+    /// ([`ItemOutline::segments`]): tight for the outline document, the decided ones where
+    /// only the contours are used (building toolpaths).
+    pub report: ReportBounds,
 }
 
 impl Default for OutlineOptions {
@@ -44,6 +50,7 @@ impl Default for OutlineOptions {
             epsilon: crate::geom::tol::SKIN_EPSILON,
             control_disks: false,
             offset: None,
+            report: ReportBounds::Tight,
         }
     }
 }
@@ -59,7 +66,8 @@ pub struct ItemOutline {
     pub circles: Vec<Circle>,
     /// Envelope loops and spans without an envelope (strokes only).
     pub loops: Option<LoopReport>,
-    /// Per-segment approximation report (strokes, skin method only).
+    /// Per-segment approximation report (strokes, skin method only), with the error bounds
+    /// [`OutlineOptions::report`] asks for.
     pub segments: Vec<SegmentReport>,
     /// The stroke overlaps itself (its spine crosses itself): `contours` are the boundary
     /// of the union, flattened within the outline tolerance.
@@ -115,6 +123,7 @@ pub fn stroke_outline(
     let loops = find_loops(c, LOOP_PARAM_TOL).map_err(|e| item_err(design, "stroke", name, e))?;
     let mut skin_opts = DbscSkinOptions {
         eps: opts.epsilon,
+        report: opts.report,
         ..DbscSkinOptions::default()
     };
     let fail = |e: DbscSkinError| {

@@ -65,6 +65,8 @@ pub struct DbscSkinOptions {
     pub two_sided: bool,
     /// Tolerance of the self-intersection test of the outline (model units).
     pub intersect_tol: f64,
+    /// How tight the error bounds of the final report are ([`ReportBounds`]).
+    pub report: ReportBounds,
     /// Return the outline even when it crosses itself. A stroke whose spine crosses itself
     /// (a G-clef, a loop drawn on purpose) overlaps itself globally: no skin of it can be
     /// free of crossings, and the caller resolves the overlap (for example by a union of
@@ -85,9 +87,26 @@ impl Default for DbscSkinOptions {
             max_work: DEFAULT_MAX_WORK,
             two_sided: true,
             intersect_tol: 1e-9,
+            report: ReportBounds::Tight,
             allow_global_overlap: false,
         }
     }
+}
+
+/// The error bounds [`skin_dbsc`] reports per segment ([`DbscSkin::report`]). Both are
+/// certified (lower ≤ D_H ≤ upper, kruppa-2023 eqs. 20–21), `met` is upper ≤ ε in both, and
+/// the skin is the same; the `met` flags can differ only for sides whose distance lies
+/// within the gap of ε.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReportBounds {
+    /// Refined until upper − lower ≤ `gap_fraction · ε`: one more Hausdorff bound per
+    /// segment side after refinement (about 40 % of the bound work on a 10-disk stroke).
+    Tight,
+    /// The bounds that decided each side against ε during refinement (cached, so at most
+    /// the sides changed by the last insertions cost anything): the upper bound is ≤ ε on
+    /// met sides, the lower bound may be 0. For callers that use the skin, not the numbers
+    /// (toolpaths, the circles of the RE route).
+    Decided,
 }
 
 /// Default of [`DbscSkinOptions::max_work`]: one million refinement steps. The examples'
@@ -922,11 +941,10 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     if opts.two_sided {
         st.phase3()?;
     }
-    // Final report with tight bounds.
-    let err = st.errors(Mode::Tight)?;
     let o = st.outline()?;
     // Safety net: never hand out a crossing outline (phases 1–2 rely on admissibility,
-    // phase 3 checks each insertion; this re-checks the final result).
+    // phase 3 checks each insertion; this re-checks the final result). Before the final
+    // report, whose bounds a caller that retries with `allow_global_overlap` would discard.
     if !opts.allow_global_overlap
         && let Some((contour, other, segment)) = first_crossing(&o.contours, opts.intersect_tol)
     {
@@ -936,6 +954,10 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
             segment,
         });
     }
+    let err = st.errors(match opts.report {
+        ReportBounds::Tight => Mode::Tight,
+        ReportBounds::Decided => Mode::Decide,
+    })?;
     let mut report = Vec::with_capacity(err.len());
     for (i, e) in err.iter().enumerate() {
         let (t0, t1) = (st.params[i], st.seg_end(i));
@@ -1180,6 +1202,45 @@ mod tests {
         // Every circle of the result is a circle of the DBSC at its parameter.
         for (t, k) in s.params.iter().zip(&s.circles) {
             assert_eq!(c.circle_at(*t), *k);
+        }
+    }
+
+    #[test]
+    fn decided_report_bounds_give_the_same_skin_with_less_work() {
+        for (c, eps) in [
+            (open(3, &s_stroke()), 0.01),
+            (open(3, &bend_stroke()), 0.05),
+        ] {
+            let tight = skin_dbsc(&c, &opts(eps)).unwrap();
+            let o = DbscSkinOptions {
+                report: ReportBounds::Decided,
+                ..opts(eps)
+            };
+            let decided = skin_dbsc(&c, &o).unwrap();
+            assert_eq!(decided.outline, tight.outline);
+            assert_eq!(decided.params, tight.params);
+            assert!(
+                decided.work < tight.work,
+                "{} vs {}",
+                decided.work,
+                tight.work
+            );
+            assert_eq!(decided.report.len(), tight.report.len());
+            for (d, t) in decided.report.iter().zip(&tight.report) {
+                // Both enclose the same distance, so the intervals meet.
+                for (a, b) in [(d.error_left, t.error_left), (d.error_right, t.error_right)] {
+                    assert!(a.lower <= b.upper && b.lower <= a.upper, "{a:?} vs {b:?}");
+                }
+                // Met sides are proven within ε either way.
+                if d.met_left && d.met_right {
+                    assert!(d.error_left.upper <= eps && d.error_right.upper <= eps);
+                }
+                assert_eq!(
+                    d.stopped_in.is_none(),
+                    t.stopped_in.is_none(),
+                    "{d:?} vs {t:?}"
+                );
+            }
         }
     }
 

@@ -6,7 +6,7 @@
 
 use crate::dbsc::{DiskBSpline, Side};
 use crate::geom::{Circle, DVec2};
-use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, skin_dbsc};
+use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, ReportBounds, skin_dbsc};
 use crate::skin::mat_offset::{self, MatOffset, OffsetContour, Piece};
 use crate::skin::re::detect::{EnvelopeIntersection, detect};
 use crate::skin::re::eliminate::{EliminateOptions, PairFix, eliminate};
@@ -279,6 +279,8 @@ pub fn stroke_re_input(
 ) -> Result<(Vec<Circle>, Vec<Touch>, bool), ReOutlineError> {
     let mut skin_opts = DbscSkinOptions {
         eps: epsilon,
+        // Only the circles are used.
+        report: ReportBounds::Decided,
         ..DbscSkinOptions::default()
     };
     let sk = match skin_dbsc(c, &skin_opts) {
