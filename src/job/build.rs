@@ -81,7 +81,8 @@ pub struct BuildResult {
     pub toolpath: Toolpath,
     /// Planning statistics per operation.
     pub stats: Vec<PlanStats>,
-    /// Outlines of the design's items (for gouge checks and previews).
+    /// Outlines of the design's items (for gouge checks and previews); the skins' segment
+    /// reports carry the bounds that decided ε ([`ReportBounds::Decided`]), not tight ones.
     pub outlines: Vec<ItemOutline>,
     /// The route each profile and backboard took (skin, re or mph) and why.
     pub routes: Vec<RouteNote>,
