@@ -211,9 +211,7 @@ impl<'a> EnvelopeSegment<'a> {
             t_b,
         })
     }
-}
 
-impl EnvelopeSegment<'_> {
     /// The envelope point at `t` from the Bernstein form of its span (the curve's own
     /// evaluation outside the spans, which [`Self::pieces`] never asks for).
     fn envelope(&self, t: f64) -> Result<EnvelopePoint, HausdorffError> {
