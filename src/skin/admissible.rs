@@ -169,24 +169,40 @@ pub fn check_admissible(
             });
         }
     }
-    // Condition 1 (and strict disjointness): neighbours from a bounding-volume hierarchy of
-    // the disks' boxes in sequence order.
+    // Condition 1 (and strict disjointness): overlapping disks from a bounding-volume
+    // hierarchy of the disks' boxes in sequence order (one self-join), as ascending
+    // neighbour lists in compressed rows: disk i's list is all_nbrs[start[i]..start[i + 1]].
     let tree = SeqBvh::new(circles.iter().map(bbox).collect());
-    let mut cand: Vec<usize> = Vec::new();
-    let mut nbrs: Vec<usize> = Vec::new();
-    for (i, ci) in circles.iter().enumerate() {
-        nbrs.clear();
-        cand.clear();
-        tree.query(&bbox(ci), &mut cand);
-        for &j in &cand {
-            let cj = &circles[j];
-            let scale = ci.r + cj.r + ci.c.distance(cj.c);
-            if j != i && ci.c.distance(cj.c) < ci.r + cj.r - tol * scale {
-                nbrs.push(j);
-            }
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    tree.overlapping_pairs(|i, j| {
+        let (ci, cj) = (&circles[i], &circles[j]);
+        let scale = ci.r + cj.r + ci.c.distance(cj.c);
+        if ci.c.distance(cj.c) < ci.r + cj.r - tol * scale {
+            pairs.push((i, j));
         }
+    });
+    let mut start = vec![0usize; n + 1];
+    for &(i, j) in &pairs {
+        start[i + 1] += 1;
+        start[j + 1] += 1;
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut all_nbrs = vec![0usize; start[n]];
+    for &(i, j) in &pairs {
+        all_nbrs[fill[i]] = j;
+        fill[i] += 1;
+        all_nbrs[fill[j]] = i;
+        fill[j] += 1;
+    }
+    for i in 0..n {
+        let nbrs = &mut all_nbrs[start[i]..start[i + 1]];
+        nbrs.sort_unstable();
+        let nbrs = &*nbrs;
         if opts.strict_disjoint {
-            for &j in &nbrs {
+            for &j in nbrs {
                 let d = i.abs_diff(j);
                 let d = if closed { d.min(n - d) } else { d };
                 if d > 2 {
@@ -197,7 +213,7 @@ pub fn check_admissible(
                 }
             }
         }
-        if let Some(mut cover) = disk_covered(circles, i, &nbrs, tol) {
+        if let Some(mut cover) = disk_covered(circles, i, nbrs, tol) {
             cover.insert(0, i);
             return Err(SkinError::Inadmissible {
                 condition: Condition::Covered,

@@ -499,6 +499,46 @@ impl SeqBvh {
         }
     }
 
+    /// Calls `f(i, j)` once for every pair i < j of overlapping boxes (closed boxes), by a
+    /// simultaneous descent of the hierarchy against itself: node pairs whose boxes miss are
+    /// pruned together, so the whole self-join costs O(n + pairs) on coherent sequences
+    /// instead of the n root-to-leaf queries of [`SeqBvh::query`].
+    pub(crate) fn overlapping_pairs(&self, mut f: impl FnMut(usize, usize)) {
+        let top = self.levels.len() - 1;
+        if !self.levels[top].is_empty() {
+            self.visit_pair(top, 0, 0, &mut f);
+        }
+    }
+
+    /// Pairs of boxes under nodes `a` ≤ `b` of level `k` (module order: i < j).
+    fn visit_pair(&self, k: usize, a: usize, b: usize, f: &mut impl FnMut(usize, usize)) {
+        let level = &self.levels[k];
+        if a != b && !overlap(&level[a], &level[b]) {
+            return;
+        }
+        if k == 0 {
+            let block = |j: usize| j * BVH_LEAF..((j + 1) * BVH_LEAF).min(self.boxes.len());
+            for i in block(a) {
+                let start = if a == b { i + 1 } else { block(b).start };
+                for j in start..block(b).end {
+                    if overlap(&self.boxes[i], &self.boxes[j]) {
+                        f(i, j);
+                    }
+                }
+            }
+            return;
+        }
+        let below = self.levels[k - 1].len();
+        let kids = |j: usize| 2 * j..(2 * j + 2).min(below);
+        for ca in kids(a) {
+            for cb in kids(b) {
+                if ca <= cb {
+                    self.visit_pair(k - 1, ca, cb, f);
+                }
+            }
+        }
+    }
+
     fn visit(&self, k: usize, j: usize, q: &BBox, out: &mut Vec<usize>) {
         if !overlap(&self.levels[k][j], q) {
             return;
@@ -538,24 +578,20 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
         }
     }
     let tree = SeqBvh::new(segs.iter().map(|s| seg_box(s, tol)).collect());
-    let mut js = Vec::new();
-    for (i, s) in segs.iter().enumerate() {
-        js.clear();
-        tree.query(&seg_box(s, tol), &mut js);
-        for &j in js.iter().filter(|&&j| j > i) {
-            let mut joints = Vec::new();
-            let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
-            if j == i + 1 && near(s.end(), segs[j].start()) {
-                joints.push(Joint::between(s, 1.0, &segs[j], 0.0, tol));
-            }
-            if path.closed && i == 0 && j == n - 1 && near(segs[j].end(), s.start()) {
-                joints.push(Joint::between(s, 0.0, &segs[j], 1.0, tol));
-            }
-            for hit in pair_hits(s, &segs[j], &joints, tol) {
-                out.push(PathHit { a: i, b: j, hit });
-            }
+    tree.overlapping_pairs(|i, j| {
+        let (s, t) = (&segs[i], &segs[j]);
+        let mut joints = Vec::new();
+        let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
+        if j == i + 1 && near(s.end(), t.start()) {
+            joints.push(Joint::between(s, 1.0, t, 0.0, tol));
         }
-    }
+        if path.closed && i == 0 && j == n - 1 && near(t.end(), s.start()) {
+            joints.push(Joint::between(s, 0.0, t, 1.0, tol));
+        }
+        for hit in pair_hits(s, t, &joints, tol) {
+            out.push(PathHit { a: i, b: j, hit });
+        }
+    });
     // The tree reports candidates in its own order.
     out.sort_by_key(|h| (h.a, h.b));
     out
@@ -624,10 +660,21 @@ mod tests {
                 .collect();
             assert_eq!(got, want);
         }
+        let mut pairs = Vec::new();
+        bvh.overlapping_pairs(|i, j| pairs.push((i, j)));
+        pairs.sort();
+        let brute: Vec<(usize, usize)> = (0..boxes.len())
+            .flat_map(|i| (i + 1..boxes.len()).map(move |j| (i, j)))
+            .filter(|&(i, j)| overlap(&boxes[i], &boxes[j]))
+            .collect();
+        assert_eq!(pairs, brute);
         let empty = SeqBvh::new(Vec::new());
         let mut got = Vec::new();
         empty.query(&boxes[0], &mut got);
         assert!(got.is_empty());
+        empty.overlapping_pairs(|_, _| panic!("no boxes, no pairs"));
+        let one = SeqBvh::new(vec![boxes[0]]);
+        one.overlapping_pairs(|_, _| panic!("one box, no pairs"));
     }
 
     #[test]

@@ -103,43 +103,43 @@ fn scale4(a: f64, x: &V4) -> V4 {
     [a * x[0], a * x[1], a * x[2], a * x[3]]
 }
 
-/// Orthonormal basis of the null space of the 2×4 matrix with rows `m1`, `m2`
-/// (Gram–Schmidt of the rows, then of the unit vectors against them).
+/// A basis of the null space of the 2×4 matrix with rows `m1`, `m2`, in closed form from
+/// the Plücker coordinates p_ij = m1_i m2_j − m1_j m2_i of the row space: the Hodge dual of
+/// m1 ∧ m2 contracted with e_k gives the null vector v⁽ᵏ⁾_l = Σ_{i<j} ε_{klij} p_ij
+/// (v⁽⁰⁾ = (0, p23, −p13, p12), v⁽¹⁾ = (−p23, 0, p03, −p02), v⁽²⁾ = (p13, −p03, 0, p01),
+/// v⁽³⁾ = (−p12, p02, −p01, 0)); each is orthogonal to both rows because its dot product with
+/// a row is a 3×3 determinant with that row twice. With p_ij the largest coordinate in
+/// magnitude and {k, l} the complementary pair, v⁽ᵏ⁾ and v⁽ˡ⁾ hold ±p_ij in components l and
+/// k and zeros in k and l, so they are independent and well conditioned. Returned
+/// normalized. `None` when the rows are parallel to working precision (every |p_ij| at most
+/// 10⁻¹⁴ ‖m1‖‖m2‖).
 fn null_space(m1: &V4, m2: &V4) -> Option<[V4; 2]> {
-    let n1 = dot4(m1, m1).sqrt();
-    if n1 == 0.0 {
+    let p = |i: usize, j: usize| m1[i] * m2[j] - m1[j] * m2[i];
+    let (p01, p02, p03, p12, p13, p23) = (p(0, 1), p(0, 2), p(0, 3), p(1, 2), p(1, 3), p(2, 3));
+    let v = [
+        [0.0, p23, -p13, p12],
+        [-p23, 0.0, p03, -p02],
+        [p13, -p03, 0.0, p01],
+        [-p12, p02, -p01, 0.0],
+    ];
+    // (|p_ij|, k, l) with {k, l} the complement of {i, j}.
+    let (big, k, l) = [
+        (p01, 2, 3),
+        (p02, 1, 3),
+        (p03, 1, 2),
+        (p12, 0, 3),
+        (p13, 0, 2),
+        (p23, 0, 1),
+    ]
+    .into_iter()
+    .map(|(pij, k, l)| (pij.abs(), k, l))
+    .fold((0.0, 0, 0), |best, c| if c.0 > best.0 { c } else { best });
+    let parallel = 1e-14 * (dot4(m1, m1) * dot4(m2, m2)).sqrt();
+    if big.partial_cmp(&parallel) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
-    let u1 = scale4(1.0 / n1, m1);
-    let v2 = axpy(-dot4(&u1, m2), &u1, m2);
-    let n2 = dot4(&v2, &v2).sqrt();
-    if n2 <= 1e-14 * dot4(m2, m2).sqrt() {
-        return None;
-    }
-    let u2 = scale4(1.0 / n2, &v2);
-    // The rows' basis, completed to all of R⁴ (on the stack: this runs once per circle).
-    let mut basis: [V4; 4] = [u1, u2, [0.0; 4], [0.0; 4]];
-    for len in 2..4 {
-        let mut best: Option<(f64, V4)> = None;
-        for k in 0..4 {
-            let mut e = [0.0; 4];
-            e[k] = 1.0;
-            for b in &basis[..len] {
-                e = axpy(-dot4(b, &e), b, &e);
-            }
-            // Second pass for orthogonality to working precision.
-            for b in &basis[..len] {
-                e = axpy(-dot4(b, &e), b, &e);
-            }
-            let n = dot4(&e, &e).sqrt();
-            if best.as_ref().is_none_or(|(bn, _)| n > *bn) {
-                best = Some((n, e));
-            }
-        }
-        let (n, e) = best?;
-        basis[len] = scale4(1.0 / n, &e);
-    }
-    Some([basis[2], basis[3]])
+    let unit = |x: &V4| scale4(1.0 / dot4(x, x).sqrt(), x);
+    Some([unit(&v[k]), unit(&v[l])])
 }
 
 /// The two Apollonius cycles touching `a`, `m`, `b` the same way, in homogeneous
