@@ -196,13 +196,14 @@ pub fn run(a: Args) -> Result<u8> {
     drop(bytes);
     timings.interpret = clock.elapsed().as_secs_f64();
     // The checks and the estimate are independent: they run side by side, each timed alone.
-    let ((findings, checks), (stats, estimate)) = rayon::join(
+    let ((found, checks), (stats, estimate)) = rayon::join(
         || timed(|| skinpath::sim::run_checks(&prog, &cfg, &bounds)),
         || timed(|| skinpath::sim::usable_stats(&prog, &cfg)),
     );
     (timings.checks, timings.estimate) = (checks, estimate);
     let clock = Instant::now();
-    let mut report = skinpath::sim::assemble(&prog, &cfg, findings, stats);
+    let mut report =
+        skinpath::sim::assemble_with(&prog, &cfg, found.findings, stats, &found.dropped);
     report.backend = backend.name();
     if report.usable {
         report.findings.splice(0..0, decode_findings);

@@ -175,9 +175,8 @@ pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
 /// mm. Interpreter diagnostics come first, then the checks' findings, each check capped at
 /// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
 pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
-    let (findings, stats) =
-        rayon::join(|| run_checks(prog, cfg, design), || usable_stats(prog, cfg));
-    assemble(prog, cfg, findings, stats)
+    let (found, stats) = rayon::join(|| run_checks(prog, cfg, design), || usable_stats(prog, cfg));
+    assemble_with(prog, cfg, found.findings, stats, &found.dropped)
 }
 
 /// The [`stats`] of `prog` (`cfg` may be in inch), or none when the program is unusable.
@@ -191,14 +190,21 @@ pub fn usable_stats(prog: &Program, cfg: &CheckConfig) -> Stats {
 }
 
 /// The findings of [`check`] before capping: interpreter diagnostics, then every check's
-/// (nothing when the program is unusable). `cfg` may be in inch; `design` is in mm.
-pub fn run_checks(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Vec<Finding> {
+/// (nothing when the program is unusable), with the findings counted but not built
+/// ([`checks::CheckFindings`]). `cfg` may be in inch; `design` is in mm.
+pub fn run_checks(
+    prog: &Program,
+    cfg: &CheckConfig,
+    design: &[DesignBoundary],
+) -> checks::CheckFindings {
     if prog.unusable.is_some() {
-        return Vec::new();
+        return checks::CheckFindings::default();
     }
-    let mut all = prog.diagnostics.clone();
-    all.extend(checks::run_all(prog, &cfg.in_mm(), design));
-    all
+    let mut found = checks::run_all(prog, &cfg.in_mm(), design);
+    found
+        .findings
+        .splice(0..0, prog.diagnostics.iter().cloned());
+    found
 }
 
 /// The report of [`check`] from the findings of [`run_checks`] and the [`stats`] of `prog`:

@@ -24,7 +24,7 @@
 
 use super::checks::gouge::GougeIndex;
 use super::checks::intersect::{Across, Contact, Grid, Link, MAX_CONTACTS, Seg, SegmentSet};
-use super::checks::{DesignBoundary, contours, machine};
+use super::checks::{Capped, DesignBoundary, contours, machine};
 use super::config::CheckConfig;
 use super::findings::Finding;
 use super::interp::{self, ReadSeek};
@@ -94,40 +94,6 @@ pub fn check_stream_tiled<'a>(
     }
     let report = ck.report(&prog, cfg)?;
     Ok((report, scan.utf8_warning))
-}
-
-/// Findings of one check, at most `cap` per id kept, the rest counted.
-struct Capped {
-    cap: usize,
-    kept: Vec<Finding>,
-    counts: Vec<(&'static str, usize, usize)>,
-}
-
-impl Capped {
-    fn new(cap: usize) -> Self {
-        Capped {
-            cap: cap.max(1),
-            kept: Vec::new(),
-            counts: Vec::new(),
-        }
-    }
-
-    fn push(&mut self, f: Finding) {
-        let k = match self.counts.iter().position(|c| c.0 == f.id) {
-            Some(k) => k,
-            None => {
-                self.counts.push((f.id, 0, 0));
-                self.counts.len() - 1
-            }
-        };
-        let c = &mut self.counts[k];
-        if c.1 < self.cap {
-            c.1 += 1;
-            self.kept.push(f);
-        } else {
-            c.2 += 1;
-        }
-    }
 }
 
 /// One segment of a cut contour, as written to the temporary files.
@@ -396,8 +362,10 @@ impl<'d> Checker<'d> {
         {
             self.gouge_moves.push(f);
         }
-        if let Some(f) = self.limits.motion(&m, cfg) {
-            self.oob.push(f);
+        if self.limits.leaves(&m) {
+            let limits = &self.limits;
+            self.oob
+                .push_with(machine::OUT_OF_BOUNDS, || limits.motion(&m, cfg));
         }
         machine::rapid_move(&m, cfg, &mut self.scratch);
         for f in self.scratch.drain(..) {
@@ -700,12 +668,8 @@ impl<'d> Checker<'d> {
         let mut all = prog.diagnostics.clone();
         let mut dropped: Vec<(&'static str, usize)> = Vec::new();
         for st in stages {
+            dropped.extend(st.dropped());
             all.extend(st.kept);
-            for (id, _, d) in st.counts {
-                if d > 0 {
-                    dropped.push((id, d));
-                }
-            }
         }
         let mut stats = self.stats;
         stats.time = self.time.finish();

@@ -46,13 +46,22 @@ impl Limits {
 
     /// [`out_of_bounds_move`] with these limits (those of `cfg`).
     pub fn motion(&self, m: &Motion, cfg: &CheckConfig) -> Option<Finding> {
-        let (lo, hi) = m.bounds();
-        if !(0..3).any(|i| lo[i] < self.lo[i] || hi[i] > self.hi[i]) {
+        if !self.leaves(m) {
             return None;
         }
+        let (lo, hi) = m.bounds();
         out_of_bounds_finding(m, cfg, lo, hi, self)
     }
+
+    /// Whether `m` leaves the work area: exactly when [`Limits::motion`] finds it.
+    pub fn leaves(&self, m: &Motion) -> bool {
+        let (lo, hi) = m.bounds();
+        (0..3).any(|i| lo[i] < self.lo[i] || hi[i] > self.hi[i])
+    }
 }
+
+/// Id of the findings of moves leaving the work area.
+pub const OUT_OF_BOUNDS: &str = "out-of-bounds";
 
 /// The finding of a move with bounds `lo`..`hi` outside `limits`, if any.
 fn out_of_bounds_finding(
@@ -81,7 +90,7 @@ fn out_of_bounds_finding(
     };
     Some(
         Finding::new(
-            "out-of-bounds",
+            OUT_OF_BOUNDS,
             Severity::Error,
             format!("{what} leaves the work area: {}", bad.join(", ")),
         )

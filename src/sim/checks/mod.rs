@@ -32,9 +32,75 @@ use super::config::CheckConfig;
 use super::findings::Finding;
 use super::motion::Program;
 
+/// Findings of one check kept up to a cap per id, the rest only counted.
+#[derive(Clone, Debug)]
+pub(crate) struct Capped {
+    cap: usize,
+    /// The findings kept, in the order pushed.
+    pub(crate) kept: Vec<Finding>,
+    /// Per id: findings kept, findings left out.
+    pub(crate) counts: Vec<(&'static str, usize, usize)>,
+}
+
+impl Capped {
+    /// A collector keeping at most `cap` (at least 1) findings per id.
+    pub(crate) fn new(cap: usize) -> Self {
+        Capped {
+            cap: cap.max(1),
+            kept: Vec::new(),
+            counts: Vec::new(),
+        }
+    }
+
+    /// Keeps `f` unless its id is at the cap.
+    pub(crate) fn push(&mut self, f: Finding) {
+        self.push_with(f.id, || Some(f));
+    }
+
+    /// A finding of `id` built by `make` only when its id is below the cap (messages are
+    /// formatted for the findings shown, not for the hundreds of thousands a job placed
+    /// off the machine's bed produces); beyond the cap it is counted, and `make` must then
+    /// be sure to return `Some`.
+    pub(crate) fn push_with(&mut self, id: &'static str, make: impl FnOnce() -> Option<Finding>) {
+        let k = match self.counts.iter().position(|c| c.0 == id) {
+            Some(k) => k,
+            None => {
+                self.counts.push((id, 0, 0));
+                self.counts.len() - 1
+            }
+        };
+        let c = &mut self.counts[k];
+        if c.1 < self.cap {
+            if let Some(f) = make() {
+                c.1 += 1;
+                self.kept.push(f);
+            }
+        } else {
+            c.2 += 1;
+        }
+    }
+
+    /// Per id, the findings left out (ids with none left out omitted).
+    pub(crate) fn dropped(&self) -> impl Iterator<Item = (&'static str, usize)> + '_ {
+        self.counts.iter().filter(|c| c.2 > 0).map(|c| (c.0, c.2))
+    }
+}
+
+/// What [`run_all`] found: the findings built, and per id how many more were found but not
+/// built because the id had reached `max_findings_per_check` (they come after the ones
+/// built; [`crate::sim::assemble_with`] counts them as suppressed).
+#[derive(Clone, Debug, Default)]
+pub struct CheckFindings {
+    /// The findings, in the order of the checks.
+    pub findings: Vec<Finding>,
+    /// Per id, findings counted but not built.
+    pub dropped: Vec<(&'static str, usize)>,
+}
+
 /// Runs every check (`cfg` in mm, see [`CheckConfig::in_mm`]); findings in program order
-/// within each check.
-pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Vec<Finding> {
+/// within each check. Out-of-bounds moves beyond `cfg.max_findings_per_check` are counted
+/// without building their findings.
+pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> CheckFindings {
     let contours = contours::cut_contours_marked(&prog.motions, &prog.group_marks, cfg);
     let mut out = Vec::new();
     out.extend(contours::intersection_findings(
@@ -46,18 +112,25 @@ pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> 
     // The per-move checks in one pass over the moves; their findings in the order of
     // `out_of_bounds`, `rapids` and `feed_and_power` one after the other.
     let limits = machine::Limits::new(cfg);
-    let (mut bounds, mut rapids, mut feeds) = (Vec::new(), Vec::new(), Vec::new());
+    let mut bounds = Capped::new(cfg.max_findings_per_check);
+    let (mut rapids, mut feeds) = (Vec::new(), Vec::new());
     let mut fp = machine::FeedPower::default();
     for m in &prog.motions {
-        bounds.extend(limits.motion(&m, cfg));
+        if limits.leaves(&m) {
+            bounds.push_with(machine::OUT_OF_BOUNDS, || limits.motion(&m, cfg));
+        }
         machine::rapid_move(&m, cfg, &mut rapids);
         fp.motion(&m, cfg, &mut feeds);
     }
-    out.extend(bounds);
+    let dropped = bounds.dropped().collect();
+    out.extend(bounds.kept);
     out.extend(rapids);
     out.extend(feeds);
     out.extend(machine::program_end(prog, cfg));
-    out
+    CheckFindings {
+        findings: out,
+        dropped,
+    }
 }
 
 #[cfg(test)]
@@ -87,6 +160,50 @@ mod tests {
             p.iter().map(|&q| 1e3 * rot.rotate(q)).collect(),
             p.iter().map(|&q| 1e-3 * q).collect(),
         ]
+    }
+
+    /// A job placed partly off the bed: 3,000 feed moves, every third one ending beyond
+    /// x = 300. With a cap of 7 the report keeps the first 7 out-of-bounds findings of the
+    /// uncapped report, counts the rest as suppressed, and the streaming route says the same.
+    #[test]
+    fn out_of_bounds_beyond_the_cap_are_counted_not_built() {
+        let mut src = String::from("G21 G90 F1000 S500\nG0 X10 Y10\nM3\n");
+        for i in 0..3000 {
+            let x = if i % 3 == 2 { 310.0 } else { 200.0 };
+            src += &format!("G1 X{x:.3} Y{:.3}\n", 10.0 + 0.01 * i as f64);
+        }
+        src += "M5\nM2\n";
+        let capped = CheckConfig {
+            max_findings_per_check: 7,
+            ..CheckConfig::default()
+        };
+        let all = CheckConfig {
+            max_findings_per_check: usize::MAX,
+            ..capped.clone()
+        };
+        let oob = |r: &crate::sim::Report| -> Vec<Finding> {
+            r.findings
+                .iter()
+                .filter(|f| f.id == machine::OUT_OF_BOUNDS)
+                .cloned()
+                .collect()
+        };
+        let full = check_text(Backend::Builtin, &src, &all, &[]);
+        // Every third move goes out (1,000) and the next one starts outside (999 more).
+        assert_eq!(oob(&full).len(), 1999);
+        let r = check_text(Backend::Builtin, &src, &capped, &[]);
+        assert_eq!(oob(&r), oob(&full)[..7].to_vec());
+        assert_eq!(r.suppressed, vec![("out-of-bounds".to_string(), 1992)]);
+        let opts = crate::sim::interp::Options { load_sub: None };
+        let (streamed, _) = crate::sim::stream::check_stream(
+            Box::new(std::io::Cursor::new(src.into_bytes())),
+            &capped,
+            &[],
+            &opts,
+        )
+        .unwrap();
+        assert_eq!(oob(&streamed), oob(&r));
+        assert_eq!(streamed.suppressed, r.suppressed);
     }
 
     fn gcode(p: &[DVec2]) -> String {
