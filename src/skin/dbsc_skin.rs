@@ -24,15 +24,15 @@
 //!   insertion is kept only if the resulting outline stays free of self-intersections.
 
 use super::hausdorff::{
-    HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work, hausdorff_skin_envelope_work,
-    hausdorff_within_work,
+    EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
+    skin_envelope_bounds, skin_envelope_within,
 };
 use super::intersect::path_self_intersections;
 use super::intersect::paths_intersections;
 use super::outline::outline_from_skins;
 use super::touching::triplet_touching;
 use super::{AdmissibilityOptions, SkinError, Skins, TouchingPoints, check_admissible};
-use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, find_loops};
+use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, SpanPoly, find_loops};
 use crate::geom::{Circle, CubicBez, DVec2, Path};
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -286,6 +286,8 @@ struct State<'a> {
     loops: Vec<EnvelopeLoop>,
     /// Refinement steps left for the Hausdorff bounds of the whole skinning.
     work: RefCell<Work>,
+    /// The curve's knot spans in Bernstein form, shared by every envelope segment.
+    spans: Vec<SpanPoly>,
 }
 
 /// What the error bounds of a pass are for.
@@ -451,13 +453,13 @@ impl State<'_> {
         let sides = [self.skin_side(Side::Left), self.skin_side(Side::Right)];
         let gap = self.opts.gap_fraction * self.opts.eps;
         let (c, eps) = (self.c, self.opts.eps);
-        let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| match mode {
-            Mode::Tight => hausdorff_skin_envelope_work(arc, c, side, t0, t1, gap, w),
-            Mode::Decide => {
-                hausdorff_within_work(arc, c, side, (t0, t1), (eps, Rejection::Quick), gap, w)
-            }
-            Mode::Compare => {
-                hausdorff_within_work(arc, c, side, (t0, t1), (eps, Rejection::Full), gap, w)
+        let spans = &self.spans;
+        let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| {
+            let env = EnvelopeSegment::with_spans(c, spans, side, t0, t1)?;
+            match mode {
+                Mode::Tight => skin_envelope_bounds(arc, &env, gap, w),
+                Mode::Decide => skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w),
+                Mode::Compare => skin_envelope_within(arc, &env, (eps, Rejection::Full), gap, w),
             }
         };
         let par_budget = self.work.borrow().left.min(MAX_BOUND_WORK);
@@ -925,6 +927,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         cache: RefCell::new(HashMap::new()),
         params,
         work: RefCell::new(Work::new(opts.max_work)),
+        spans: SpanPoly::all(c),
     };
     // Initialisation (eq. 19): the knot circles must be admissible.
     let cs = st.circles_of(&st.params);

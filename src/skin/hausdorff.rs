@@ -29,6 +29,7 @@
 use crate::dbsc::{Bern, DiskBSpline, EnvelopePoint, Side, SpanPoly, envelope_of_jet};
 use crate::geom::bernstein;
 use crate::geom::{CubicBez, DVec2, Line};
+use std::borrow::Cow;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -179,7 +180,8 @@ impl BoundedCurve for CubicBez {
 pub struct EnvelopeSegment<'a> {
     curve: &'a DiskBSpline,
     side: Side,
-    spans: Vec<SpanPoly>,
+    /// The Bernstein forms of the knot spans meeting [t_a, t_b], in order.
+    spans: Cow<'a, [SpanPoly]>,
     t_a: f64,
     t_b: f64,
 }
@@ -193,10 +195,7 @@ impl<'a> EnvelopeSegment<'a> {
         t_a: f64,
         t_b: f64,
     ) -> Result<Self, HausdorffError> {
-        let (lo, hi) = curve.domain();
-        if !(t_a < t_b && t_a >= lo && t_b <= hi) {
-            return Err(HausdorffError::Interval { t_a, t_b, lo, hi });
-        }
+        Self::check_interval(curve, t_a, t_b)?;
         let spans = curve
             .breakpoints()
             .windows(2)
@@ -206,10 +205,40 @@ impl<'a> EnvelopeSegment<'a> {
         Ok(EnvelopeSegment {
             curve,
             side,
-            spans,
+            spans: Cow::Owned(spans),
             t_a,
             t_b,
         })
+    }
+
+    /// [`Self::new`] from the spans of the whole curve computed once
+    /// ([`SpanPoly::all`]): the segment borrows the ones meeting [t_a, t_b] (the same
+    /// spans `new` computes), so the many segments of one skinning share them.
+    pub(crate) fn with_spans(
+        curve: &'a DiskBSpline,
+        all: &'a [SpanPoly],
+        side: Side,
+        t_a: f64,
+        t_b: f64,
+    ) -> Result<Self, HausdorffError> {
+        Self::check_interval(curve, t_a, t_b)?;
+        let first = all.partition_point(|s| s.b <= t_a);
+        let end = first + all[first..].partition_point(|s| s.a < t_b);
+        Ok(EnvelopeSegment {
+            curve,
+            side,
+            spans: Cow::Borrowed(&all[first..end]),
+            t_a,
+            t_b,
+        })
+    }
+
+    fn check_interval(curve: &DiskBSpline, t_a: f64, t_b: f64) -> Result<(), HausdorffError> {
+        let (lo, hi) = curve.domain();
+        if !(t_a < t_b && t_a >= lo && t_b <= hi) {
+            return Err(HausdorffError::Interval { t_a, t_b, lo, hi });
+        }
+        Ok(())
     }
 
     /// The envelope point at `t` from the Bernstein form of its span (the curve's own
@@ -251,7 +280,7 @@ impl BoundedCurve for EnvelopeSegment<'_> {
     fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
         let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
         let mut m: f64 = 0.0;
-        for s in &self.spans {
+        for s in self.spans.iter() {
             let (p0, p1) = (s.a.max(self.t_a), s.b.min(self.t_b));
             let (u0, u1) = (a.max(p0), b.min(p1));
             if u1 >= u0 {
@@ -1065,7 +1094,17 @@ pub fn hausdorff_skin_envelope_work(
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
     let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
-    bounds_impl(skin, &env, gap, None, work)
+    skin_envelope_bounds(skin, &env, gap, work)
+}
+
+/// [`hausdorff_skin_envelope_work`] against an envelope segment already made.
+pub(crate) fn skin_envelope_bounds(
+    skin: &CubicBez,
+    env: &EnvelopeSegment,
+    gap: f64,
+    work: &mut Work,
+) -> Result<HausdorffBounds, HausdorffError> {
+    bounds_impl(skin, env, gap, None, work)
 }
 
 /// Like [`hausdorff_skin_envelope`] but stops as soon as D_H ≤ `eps` or D_H > `eps` is
@@ -1103,7 +1142,18 @@ pub fn hausdorff_within_work(
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
     let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
-    bounds_impl(skin, &env, gap, Some((eps, rejection)), work)
+    skin_envelope_within(skin, &env, (eps, rejection), gap, work)
+}
+
+/// [`hausdorff_within_work`] against an envelope segment already made.
+pub(crate) fn skin_envelope_within(
+    skin: &CubicBez,
+    env: &EnvelopeSegment,
+    (eps, rejection): (f64, Rejection),
+    gap: f64,
+    work: &mut Work,
+) -> Result<HausdorffBounds, HausdorffError> {
+    bounds_impl(skin, env, gap, Some((eps, rejection)), work)
 }
 
 #[cfg(test)]
@@ -1112,6 +1162,51 @@ mod tests {
     use proptest::prelude::*;
 
     use crate::dbsc::test_util::open;
+
+    /// An envelope segment borrowing the curve's spans is the segment `new` makes: the
+    /// same pieces, points, tangents and second-derivative bounds, on intervals inside one
+    /// span, across spans, at knots and over the whole domain (the degree-3 curve of six
+    /// disks has three spans).
+    #[test]
+    fn shared_spans_give_the_same_segment() {
+        let c = open(
+            3,
+            &[
+                (0.0, 0.0, 1.0),
+                (6.0, 3.0, 1.5),
+                (12.0, 0.0, 2.0),
+                (18.0, -3.0, 1.5),
+                (24.0, 0.0, 1.2),
+                (30.0, 2.0, 1.0),
+            ],
+        );
+        let all = SpanPoly::all(&c);
+        assert_eq!(all.len(), 3);
+        let (lo, hi) = c.domain();
+        let at = |f: f64| lo + f * (hi - lo);
+        for (fa, fb) in [
+            (0.0, 1.0),
+            (0.1, 0.2),
+            (0.2, 0.7),
+            (1.0 / 3.0, 2.0 / 3.0),
+            (0.9, 1.0),
+        ] {
+            let (ta, tb) = (at(fa), at(fb));
+            for side in [Side::Left, Side::Right] {
+                let own = EnvelopeSegment::new(&c, side, ta, tb).unwrap();
+                let shared = EnvelopeSegment::with_spans(&c, &all, side, ta, tb).unwrap();
+                assert_eq!(own.pieces(), shared.pieces(), "[{ta}, {tb}]");
+                for k in 0..=8 {
+                    let t = ta + (tb - ta) * k as f64 / 8.0;
+                    assert_eq!(own.point_tangent(t).ok(), shared.point_tangent(t).ok());
+                    let u = (t + tb) / 2.0;
+                    let (d1, d2) = (own.d2_bound_any(t, u), shared.d2_bound_any(t, u));
+                    assert!(d1 == d2 || (d1.is_nan() && d2.is_nan()), "{d1} {d2}");
+                }
+            }
+        }
+        assert!(EnvelopeSegment::with_spans(&c, &all, Side::Left, hi, lo).is_err());
+    }
 
     fn line_cubic(a: DVec2, b: DVec2) -> CubicBez {
         CubicBez::new(a, a.lerp(b, 1.0 / 3.0), a.lerp(b, 2.0 / 3.0), b)
