@@ -75,4 +75,16 @@ pub(crate) mod test_util {
             .collect();
         DiskBSpline::open(p, &disks, None).unwrap()
     }
+
+    /// Control disks of a smooth S-shaped stroke of varying width (degree 3: three spans).
+    pub(crate) fn s_stroke() -> Vec<(f64, f64, f64)> {
+        vec![
+            (0.0, 0.0, 1.0),
+            (6.0, 3.0, 1.5),
+            (12.0, 0.0, 2.0),
+            (18.0, -3.0, 1.5),
+            (24.0, 0.0, 1.2),
+            (30.0, 2.0, 1.0),
+        ]
+    }
 }

@@ -1047,20 +1047,9 @@ mod tests {
     use super::*;
     use crate::geom::path::polygon_area;
 
-    use crate::dbsc::test_util::open;
+    use crate::dbsc::test_util::{open, s_stroke};
 
     /// A gentle S stroke, 30 mm long, radii 1–2 mm: no envelope loops.
-    fn s_stroke() -> Vec<(f64, f64, f64)> {
-        vec![
-            (0.0, 0.0, 1.0),
-            (6.0, 3.0, 1.5),
-            (12.0, 0.0, 2.0),
-            (18.0, -3.0, 1.5),
-            (24.0, 0.0, 1.2),
-            (30.0, 2.0, 1.0),
-        ]
-    }
-
     /// A stroke with a sharp left bend: the left envelope has a loop.
     fn bend_stroke() -> Vec<(f64, f64, f64)> {
         vec![

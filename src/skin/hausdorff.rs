@@ -1161,7 +1161,7 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    use crate::dbsc::test_util::open;
+    use crate::dbsc::test_util::{open, s_stroke};
 
     /// An envelope segment borrowing the curve's spans is the segment `new` makes: the
     /// same pieces, points, tangents and second-derivative bounds, on intervals inside one
@@ -1169,17 +1169,7 @@ mod tests {
     /// disks has three spans).
     #[test]
     fn shared_spans_give_the_same_segment() {
-        let c = open(
-            3,
-            &[
-                (0.0, 0.0, 1.0),
-                (6.0, 3.0, 1.5),
-                (12.0, 0.0, 2.0),
-                (18.0, -3.0, 1.5),
-                (24.0, 0.0, 1.2),
-                (30.0, 2.0, 1.0),
-            ],
-        );
+        let c = open(3, &s_stroke());
         let all = SpanPoly::all(&c);
         assert_eq!(all.len(), 3);
         let (lo, hi) = c.domain();
