@@ -64,7 +64,8 @@ pub struct CheckConfig {
     pub grbl_laser_mode: bool,
     /// Radius tolerance for IJ arcs (|r_start − r_end|), units.
     pub arc_radius_tolerance: f64,
-    /// At most this many findings per check id are kept (the rest are counted).
+    /// At most this many findings per check id are kept (the rest are counted); 0 keeps
+    /// one, so that a program with errors always shows one.
     pub max_findings_per_check: usize,
     /// How the controller reads the program (see [`Dialect`]).
     pub dialect: Dialect,

@@ -247,6 +247,9 @@ pub fn assemble_with(
             )
         }
     });
+    // At least one finding per id is kept, so a program with errors always shows one (and
+    // exits 1) whatever the configured cap.
+    let cap = mm.max_findings_per_check.max(1);
     let mut counts: Vec<(&'static str, usize)> = Vec::new();
     let mut findings = Vec::new();
     for f in all {
@@ -259,7 +262,7 @@ pub fn assemble_with(
             }
         };
         slot.1 += 1;
-        if slot.1 <= mm.max_findings_per_check {
+        if slot.1 <= cap {
             findings.push(f);
         }
     }
@@ -271,8 +274,8 @@ pub fn assemble_with(
     }
     let suppressed = counts
         .into_iter()
-        .filter(|&(_, n)| n > mm.max_findings_per_check)
-        .map(|(id, n)| (id.to_string(), n - mm.max_findings_per_check))
+        .filter(|&(_, n)| n > cap)
+        .map(|(id, n)| (id.to_string(), n - cap))
         .collect();
     Report {
         backend: Backend::Builtin.name(),

@@ -53,6 +53,35 @@ impl Report {
         self.findings.iter().filter(|f| f.severity == s).count()
     }
 
+    /// Number of error findings, those left out by `max_findings_per_check` included.
+    pub fn errors_in_all(&self) -> usize {
+        self.count_in_all(Severity::Error)
+    }
+
+    /// Number of warning findings, those left out by `max_findings_per_check` included.
+    pub fn warnings_in_all(&self) -> usize {
+        self.count_in_all(Severity::Warning)
+    }
+
+    /// Findings of severity `s`, shown or suppressed. A suppressed id always has shown
+    /// findings (the cap keeps at least one per id), and one id has one severity in a run
+    /// (each check sets it from the configuration), so the left-out findings of an id have
+    /// the severity of its shown ones.
+    fn count_in_all(&self, s: Severity) -> usize {
+        let left_out: usize = self
+            .suppressed
+            .iter()
+            .filter(|(id, _)| {
+                self.findings
+                    .iter()
+                    .find(|f| f.id == id.as_str())
+                    .is_some_and(|f| f.severity == s)
+            })
+            .map(|(_, n)| n)
+            .sum();
+        self.count(s) + left_out
+    }
+
     /// Exit status for the CLI: 0 clean (warnings allowed), 1 at least one error finding,
     /// 2 unusable input.
     pub fn exit_code(&self) -> i32 {
@@ -102,11 +131,18 @@ impl fmt::Display for Report {
                 lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
             )?;
         }
+        let total = |all: usize, shown: usize, what: &str| {
+            if all == shown {
+                format!("{all} {what}")
+            } else {
+                format!("{all} {what} ({shown} shown)")
+            }
+        };
         write!(
             f,
-            "{} errors, {} warnings ({} backend)",
-            self.errors(),
-            self.warnings(),
+            "{}, {} ({} backend)",
+            total(self.errors_in_all(), self.errors(), "errors"),
+            total(self.warnings_in_all(), self.warnings(), "warnings"),
             self.backend
         )
     }

@@ -196,7 +196,7 @@ mod tests {
         assert_eq!(r.suppressed, vec![("out-of-bounds".to_string(), 1992)]);
         let opts = crate::sim::interp::Options { load_sub: None };
         let (streamed, _) = crate::sim::stream::check_stream(
-            Box::new(std::io::Cursor::new(src.into_bytes())),
+            Box::new(std::io::Cursor::new(src.clone().into_bytes())),
             &capped,
             &[],
             &opts,
@@ -204,6 +204,19 @@ mod tests {
         .unwrap();
         assert_eq!(oob(&streamed), oob(&r));
         assert_eq!(streamed.suppressed, r.suppressed);
+        // The totals count what the cap left out; the summary says both numbers.
+        assert_eq!(r.errors_in_all(), full.errors());
+        assert_eq!(full.errors_in_all(), full.errors());
+        let expected = format!("{} errors ({} shown)", full.errors(), r.errors());
+        assert!(r.to_string().contains(&expected), "{r}");
+        // A cap of 0 still shows one finding, so the program still fails its check.
+        let none = CheckConfig {
+            max_findings_per_check: 0,
+            ..capped.clone()
+        };
+        let z = check_text(Backend::Builtin, &src, &none, &[]);
+        assert_eq!(oob(&z).len(), 1);
+        assert_eq!((z.exit_code(), z.errors_in_all()), (1, full.errors()));
     }
 
     fn gcode(p: &[DVec2]) -> String {
