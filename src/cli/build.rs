@@ -338,8 +338,8 @@ pub fn run(a: Args) -> Result<u8> {
             writeln!(
                 text,
                 "check: {} errors, {} warnings",
-                r.errors(),
-                r.warnings()
+                r.errors_in_all(),
+                r.warnings_in_all()
             )?;
         }
         for (p, _) in &outputs {

@@ -242,7 +242,7 @@ impl Job<'_> {
                 if r.errors() > 0 && !o.write_unchecked {
                     return Err(JobError::Unchecked {
                         file: design.file.clone(),
-                        errors: r.errors(),
+                        errors: r.errors_in_all(),
                         explanations,
                     });
                 }
