@@ -76,7 +76,8 @@ pub(crate) mod test_util {
         DiskBSpline::open(p, &disks, None).unwrap()
     }
 
-    /// Control disks of a smooth S-shaped stroke of varying width (degree 3: three spans).
+    /// Control disks of a gentle S stroke, 30 mm long, radii 1–2 mm: no envelope loops
+    /// (degree 3: three spans).
     pub(crate) fn s_stroke() -> Vec<(f64, f64, f64)> {
         vec![
             (0.0, 0.0, 1.0),

@@ -362,11 +362,7 @@ impl<'d> Checker<'d> {
         {
             self.gouge_moves.push(f);
         }
-        if self.limits.leaves(&m) {
-            let limits = &self.limits;
-            self.oob
-                .push_with(machine::OUT_OF_BOUNDS, || limits.motion(&m, cfg));
-        }
+        self.limits.check_move(&m, cfg, &mut self.oob);
         machine::rapid_move(&m, cfg, &mut self.scratch);
         for f in self.scratch.drain(..) {
             self.rapids.push(f);

@@ -1049,7 +1049,6 @@ mod tests {
 
     use crate::dbsc::test_util::{open, s_stroke};
 
-    /// A gentle S stroke, 30 mm long, radii 1–2 mm: no envelope loops.
     /// A stroke with a sharp left bend: the left envelope has a loop.
     fn bend_stroke() -> Vec<(f64, f64, f64)> {
         vec![

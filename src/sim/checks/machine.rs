@@ -53,6 +53,14 @@ impl Limits {
         out_of_bounds_finding(m, cfg, lo, hi, self)
     }
 
+    /// [`Limits::motion`] into `out`, built only while `out` keeps out-of-bounds findings
+    /// (beyond its cap the move is only counted: no message is formatted).
+    pub(crate) fn check_move(&self, m: &Motion, cfg: &CheckConfig, out: &mut super::Capped) {
+        if self.leaves(m) {
+            out.push_with(OUT_OF_BOUNDS, || self.motion(m, cfg));
+        }
+    }
+
     /// Whether `m` leaves the work area: exactly when [`Limits::motion`] finds it.
     pub fn leaves(&self, m: &Motion) -> bool {
         let (lo, hi) = m.bounds();

@@ -39,7 +39,7 @@ pub(crate) struct Capped {
     /// The findings kept, in the order pushed.
     pub(crate) kept: Vec<Finding>,
     /// Per id: findings kept, findings left out.
-    pub(crate) counts: Vec<(&'static str, usize, usize)>,
+    counts: Vec<(&'static str, usize, usize)>,
 }
 
 impl Capped {
@@ -116,9 +116,7 @@ pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> 
     let (mut rapids, mut feeds) = (Vec::new(), Vec::new());
     let mut fp = machine::FeedPower::default();
     for m in &prog.motions {
-        if limits.leaves(&m) {
-            bounds.push_with(machine::OUT_OF_BOUNDS, || limits.motion(&m, cfg));
-        }
+        limits.check_move(&m, cfg, &mut bounds);
         machine::rapid_move(&m, cfg, &mut rapids);
         fp.motion(&m, cfg, &mut feeds);
     }
