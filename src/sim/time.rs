@@ -84,97 +84,20 @@ pub fn estimate(motions: &Motions, cfg: &CheckConfig) -> TimeEstimate {
 }
 
 /// [`estimate`], calling `f` with every motion in program order on the way: callers that
-/// need the moves too read them once.
+/// need the moves too read them once. Runs the [`Estimator`] over the moves: its window
+/// keeps the memory bounded (a run of a million blocks between two stops would otherwise
+/// hold a million entry speeds, all of them fresh pages to fault in).
 pub fn estimate_each(
     motions: &Motions,
     cfg: &CheckConfig,
     mut f: impl FnMut(&Motion),
 ) -> TimeEstimate {
-    let mut t = TimeEstimate::default();
-    let mut run = Run {
-        prev: None,
-        steps: Vec::with_capacity(motions.len()),
-        e: Vec::with_capacity(motions.len() + 1),
-    };
-    let rates = cfg.max_rate.map(|r| r / 60.0);
+    let mut est = Estimator::new(cfg);
     for m in motions {
         f(&m);
-        match m.kind {
-            MotionKind::Dwell { seconds } => {
-                run.settle(&mut t);
-                if seconds.is_finite() {
-                    t.dwell += seconds;
-                }
-            }
-            MotionKind::Rapid | MotionKind::Feed => {
-                for_blocks(&m, rates, cfg, |b, r| run.push(b, r, cfg));
-            }
-        }
+        est.motion(&m);
     }
-    run.settle(&mut t);
-    t.total = t.feed + t.rapid + t.dwell;
-    t
-}
-
-/// What [`block_time`] needs of a block, and whether it is a rapid.
-#[derive(Clone, Copy)]
-struct Step {
-    len: f64,
-    v: f64,
-    a: f64,
-    rapid: bool,
-}
-
-/// The blocks between two stops, with the junction speeds of [`plan`] computed as the
-/// blocks come (only the previous block's direction is kept).
-struct Run {
-    prev: Option<Block>,
-    steps: Vec<Step>,
-    /// Squared speed limit at the start of each block (0 at the first).
-    e: Vec<f64>,
-}
-
-impl Run {
-    fn push(&mut self, b: Block, rapid: bool, cfg: &CheckConfig) {
-        self.e
-            .push(self.prev.map_or(0.0, |p| junction_speed_sqr(&p, &b, cfg)));
-        self.steps.push(Step {
-            len: b.len,
-            v: b.v,
-            a: b.a,
-            rapid,
-        });
-        self.prev = Some(b);
-    }
-
-    /// Plans the run from rest to rest (the passes of [`plan`]), adds the time of each
-    /// block to `t` in order and empties the run.
-    fn settle(&mut self, t: &mut TimeEstimate) {
-        let n = self.steps.len();
-        if n > 0 {
-            let e = &mut self.e;
-            e.push(0.0);
-            for i in (0..n).rev() {
-                let b = &self.steps[i];
-                e[i] = e[i].min(e[i + 1] + 2.0 * b.a * b.len);
-            }
-            for i in 0..n {
-                let b = &self.steps[i];
-                e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
-            }
-            for (i, b) in self.steps.iter().enumerate() {
-                let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
-                if b.rapid {
-                    t.rapid += dt;
-                } else {
-                    t.feed += dt;
-                }
-            }
-        }
-        self.steps.clear();
-        self.e.clear();
-        self.prev = None;
-    }
+    est.finish()
 }
 
 /// The planner blocks of a rapid or feed move, with whether it is a rapid.

@@ -231,6 +231,42 @@ mod tests {
     }
 
     #[test]
+    fn windowed_estimate_matches_the_whole_run_plan() {
+        // Far more blocks than the estimator's window, with no stop between them: short
+        // chords of a fast spiral (entry speeds limited by braking over many blocks ahead)
+        // mixed with long lines and sharp turns. The timeline plans the run whole
+        // ([`super::super::time::plan`]); the estimate settles it window by window.
+        let mut src = String::from("G1 F6000\n");
+        let mut seed = 0x5EED_u64;
+        for k in 0..30_000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let r = (seed >> 11) as f64 / (1u64 << 53) as f64;
+            let t = k as f64 * 0.01;
+            let (x, y) = if k % 997 < 3 {
+                (200.0 * r, 150.0 * (1.0 - r))
+            } else {
+                (
+                    100.0 + (20.0 + 0.002 * k as f64) * t.cos(),
+                    80.0 + 30.0 * t.sin(),
+                )
+            };
+            src.push_str(&format!("X{x:.4} Y{y:.4}\n"));
+        }
+        let p = interpret(&src, 0.005);
+        assert!(p.motions.len() > 20_000);
+        let tl = timeline(&p.motions, &cfg());
+        let est = estimate(&p.motions, &cfg());
+        assert!(
+            (tl.total - est.total).abs() < 1e-9 * est.total,
+            "{} vs {}",
+            tl.total,
+            est.total
+        );
+    }
+
+    #[test]
     fn trapezoid_positions() {
         // v = 100 mm/s, a = 500 mm/s²: 0.2 s to reach speed over 10 mm, cruise 80 mm in
         // 0.8 s, brake 10 mm in 0.2 s (closed form s = at²/2 while accelerating).
