@@ -24,6 +24,7 @@ use super::config::{CheckConfig, Dialect, ToolEntry};
 use super::findings::{Finding, Severity};
 use super::motion::{Event, Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState, Units};
 use super::ngc::{self, Expr, Line, OKind, ParamRef, ParamSource, Syntax};
+use super::parse_ahead::{self, ParseAhead};
 use crate::geom::{Arc, DVec2, perp};
 use glam::DVec3;
 use std::borrow::Cow;
@@ -536,7 +537,15 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
     // unused part is returned at the end.
     let lines = it.sources.first().map_or(0, |s| s.len());
     it.prog.motions.reserve(lines);
-    it.run(None);
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if lines >= parse_ahead::MIN_LINES && workers > 1 {
+        std::thread::scope(|scope| {
+            let mut ahead = ParseAhead::spawn(scope, src, it.syn);
+            it.run(None, Some(&mut ahead));
+        });
+    } else {
+        it.run(None, None);
+    }
     it.prog.motions.shrink_to_fit();
     it.prog.final_tool = it.st.tool;
     it.prog
@@ -570,7 +579,7 @@ pub fn interpret_stream<'a>(
     };
     it.push_source(src, owords);
     it.streaming = true;
-    it.run(Some(sink));
+    it.run(Some(sink), None);
     it.prog.final_tool = it.st.tool;
     let error = match it.sources.first().map(|s| &s.body) {
         Some(Body::Stream(s)) => s.error.clone(),
@@ -687,7 +696,9 @@ impl<'a> Interp<'a, '_> {
         self.prog.diagnostics.push(f);
     }
 
-    fn run(&mut self, mut sink: Option<MotionSink<'_>>) {
+    /// Runs the program from its first line; `ahead` parses the main program's lines on
+    /// another thread ([`ParseAhead`]).
+    fn run(&mut self, mut sink: Option<MotionSink<'_>>, mut ahead: Option<&mut ParseAhead>) {
         let mut drain = |it: &mut Self| {
             if let Some(f) = sink.as_mut() {
                 for m in it.pending.drain(..) {
@@ -739,10 +750,16 @@ impl<'a> Interp<'a, '_> {
                 })
             } else {
                 self.high_water[src] = i + 1;
-                ngc::parse_line_into(text, self.syn, &mut scratch);
                 None
             };
-            let parsed: &Line = cached.as_deref().unwrap_or(&scratch);
+            let early = match (&cached, ahead.as_deref_mut()) {
+                (None, Some(a)) if src == 0 => a.get(i),
+                _ => None,
+            };
+            if cached.is_none() && early.is_none() {
+                ngc::parse_line_into(text, self.syn, &mut scratch);
+            }
+            let parsed: &Line = cached.as_deref().or(early).unwrap_or(&scratch);
             if parsed.percent && src == 0 {
                 if !started {
                     started = true;
@@ -2935,7 +2952,7 @@ mod tests {
         let mut it = new_interp(cfg, &opts);
         it.plain_moves = false;
         it.add_source("program".into(), Cow::Borrowed(src));
-        it.run(None);
+        it.run(None, None);
         it.prog.final_tool = it.st.tool;
         it.prog
     }
@@ -3018,6 +3035,59 @@ mod tests {
             let fast = run_cfg(&src, &cfg);
             let general = run_general(&src, &cfg);
             proptest::prop_assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{}", src);
+        }
+    }
+
+    /// `src` interpreted with its lines parsed on a second thread (`ahead`) or on this one.
+    fn run_parsed(src: &str, cfg: &CheckConfig, ahead: bool) -> Program {
+        let opts = Options { load_sub: None };
+        let mut it = new_interp(cfg, &opts);
+        it.add_source("program".into(), Cow::Borrowed(src));
+        if ahead {
+            std::thread::scope(|scope| {
+                let mut a = ParseAhead::spawn(scope, src, it.syn);
+                it.run(None, Some(&mut a));
+            });
+        } else {
+            it.run(None, None);
+        }
+        it.prog.final_tool = it.st.tool;
+        it.prog
+    }
+
+    #[test]
+    fn parsing_ahead_gives_the_same_program() {
+        // Several chunks of lines: a subroutine called in a loop (its lines met again come
+        // from the cache), if/else jumping forward over whole chunks, errors, comments,
+        // CRLF and blank lines, and lines after the end.
+        let chunk = parse_ahead::CHUNK_LINES;
+        let mut src = String::from("o100 sub\nG1 X#1 Y[#1*2] F600\nG2 X0 Y0 I1 J1\no100 endsub\n");
+        src += "#5 = 0\no200 while [#5 LT 3]\no100 call [#5 + 1]\n#5 = [#5 + 1]\no200 endwhile\n";
+        src += "o300 if [#5 GT 10]\n";
+        for k in 0..2 * chunk {
+            src += &format!("G1 X{k} Y1 (skipped)\n");
+        }
+        src += "o300 else\n";
+        for k in 0..3 * chunk {
+            src += &match k % 6 {
+                0 => format!("G1 X{}.5 Y-{k}\r\n", k % 97),
+                1 => "\n".to_string(),
+                2 => format!("G0 Z{} ; lift\n", k % 5),
+                3 => "G1 Q7 X1\n".to_string(),
+                4 => format!("#7 = [#7 + {k}]\n"),
+                _ => format!("N{k} G3 X{} Y0 R40\n", k % 31),
+            };
+        }
+        src += "o300 endif\no100 call [2]\nM2\nG1 X5\n";
+        for dialect in [Dialect::Linuxcnc, Dialect::Grbl] {
+            let cfg = CheckConfig {
+                dialect,
+                ..CheckConfig::default()
+            };
+            let serial = run_parsed(&src, &cfg, false);
+            let ahead = run_parsed(&src, &cfg, true);
+            assert!(serial.motions.len() > chunk, "{dialect:?}");
+            assert_eq!(format!("{serial:?}"), format!("{ahead:?}"), "{dialect:?}");
         }
     }
 

@@ -32,6 +32,7 @@ pub mod lexer;
 pub mod linuxcnc;
 pub mod motion;
 pub mod ngc;
+mod parse_ahead;
 pub mod report;
 pub mod rs274;
 pub mod stream;

@@ -1,0 +1,161 @@
+//! Parsing ahead of the interpreter on a second thread: the lines of an in-memory program
+//! are parsed in chunks by a worker while the interpreter executes the chunk before, so
+//! reading a long program costs about the larger of parsing and executing, not their sum.
+//!
+//! Parsing is a pure function of the line's text and the syntax ([`ngc::parse_line_into`]),
+//! so a line parsed ahead is the line the interpreter would have parsed itself: the
+//! program, its moves and its diagnostics do not depend on whether the worker ran. Only
+//! first readings use it (the interpreter reads the main program's lines for the first
+//! time in increasing order; loop bodies and subroutines met again come from its cache).
+//!
+//! Memory is bounded: at most [`IN_FLIGHT`] chunks of [`CHUNK_LINES`] parsed lines wait,
+//! and their buffers are handed back for reuse. The worker stops when the interpreter
+//! drops its [`ParseAhead`] (a program ending early does not wait for the rest to be
+//! parsed).
+
+use super::ngc::{self, Line, Syntax};
+use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+
+/// Lines per chunk: large enough that the hand-over (two channel operations) is noise,
+/// small enough that a chunk's parsed lines stay in the caches.
+pub const CHUNK_LINES: usize = 2048;
+
+/// Parsed chunks that may wait for the interpreter.
+const IN_FLIGHT: usize = 4;
+
+/// Programs with fewer lines than this are parsed on the interpreter's thread: starting a
+/// worker costs more than it saves.
+pub const MIN_LINES: usize = 16 * CHUNK_LINES;
+
+/// Consecutive lines parsed by the worker.
+struct Chunk {
+    /// Index of the first line.
+    first: usize,
+    lines: Vec<Line>,
+}
+
+/// The interpreter's end of the worker: hands out parsed lines by index.
+pub struct ParseAhead {
+    rx: Receiver<Chunk>,
+    recycle: SyncSender<Vec<Line>>,
+    cur: Option<Chunk>,
+}
+
+impl ParseAhead {
+    /// Starts a worker in `scope` parsing the lines of `text` (split at `\n`, a trailing
+    /// `\r` removed: the lines [`super::interp`] reads from an in-memory source) with `syn`.
+    pub fn spawn<'scope, 'env: 'scope>(
+        scope: &'scope std::thread::Scope<'scope, 'env>,
+        text: &'env str,
+        syn: Syntax,
+    ) -> ParseAhead {
+        let (tx, rx) = sync_channel::<Chunk>(IN_FLIGHT);
+        let (recycle, spare) = sync_channel::<Vec<Line>>(IN_FLIGHT + 2);
+        scope.spawn(move || parse_chunks(text, syn, &tx, &spare));
+        ParseAhead {
+            rx,
+            recycle,
+            cur: None,
+        }
+    }
+
+    /// Line `i` parsed, when the worker has it: `i` must not be below the line asked for
+    /// before (chunks passed are dropped). None when the worker has stopped or `i` is
+    /// behind it; the caller parses the line itself then.
+    pub fn get(&mut self, i: usize) -> Option<&Line> {
+        loop {
+            match &self.cur {
+                Some(c) if i < c.first => return None,
+                Some(c) if i < c.first + c.lines.len() => break,
+                _ => {}
+            }
+            if let Some(old) = self.cur.take() {
+                // The worker allocates afresh when no buffer comes back.
+                let _ = self.recycle.try_send(old.lines);
+            }
+            self.cur = Some(self.rx.recv().ok()?);
+        }
+        let c = self.cur.as_ref()?;
+        c.lines.get(i - c.first)
+    }
+}
+
+/// The worker: parses `text` chunk by chunk into `tx` until the text ends or the
+/// interpreter hangs up.
+fn parse_chunks(text: &str, syn: Syntax, tx: &SyncSender<Chunk>, spare: &Receiver<Vec<Line>>) {
+    let mut lines_of = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l));
+    let mut first = 0;
+    loop {
+        let mut lines = spare.try_recv().unwrap_or_default();
+        let mut n = 0;
+        for raw in lines_of.by_ref().take(CHUNK_LINES) {
+            if n == lines.len() {
+                lines.push(Line::default());
+            }
+            ngc::parse_line_into(raw, syn, &mut lines[n]);
+            n += 1;
+        }
+        if n == 0 {
+            return;
+        }
+        lines.truncate(n);
+        if tx.send(Chunk { first, lines }).is_err() {
+            return;
+        }
+        first += n;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn syn() -> Syntax {
+        Syntax {
+            ngc: true,
+            checksums: false,
+            dollar: false,
+        }
+    }
+
+    #[test]
+    fn lines_match_parsing_in_place_and_skips_are_allowed() {
+        let text: String = (0..3 * CHUNK_LINES + 17)
+            .map(|k| match k % 5 {
+                0 => format!("G1 X{k} Y-{k}.5 F300\r\n"),
+                1 => "\n".to_string(),
+                2 => format!("#{} = [{k} * 2] (c)\n", 100 + k % 7),
+                3 => format!("o{k} if [1 GT 0]\n"),
+                _ => format!("N{k} G0 Z{}.25 ; note\n", k % 9),
+            })
+            .collect();
+        let lines: Vec<&str> = text
+            .split('\n')
+            .map(|l| l.strip_suffix('\r').unwrap_or(l))
+            .collect();
+        std::thread::scope(|s| {
+            let mut ahead = ParseAhead::spawn(s, &text, syn());
+            // Every line in order, then a forward jump over whole chunks.
+            let mut want = Line::default();
+            for i in (0..CHUNK_LINES + 5).chain(3 * CHUNK_LINES..lines.len()) {
+                ngc::parse_line_into(lines[i], syn(), &mut want);
+                assert_eq!(ahead.get(i), Some(&want), "line {i}: {:?}", lines[i]);
+            }
+            // Behind the current chunk: the caller parses it.
+            assert_eq!(ahead.get(3), None);
+            // Past the end.
+            assert_eq!(ahead.get(lines.len()), None);
+        });
+    }
+
+    #[test]
+    fn dropping_the_reader_stops_the_worker() {
+        let text = "G1 X1\n".repeat(20 * CHUNK_LINES);
+        std::thread::scope(|s| {
+            let mut ahead = ParseAhead::spawn(s, &text, syn());
+            assert!(ahead.get(0).is_some());
+            drop(ahead);
+            // The scope joins the worker: this returns only if it stopped.
+        });
+    }
+}
