@@ -678,13 +678,7 @@ fn operation_specs(
             // by more than the margin would otherwise be cut through by the board's own cut.
             let channels = channel_regions(ctx, &items);
             let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
-            let channel_outside = channels.iter().any(|c| {
-                c.contours.iter().any(|pl| {
-                    use cavalier_contours::polyline::PlineSource;
-                    pl.iter_vertexes()
-                        .any(|v| !board.contains(DVec2::new(v.x, v.y)))
-                })
-            });
+            let channel_outside = !board.contains_every_vertex(&channels);
             let board = if channel_outside {
                 regions.extend(channels);
                 ops::backboard(&regions, margin, rho, ctx.tol, eps)

@@ -545,7 +545,7 @@ impl Region {
     /// Whether this region nests as a region should (`well_nested`: material and holes alternate) and every
     /// vertex of `other` lies in its material (winding number 1).
     pub fn holds(&self, other: &Region) -> bool {
-        self.well_nested() && self.winds_every_vertex(other, 1)
+        self.well_nested() && self.winds_every_vertex(std::slice::from_ref(other), |w| w == 1)
     }
 
     /// Whether every contour is simple and no two meet within `tol`: no contour crosses or
@@ -586,24 +586,29 @@ impl Region {
 
     /// Whether no vertex of `other` lies in this region's material (winding number 0).
     pub fn excludes(&self, other: &Region) -> bool {
-        self.winds_every_vertex(other, 0)
+        self.winds_every_vertex(std::slice::from_ref(other), |w| w == 0)
     }
 
-    /// Whether this region's contours wind `n` times about every vertex of `other`, each
-    /// contour asked through a [`WindingIndex`] (the same number as cavalier's
+    /// Whether every vertex of every region of `others` lies in this region's material
+    /// ([`Region::contains`]: non-zero total winding), asked through one index.
+    pub fn contains_every_vertex(&self, others: &[Region]) -> bool {
+        self.winds_every_vertex(others, |w| w != 0)
+    }
+
+    /// Whether this region's total winding number about every vertex of `others` passes
+    /// `ok`, each contour asked through a [`WindingIndex`] (the same number as cavalier's
     /// `winding_number`): O(W) to build and O(1 + k) per vertex for the k segments in its
     /// slab, instead of O(V·W).
-    fn winds_every_vertex(&self, other: &Region, n: i32) -> bool {
+    fn winds_every_vertex(&self, others: &[Region], ok: impl Fn(i32) -> bool) -> bool {
         let windings = Windings::new(&self.contours);
-        other
-            .contours
+        others
             .iter()
+            .flat_map(|o| &o.contours)
             .flat_map(|c| c.iter_vertexes())
             .all(|v| {
-                (0..self.contours.len())
+                ok((0..self.contours.len())
                     .map(|k| windings.of(k, v.x, v.y))
-                    .sum::<i32>()
-                    == n
+                    .sum::<i32>())
             })
     }
 
@@ -861,6 +866,39 @@ mod tests {
             .collect();
         assert_eq!(holes.len(), 1);
         assert!((holes[0] + 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn every_vertex_test_agrees_with_contains() {
+        // A ring with a hole and rounded (arc) corners from an offset; candidates inside,
+        // in the hole, outside, and some with vertices on the boundary.
+        let mut outer = square(0.0, 0.0, 10.0);
+        outer.invert_direction_mut();
+        let ring = Region::from_contours(vec![outer, square(3.0, 3.0, 4.0)]).offset(0.5, 1e-6);
+        let candidates = [
+            Region::from_contours(vec![square(0.5, 0.5, 1.0)]),
+            Region::from_contours(vec![square(-0.4, 8.0, 1.0)]),
+            Region::from_contours(vec![square(4.0, 4.0, 1.0)]),
+            Region::from_contours(vec![square(2.0, 0.0, 0.5)]),
+            Region::from_contours(vec![square(20.0, 20.0, 1.0)]),
+            ring.offset(-0.25, 1e-6),
+            ring.offset(0.25, 1e-6),
+        ];
+        let by_vertex = |rs: &[Region]| {
+            rs.iter().flat_map(|r| &r.contours).all(|c| {
+                c.iter_vertexes()
+                    .all(|v| ring.contains(DVec2::new(v.x, v.y)))
+            })
+        };
+        let mut seen = [false; 2];
+        for k in 0..candidates.len() {
+            for set in [&candidates[k..=k], &candidates[..=k]] {
+                let want = by_vertex(set);
+                seen[usize::from(want)] = true;
+                assert_eq!(ring.contains_every_vertex(set), want, "candidates {k}");
+            }
+        }
+        assert_eq!(seen, [true, true]);
     }
 
     #[test]
