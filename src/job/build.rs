@@ -978,9 +978,14 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
     };
     let reach = |r: f64| r.max(ctx.tol);
     let eps = ctx.tol * 0.1;
-    // Representative point and footprint of each path or point.
+    // Representative point and what the footprint of each path or point is made of:
+    // a closed path grown by the reach, or the polyline (a point: a tiny one) swept by it.
+    enum Print<'a> {
+        Closed(&'a Path),
+        Swept(Vec<DVec2>),
+    }
     let mut reps: Vec<(usize, usize, DVec2)> = Vec::new();
-    let mut prints: Vec<Region> = Vec::new();
+    let mut inputs: Vec<(Print<'_>, f64)> = Vec::new();
     for (si, s) in specs.iter().enumerate() {
         if !clears(s.kind) {
             continue;
@@ -997,25 +1002,19 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
         match &s.geometry {
             Geometry::Paths(paths) => {
                 for (k, p) in paths.iter().enumerate() {
-                    let pts = p.flatten(ctx.tol);
-                    let fp = if p.closed {
-                        Region::from_paths(std::slice::from_ref(p), ctx.tol).offset(r, eps)
-                    } else {
-                        ops::swept_region(&pts, false, r, ctx.tol)
-                    };
                     reps.push((si, k, p.start().unwrap_or_default()));
-                    prints.push(fp);
+                    let print = if p.closed {
+                        Print::Closed(p)
+                    } else {
+                        Print::Swept(p.flatten(ctx.tol))
+                    };
+                    inputs.push((print, r));
                 }
             }
             Geometry::Points(points) => {
                 for (k, &q) in points.iter().enumerate() {
                     reps.push((si, k, q));
-                    prints.push(ops::swept_region(
-                        &[q, q + DVec2::X * eps],
-                        false,
-                        r,
-                        ctx.tol,
-                    ));
+                    inputs.push((Print::Swept(vec![q, q + DVec2::X * eps]), r));
                 }
             }
             Geometry::Polylines3(lines) => {
@@ -1023,7 +1022,7 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
                     let pts: Vec<DVec2> = l.iter().map(|p| p.truncate()).collect();
                     if let Some(&q) = pts.first() {
                         reps.push((si, k, q));
-                        prints.push(ops::swept_region(&pts, false, r, ctx.tol));
+                        inputs.push((Print::Swept(pts), r));
                     }
                 }
             }
@@ -1032,7 +1031,7 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
                     let pts: Vec<DVec2> = l.points.iter().map(|p| p.truncate()).collect();
                     if let Some(&q) = pts.first() {
                         reps.push((si, k, q));
-                        prints.push(ops::swept_region(&pts, false, r, ctx.tol));
+                        inputs.push((Print::Swept(pts), r));
                     }
                 }
             }
@@ -1043,9 +1042,20 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
     }
     // Connected components of overlapping footprints (union-find on pairwise
     // intersection, bounding boxes first): every footprint on its own, no big boolean union
-    // that one odd input could spoil.
+    // that one odd input could spoil. The footprints are independent: made in parallel.
     use geo::{BoundingRect, Intersects};
-    let polys: Vec<geo::MultiPolygon<f64>> = prints.iter().map(|r| r.to_geo(ctx.tol)).collect();
+    let polys: Vec<geo::MultiPolygon<f64>> = inputs
+        .par_iter()
+        .map(|(print, r)| {
+            let fp = match print {
+                Print::Closed(p) => {
+                    Region::from_paths(std::slice::from_ref(*p), ctx.tol).offset(*r, eps)
+                }
+                Print::Swept(pts) => ops::swept_region(pts, false, *r, ctx.tol),
+            };
+            fp.to_geo(ctx.tol)
+        })
+        .collect();
     let boxes: Vec<Option<geo::Rect<f64>>> = polys.iter().map(|p| p.bounding_rect()).collect();
     let mut parent: Vec<usize> = (0..polys.len()).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
