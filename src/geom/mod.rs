@@ -13,6 +13,7 @@ pub mod line;
 pub mod path;
 pub mod predicates;
 pub mod roots;
+pub mod slabs;
 pub mod tol;
 
 pub use arc::Arc;

@@ -15,6 +15,7 @@
 //! Cost: O(n) to build for n segments (at most [`MAX_ENTRIES_PER_SEGMENT`]·n slab entries),
 //! O(1 + k) per query for the k segments listed in the point's slab, instead of O(n).
 
+use crate::geom::slabs::Slabs;
 use cavalier_contours::core::math::{Vector2, is_left, is_left_or_equal};
 use cavalier_contours::polyline::{PlineSource, PlineVertex, Polyline};
 
@@ -133,14 +134,8 @@ fn arc_height_range(v1: PlineVertex<f64>, v2: PlineVertex<f64>) -> (f64, f64, f6
 pub struct WindingIndex {
     /// The segments' start and end vertices.
     segs: Vec<(PlineVertex<f64>, PlineVertex<f64>)>,
-    /// Lower edge of the first slab.
-    y0: f64,
-    /// Slabs per unit height.
-    per_y: f64,
-    /// Slab k lists `entries[starts[k]..starts[k + 1]]`.
-    starts: Vec<u32>,
-    /// Segment numbers, slab by slab.
-    entries: Vec<u32>,
+    /// Segment numbers by slab of their widened height ranges.
+    slabs: Slabs,
 }
 
 impl WindingIndex {
@@ -164,93 +159,21 @@ impl WindingIndex {
                 (lo - w, hi + w)
             })
             .collect();
-        let (y0, y1) = ranges
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
-                (a.min(r.0), b.max(r.1))
-            });
-        let n = segs.len();
-        let finite = y0.is_finite() && y1.is_finite() && y1 > y0;
-        // Non-finite or flat: one slab holding every segment.
-        let mut slabs = if finite { n.max(1) } else { 1 };
-        let span = |per_y: f64, (lo, hi): (f64, f64), slabs: usize| {
-            let k = |y: f64| (((y - y0) * per_y) as usize).min(slabs - 1);
-            (k(lo), k(hi))
-        };
-        let per_y = |slabs: usize| {
-            if finite {
-                slabs as f64 / (y1 - y0)
-            } else {
-                0.0
-            }
-        };
-        while slabs > 1 {
-            let total: usize = ranges
-                .iter()
-                .map(|&r| {
-                    let (a, b) = span(per_y(slabs), r, slabs);
-                    b - a + 1
-                })
-                .sum();
-            if total <= MAX_ENTRIES_PER_SEGMENT * n + 64 {
-                break;
-            }
-            slabs /= 2;
-        }
-        let py = per_y(slabs);
-        let mut counts = vec![0u32; slabs + 1];
-        for &r in &ranges {
-            let (a, b) = span(py, r, slabs);
-            for c in &mut counts[a..=b] {
-                *c += 1;
-            }
-        }
-        let mut starts = Vec::with_capacity(slabs + 1);
-        let mut acc = 0u32;
-        for &c in &counts[..slabs] {
-            starts.push(acc);
-            acc += c;
-        }
-        starts.push(acc);
-        let mut fill = starts.clone();
-        let mut entries = vec![0u32; acc as usize];
-        for (i, &r) in ranges.iter().enumerate() {
-            let (a, b) = span(py, r, slabs);
-            for f in &mut fill[a..=b] {
-                entries[*f as usize] = i as u32;
-                *f += 1;
-            }
-        }
         WindingIndex {
             segs,
-            y0,
-            per_y: py,
-            starts,
-            entries,
+            slabs: Slabs::new(&ranges, MAX_ENTRIES_PER_SEGMENT),
         }
     }
 
     /// The winding number of the polyline about `p`: the value cavalier_contours'
-    /// `winding_number` gives.
+    /// `winding_number` gives. A point above or below every range sees no segment whose
+    /// term is non-zero, nor does a NaN height (every comparison in the terms is false).
     pub fn winding(&self, p: Vector2<f64>) -> i32 {
         if self.segs.is_empty() {
             return 0;
         }
-        let slabs = self.starts.len() - 1;
-        let k = if self.per_y == 0.0 {
-            // One slab (non-finite or flat heights): every segment.
-            0
-        } else {
-            let y = (p.y - self.y0) * self.per_y;
-            // A point above or below every range sees no segment whose term is non-zero,
-            // nor does a NaN height (every comparison in the terms is false then).
-            if y.is_nan() || y < 0.0 || y >= slabs as f64 + 1.0 {
-                return 0;
-            }
-            (y as usize).min(slabs - 1)
-        };
-        let (a, b) = (self.starts[k] as usize, self.starts[k + 1] as usize);
-        self.entries[a..b]
+        self.slabs
+            .at(p.y)
             .iter()
             .map(|&i| {
                 let (v1, v2) = self.segs[i as usize];
@@ -377,7 +300,7 @@ mod tests {
         pts.push((0.0, -1.0));
         let pl = pline(&pts, &[0.0, 0.3, 0.0, -0.2]);
         let w = WindingIndex::new(&pl);
-        assert!(w.entries.len() <= MAX_ENTRIES_PER_SEGMENT * w.segs.len() + 64 + w.segs.len());
+        assert!(w.slabs.entries() <= MAX_ENTRIES_PER_SEGMENT * w.segs.len() + 64 + w.segs.len());
         for p in probes(&pl) {
             assert_eq!(w.winding(p), pl.winding_number(p), "at {p:?}");
         }
