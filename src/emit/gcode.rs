@@ -18,6 +18,7 @@ use crate::machine::{
 };
 use crate::toolpath::{Cut, Move, MoveKind, Toolpath};
 use glam::{DVec2, DVec3};
+use std::cell::RefCell;
 use std::fmt::Write as _;
 
 /// Largest sweep of one `R`-format arc: 120°. The centre recomputed from `R` gets
@@ -124,6 +125,8 @@ pub fn gcode_with_origins(
         origins: Vec::new(),
         group: None,
         air: false,
+        feed_text: RefCell::new(None),
+        power_text: RefCell::new(None),
     };
     w.program(tp)?;
     Ok((w.out, w.origins))
@@ -163,6 +166,23 @@ struct Writer<'a> {
     group: Option<u32>,
     /// Air assist on.
     air: bool,
+    /// The last feed and power formatted, by the bits of the value they were made of: a
+    /// program repeats a handful of values on every move.
+    feed_text: RefCell<Option<(u64, String)>>,
+    power_text: RefCell<Option<(u64, String)>>,
+}
+
+/// `format(v)`, from `memo` when it holds the text of the same value (the same bits).
+fn memoized(memo: &RefCell<Option<(u64, String)>>, v: f64, format: impl Fn() -> String) -> String {
+    let mut m = memo.borrow_mut();
+    match &*m {
+        Some((bits, text)) if *bits == v.to_bits() => text.clone(),
+        _ => {
+            let text = format();
+            *m = Some((v.to_bits(), text.clone()));
+            text
+        }
+    }
 }
 
 impl Writer<'_> {
@@ -219,17 +239,21 @@ impl Writer<'_> {
     }
 
     fn feed_str(&self, f: f64) -> String {
-        format_number(f, self.g.decimals.saturating_sub(2))
+        memoized(&self.feed_text, f, || {
+            format_number(f, self.g.decimals.saturating_sub(2))
+        })
     }
 
     fn s_str(&self, power: f64) -> String {
-        let r = self.p.power;
-        let mut v = power * r.max;
-        if power > 0.0 && v < r.min {
-            v = r.min;
-        }
-        let dec = if r.max >= 100.0 { 0 } else { 3 };
-        format_number(v.min(r.max), dec)
+        memoized(&self.power_text, power, || {
+            let r = self.p.power;
+            let mut v = power * r.max;
+            if power > 0.0 && v < r.min {
+                v = r.min;
+            }
+            let dec = if r.max >= 100.0 { 0 } else { 3 };
+            format_number(v.min(r.max), dec)
+        })
     }
 
     fn render(&self, key: &'static str, t: &str) -> Result<String, EmitError> {
