@@ -526,7 +526,8 @@ impl Region {
     /// region along a chord or loop a ring over itself when its input is dense, as the
     /// union of a stroke's disks is), the offset is made by geo's buffer
     /// ([`Region::buffered`]) instead, with arcs flattened within `tol`. Cost of the check:
-    /// O(V·W) winding tests for V vertices in and W out, plus the segment tests of
+    /// winding tests of the V vertices in against the W segments out (and back) through
+    /// slab indexes, O(V + W) plus the segments met in the slabs, and the segment tests of
     /// [`Region::simple`].
     pub fn offset_checked(&self, delta: f64, eps: f64, tol: f64) -> Region {
         let out = self.offset(delta, eps);
