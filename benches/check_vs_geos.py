@@ -123,7 +123,7 @@ def main():
         )
         print(
             f"LinuxCNC rs274 -n 0 -g: wall {t:.3f} s, CPU {t_cpu:.3f} s; "
-            f"rs274/skinpath CPU {t_cpu / ours_cpu:.1f}x"
+            f"rs274/skinpath wall {t / ours:.1f}x, CPU {t_cpu / ours_cpu:.1f}x"
         )
     else:
         print("LinuxCNC rs274: not installed here (linuxcnc-uspace): skipped")
