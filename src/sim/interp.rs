@@ -537,8 +537,9 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
     // unused part is returned at the end.
     let lines = it.sources.first().map_or(0, |s| s.len());
     it.prog.motions.reserve(lines);
-    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-    if lines >= parse_ahead::MIN_LINES && workers > 1 {
+    // Asked only for long programs: the answer reads the process's CPU limits.
+    let two_threads = || std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    if lines >= parse_ahead::MIN_LINES && two_threads() {
         std::thread::scope(|scope| {
             let mut ahead = ParseAhead::spawn(scope, src, it.syn);
             it.run(None, Some(&mut ahead));
