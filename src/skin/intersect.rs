@@ -292,6 +292,75 @@ impl Piece {
     fn touches_param(&self, t: f64) -> bool {
         self.t0 == t || self.t1 == t
     }
+
+    /// The cone at the piece's end at parameter `t` (its start when `t == t0`) that holds
+    /// the whole piece: apex, axis (a unit direction) and the angles of its bounding rays
+    /// from the axis, counter-clockwise positive. A cubic lies in the convex hull of its
+    /// control points, so in the cone the other three span from the end; an arc of sweep
+    /// below π lies between its tangent at the end and its chord. `None` when the
+    /// directions span π or more (a piece turning back on itself) or the piece is a point.
+    fn cone(&self, t: f64) -> Option<Cone> {
+        let at_start = self.t0 == t;
+        let (apex, dirs) = match self.geom {
+            Geom::Cubic(c) if at_start => (c.p0, [c.p1 - c.p0, c.p2 - c.p0, c.p3 - c.p0]),
+            Geom::Cubic(c) => (c.p3, [c.p2 - c.p3, c.p1 - c.p3, c.p0 - c.p3]),
+            Geom::Arc(a) => {
+                if a.sweep.abs() >= PI {
+                    return None;
+                }
+                let (p, q) = if at_start {
+                    (self.ends.0, self.ends.1)
+                } else {
+                    (self.ends.1, self.ends.0)
+                };
+                // The tangent leaving the apex along the arc: ±(p − centre)⊥.
+                let r = p - a.center;
+                let turn = if at_start { a.sweep } else { -a.sweep };
+                let tangent = turn.signum() * DVec2::new(-r.y, r.x);
+                (p, [tangent, q - p, q - p])
+            }
+        };
+        let axis = dirs
+            .iter()
+            .copied()
+            .find(|d| *d != DVec2::ZERO)?
+            .normalize();
+        let (mut lo, mut hi) = (0.0f64, 0.0f64);
+        for d in dirs.iter().filter(|d| **d != DVec2::ZERO) {
+            let th = axis.perp_dot(*d).atan2(axis.dot(*d));
+            lo = lo.min(th);
+            hi = hi.max(th);
+        }
+        (hi - lo < PI && axis.is_finite()).then_some(Cone { apex, axis, lo, hi })
+    }
+}
+
+/// A cone holding a piece that ends at its apex ([`Piece::cone`]): the rays at angles
+/// `lo..=hi` (radians, |hi − lo| < π) from `axis`.
+#[derive(Clone, Copy, Debug)]
+struct Cone {
+    apex: DVec2,
+    axis: DVec2,
+    lo: f64,
+    hi: f64,
+}
+
+impl Cone {
+    /// The smallest angle between a ray of `self` and a ray of `o` (in [0, π]), or `None`
+    /// when the cones share a ray. The two angular intervals sit on the circle of
+    /// directions; the answer is the smaller of the two gaps between them.
+    fn gap(&self, o: &Cone) -> Option<f64> {
+        use std::f64::consts::TAU;
+        let beta = self.axis.perp_dot(o.axis).atan2(self.axis.dot(o.axis));
+        // `o`'s interval in `self`'s angles, shifted to start in [lo, lo + 2π).
+        let mut c0 = beta + o.lo;
+        c0 = self.lo + (c0 - self.lo).rem_euclid(TAU);
+        let c1 = c0 + (o.hi - o.lo);
+        if c0 <= self.hi || c1 >= self.lo + TAU {
+            return None;
+        }
+        Some((c0 - self.hi).min(self.lo + TAU - c1))
+    }
 }
 
 /// True when the boxes overlap after growing each by `grow`.
@@ -307,6 +376,9 @@ struct Search<'a> {
     hits: Vec<Hit>,
     /// Pairs of pieces visited so far (bounded by [`MAX_VISITS_PER_SEARCH`]).
     visits: usize,
+    /// Settle pairs at a joint by [`Search::clear_of_joint`] (always, except in the tests
+    /// that compare it with plain bisection).
+    joint_cones: bool,
 }
 
 impl Search<'_> {
@@ -314,6 +386,40 @@ impl Search<'_> {
         self.joints
             .iter()
             .any(|j| a.touches_param(j.ta) && b.touches_param(j.tb))
+    }
+
+    /// Whether `a` and `b`, which both end at the same (single) joint, can come within
+    /// 3·tol of each other only inside its zone, so that the search below them cannot
+    /// report anything (a pair is reported only where the curves come within 3·tol, and
+    /// pieces inside the zone are skipped).
+    ///
+    /// Bound: `a` lies in a cone at its end A, `b` in one at its end B (‖A − B‖ = δ ≤ tol
+    /// for a joint), and no ray of one makes an angle below γ with a ray of the other. A
+    /// point x of `a` at distance s from A is at least s·sin γ' from B's cone moved to A
+    /// (γ' = min(γ, π/2): the distance from a point to a convex cone), so at least
+    /// s·sin γ' − δ from `b`. Outside the zone s > zone − ‖A − joint‖, so the condition is
+    /// (zone − ‖A − joint‖)·sin γ' − δ > 3·tol, and the same for `b`. Near a joint this
+    /// replaces the bisection down to the zone (log₂(size/zone) levels) by one test once
+    /// the pieces' cones are narrow enough.
+    fn clear_of_joint(&self, a: &Piece, b: &Piece) -> bool {
+        let mut touched = self
+            .joints
+            .iter()
+            .filter(|j| a.touches_param(j.ta) && b.touches_param(j.tb));
+        let (Some(j), None) = (touched.next(), touched.next()) else {
+            return false;
+        };
+        let (Some(ca), Some(cb)) = (a.cone(j.ta), b.cone(j.tb)) else {
+            return false;
+        };
+        let Some(gamma) = ca.gap(&cb) else {
+            return false;
+        };
+        let sin = gamma.min(0.5 * PI).sin();
+        let delta = ca.apex.distance(cb.apex);
+        let reach = 3.0 * self.tol;
+        (j.zone - ca.apex.distance(j.point)) * sin - delta > reach
+            && (j.zone - cb.apex.distance(j.point)) * sin - delta > reach
     }
 
     fn in_joint_zone(&self, a: &Piece, b: &Piece) -> bool {
@@ -329,8 +435,11 @@ impl Search<'_> {
         {
             return;
         }
-        self.visits += 1;
         let joint = self.at_joint(a, b);
+        if joint && self.joint_cones && self.clear_of_joint(a, b) {
+            return;
+        }
+        self.visits += 1;
         let (fa, fb) = (a.flatness(), b.flatness());
         if !joint && fa <= 0.5 * self.tol && fb <= 0.5 * self.tol {
             let ((p, q), (r, s)) = (a.ends(), b.ends());
@@ -400,6 +509,7 @@ impl Search<'_> {
             joints: &[Joint::smooth(x.t1, y.t0, x.ends().1, self.tol)],
             hits: Vec::new(),
             visits: self.visits,
+            joint_cones: self.joint_cones,
         };
         inner.run(&x, &y, depth + 1);
         self.visits = inner.visits;
@@ -419,11 +529,22 @@ fn dedup(hits: Vec<Hit>, tol: f64) -> Vec<Hit> {
 }
 
 fn pair_hits(a: &PathSeg, b: &PathSeg, joints: &[Joint], tol: f64) -> Vec<Hit> {
+    pair_hits_with(a, b, joints, tol, true)
+}
+
+fn pair_hits_with(
+    a: &PathSeg,
+    b: &PathSeg,
+    joints: &[Joint],
+    tol: f64,
+    joint_cones: bool,
+) -> Vec<Hit> {
     let mut s = Search {
         tol,
         joints,
         hits: Vec::new(),
         visits: 0,
+        joint_cones,
     };
     s.run(&Piece::of(a), &Piece::of(b), 0);
     dedup(s.hits, tol)
@@ -442,6 +563,7 @@ pub fn cubic_self_intersections(c: &CubicBez, tol: f64) -> Vec<Hit> {
         joints: &[],
         hits: Vec::new(),
         visits: 0,
+        joint_cones: true,
     };
     s.run_self(&Piece::of(&PathSeg::Cubic(*c)), 0);
     dedup(s.hits, tol)
@@ -908,6 +1030,92 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// Angle between two rays given by their angles, in [0, π].
+    fn ray_angle(a: f64, b: f64) -> f64 {
+        let d = (a - b).rem_euclid(std::f64::consts::TAU);
+        d.min(std::f64::consts::TAU - d)
+    }
+
+    /// A segment of the given kind (0 line, 1 arc, 2 cubic) ending (`at_end`) or starting
+    /// at `j`, leaving it along `dir` (an angle) with length scale `len`, bending by
+    /// `bend` (radians, for arcs and cubics).
+    fn seg_at(kind: u8, j: DVec2, dir: f64, len: f64, bend: f64, at_end: bool) -> PathSeg {
+        let u = DVec2::from_angle(dir);
+        let seg = match kind {
+            0 => PathSeg::Line(Line::new(j, j + len * u)),
+            1 => {
+                // Leaves j along u turning by `bend` over the arc (radius from the length).
+                let sweep = if bend.abs() < 1e-3 { 1e-3 } else { bend };
+                let r = len / sweep.abs();
+                let centre = j + r * sweep.signum() * u.perp();
+                let start = (j - centre).to_angle();
+                PathSeg::Arc(Arc::new(centre, r, start, sweep))
+            }
+            _ => {
+                let w = DVec2::from_angle(dir + bend);
+                let p3 = j + len * (0.6 * u + 0.6 * w);
+                PathSeg::Cubic(CubicBez::new(j, j + 0.4 * len * u, p3 - 0.3 * len * w, p3))
+            }
+        };
+        if at_end { seg.reversed() } else { seg }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+
+        /// The gap of two cones is the smallest angle between sampled rays of each (to the
+        /// sampling step), and `None` exactly when the sampled rays meet.
+        #[test]
+        fn cone_gap_is_the_smallest_ray_angle(
+            a in -3.2f64..3.2, alo in -1.5f64..0.0, ahi in 0.0f64..1.5,
+            b in -3.2f64..3.2, blo in -1.5f64..0.0, bhi in 0.0f64..1.5,
+        ) {
+            let cone = |ax: f64, lo: f64, hi: f64| Cone {
+                apex: DVec2::ZERO,
+                axis: DVec2::from_angle(ax),
+                lo,
+                hi,
+            };
+            let (ca, cb) = (cone(a, alo, ahi), cone(b, blo, bhi));
+            let n = 200;
+            let mut brute = f64::INFINITY;
+            for i in 0..=n {
+                let ra = a + alo + (ahi - alo) * i as f64 / n as f64;
+                for k in 0..=n {
+                    let rb = b + blo + (bhi - blo) * k as f64 / n as f64;
+                    brute = brute.min(ray_angle(ra, rb));
+                }
+            }
+            let step = 3.0 / n as f64;
+            match ca.gap(&cb) {
+                Some(g) => proptest::prop_assert!((g - brute).abs() <= step, "{g} {brute}"),
+                None => proptest::prop_assert!(brute <= step, "{brute}"),
+            }
+        }
+
+        /// Settling pairs at a joint by their cones changes nothing: adjacent lines, arcs
+        /// and cubics meeting at every angle (G1 continuations, kinks, doubling back), in
+        /// three frames, give the same hits as plain bisection down to the joint zone.
+        #[test]
+        fn joint_cones_give_the_hits_of_plain_bisection(
+            ka in 0u8..3, kb in 0u8..3,
+            da in -3.2f64..3.2, turn in -3.2f64..3.2,
+            la in 0.1f64..3.0, lb in 0.1f64..3.0,
+            ba in -2.5f64..2.5, bb in -2.5f64..2.5,
+            frame in 0usize..3, ltol in -9i32..-2,
+        ) {
+            let (scale, shift) = [(1.0, DVec2::ZERO), (1e-2, v(3e3, -1e3)), (1e3, v(-5e4, 2e4))][frame];
+            let tol = 10f64.powi(ltol) * scale;
+            let j = shift + v(0.3, -0.2) * scale;
+            let a = seg_at(ka, j, da, la * scale, ba, true);
+            let b = seg_at(kb, j, da + turn, lb * scale, bb, false);
+            let joints = [Joint::between(&a, 1.0, &b, 0.0, tol)];
+            let fast = pair_hits_with(&a, &b, &joints, tol, true);
+            let plain = pair_hits_with(&a, &b, &joints, tol, false);
+            proptest::prop_assert_eq!(fast, plain);
         }
     }
 }
