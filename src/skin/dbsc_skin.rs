@@ -281,7 +281,7 @@ struct State<'a> {
     marks: Vec<Mark>,
     weights: Vec<f64>,
     /// Error bounds by (arc, span, side, mode).
-    cache: RefCell<HashMap<CacheKey, HausdorffBounds>>,
+    cache: RefCell<KeyMap<HausdorffBounds>>,
     /// Envelope loops of the curve (kruppa-2023 Sec. 3).
     loops: Vec<EnvelopeLoop>,
     /// Refinement steps left for the Hausdorff bounds of the whole skinning.
@@ -303,6 +303,38 @@ enum Mode {
 }
 
 type CacheKey = ([u64; 10], usize, Mode);
+
+/// Hasher of [`CacheKey`]s: the bit patterns of the arc's points and span ends, mixed a
+/// word at a time by rotate, xor and an odd multiplier (the FxHash scheme). The keys are
+/// our own numbers, not an adversary's, so the DoS resistance of the standard SipHash (5 %
+/// of a skinning's time in hashing) buys nothing here; the maps are only looked up, never
+/// iterated, so the hasher cannot change a result.
+#[derive(Clone, Copy, Default)]
+struct KeyHasher(u64);
+
+impl std::hash::Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write_u64(&mut self, x: u64) {
+        /// 2⁶⁴/φ rounded to odd: consecutive inputs spread over all bits.
+        const K: u64 = 0x9e37_79b9_7f4a_7c15;
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(K);
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut w = [0u8; 8];
+            w[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(w));
+        }
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
+/// Maps and sets keyed by [`CacheKey`].
+type KeyMap<V> = HashMap<CacheKey, V, std::hash::BuildHasherDefault<KeyHasher>>;
 
 fn cache_key(arc: &CubicBez, t0: f64, t1: f64, side: usize, mode: Mode) -> CacheKey {
     let p = arc.points();
@@ -336,11 +368,11 @@ fn speculative_bounds(
     sides: &[SideSkin; 2],
     hi: f64,
     mode: Mode,
-    cache: &HashMap<CacheKey, HausdorffBounds>,
+    cache: &KeyMap<HausdorffBounds>,
     bound: impl Fn(&BoundJob) -> Speculative + Sync,
-) -> HashMap<CacheKey, Speculative> {
+) -> KeyMap<Speculative> {
     let mut jobs: Vec<BoundJob> = Vec::new();
-    let mut seen = std::collections::HashSet::new();
+    let mut seen = KeyMap::default();
     for (k, side) in [Side::Left, Side::Right].into_iter().enumerate() {
         let Ok((ps, arcs)) = &sides[k] else {
             break;
@@ -349,7 +381,7 @@ fn speculative_bounds(
             let t0 = ps[a];
             let t1 = ps.get(a + 1).copied().unwrap_or(hi);
             let key = cache_key(arc, t0, t1, k, mode);
-            if !cache.contains_key(&key) && seen.insert(key) {
+            if !cache.contains_key(&key) && seen.insert(key, ()).is_none() {
                 jobs.push(BoundJob {
                     key,
                     arc: *arc,
@@ -362,7 +394,7 @@ fn speculative_bounds(
     }
     // One job gains nothing from a thread; keep it on the caller's.
     if jobs.len() < 2 {
-        return HashMap::new();
+        return KeyMap::default();
     }
     jobs.par_iter().map(|j| (j.key, bound(j))).collect()
 }
@@ -924,7 +956,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         uses: vec![CircleUse::Both; n],
         marks: vec![Mark::Open; if closed { n } else { n.saturating_sub(1) }],
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
-        cache: RefCell::new(HashMap::new()),
+        cache: RefCell::new(KeyMap::default()),
         params,
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),
