@@ -107,22 +107,36 @@ pub fn eval_d2(b: &[f64], u: f64) -> [f64; 3] {
         1 => return [b[0], 0.0, 0.0],
         _ => {}
     }
-    with_copy(b, |w| {
-        // Reduce to three points (two for degree 1).
-        for r in 1..n.saturating_sub(2) {
-            casteljau_step(w, n - r + 1, u);
-        }
-        let deg = (n - 1) as f64;
-        let d2 = if n >= 3 {
-            let d2 = deg * (deg - 1.0) * (w[0] - 2.0 * w[1] + w[2]);
-            casteljau_step(w, 3, u);
-            d2
-        } else {
-            0.0
-        };
-        let d1 = deg * (w[1] - w[0]);
-        [w[0] * (1.0 - u) + w[1] * u, d1, d2]
-    })
+    // Cubic spans: the same steps on a fixed-size copy, which the compiler unrolls.
+    if let Ok(c) = <[f64; CUBIC]>::try_from(b) {
+        return eval_d2_in(&mut { c }, u);
+    }
+    with_copy(b, |w| eval_d2_in(w, u))
+}
+
+/// Coefficient count of a cubic, the degree of most strokes: [`eval_d2`] and [`sub_into`]
+/// run their loops on arrays of this size, with the same operations in the same order (the
+/// same results, bit for bit) but unrolled.
+const CUBIC: usize = 4;
+
+/// [`eval_d2`] on a copy `w` (≥ 2 coefficients) it may overwrite.
+#[inline(always)]
+fn eval_d2_in(w: &mut [f64], u: f64) -> [f64; 3] {
+    let n = w.len();
+    // Reduce to three points (two for degree 1).
+    for r in 1..n.saturating_sub(2) {
+        casteljau_step(w, n - r + 1, u);
+    }
+    let deg = (n - 1) as f64;
+    let d2 = if n >= 3 {
+        let d2 = deg * (deg - 1.0) * (w[0] - 2.0 * w[1] + w[2]);
+        casteljau_step(w, 3, u);
+        d2
+    } else {
+        0.0
+    };
+    let d1 = deg * (w[1] - w[0]);
+    [w[0] * (1.0 - u) + w[1] * u, d1, d2]
 }
 
 /// De Casteljau split at `u` in place: `work` (the coefficients on [0, 1] on entry) ends
@@ -140,6 +154,17 @@ pub fn split_in_place(work: &mut [f64], u: f64, left: &mut [f64]) {
 /// (`out.len() == b.len()`): a split at u0 keeps the right part, a split of that at
 /// (u1 − u0)/(1 − u0) keeps the left part.
 pub fn sub_into(b: &[f64], u0: f64, u1: f64, out: &mut [f64]) {
+    if let (Ok(c), Ok(o)) = (<[f64; CUBIC]>::try_from(b), <&mut [f64; CUBIC]>::try_from(&mut *out)) {
+        let mut w = [0.0; CUBIC];
+        sub_in(&c, u0, u1, o, &mut w);
+        return;
+    }
+    with_scratch(b.len(), |w| sub_in(b, u0, u1, out, w));
+}
+
+/// [`sub_into`] with a scratch slice `w` of the same length.
+#[inline(always)]
+fn sub_in(b: &[f64], u0: f64, u1: f64, out: &mut [f64], w: &mut [f64]) {
     let n = b.len();
     out.copy_from_slice(b);
     // `out` becomes the piece on [u0, 1]; the left part is not needed.
@@ -150,13 +175,11 @@ pub fn sub_into(b: &[f64], u0: f64, u1: f64, out: &mut [f64]) {
         return;
     }
     let s = (u1 - u0) / (1.0 - u0);
-    with_scratch(n, |w| {
-        w.copy_from_slice(out);
-        for (r, o) in out.iter_mut().enumerate() {
-            *o = w[0];
-            casteljau_step(w, n - r, s);
-        }
-    });
+    w.copy_from_slice(out);
+    for (r, o) in out.iter_mut().enumerate() {
+        *o = w[0];
+        casteljau_step(w, n - r, s);
+    }
 }
 
 /// The derivative d/du in place: the first `len − 1` entries become n (bᵢ₊₁ − bᵢ) with
