@@ -154,7 +154,10 @@ pub fn split_in_place(work: &mut [f64], u: f64, left: &mut [f64]) {
 /// (`out.len() == b.len()`): a split at u0 keeps the right part, a split of that at
 /// (u1 − u0)/(1 − u0) keeps the left part.
 pub fn sub_into(b: &[f64], u0: f64, u1: f64, out: &mut [f64]) {
-    if let (Ok(c), Ok(o)) = (<[f64; CUBIC]>::try_from(b), <&mut [f64; CUBIC]>::try_from(&mut *out)) {
+    if let (Ok(c), Ok(o)) = (
+        <[f64; CUBIC]>::try_from(b),
+        <&mut [f64; CUBIC]>::try_from(&mut *out),
+    ) {
         let mut w = [0.0; CUBIC];
         sub_in(&c, u0, u1, o, &mut w);
         return;

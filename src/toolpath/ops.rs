@@ -148,8 +148,8 @@ pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f6
 /// exactly. A ring that is not [simple](Region::simple) (cavalier_contours once returned
 /// one touching itself along an arc, seed 0x5EED0011 case 61 rotated) is replaced by its
 /// opening too, and an opening that is not simple is never used; where neither is, geo's
-/// buffer makes the ring (flattened within [`BUFFER_TOL_EPS`]·eps). Cost: three offsets
-/// of the region per ring and two O(n log n) segment tests.
+/// buffer makes the ring (flattened within [`BUFFER_TOL_EPS`]·eps). Cost: four offsets
+/// of the region per ring (three of them side by side) and two O(n log n) segment tests.
 pub fn concentric(
     region: &Region,
     first: f64,
@@ -165,27 +165,37 @@ pub fn concentric(
     let delta = (0.5 * (reach - stepover)).max(SLIVER_EPS * eps);
     let mut d = first;
     for k in 0..max_rings {
-        let plain = region.offset(-d, eps);
-        let r = if k == 0 {
-            plain
-        } else {
-            let opened = region.offset(-(d + delta), eps).offset(delta, eps);
-            let sliver = plain.perimeter() - opened.perimeter() > SLIVER_LENGTH * delta;
-            let meet = eps * MEET_FRACTION;
-            let plain_simple = plain.simple(meet);
-            if (sliver || !plain_simple) && opened.simple(meet) {
-                opened
-            } else if plain_simple {
-                plain
-            } else {
-                region.buffered(-d, BUFFER_TOL_EPS * eps)
+        // The ring, its opening and the test for the last ring are independent offsets of
+        // the region: computed side by side (rayon; the same regions as in turn).
+        let ((plain, opening), last) = rayon::join(
+            || {
+                rayon::join(
+                    || region.offset(-d, eps),
+                    || (k > 0).then(|| region.offset(-(d + delta), eps).offset(delta, eps)),
+                )
+            },
+            || region.offset(-(d + reach), eps).is_empty(),
+        );
+        let r = match opening {
+            None => plain,
+            Some(opened) => {
+                let sliver = plain.perimeter() - opened.perimeter() > SLIVER_LENGTH * delta;
+                let meet = eps * MEET_FRACTION;
+                let plain_simple = plain.simple(meet);
+                if (sliver || !plain_simple) && opened.simple(meet) {
+                    opened
+                } else if plain_simple {
+                    plain
+                } else {
+                    region.buffered(-d, BUFFER_TOL_EPS * eps)
+                }
             }
         };
         if r.is_empty() {
             break;
         }
         out.extend(r.paths().iter().map(Path::reversed));
-        if region.offset(-(d + reach), eps).is_empty() {
+        if last {
             break;
         }
         d += stepover;
