@@ -372,11 +372,11 @@ impl SegmentSet {
             std::collections::HashMap::new();
         let mut rep: Vec<u32> = (0..self.contours.len() as u32).collect();
         let mut any = false;
-        for (c, r) in rep.iter_mut().enumerate() {
+        for c in 0..self.contours.len() {
             let reps = by_print.entry(fingerprint(c)).or_default();
             match reps.iter().find(|&&d| same(c, d as usize)) {
                 Some(&d) => {
-                    *r = d;
+                    rep[c] = d;
                     any = true;
                 }
                 None => reps.push(c as u32),
