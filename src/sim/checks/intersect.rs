@@ -310,151 +310,13 @@ impl SegmentSet {
 
     /// [`SegmentSet::contacts`], and whether the grid stopped at [`MAX_CONTACTS`] (then
     /// the contacts are those of the cells tested first, not all).
-    ///
-    /// Where contours repeat an earlier one exactly (the passes of a multi-depth cut) and
-    /// only crossings or nothing count between contours, the grid runs on one copy of each
-    /// ([`SegmentSet::copies_contacts`]).
     pub fn contacts_capped(&self) -> (Vec<Contact>, bool) {
         let mut out = self.adjacent_overlaps();
-        let (grid, capped) = match self.contour_copies() {
-            Some(rep) => self.copies_contacts(&rep),
-            None => {
-                let grid = self.grid_contacts();
-                let capped = grid.len() >= MAX_CONTACTS;
-                (grid, capped)
-            }
-        };
+        let grid = self.grid_contacts();
+        let capped = grid.len() >= MAX_CONTACTS;
         out.extend(grid);
         out.sort_by_key(|c| (c.i, c.j));
         out.dedup_by(|p, q| p.i == q.i && p.j == q.j);
-        (out, capped)
-    }
-
-    /// First segment of every contour, and the end of the last.
-    fn contour_starts(&self) -> Vec<usize> {
-        let mut starts = Vec::with_capacity(self.contours.len() + 1);
-        let mut at = 0usize;
-        for &(n, _) in &self.contours {
-            starts.push(at);
-            at += n as usize;
-        }
-        starts.push(at);
-        starts
-    }
-
-    /// Per contour, the first contour it repeats exactly (the same segments, end points
-    /// bit for bit, and the same closedness; itself when it repeats none), or `None` when
-    /// no contour repeats another, for tiles, and where every contact between contours
-    /// counts ([`Across::All`]: a contour touches its copies everywhere).
-    fn contour_copies(&self) -> Option<Vec<u32>> {
-        if self.links.is_some() || self.across == Across::All || self.contours.len() < 2 {
-            return None;
-        }
-        let starts = self.contour_starts();
-        let segs_of = |c: usize| &self.segs[starts[c]..starts[c + 1]];
-        let same = |c: usize, d: usize| {
-            self.contours[c] == self.contours[d]
-                && segs_of(c)
-                    .iter()
-                    .zip(segs_of(d))
-                    .all(|(s, t)| s.a == t.a && s.b == t.b)
-        };
-        let fingerprint = |c: usize| {
-            let mut h = 0xcbf2_9ce4_8422_2325u64 ^ u64::from(self.contours[c].0);
-            for s in segs_of(c) {
-                for x in [s.a.x, s.a.y, s.b.x, s.b.y] {
-                    h = (h.rotate_left(5) ^ x.to_bits()).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-                }
-            }
-            h
-        };
-        let mut by_print: std::collections::HashMap<u64, Vec<u32>> =
-            std::collections::HashMap::new();
-        let mut rep: Vec<u32> = (0..self.contours.len() as u32).collect();
-        let mut any = false;
-        for c in 0..self.contours.len() {
-            let reps = by_print.entry(fingerprint(c)).or_default();
-            match reps.iter().find(|&&d| same(c, d as usize)) {
-                Some(&d) => {
-                    rep[c] = d;
-                    any = true;
-                }
-                None => reps.push(c as u32),
-            }
-        }
-        any.then_some(rep)
-    }
-
-    /// The grid's contacts when contours repeat others (`rep` from
-    /// [`SegmentSet::contour_copies`]): the grid runs on the distinct contours only, and
-    /// every contact it finds stands for the same pair of segments in each copy, and
-    /// (with [`Across::Crossings`]) in each pair of copies. Each such pair is tested again
-    /// on the whole set ([`SegmentSet::test_pair`]), so the result is what the grid on the
-    /// whole set reports, without testing each copy against the others: k stacked passes
-    /// cost one grid search, not one with k times the segments per cell.
-    ///
-    /// Why nothing is missed: a contact of the whole set joins segment i of a copy of
-    /// contour c to segment j of a copy of d. Within one copy (the same contour) it is a
-    /// contact of i and j in c's first copy, which has the same segments and neighbours.
-    /// Between two contours only proper crossings count, and copies have the same
-    /// geometry, so i and j cross properly in the first copies too: within one contour
-    /// (c = d, i ≠ i + 1) that is a contact there, and between two a crossing there.
-    fn copies_contacts(&self, rep: &[u32]) -> (Vec<Contact>, bool) {
-        let starts = self.contour_starts();
-        // The distinct contours as a set of their own, and each one's copies.
-        let mut unique = SegmentSet {
-            across: self.across,
-            ..SegmentSet::default()
-        };
-        let mut family: Vec<Vec<usize>> = Vec::new();
-        let mut slot = vec![usize::MAX; rep.len()];
-        for (c, &r) in rep.iter().enumerate() {
-            let r = r as usize;
-            if r == c {
-                slot[c] = family.len();
-                family.push(vec![c]);
-                let number = unique.contours.len() as u32;
-                unique.contours.push(self.contours[c]);
-                unique
-                    .segs
-                    .extend(self.segs[starts[c]..starts[c + 1]].iter().map(|s| Seg {
-                        contour: number,
-                        ..*s
-                    }));
-            } else {
-                family[slot[r]].push(c);
-            }
-        }
-        let found = unique.grid_contacts();
-        let mut capped = found.len() >= MAX_CONTACTS;
-        let mut out = Vec::new();
-        let test = |i: usize, j: usize, out: &mut Vec<Contact>| {
-            if out.len() < MAX_CONTACTS
-                && let Some(c) = self.test_pair(i.min(j), i.max(j))
-            {
-                out.push(c);
-            }
-        };
-        for c in &found {
-            let (s, t) = (&unique.segs[c.i], &unique.segs[c.j]);
-            let (fs, ft) = (&family[s.contour as usize], &family[t.contour as usize]);
-            let (si, ti) = (s.index as usize, t.index as usize);
-            if s.contour == t.contour {
-                for &k in fs {
-                    test(starts[k] + si, starts[k] + ti, &mut out);
-                }
-            }
-            if c.proper && self.across == Across::Crossings {
-                for &k in fs {
-                    for &m in ft {
-                        if k != m {
-                            test(starts[k] + si, starts[m] + ti, &mut out);
-                        }
-                    }
-                }
-            }
-        }
-        capped |= out.len() >= MAX_CONTACTS;
         (out, capped)
     }
 
@@ -806,16 +668,6 @@ impl SegmentSet {
         if across && self.across == Across::Never || self.adjacent(i, j, s, t) {
             return None;
         }
-        // Segments of two contours sharing an end point cannot cross properly (the
-        // orientation of that point is exactly 0): the passes of a multi-depth cut repeat
-        // their vertices, and an exact orientation test of collinear points is the slowest
-        // case of the adaptive predicate.
-        if across
-            && self.across == Across::Crossings
-            && (t.a == s.a || t.a == s.b || t.b == s.a || t.b == s.b)
-        {
-            return None;
-        }
         let (i, j) = (i.min(j), i.max(j));
         let o1 = orient2d(s.a, s.b, t.a);
         let o2 = orient2d(s.a, s.b, t.b);
@@ -1150,41 +1002,6 @@ mod tests {
             if spread == 50.0 && !meets {
                 proptest::prop_assert!(s.proven_apart());
             }
-        }
-
-        /// Contours repeated as the passes of a multi-depth cut (each lattice run 1 to 3
-        /// times, the copies interleaved with the others) give the contacts of testing
-        /// every pair of the whole set, with crossings or nothing counting between
-        /// contours: the grid on the distinct contours misses nothing and adds nothing.
-        #[test]
-        fn repeated_contours_give_the_contacts_of_every_pair(
-            steps in proptest::collection::vec((-2i8..=2, -2i8..=2), 1..40),
-            spread in proptest::sample::select(vec![0.0, 1.0, 3.0]),
-            closed in proptest::bool::ANY,
-            repeats in proptest::collection::vec(1usize..=3, 6),
-            crossings in proptest::bool::ANY,
-        ) {
-            let base = lattice_set(&steps, spread, closed);
-            let starts = base.contour_starts();
-            let mut s = SegmentSet::new();
-            s.across = if crossings { Across::Crossings } else { Across::Never };
-            for round in 0..3 {
-                for c in 0..base.contours.len() {
-                    if round < repeats[c % repeats.len()] {
-                        let segs = &base.segs[starts[c]..starts[c + 1]];
-                        let mut pts: Vec<DVec2> = segs.iter().map(|g| g.a).collect();
-                        pts.extend(segs.last().map(|g| g.b));
-                        s.push_polyline(&pts, &[]);
-                    }
-                }
-            }
-            let mut want = s.adjacent_overlaps();
-            want.extend(s.brute_force());
-            want.sort_by_key(|c| (c.i, c.j));
-            want.dedup_by(|p, q| p.i == q.i && p.j == q.j);
-            let (got, capped) = s.contacts_capped();
-            proptest::prop_assert!(!capped);
-            proptest::prop_assert_eq!(got, want);
         }
     }
 }
