@@ -457,15 +457,22 @@ impl State<'_> {
             .collect()
     }
 
-    fn skin_side(&self, side: Side) -> Result<(Vec<f64>, Vec<CubicBez>), SkinError> {
-        let ps = self.side_params(side);
-        let arcs = skin_side_arcs(
-            &self.circles_of(&ps),
-            self.closed,
-            side,
-            self.uses.iter().all(|u| *u == CircleUse::Both),
-        )?;
-        Ok((ps, arcs))
+    /// The left and the right skin: per side its circles' parameters and arcs. Where both
+    /// sides skin the same circles (every circle BOTH, phases 1 and 2) one skinning of the
+    /// sequence gives both, which [`skin_side_arcs`] would otherwise compute twice.
+    fn skin_sides(&self) -> [SideSkin; 2] {
+        let check = self.uses.iter().all(|u| *u == CircleUse::Both);
+        let (pl, pr) = (self.side_params(Side::Left), self.side_params(Side::Right));
+        if pl == pr {
+            return match skin_both_arcs(&self.circles_of(&pl), self.closed, check) {
+                Ok((left, right)) => [Ok((pl.clone(), left)), Ok((pr, right))],
+                Err(e) => [Err(e.clone()), Err(e)],
+            };
+        }
+        [(Side::Left, pl), (Side::Right, pr)].map(|(side, ps)| {
+            let arcs = skin_side_arcs(&self.circles_of(&ps), self.closed, side, check)?;
+            Ok((ps, arcs))
+        })
     }
 
     /// Errors of every side segment, mapped onto the segments of `params`.
@@ -482,7 +489,7 @@ impl State<'_> {
             }; 2];
             self.n_segments()
         ];
-        let sides = [self.skin_side(Side::Left), self.skin_side(Side::Right)];
+        let sides = self.skin_sides();
         let gap = self.opts.gap_fraction * self.opts.eps;
         let (c, eps) = (self.c, self.opts.eps);
         let spans = &self.spans;
@@ -666,8 +673,9 @@ impl State<'_> {
     }
 
     fn outline(&self) -> Result<SidedOutline, SkinError> {
-        let (left_params, left) = self.skin_side(Side::Left)?;
-        let (right_params, right) = self.skin_side(Side::Right)?;
+        let [left_side, right_side] = self.skin_sides();
+        let (left_params, left) = left_side?;
+        let (right_params, right) = right_side?;
         let contours = assemble_outline(&self.circles_of(&self.params), &left, &right, self.closed);
         Ok(SidedOutline {
             left_params,
@@ -915,15 +923,25 @@ fn skin_side_arcs(
     side: Side,
     check: bool,
 ) -> Result<Vec<CubicBez>, SkinError> {
+    let (left, right) = skin_both_arcs(circles, closed, check)?;
+    Ok(match side {
+        Side::Left => left,
+        Side::Right => right,
+    })
+}
+
+/// The left and the right skin arcs of one circle sequence.
+fn skin_both_arcs(
+    circles: &[Circle],
+    closed: bool,
+    check: bool,
+) -> Result<(Vec<CubicBez>, Vec<CubicBez>), SkinError> {
     let opts = super::SkinOptions {
         admissibility: adm_opts(),
         check_admissibility: check,
     };
     let s = super::skin_circles(circles, closed, &opts)?;
-    Ok(match side {
-        Side::Left => s.left,
-        Side::Right => s.right,
-    })
+    Ok((s.left, s.right))
 }
 
 /// Skins a DBSC within ε where its envelopes allow (kruppa-2023 Sec. 4, phases 1–3; module
