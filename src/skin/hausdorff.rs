@@ -421,11 +421,20 @@ fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
     if n > bernstein::SMALL {
         return deriv_ranges_heap(b, sp, t0, t1);
     }
+    // Cubic spans: the same steps on a fixed-size buffer, which the compiler unrolls.
+    if n == 4 {
+        return deriv_ranges_in(b, sp, t0, t1, &mut [0.0f64; 4]);
+    }
+    deriv_ranges_in(b, sp, t0, t1, &mut [0.0f64; bernstein::SMALL][..n])
+}
+
+/// [`deriv_ranges`] with a buffer `buf` as long as the polynomial.
+#[inline(always)]
+fn deriv_ranges_in(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64, buf: &mut [f64]) -> [Iv; 4] {
     let h = sp.b - sp.a;
     let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
-    let mut buf = [0.0f64; bernstein::SMALL];
-    let mut len = n;
-    bernstein::sub_into(&b.0, u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0), &mut buf[..n]);
+    let mut len = buf.len();
+    bernstein::sub_into(&b.0, u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0), buf);
     let w = t1 - t0;
     let mut out = [Iv::pt(0.0); 4];
     let mut f = 1.0;
