@@ -288,6 +288,10 @@ struct State<'a> {
     work: RefCell<Work>,
     /// The curve's knot spans in Bernstein form, shared by every envelope segment.
     spans: Vec<SpanPoly>,
+    /// The circles ⟨q(u); r(u)⟩ evaluated so far, by the bits of u: the sequence is
+    /// evaluated again for every admissibility test and skin, and most of its parameters
+    /// stay from pass to pass.
+    circles: RefCell<HashMap<u64, Circle, std::hash::BuildHasherDefault<KeyHasher>>>,
 }
 
 /// What the error bounds of a pass are for.
@@ -405,7 +409,14 @@ fn adm_opts() -> AdmissibilityOptions {
 
 impl State<'_> {
     fn circles_of(&self, ps: &[f64]) -> Vec<Circle> {
-        ps.iter().map(|&t| self.c.circle_at(t)).collect()
+        let mut memo = self.circles.borrow_mut();
+        ps.iter()
+            .map(|&t| {
+                *memo
+                    .entry(t.to_bits())
+                    .or_insert_with(|| self.c.circle_at(t))
+            })
+            .collect()
     }
 
     /// End parameter of segment i.
@@ -978,6 +989,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         params,
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),
+        circles: RefCell::default(),
     };
     // Initialisation (eq. 19): the knot circles must be admissible.
     let cs = st.circles_of(&st.params);
