@@ -23,8 +23,9 @@
 //!   skin skins the LEFT and BOTH circles, the right skin the RIGHT and BOTH circles. An
 //!   insertion is kept only if the resulting outline stays free of self-intersections.
 
+use super::bits_hash::{BitsMap, BitsSet};
 use super::hausdorff::{
-    EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
+    D2Memo, EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
     skin_envelope_bounds, skin_envelope_within,
 };
 use super::intersect::path_self_intersections;
@@ -36,7 +37,6 @@ use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, SpanPoly, find_loo
 use crate::geom::{Circle, CubicBez, DVec2, Path};
 use rayon::prelude::*;
 use std::cell::RefCell;
-use std::collections::{HashMap, HashSet};
 
 /// Options of [`skin_dbsc`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -288,6 +288,8 @@ struct State<'a> {
     work: RefCell<Work>,
     /// The curve's knot spans in Bernstein form, shared by every envelope segment.
     spans: Vec<SpanPoly>,
+    /// The second-derivative bounds of the envelope segments' searches.
+    d2: D2Memo,
     /// The circles ⟨q(u); r(u)⟩ evaluated so far, by the bits of u: the sequence is
     /// evaluated again for every admissibility test and skin, and most of its parameters
     /// stay from pass to pass.
@@ -307,38 +309,6 @@ enum Mode {
 }
 
 type CacheKey = ([u64; 10], usize, Mode);
-
-/// Hasher of keys made of float bit patterns ([`CacheKey`]s, curve parameters), mixed a
-/// word at a time by rotate, xor and an odd multiplier (the FxHash scheme). The keys are
-/// our own numbers, not an adversary's, so the DoS resistance of the standard SipHash
-/// (2.5 % of a 10-disk skinning) buys nothing here; the maps are only looked up, never
-/// iterated, so the hasher cannot change a result.
-#[derive(Clone, Copy, Default)]
-struct KeyHasher(u64);
-
-impl std::hash::Hasher for KeyHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write_u64(&mut self, x: u64) {
-        /// 2⁶⁴/φ rounded to odd: consecutive inputs spread over all bits.
-        const K: u64 = 0x9e37_79b9_7f4a_7c15;
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(K);
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut w = [0u8; 8];
-            w[..chunk.len()].copy_from_slice(chunk);
-            self.write_u64(u64::from_le_bytes(w));
-        }
-    }
-    fn write_usize(&mut self, x: usize) {
-        self.write_u64(x as u64);
-    }
-}
-
-/// Maps hashed by [`KeyHasher`].
-type BitsMap<K, V> = HashMap<K, V, std::hash::BuildHasherDefault<KeyHasher>>;
 
 /// Maps keyed by [`CacheKey`].
 type KeyMap<V> = BitsMap<CacheKey, V>;
@@ -379,7 +349,7 @@ fn speculative_bounds(
     bound: impl Fn(&BoundJob) -> Speculative + Sync,
 ) -> KeyMap<Speculative> {
     let mut jobs: Vec<BoundJob> = Vec::new();
-    let mut seen: HashSet<CacheKey, std::hash::BuildHasherDefault<KeyHasher>> = HashSet::default();
+    let mut seen: BitsSet<CacheKey> = BitsSet::default();
     for (k, side) in [Side::Left, Side::Right].into_iter().enumerate() {
         let Ok((ps, arcs)) = &sides[k] else {
             break;
@@ -506,9 +476,9 @@ impl State<'_> {
         let sides = self.skin_sides();
         let gap = self.opts.gap_fraction * self.opts.eps;
         let (c, eps) = (self.c, self.opts.eps);
-        let spans = &self.spans;
+        let (spans, d2) = (&self.spans, &self.d2);
         let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| {
-            let env = EnvelopeSegment::with_spans(c, spans, side, t0, t1)?;
+            let env = EnvelopeSegment::with_memo(c, spans, d2, side, t0, t1)?;
             match mode {
                 Mode::Tight => skin_envelope_bounds(arc, &env, gap, w),
                 Mode::Decide => skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w),
@@ -992,6 +962,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         params,
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),
+        d2: D2Memo::default(),
         circles: RefCell::default(),
     };
     // Initialisation (eq. 19): the knot circles must be admissible.

@@ -26,12 +26,15 @@
 //! for the gap of the final report. Only when that fails does the full search run, with a
 //! point-distance search at every sample of X.
 
+use super::bits_hash::BitsMap;
 use crate::dbsc::{Bern, DiskBSpline, EnvelopePoint, Side, SpanPoly, envelope_of_jet};
 use crate::geom::bernstein;
 use crate::geom::{CubicBez, DVec2, Line};
 use std::borrow::Cow;
+use std::cell::OnceCell;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+use std::sync::Mutex;
 
 /// Initial pieces per curve piece before refinement: enough to separate the branches of a
 /// looping envelope without wasting work on smooth ones.
@@ -173,6 +176,16 @@ impl BoundedCurve for CubicBez {
     fn point_tangent(&self, t: f64) -> Result<(DVec2, DVec2), HausdorffError> {
         Ok((self.eval(t), self.deriv(t)))
     }
+    /// The trait's default on the one piece [0, 1], without collecting it.
+    fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
+        let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let (u0, u1) = (a.max(0.0), b.min(1.0));
+        if u1 >= u0 {
+            0.0f64.max(self.d2_bound(u0, u1))
+        } else {
+            0.0
+        }
+    }
 }
 
 /// One side's envelope of a DBSC on [t_a, t_b].
@@ -184,7 +197,19 @@ pub struct EnvelopeSegment<'a> {
     spans: Cow<'a, [SpanPoly]>,
     t_a: f64,
     t_b: f64,
+    /// Bounds of ‖x″‖ computed before, shared by the segments of one curve's spans
+    /// ([`Self::with_memo`]), and the index of `spans[0]` among those spans.
+    memo: Option<(&'a D2Memo, usize)>,
 }
+
+/// Second-derivative bounds of envelopes ([`envelope_d2_bound`]) by span, side and
+/// parameter interval, for the envelope segments of one curve: skinning compares many
+/// segments, and a fifth of their bounds come back on the same interval (the grid cells
+/// of a segment are those of its halves after a circle is inserted between them). The
+/// bound is a function of its key alone, so a memo cannot change a result; the lock lets
+/// the bounds of one skinning run in parallel.
+#[derive(Debug, Default)]
+pub(crate) struct D2Memo(Mutex<BitsMap<(usize, bool, u64, u64), f64>>);
 
 impl<'a> EnvelopeSegment<'a> {
     /// The envelope on `side` of `curve` over [t_a, t_b], which must be a non-empty interval inside
@@ -208,6 +233,7 @@ impl<'a> EnvelopeSegment<'a> {
             spans: Cow::Owned(spans),
             t_a,
             t_b,
+            memo: None,
         })
     }
 
@@ -230,7 +256,24 @@ impl<'a> EnvelopeSegment<'a> {
             spans: Cow::Borrowed(&all[first..end]),
             t_a,
             t_b,
+            memo: None,
         })
+    }
+
+    /// [`Self::with_spans`] keeping its second-derivative bounds in `memo`, which every
+    /// segment made from the same `all` may share.
+    pub(crate) fn with_memo(
+        curve: &'a DiskBSpline,
+        all: &'a [SpanPoly],
+        memo: &'a D2Memo,
+        side: Side,
+        t_a: f64,
+        t_b: f64,
+    ) -> Result<Self, HausdorffError> {
+        let mut seg = Self::with_spans(curve, all, side, t_a, t_b)?;
+        let first = all.partition_point(|s| s.b <= t_a);
+        seg.memo = Some((memo, first));
+        Ok(seg)
     }
 
     fn check_interval(curve: &DiskBSpline, t_a: f64, t_b: f64) -> Result<(), HausdorffError> {
@@ -266,15 +309,28 @@ impl BoundedCurve for EnvelopeSegment<'_> {
         self.envelope(t).map(|e| (e.point, e.deriv))
     }
     fn d2_bound(&self, t0: f64, t1: f64) -> f64 {
-        let Some(sp) = self
+        let Some(k) = self
             .spans
             .iter()
-            .find(|s| t0 >= s.a && t1 <= s.b)
-            .or_else(|| self.spans.iter().find(|s| t0 >= s.a && t0 <= s.b))
+            .position(|s| t0 >= s.a && t1 <= s.b)
+            .or_else(|| self.spans.iter().position(|s| t0 >= s.a && t0 <= s.b))
         else {
             return f64::INFINITY;
         };
-        envelope_d2_bound(sp, self.side.sign(), t0.max(sp.a), t1.min(sp.b))
+        let sp = &self.spans[k];
+        let (sigma, u0, u1) = (self.side.sign(), t0.max(sp.a), t1.min(sp.b));
+        let Some((memo, first)) = self.memo else {
+            return envelope_d2_bound(sp, sigma, u0, u1);
+        };
+        let key = (first + k, sigma > 0.0, u0.to_bits(), u1.to_bits());
+        let known = memo.0.lock().ok().and_then(|m| m.get(&key).copied());
+        known.unwrap_or_else(|| {
+            let v = envelope_d2_bound(sp, sigma, u0, u1);
+            if let Ok(mut m) = memo.0.lock() {
+                m.insert(key, v);
+            }
+            v
+        })
     }
     /// The trait's default over [`Self::pieces`], walking the spans without collecting them.
     fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
@@ -311,19 +367,26 @@ impl Iv {
     fn sub(self, o: Iv) -> Iv {
         Iv::new(self.lo - o.hi, self.hi - o.lo)
     }
+    /// The product's range: the least and greatest of the four end products (each
+    /// comparison picks one of its operands; the operands here are finite).
     fn mul(self, o: Iv) -> Iv {
-        let p = [
+        let (a, b, c, d) = (
             self.lo * o.lo,
             self.lo * o.hi,
             self.hi * o.lo,
             self.hi * o.hi,
-        ];
-        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Iv::new(lo, hi)
+        );
+        let min = |x: f64, y: f64| if x < y { x } else { y };
+        let max = |x: f64, y: f64| if x > y { x } else { y };
+        Iv::new(min(min(a, b), min(c, d)), max(max(a, b), max(c, d)))
     }
+    /// k·x: the ends scaled, swapped when k < 0.
     fn scale(self, k: f64) -> Iv {
-        self.mul(Iv::pt(k))
+        if k >= 0.0 {
+            Iv::new(self.lo * k, self.hi * k)
+        } else {
+            Iv::new(self.hi * k, self.lo * k)
+        }
     }
     /// 1/x; NaN-free only when 0 ∉ x (callers check `positive`).
     fn recip(self) -> Iv {
@@ -383,6 +446,17 @@ impl Jet {
                 .mul(o.v)
                 .add(self.d1.mul(o.d1).scale(2.0))
                 .add(self.v.mul(o.d2)),
+        }
+    }
+    /// f², [`Self::mul`] of `self` by itself with each product taken once: the same
+    /// intervals bit for bit (the two cross terms of a product are equal).
+    fn sqr(self) -> Jet {
+        let d1v = self.d1.mul(self.v);
+        let d2v = self.d2.mul(self.v);
+        Jet {
+            v: self.v.mul(self.v),
+            d1: d1v.add(d1v),
+            d2: d2v.add(self.d1.mul(self.d1).scale(2.0)).add(d2v),
         }
     }
     /// g = 1/f: g′ = −f′ g², g″ = 2 f′² g³ − f″ g². Requires f > 0.
@@ -497,8 +571,8 @@ fn envelope_d2_bound(sp: &SpanPoly, sigma: f64, t0: f64, t1: f64) -> f64 {
         d2: d[3],
     };
     let (ax, ay, b) = (jet(&x), jet(&y), jet(&r));
-    let l = ax.mul(ax).add(ay.mul(ay));
-    let s2 = l.sub(b.mul(b));
+    let l = ax.sqr().add(ay.sqr());
+    let s2 = l.sub(b.sqr());
     if !s2.v.positive() || !l.v.positive() {
         return f64::INFINITY;
     }
@@ -575,8 +649,9 @@ fn initial_grid(c: &dyn BoundedCurve) -> Vec<f64> {
 
 /// Parameters splitting each piece of `c` into `n` equal parts (piece ends included once).
 fn grid_of(c: &dyn BoundedCurve, n: usize) -> Vec<f64> {
-    let mut ts = Vec::new();
-    for (a, b) in c.pieces() {
+    let pieces = c.pieces();
+    let mut ts = Vec::with_capacity(pieces.len() * (n + 1));
+    for (a, b) in pieces {
         for i in 0..n {
             ts.push(a + (b - a) * i as f64 / n as f64);
         }
@@ -805,6 +880,49 @@ enum Goal {
     Gap { gap: f64, ptol: f64 },
 }
 
+/// The start of every [`match_search`] of X against Y: the samples of X on its grid with
+/// their near points on Y, and the nodes between them. The searches of one pair of curves
+/// (for several goals) share it instead of sampling again.
+struct MatchSeed {
+    /// Y's parameter range.
+    yd: (f64, f64),
+    /// Samples of X: point, near-point data, whether its distance was certified.
+    samples: Vec<(DVec2, PointDist, bool)>,
+    heap: BinaryHeap<Node>,
+}
+
+impl MatchSeed {
+    /// `None` when a curve has no piece or Y cannot be evaluated near a sample.
+    fn new(xc: &dyn BoundedCurve, yc: &dyn BoundedCurve) -> Option<MatchSeed> {
+        let (xp, yp) = (xc.pieces(), yc.pieces());
+        let xd = (xp.first()?.0, xp.last()?.1);
+        let yd = (yp.first()?.0, yp.last()?.1);
+        if xd.1.partial_cmp(&xd.0) != Some(Ordering::Greater) {
+            return None;
+        }
+        // X and Y run over corresponding parameter ranges: a sample's search starts at the
+        // proportional parameter of Y, a bisection's between its ends' near points.
+        let map = |s: f64| yd.0 + (s - xd.0) / (xd.1 - xd.0) * (yd.1 - yd.0);
+        let grid = grid_of(xc, MATCH_SPLITS);
+        let mut samples = Vec::with_capacity(grid.len());
+        let mut heap = BinaryHeap::with_capacity(grid.len());
+        let mut prev: Option<(f64, DVec2, PointDist)> = None;
+        for s in grid {
+            let p = xc.point(s).ok()?;
+            let d = foot_point(p, yc, yd, map(s))?;
+            if let Some((s0, p0, d0)) = prev
+                && s > s0
+                && xp.iter().any(|&(a, b)| s0 >= a && s <= b)
+            {
+                heap.push(match_node(xc, yc, (s0, p0, &d0), (s, p, &d)));
+            }
+            samples.push((p, d, false));
+            prev = Some((s, p, d));
+        }
+        Some(MatchSeed { yd, samples, heap })
+    }
+}
+
 /// h(X → Y) by the matching bound ([`match_bound`]): samples of X with near points of Y
 /// from [`foot_point`] (upper bounds of d(x, Y) only), the piece of X with the largest
 /// bound bisected first, and for [`Goal::Gap`] a certified point-distance search only at
@@ -815,35 +933,14 @@ enum Goal {
 fn match_search(
     xc: &dyn BoundedCurve,
     yc: &dyn BoundedCurve,
+    seed: &MatchSeed,
     goal: &Goal,
     work: &mut Work,
 ) -> Option<HausdorffBounds> {
-    let (xp, yp) = (xc.pieces(), yc.pieces());
-    let xd = (xp.first()?.0, xp.last()?.1);
-    let yd = (yp.first()?.0, yp.last()?.1);
-    if xd.1.partial_cmp(&xd.0) != Some(Ordering::Greater) {
-        return None;
-    }
-    // X and Y run over corresponding parameter ranges: a sample's search starts at the
-    // proportional parameter of Y, a bisection's between its ends' near points.
-    let map = |s: f64| yd.0 + (s - xd.0) / (xd.1 - xd.0) * (yd.1 - yd.0);
-    // Samples of X: point, near-point data, whether its distance was certified.
-    let mut samples: Vec<(DVec2, PointDist, bool)> = Vec::new();
-    let mut heap: BinaryHeap<Node> = BinaryHeap::new();
+    let yd = seed.yd;
+    let mut samples = seed.samples.clone();
+    let mut heap = seed.heap.clone();
     let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
-    let mut prev: Option<(f64, DVec2, PointDist)> = None;
-    for s in grid_of(xc, MATCH_SPLITS) {
-        let p = xc.point(s).ok()?;
-        let d = foot_point(p, yc, yd, map(s))?;
-        if let Some((s0, p0, d0)) = prev
-            && s > s0
-            && xp.iter().any(|&(a, b)| s0 >= a && s <= b)
-        {
-            heap.push(match_node(xc, yc, (s0, p0, &d0), (s, p, &d)));
-        }
-        samples.push((p, d, false));
-        prev = Some((s, p, d));
-    }
     let mut lower: f64 = 0.0;
     // Y's grid for point-distance searches, made on first use.
     let mut target: Option<Target> = None;
@@ -936,7 +1033,8 @@ fn directed(
 ) -> Result<HausdorffBounds, HausdorffError> {
     let ptol = 0.25 * gap;
     if threshold.is_none()
-        && let Some(h) = match_search(xc, yc, &Goal::Gap { gap, ptol }, work)
+        && let Some(seed) = MatchSeed::new(xc, yc)
+        && let Some(h) = match_search(xc, yc, &seed, &Goal::Gap { gap, ptol }, work)
     {
         return Ok(h);
     }
@@ -1032,10 +1130,20 @@ fn bounds_impl(
     // `directed` decide "≤ ε" as well (their lower bound never exceeds D_H, so they cannot
     // stop at a gap ≤ `gap` with upper > ε): the same decision, found cheaper.
     if let Some((eps, rejection)) = threshold {
+        // Each direction's samples, taken once for all the searches below.
+        let (xy, yx) = (OnceCell::new(), OnceCell::new());
+        let seed = |p: &dyn BoundedCurve, q: &dyn BoundedCurve, forward: bool| {
+            let cell = if forward { &xy } else { &yx };
+            cell.get_or_init(|| MatchSeed::new(p, q)).as_ref()
+        };
+        let search = |forward: bool, goal: &Goal, work: &mut Work| {
+            let (p, q) = if forward { (x, y) } else { (y, x) };
+            match_search(p, q, seed(p, q, forward)?, goal, work)
+        };
         let below = Goal::Below(eps - gap);
         if eps - gap > 0.0
-            && let Some(a) = match_search(x, y, &below, work)
-            && let Some(b) = match_search(y, x, &below, work)
+            && let Some(a) = search(true, &below, work)
+            && let Some(b) = search(false, &below, work)
         {
             return Ok(HausdorffBounds {
                 lower: 0.0,
@@ -1043,13 +1151,13 @@ fn bounds_impl(
             });
         }
         // Quick proof of D_H > ε at the farthest sample of either direction.
-        for (p, q) in [(x, y), (y, x)]
+        for forward in [true, false]
             .into_iter()
             .filter(|_| rejection == Rejection::Quick)
         {
-            if let Some(h) = match_search(p, q, &Goal::Above(eps), work) {
+            if let Some(h) = search(forward, &Goal::Above(eps), work) {
                 // With the other direction's matching bound `upper` bounds D_H too.
-                let other = match_search(q, p, &Goal::Below(f64::INFINITY), work)
+                let other = search(!forward, &Goal::Below(f64::INFINITY), work)
                     .map_or(f64::INFINITY, |o| o.upper);
                 return Ok(HausdorffBounds {
                     lower: h.lower,
@@ -1205,6 +1313,35 @@ mod tests {
             }
         }
         assert!(EnvelopeSegment::with_spans(&c, &all, Side::Left, hi, lo).is_err());
+    }
+
+    /// Segments sharing a memo of second-derivative bounds give the bounds of a segment
+    /// without one, whether a bound is computed or found in the memo (asked again, or
+    /// asked by another segment over the same span, as after a circle is inserted).
+    #[test]
+    fn memoized_bounds_are_the_computed_ones() {
+        let c = open(3, &s_stroke());
+        let all = SpanPoly::all(&c);
+        let memo = D2Memo::default();
+        let (lo, hi) = c.domain();
+        let at = |f: f64| lo + f * (hi - lo);
+        for (fa, fb) in [(0.0, 1.0), (0.1, 0.6), (0.1, 0.35), (0.35, 0.6)] {
+            let (ta, tb) = (at(fa), at(fb));
+            for side in [Side::Left, Side::Right] {
+                let own = EnvelopeSegment::new(&c, side, ta, tb).unwrap();
+                let kept = EnvelopeSegment::with_memo(&c, &all, &memo, side, ta, tb).unwrap();
+                for _ in 0..2 {
+                    for k in 0..8 {
+                        let t = ta + (tb - ta) * k as f64 / 8.0;
+                        let u = ta + (tb - ta) * (k + 1) as f64 / 8.0;
+                        let (d1, d2) = (own.d2_bound_any(t, u), kept.d2_bound_any(t, u));
+                        assert!(d1 == d2 || (d1.is_nan() && d2.is_nan()), "{d1} {d2}");
+                    }
+                }
+            }
+        }
+        let known = memo.0.lock().unwrap().len();
+        assert!(known > 0 && known < 4 * 2 * 8 * 3, "{known} bounds kept");
     }
 
     fn line_cubic(a: DVec2, b: DVec2) -> CubicBez {
@@ -1442,6 +1579,46 @@ mod tests {
         // Symmetric in its arguments.
         let g = hausdorff_curves(&env, &s, gap).unwrap();
         assert!(g.lower <= h.upper && h.lower <= g.upper);
+    }
+
+    fn iv(a: f64, b: f64) -> Iv {
+        Iv::new(a.min(b), a.max(b))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+
+        /// The product and the scaled interval hold every product of their members, and
+        /// their ends are products of ends (the tightest enclosure).
+        #[test]
+        fn interval_product_encloses_the_products(
+            a in (-1e3f64..1e3, -1e3f64..1e3),
+            b in (-1e3f64..1e3, -1e3f64..1e3),
+            f in (0.0f64..=1.0, 0.0f64..=1.0),
+            k in -5.0f64..5.0,
+        ) {
+            let (x, y) = (iv(a.0, a.1), iv(b.0, b.1));
+            let p = x.mul(y);
+            let ends = [x.lo * y.lo, x.lo * y.hi, x.hi * y.lo, x.hi * y.hi];
+            prop_assert!(ends.contains(&p.lo) && ends.contains(&p.hi));
+            let (u, v) = (x.lo + f.0 * (x.hi - x.lo), y.lo + f.1 * (y.hi - y.lo));
+            prop_assert!(p.lo <= u * v && u * v <= p.hi, "{:?} {}", p, u * v);
+            let s = x.scale(k);
+            prop_assert!(s.lo <= s.hi && s.lo <= u * k && u * k <= s.hi);
+            prop_assert_eq!(s, x.mul(Iv::pt(k)));
+        }
+
+        /// The square of a jet is its product with itself, bit for bit.
+        #[test]
+        fn jet_square_is_the_product_with_itself(
+            v in (-1e3f64..1e3, -1e3f64..1e3),
+            d1 in (-1e3f64..1e3, -1e3f64..1e3),
+            d2 in (-1e3f64..1e3, -1e3f64..1e3),
+        ) {
+            let j = Jet { v: iv(v.0, v.1), d1: iv(d1.0, d1.1), d2: iv(d2.0, d2.1) };
+            let (sq, m) = (j.sqr(), j.mul(j));
+            prop_assert_eq!((sq.v, sq.d1, sq.d2), (m.v, m.d1, m.d2));
+        }
     }
 
     proptest! {

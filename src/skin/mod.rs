@@ -2,6 +2,7 @@
 
 pub mod admissible;
 pub mod bezier;
+pub(crate) mod bits_hash;
 pub mod coverage;
 pub mod dbsc_skin;
 pub mod hausdorff;
