@@ -25,7 +25,7 @@
 
 use super::bits_hash::{BitsMap, BitsSet};
 use super::hausdorff::{
-    D2Memo, EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
+    EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
     skin_envelope_bounds, skin_envelope_within,
 };
 use super::intersect::path_self_intersections;
@@ -288,8 +288,6 @@ struct State<'a> {
     work: RefCell<Work>,
     /// The curve's knot spans in Bernstein form, shared by every envelope segment.
     spans: Vec<SpanPoly>,
-    /// The second-derivative bounds of the envelope segments' searches.
-    d2: D2Memo,
     /// The circles ⟨q(u); r(u)⟩ evaluated so far, by the bits of u: the sequence is
     /// evaluated again for every admissibility test and skin, and most of its parameters
     /// stay from pass to pass.
@@ -476,9 +474,9 @@ impl State<'_> {
         let sides = self.skin_sides();
         let gap = self.opts.gap_fraction * self.opts.eps;
         let (c, eps) = (self.c, self.opts.eps);
-        let (spans, d2) = (&self.spans, &self.d2);
+        let spans = &self.spans;
         let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| {
-            let env = EnvelopeSegment::with_memo(c, spans, d2, side, t0, t1)?;
+            let env = EnvelopeSegment::with_spans(c, spans, side, t0, t1)?;
             match mode {
                 Mode::Tight => skin_envelope_bounds(arc, &env, gap, w),
                 Mode::Decide => skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w),
@@ -962,7 +960,6 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         params,
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),
-        d2: D2Memo::default(),
         circles: RefCell::default(),
     };
     // Initialisation (eq. 19): the knot circles must be admissible.

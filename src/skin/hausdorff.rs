@@ -26,7 +26,6 @@
 //! for the gap of the final report. Only when that fails does the full search run, with a
 //! point-distance search at every sample of X.
 
-use super::bits_hash::BitsMap;
 use crate::dbsc::{Bern, DiskBSpline, EnvelopePoint, Side, SpanPoly, envelope_of_jet};
 use crate::geom::bernstein;
 use crate::geom::{CubicBez, DVec2, Line};
@@ -34,7 +33,6 @@ use std::borrow::Cow;
 use std::cell::OnceCell;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
-use std::sync::Mutex;
 
 /// Initial pieces per curve piece before refinement: enough to separate the branches of a
 /// looping envelope without wasting work on smooth ones.
@@ -197,19 +195,7 @@ pub struct EnvelopeSegment<'a> {
     spans: Cow<'a, [SpanPoly]>,
     t_a: f64,
     t_b: f64,
-    /// Bounds of ‖x″‖ computed before, shared by the segments of one curve's spans
-    /// ([`Self::with_memo`]), and the index of `spans[0]` among those spans.
-    memo: Option<(&'a D2Memo, usize)>,
 }
-
-/// Second-derivative bounds of envelopes ([`envelope_d2_bound`]) by span, side and
-/// parameter interval, for the envelope segments of one curve: skinning compares many
-/// segments, and a fifth of their bounds come back on the same interval (the grid cells
-/// of a segment are those of its halves after a circle is inserted between them). The
-/// bound is a function of its key alone, so a memo cannot change a result; the lock lets
-/// the bounds of one skinning run in parallel.
-#[derive(Debug, Default)]
-pub(crate) struct D2Memo(Mutex<BitsMap<(usize, bool, u64, u64), f64>>);
 
 impl<'a> EnvelopeSegment<'a> {
     /// The envelope on `side` of `curve` over [t_a, t_b], which must be a non-empty interval inside
@@ -233,7 +219,6 @@ impl<'a> EnvelopeSegment<'a> {
             spans: Cow::Owned(spans),
             t_a,
             t_b,
-            memo: None,
         })
     }
 
@@ -256,24 +241,7 @@ impl<'a> EnvelopeSegment<'a> {
             spans: Cow::Borrowed(&all[first..end]),
             t_a,
             t_b,
-            memo: None,
         })
-    }
-
-    /// [`Self::with_spans`] keeping its second-derivative bounds in `memo`, which every
-    /// segment made from the same `all` may share.
-    pub(crate) fn with_memo(
-        curve: &'a DiskBSpline,
-        all: &'a [SpanPoly],
-        memo: &'a D2Memo,
-        side: Side,
-        t_a: f64,
-        t_b: f64,
-    ) -> Result<Self, HausdorffError> {
-        let mut seg = Self::with_spans(curve, all, side, t_a, t_b)?;
-        let first = all.partition_point(|s| s.b <= t_a);
-        seg.memo = Some((memo, first));
-        Ok(seg)
     }
 
     fn check_interval(curve: &DiskBSpline, t_a: f64, t_b: f64) -> Result<(), HausdorffError> {
@@ -309,28 +277,15 @@ impl BoundedCurve for EnvelopeSegment<'_> {
         self.envelope(t).map(|e| (e.point, e.deriv))
     }
     fn d2_bound(&self, t0: f64, t1: f64) -> f64 {
-        let Some(k) = self
+        let Some(sp) = self
             .spans
             .iter()
-            .position(|s| t0 >= s.a && t1 <= s.b)
-            .or_else(|| self.spans.iter().position(|s| t0 >= s.a && t0 <= s.b))
+            .find(|s| t0 >= s.a && t1 <= s.b)
+            .or_else(|| self.spans.iter().find(|s| t0 >= s.a && t0 <= s.b))
         else {
             return f64::INFINITY;
         };
-        let sp = &self.spans[k];
-        let (sigma, u0, u1) = (self.side.sign(), t0.max(sp.a), t1.min(sp.b));
-        let Some((memo, first)) = self.memo else {
-            return envelope_d2_bound(sp, sigma, u0, u1);
-        };
-        let key = (first + k, sigma > 0.0, u0.to_bits(), u1.to_bits());
-        let known = memo.0.lock().ok().and_then(|m| m.get(&key).copied());
-        known.unwrap_or_else(|| {
-            let v = envelope_d2_bound(sp, sigma, u0, u1);
-            if let Ok(mut m) = memo.0.lock() {
-                m.insert(key, v);
-            }
-            v
-        })
+        envelope_d2_bound(sp, self.side.sign(), t0.max(sp.a), t1.min(sp.b))
     }
     /// The trait's default over [`Self::pieces`], walking the spans without collecting them.
     fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
@@ -1313,35 +1268,6 @@ mod tests {
             }
         }
         assert!(EnvelopeSegment::with_spans(&c, &all, Side::Left, hi, lo).is_err());
-    }
-
-    /// Segments sharing a memo of second-derivative bounds give the bounds of a segment
-    /// without one, whether a bound is computed or found in the memo (asked again, or
-    /// asked by another segment over the same span, as after a circle is inserted).
-    #[test]
-    fn memoized_bounds_are_the_computed_ones() {
-        let c = open(3, &s_stroke());
-        let all = SpanPoly::all(&c);
-        let memo = D2Memo::default();
-        let (lo, hi) = c.domain();
-        let at = |f: f64| lo + f * (hi - lo);
-        for (fa, fb) in [(0.0, 1.0), (0.1, 0.6), (0.1, 0.35), (0.35, 0.6)] {
-            let (ta, tb) = (at(fa), at(fb));
-            for side in [Side::Left, Side::Right] {
-                let own = EnvelopeSegment::new(&c, side, ta, tb).unwrap();
-                let kept = EnvelopeSegment::with_memo(&c, &all, &memo, side, ta, tb).unwrap();
-                for _ in 0..2 {
-                    for k in 0..8 {
-                        let t = ta + (tb - ta) * k as f64 / 8.0;
-                        let u = ta + (tb - ta) * (k + 1) as f64 / 8.0;
-                        let (d1, d2) = (own.d2_bound_any(t, u), kept.d2_bound_any(t, u));
-                        assert!(d1 == d2 || (d1.is_nan() && d2.is_nan()), "{d1} {d2}");
-                    }
-                }
-            }
-        }
-        let known = memo.0.lock().unwrap().len();
-        assert!(known > 0 && known < 4 * 2 * 8 * 3, "{known} bounds kept");
     }
 
     fn line_cubic(a: DVec2, b: DVec2) -> CubicBez {
