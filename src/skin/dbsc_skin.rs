@@ -541,6 +541,23 @@ impl State<'_> {
     }
 
     /// One pass of phase 1 (`paired`) or phase 2; returns whether anything was inserted.
+    /// Initialisation (eq. 19: the knot circles must be admissible), then phase 1 (paired
+    /// insertions) and phase 2 (midpoints) until no pass inserts.
+    fn phases_one_two(&mut self) -> Result<(), DbscSkinError> {
+        let cs = self.circles_of(&self.params);
+        if let Err(e) = check_admissible(&cs, self.closed, &adm_opts()) {
+            return Err(not_admissible(&self.params, self.hi, self.closed, e));
+        }
+        while self.pass(true)? {}
+        for m in self.marks.iter_mut() {
+            if *m == Mark::Stopped(Phase::One) {
+                *m = Mark::Open;
+            }
+        }
+        while self.pass(false)? {}
+        Ok(())
+    }
+
     fn pass(&mut self, paired: bool) -> Result<bool, DbscSkinError> {
         let phase = if paired { Phase::One } else { Phase::Two };
         let err = self.errors(Mode::Decide)?;
@@ -946,10 +963,9 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         params.pop();
     }
     let n = params.len();
-    let loops = find_loops(c, opts.loop_tol)?;
     let mut st = State {
         c,
-        loops: loops.loops.clone(),
+        loops: Vec::new(),
         closed,
         hi,
         opts: *opts,
@@ -962,38 +978,42 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         spans: SpanPoly::all(c),
         circles: RefCell::default(),
     };
-    // Initialisation (eq. 19): the knot circles must be admissible.
-    let cs = st.circles_of(&st.params);
-    if let Err(e) = check_admissible(&cs, closed, &adm_opts()) {
-        return Err(not_admissible(&st.params, hi, closed, e));
-    }
-    while st.pass(true)? {}
-    for m in st.marks.iter_mut() {
-        if *m == Mark::Stopped(Phase::One) {
-            *m = Mark::Open;
-        }
-    }
-    while st.pass(false)? {}
+    // The envelope loops (phase 3 and the report use them) beside phases 1 and 2, which
+    // do not: a loop error still comes first, as when they were found before.
+    let (loops, phases) = rayon::join(|| find_loops(c, opts.loop_tol), || st.phases_one_two());
+    let loops = loops?;
+    phases?;
+    st.loops = loops.loops.clone();
     if opts.two_sided {
         st.phase3()?;
     }
     let o = st.outline()?;
     // Safety net: never hand out a crossing outline (phases 1–2 rely on admissibility,
-    // phase 3 checks each insertion; this re-checks the final result). Before the final
-    // report, whose bounds a caller that retries with `allow_global_overlap` would discard.
-    if !opts.allow_global_overlap
-        && let Some((contour, other, segment)) = first_crossing(&o.contours, opts.intersect_tol)
-    {
+    // phase 3 checks each insertion; this re-checks the final result), checked beside the
+    // final report's bounds; a crossing wins over any error of the report, whose bounds a
+    // caller that retries with `allow_global_overlap` would discard.
+    let mode = match opts.report {
+        ReportBounds::Tight => Mode::Tight,
+        ReportBounds::Decided => Mode::Decide,
+    };
+    // The state moves to the other closure by a unique borrow (its caches are not Sync).
+    let state = &mut st;
+    let (crossing, err) = rayon::join(
+        || {
+            (!opts.allow_global_overlap)
+                .then(|| first_crossing(&o.contours, opts.intersect_tol))
+                .flatten()
+        },
+        move || state.errors(mode),
+    );
+    if let Some((contour, other, segment)) = crossing {
         return Err(DbscSkinError::SelfIntersection {
             contour,
             other,
             segment,
         });
     }
-    let err = st.errors(match opts.report {
-        ReportBounds::Tight => Mode::Tight,
-        ReportBounds::Decided => Mode::Decide,
-    })?;
+    let err = err?;
     let mut report = Vec::with_capacity(err.len());
     for (i, e) in err.iter().enumerate() {
         let (t0, t1) = (st.params[i], st.seg_end(i));
