@@ -292,6 +292,9 @@ struct State<'a> {
     /// evaluated again for every admissibility test and skin, and most of its parameters
     /// stay from pass to pass.
     circles: RefCell<BitsMap<u64, Circle>>,
+    /// Parameter sequences (by their bits) whose circles passed [`check_admissible`]: the
+    /// skin of a pass's sequence need not test again what its insertion test showed.
+    admissible: RefCell<BitsSet<Vec<u64>>>,
 }
 
 /// What the error bounds of a pass are for.
@@ -374,6 +377,11 @@ fn speculative_bounds(
     jobs.par_iter().map(|j| (j.key, bound(j))).collect()
 }
 
+/// The bits of a parameter sequence, the key of [`State::admissible`].
+fn param_bits(ps: &[f64]) -> Vec<u64> {
+    ps.iter().map(|t| t.to_bits()).collect()
+}
+
 fn adm_opts() -> AdmissibilityOptions {
     AdmissibilityOptions::default()
 }
@@ -417,7 +425,21 @@ impl State<'_> {
         ps.extend_from_slice(extra);
         ps.sort_by(f64::total_cmp);
         ps.dedup();
-        check_admissible(&self.circles_of(&ps), self.closed, &adm_opts()).is_ok()
+        self.check_admissible_params(&ps)
+    }
+
+    /// Whether the circles at `ps` are admissible ([`check_admissible`]), remembered when
+    /// they are.
+    fn check_admissible_params(&self, ps: &[f64]) -> bool {
+        let key = param_bits(ps);
+        if self.admissible.borrow().contains(&key) {
+            return true;
+        }
+        let ok = check_admissible(&self.circles_of(ps), self.closed, &adm_opts()).is_ok();
+        if ok {
+            self.admissible.borrow_mut().insert(key);
+        }
+        ok
     }
 
     fn insert(&mut self, i: usize, u: f64) {
@@ -446,6 +468,9 @@ impl State<'_> {
         let check = self.uses.iter().all(|u| *u == CircleUse::Both);
         let (pl, pr) = (self.side_params(Side::Left), self.side_params(Side::Right));
         if pl == pr {
+            // A sequence shown admissible before needs no second test; a failing one is
+            // left to the skinning's own test, whose error names the circles.
+            let check = check && !self.check_admissible_params(&pl);
             return match skin_both_arcs(&self.circles_of(&pl), self.closed, check) {
                 Ok((left, right)) => [Ok((pl.clone(), left)), Ok((pr, right))],
                 Err(e) => [Err(e.clone()), Err(e)],
@@ -548,6 +573,9 @@ impl State<'_> {
         if let Err(e) = check_admissible(&cs, self.closed, &adm_opts()) {
             return Err(not_admissible(&self.params, self.hi, self.closed, e));
         }
+        self.admissible
+            .borrow_mut()
+            .insert(param_bits(&self.params));
         while self.pass(true)? {}
         for m in self.marks.iter_mut() {
             if *m == Mark::Stopped(Phase::One) {
@@ -977,6 +1005,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),
         circles: RefCell::default(),
+        admissible: RefCell::default(),
     };
     // The envelope loops (phase 3 and the report use them) beside phases 1 and 2, which
     // do not: a loop error still comes first, as when they were found before.
