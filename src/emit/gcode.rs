@@ -14,12 +14,12 @@ use super::geometry::{arc_of, split_arc, validate};
 use super::{EmitError, Location, check_tolerance};
 use crate::machine::{
     ArcFormat, Dialect, GcodeSettings, LaserMode, LaserSettings, MachineKind, Profile, RapidOff,
-    RouterSettings, Units, format_number, push_number, template,
+    RouterSettings, Units, format_number, pow10, push_number, template,
 };
 use crate::toolpath::{Cut, Move, MoveKind, Toolpath};
 use glam::{DVec2, DVec3};
 use std::cell::RefCell;
-use std::fmt::Write as _;
+use std::rc::Rc;
 
 /// Largest sweep of one `R`-format arc: 120°. The centre recomputed from `R` gets
 /// ill-conditioned as the sweep nears 180° (the chord nears the diameter) and `R` cannot
@@ -168,21 +168,36 @@ struct Writer<'a> {
     air: bool,
     /// The last feed and power formatted, by the bits of the value they were made of: a
     /// program repeats a handful of values on every move.
-    feed_text: RefCell<Option<(u64, String)>>,
-    power_text: RefCell<Option<(u64, String)>>,
+    feed_text: RefCell<Option<(u64, Rc<str>)>>,
+    power_text: RefCell<Option<(u64, Rc<str>)>>,
 }
 
-/// `format(v)`, from `memo` when it holds the text of the same value (the same bits).
-fn memoized(memo: &RefCell<Option<(u64, String)>>, v: f64, format: impl Fn() -> String) -> String {
+/// `format(v)`, from `memo` when it holds the text of the same value (the same bits);
+/// shared, so a move repeating the feed of the last one allocates nothing.
+fn memoized(
+    memo: &RefCell<Option<(u64, Rc<str>)>>,
+    v: f64,
+    format: impl Fn() -> String,
+) -> Rc<str> {
     let mut m = memo.borrow_mut();
     match &*m {
-        Some((bits, text)) if *bits == v.to_bits() => text.clone(),
+        Some((bits, text)) if *bits == v.to_bits() => Rc::clone(text),
         _ => {
-            let text = format();
-            *m = Some((v.to_bits(), text.clone()));
+            let text: Rc<str> = format().into();
+            *m = Some((v.to_bits(), Rc::clone(&text)));
             text
         }
     }
+}
+
+/// A word written after the axis words of a motion line.
+enum Word {
+    /// A number with the program's decimals (I, J, R).
+    Num(char, f64),
+    /// The feed (F), written only when its text changes.
+    Feed(Rc<str>),
+    /// The inline laser power (S), written only when its text changes.
+    Power(Rc<str>),
 }
 
 impl Writer<'_> {
@@ -234,17 +249,17 @@ impl Writer<'_> {
 
     /// Rounded value as the controller will read it.
     fn round(&self, v: f64) -> f64 {
-        let f = 10f64.powi(self.g.decimals as i32);
+        let f = pow10(self.g.decimals);
         (v * f).round() / f
     }
 
-    fn feed_str(&self, f: f64) -> String {
+    fn feed_str(&self, f: f64) -> Rc<str> {
         memoized(&self.feed_text, f, || {
             format_number(f, self.g.decimals.saturating_sub(2))
         })
     }
 
-    fn s_str(&self, power: f64) -> String {
+    fn s_str(&self, power: f64) -> Rc<str> {
         memoized(&self.power_text, power, || {
             let r = self.p.power;
             let mut v = power * r.max;
@@ -484,7 +499,8 @@ impl Writer<'_> {
                         self.rapid(c, false);
                     }
                     if self.on {
-                        self.move_line(1, to, &[("F", self.feed_str(r.plunge_feed))]);
+                        let feed = self.feed_str(r.plunge_feed);
+                        self.move_line(1, to, [Word::Feed(feed)]);
                     } else {
                         return Err(EmitError::InvalidMove {
                             at: self.at.clone(),
@@ -530,7 +546,7 @@ impl Writer<'_> {
             self.p.work_area.y.min(),
             z,
         ))?;
-        self.move_words(0, [None, None, Some(z)], &[]);
+        self.move_words(0, [None, None, Some(z)], []);
         self.cur = self.cur.map(|_| to);
         self.printed[2] = Some(self.round(z));
         Ok(())
@@ -543,11 +559,11 @@ impl Writer<'_> {
         } else {
             Some(to.z)
         };
-        self.move_words(0, [Some(to.x), Some(to.y), z], &[]);
+        self.move_words(0, [Some(to.x), Some(to.y), z], []);
         self.cur = Some(to);
     }
 
-    fn move_line(&mut self, g: u8, to: DVec3, extra: &[(&str, String)]) {
+    fn move_line(&mut self, g: u8, to: DVec3, extra: impl IntoIterator<Item = Word>) {
         let laser = matches!(self.tool, Tool::Laser(_));
         let z = if laser && to.z == 0.0 && self.printed[2].is_none() {
             None
@@ -560,7 +576,12 @@ impl Writer<'_> {
 
     /// Writes a motion line with the axis words that changed and `extra` words; returns
     /// false (writing nothing) when no axis changes and `g` is not an arc.
-    fn move_words(&mut self, g: u8, axes: [Option<f64>; 3], extra: &[(&str, String)]) -> bool {
+    fn move_words(
+        &mut self,
+        g: u8,
+        axes: [Option<f64>; 3],
+        extra: impl IntoIterator<Item = Word>,
+    ) -> bool {
         let mut print = [None; 3];
         let mut moved = false;
         for (i, v) in axes.into_iter().enumerate() {
@@ -580,8 +601,8 @@ impl Writer<'_> {
         // dialect is not modal), the axis words, then the extra words that changed.
         let start = self.out.len();
         if self.motion != Some(g) || !self.dialect().modal_motion() {
-            // Writing into a String cannot fail.
-            let _ = write!(self.out, "G{g}");
+            self.out.push('G');
+            self.out.push_str(itoa::Buffer::new().format(g));
             self.motion = Some(g);
         }
         for (letter, v) in ['X', 'Y', 'Z'].into_iter().zip(print) {
@@ -593,25 +614,32 @@ impl Writer<'_> {
                 push_number(&mut self.out, v, self.g.decimals);
             }
         }
-        for (letter, v) in extra {
-            match *letter {
-                "F" => {
-                    if self.feed.as_deref() == Some(v.as_str()) {
+        for word in extra {
+            let (letter, text) = match word {
+                Word::Num(letter, v) => {
+                    self.out.push(' ');
+                    self.out.push(letter);
+                    push_number(&mut self.out, v, self.g.decimals);
+                    continue;
+                }
+                Word::Feed(v) => {
+                    if self.feed.as_deref() == Some(&*v) {
                         continue;
                     }
-                    self.feed = Some(v.clone());
+                    self.feed = Some(v.to_string());
+                    ('F', v)
                 }
-                "S" => {
-                    if self.s.as_deref() == Some(v.as_str()) {
+                Word::Power(v) => {
+                    if self.s.as_deref() == Some(&*v) {
                         continue;
                     }
-                    self.s = Some(v.clone());
+                    self.s = Some(v.to_string());
+                    ('S', v)
                 }
-                _ => {}
-            }
+            };
             self.out.push(' ');
-            self.out.push_str(letter);
-            self.out.push_str(v);
+            self.out.push(letter);
+            self.out.push_str(&text);
         }
         self.end_line();
         true
@@ -627,24 +655,26 @@ impl Writer<'_> {
                     LaserMode::Dynamic => "M4",
                     LaserMode::Constant => "M3",
                 };
-                let suffix = if l.on_suffix.is_empty() {
-                    String::new()
-                } else {
-                    format!(" {}", l.on_suffix)
+                let suffix = || {
+                    if l.on_suffix.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {}", l.on_suffix)
+                    }
                 };
                 if l.inline_power {
                     if l.needs_on_command && !self.on {
                         let zero = if self.s.is_none() { " S0" } else { "" };
-                        self.line(&format!("{word}{suffix}{zero}"));
+                        self.line(&format!("{word}{}{zero}", suffix()));
                         if !zero.is_empty() {
                             self.s = Some("0".into());
                         }
                         self.on = true;
                         self.pierce(l);
                     }
-                } else if !self.on || self.s.as_deref() != Some(s.as_str()) {
-                    self.line(&format!("{word}{suffix} S{s}"));
-                    self.s = Some(s);
+                } else if !self.on || self.s.as_deref() != Some(&*s) {
+                    self.line(&format!("{word}{} S{s}", suffix()));
+                    self.s = Some(s.to_string());
                     if !self.on {
                         self.on = true;
                         self.pierce(l);
@@ -675,7 +705,7 @@ impl Writer<'_> {
             });
         }
         let s = self.s_str(power);
-        if self.on && self.rpm.as_deref() == Some(s.as_str()) {
+        if self.on && self.rpm.as_deref() == Some(&*s) {
             return Ok(());
         }
         let faster = match (&self.rpm, self.on) {
@@ -683,8 +713,8 @@ impl Writer<'_> {
             _ => true,
         };
         self.line(&format!("M3 S{s}"));
-        self.rpm = Some(s.clone());
-        self.s = Some(s);
+        self.rpm = Some(s.to_string());
+        self.s = Some(s.to_string());
         self.on = true;
         if faster && r.spindle_dwell > 0.0 {
             let d = self.dialect().dwell(r.spindle_dwell);
@@ -710,20 +740,19 @@ impl Writer<'_> {
         limit
     }
 
-    fn power_words(&self, power: f64, feed: f64) -> Vec<(&'static str, String)> {
-        let mut extra = vec![("F", self.feed_str(feed))];
-        if let Tool::Laser(l) = self.tool
-            && l.inline_power
-        {
-            extra.push(("S", self.s_str(power)));
-        }
-        extra
+    /// The feed word and, for lasers with inline power, the power word of a cutting move.
+    fn power_words(&self, power: f64, feed: f64) -> [Option<Word>; 2] {
+        let inline = matches!(self.tool, Tool::Laser(l) if l.inline_power);
+        [
+            Some(Word::Feed(self.feed_str(feed))),
+            inline.then(|| Word::Power(self.s_str(power))),
+        ]
     }
 
     fn cutting_line(&mut self, from: DVec3, to: DVec3, feed: f64, power: f64) {
         let feed = self.clamp_feed(to - from, feed);
         let extra = self.power_words(power, feed);
-        self.move_line(1, to, &extra);
+        self.move_line(1, to, extra.into_iter().flatten());
     }
 
     fn arc(
@@ -749,12 +778,9 @@ impl Writer<'_> {
         match self.g.arcs {
             ArcFormat::Ij => {
                 let (sx, sy) = self.start_printed(from);
-                let mut extra = vec![
-                    ("I", self.num(center.x - sx)),
-                    ("J", self.num(center.y - sy)),
-                ];
-                extra.extend(self.power_words(power, feed));
-                self.move_line(g, to, &extra);
+                let ij = [Word::Num('I', center.x - sx), Word::Num('J', center.y - sy)];
+                let extra = self.power_words(power, feed);
+                self.move_line(g, to, ij.into_iter().chain(extra.into_iter().flatten()));
             }
             ArcFormat::R => {
                 let pts = split_arc(from.truncate(), to.truncate(), center, a.sweep, R_MAX_SWEEP);
@@ -766,15 +792,13 @@ impl Writer<'_> {
                     self.check(end)?;
                     let (sx, sy) = self.start_printed(prev);
                     let r = center.distance(DVec2::new(sx, sy));
-                    let mut extra = vec![("R", self.num(r))];
-                    extra.extend(self.power_words(power, feed));
+                    let words = self.power_words(power, feed).into_iter().flatten();
                     if self.round(prev.x) == self.round(end.x)
                         && self.round(prev.y) == self.round(end.y)
                     {
-                        let words = self.power_words(power, feed);
-                        self.move_line(1, end, &words);
+                        self.move_line(1, end, words);
                     } else {
-                        self.move_line(g, end, &extra);
+                        self.move_line(g, end, std::iter::once(Word::Num('R', r)).chain(words));
                     }
                     prev = end;
                 }

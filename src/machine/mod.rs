@@ -104,6 +104,33 @@ pub fn push_number(out: &mut String, v: f64, decimals: u32) {
 /// room below 2⁵³ for the integer part.
 const FAST_DECIMALS: u32 = 9;
 
+/// 10^d for d ≤ [`FAST_DECIMALS`], each exact in `f64` (the values `powi` gives, without
+/// a call per number).
+const POW10: [f64; FAST_DECIMALS as usize + 1] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+
+/// 10^`d` (exact for d ≤ 22): from [`POW10`] where it reaches, else by `powi`.
+pub fn pow10(d: u32) -> f64 {
+    POW10
+        .get(d as usize)
+        .copied()
+        .unwrap_or_else(|| 10f64.powi(d as i32))
+}
+
+/// The same powers as integers, for splitting a scaled value into its integer part and
+/// fraction digits.
+const POW10_U64: [u64; FAST_DECIMALS as usize + 1] = [
+    1,
+    10,
+    100,
+    1_000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+    1_000_000_000,
+];
+
 /// `a` (≥ 0, finite) times 10^`decimals`, rounded to the nearest integer, when the product
 /// computed in floating point decides that rounding. 10^d is exact for d ≤ 22, so
 /// p = fl(a·10^d) is the exact product x rounded once. Below 2⁵² every k + ½ is an `f64`,
@@ -115,7 +142,7 @@ fn rounded_scaled(a: f64, decimals: u32) -> Option<u64> {
     if decimals > FAST_DECIMALS {
         return None;
     }
-    let p = a * 10f64.powi(decimals as i32);
+    let p = a * POW10[decimals as usize];
     // 2⁵² (a is finite and ≥ 0, so p is not NaN).
     if p >= 4_503_599_627_370_496.0 {
         return None;
@@ -128,42 +155,28 @@ fn rounded_scaled(a: f64, decimals: u32) -> Option<u64> {
     Some(floor as u64 + u64::from(frac > 0.5))
 }
 
-/// The text of ±n/10^`decimals` without trailing zeros, a trailing point or `-0`, written
-/// right to left into a stack buffer (n < 2⁵³ has at most 16 digits; with the point, a
-/// leading "0" and the sign that is at most 19 bytes for `decimals` ≤ [`FAST_DECIMALS`]),
-/// then appended to `out`.
+/// The text of ±n/10^`decimals` without trailing zeros, a trailing point or `-0`: the
+/// integer part and the fraction (after the trailing zeros are divided out) as decimal
+/// integers by `itoa`, the fraction's leading zeros kept by formatting it plus
+/// 10^places and dropping that leading 1.
 fn push_digits_of_scaled(out: &mut String, negative: bool, n: u64, decimals: u32) {
-    let mut buf = [0u8; 32];
-    let mut at = buf.len();
     let mut rest = n;
-    let mut put = |b: u8, at: &mut usize| {
-        *at -= 1;
-        buf[*at] = b;
-    };
-    // Fraction digits, trailing zeros dropped.
-    let mut places = decimals;
+    let mut places = decimals as usize;
     while places > 0 && rest.is_multiple_of(10) {
         rest /= 10;
         places -= 1;
     }
-    if places > 0 {
-        for _ in 0..places {
-            put(b'0' + (rest % 10) as u8, &mut at);
-            rest /= 10;
-        }
-        put(b'.', &mut at);
-    }
-    loop {
-        put(b'0' + (rest % 10) as u8, &mut at);
-        rest /= 10;
-        if rest == 0 {
-            break;
-        }
-    }
+    let scale = POW10_U64[places];
     if negative && n != 0 {
-        put(b'-', &mut at);
+        out.push('-');
     }
-    out.extend(buf[at..].iter().map(|&b| b as char));
+    let mut digits = itoa::Buffer::new();
+    out.push_str(digits.format(rest / scale));
+    if places > 0 {
+        out.push('.');
+        let fraction = digits.format(rest % scale + scale);
+        out.push_str(&fraction[1..]);
+    }
 }
 
 /// [`format_number`] by the standard formatter alone, `format!("{:.*}")` (exact decimal
