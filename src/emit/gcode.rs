@@ -12,6 +12,7 @@
 
 use super::geometry::{arc_of, split_arc, validate};
 use super::{EmitError, Location, check_tolerance};
+use crate::geom::Arc;
 use crate::machine::{
     ArcFormat, Dialect, GcodeSettings, LaserMode, LaserSettings, MachineKind, Profile, RapidOff,
     RouterSettings, Units, format_number, pow10, push_number, template,
@@ -461,7 +462,7 @@ impl Writer<'_> {
                         self.check(q.extend(to.z))?;
                     }
                     self.tool_on(m)?;
-                    self.arc(pos, to, c, ccw, m.feed * self.scale, m.power)?;
+                    self.arc(pos, to, &a, m.feed * self.scale, m.power)?;
                     pos = to;
                 }
             }
@@ -755,16 +756,17 @@ impl Writer<'_> {
         self.move_line(1, to, extra.into_iter().flatten());
     }
 
+    /// The arc move from `from` to `to`; `a` is its swept arc in the plane
+    /// ([`arc_of`]), whose centre and sweep the formats use.
     fn arc(
         &mut self,
         from: DVec3,
         to: DVec3,
-        center: DVec2,
-        ccw: bool,
+        a: &Arc,
         feed: f64,
         power: f64,
     ) -> Result<(), EmitError> {
-        let a = arc_of(from.truncate(), to.truncate(), center, ccw);
+        let (center, ccw) = (a.center, a.sweep > 0.0);
         // The direction turns along an arc: the slower of X and Y bounds it.
         let feed = feed.min(self.p.max_feed.x.min(self.p.max_feed.y));
         let g = if ccw { 3 } else { 2 };

@@ -1,7 +1,7 @@
 //! Circular arcs: centre, radius, start angle and signed sweep.
 
 use super::DVec2;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The arc of the circle (`center`, `radius`) from angle `start` through the signed angle
 /// `sweep` (counter-clockwise when positive; |sweep| ≤ 2π, a full circle when |sweep| = 2π).
@@ -121,10 +121,14 @@ impl Arc {
 
     /// True when the direction of `p − center` lies within the swept angle.
     pub fn contains_angle_of(&self, p: DVec2) -> bool {
+        self.sweep.abs() >= 2.0 * PI || self.contains_angle(axis_angle(p - self.center))
+    }
+
+    /// True when the angle `a` (radians) lies within the swept angle.
+    fn contains_angle(&self, a: f64) -> bool {
         if self.sweep.abs() >= 2.0 * PI {
             return true;
         }
-        let a = (p - self.center).to_angle();
         let mut d = (a - self.start) * self.sweep.signum();
         d = d.rem_euclid(2.0 * PI);
         d <= self.sweep.abs()
@@ -134,6 +138,7 @@ impl Arc {
     /// circle, in the order +x, +y, −x, −y) that lie within the swept angle: with the two
     /// end points they bound the arc exactly, since a circular arc is monotone in x and y
     /// between them (x = cₓ + r cos θ has dx/dθ = 0 only at θ = 0, π; y likewise at ±π/2).
+    /// The axis directions' angles come from [`axis_angle`] without a call to `atan2`.
     pub fn extrema(&self) -> impl Iterator<Item = DVec2> + '_ {
         [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y]
             .into_iter()
@@ -180,9 +185,71 @@ impl Arc {
     }
 }
 
+/// The angle of `v`, `atan2(v.y, v.x)`, bit for bit: the values `atan2` gives on the
+/// axes (±0, ±π, ±π/2, by the signs of the components) are returned without calling it,
+/// the rest (NaN components included) by `atan2`.
+pub fn axis_angle(v: DVec2) -> f64 {
+    if v.y == 0.0 && v.x > 0.0 {
+        v.y
+    } else if v.y == 0.0 && v.x < 0.0 {
+        PI.copysign(v.y)
+    } else if v.x == 0.0 && v.y.abs() > 0.0 {
+        FRAC_PI_2.copysign(v.y)
+    } else {
+        v.to_angle()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// `axis_angle` is `atan2` bit for bit: on the axes (both signs of zero, infinities),
+    /// at the origin, with NaN components, and at points around a centre as `extrema`
+    /// makes them (centre + r·axis − centre, which can round to an axis or to zero).
+    #[test]
+    fn axis_angle_is_atan2() {
+        let special = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            1e-300,
+            -1e-300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for &x in &special {
+            for &y in &special {
+                let v = DVec2::new(x, y);
+                let (a, b) = (axis_angle(v), v.to_angle());
+                assert!(
+                    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                    "{v}: {a} {b}"
+                );
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+        #[test]
+        fn axis_angle_is_atan2_around_centres(
+            cx in -1e4f64..1e4,
+            cy in -1e4f64..1e4,
+            r in prop_oneof![1e-14f64..1e-9, 1e-3f64..1e3],
+            k in 0usize..4,
+            other in (-1e3f64..1e3, -1e3f64..1e3),
+        ) {
+            let c = DVec2::new(cx, cy);
+            let d = [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y][k];
+            for v in [(c + r * d) - c, DVec2::new(other.0, other.1)] {
+                prop_assert_eq!(axis_angle(v).to_bits(), v.to_angle().to_bits(), "{}", v);
+            }
+        }
+    }
 
     #[test]
     fn bulge_round_trip() {
