@@ -1087,13 +1087,10 @@ fn bounds_impl(
     if let Some((eps, rejection)) = threshold {
         // Each direction's samples, taken once for all the searches below.
         let (xy, yx) = (OnceCell::new(), OnceCell::new());
-        let seed = |p: &dyn BoundedCurve, q: &dyn BoundedCurve, forward: bool| {
-            let cell = if forward { &xy } else { &yx };
-            cell.get_or_init(|| MatchSeed::new(p, q)).as_ref()
-        };
         let search = |forward: bool, goal: &Goal, work: &mut Work| {
-            let (p, q) = if forward { (x, y) } else { (y, x) };
-            match_search(p, q, seed(p, q, forward)?, goal, work)
+            let (p, q, cell) = if forward { (x, y, &xy) } else { (y, x, &yx) };
+            let seed = cell.get_or_init(|| MatchSeed::new(p, q)).as_ref()?;
+            match_search(p, q, seed, goal, work)
         };
         let below = Goal::Below(eps - gap);
         if eps - gap > 0.0
