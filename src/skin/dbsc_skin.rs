@@ -425,21 +425,19 @@ impl State<'_> {
         ps.extend_from_slice(extra);
         ps.sort_by(f64::total_cmp);
         ps.dedup();
-        self.check_admissible_params(&ps)
+        self.admissible_params(&ps).is_ok()
     }
 
-    /// Whether the circles at `ps` are admissible ([`check_admissible`]), remembered when
-    /// they are.
-    fn check_admissible_params(&self, ps: &[f64]) -> bool {
+    /// [`check_admissible`] of the circles at `ps`; a sequence that passed once is not
+    /// tested again ([`State::admissible`]).
+    fn admissible_params(&self, ps: &[f64]) -> Result<(), SkinError> {
         let key = param_bits(ps);
         if self.admissible.borrow().contains(&key) {
-            return true;
+            return Ok(());
         }
-        let ok = check_admissible(&self.circles_of(ps), self.closed, &adm_opts()).is_ok();
-        if ok {
-            self.admissible.borrow_mut().insert(key);
-        }
-        ok
+        check_admissible(&self.circles_of(ps), self.closed, &adm_opts())?;
+        self.admissible.borrow_mut().insert(key);
+        Ok(())
     }
 
     fn insert(&mut self, i: usize, u: f64) {
@@ -461,23 +459,29 @@ impl State<'_> {
             .collect()
     }
 
-    /// The left and the right skin: per side its circles' parameters and arcs. Where both
-    /// sides skin the same circles (every circle BOTH, phases 1 and 2) one skinning of the
-    /// sequence gives both, which [`skin_side_arcs`] would otherwise compute twice.
+    /// The left and the right skin: per side its circles' parameters and arcs. While both
+    /// sides skin the same circles (every circle BOTH, phases 1 and 2; a LEFT or RIGHT
+    /// circle is on one side only) one skinning of the sequence gives both, and the
+    /// sequence must be admissible: the test `skin_circles` would make (same options, same
+    /// error), skipped for a sequence that passed before. With one-sided circles (phase 3)
+    /// one side's sequence may break the admissibility of the other's, so none is tested.
     fn skin_sides(&self) -> [SideSkin; 2] {
-        let check = self.uses.iter().all(|u| *u == CircleUse::Both);
         let (pl, pr) = (self.side_params(Side::Left), self.side_params(Side::Right));
         if pl == pr {
-            // A sequence shown admissible before needs no second test; a failing one is
-            // left to the skinning's own test, whose error names the circles.
-            let check = check && !self.check_admissible_params(&pl);
-            return match skin_both_arcs(&self.circles_of(&pl), self.closed, check) {
+            let skins = self
+                .admissible_params(&pl)
+                .and_then(|()| skin_both_arcs(&self.circles_of(&pl), self.closed));
+            return match skins {
                 Ok((left, right)) => [Ok((pl.clone(), left)), Ok((pr, right))],
                 Err(e) => [Err(e.clone()), Err(e)],
             };
         }
         [(Side::Left, pl), (Side::Right, pr)].map(|(side, ps)| {
-            let arcs = skin_side_arcs(&self.circles_of(&ps), self.closed, side, check)?;
+            let (left, right) = skin_both_arcs(&self.circles_of(&ps), self.closed)?;
+            let arcs = match side {
+                Side::Left => left,
+                Side::Right => right,
+            };
             Ok((ps, arcs))
         })
     }
@@ -565,17 +569,12 @@ impl State<'_> {
         h.upper <= self.opts.eps
     }
 
-    /// One pass of phase 1 (`paired`) or phase 2; returns whether anything was inserted.
     /// Initialisation (eq. 19: the knot circles must be admissible), then phase 1 (paired
     /// insertions) and phase 2 (midpoints) until no pass inserts.
     fn phases_one_two(&mut self) -> Result<(), DbscSkinError> {
-        let cs = self.circles_of(&self.params);
-        if let Err(e) = check_admissible(&cs, self.closed, &adm_opts()) {
+        if let Err(e) = self.admissible_params(&self.params) {
             return Err(not_admissible(&self.params, self.hi, self.closed, e));
         }
-        self.admissible
-            .borrow_mut()
-            .insert(param_bits(&self.params));
         while self.pass(true)? {}
         for m in self.marks.iter_mut() {
             if *m == Mark::Stopped(Phase::One) {
@@ -586,6 +585,7 @@ impl State<'_> {
         Ok(())
     }
 
+    /// One pass of phase 1 (`paired`) or phase 2; returns whether anything was inserted.
     fn pass(&mut self, paired: bool) -> Result<bool, DbscSkinError> {
         let phase = if paired { Phase::One } else { Phase::Two };
         let err = self.errors(Mode::Decide)?;
@@ -941,31 +941,15 @@ fn crossed(contour: usize, other: usize) -> String {
     }
 }
 
-/// One side's skin arcs of a circle sequence (adapter over [`super::skin_circles`]): the
-/// sequence of one side of a two-sided skin may break admissibility of the other side, so
-/// the check is made only when `check` (no circle is one-sided).
-fn skin_side_arcs(
-    circles: &[Circle],
-    closed: bool,
-    side: Side,
-    check: bool,
-) -> Result<Vec<CubicBez>, SkinError> {
-    let (left, right) = skin_both_arcs(circles, closed, check)?;
-    Ok(match side {
-        Side::Left => left,
-        Side::Right => right,
-    })
-}
-
-/// The left and the right skin arcs of one circle sequence.
+/// The left and the right skin arcs of one circle sequence ([`super::skin_circles`]),
+/// without its admissibility test: [`State::skin_sides`] makes that test where it applies.
 fn skin_both_arcs(
     circles: &[Circle],
     closed: bool,
-    check: bool,
 ) -> Result<(Vec<CubicBez>, Vec<CubicBez>), SkinError> {
     let opts = super::SkinOptions {
         admissibility: adm_opts(),
-        check_admissibility: check,
+        check_admissibility: false,
     };
     let s = super::skin_circles(circles, closed, &opts)?;
     Ok((s.left, s.right))
