@@ -742,18 +742,16 @@ impl Writer<'_> {
     }
 
     /// The feed word and, for lasers with inline power, the power word of a cutting move.
-    fn power_words(&self, power: f64, feed: f64) -> [Option<Word>; 2] {
+    fn power_words(&self, power: f64, feed: f64) -> impl Iterator<Item = Word> + use<> {
         let inline = matches!(self.tool, Tool::Laser(l) if l.inline_power);
-        [
-            Some(Word::Feed(self.feed_str(feed))),
-            inline.then(|| Word::Power(self.s_str(power))),
-        ]
+        let power = inline.then(|| Word::Power(self.s_str(power)));
+        std::iter::once(Word::Feed(self.feed_str(feed))).chain(power)
     }
 
     fn cutting_line(&mut self, from: DVec3, to: DVec3, feed: f64, power: f64) {
         let feed = self.clamp_feed(to - from, feed);
         let extra = self.power_words(power, feed);
-        self.move_line(1, to, extra.into_iter().flatten());
+        self.move_line(1, to, extra);
     }
 
     /// The arc move from `from` to `to`; `a` is its swept arc in the plane
@@ -782,7 +780,7 @@ impl Writer<'_> {
                 let (sx, sy) = self.start_printed(from);
                 let ij = [Word::Num('I', center.x - sx), Word::Num('J', center.y - sy)];
                 let extra = self.power_words(power, feed);
-                self.move_line(g, to, ij.into_iter().chain(extra.into_iter().flatten()));
+                self.move_line(g, to, ij.into_iter().chain(extra));
             }
             ArcFormat::R => {
                 let pts = split_arc(from.truncate(), to.truncate(), center, a.sweep, R_MAX_SWEEP);
@@ -794,7 +792,7 @@ impl Writer<'_> {
                     self.check(end)?;
                     let (sx, sy) = self.start_printed(prev);
                     let r = center.distance(DVec2::new(sx, sy));
-                    let words = self.power_words(power, feed).into_iter().flatten();
+                    let words = self.power_words(power, feed);
                     if self.round(prev.x) == self.round(end.x)
                         && self.round(prev.y) == self.round(end.y)
                     {

@@ -121,14 +121,10 @@ impl Arc {
 
     /// True when the direction of `p − center` lies within the swept angle.
     pub fn contains_angle_of(&self, p: DVec2) -> bool {
-        self.sweep.abs() >= 2.0 * PI || self.contains_angle(axis_angle(p - self.center))
-    }
-
-    /// True when the angle `a` (radians) lies within the swept angle.
-    fn contains_angle(&self, a: f64) -> bool {
         if self.sweep.abs() >= 2.0 * PI {
             return true;
         }
+        let a = axis_angle(p - self.center);
         let mut d = (a - self.start) * self.sweep.signum();
         d = d.rem_euclid(2.0 * PI);
         d <= self.sweep.abs()
@@ -138,7 +134,7 @@ impl Arc {
     /// circle, in the order +x, +y, −x, −y) that lie within the swept angle: with the two
     /// end points they bound the arc exactly, since a circular arc is monotone in x and y
     /// between them (x = cₓ + r cos θ has dx/dθ = 0 only at θ = 0, π; y likewise at ±π/2).
-    /// The axis directions' angles come from [`axis_angle`] without a call to `atan2`.
+    /// The axis directions' angles come from `axis_angle` without a call to `atan2`.
     pub fn extrema(&self) -> impl Iterator<Item = DVec2> + '_ {
         [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y]
             .into_iter()
@@ -188,7 +184,7 @@ impl Arc {
 /// The angle of `v`, `atan2(v.y, v.x)`, bit for bit: the values `atan2` gives on the
 /// axes (±0, ±π, ±π/2, by the signs of the components) are returned without calling it,
 /// the rest (NaN components included) by `atan2`.
-pub fn axis_angle(v: DVec2) -> f64 {
+fn axis_angle(v: DVec2) -> f64 {
     if v.y == 0.0 && v.x > 0.0 {
         v.y
     } else if v.y == 0.0 && v.x < 0.0 {

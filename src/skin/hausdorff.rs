@@ -174,16 +174,6 @@ impl BoundedCurve for CubicBez {
     fn point_tangent(&self, t: f64) -> Result<(DVec2, DVec2), HausdorffError> {
         Ok((self.eval(t), self.deriv(t)))
     }
-    /// The trait's default on the one piece [0, 1], without collecting it.
-    fn d2_bound_any(&self, t0: f64, t1: f64) -> f64 {
-        let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-        let (u0, u1) = (a.max(0.0), b.min(1.0));
-        if u1 >= u0 {
-            0.0f64.max(self.d2_bound(u0, u1))
-        } else {
-            0.0
-        }
-    }
 }
 
 /// One side's envelope of a DBSC on [t_a, t_b].
