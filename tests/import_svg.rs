@@ -335,3 +335,26 @@ fn inkscape_power_stroke_is_imported_with_its_widths() {
         "{e}"
     );
 }
+
+/// A fuzzed copy of a laser SVG (tests/robust_data/fuzz_svg_singular.svg): the runs of its
+/// first path interpolate one by one but not all together (a singular 124×124 system), and
+/// the importer once wrote that stroke anyway, so the design did not build. The path is
+/// skipped with the reason, and everything imported builds.
+#[test]
+fn a_path_no_stroke_interpolates_is_skipped_with_the_reason() {
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/robust_data/fuzz_svg_singular.svg"
+    );
+    let text = std::fs::read_to_string(file).unwrap();
+    let imp = import(&text, "fuzz.svg", &ImportOptions::default()).unwrap();
+    let skipped = imp
+        .skipped
+        .iter()
+        .find(|s| s.id == "op0-cut0")
+        .expect("op0-cut0 skipped");
+    assert!(skipped.reason.contains("singular"), "{}", skipped.reason);
+    assert!(imp.design.stroke.iter().all(|s| s.name != "op0-cut0"));
+    assert!(!imp.design.stroke.is_empty());
+    imp.design.strokes().expect("what is imported builds");
+}

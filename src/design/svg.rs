@@ -199,6 +199,13 @@ pub fn load_svg(text: &str, file: &str) -> Result<Design, DesignError> {
     Ok(d)
 }
 
+/// Why a subpath is skipped: it has no length.
+const ZERO_LENGTH: &str = "subpath of zero length";
+
+/// Why a subpath is skipped: no stroke through evenly spaced points of it builds (the
+/// interpolation system is singular at every sample count tried, or for all runs together).
+const NO_INTERPOLANT: &str = "no stroke interpolates its points (singular system)";
+
 struct Ctx<'a> {
     file: &'a str,
     opts: ImportOptions,
@@ -560,8 +567,8 @@ impl Ctx<'_> {
                 None => self.radii(&sp.pts, width_mm, widths.as_deref(), scale),
             };
             match self.fit_subpath(&name, &sp, &radii) {
-                Some(s) => self.strokes.push(s),
-                None => self.skip(name, "subpath of zero length"),
+                Ok(s) => self.strokes.push(s),
+                Err(reason) => self.skip(name, reason),
             }
         }
         Ok(())
@@ -869,8 +876,14 @@ impl Ctx<'_> {
     }
 
     /// The stroke of one subpath: runs between corners, each interpolated through enough
-    /// evenly spaced points to stay within the tolerance.
-    fn fit_subpath(&mut self, name: &str, sp: &Subpath, radii: &[f64]) -> Option<Stroke> {
+    /// evenly spaced points to stay within the tolerance; the reason it is skipped when a
+    /// run has zero length or no interpolant through its samples builds.
+    fn fit_subpath(
+        &mut self,
+        name: &str,
+        sp: &Subpath,
+        radii: &[f64],
+    ) -> Result<Stroke, &'static str> {
         let limit = self.opts.corner_angle.to_radians();
         let mut cuts: Vec<usize> = sp
             .nodes
@@ -899,7 +912,7 @@ impl Ctx<'_> {
         }
         let m = pts.len();
         if m < 2 {
-            return None;
+            return Err(ZERO_LENGTH);
         }
         // Runs as inclusive index ranges (wrapping for closed paths).
         let runs: Vec<Vec<usize>> = if cuts.is_empty() {
@@ -949,18 +962,20 @@ impl Ctx<'_> {
         } else {
             Some(corners)
         };
-        Some(s)
+        // Each run built on its own; the stroke interpolates all of them in one system.
+        s.to_dbsc(self.file, 0).map_err(|_| NO_INTERPOLANT)?;
+        Ok(s)
     }
 
     /// Points [x, y, r] whose interpolant stays within the tolerance of the run `pts`
-    /// (both ways), and the distance reached.
+    /// (both ways), or the closest that builds, and the distance reached.
     fn fit_run(
         &self,
         name: &str,
         pts: &[DVec2],
         radii: &[f64],
         closed: bool,
-    ) -> Option<(Vec<[f64; 3]>, f64)> {
+    ) -> Result<(Vec<[f64; 3]>, f64), &'static str> {
         let mut s = vec![0.0];
         for q in pts.windows(2) {
             s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
@@ -968,9 +983,9 @@ impl Ctx<'_> {
         if closed {
             s.push(s.last().copied().unwrap_or(0.0) + pts[pts.len() - 1].distance(pts[0]));
         }
-        let total = *s.last()?;
+        let total = s.last().copied().unwrap_or(0.0);
         if total <= 0.0 {
-            return None;
+            return Err(ZERO_LENGTH);
         }
         let mut ring: Vec<DVec2> = pts.to_vec();
         let mut ring_r = radii.to_vec();
@@ -999,15 +1014,16 @@ impl Ctx<'_> {
                     .map(|j| at(total * j as f64 / (count - 1) as f64))
                     .collect()
             };
+            // A fit that does not build (a singular interpolation system) is never kept.
             let dev = self.deviation(name, &samples, &ring, &ring_r, closed);
-            if best.as_ref().is_none_or(|b| dev < b.1) {
+            if dev.is_finite() && best.as_ref().is_none_or(|b| dev < b.1) {
                 best = Some((samples, dev));
             }
             let done = best
                 .as_ref()
                 .is_some_and(|b| b.1 <= 0.9 * self.opts.tolerance);
             if done || count >= MAX_RUN_POINTS {
-                return best;
+                return best.ok_or(NO_INTERPOLANT);
             }
             count = if count == 2 { 4 } else { 2 * count - 1 };
         }
