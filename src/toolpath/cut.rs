@@ -214,15 +214,42 @@ fn leads_clear(leads: &(DVec2, Option<PathSeg>, Option<PathSeg>), path: &Path) -
             .map(|i| s.eval(a + (b - a) * i as f64 / n as f64))
             .collect()
     };
-    let lead_in_ok = leads
-        .1
-        .as_ref()
-        .is_none_or(|s| !hits(&part(s, 0.0, 1.0 - LEAD_TOUCH_FRACTION)));
+    let lead_in_ok = leads.1.as_ref().is_none_or(|s| {
+        !hits(&part(s, 0.0, 1.0 - LEAD_TOUCH_FRACTION)) && !grazes(s, s.end(), path)
+    });
     let lead_out_ok = leads
         .2
         .as_ref()
-        .is_none_or(|s| !hits(&part(s, LEAD_TOUCH_FRACTION, 1.0)));
+        .is_none_or(|s| !hits(&part(s, LEAD_TOUCH_FRACTION, 1.0)) && !grazes(s, s.start(), path));
     lead_in_ok && lead_out_ok
+}
+
+/// Largest lead radius, as a fraction of the radius R of a contour arc it touches from
+/// inside (the contour curving toward the waste side at the touch point), that the lead may
+/// have. Lead and contour are tangent there and part by s²/2·(1/r − 1/R) at arc length s,
+/// so they stay within a flattening or rounding error f of each other for
+/// s < √(2f / (1/r − 1/R)): with r ≤ R/2 that is at most √2 times the stretch along a
+/// straight contour, where it is √(2fr). Nearer, flattened or rounded, the two cross (a
+/// laser board's later passes crossed its first lead-in at a concave corner).
+const GRAZE_RATIO: f64 = 0.5;
+
+/// Whether the lead arc `lead`, tangent to the closed or open `path` at `touch` (the
+/// path's start or end), lies in a contour arc's circle that is less than 1/[`GRAZE_RATIO`]
+/// times larger.
+fn grazes(lead: &PathSeg, touch: DVec2, path: &Path) -> bool {
+    let PathSeg::Arc(l) = lead else {
+        return false;
+    };
+    let ends = [path.segs.first(), path.segs.last()];
+    ends.into_iter().flatten().any(|s| match s {
+        PathSeg::Arc(a) => {
+            let at_touch = a.eval(0.0).distance(touch).min(a.eval(1.0).distance(touch));
+            at_touch <= 1e-9 * (1.0 + a.radius)
+                && (a.center - touch).dot(l.center - touch) > 0.0
+                && l.radius > GRAZE_RATIO * a.radius
+        }
+        _ => false,
+    })
 }
 
 /// The cut that runs the closed contour `path` (lines and arcs) once per level.
@@ -498,6 +525,28 @@ mod tests {
         assert!((0.5 - 1e-12..4.0).contains(&r), "lead radius {r}");
         // The lead stays clear of the fin's wall at x = 5.6.
         assert!(c.start.x < 5.6 && center.x + r < 5.6);
+    }
+
+    #[test]
+    fn lead_arcs_stay_well_inside_a_concave_contour_arc() {
+        // A circle of radius 6 with the waste inside (a hole's wall): the contour curves
+        // toward the waste everywhere. A lead of radius 4 touches it from inside and stays
+        // within a flattening error of it for a long stretch: halved to 2 (≤ 6/2). A lead of
+        // 2.5 is kept, and so is 4 when the waste is outside (the contour curves away).
+        let half = |a0: f64| PathSeg::Arc(Arc::new(DVec2::ZERO, 6.0, a0, std::f64::consts::PI));
+        let path = Path::new(vec![half(0.0), half(std::f64::consts::PI)], true);
+        for (lead, waste_left, want) in [(4.0, true, 2.0), (2.5, true, 2.5), (4.0, false, 4.0)] {
+            let mut o = opts();
+            o.levels = vec![0.0];
+            o.lead = Lead::Arc(lead);
+            o.waste_left = waste_left;
+            let c = contour_cut(&path, &o, None).unwrap();
+            let MoveKind::Arc { center, .. } = c.moves[1].kind else {
+                panic!("expected a lead-in arc")
+            };
+            let r = center.distance(DVec2::new(6.0, 0.0));
+            assert!((r - want).abs() < 1e-12, "lead {lead}: radius {r}");
+        }
     }
 
     #[test]
