@@ -20,6 +20,9 @@
 use crate::geom::hull::{arc_hull_bound, segment_hull_bound};
 use crate::geom::{Arc, CubicBez, DVec2, Line, PathSeg, perp};
 
+/// Evenly spread points of the curve whose distances [`max_deviation`] tries first.
+const PRE_SAMPLES: usize = 16;
+
 /// Deepest recursion of the split-and-refit loop: 2^16 pieces per cubic at most.
 const MAX_DEPTH: u32 = 16;
 
@@ -179,6 +182,14 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
         return f64::INFINITY;
     }
     let floor = tol / BOUND_RESOLUTION;
+    // A chain that misses the curve mostly misses it at a few evenly spread points: those
+    // are tried before the bisection, which would first go deep into one half.
+    if let Some(far) = (1..PRE_SAMPLES)
+        .map(|i| dist(c.eval(i as f64 / PRE_SAMPLES as f64)))
+        .find(|&d| d > tol)
+    {
+        return far;
+    }
     // Curve to chain, by adaptive bisection on the parameter.
     let mut worst: f64 = 0.0;
     let mut stack = vec![(0.0, 1.0, dist(c.p0), dist(c.p3))];
@@ -213,6 +224,13 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
     }
     // Chain to curve.
     let flat = c.flatten(tol / 8.0);
+    // A chord whose box lies more than tol from a piece's hull box bounds the piece's
+    // distance by more than tol: it cannot prove the piece, so only chords near it are
+    // tried (the bound stays the minimum of bounds, each valid on its own).
+    let chord_boxes: Vec<(DVec2, DVec2)> = flat
+        .windows(2)
+        .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
+        .collect();
     let gdist = |p: DVec2| polyline_distance(&flat, p) + tol / 8.0;
     for s in segs {
         let len = s.length(1e-9);
@@ -234,9 +252,16 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
             if bound > tol
                 && let Some(hull) = piece_hull(s, a, b)
             {
+                let (lo, hi) = hull.iter().fold(
+                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+                );
+                let (lo, hi) = (lo - DVec2::splat(tol), hi + DVec2::splat(tol));
                 bound = flat
                     .windows(2)
-                    .filter_map(|w| {
+                    .zip(&chord_boxes)
+                    .filter(|(_, (a, b))| a.cmple(hi).all() && lo.cmple(*b).all())
+                    .filter_map(|(w, _)| {
                         hull_distance_bound(&hull, &PathSeg::Line(Line::new(w[0], w[1])))
                     })
                     .map(|d| d + tol / 8.0)
