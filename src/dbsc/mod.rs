@@ -48,6 +48,7 @@ pub mod extend;
 pub mod flatten;
 pub mod interior;
 pub mod no_envelope;
+pub mod spine;
 pub mod tangent;
 pub mod tessellate;
 pub mod transform;

@@ -38,6 +38,7 @@ use crate::toolpath::ops::{self, Hole};
 use crate::toolpath::plan::{AttrPolyline, Geometry, OpSpec, PlanStats, plan};
 use crate::toolpath::re_route::SegCounts;
 use crate::toolpath::region::Region;
+use crate::toolpath::swept::swept_arc_region;
 use crate::toolpath::{OperationKind as TpKind, Toolpath};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -475,12 +476,23 @@ fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
     out
 }
 
-/// A channel of `width` along a stroke's spine: the spine flattened within the build
-/// tolerance, and the region a disk of radius width/2 sweeps along it.
+/// A channel of `width` along a stroke's spine: the spine as lines and arcs, and the region
+/// a disk of radius width/2 sweeps along it. Up to degree 3 the spine's cubic spans are
+/// fitted by arcs within a tenth of the build tolerance and the region is bounded by their
+/// exact offsets ([`swept_arc_region`]); above, or where that region fails its checks, the
+/// spine is flattened within the tolerance and the region is the buffer of the polyline.
 fn channel_swept(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
-    let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
-    let region = ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol);
-    (Path::polyline(&pts, c.is_closed()), region)
+    let eps = ctx.tol * 0.1;
+    let arcs = crate::dbsc::spine::spine_cubics(c).and_then(|cubics| {
+        let pline = crate::toolpath::region::pline_from_path(&cubics, ctx.tol);
+        let region = swept_arc_region(&pline, width / 2.0, eps)?;
+        Some((crate::toolpath::region::path_from_pline(&pline), region))
+    });
+    arcs.unwrap_or_else(|| {
+        let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
+        let region = ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol);
+        (Path::polyline(&pts, c.is_closed()), region)
+    })
 }
 
 /// Parameter samples of a stroke's spine about `step` apart along its length.
@@ -632,7 +644,7 @@ fn operation_specs(
             let regions: Vec<Region> = swept.iter().map(|(_, _, r)| r.clone()).collect();
             // Crossing and touching channels merge into one pocket (a T-junction is one
             // channel network).
-            let region = Region::union(&regions, ctx.tol);
+            let region = Region::union_keeping_arcs(&regions, ctx.tol);
             let step = (STEPOVER * 2.0 * r).max(ctx.tol);
             // A channel the tool's width (within the tolerance on each wall) is a slot: one
             // pass along each spine. Offsetting its region by r would leave a sliver ring
@@ -678,7 +690,8 @@ fn operation_specs(
             // by more than the margin would otherwise be cut through by the board's own cut.
             let channels = channel_regions(ctx, &items);
             let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
-            let channel_outside = !board.contains_every_vertex(&channels);
+            let flat: Vec<Region> = channels.iter().map(|c| c.flattened(ctx.tol)).collect();
+            let channel_outside = !board.contains_every_vertex(&flat);
             let board = if channel_outside {
                 regions.extend(channels);
                 ops::backboard(&regions, margin, rho, ctx.tol, eps)

@@ -13,6 +13,7 @@ pub mod plan;
 pub mod re_route;
 pub mod region;
 pub mod stats;
+pub mod swept;
 pub mod winding;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

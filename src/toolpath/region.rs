@@ -6,7 +6,8 @@
 //!   ([`super::biarc`]), so arcs stay arcs all the way to G2/G3.
 //! - Offsets: cavalier_contours' shape offset (exact for lines and arcs, islands handled).
 //! - Union of overlapping regions (letters drawn with crossing strokes): geo's BooleanOps on
-//!   the contours flattened within the tolerance; the result is lines only.
+//!   the contours flattened within the tolerance; the result is lines only. Regions that
+//!   lie apart can be joined as they are, arcs kept ([`Region::union_keeping_arcs`]).
 //!
 //! Complexity: offsets O(n log n) in the number of segments (cavalier's spatial index);
 //! union O((n + k) log n) (i_overlay sweep).
@@ -55,7 +56,8 @@ fn push_seg(pl: &mut Polyline<f64>, seg: &PathSeg) {
     }
 }
 
-/// A closed polyline from a closed path; cubics become biarcs within `tol`.
+/// A polyline from a path, closed when the path is (an open one ends with the path's end
+/// point); cubics become biarcs within `tol`.
 pub fn pline_from_path(path: &Path, tol: f64) -> Polyline<f64> {
     let mut pl = Polyline::new_closed();
     for seg in &path.segs {
@@ -69,6 +71,9 @@ pub fn pline_from_path(path: &Path, tol: f64) -> Polyline<f64> {
         }
     }
     pl.set_is_closed(path.closed);
+    if let (false, Some(end)) = (path.closed, path.end()) {
+        pl.add(end.x, end.y, 0.0);
+    }
     // Repeated positions (a biarc joint on a path's own end point) relative to the
     // tolerance, so the result does not depend on the size or position of the path.
     pl.remove_repeat_pos(tol * REPEAT_FRACTION).unwrap_or(pl)
@@ -590,6 +595,16 @@ impl Region {
         self.winds_every_vertex(std::slice::from_ref(other), |w| w == 0)
     }
 
+    /// The region with its arcs replaced by inscribed chords within `tol` (lines only), so
+    /// that vertex tests on it see how far each arc bulges.
+    pub fn flattened(&self, tol: f64) -> Region {
+        Region {
+            contours: (self.contours.iter())
+                .map(|c| pline_from_points(&flatten_pline(c, tol), true))
+                .collect(),
+        }
+    }
+
     /// Whether every vertex of every region of `others` lies in this region's material
     /// ([`Region::contains`]: non-zero total winding), asked through one index.
     pub fn contains_every_vertex(&self, others: &[Region]) -> bool {
@@ -616,7 +631,7 @@ impl Region {
     /// Whether the contours nest as material and holes should: a counter-clockwise contour
     /// lies where the others wind 0 times (outside, or in a hole), a clockwise one where
     /// they wind once (in material). Tested at each contour's first vertex.
-    fn well_nested(&self) -> bool {
+    pub(crate) fn well_nested(&self) -> bool {
         let windings = Windings::new(&self.contours);
         self.contours.iter().enumerate().all(|(i, c)| {
             let Some(v) = c.iter_vertexes().next() else {
@@ -676,6 +691,21 @@ impl Region {
             }
         }
         out
+    }
+
+    /// The union of several regions, keeping the arcs of regions that lie apart: when their
+    /// contours together are [simple](Region::simple) within `tol` and
+    /// [well nested](Region::well_nested) (no boundary meets another, none lies in another's
+    /// material) they are the union as they are; otherwise [`Region::union`].
+    pub fn union_keeping_arcs(regions: &[Region], tol: f64) -> Region {
+        let together = Region {
+            contours: regions.iter().flat_map(|r| r.contours.clone()).collect(),
+        };
+        if together.well_nested() && together.simple(tol) {
+            together
+        } else {
+            Region::union(regions, tol)
+        }
     }
 
     /// The union of several regions, through polygons flattened within `tol`.
@@ -1115,6 +1145,28 @@ mod tests {
         let u = Region::union(&[a, b], 1e-3);
         assert_eq!(u.contours.len(), 1);
         assert!((u.area() - 175.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn union_keeping_arcs_keeps_regions_apart_as_they_are() {
+        let disk = |x: f64, y: f64, r: f64| {
+            let mut pl = Polyline::new_closed();
+            pl.add(x - r, y, 1.0);
+            pl.add(x + r, y, 1.0);
+            Region::from_contours(vec![pl])
+        };
+        let (a, b) = (disk(0.0, 0.0, 2.0), disk(10.0, 0.0, 3.0));
+        let apart = Region::union_keeping_arcs(&[a.clone(), b], 1e-3);
+        assert_eq!(apart.contours.len(), 2);
+        assert!(apart.contours.iter().all(|c| c.vertex_count() == 2));
+        let exact = std::f64::consts::PI * (4.0 + 9.0);
+        assert!((apart.area() - exact).abs() < 1e-9 * exact);
+        // Overlapping disks, and a disk inside another: the flattened union.
+        for other in [disk(3.0, 0.0, 2.0), disk(0.5, 0.0, 1.0)] {
+            let u = Region::union_keeping_arcs(&[a.clone(), other], 1e-3);
+            assert_eq!(u.contours.len(), 1);
+            assert!(u.contours[0].vertex_count() > 2, "flattened");
+        }
     }
 
     #[test]
