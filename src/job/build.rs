@@ -460,7 +460,8 @@ fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
 }
 
 /// The swept regions of the design's channel operations along the strokes among `items`
-/// (the strokes a backboard carries).
+/// (the strokes a backboard carries), as polygons ([`channel_polygon`]): the board tests
+/// their vertices and unions them with its outlines, which flattens them anyway.
 fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
     let mut out = Vec::new();
     for op in &ctx.design.operation {
@@ -469,7 +470,7 @@ fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
         };
         for i in ctx.selected(op).into_iter().filter(|i| items.contains(i)) {
             if let Some(c) = spine_of(ctx, i) {
-                out.push(channel_swept(ctx, c, width).1);
+                out.push(channel_polygon(ctx, c, width).1);
             }
         }
     }
@@ -478,9 +479,9 @@ fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
 
 /// A channel of `width` along a stroke's spine: the spine as lines and arcs, and the region
 /// a disk of radius width/2 sweeps along it. Up to degree 3 the spine's cubic spans are
-/// fitted by arcs within a tenth of the build tolerance and the region is bounded by their
-/// exact offsets ([`swept_arc_region`]); above, or where that region fails its checks, the
-/// spine is flattened within the tolerance and the region is the buffer of the polyline.
+/// fitted by arcs within the build tolerance and the region is bounded by their exact
+/// offsets ([`swept_arc_region`]); above, or where that region fails its checks, it is
+/// [`channel_polygon`].
 fn channel_swept(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
     let eps = ctx.tol * 0.1;
     let arcs = crate::dbsc::spine::spine_cubics(c).and_then(|cubics| {
@@ -488,11 +489,15 @@ fn channel_swept(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
         let region = swept_arc_region(&pline, width / 2.0, eps)?;
         Some((crate::toolpath::region::path_from_pline(&pline), region))
     });
-    arcs.unwrap_or_else(|| {
-        let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
-        let region = ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol);
-        (Path::polyline(&pts, c.is_closed()), region)
-    })
+    arcs.unwrap_or_else(|| channel_polygon(ctx, c, width))
+}
+
+/// A channel of `width` along a stroke's spine flattened within the build tolerance, and the
+/// buffer of that polyline by width/2 (a polygon).
+fn channel_polygon(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
+    let pts = crate::dbsc::flatten::flatten_spine(c, ctx.tol);
+    let region = ops::swept_region(&pts, c.is_closed(), width / 2.0, ctx.tol);
+    (Path::polyline(&pts, c.is_closed()), region)
 }
 
 /// Parameter samples of a stroke's spine about `step` apart along its length.
@@ -690,8 +695,7 @@ fn operation_specs(
             // by more than the margin would otherwise be cut through by the board's own cut.
             let channels = channel_regions(ctx, &items);
             let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
-            let flat: Vec<Region> = channels.iter().map(|c| c.flattened(ctx.tol)).collect();
-            let channel_outside = !board.contains_every_vertex(&flat);
+            let channel_outside = !board.contains_every_vertex(&channels);
             let board = if channel_outside {
                 regions.extend(channels);
                 ops::backboard(&regions, margin, rho, ctx.tol, eps)

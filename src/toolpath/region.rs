@@ -595,16 +595,6 @@ impl Region {
         self.winds_every_vertex(std::slice::from_ref(other), |w| w == 0)
     }
 
-    /// The region with its arcs replaced by inscribed chords within `tol` (lines only), so
-    /// that vertex tests on it see how far each arc bulges.
-    pub fn flattened(&self, tol: f64) -> Region {
-        Region {
-            contours: (self.contours.iter())
-                .map(|c| pline_from_points(&flatten_pline(c, tol), true))
-                .collect(),
-        }
-    }
-
     /// Whether every vertex of every region of `others` lies in this region's material
     /// ([`Region::contains`]: non-zero total winding), asked through one index.
     pub fn contains_every_vertex(&self, others: &[Region]) -> bool {
