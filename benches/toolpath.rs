@@ -2,7 +2,9 @@
 //! `Region::offset`) against geo's `Buffer` of the same outline flattened, in the same run;
 //! plus hatch filling and ordering, on a synthetic flower and on the shipped examples'
 //! outlines (`bench_example_offsets`: inward and outward, with accuracy and area ratio),
-//! and winding numbers through `toolpath::winding` against cavalier's (`bench_winding`).
+//! and winding numbers through `toolpath::winding` against cavalier's (`bench_winding`),
+//! and a channel's region with arcs against geo's buffer of its flattened spine
+//! (`bench_channel_region`).
 //! Accuracy of both offsets (largest deviation of the result's vertices from distance δ to
 //! the source) is printed once per size.
 
@@ -252,9 +254,64 @@ fn bench_hatch_and_order(c: &mut Criterion) {
     });
 }
 
+/// A channel's region and its first clearing ring on neon_word's strokes (8.5 mm channel,
+/// 1/8" tool, tolerance 0.05 mm as `build` uses them): the spine's cubic spans fitted by
+/// arcs and bounded by exact offsets (`toolpath::swept`, what `build` does up to degree 3)
+/// against geo's buffer of the spine flattened within the tolerance (the peer, and the
+/// route `build` falls back to). Vertex counts and the areas' difference are printed once.
+fn bench_channel_region(c: &mut Criterion) {
+    use cavalier_contours::polyline::PlineSource;
+    use skinpath::dbsc::flatten::flatten_spine;
+    use skinpath::dbsc::spine::spine_cubics;
+    use skinpath::toolpath::ops::swept_region;
+    use skinpath::toolpath::region::pline_from_path;
+    use skinpath::toolpath::swept::swept_arc_region;
+    let file = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/neon_word.toml");
+    let text = std::fs::read_to_string(file).expect("neon_word.toml");
+    let design = skinpath::design::load(&text, file).expect("loads");
+    let strokes = design.strokes().expect("builds");
+    let (tol, half_width, tool_r) = (0.05, 4.25, 1.5875);
+    let eps = tol * 0.1;
+    let arcs = |c: &skinpath::DiskBSpline| {
+        let pline = pline_from_path(&spine_cubics(c).expect("cubic spine"), tol);
+        swept_arc_region(&pline, half_width, eps).expect("sound region")
+    };
+    let polygon = |c: &skinpath::DiskBSpline| {
+        swept_region(&flatten_spine(c, tol), c.is_closed(), half_width, tol)
+    };
+    let count = |r: &Region| r.contours.iter().map(|c| c.vertex_count()).sum::<usize>();
+    let (a, p): (Vec<Region>, Vec<Region>) = strokes.iter().map(|c| (arcs(c), polygon(c))).unzip();
+    let worst = a
+        .iter()
+        .zip(&p)
+        .map(|(x, y)| (x.area() - y.area()).abs() / x.perimeter())
+        .fold(0.0, f64::max);
+    println!(
+        "neon_word channels: {} vertices with arcs, {} as polygons; areas differ by at most \
+         {worst:.1e} x perimeter (the flattening within {tol})",
+        a.iter().map(count).sum::<usize>(),
+        p.iter().map(count).sum::<usize>(),
+    );
+    let mut g = c.benchmark_group("channel_region_neon_word");
+    g.bench_function("arcs_exact_offsets", |b| {
+        b.iter(|| black_box(strokes.iter().map(arcs).collect::<Vec<_>>()))
+    });
+    g.bench_function("geo_buffer_of_flattened_spine", |b| {
+        b.iter(|| black_box(strokes.iter().map(polygon).collect::<Vec<_>>()))
+    });
+    g.bench_function("first_ring_arcs", |b| {
+        b.iter(|| black_box(a.iter().map(|r| r.offset(-tool_r, eps)).collect::<Vec<_>>()))
+    });
+    g.bench_function("first_ring_geo_polygon", |b| {
+        b.iter(|| black_box(p.iter().map(|r| r.offset(-tool_r, eps)).collect::<Vec<_>>()))
+    });
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = bench_offsets, bench_hatch_and_order, bench_example_offsets, bench_winding
+    targets = bench_offsets, bench_hatch_and_order, bench_example_offsets, bench_winding,
+        bench_channel_region
 }
 criterion_main!(benches);

@@ -231,7 +231,31 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
         .windows(2)
         .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
         .collect();
-    let gdist = |p: DVec2| polyline_distance(&flat, p) + tol / 8.0;
+    // The distance to the flattening, chord by chord, skipping a chord whose box is no
+    // nearer than the nearest chord so far (the same minimum as `polyline_distance`);
+    // the scan starts at the chord nearest the previous point, which the bisection keeps
+    // close.
+    let hint = std::cell::Cell::new(0usize);
+    let gdist = |p: DVec2| {
+        let n = chord_boxes.len();
+        let mut best = f64::INFINITY;
+        let mut at = hint.get();
+        for k in 0..n {
+            let i = (hint.get() + k) % n;
+            let (lo, hi) = chord_boxes[i];
+            let gap = (lo - p).max(p - hi).max(DVec2::ZERO);
+            if gap.length_squared() >= best * best {
+                continue;
+            }
+            let d = Line::new(flat[i], flat[i + 1]).distance(p);
+            if d < best {
+                best = d;
+                at = i;
+            }
+        }
+        hint.set(at);
+        best + tol / 8.0
+    };
     for s in segs {
         let len = s.length(1e-9);
         let mut stack = vec![(0.0, 1.0, gdist(s.eval(0.0)), gdist(s.eval(1.0)))];
