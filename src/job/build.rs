@@ -620,9 +620,10 @@ fn operation_specs(
                     ),
                 ));
             }
-            // Per selected stroke: its index, its flattened spine and its channel region.
+            // Per selected stroke: its index, its spine and its channel region (the
+            // strokes' spine fits are independent: made in parallel, kept in order).
             let swept: Vec<(usize, Path, Region)> = items
-                .iter()
+                .par_iter()
                 .filter_map(|&i| spine_of(ctx, i).map(|c| (i, c)))
                 .map(|(i, c)| {
                     let (spine, region) = channel_swept(ctx, c, width);

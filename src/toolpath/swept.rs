@@ -45,8 +45,11 @@ pub fn swept_arc_region(spine: &Polyline<f64>, r: f64, eps: f64) -> Option<Regio
         return None;
     }
     // Centred, as Region::offset does: cavalier compares absolute differences.
-    let centre = centre_of(spine)?;
-    let moved = translated(spine, -centre);
+    let alone = Region {
+        contours: vec![spine.clone()],
+    };
+    let centre = alone.center();
+    let moved = alone.translated(-centre).contours.pop()?;
     let opts = PlineOffsetOptions {
         handle_self_intersects: true,
         pos_equal_eps: eps * 0.1,
@@ -68,25 +71,6 @@ pub fn swept_arc_region(spine: &Polyline<f64>, r: f64, eps: f64) -> Option<Regio
     let contours = chain(pieces, &moved, &ends, r, eps)?;
     let region = Region { contours };
     sound(&region, &moved, r, eps).then(|| region.translated(centre))
-}
-
-/// Centre of the bounding box of the vertices.
-fn centre_of(pl: &Polyline<f64>) -> Option<DVec2> {
-    let mut lo = DVec2::splat(f64::INFINITY);
-    let mut hi = DVec2::splat(f64::NEG_INFINITY);
-    for v in pl.iter_vertexes() {
-        lo = lo.min(DVec2::new(v.x, v.y));
-        hi = hi.max(DVec2::new(v.x, v.y));
-    }
-    (lo.x <= hi.x && lo.is_finite() && hi.is_finite()).then(|| 0.5 * (lo + hi))
-}
-
-fn translated(pl: &Polyline<f64>, d: DVec2) -> Polyline<f64> {
-    let mut out = Polyline::with_capacity(pl.vertex_count(), pl.is_closed());
-    for v in pl.iter_vertexes() {
-        out.add(v.x + d.x, v.y + d.y, v.bulge);
-    }
-    out
 }
 
 fn start_of(pl: &Polyline<f64>) -> DVec2 {
