@@ -243,7 +243,7 @@ fn grazes(lead: &PathSeg, touch: DVec2, path: &Path) -> bool {
     let ends = [path.segs.first(), path.segs.last()];
     ends.into_iter().flatten().any(|s| match s {
         PathSeg::Arc(a) => {
-            let at_touch = a.eval(0.0).distance(touch).min(a.eval(1.0).distance(touch));
+            let at_touch = a.p0().distance(touch).min(a.p1().distance(touch));
             at_touch <= 1e-9 * (1.0 + a.radius)
                 && (a.center - touch).dot(l.center - touch) > 0.0
                 && l.radius > GRAZE_RATIO * a.radius

@@ -401,7 +401,7 @@ fn periodic_traversal(pl: &Polyline<f64>, eps: f64) -> Polyline<f64> {
 /// below `eps`·perimeter (a circle of radius ρ has area/perimeter = ρ/2, so this keeps every
 /// ring wider than about 2·eps and drops the zero-area slivers an offset can leave where
 /// the input had nearly coincident vertices).
-fn degenerate(pl: &Polyline<f64>, eps: f64) -> bool {
+pub(crate) fn degenerate(pl: &Polyline<f64>, eps: f64) -> bool {
     use cavalier_contours::polyline::PlineSource;
     pl.vertex_count() < 2 || pl.area().abs() <= eps * pl.path_length()
 }

@@ -23,7 +23,7 @@
 //! Cost: two offsets of the spine, O(n log n) in its segments, and the checks, O(n·m) for
 //! the distances of the m boundary vertices to the n spine segments.
 
-use super::region::{MEET_FRACTION, Region};
+use super::region::{MEET_FRACTION, Region, degenerate};
 use crate::geom::DVec2;
 use cavalier_contours::core::math::Vector2;
 use cavalier_contours::polyline::{
@@ -219,9 +219,7 @@ fn push_cap(pl: &mut Polyline<f64>, c: DVec2, from: DVec2, sweep: f64) {
 /// nested, boundary vertices at distance r from the spine, spine vertices inside.
 fn sound(region: &Region, spine: &Polyline<f64>, r: f64, eps: f64) -> bool {
     if region.contours.is_empty()
-        || region.contours.iter().any(|c| {
-            c.vertex_count() < 2 || !c.is_closed() || c.area().abs() <= eps * c.path_length()
-        })
+        || (region.contours.iter()).any(|c| !c.is_closed() || degenerate(c, eps))
         || region.area() <= 0.0
     {
         return false;
