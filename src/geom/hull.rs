@@ -5,7 +5,8 @@
 //! offsets in [`crate::skin::mat_offset`]) with a handful of pieces where a Lipschitz
 //! bound needs pieces about as short as the tolerance.
 //!
-//! Cost: O(n) per bound for n hull points, O(n³) for [`point_hull_distance`] (n ≤ 6 here).
+//! Cost: O(n²) per bound for n hull points (n ≤ 6 here); [`point_hull_distance`] tests
+//! O(n³) triangles only when the point lies within the points' diameter of one of them.
 
 use super::{DVec2, Line, cross};
 
@@ -13,7 +14,31 @@ use super::{DVec2, Line, cross};
 /// `o` lies in a triangle of three of them (the hull is the union of those triangles), else
 /// the least distance to a segment between two of them (the hull's edges are among those
 /// segments, and every such segment lies in the hull).
+///
+/// The triangles are tested only when `o` may lie in the hull: every hull point lies within
+/// the diameter L (the longest distance between two points) of every point, so when the
+/// nearest point is farther than L the hull cannot hold `o`. Distances are compared squared
+/// and one square root taken: √ is monotone and correctly rounded, so the value is the
+/// least of the segment distances [`Line::distance`] gives, bit for bit.
 pub fn point_hull_distance(o: DVec2, pts: &[DVec2]) -> f64 {
+    point_hull_distance_sq(o, pts, nearest_and_diameter_sq(o, pts)).sqrt()
+}
+
+/// (min_i ‖pts_i − o‖², max_ij ‖pts_i − pts_j‖²): the squared distance to the nearest point
+/// and the squared diameter of `pts` ((∞, 0) for none).
+fn nearest_and_diameter_sq(o: DVec2, pts: &[DVec2]) -> (f64, f64) {
+    let (mut m2, mut l2) = (f64::INFINITY, 0.0f64);
+    for (i, p) in pts.iter().enumerate() {
+        m2 = m2.min((*p - o).length_squared());
+        for q in &pts[i + 1..] {
+            l2 = l2.max((*q - *p).length_squared());
+        }
+    }
+    (m2, l2)
+}
+
+/// The square of [`point_hull_distance`], given `nearest_and_diameter_sq(o, pts)`.
+fn point_hull_distance_sq(o: DVec2, pts: &[DVec2], (m2, l2): (f64, f64)) -> f64 {
     let n = pts.len();
     let inside = |a: DVec2, b: DVec2, c: DVec2| {
         let (x, y, z) = (
@@ -23,14 +48,17 @@ pub fn point_hull_distance(o: DVec2, pts: &[DVec2]) -> f64 {
         );
         (x >= 0.0 && y >= 0.0 && z >= 0.0) || (x <= 0.0 && y <= 0.0 && z <= 0.0)
     };
-    let mut best = f64::INFINITY;
+    let may_hold = m2 <= l2;
+    let mut best = m2;
     for i in 0..n {
-        best = best.min(pts[i].distance(o));
         for j in i + 1..n {
-            best = best.min(Line::new(pts[i], pts[j]).distance(o));
-            for k in j + 1..n {
-                if inside(pts[i], pts[j], pts[k]) {
-                    return 0.0;
+            let seg = Line::new(pts[i], pts[j]);
+            best = best.min((seg.eval(seg.nearest_t(o)) - o).length_squared());
+            if may_hold {
+                for k in j + 1..n {
+                    if inside(pts[i], pts[j], pts[k]) {
+                        return 0.0;
+                    }
                 }
             }
         }
@@ -64,15 +92,31 @@ pub fn arc_hull_bound(
     let sig = if ccw { 1.0 } else { -1.0 };
     let (ra, rb) = (p - c, q - c);
     let eps = contain_eps * r * r;
-    let mut far = 0.0f64;
+    let mut far2 = 0.0f64;
     for w in pts {
         let x = *w - c;
         if sig * cross(ra, x) < -eps || sig * cross(x, rb) < -eps {
             return None;
         }
-        far = far.max(x.length() - r);
+        far2 = far2.max(x.length_squared());
     }
-    let inner = r - point_hull_distance(c, pts);
+    // max_v (‖v − c‖ − r), √ being monotone.
+    let far = far2.sqrt() - r;
+    // The inner term r − dist(c, hull) matters only above `far`. With the nearest point at
+    // m > L (the diameter) c lies outside the hull and its nearest hull point is on an edge
+    // between two points, so dist ≥ √(m² − (L/2)²) (see above): when r minus that is at
+    // most `far`, the exact distance cannot change the result.
+    let (m2, l2) = nearest_and_diameter_sq(c, pts);
+    let lower_dist = if m2 > l2 {
+        (m2 - 0.25 * l2).sqrt()
+    } else {
+        0.0
+    };
+    let inner = if r - lower_dist <= far {
+        far
+    } else {
+        r - point_hull_distance_sq(c, pts, (m2, l2)).sqrt()
+    };
     // The band of half-width `bound` around the circle must not reach the centre.
     Some(far.max(inner).max(0.0)).filter(|&e| e < r)
 }
@@ -116,6 +160,18 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(256))]
+        /// The distance to the hull against geo's: its convex hull of the points and its
+        /// Euclidean distance from the point to that polygon (0 inside).
+        #[test]
+        fn point_hull_distance_matches_geo(pts in proptest::collection::vec(pt(), 3..=6), o in pt()) {
+            use geo::{ConvexHull, Distance, Euclidean, MultiPoint, Point};
+            let mp: MultiPoint<f64> = pts.iter().map(|p| Point::new(p.x, p.y)).collect();
+            let hull = mp.convex_hull();
+            let want = Euclidean.distance(&Point::new(o.x, o.y), &hull);
+            let got = point_hull_distance(o, &pts);
+            prop_assert!((got - want).abs() <= 1e-9, "{got} vs geo {want}");
+        }
+
         /// Where a bound is given, no point of the hull (the points, and random convex
         /// combinations of them) is farther from the arc or segment than it, by the arc's
         /// and segment's own distances (nearest point with the angle test).

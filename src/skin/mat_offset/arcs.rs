@@ -149,9 +149,9 @@ fn hull(a: &Node, b: &Node) -> Option<Hull> {
     if sa * sb > 0.0 {
         return None;
     }
-    let alpha = sa.abs().atan2(ca);
-    let beta = sb.abs().atan2(cb);
-    let s = l * beta.sin() / (alpha + beta).sin();
+    // With unit vectors sin α = |sa|, cos α = ca (likewise β), so
+    // sin(α + β) = |sa| cb + ca |sb|.
+    let s = l * sb.abs() / (sa.abs() * cb + ca * sb.abs());
     let x = a.p + s * da;
     x.is_finite().then_some(Hull::Tri(x))
 }
@@ -215,8 +215,9 @@ fn arc_from(p: DVec2, d: DVec2, q: DVec2, tol: f64) -> Option<Shape> {
     }
     let u = v / l;
     let h = perp(d).dot(v);
-    let phi = h.atan2(d.dot(v)).abs();
-    if 0.5 * l * (0.5 * phi).tan() <= STRAIGHT_FRACTION * tol {
+    // With d a unit vector, sin φ = |h|/l and cos φ = d·v/l, so
+    // tan(φ/2) = sin φ / (1 + cos φ) = |h| / (l + d·v).
+    if 0.5 * l * h.abs() / (l + d.dot(v)) <= STRAIGHT_FRACTION * tol {
         return Some(Shape {
             p,
             q,
