@@ -147,6 +147,31 @@ fn e_channel_builds_and_checks_clean_on_every_gcode_profile() {
     );
 }
 
+/// A laser profile in two passes builds and checks clean on every laser profile: the passes
+/// were written back to back with the beam on, one contour retracing itself, which every
+/// check refused ("cut contour touches itself"), and Marlin's `M3 I1` after an arc was read
+/// as a full circle.
+#[test]
+fn laser_passes_build_and_check_clean_on_every_laser_profile() {
+    for m in ["grbl-laser", "marlin-laser", "smoothie-laser", "svg-laser"] {
+        let out = build_clean(&data("laser_passes"), m, &[], "two laser passes");
+        if ext(m) == "gcode" {
+            let (_, _, j) = check(&out, m);
+            // The same design in one pass: half the cut length.
+            let single = tmpdir("p1").join("one_pass.toml");
+            let design = std::fs::read_to_string(data("laser_passes")).unwrap();
+            std::fs::write(&single, design.replace("passes = 2", "passes = 1")).unwrap();
+            let one = build_clean(single.to_str().unwrap(), m, &[], "one pass");
+            let (_, _, k) = check(&one, m);
+            let cut = |j: &Json| j["stats"]["cut_length"].as_f64().unwrap_or(f64::NAN);
+            assert!(
+                (cut(&j) - 2.0 * cut(&k)).abs() < 1e-6 * cut(&k),
+                "{m}: {j} vs {k}"
+            );
+        }
+    }
+}
+
 #[test]
 fn open_sign_builds_on_every_profile_it_fits() {
     for m in GCODE_PROFILES.iter().chain(SVG_PROFILES.iter()) {

@@ -208,18 +208,22 @@ fn distinct_z_levels_equal_the_passes() {
             assert_eq!(zs[0], -depth);
         }
     }
-    // Lasers: `repeat` passes at the surface, one plunge (to z = 0) per pass.
+    // Lasers: `repeat` passes at the surface: the first entered by a plunge (to z = 0),
+    // each later one after a travel in place (the beam goes off and on between passes, so
+    // each pass is a contour of its own).
     let mut s = spec(contours(), None, Lead::None);
     s.depth = 0.0;
     s.repeat = 3;
     for cut in cut_of(s) {
         assert!(cut.moves.iter().all(|m| m.to.z == 0.0));
-        let plunges = cut
-            .moves
-            .iter()
-            .filter(|m| m.feed == 250.0 && matches!(m.kind, MoveKind::Line))
-            .count();
-        assert_eq!(plunges, 3);
+        let count = |kind: fn(&MoveKind) -> bool, feed: Option<f64>| {
+            cut.moves
+                .iter()
+                .filter(|m| kind(&m.kind) && feed.is_none_or(|f| m.feed == f))
+                .count()
+        };
+        assert_eq!(count(|k| matches!(k, MoveKind::Line), Some(250.0)), 1);
+        assert_eq!(count(|k| matches!(k, MoveKind::Rapid), None), 2);
     }
 }
 

@@ -475,7 +475,16 @@ impl Writer<'_> {
     fn travel(&mut self, to: DVec3, power: Option<f64>) -> Result<(), EmitError> {
         match self.tool {
             Tool::Laser(l) => {
-                self.beam_off_for_rapid(l);
+                let stays = self.cur.is_some_and(|c| {
+                    self.round(c.x) == self.round(to.x) && self.round(c.y) == self.round(to.y)
+                });
+                if stays && matches!(l.rapid_off, RapidOff::Firmware) {
+                    // No G0 is written for a travel that stays in place, so the firmware
+                    // would not switch the beam off: S0 does (a pass ends here).
+                    self.beam_off_s0();
+                } else {
+                    self.beam_off_for_rapid(l);
+                }
                 self.rapid(to, true);
             }
             Tool::Router(r) => {
@@ -519,12 +528,7 @@ impl Writer<'_> {
     fn beam_off_for_rapid(&mut self, l: &LaserSettings) {
         match l.rapid_off {
             RapidOff::Firmware => {}
-            RapidOff::S0 => {
-                if self.s.as_deref().is_some_and(|s| s != "0") {
-                    self.line("S0");
-                    self.s = Some("0".into());
-                }
-            }
+            RapidOff::S0 => self.beam_off_s0(),
             RapidOff::M5 => {
                 if self.on {
                     self.line("M5");
@@ -533,6 +537,14 @@ impl Writer<'_> {
                     self.s = None;
                 }
             }
+        }
+    }
+
+    /// Switches the beam off by power: S0, when the power written last was not 0.
+    fn beam_off_s0(&mut self) {
+        if self.s.as_deref().is_some_and(|s| s != "0") {
+            self.line("S0");
+            self.s = Some("0".into());
         }
     }
 

@@ -1871,10 +1871,13 @@ impl<'a> Interp<'a, '_> {
             }
         } else if !has_axis
             && matches!(self.st.mode, Mode::ArcCw | Mode::ArcCcw)
-            && ['I', 'J', 'K', 'R'].into_iter().any(|c| b.val(c).is_some())
+            && ['I', 'J', 'K', 'R']
+                .into_iter()
+                .any(|c| b.val(c).is_some() && !(c == 'I' && b.used_i))
             && g(G_NONMODAL).is_none()
         {
             // An arc block without axis words ends where it starts: a full circle (IJK).
+            // Marlin's `M3 I` (inline power) after a G2 is not one: its I is the spindle's.
             let mode = self.st.mode;
             self.move_block(mode, &mut b);
         }
@@ -3355,6 +3358,13 @@ mod tests {
             m.motions.to_vec()[1].kind,
             MotionKind::Dwell { seconds: 0.5 }
         );
+        // `M3 I1` after an arc (a second laser pass) is the inline flag, not a full circle
+        // of radius 1; a bare I after an arc still is one.
+        let src = "G0 X10 Y10\nM3 I1 S0\nG2 X10 Y10 I2 J0 F600 S50\nM5\nM3 I1 S0\n";
+        let m = run_cfg(src, &marlin);
+        assert_eq!(m.motions.len(), 2, "{:?}", m.motions.to_vec());
+        let m = run_cfg(&format!("{src}I2\n"), &marlin);
+        assert_eq!(m.motions.len(), 3);
     }
 
     #[test]

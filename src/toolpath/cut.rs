@@ -330,6 +330,11 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
             } else {
                 moves.push(mv(MoveKind::Line, here, z, opts.plunge_feed));
             }
+        } else if opts.levels[li - 1] == z {
+            // Another pass at the same level (a laser cutting thick stock): the tool goes
+            // off and on again in place, so each pass is a contour of its own and the
+            // second does not continue the first as one cut retracing itself.
+            moves.push(mv(MoveKind::Rapid, here, z, opts.feed));
         } else {
             moves.push(mv(MoveKind::Line, here, z, opts.plunge_feed));
         }
@@ -419,6 +424,26 @@ mod tests {
         assert_eq!(step_levels(6.0, 2.5), vec![-2.0, -4.0, -6.0]);
         assert_eq!(step_levels(5.0, 2.5), vec![-2.5, -5.0]);
         assert_eq!(step_levels(0.0, 1.0), vec![0.0]);
+    }
+
+    #[test]
+    fn passes_at_one_level_are_parted_by_a_travel_in_place() {
+        let o = CutOptions {
+            levels: vec![0.0, 0.0, 0.0],
+            ..opts()
+        };
+        let c = contour_cut(&square_path(10.0), &o, None).unwrap();
+        let rapids: Vec<&Move> = c
+            .moves
+            .iter()
+            .filter(|m| m.kind == MoveKind::Rapid)
+            .collect();
+        // One break before each pass after the first, at the contour's start, no travel.
+        assert_eq!(rapids.len(), 2);
+        assert!(rapids.iter().all(|m| m.to == DVec3::ZERO));
+        // Different levels are joined by a plunge as before.
+        let c = contour_cut(&square_path(10.0), &opts(), None).unwrap();
+        assert!(c.moves.iter().all(|m| m.kind != MoveKind::Rapid));
     }
 
     #[test]
