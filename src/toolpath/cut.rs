@@ -181,10 +181,17 @@ fn lead_geometry(
 const LEAD_TOUCH_FRACTION: f64 = 0.05;
 
 /// True when neither lead meets the contour (exact segment tests on flattenings within
-/// 1e-3 of the lead's length), apart from the tangential touch at the contour end.
-fn leads_clear(leads: &(DVec2, Option<PathSeg>, Option<PathSeg>), path: &Path) -> bool {
+/// 1e-3 of the lead's length), apart from the tangential touch at the contour end, nor any
+/// of the operation's `others` contours (a lead into a narrow gap between two pieces of a
+/// board crossed the piece beyond it).
+fn leads_clear(
+    leads: &(DVec2, Option<PathSeg>, Option<PathSeg>),
+    path: &Path,
+    others: &[&Path],
+) -> bool {
     let tol = |s: &PathSeg| (s.length(1e-9) * 1e-3).max(1e-9);
-    let contour = path.flatten(leads.1.as_ref().map(tol).unwrap_or(1e-3));
+    let flat_tol = leads.1.as_ref().map(tol).unwrap_or(1e-3);
+    let contour = path.flatten(flat_tol);
     let mut ring = contour.clone();
     if path.closed
         && let Some(&f) = contour.first()
@@ -198,11 +205,20 @@ fn leads_clear(leads: &(DVec2, Option<PathSeg>, Option<PathSeg>), path: &Path) -
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), &p| (lo.min(p), hi.max(p)),
         );
-        let near: Vec<[DVec2; 2]> = ring
+        let meets = |a: DVec2, b: DVec2| a.cmple(hi).all() && b.cmpge(lo).all();
+        let mut near: Vec<[DVec2; 2]> = ring
             .windows(2)
-            .filter(|r| r[0].min(r[1]).cmple(hi).all() && r[0].max(r[1]).cmpge(lo).all())
+            .filter(|r| meets(r[0].min(r[1]), r[0].max(r[1])))
             .map(|r| [r[0], r[1]])
             .collect();
+        // The other contours' segments near the lead, flattened one by one.
+        for seg in others.iter().flat_map(|o| &o.segs) {
+            let (a, b) = seg_box(seg);
+            if meets(a, b) {
+                let f = seg.flatten(flat_tol);
+                near.extend(f.windows(2).map(|r| [r[0], r[1]]));
+            }
+        }
         pts.windows(2).any(|w| {
             near.iter()
                 .any(|r| crate::geom::predicates::segments_intersect(w[0], w[1], r[0], r[1]))
@@ -222,6 +238,22 @@ fn leads_clear(leads: &(DVec2, Option<PathSeg>, Option<PathSeg>), path: &Path) -
         .as_ref()
         .is_none_or(|s| !hits(&part(s, LEAD_TOUCH_FRACTION, 1.0)) && !grazes(s, s.start(), path));
     lead_in_ok && lead_out_ok
+}
+
+/// A box holding the segment (corners): a line's ends, an arc's whole circle, a cubic's
+/// control points.
+fn seg_box(s: &PathSeg) -> (DVec2, DVec2) {
+    match s {
+        PathSeg::Line(l) => (l.p0.min(l.p1), l.p0.max(l.p1)),
+        PathSeg::Arc(a) => (
+            a.center - DVec2::splat(a.radius),
+            a.center + DVec2::splat(a.radius),
+        ),
+        PathSeg::Cubic(c) => (
+            c.p0.min(c.p1).min(c.p2).min(c.p3),
+            c.p0.max(c.p1).max(c.p2).max(c.p3),
+        ),
+    }
 }
 
 /// Largest lead radius, as a fraction of the radius R of a contour arc it touches from
@@ -259,6 +291,17 @@ fn grazes(lead: &PathSeg, touch: DVec2, path: &Path) -> bool {
 /// spans when the level is below it), and the last level runs the lead-out. Open paths are
 /// run back and forth (even passes reversed) so the tool never travels without cutting.
 pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Option<Cut> {
+    contour_cut_among(path, &[], opts, source)
+}
+
+/// [`contour_cut`] for one of several contours of an operation: its leads must also stay
+/// clear of the `others`.
+pub fn contour_cut_among(
+    path: &Path,
+    others: &[&Path],
+    opts: &CutOptions,
+    source: Option<String>,
+) -> Option<Cut> {
     let start = path.start()?;
     let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
     if total <= 0.0 {
@@ -282,7 +325,7 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
     let mut lead = opts.lead;
     let mut leads = lead_geometry(lead, side, start, t0, end, t1);
     for _ in 0..LEAD_HALVINGS {
-        if leads_clear(&leads, path) {
+        if leads_clear(&leads, path, others) {
             break;
         }
         lead = match lead {
@@ -292,7 +335,7 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
         };
         leads = lead_geometry(lead, side, start, t0, end, t1);
     }
-    if !leads_clear(&leads, path) {
+    if !leads_clear(&leads, path, others) {
         leads = lead_geometry(Lead::None, side, start, t0, end, t1);
     }
     let (entry, lead_in, lead_out) = leads;
@@ -572,6 +615,32 @@ mod tests {
             let r = center.distance(DVec2::new(6.0, 0.0));
             assert!((r - want).abs() < 1e-12, "lead {lead}: radius {r}");
         }
+    }
+
+    #[test]
+    fn leads_stay_clear_of_the_other_contours() {
+        // The square's lead-in of radius 2 lies below its first side (waste outside). A
+        // second contour 1.5 below that side is in its way: the lead is halved to 1.
+        let mut o = opts();
+        o.levels = vec![0.0];
+        o.lead = Lead::Arc(2.0);
+        o.waste_left = false;
+        let square = square_path(10.0);
+        let below = Path::polyline(&[DVec2::new(-5.0, -1.5), DVec2::new(15.0, -1.5)], false);
+        let radius = |c: &Cut| match c.moves[1].kind {
+            MoveKind::Arc { center, .. } => center.distance(DVec2::ZERO),
+            _ => 0.0,
+        };
+        let alone = contour_cut(&square, &o, None).unwrap();
+        assert!((radius(&alone) - 2.0).abs() < 1e-12);
+        let among = contour_cut_among(&square, &[&below], &o, None).unwrap();
+        assert!((radius(&among) - 1.0).abs() < 1e-12, "{}", radius(&among));
+        // A contour far away changes nothing.
+        let far = Path::polyline(&[DVec2::new(-5.0, -30.0), DVec2::new(15.0, -30.0)], false);
+        assert_eq!(
+            contour_cut_among(&square, &[&far], &o, None).unwrap(),
+            alone
+        );
     }
 
     #[test]

@@ -5,7 +5,7 @@
 //! V-carving, channels, profiles, backboard. Within an operation, inner contours are cut
 //! before the contours that enclose them, then travel is shortened ([`super::order`]).
 
-use super::cut::{CutOptions, Lead, Tabs, contour_cut, step_levels};
+use super::cut::{CutOptions, Lead, Tabs, contour_cut_among, step_levels};
 use super::model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};
 use super::order::{OrderStats, order_paths};
 use crate::geom::{DVec2, Path};
@@ -133,8 +133,19 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
                     lead: spec.lead,
                     waste_left: true,
                 };
-                for (i, p) in &ordered {
-                    if let Some(mut c) = contour_cut(p, &opts, source_of(*i)) {
+                for (k, (i, p)) in ordered.iter().enumerate() {
+                    // Leads stay clear of the operation's other contours too.
+                    let others: Vec<&Path> = if matches!(spec.lead, Lead::None) {
+                        Vec::new()
+                    } else {
+                        ordered
+                            .iter()
+                            .enumerate()
+                            .filter(|&(j, _)| j != k)
+                            .map(|(_, (_, q))| q)
+                            .collect()
+                    };
+                    if let Some(mut c) = contour_cut_among(p, &others, &opts, source_of(*i)) {
                         c.group = group_of(*i);
                         cuts.push(c);
                     }
