@@ -130,23 +130,26 @@ fn words_with_channels_build_and_check_on_routers() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// "Hello" on a laser-cut backboard: the board came out in pieces with a 2.4 mm gap
-/// between the two l's, and the lead-in of one piece (radius 3, on the waste side, into the
-/// gap) crossed the piece beyond. Leads now stay clear of the operation's other contours.
+/// Words on a laser-cut backboard: the board comes out in pieces with 2.4 mm gaps between
+/// letters (the two l's of "Hello", the m's of "mmm"), and a lead-in (radius 3, on the
+/// waste side, into the gap) crossed the piece beyond, or the lead of the piece beyond.
+/// Leads now stay clear of the operation's other contours and of the leads run before.
 #[test]
 fn lettering_on_a_laser_backboard_builds_and_checks() {
     let dir = tmp("board");
-    let design = dir.join("hello.toml");
-    let t = run(&["text", "Hello", "--height", "80", "-o"], &[&design]);
-    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-    let mut text = std::fs::read_to_string(&design).unwrap();
-    text.push_str(
-        "\n[[operation]]\nkind = \"channel\"\nwidth = 5.0\ndepth = 10.0\nstep_down = 5.0\n\
-         \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
-         tabs = { count = 4, width = 6.0, height = 2.0 }\nlead_in = 3.0\n",
-    );
-    std::fs::write(&design, text).unwrap();
-    build_and_check(&design, "grbl-laser", &dir);
+    for word in ["Hello", "mmm"] {
+        let design = dir.join(format!("{word}.toml"));
+        let t = run(&["text", word, "--height", "80", "-o"], &[&design]);
+        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+        let mut text = std::fs::read_to_string(&design).unwrap();
+        text.push_str(
+            "\n[[operation]]\nkind = \"channel\"\nwidth = 5.0\ndepth = 10.0\nstep_down = 5.0\n\
+             \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
+             tabs = { count = 4, width = 6.0, height = 2.0 }\nlead_in = 3.0\n",
+        );
+        std::fs::write(&design, text).unwrap();
+        build_and_check(&design, "grbl-laser", &dir);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

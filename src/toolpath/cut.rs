@@ -295,13 +295,25 @@ pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Op
 }
 
 /// [`contour_cut`] for one of several contours of an operation: its leads must also stay
-/// clear of the `others`.
+/// clear of the `others` (the other contours, and the leads of the cuts made before, which
+/// [`contour_cut_leads`] gives).
 pub fn contour_cut_among(
     path: &Path,
     others: &[&Path],
     opts: &CutOptions,
     source: Option<String>,
 ) -> Option<Cut> {
+    contour_cut_leads(path, others, opts, source).map(|(c, _)| c)
+}
+
+/// [`contour_cut_among`], with the lead-in and lead-out the cut runs (none, one or two
+/// segments).
+pub fn contour_cut_leads(
+    path: &Path,
+    others: &[&Path],
+    opts: &CutOptions,
+    source: Option<String>,
+) -> Option<(Cut, Vec<PathSeg>)> {
     let start = path.start()?;
     let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
     if total <= 0.0 {
@@ -426,12 +438,16 @@ pub fn contour_cut_among(
             moves.push(move_along(l, z, opts.feed, opts.power));
         }
     }
-    Some(Cut {
-        source,
-        group: None,
-        start: DVec3::new(entry.x, entry.y, 0.0),
-        moves,
-    })
+    let leads_run = lead_in.into_iter().chain(lead_out).collect();
+    Some((
+        Cut {
+            source,
+            group: None,
+            start: DVec3::new(entry.x, entry.y, 0.0),
+            moves,
+        },
+        leads_run,
+    ))
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 //! V-carving, channels, profiles, backboard. Within an operation, inner contours are cut
 //! before the contours that enclose them, then travel is shortened ([`super::order`]).
 
-use super::cut::{CutOptions, Lead, Tabs, contour_cut_among, step_levels};
+use super::cut::{CutOptions, Lead, Tabs, contour_cut_leads, step_levels};
 use super::model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};
 use super::order::{OrderStats, order_paths};
 use crate::geom::{DVec2, Path};
@@ -133,8 +133,10 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
                     lead: spec.lead,
                     waste_left: true,
                 };
+                // Leads stay clear of the operation's other contours and of the leads
+                // of the cuts made before (two pieces' leads into one narrow gap crossed).
+                let mut leads_run: Vec<Path> = Vec::new();
                 for (k, (i, p)) in ordered.iter().enumerate() {
-                    // Leads stay clear of the operation's other contours too.
                     let others: Vec<&Path> = if matches!(spec.lead, Lead::None) {
                         Vec::new()
                     } else {
@@ -143,11 +145,15 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
                             .enumerate()
                             .filter(|&(j, _)| j != k)
                             .map(|(_, (_, q))| q)
+                            .chain(&leads_run)
                             .collect()
                     };
-                    if let Some(mut c) = contour_cut_among(p, &others, &opts, source_of(*i)) {
+                    if let Some((mut c, leads)) =
+                        contour_cut_leads(p, &others, &opts, source_of(*i))
+                    {
                         c.group = group_of(*i);
                         cuts.push(c);
+                        leads_run.extend(leads.into_iter().map(|l| Path::new(vec![l], false)));
                     }
                 }
                 stats.push(PlanStats {
