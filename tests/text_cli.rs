@@ -153,6 +153,35 @@ fn lettering_on_a_laser_backboard_builds_and_checks() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A fill of 4 mm lettering with the 1/4" bit of linuxcnc-router cuts nothing: the refusal
+/// names the operation and the reason instead of "add strokes" (the strokes are there).
+#[test]
+fn a_fill_narrower_than_the_tool_is_named() {
+    let dir = tmp("fill");
+    let design = dir.join("hello.toml");
+    let t = run(&["text", "Hello", "--height", "30", "-o"], &[&design]);
+    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+    let mut text = std::fs::read_to_string(&design).unwrap();
+    text.push_str("\n[[operation]]\nkind = \"fill\"\ndepth = 2.0\nspacing = 1.5\n");
+    std::fs::write(&design, text).unwrap();
+    let out = dir.join("out.gcode");
+    let b = Command::new(bin())
+        .arg("build")
+        .arg(&design)
+        .args(["--machine", "linuxcnc-router", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&b.stderr);
+    assert_eq!(b.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("[[operation]] 1 (fill 1) came out empty") && err.contains("narrower than"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn open_at_80_mm_measures_80_mm_cap_line_to_baseline() {
     let dir = tmp("measure");

@@ -1418,10 +1418,28 @@ pub fn place_job(
 ) -> Result<Placement, JobError> {
     let s = built.toolpath.stats(DVec2::ZERO);
     if s.cuts == 0 || !s.bbox_min[0].is_finite() || !s.bbox_max[0].is_finite() {
-        return Err(JobError::Options(
+        // Operations that came out empty are named: their strokes exist, but what they
+        // cut is narrower than the tool (a fill of thin lettering with a 1/4" bit).
+        let empty: Vec<String> = built
+            .toolpath
+            .operations
+            .iter()
+            .filter(|o| o.cuts.is_empty())
+            .map(super::checked::operation_label)
+            .collect();
+        let msg = if empty.is_empty() {
             "the design gives nothing to cut: add strokes, or operations that apply to them"
-                .to_string(),
-        ));
+                .to_string()
+        } else {
+            format!(
+                "the design gives nothing to cut: {} came out empty, what it cuts being \
+                 narrower than the tool of profile \"{}\": use a smaller tool, wider strokes \
+                 or another operation",
+                empty.join(", "),
+                profile.name
+            )
+        };
+        return Err(JobError::Options(msg));
     }
     let lo = DVec2::new(s.bbox_min[0], s.bbox_min[1]);
     let hi = DVec2::new(s.bbox_max[0], s.bbox_max[1]);

@@ -429,10 +429,7 @@ pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, design: &Desi
         let Some(op) = tp.operations.get(oi) else {
             continue;
         };
-        let mut w = match op.design_index {
-            Some(d) => format!("[[operation]] {} ({})", d + 1, op.name),
-            None => format!("the default {} (the design has no [[operation]])", op.name),
-        };
+        let mut w = operation_label(op);
         if let Some(src) = op.cuts.get(ci).and_then(|c| c.source.as_ref()) {
             w.push_str(&format!(", {} \"{src}\"", item_kind(design, src)));
         }
@@ -749,6 +746,15 @@ impl<'a> StageClock<'a> {
             });
         }
         std::mem::take(&mut st.2)
+    }
+}
+
+/// How messages name an operation of the toolpath: `[[operation]] N (name)` as the design
+/// file numbers it, or the default operation of a design without any.
+pub(crate) fn operation_label(op: &crate::toolpath::model::Operation) -> String {
+    match op.design_index {
+        Some(d) => format!("[[operation]] {} ({})", d + 1, op.name),
+        None => format!("the default {} (the design has no [[operation]])", op.name),
     }
 }
 
