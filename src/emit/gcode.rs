@@ -475,10 +475,7 @@ impl Writer<'_> {
     fn travel(&mut self, to: DVec3, power: Option<f64>) -> Result<(), EmitError> {
         match self.tool {
             Tool::Laser(l) => {
-                let stays = self.cur.is_some_and(|c| {
-                    self.round(c.x) == self.round(to.x) && self.round(c.y) == self.round(to.y)
-                });
-                if stays && matches!(l.rapid_off, RapidOff::Firmware) {
+                if self.stays_in_xy(to) && matches!(l.rapid_off, RapidOff::Firmware) {
                     // No G0 is written for a travel that stays in place, so the firmware
                     // would not switch the beam off: S0 does (a pass ends here).
                     self.beam_off_s0();
@@ -488,10 +485,7 @@ impl Writer<'_> {
                 self.rapid(to, true);
             }
             Tool::Router(r) => {
-                let xy_moves = self.cur.is_none_or(|c| {
-                    self.round(c.x) != self.round(to.x) || self.round(c.y) != self.round(to.y)
-                });
-                if xy_moves {
+                if !self.stays_in_xy(to) {
                     self.rapid_z(r.safe_z)?;
                     self.rapid(DVec3::new(to.x, to.y, r.safe_z), false);
                 }
@@ -523,6 +517,14 @@ impl Writer<'_> {
             }
         }
         Ok(())
+    }
+
+    /// Whether a move to `to` writes the current x and y again (after rounding): no G0 is
+    /// written for it. False before the first move.
+    fn stays_in_xy(&self, to: DVec3) -> bool {
+        self.cur.is_some_and(|c| {
+            self.round(c.x) == self.round(to.x) && self.round(c.y) == self.round(to.y)
+        })
     }
 
     fn beam_off_for_rapid(&mut self, l: &LaserSettings) {

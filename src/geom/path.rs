@@ -78,6 +78,16 @@ impl PathSeg {
             PathSeg::Cubic(c) => c.flatten(tol),
         }
     }
+
+    /// An axis-aligned box (lo, hi) holding the segment and its flattenings: a line's ends,
+    /// an arc's exact [`Arc::bounding_box`], a cubic's [`CubicBez::control_bbox`].
+    pub fn bounding_box(&self) -> (DVec2, DVec2) {
+        match self {
+            PathSeg::Line(l) => (l.p0.min(l.p1), l.p0.max(l.p1)),
+            PathSeg::Arc(a) => a.bounding_box(),
+            PathSeg::Cubic(c) => c.control_bbox(),
+        }
+    }
 }
 
 /// A connected path; `closed` joins the last end back to the first start.

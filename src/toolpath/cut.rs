@@ -213,7 +213,7 @@ fn leads_clear(
             .collect();
         // The other contours' segments near the lead, flattened one by one.
         for seg in others.iter().flat_map(|o| &o.segs) {
-            let (a, b) = seg_box(seg);
+            let (a, b) = seg.bounding_box();
             if meets(a, b) {
                 let f = seg.flatten(flat_tol);
                 near.extend(f.windows(2).map(|r| [r[0], r[1]]));
@@ -238,22 +238,6 @@ fn leads_clear(
         .as_ref()
         .is_none_or(|s| !hits(&part(s, LEAD_TOUCH_FRACTION, 1.0)) && !grazes(s, s.start(), path));
     lead_in_ok && lead_out_ok
-}
-
-/// A box holding the segment (corners): a line's ends, an arc's whole circle, a cubic's
-/// control points.
-fn seg_box(s: &PathSeg) -> (DVec2, DVec2) {
-    match s {
-        PathSeg::Line(l) => (l.p0.min(l.p1), l.p0.max(l.p1)),
-        PathSeg::Arc(a) => (
-            a.center - DVec2::splat(a.radius),
-            a.center + DVec2::splat(a.radius),
-        ),
-        PathSeg::Cubic(c) => (
-            c.p0.min(c.p1).min(c.p2).min(c.p3),
-            c.p0.max(c.p1).max(c.p2).max(c.p3),
-        ),
-    }
 }
 
 /// Largest lead radius, as a fraction of the radius R of a contour arc it touches from
@@ -291,23 +275,12 @@ fn grazes(lead: &PathSeg, touch: DVec2, path: &Path) -> bool {
 /// spans when the level is below it), and the last level runs the lead-out. Open paths are
 /// run back and forth (even passes reversed) so the tool never travels without cutting.
 pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Option<Cut> {
-    contour_cut_among(path, &[], opts, source)
+    contour_cut_leads(path, &[], opts, source).map(|(c, _)| c)
 }
 
-/// [`contour_cut`] for one of several contours of an operation: its leads must also stay
-/// clear of the `others` (the other contours, and the leads of the cuts made before, which
-/// [`contour_cut_leads`] gives).
-pub fn contour_cut_among(
-    path: &Path,
-    others: &[&Path],
-    opts: &CutOptions,
-    source: Option<String>,
-) -> Option<Cut> {
-    contour_cut_leads(path, others, opts, source).map(|(c, _)| c)
-}
-
-/// [`contour_cut_among`], with the lead-in and lead-out the cut runs (none, one or two
-/// segments).
+/// [`contour_cut`] for one of several contours of an operation, whose leads must also stay
+/// clear of the `others` (the operation's other contours and the leads of the cuts made
+/// before); with the lead-in and lead-out the cut runs (none, one or two segments).
 pub fn contour_cut_leads(
     path: &Path,
     others: &[&Path],
@@ -649,14 +622,16 @@ mod tests {
         };
         let alone = contour_cut(&square, &o, None).unwrap();
         assert!((radius(&alone) - 2.0).abs() < 1e-12);
-        let among = contour_cut_among(&square, &[&below], &o, None).unwrap();
-        assert!((radius(&among) - 1.0).abs() < 1e-12, "{}", radius(&among));
+        let among = |other: &Path| contour_cut_leads(&square, &[other], &o, None).unwrap().0;
+        let among_below = among(&below);
+        assert!(
+            (radius(&among_below) - 1.0).abs() < 1e-12,
+            "{}",
+            radius(&among_below)
+        );
         // A contour far away changes nothing.
         let far = Path::polyline(&[DVec2::new(-5.0, -30.0), DVec2::new(15.0, -30.0)], false);
-        assert_eq!(
-            contour_cut_among(&square, &[&far], &o, None).unwrap(),
-            alone
-        );
+        assert_eq!(among(&far), alone);
     }
 
     #[test]

@@ -176,15 +176,14 @@ pub fn concentric(
             },
             || region.offset(-(d + reach), eps).is_empty(),
         );
-        let meet = eps * MEET_FRACTION;
         let r = match opening {
             // The first ring has no opening to fall back on: it is checked as
             // `Region::offset_checked` checks (cavalier's offset of a dense flattened union
             // can cut across a hole with one long chord, seen on script lettering).
-            None if region.holds(&plain) && plain.simple(meet) => plain,
-            None => region.buffered(-d, BUFFER_TOL_EPS * eps),
+            None => region.checked_offset(plain, -d, eps, BUFFER_TOL_EPS * eps),
             Some(opened) => {
                 let sliver = plain.perimeter() - opened.perimeter() > SLIVER_LENGTH * delta;
+                let meet = eps * MEET_FRACTION;
                 let plain_simple = plain.simple(meet);
                 if (sliver || !plain_simple) && opened.simple(meet) {
                     opened

@@ -535,7 +535,12 @@ impl Region {
     /// slab indexes, O(V + W) plus the segments met in the slabs, and the segment tests of
     /// [`Region::simple`].
     pub fn offset_checked(&self, delta: f64, eps: f64, tol: f64) -> Region {
-        let out = self.offset(delta, eps);
+        self.checked_offset(self.offset(delta, eps), delta, eps, tol)
+    }
+
+    /// `out`, this region's [`Region::offset`] by `delta` at accuracy `eps`, when it passes
+    /// the checks of [`Region::offset_checked`]; else geo's buffer flattened within `tol`.
+    pub fn checked_offset(&self, out: Region, delta: f64, eps: f64, tol: f64) -> Region {
         let sound = if delta > 0.0 {
             out.holds(self) && self.excludes(&out)
         } else {
