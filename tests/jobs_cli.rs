@@ -22,6 +22,7 @@
 //!   with M5 and M2 at safe Z.
 
 use serde_json::Value as Json;
+use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
@@ -167,6 +168,41 @@ fn laser_passes_build_and_check_clean_on_every_laser_profile() {
             assert!(
                 (cut(&j) - 2.0 * cut(&k)).abs() < 1e-6 * cut(&k),
                 "{m}: {j} vs {k}"
+            );
+        }
+    }
+}
+
+/// Arc leads on a closed contour: the lead-in arrives on the waste side and the lead-out
+/// leaves on the same circle, both tangent at the contour's start, so the path crosses
+/// itself there tangentially; the check refused it ("cut contour touches itself") on the
+/// laser profiles. The leads add two quarter circles, π·r of cut length.
+#[test]
+fn arc_leads_on_a_closed_contour_build_and_check() {
+    let design = std::fs::read_to_string(data("laser_passes"))
+        .unwrap()
+        .replace("passes = 2", "depth = 2.0");
+    let d = tmpdir("leads");
+    let cut_length = |design: &str, m: &str, name: &str| {
+        let f = d.join(format!("{name}.toml"));
+        std::fs::write(&f, design).unwrap();
+        let out = build_clean(f.to_str().unwrap(), m, &[], name);
+        let (_, _, j) = check(&out, m);
+        j["stats"]["cut_length"].as_f64().unwrap_or(f64::NAN)
+    };
+    for m in [
+        "grbl-laser",
+        "marlin-laser",
+        "smoothie-laser",
+        "grbl-router",
+    ] {
+        let plain = cut_length(&design, m, "plain");
+        for r in [0.5, 1.0, 2.0] {
+            let led = cut_length(&format!("{design}lead_in = {r}\n"), m, "led");
+            let extra = PI * r;
+            assert!(
+                (led - plain - extra).abs() < 1e-2,
+                "{m} r {r}: {led} - {plain} vs π·r = {extra}"
             );
         }
     }

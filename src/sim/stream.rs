@@ -23,7 +23,7 @@
 //! with non-finite coordinates fall back to testing all pairs in memory.
 
 use super::checks::gouge::GougeIndex;
-use super::checks::intersect::{Across, Contact, Grid, Link, MAX_CONTACTS, Seg, SegmentSet};
+use super::checks::intersect::{Contact, Grid, Link, MAX_CONTACTS, Seg, SegmentSet};
 use super::checks::{Capped, DesignBoundary, contours, machine};
 use super::config::CheckConfig;
 use super::findings::Finding;
@@ -511,7 +511,7 @@ impl<'d> Checker<'d> {
         }
         let Some(grid) = Grid::new(self.seg_lo, self.seg_hi, self.seg_total, n as usize) else {
             // Non-finite coordinates: every pair, in memory.
-            let (set, recs) = load_tile(&self.spill, contours::across(&self.cfg))?;
+            let (set, recs) = load_tile(&self.spill, &self.cfg)?;
             let found = set.brute_force();
             self.contacts_capped |= found.len() >= MAX_CONTACTS;
             for c in found {
@@ -597,7 +597,7 @@ impl<'d> Checker<'d> {
             return Ok(());
         }
         let tmp = TempFileRef { path };
-        let (set, recs) = load_tile_at(&tmp, contours::across(&self.cfg))?;
+        let (set, recs) = load_tile_at(&tmp, &self.cfg)?;
         let found = set.cell_contacts(grid, keys);
         self.contacts_capped |= found.len() >= MAX_CONTACTS;
         for c in found {
@@ -696,12 +696,15 @@ struct TempFileRef<'p> {
     path: &'p std::path::Path,
 }
 
-fn load_tile(f: &TempFile, across: Across) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
-    load_tile_at(&TempFileRef { path: &f.path }, across)
+fn load_tile(f: &TempFile, cfg: &CheckConfig) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
+    load_tile_at(&TempFileRef { path: &f.path }, cfg)
 }
 
 /// The records of a file in segment order, and the tile set of them.
-fn load_tile_at(f: &TempFileRef<'_>, across: Across) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
+fn load_tile_at(
+    f: &TempFileRef<'_>,
+    cfg: &CheckConfig,
+) -> std::io::Result<(SegmentSet, Vec<SegRec>)> {
     let file = std::fs::File::open(f.path)?;
     let n = file.metadata().map_or(0, |m| m.len()) as usize / REC;
     let mut r = BufReader::with_capacity(1 << 16, file);
@@ -726,5 +729,11 @@ fn load_tile_at(f: &TempFileRef<'_>, across: Across) -> std::io::Result<(Segment
         })
         .collect();
     let links = recs.iter().map(|r| r.link).collect();
-    Ok((SegmentSet::tile(segs, links, across), recs))
+    let set = SegmentSet::tile(
+        segs,
+        links,
+        contours::across(cfg),
+        contours::tangent_slack(cfg),
+    );
+    Ok((set, recs))
 }

@@ -135,6 +135,7 @@ pub fn intersection_findings(
 ) -> Vec<Finding> {
     let mut set = SegmentSet::new();
     set.across = across(cfg);
+    set.tangent_slack = tangent_slack(cfg);
     // Exact size up front: no doubling growth on long programs.
     set.segs.reserve(
         contours
@@ -197,6 +198,14 @@ pub(crate) fn across(cfg: &CheckConfig) -> Across {
     } else {
         Across::Crossings
     }
+}
+
+/// How far a contour's chords may stray from the path the program describes: the
+/// flattening tolerance of its arcs, which also stands for the rounding of its numbers
+/// (see [`SegmentSet::tangent_slack`](super::intersect::SegmentSet::tangent_slack)). Shared
+/// by both routes of the check.
+pub(crate) fn tangent_slack(cfg: &CheckConfig) -> f64 {
+    cfg.flatten_tolerance
 }
 
 /// The finding of a contact search stopped at [`MAX_CONTACTS`]. Shared by both routes of

@@ -87,6 +87,11 @@ pub struct SegmentSet {
     pub contours: Vec<(u32, bool)>,
     /// The contacts between different contours that count.
     pub across: Across,
+    /// How far (a length) a chord may stray from the curve it stands for, by flattening and
+    /// by rounding of the program's numbers; 0 takes chords as the exact path. Two passes
+    /// through a shared vertex that are tangent within it touch there without crossing
+    /// (see [`SegmentSet::tangent_passes`]).
+    pub tangent_slack: f64,
     /// A tile of a larger set ([`SegmentSet::tile`]): each segment's neighbours, since its
     /// contour is not held whole.
     links: Option<Vec<Link>>,
@@ -299,7 +304,32 @@ impl SegmentSet {
             (x > 0.0 && x < span, x == 0.0 || x == span)
         };
         let ((in1, on1), (in2, on2)) = (inside(b1), inside(b2));
-        !on1 && !on2 && in1 == in2
+        !on1 && !on2 && in1 == in2 || self.tangent_passes([a1, a2], [b1, b2])
+    }
+
+    /// True when two passes through a vertex (each as the directions back along its incoming
+    /// chord and along its outgoing chord) are smooth there and tangent to each other, going
+    /// the same way, within what [`SegmentSet::tangent_slack`] allows: the passes meet in
+    /// that one point and at most graze (a closed contour entered by a lead arc and left by
+    /// one, both tangent at its start, where the leads lie on the waste side and the contour
+    /// on the other: the path runs lead → contour → lead through the point, an S-shaped
+    /// tangential crossing that no flattening can show as a touch).
+    ///
+    /// A chord of length L of an arc whose sagitta is at most f leaves the arc's tangent at
+    /// its end at the angle 2·atan(2f/L) (the half-angle of the chord's arc φ/2 satisfies
+    /// tan(φ/4) = 2·sagitta/L); ends rounded by up to f more turn it by at most atan(2f/L).
+    /// Each chord of length L thus is within θ(L) = 3·atan(2f/L) of the curve's tangent, and
+    /// two directions at the vertex agree when their angle is at most the sum of their θ.
+    fn tangent_passes(&self, a: [DVec2; 2], b: [DVec2; 2]) -> bool {
+        let f = self.tangent_slack;
+        if f <= 0.0 {
+            return false;
+        }
+        let theta = |d: DVec2| 3.0 * (2.0 * f / d.length()).atan();
+        let agree = |u: DVec2, w: DVec2| u.perp_dot(w).abs().atan2(u.dot(w)) <= theta(u) + theta(w);
+        let [a1, a2] = a;
+        let [b1, b2] = b;
+        agree(-a1, a2) && agree(-b1, b2) && agree(a1, b1) && agree(a2, b2)
     }
 
     /// All contacts: non-adjacent pairs that share any point (proper or not), and adjacent
@@ -489,11 +519,12 @@ impl SegmentSet {
     /// A tile of a larger set: `segs` with their neighbours `links` (same length), in the
     /// larger set's order, contacts between contours counted by `across`; see
     /// [`SegmentSet::cell_contacts`].
-    pub fn tile(segs: Vec<Seg>, links: Vec<Link>, across: Across) -> Self {
+    pub fn tile(segs: Vec<Seg>, links: Vec<Link>, across: Across, tangent_slack: f64) -> Self {
         SegmentSet {
             segs,
             contours: Vec::new(),
             across,
+            tangent_slack,
             links: Some(links),
         }
     }
@@ -834,6 +865,76 @@ mod tests {
                 (1., -1.),
                 (0., 0.),
                 (-1., 1.),
+            ]),
+            &[],
+        );
+        assert!(!x.contacts().is_empty());
+    }
+
+    /// Points of the arc about `c` of radius `r` from angle `a0` sweeping `sweep`, in
+    /// chords of sagitta at most `f`.
+    fn arc_pts(c: DVec2, r: f64, a0: f64, sweep: f64, f: f64) -> Vec<DVec2> {
+        let n = (sweep.abs() / (2.0 * (1.0 - f / r).acos())).ceil() as usize;
+        (0..=n)
+            .map(|k| {
+                let a = a0 + sweep * k as f64 / n as f64;
+                c + r * DVec2::new(a.cos(), a.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn tangent_leads_at_a_contour_start_graze_but_a_shallow_crossing_does_not() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let f = 1e-3;
+        // A circle of radius 2 through (0,0), run counter-clockwise from there (travel +x);
+        // a lead-in arc of radius 1 below (the waste side) arriving at (0,0) along +x, and
+        // the lead-out on the same circle leaving along +x: an S-shaped tangential crossing.
+        for (r_lead, r_contour) in [(1.0, 2.0), (0.3, 5.0), (3.0, 1.0)] {
+            let lead_c = DVec2::new(0.0, -r_lead);
+            // The program names the point (0,0) at each pass through it.
+            let exact_at_origin = |mut p: Vec<DVec2>, first: bool| {
+                let k = if first { 0 } else { p.len() - 1 };
+                p[k] = DVec2::ZERO;
+                p
+            };
+            let mut path = exact_at_origin(arc_pts(lead_c, r_lead, PI, -FRAC_PI_2, f), false);
+            let contour = arc_pts(
+                DVec2::new(0.0, r_contour),
+                r_contour,
+                -FRAC_PI_2,
+                2.0 * PI,
+                f,
+            );
+            path.extend_from_slice(&exact_at_origin(contour, false)[1..]);
+            let lead_out = arc_pts(lead_c, r_lead, FRAC_PI_2, -FRAC_PI_2, f);
+            path.extend_from_slice(&exact_at_origin(lead_out, true)[1..]);
+            let mut strict = SegmentSet::new();
+            strict.push_polyline(&path, &[]);
+            assert!(!strict.contacts().is_empty(), "chords alone cross");
+            let mut set = SegmentSet::new();
+            set.tangent_slack = f;
+            set.push_polyline(&path, &[]);
+            assert!(
+                set.contacts().is_empty(),
+                "{r_lead} {r_contour}: {:?}",
+                set.contacts()
+            );
+        }
+        // Two passes through (0,0) crossing at 2 degrees on chords of length 1: a crossing.
+        let a = 2f64.to_radians();
+        let mut x = SegmentSet::new();
+        x.tangent_slack = f;
+        x.push_polyline(
+            &pts(&[
+                (-1.0, 0.0),
+                (0.0, 0.0),
+                (1.0, 0.0),
+                (1.0, 1.0),
+                (-1.0, 1.0),
+                (-a.cos(), -a.sin()),
+                (0.0, 0.0),
+                (a.cos(), a.sin()),
             ]),
             &[],
         );
