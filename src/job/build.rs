@@ -696,7 +696,7 @@ fn operation_specs(
             // by more than the margin would otherwise be cut through by the board's own cut.
             let channels = channel_regions(ctx, &items);
             let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
-            let channel_outside = !board.contains_every_vertex(&channels);
+            let channel_outside = !board.contains_samples_of(&channels);
             let board = if channel_outside {
                 regions.extend(channels);
                 ops::backboard(&regions, margin, rho, ctx.tol, eps)

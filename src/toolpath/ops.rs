@@ -3,7 +3,7 @@
 //! Every function here is pure geometry on [`Region`]s and polylines; [`super::plan`] turns
 //! the paths into cuts with depths, feeds and ordering.
 
-use super::region::{MEET_FRACTION, Region, flatten_pline};
+use super::region::{Region, flatten_pline};
 use crate::geom::{Arc, Circle, DVec2, Line, Path, PathSeg};
 use geo::Buffer;
 
@@ -145,11 +145,14 @@ pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f6
 /// R₋₍d−stepover+reach₎ ⊆ R₋₍d+δ₎, which lies inside the opening, and the opening's points
 /// farther than `reach` from its boundary lie in R₋₍d+reach₎, which the next ring takes
 /// on. The first ring (the wall pass) is R₋first itself, so walls and corners are cut
-/// exactly. A ring that is not [simple](Region::simple) (cavalier_contours once returned
-/// one touching itself along an arc, seed 0x5EED0011 case 61 rotated) is replaced by its
-/// opening too, and an opening that is not simple is never used; where neither is, geo's
+/// exactly. A ring that is not sound, that is [simple](Region::simple) and
+/// [held](Region::holds) by the region at every vertex and segment middle (cavalier_contours
+/// once returned one touching itself along an arc, seed 0x5EED0011 case 61 rotated, and
+/// cut across the counters of script lettering with single chords), is replaced by its
+/// opening too, and an opening that is not sound is never used; where neither is, geo's
 /// buffer makes the ring (flattened within [`BUFFER_TOL_EPS`]·eps). Cost: four offsets
-/// of the region per ring (three of them side by side) and two O(n log n) segment tests.
+/// of the region per ring (three of them side by side), two O(n log n) segment tests and
+/// two winding tests through slab indexes.
 pub fn concentric(
     region: &Region,
     first: f64,
@@ -183,11 +186,11 @@ pub fn concentric(
             None => region.checked_offset(plain, -d, eps, BUFFER_TOL_EPS * eps),
             Some(opened) => {
                 let sliver = plain.perimeter() - opened.perimeter() > SLIVER_LENGTH * delta;
-                let meet = eps * MEET_FRACTION;
-                let plain_simple = plain.simple(meet);
-                if (sliver || !plain_simple) && opened.simple(meet) {
+                let sound = |ring: &Region| region.sound_offset(ring, -d, eps);
+                let plain_sound = sound(&plain);
+                if (sliver || !plain_sound) && sound(&opened) {
                     opened
-                } else if plain_simple {
+                } else if plain_sound {
                     plain
                 } else {
                     region.buffered(-d, BUFFER_TOL_EPS * eps)

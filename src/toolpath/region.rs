@@ -523,17 +523,19 @@ impl Region {
         .translated(c)
     }
 
-    /// [`Region::offset`], checked: the result must be [`simple`](Region::simple) and nest
-    /// as a region should; a grown region must hold every vertex of this one and have none
-    /// of its own inside it, a shrunk one must lie inside it (offsets are monotone, and an
-    /// offset curve lies |δ| from this region's boundary, on the side it moved to). Where
+    /// [`Region::offset`], checked ([`Region::sound_offset`]): the result must be
+    /// [`simple`](Region::simple), nest as a region should and keep apart from this
+    /// region's boundary; a grown region must hold every vertex (and segment middle) of
+    /// this one and have none of its own inside it, a shrunk one must lie inside it
+    /// (offsets are monotone, and an offset curve lies |δ| from this region's boundary, on
+    /// the side it moved to). Where
     /// cavalier_contours' result fails that (it can nest one ring in another, split a
     /// region along a chord or loop a ring over itself when its input is dense, as the
     /// union of a stroke's disks is), the offset is made by geo's buffer
     /// ([`Region::buffered`]) instead, with arcs flattened within `tol`. Cost of the check:
     /// winding tests of the V vertices in against the W segments out (and back) through
     /// slab indexes, O(V + W) plus the segments met in the slabs, and the segment tests of
-    /// [`Region::simple`].
+    /// [`Region::simple`] and [`Region::apart_from`].
     pub fn offset_checked(&self, delta: f64, eps: f64, tol: f64) -> Region {
         self.checked_offset(self.offset(delta, eps), delta, eps, tol)
     }
@@ -541,22 +543,36 @@ impl Region {
     /// `out`, this region's [`Region::offset`] by `delta` at accuracy `eps`, when it passes
     /// the checks of [`Region::offset_checked`]; else geo's buffer flattened within `tol`.
     pub fn checked_offset(&self, out: Region, delta: f64, eps: f64, tol: f64) -> Region {
-        let sound = if delta > 0.0 {
-            out.holds(self) && self.excludes(&out)
-        } else {
-            self.holds(&out)
-        } && out.simple(eps * MEET_FRACTION);
-        if sound {
+        if self.sound_offset(&out, delta, eps) {
             out
         } else {
             self.buffered(delta, tol)
         }
     }
 
-    /// Whether this region nests as a region should (`well_nested`: material and holes alternate) and every
-    /// vertex of `other` lies in its material (winding number 1).
+    /// Whether `out` can be this region offset by `delta` at accuracy `eps`: it nests as a
+    /// region should, lies on the side it moved to (grown: holds every vertex and segment
+    /// middle of this region and has none of its own inside it; shrunk: lies in this
+    /// region's material), is [simple](Region::simple) and keeps
+    /// [apart from](Region::apart_from) this region's boundary (within
+    /// [`MEET_FRACTION`]·`eps`).
+    pub fn sound_offset(&self, out: &Region, delta: f64, eps: f64) -> bool {
+        let meet = eps * MEET_FRACTION;
+        let sided = if delta > 0.0 {
+            out.holds(self) && self.excludes(out)
+        } else {
+            self.holds(out)
+        };
+        sided && out.simple(meet) && out.apart_from(self, meet)
+    }
+
+    /// Whether this region nests as a region should (`well_nested`: material and holes
+    /// alternate) and every vertex and segment midpoint of `other` lies in its material
+    /// (winding number 1). The midpoints catch a shrunk ring that cuts across a hole or a
+    /// notch with one chord whose ends both lie in the material (cavalier's offset of the
+    /// dense union of overlapping script strokes did, 14 mm across a letter's counter).
     pub fn holds(&self, other: &Region) -> bool {
-        self.well_nested() && self.winds_every_vertex(std::slice::from_ref(other), |w| w == 1)
+        self.well_nested() && self.winds_every_sample(std::slice::from_ref(other), |w| w == 1)
     }
 
     /// Whether every contour is simple and no two meet within `tol`: no contour crosses or
@@ -574,8 +590,31 @@ impl Region {
         {
             return false;
         }
-        let boxes: Vec<Option<(DVec2, DVec2)>> = self
-            .contours
+        let boxes = self.boxes(tol);
+        (0..paths.len()).all(|i| {
+            (i + 1..paths.len()).all(|j| !meet(&paths[i], boxes[i], &paths[j], boxes[j], tol))
+        })
+    }
+
+    /// Whether no contour of this region meets (within `tol`) a contour of `other`: a ring
+    /// shrunk from `other` that passes this and [`Region::holds`] lies in its material
+    /// without touching its boundary (a chord across a hole of the dense union of script
+    /// strokes had both ends and its middle in the material and crossed the hole's edge).
+    /// Pairs prefiltered by bounding boxes, segments tested as in [`Region::simple`].
+    pub fn apart_from(&self, other: &Region, tol: f64) -> bool {
+        let (paths, others) = (self.paths(), other.paths());
+        let (boxes, other_boxes) = (self.boxes(tol), other.boxes(tol));
+        paths.iter().zip(&boxes).all(|(p, &b)| {
+            others
+                .iter()
+                .zip(&other_boxes)
+                .all(|(q, &c)| !meet(p, b, q, c, tol))
+        })
+    }
+
+    /// Each contour's bounding box grown by `tol` (None for an empty contour).
+    fn boxes(&self, tol: f64) -> Vec<Option<(DVec2, DVec2)>> {
+        self.contours
             .iter()
             .map(|c| {
                 c.extents().map(|b| {
@@ -583,43 +622,40 @@ impl Region {
                     (lo, DVec2::new(b.max_x, b.max_y) + DVec2::splat(tol))
                 })
             })
-            .collect();
-        (0..paths.len()).all(|i| {
-            (i + 1..paths.len()).all(|j| {
-                let (Some(a), Some(b)) = (boxes[i], boxes[j]) else {
-                    return true;
-                };
-                let overlap = a.0.cmple(b.1).all() && b.0.cmple(a.1).all();
-                !overlap || paths_intersections(&paths[i], &paths[j], tol).is_empty()
-            })
-        })
+            .collect()
     }
 
-    /// Whether no vertex of `other` lies in this region's material (winding number 0).
+    /// Whether no vertex or segment midpoint of `other` lies in this region's material
+    /// (winding number 0).
     pub fn excludes(&self, other: &Region) -> bool {
-        self.winds_every_vertex(std::slice::from_ref(other), |w| w == 0)
+        self.winds_every_sample(std::slice::from_ref(other), |w| w == 0)
     }
 
-    /// Whether every vertex of every region of `others` lies in this region's material
-    /// ([`Region::contains`]: non-zero total winding), asked through one index.
-    pub fn contains_every_vertex(&self, others: &[Region]) -> bool {
-        self.winds_every_vertex(others, |w| w != 0)
+    /// Whether every vertex and segment midpoint of every region of `others` lies in this
+    /// region's material ([`Region::contains`]: non-zero total winding), asked through one
+    /// index.
+    pub fn contains_samples_of(&self, others: &[Region]) -> bool {
+        self.winds_every_sample(others, |w| w != 0)
     }
 
-    /// Whether this region's total winding number about every vertex of `others` passes
-    /// `ok`, each contour asked through a [`WindingIndex`] (the same number as cavalier's
-    /// `winding_number`): O(W) to build and O(1 + k) per vertex for the k segments in its
-    /// slab, instead of O(V·W).
-    fn winds_every_vertex(&self, others: &[Region], ok: impl Fn(i32) -> bool) -> bool {
+    /// Whether this region's total winding number about every vertex of `others`, and the
+    /// midpoint of every segment (line or arc), passes `ok`, each contour asked through a
+    /// [`WindingIndex`] (the same number as cavalier's `winding_number`): O(W) to build and
+    /// O(1 + k) per point for the k segments in its slab, instead of O(V·W).
+    fn winds_every_sample(&self, others: &[Region], ok: impl Fn(i32) -> bool) -> bool {
         let windings = Windings::new(&self.contours);
+        let passes = |x: f64, y: f64| {
+            ok((0..self.contours.len())
+                .map(|k| windings.of(k, x, y))
+                .sum::<i32>())
+        };
         others
             .iter()
             .flat_map(|o| &o.contours)
-            .flat_map(|c| c.iter_vertexes())
-            .all(|v| {
-                ok((0..self.contours.len())
-                    .map(|k| windings.of(k, v.x, v.y))
-                    .sum::<i32>())
+            .flat_map(|c| c.iter_segments())
+            .all(|(v1, v2)| {
+                let m = cavalier_contours::polyline::seg_midpoint(v1, v2);
+                passes(v1.x, v1.y) && passes(m.x, m.y)
             })
     }
 
@@ -837,6 +873,22 @@ impl Region {
     }
 }
 
+/// Whether the paths `a` and `b`, with bounding boxes `ba` and `bb` grown by `tol`, meet
+/// within `tol` (boxes first, then the segments through bounding-volume trees).
+fn meet(
+    a: &Path,
+    ba: Option<(DVec2, DVec2)>,
+    b: &Path,
+    bb: Option<(DVec2, DVec2)>,
+    tol: f64,
+) -> bool {
+    let (Some(ba), Some(bb)) = (ba, bb) else {
+        return false;
+    };
+    let overlap = ba.0.cmple(bb.1).all() && bb.0.cmple(ba.1).all();
+    overlap && !paths_intersections(a, b, tol).is_empty()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -895,7 +947,7 @@ mod tests {
     }
 
     #[test]
-    fn every_vertex_test_agrees_with_contains() {
+    fn every_sample_test_agrees_with_contains() {
         // A ring with a hole and rounded (arc) corners from an offset; candidates inside,
         // in the hole, outside, and some with vertices on the boundary.
         let mut outer = square(0.0, 0.0, 10.0);
@@ -909,19 +961,31 @@ mod tests {
             Region::from_contours(vec![square(20.0, 20.0, 1.0)]),
             ring.offset(-0.25, 1e-6),
             ring.offset(0.25, 1e-6),
+            // Every vertex in the material, the long sides across the hole.
+            Region::from_contours(vec![pline_from_points(
+                &[
+                    DVec2::new(1.0, 5.0),
+                    DVec2::new(9.0, 5.0),
+                    DVec2::new(9.0, 5.1),
+                    DVec2::new(1.0, 5.1),
+                ],
+                true,
+            )]),
         ];
-        let by_vertex = |rs: &[Region]| {
+        let by_sample = |rs: &[Region]| {
             rs.iter().flat_map(|r| &r.contours).all(|c| {
-                c.iter_vertexes()
-                    .all(|v| ring.contains(DVec2::new(v.x, v.y)))
+                c.iter_segments().all(|(v1, v2)| {
+                    let m = cavalier_contours::polyline::seg_midpoint(v1, v2);
+                    ring.contains(DVec2::new(v1.x, v1.y)) && ring.contains(DVec2::new(m.x, m.y))
+                })
             })
         };
         let mut seen = [false; 2];
         for k in 0..candidates.len() {
             for set in [&candidates[k..=k], &candidates[..=k]] {
-                let want = by_vertex(set);
+                let want = by_sample(set);
                 seen[usize::from(want)] = true;
-                assert_eq!(ring.contains_every_vertex(set), want, "candidates {k}");
+                assert_eq!(ring.contains_samples_of(set), want, "candidates {k}");
             }
         }
         assert_eq!(seen, [true, true]);
