@@ -153,6 +153,39 @@ fn lettering_on_a_laser_backboard_builds_and_checks() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Words with wide channels on a routed backboard. Script "Hello", "Quiz" and "coffee":
+/// the channels' clearing rings cut across letters' counters with single chords (rings
+/// must now keep apart from the channel's walls) and crossed the board's holes. Sans "mmm"
+/// on linuxcnc-router (inches): the board's lead-out, tangent at the contour's start,
+/// crossed the first pass 0.2 mm on, where the contour turned sharply toward the waste.
+#[test]
+fn lettering_with_wide_channels_on_a_routed_backboard_builds_and_checks() {
+    let dir = tmp("routed-board");
+    for (font, word, machine) in [
+        ("sans", "mmm", "linuxcnc-router"),
+        ("script", "Hello", "grbl-router"),
+        ("script", "Quiz", "grbl-router"),
+    ] {
+        let design = dir.join(format!("{word}.toml"));
+        let t = run(
+            &[
+                "text", word, "--font", font, "--height", "80", "--width", "4", "-o",
+            ],
+            &[&design],
+        );
+        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+        let mut text = std::fs::read_to_string(&design).unwrap();
+        text.push_str(
+            "\n[[operation]]\nkind = \"channel\"\nwidth = 10.0\ndepth = 10.0\nstep_down = 5.0\n\
+             \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
+             tabs = { count = 4, width = 6.0, height = 2.0 }\nlead_in = 3.0\n",
+        );
+        std::fs::write(&design, text).unwrap();
+        build_and_check(&design, machine, &dir);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A fill of 4 mm lettering with the 1/4" bit of linuxcnc-router cuts nothing: the refusal
 /// names the operation and the reason instead of "add strokes" (the strokes are there).
 #[test]

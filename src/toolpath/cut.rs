@@ -176,14 +176,18 @@ fn lead_geometry(
     }
 }
 
-/// Fraction of a lead, at its contour end, left out of the clearance test: there the lead
-/// touches the contour tangentially by construction.
+/// Fraction of a lead, at its contour end, tested only against the contour's segments that
+/// do not end at the touch point: there the lead touches the contour tangentially by
+/// construction, and flattened or rounded the two may meet.
 const LEAD_TOUCH_FRACTION: f64 = 0.05;
 
 /// True when neither lead meets the contour (exact segment tests on flattenings within
 /// 1e-3 of the lead's length), apart from the tangential touch at the contour end, nor any
 /// of the operation's `others` contours (a lead into a narrow gap between two pieces of a
-/// board crossed the piece beyond it).
+/// board crossed the piece beyond it). The lead's stretch next to the contour
+/// ([`LEAD_TOUCH_FRACTION`]) is tested against every segment but the contour's first and
+/// last (a board's lead-out crossed the contour 0.2 mm after its start, where the contour
+/// turned sharply toward the waste side).
 fn leads_clear(
     leads: &(DVec2, Option<PathSeg>, Option<PathSeg>),
     path: &Path,
@@ -191,25 +195,33 @@ fn leads_clear(
 ) -> bool {
     let tol = |s: &PathSeg| (s.length(1e-9) * 1e-3).max(1e-9);
     let flat_tol = leads.1.as_ref().map(tol).unwrap_or(1e-3);
-    let contour = path.flatten(flat_tol);
-    let mut ring = contour.clone();
-    if path.closed
-        && let Some(&f) = contour.first()
-    {
-        ring.push(f);
-    }
-    // Only ring segments whose bounding box meets the lead's can meet it (closed boxes, so
+    let chords = |segs: &[PathSeg]| -> Vec<[DVec2; 2]> {
+        segs.iter()
+            .flat_map(|seg| {
+                let f = seg.flatten(flat_tol);
+                f.windows(2).map(|r| [r[0], r[1]]).collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let n = path.segs.len();
+    let ring = chords(&path.segs);
+    let inner = if n > 2 {
+        chords(&path.segs[1..n - 1])
+    } else {
+        Vec::new()
+    };
+    // Only segments whose bounding box meets the lead's can meet it (closed boxes, so
     // touching counts); the exact predicate decides the rest. O(n + k·m) instead of O(n·m).
-    let hits = |pts: &[DVec2]| {
+    let hits = |pts: &[DVec2], contour: &[[DVec2; 2]]| {
         let (lo, hi) = pts.iter().fold(
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), &p| (lo.min(p), hi.max(p)),
         );
         let meets = |a: DVec2, b: DVec2| a.cmple(hi).all() && b.cmpge(lo).all();
-        let mut near: Vec<[DVec2; 2]> = ring
-            .windows(2)
+        let mut near: Vec<[DVec2; 2]> = contour
+            .iter()
             .filter(|r| meets(r[0].min(r[1]), r[0].max(r[1])))
-            .map(|r| [r[0], r[1]])
+            .copied()
             .collect();
         // The other contours' segments near the lead, flattened one by one.
         for seg in others.iter().flat_map(|o| &o.segs) {
@@ -230,13 +242,22 @@ fn leads_clear(
             .map(|i| s.eval(a + (b - a) * i as f64 / n as f64))
             .collect()
     };
-    let lead_in_ok = leads.1.as_ref().is_none_or(|s| {
-        !hits(&part(s, 0.0, 1.0 - LEAD_TOUCH_FRACTION)) && !grazes(s, s.end(), path)
-    });
+    // A lead from `far` (its free end) to `touch` (on the contour), as lead parameters.
+    let clear = |s: &PathSeg, far: f64, touch: f64| {
+        let split = far + (touch - far) * (1.0 - LEAD_TOUCH_FRACTION);
+        // The touch point itself is left out: the contour's first and last segments end
+        // there, and the lead's end there is shared with them.
+        let end = touch - (touch - far) * 1e-9;
+        !hits(&part(s, far, split), &ring) && !hits(&part(s, split, end), &inner)
+    };
+    let lead_in_ok = leads
+        .1
+        .as_ref()
+        .is_none_or(|s| clear(s, 0.0, 1.0) && !grazes(s, s.end(), path));
     let lead_out_ok = leads
         .2
         .as_ref()
-        .is_none_or(|s| !hits(&part(s, LEAD_TOUCH_FRACTION, 1.0)) && !grazes(s, s.start(), path));
+        .is_none_or(|s| clear(s, 1.0, 0.0) && !grazes(s, s.start(), path));
     lead_in_ok && lead_out_ok
 }
 
