@@ -138,19 +138,30 @@ fn words_with_channels_build_and_check_on_routers() {
 fn lettering_on_a_laser_backboard_builds_and_checks() {
     let dir = tmp("board");
     for word in ["Hello", "mmm"] {
-        let design = dir.join(format!("{word}.toml"));
-        let t = run(&["text", word, "--height", "80", "-o"], &[&design]);
-        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-        let mut text = std::fs::read_to_string(&design).unwrap();
-        text.push_str(
-            "\n[[operation]]\nkind = \"channel\"\nwidth = 5.0\ndepth = 10.0\nstep_down = 5.0\n\
-             \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
-             tabs = { count = 4, width = 6.0, height = 2.0 }\nlead_in = 3.0\n",
-        );
-        std::fs::write(&design, text).unwrap();
+        let design = word_on_a_board(&dir, word, &[], 5.0);
         build_and_check(&design, "grbl-laser", &dir);
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `skinpath text WORD --height 80 TEXT_ARGS` in `dir`, with a channel of `width` along the
+/// strokes (10 deep in two passes) and a backboard (margin 12, 15 deep in three passes, four
+/// tabs, lead-in radius 3).
+fn word_on_a_board(dir: &Path, word: &str, text_args: &[&str], width: f64) -> PathBuf {
+    let design = dir.join(format!("{word}.toml"));
+    let mut args = vec!["text", word, "--height", "80"];
+    args.extend_from_slice(text_args);
+    args.push("-o");
+    let t = run(&args, &[&design]);
+    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+    let mut text = std::fs::read_to_string(&design).unwrap();
+    text.push_str(&format!(
+        "\n[[operation]]\nkind = \"channel\"\nwidth = {width:?}\ndepth = 10.0\nstep_down = 5.0\n\
+         \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
+         tabs = {{ count = 4, width = 6.0, height = 2.0 }}\nlead_in = 3.0\n",
+    ));
+    std::fs::write(&design, text).unwrap();
+    design
 }
 
 /// Words with wide channels on a routed backboard. Script "Hello", "Quiz" and "coffee":
@@ -166,21 +177,7 @@ fn lettering_with_wide_channels_on_a_routed_backboard_builds_and_checks() {
         ("script", "Hello", "grbl-router"),
         ("script", "Quiz", "grbl-router"),
     ] {
-        let design = dir.join(format!("{word}.toml"));
-        let t = run(
-            &[
-                "text", word, "--font", font, "--height", "80", "--width", "4", "-o",
-            ],
-            &[&design],
-        );
-        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-        let mut text = std::fs::read_to_string(&design).unwrap();
-        text.push_str(
-            "\n[[operation]]\nkind = \"channel\"\nwidth = 10.0\ndepth = 10.0\nstep_down = 5.0\n\
-             \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
-             tabs = { count = 4, width = 6.0, height = 2.0 }\nlead_in = 3.0\n",
-        );
-        std::fs::write(&design, text).unwrap();
+        let design = word_on_a_board(&dir, word, &["--font", font, "--width", "4"], 10.0);
         build_and_check(&design, machine, &dir);
     }
     let _ = std::fs::remove_dir_all(&dir);
