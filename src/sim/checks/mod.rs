@@ -2,7 +2,7 @@
 //!
 //! | id | severity | what |
 //! |---|---|---|
-//! | `self-intersection` | error | a cut contour crosses or touches itself |
+//! | `self-intersection` | error | a cut contour crosses or touches itself (passing twice through one of its vertices without crossing, or tangentially as arc leads at a closed contour's start do, is no touch) |
 //! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`; contours of one marked pocket may) |
 //! | `too-many-contacts` | error | the contours meet in more than `MAX_CONTACTS` places; only the first are listed |
 //! | `gouge` | error | tool centre nearer the design than tool radius − tolerance, or on the wrong side |
