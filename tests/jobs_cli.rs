@@ -208,6 +208,30 @@ fn arc_leads_on_a_closed_contour_build_and_check() {
     }
 }
 
+/// Leads on outlines that start at a corner: the gallery's starter with `lead_in = 2` on
+/// its profile. A flattened outline's start vertex turned 10°, the lead-in was tangent to
+/// the first side and the lead-out to the last, and the two passes through the start
+/// crossed there ("cut contour touches itself", 16 times on grbl-laser). Leads now start
+/// at the middle of a side.
+#[test]
+fn leads_on_outlines_starting_at_a_corner_build_and_check() {
+    let design = std::fs::read_to_string(example("gallery/starter"))
+        .unwrap()
+        .replace("power = 80", "power = 80\nlead_in = 2.0");
+    assert!(design.contains("lead_in = 2.0"));
+    let d = tmpdir("corner-leads");
+    let f = d.join("starter_leads.toml");
+    std::fs::write(&f, design).unwrap();
+    for m in [
+        "grbl-laser",
+        "marlin-laser",
+        "grbl-router",
+        "linuxcnc-router",
+    ] {
+        build_clean(f.to_str().unwrap(), m, &[], "starter with leads");
+    }
+}
+
 #[test]
 fn open_sign_builds_on_every_profile_it_fits() {
     for m in GCODE_PROFILES.iter().chain(SVG_PROFILES.iter()) {

@@ -289,6 +289,44 @@ fn grazes(lead: &PathSeg, touch: DVec2, path: &Path) -> bool {
     })
 }
 
+/// Sine of the turn at a closed contour's start below which the start is smooth: leads
+/// tangent to the contour there lie on one circle (lines: one normal) and the checker sees
+/// the path graze itself there.
+const SMOOTH_START_TURN: f64 = 1e-9;
+
+/// The closed `path` started at the middle of the longer of its first and last segments,
+/// when it starts at a corner (the sine of its turn there above [`SMOOTH_START_TURN`], or
+/// a turn back); None when its start is smooth or it is open. A lead-in tangent to the
+/// first segment and a lead-out tangent to the last, both on the waste side, cross each
+/// other's contour pass at a corner: the lead-in arrives from the waste and the contour
+/// leaves along t₀, the contour arrives along t₁ and the lead-out leaves to the waste, and
+/// unless t₀ = t₁ the two passes cross at the start at the angle between them (a flattened
+/// outline's vertex turned 10°). CAM tools start leads on a straight or smooth stretch for
+/// the same reason.
+fn smooth_start(path: &Path) -> Option<Path> {
+    let n = path.segs.len();
+    if !path.closed || n < 2 {
+        return None;
+    }
+    let (first, last) = (&path.segs[0], &path.segs[n - 1]);
+    let (t0, t1) = (seg_tangent(first, 0.0), seg_tangent(last, 1.0));
+    if t0.perp_dot(t1).abs() <= SMOOTH_START_TURN && t0.dot(t1) > 0.0 {
+        return None;
+    }
+    let (l0, l1) = (first.length(1e-9), last.length(1e-9));
+    // Split segment k at its middle: the path runs from there round to there.
+    let (k, len) = if l0 >= l1 { (0, l0) } else { (n - 1, l1) };
+    if len <= 0.0 {
+        return None;
+    }
+    let seg = &path.segs[k];
+    let mut segs = vec![sub_seg(seg, 0.5 * len, len, len)];
+    segs.extend(path.segs[k + 1..].iter().cloned());
+    segs.extend(path.segs[..k].iter().cloned());
+    segs.push(sub_seg(seg, 0.0, 0.5 * len, len));
+    Some(Path::new(segs, true))
+}
+
 /// The cut that runs the closed contour `path` (lines and arcs) once per level.
 ///
 /// The cut starts at the lead-in's start on the surface (z = 0); each level plunges at the
@@ -308,6 +346,17 @@ pub fn contour_cut_leads(
     opts: &CutOptions,
     source: Option<String>,
 ) -> Option<(Cut, Vec<PathSeg>)> {
+    let smooth;
+    let path = match opts.lead {
+        Lead::None => path,
+        _ => match smooth_start(path) {
+            Some(p) => {
+                smooth = p;
+                &smooth
+            }
+            None => path,
+        },
+    };
     let start = path.start()?;
     let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
     if total <= 0.0 {
@@ -629,8 +678,8 @@ mod tests {
 
     #[test]
     fn leads_stay_clear_of_the_other_contours() {
-        // The square's lead-in of radius 2 lies below its first side (waste outside). A
-        // second contour 1.5 below that side is in its way: the lead is halved to 1.
+        // The square's lead-in of radius 2 lies below the middle of its first side (waste
+        // outside). A second contour 1.5 below that side is in its way: halved to 1.
         let mut o = opts();
         o.levels = vec![0.0];
         o.lead = Lead::Arc(2.0);
@@ -638,7 +687,7 @@ mod tests {
         let square = square_path(10.0);
         let below = Path::polyline(&[DVec2::new(-5.0, -1.5), DVec2::new(15.0, -1.5)], false);
         let radius = |c: &Cut| match c.moves[1].kind {
-            MoveKind::Arc { center, .. } => center.distance(DVec2::ZERO),
+            MoveKind::Arc { center, .. } => center.distance(DVec2::new(5.0, 0.0)),
             _ => 0.0,
         };
         let alone = contour_cut(&square, &o, None).unwrap();
@@ -658,33 +707,48 @@ mod tests {
     #[test]
     fn arc_lead_in_is_tangent_and_on_the_waste_side() {
         let mut o = opts();
+        o.levels = vec![0.0];
         o.lead = Lead::Arc(2.0);
         o.waste_left = false;
-        // Counter-clockwise square: the right of travel is outside.
+        // Counter-clockwise square from its corner (0,0): the right of travel is outside.
+        // The corner is no place for tangent leads, so the cut starts at the middle of
+        // the first side, (5,0).
         let c = contour_cut(&square_path(10.0), &o, None).unwrap();
+        let mid = DVec2::new(5.0, 0.0);
         // Entry is outside the square (y < 0 below the first side).
         assert!(c.start.y < 0.0, "{:?}", c.start);
         match c.moves[1].kind {
             MoveKind::Arc { center, ccw } => {
-                assert!((center - DVec2::new(0.0, -2.0)).length() < 1e-12);
+                assert!((center - DVec2::new(5.0, -2.0)).length() < 1e-12);
                 // Tangent at the contour start is +x: the radius there is vertical.
-                assert!((c.moves[1].to.truncate() - DVec2::ZERO).length() < 1e-12);
+                assert!((c.moves[1].to.truncate() - mid).length() < 1e-12);
                 // A quarter turn that arrives along +x (not the long way round).
-                let a = Arc::from_center_points(center, c.start.truncate(), DVec2::ZERO, ccw);
+                let a = Arc::from_center_points(center, c.start.truncate(), mid, ccw);
                 assert!((a.sweep.abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
                 assert!((a.tangent(1.0) - DVec2::X).length() < 1e-12);
             }
             other => panic!("expected an arc lead-in, got {other:?}"),
         }
-        // A lead-out arc ends the cut, also outside, leaving along the last side's
-        // direction (−y at the square's start corner) with a quarter turn.
+        // The contour runs round once, from (5,0) back to (5,0): 40 long.
+        let contour: f64 = c.moves[2..c.moves.len() - 1]
+            .iter()
+            .scan(mid, |at, m| {
+                let d = at.distance(m.to.truncate());
+                *at = m.to.truncate();
+                Some(d)
+            })
+            .sum();
+        assert!((contour - 40.0).abs() < 1e-9, "{contour}");
+        // A lead-out arc ends the cut, also outside, leaving (5,0) along +x with a quarter
+        // turn on the lead-in's circle.
         let last = c.moves.last().unwrap();
         let MoveKind::Arc { center, ccw } = last.kind else {
             panic!("expected an arc lead-out, got {:?}", last.kind)
         };
         assert!(last.to.y < 0.0);
-        let a = Arc::from_center_points(center, DVec2::ZERO, last.to.truncate(), ccw);
+        assert!((center - DVec2::new(5.0, -2.0)).length() < 1e-12);
+        let a = Arc::from_center_points(center, mid, last.to.truncate(), ccw);
         assert!((a.sweep.abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
-        assert!((a.tangent(0.0) + DVec2::Y).length() < 1e-12);
+        assert!((a.tangent(0.0) - DVec2::X).length() < 1e-12);
     }
 }
