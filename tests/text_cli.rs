@@ -183,6 +183,35 @@ fn lettering_with_wide_channels_on_a_routed_backboard_builds_and_checks() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Lettering cut out around in two passes with arc leads. Sans "mmm" on marlin-laser: an
+/// outline started next to a 5 µm arc, which rounding to 1 µm turned 8°, and the last
+/// pass's lead-out crossed both passes there. Leads now start next to segments long enough
+/// for the rounding.
+#[test]
+fn lettering_cut_out_with_leads_builds_and_checks() {
+    let dir = tmp("cut-out-leads");
+    for (font, word) in [("sans", "mmm"), ("script", "Quiz")] {
+        let design = dir.join(format!("{word}.toml"));
+        let t = run(
+            &[
+                "text", word, "--font", font, "--height", "40", "--width", "4", "-o",
+            ],
+            &[&design],
+        );
+        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+        let mut text = std::fs::read_to_string(&design).unwrap();
+        text.push_str(
+            "\n[[operation]]\nkind = \"profile\"\nside = \"outside\"\ndepth = 3.0\n\
+             passes = 2\nlead_in = 2.0\n",
+        );
+        std::fs::write(&design, text).unwrap();
+        for machine in ["marlin-laser", "grbl-laser", "grbl-router"] {
+            build_and_check(&design, machine, &dir);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A fill of 4 mm lettering with the 1/4" bit of linuxcnc-router cuts nothing: the refusal
 /// names the operation and the reason instead of "add strokes" (the strokes are there).
 #[test]

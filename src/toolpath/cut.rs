@@ -294,32 +294,55 @@ fn grazes(lead: &PathSeg, touch: DVec2, path: &Path) -> bool {
 /// the path graze itself there.
 const SMOOTH_START_TURN: f64 = 1e-9;
 
-/// The closed `path` started at the middle of the longer of its first and last segments,
-/// when it starts at a corner (the sine of its turn there above [`SMOOTH_START_TURN`], or
-/// a turn back); None when its start is smooth or it is open. A lead-in tangent to the
-/// first segment and a lead-out tangent to the last, both on the waste side, cross each
-/// other's contour pass at a corner: the lead-in arrives from the waste and the contour
-/// leaves along t₀, the contour arrives along t₁ and the lead-out leaves to the waste, and
-/// unless t₀ = t₁ the two passes cross at the start at the angle between them (a flattened
-/// outline's vertex turned 10°). CAM tools start leads on a straight or smooth stretch for
-/// the same reason.
-fn smooth_start(path: &Path) -> Option<Path> {
+/// Largest rounding of a program's coordinates the start of a lead allows for, in design
+/// units: the fourth decimal of an inch program is 2.5 µm, a mm program rounds to 0.5 µm
+/// (a design in inches gets a larger margin than it needs).
+const START_ROUNDING: f64 = 2e-3;
+
+/// Shortest segment next to which a lead of radius (or length) `size` starts: √(2·size·q)
+/// for the rounding q = [`START_ROUNDING`]. Rounding turns a segment of length L by up to
+/// q/L, which moves its point at distance s from the start by q·s/L sideways, while a lead
+/// of radius R parts from the contour's tangent by s²/(2R): the two stay apart along the
+/// whole segment when L² ≥ 2Rq. (A 5 µm arc at the start of a letter's outline, rounded
+/// to 1 µm, turned 8° and crossed the lead-out of the last pass.)
+fn lead_start_segment(size: f64) -> f64 {
+    (2.0 * size * START_ROUNDING).sqrt()
+}
+
+/// The closed `path` started at the middle of a segment at least `min_len` long, when it
+/// starts at a corner (the sine of its turn there above [`SMOOTH_START_TURN`], or a turn
+/// back) or next to a shorter segment: the nearest such segment to the start, else the
+/// longest. None when the start is smooth between long segments, or the path is open. A
+/// lead-in tangent to the first segment and a lead-out tangent to the last, both on the
+/// waste side, cross each other's contour pass at a corner: the lead-in arrives from the
+/// waste and the contour leaves along t₀, the contour arrives along t₁ and the lead-out
+/// leaves to the waste, and unless t₀ = t₁ the two passes cross at the start at the angle
+/// between them (a flattened outline's vertex turned 10°). CAM tools start leads on a
+/// straight or smooth stretch for the same reason.
+fn smooth_start(path: &Path, min_len: f64) -> Option<Path> {
     let n = path.segs.len();
     if !path.closed || n < 2 {
         return None;
     }
-    let (first, last) = (&path.segs[0], &path.segs[n - 1]);
-    let (t0, t1) = (seg_tangent(first, 0.0), seg_tangent(last, 1.0));
-    if t0.perp_dot(t1).abs() <= SMOOTH_START_TURN && t0.dot(t1) > 0.0 {
+    let lens: Vec<f64> = path.segs.iter().map(|s| s.length(1e-9)).collect();
+    let (t0, t1) = (
+        seg_tangent(&path.segs[0], 0.0),
+        seg_tangent(&path.segs[n - 1], 1.0),
+    );
+    let smooth = t0.perp_dot(t1).abs() <= SMOOTH_START_TURN && t0.dot(t1) > 0.0;
+    if smooth && lens[0] >= min_len && lens[n - 1] >= min_len {
         return None;
     }
-    let (l0, l1) = (first.length(1e-9), last.length(1e-9));
-    // Split segment k at its middle: the path runs from there round to there.
-    let (k, len) = if l0 >= l1 { (0, l0) } else { (n - 1, l1) };
+    // The nearest segment long enough, forward and back from the start in turn.
+    let k = (0..n)
+        .flat_map(|d| [d, n - 1 - d])
+        .find(|&k| lens[k] >= min_len)
+        .or_else(|| (0..n).max_by(|&a, &b| lens[a].total_cmp(&lens[b])))?;
+    let (seg, len) = (&path.segs[k], lens[k]);
     if len <= 0.0 {
         return None;
     }
-    let seg = &path.segs[k];
+    // Split segment k at its middle: the path runs from there round to there.
     let mut segs = vec![sub_seg(seg, 0.5 * len, len, len)];
     segs.extend(path.segs[k + 1..].iter().cloned());
     segs.extend(path.segs[..k].iter().cloned());
@@ -347,15 +370,17 @@ pub fn contour_cut_leads(
     source: Option<String>,
 ) -> Option<(Cut, Vec<PathSeg>)> {
     let smooth;
-    let path = match opts.lead {
-        Lead::None => path,
-        _ => match smooth_start(path) {
-            Some(p) => {
-                smooth = p;
-                &smooth
-            }
-            None => path,
-        },
+    let lead_size = match opts.lead {
+        Lead::None => None,
+        Lead::Arc(r) => Some(r),
+        Lead::Line(l) => Some(l),
+    };
+    let path = match lead_size.and_then(|size| smooth_start(path, lead_start_segment(size))) {
+        Some(p) => {
+            smooth = p;
+            &smooth
+        }
+        None => path,
     };
     let start = path.start()?;
     let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
