@@ -4,8 +4,9 @@
 //! test crate uses only part of it.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::Once;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The crate's root folder.
@@ -24,8 +25,48 @@ pub const EXAMPLES: [&str; 9] = [
     "snake",
 ];
 
-/// A fresh, empty directory unique to this process and call.
+/// Prefixes of the temporary folders test processes make, each followed by the process id.
+const TEMP_PREFIXES: [&str; 3] = [
+    "skinpath-itest-",
+    "skinpath-hardening-",
+    "skinpath-sim-input-",
+];
+
+/// Removes, once per process, the temporary folders of test processes that have ended: a
+/// test binary cannot clean up when it exits, and the folders piled up by the thousand.
+/// A process is taken as ended when /proc has no entry for its id (Linux; elsewhere
+/// nothing is removed), so folders of tests running beside this one stay.
+fn sweep_ended_processes() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        if !Path::new("/proc/self").exists() {
+            return;
+        }
+        let Ok(entries) = std::fs::read_dir(std::env::temp_dir()) else {
+            return;
+        };
+        for e in entries.flatten() {
+            let name = e.file_name();
+            let name = name.to_string_lossy();
+            let pid = TEMP_PREFIXES
+                .iter()
+                .find_map(|p| name.strip_prefix(p))
+                .and_then(|rest| rest.split('-').next())
+                .and_then(|p| p.parse::<u32>().ok());
+            if let Some(pid) = pid
+                && pid != std::process::id()
+                && !Path::new(&format!("/proc/{pid}")).exists()
+            {
+                let _ = std::fs::remove_dir_all(e.path());
+            }
+        }
+    });
+}
+
+/// A fresh, empty directory unique to this process and call (the folders of ended test
+/// processes are removed first).
 pub fn tmpdir(tag: &str) -> PathBuf {
+    sweep_ended_processes();
     static N: AtomicUsize = AtomicUsize::new(0);
     let n = N.fetch_add(1, Ordering::SeqCst);
     let d = std::env::temp_dir().join(format!("skinpath-itest-{}-{tag}-{n}", std::process::id()));
