@@ -432,8 +432,11 @@ pub struct Operation {
     /// height > 0 and at most [`MAX_COORD`](super::MAX_COORD).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tabs: Option<Tabs>,
-    /// `lead_in`: length of an arc lead-in, design units, ≥ 0 and at most
-    /// [`MAX_COORD`](super::MAX_COORD); 0 or unset: no lead-in.
+    /// `lead_in`: radius of the quarter-circle lead-in (and lead-out, on the same circle)
+    /// on the waste side, design units, ≥ 0 and at most [`MAX_COORD`](super::MAX_COORD);
+    /// 0 or unset: no leads. Leads are halved where they would meet a contour, and start
+    /// on a smooth stretch of a closed contour (the middle of a segment when it starts at
+    /// a corner).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lead_in: Option<f64>,
     // profile
