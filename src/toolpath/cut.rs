@@ -195,21 +195,21 @@ fn leads_clear(
 ) -> bool {
     let tol = |s: &PathSeg| (s.length(1e-9) * 1e-3).max(1e-9);
     let flat_tol = leads.1.as_ref().map(tol).unwrap_or(1e-3);
-    let chords = |segs: &[PathSeg]| -> Vec<[DVec2; 2]> {
-        segs.iter()
-            .flat_map(|seg| {
-                let f = seg.flatten(flat_tol);
-                f.windows(2).map(|r| [r[0], r[1]]).collect::<Vec<_>>()
-            })
-            .collect()
-    };
-    let n = path.segs.len();
-    let ring = chords(&path.segs);
-    let inner = if n > 2 {
-        chords(&path.segs[1..n - 1])
-    } else {
-        Vec::new()
-    };
+    // The contour's chords, segment by segment; `inner` leaves out the chords of the first
+    // and last segments (those ending at the touch point).
+    let mut ring: Vec<[DVec2; 2]> = Vec::new();
+    let (mut first_end, mut last_start) = (0, 0);
+    for (k, seg) in path.segs.iter().enumerate() {
+        if k + 1 == path.segs.len() {
+            last_start = ring.len();
+        }
+        let f = seg.flatten(flat_tol);
+        ring.extend(f.windows(2).map(|r| [r[0], r[1]]));
+        if k == 0 {
+            first_end = ring.len();
+        }
+    }
+    let inner = ring.get(first_end..last_start).unwrap_or(&[]);
     // Only segments whose bounding box meets the lead's can meet it (closed boxes, so
     // touching counts); the exact predicate decides the rest. O(n + k·m) instead of O(n·m).
     let hits = |pts: &[DVec2], contour: &[[DVec2; 2]]| {
@@ -248,7 +248,7 @@ fn leads_clear(
         // The touch point itself is left out: the contour's first and last segments end
         // there, and the lead's end there is shared with them.
         let end = touch - (touch - far) * 1e-9;
-        !hits(&part(s, far, split), &ring) && !hits(&part(s, split, end), &inner)
+        !hits(&part(s, far, split), &ring) && !hits(&part(s, split, end), inner)
     };
     let lead_in_ok = leads
         .1
@@ -369,19 +369,13 @@ pub fn contour_cut_leads(
     opts: &CutOptions,
     source: Option<String>,
 ) -> Option<(Cut, Vec<PathSeg>)> {
-    let smooth;
     let lead_size = match opts.lead {
         Lead::None => None,
         Lead::Arc(r) => Some(r),
         Lead::Line(l) => Some(l),
     };
-    let path = match lead_size.and_then(|size| smooth_start(path, lead_start_segment(size))) {
-        Some(p) => {
-            smooth = p;
-            &smooth
-        }
-        None => path,
-    };
+    let smoothed = lead_size.and_then(|size| smooth_start(path, lead_start_segment(size)));
+    let path = smoothed.as_ref().unwrap_or(path);
     let start = path.start()?;
     let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
     if total <= 0.0 {
