@@ -129,6 +129,19 @@ fn build_clean(design: &str, machine: &str, extra: &[&str], what: &str) -> PathB
     out
 }
 
+/// [`build_clean`] of the design text `design`, written to a fresh temporary folder.
+fn build_clean_text(design: &str, machine: &str, what: &str) -> PathBuf {
+    let f = tmpdir("design").join("design.toml");
+    std::fs::write(&f, design).unwrap();
+    build_clean(f.to_str().unwrap(), machine, &[], what)
+}
+
+/// The cut length `check` reports for the program `out`.
+fn cut_length(out: &Path, machine: &str) -> f64 {
+    let (_, _, j) = check(out, machine);
+    j["stats"]["cut_length"].as_f64().unwrap_or(f64::NAN)
+}
+
 #[test]
 fn e_channel_builds_and_checks_clean_on_every_gcode_profile() {
     for m in GCODE_PROFILES {
@@ -157,18 +170,12 @@ fn laser_passes_build_and_check_clean_on_every_laser_profile() {
     for m in ["grbl-laser", "marlin-laser", "smoothie-laser", "svg-laser"] {
         let out = build_clean(&data("laser_passes"), m, &[], "two laser passes");
         if ext(m) == "gcode" {
-            let (_, _, j) = check(&out, m);
+            let two = cut_length(&out, m);
             // The same design in one pass: half the cut length.
-            let single = tmpdir("p1").join("one_pass.toml");
             let design = std::fs::read_to_string(data("laser_passes")).unwrap();
-            std::fs::write(&single, design.replace("passes = 2", "passes = 1")).unwrap();
-            let one = build_clean(single.to_str().unwrap(), m, &[], "one pass");
-            let (_, _, k) = check(&one, m);
-            let cut = |j: &Json| j["stats"]["cut_length"].as_f64().unwrap_or(f64::NAN);
-            assert!(
-                (cut(&j) - 2.0 * cut(&k)).abs() < 1e-6 * cut(&k),
-                "{m}: {j} vs {k}"
-            );
+            let one_pass = design.replace("passes = 2", "passes = 1");
+            let one = cut_length(&build_clean_text(&one_pass, m, "one pass"), m);
+            assert!((two - 2.0 * one).abs() < 1e-6 * one, "{m}: {two} vs {one}");
         }
     }
 }
@@ -182,23 +189,17 @@ fn arc_leads_on_a_closed_contour_build_and_check() {
     let design = std::fs::read_to_string(data("laser_passes"))
         .unwrap()
         .replace("passes = 2", "depth = 2.0");
-    let d = tmpdir("leads");
-    let cut_length = |design: &str, m: &str, name: &str| {
-        let f = d.join(format!("{name}.toml"));
-        std::fs::write(&f, design).unwrap();
-        let out = build_clean(f.to_str().unwrap(), m, &[], name);
-        let (_, _, j) = check(&out, m);
-        j["stats"]["cut_length"].as_f64().unwrap_or(f64::NAN)
-    };
+    let built_cut =
+        |design: &str, m: &str, what: &str| cut_length(&build_clean_text(design, m, what), m);
     for m in [
         "grbl-laser",
         "marlin-laser",
         "smoothie-laser",
         "grbl-router",
     ] {
-        let plain = cut_length(&design, m, "plain");
+        let plain = built_cut(&design, m, "plain");
         for r in [0.5, 1.0, 2.0] {
-            let led = cut_length(&format!("{design}lead_in = {r}\n"), m, "led");
+            let led = built_cut(&format!("{design}lead_in = {r}\n"), m, "led");
             let extra = PI * r;
             assert!(
                 (led - plain - extra).abs() < 1e-2,
@@ -219,16 +220,13 @@ fn leads_on_outlines_starting_at_a_corner_build_and_check() {
         .unwrap()
         .replace("power = 80", "power = 80\nlead_in = 2.0");
     assert!(design.contains("lead_in = 2.0"));
-    let d = tmpdir("corner-leads");
-    let f = d.join("starter_leads.toml");
-    std::fs::write(&f, design).unwrap();
     for m in [
         "grbl-laser",
         "marlin-laser",
         "grbl-router",
         "linuxcnc-router",
     ] {
-        build_clean(f.to_str().unwrap(), m, &[], "starter with leads");
+        build_clean_text(&design, m, "starter with leads");
     }
 }
 

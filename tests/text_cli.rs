@@ -114,17 +114,12 @@ fn words_with_channels_build_and_check_on_routers() {
         ("mmm", "sans", "linuxcnc-router"),
         ("LOVE", "sans", "linuxcnc-router"),
     ] {
-        let design = dir.join(format!("{font}-{word}.toml"));
-        let t = run(
-            &["text", word, "--font", font, "--height", "60", "-o"],
-            &[&design],
-        );
-        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-        let mut text = std::fs::read_to_string(&design).unwrap();
-        text.push_str(
+        let design = word_design(
+            &dir,
+            &format!("{font}-{word}"),
+            &[word, "--font", font, "--height", "60"],
             "\n[[operation]]\nkind = \"channel\"\nwidth = 8.5\ndepth = 12.0\nstep_down = 3.0\n",
         );
-        std::fs::write(&design, text).unwrap();
         build_and_check(&design, machine, &dir);
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -138,33 +133,43 @@ fn words_with_channels_build_and_check_on_routers() {
 fn lettering_on_a_laser_backboard_builds_and_checks() {
     let dir = tmp("board");
     for word in ["Hello", "mmm"] {
-        let design = word_on_a_board(&dir, word, &[], 5.0);
+        let design = word_design(
+            &dir,
+            word,
+            &[word, "--height", "80"],
+            &board_operations(5.0),
+        );
         build_and_check(&design, "grbl-laser", &dir);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `skinpath text WORD --height 80 TEXT_ARGS` in `dir`, with a channel of `width` along the
-/// strokes (10 deep in two passes) and a backboard (margin 12, 15 deep in three passes, four
-/// tabs, lead-in radius 3).
-fn word_on_a_board(dir: &Path, word: &str, text_args: &[&str], width: f64) -> PathBuf {
-    let design = dir.join(format!("{word}.toml"));
-    let mut args = vec!["text", word, "--height", "80"];
+/// `skinpath text TEXT_ARGS -o DIR/NAME.toml`, with `operations` (TOML) appended: the
+/// design's path.
+fn word_design(dir: &Path, name: &str, text_args: &[&str], operations: &str) -> PathBuf {
+    let design = dir.join(format!("{name}.toml"));
+    let mut args = vec!["text"];
     args.extend_from_slice(text_args);
     args.push("-o");
     let t = run(&args, &[&design]);
     assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
     let mut text = std::fs::read_to_string(&design).unwrap();
-    text.push_str(&format!(
-        "\n[[operation]]\nkind = \"channel\"\nwidth = {width:?}\ndepth = 10.0\nstep_down = 5.0\n\
-         \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
-         tabs = {{ count = 4, width = 6.0, height = 2.0 }}\nlead_in = 3.0\n",
-    ));
+    text.push_str(operations);
     std::fs::write(&design, text).unwrap();
     design
 }
 
-/// Words with wide channels on a routed backboard. Script "Hello", "Quiz" and "coffee":
+/// A channel of `width` along the strokes (10 deep in two passes) and a backboard (margin
+/// 12, 15 deep in three passes, four tabs, lead-in radius 3).
+fn board_operations(width: f64) -> String {
+    format!(
+        "\n[[operation]]\nkind = \"channel\"\nwidth = {width:?}\ndepth = 10.0\nstep_down = 5.0\n\
+         \n[[operation]]\nkind = \"backboard\"\nmargin = 12.0\ndepth = 15.0\npasses = 3\n\
+         tabs = {{ count = 4, width = 6.0, height = 2.0 }}\nlead_in = 3.0\n",
+    )
+}
+
+/// Words with wide channels on a routed backboard. Script "Hello" and "Quiz" (and "coffee"):
 /// the channels' clearing rings cut across letters' counters with single chords (rings
 /// must now keep apart from the channel's walls) and crossed the board's holes. Sans "mmm"
 /// on linuxcnc-router (inches): the board's lead-out, tangent at the contour's start,
@@ -177,7 +182,12 @@ fn lettering_with_wide_channels_on_a_routed_backboard_builds_and_checks() {
         ("script", "Hello", "grbl-router"),
         ("script", "Quiz", "grbl-router"),
     ] {
-        let design = word_on_a_board(&dir, word, &["--font", font, "--width", "4"], 10.0);
+        let design = word_design(
+            &dir,
+            word,
+            &[word, "--font", font, "--height", "80", "--width", "4"],
+            &board_operations(10.0),
+        );
         build_and_check(&design, machine, &dir);
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -191,20 +201,13 @@ fn lettering_with_wide_channels_on_a_routed_backboard_builds_and_checks() {
 fn lettering_cut_out_with_leads_builds_and_checks() {
     let dir = tmp("cut-out-leads");
     for (font, word) in [("sans", "mmm"), ("script", "Quiz")] {
-        let design = dir.join(format!("{word}.toml"));
-        let t = run(
-            &[
-                "text", word, "--font", font, "--height", "40", "--width", "4", "-o",
-            ],
-            &[&design],
-        );
-        assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-        let mut text = std::fs::read_to_string(&design).unwrap();
-        text.push_str(
+        let design = word_design(
+            &dir,
+            word,
+            &[word, "--font", font, "--height", "40", "--width", "4"],
             "\n[[operation]]\nkind = \"profile\"\nside = \"outside\"\ndepth = 3.0\n\
              passes = 2\nlead_in = 2.0\n",
         );
-        std::fs::write(&design, text).unwrap();
         for machine in ["marlin-laser", "grbl-laser", "grbl-router"] {
             build_and_check(&design, machine, &dir);
         }
@@ -217,12 +220,12 @@ fn lettering_cut_out_with_leads_builds_and_checks() {
 #[test]
 fn a_fill_narrower_than_the_tool_is_named() {
     let dir = tmp("fill");
-    let design = dir.join("hello.toml");
-    let t = run(&["text", "Hello", "--height", "30", "-o"], &[&design]);
-    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-    let mut text = std::fs::read_to_string(&design).unwrap();
-    text.push_str("\n[[operation]]\nkind = \"fill\"\ndepth = 2.0\nspacing = 1.5\n");
-    std::fs::write(&design, text).unwrap();
+    let design = word_design(
+        &dir,
+        "hello",
+        &["Hello", "--height", "30"],
+        "\n[[operation]]\nkind = \"fill\"\ndepth = 2.0\nspacing = 1.5\n",
+    );
     let out = dir.join("out.gcode");
     let b = Command::new(bin())
         .arg("build")
