@@ -243,7 +243,6 @@ struct ContactRec {
     proper: bool,
     contour: [u32; 2],
     line: [u64; 2],
-    group: [Option<u32>; 2],
     /// Height of the first segment's contour.
     z: f64,
 }
@@ -257,7 +256,6 @@ impl ContactRec {
             proper: c.proper,
             contour: [s.contour, t.contour],
             line: [s.line, t.line],
-            group: [s.group, t.group],
             z: s.z,
         }
     }
@@ -623,9 +621,6 @@ impl<'d> Checker<'d> {
             if !same && (!c.proper || self.cfg.allow_crossings) {
                 continue;
             }
-            if !same && c.group[0].is_some() && c.group[0] == c.group[1] {
-                continue;
-            }
             let (l1, l2) = (c.line[0] as usize, c.line[1] as usize);
             let key = (same, l1.min(l2), l1.max(l2));
             if !seen.insert(key) {
@@ -726,6 +721,7 @@ fn load_tile_at(
             contour: r.contour,
             index: r.index,
             source: 0,
+            pocket: r.group,
         })
         .collect();
     let links = recs.iter().map(|r| r.link).collect();

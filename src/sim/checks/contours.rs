@@ -145,7 +145,7 @@ pub fn intersection_findings(
     );
     set.contours.reserve(contours.len());
     for c in contours {
-        set.push_polyline(&c.points, &c.sources);
+        set.push_polyline_in(&c.points, &c.sources, c.group);
     }
     let mut seen = std::collections::BTreeSet::new();
     let mut out = Vec::new();
@@ -161,18 +161,6 @@ pub fn intersection_findings(
         let same = s.contour == t.contour;
         if !same && (!c.proper || cfg.allow_crossings) {
             continue;
-        }
-        if !same {
-            let (a, b) = (
-                contours.get(s.contour as usize),
-                contours.get(t.contour as usize),
-            );
-            if let (Some(a), Some(b)) = (a, b)
-                && a.group.is_some()
-                && a.group == b.group
-            {
-                continue;
-            }
         }
         let (l1, l2) = (line_of(s.source), line_of(t.source));
         let key = (same, l1.min(l2), l1.max(l2));

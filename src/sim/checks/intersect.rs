@@ -45,7 +45,12 @@ struct Chain {
     rev: bool,
     lo: DVec2,
     hi: DVec2,
+    /// Index of its first block in the y ranges of [`SegmentSet::proven_apart`].
+    block: u32,
 }
+
+/// Segments per block of a chain in [`SegmentSet::chains_apart`].
+const CHAIN_BLOCK: usize = 8;
 
 /// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it,
 /// `source` is the caller's tag (a motion index).
@@ -61,6 +66,8 @@ pub struct Seg {
     pub index: u32,
     /// The caller's tag (a motion index).
     pub source: u32,
+    /// The pocket its contour clears with others (see [`SegmentSet::push_polyline_in`]).
+    pub pocket: Option<u32>,
 }
 
 /// Which contacts between segments of two different contours [`SegmentSet::test_pair`]
@@ -181,6 +188,19 @@ impl SegmentSet {
     /// Adds a polyline; `sources[k]` tags the segment from `points[k]` to `points[k+1]`.
     /// Repeated points are skipped. Returns the contour number.
     pub fn push_polyline(&mut self, points: &[DVec2], sources: &[u32]) -> u32 {
+        self.push_polyline_in(points, sources, None)
+    }
+
+    /// [`SegmentSet::push_polyline`] for a contour that clears `pocket` together with the
+    /// other contours of that pocket: contacts between two contours of one pocket never
+    /// count, whatever [`SegmentSet::across`] says (they may cross: rings and a deeper wire
+    /// hole of one channel).
+    pub fn push_polyline_in(
+        &mut self,
+        points: &[DVec2],
+        sources: &[u32],
+        pocket: Option<u32>,
+    ) -> u32 {
         let contour = self.contours.len() as u32;
         let mut count = 0u32;
         let mut first: Option<DVec2> = None;
@@ -195,6 +215,7 @@ impl SegmentSet {
                         contour,
                         index: count,
                         source,
+                        pocket,
                     });
                     count += 1;
                     prev = Some(p);
@@ -386,7 +407,7 @@ impl SegmentSet {
 
     fn grid_contacts(&self) -> Vec<Contact> {
         let n = self.segs.len();
-        if n < 2 || self.proven_apart() {
+        if n < 2 || self.proven_apart_with_copies() {
             return Vec::new();
         }
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
@@ -400,6 +421,109 @@ impl SegmentSet {
             Some(g) => self.cell_contacts(&g, 0..u64::MAX),
             None => self.brute_force_contacts(),
         }
+    }
+
+    /// [`SegmentSet::proven_apart`] on the set with every contour that repeats an earlier
+    /// one left out, when contacts between contours are [`Across::Crossings`] or
+    /// [`Across::Never`]; on the whole set otherwise.
+    ///
+    /// The passes of a multi-depth cut repeat one contour bit for bit; they lie on one
+    /// another, so the sweep over the whole set would spend its budget on pairs of copies
+    /// and leave the decision to the grid. Leaving the copies out decides the same: with
+    /// D a copy of A (same segments, same closedness), a pair of D and another contour C
+    /// meets as the same pair of A and C does (same points, and the tests within one
+    /// contour see the same neighbours); D meets itself where A does; and a segment of D
+    /// crosses one of A properly only where the two segments of A cross properly (equal
+    /// or consecutive segments share points, they never cross), so a crossing between the
+    /// copies is a crossing of A with itself. Touches between contours, which copies have
+    /// everywhere, do not count under these two modes.
+    fn proven_apart_with_copies(&self) -> bool {
+        if self.across == Across::All || self.links.is_some() {
+            return self.proven_apart();
+        }
+        match self.without_copies() {
+            Some(reps) => reps.proven_apart(),
+            None => self.proven_apart(),
+        }
+    }
+
+    /// The set without the contours that repeat an earlier one (same number of segments,
+    /// same closedness, same pocket, every end point equal bit for bit), contours renumbered in order;
+    /// None when no contour repeats another. Contours are grouped by a hash of their
+    /// points first, then compared in full: O(n log n) for n segments.
+    fn without_copies(&self) -> Option<SegmentSet> {
+        let mut starts = Vec::with_capacity(self.contours.len());
+        let mut at = 0usize;
+        for &(n, _) in &self.contours {
+            starts.push(at);
+            at += n as usize;
+        }
+        if at != self.segs.len() {
+            return None;
+        }
+        let span = |c: usize| &self.segs[starts[c]..starts[c] + self.contours[c].0 as usize];
+        let bits = |s: &Seg| {
+            let p = s.pocket.map_or(0, |p| u64::from(p) + 1);
+            [s.a.x, s.a.y, s.b.x, s.b.y]
+                .map(f64::to_bits)
+                .into_iter()
+                .chain([p])
+        };
+        let hash = |c: usize| {
+            // FNV-1a over the coordinates' bits.
+            let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+            for s in span(c) {
+                for w in bits(s) {
+                    h = (h ^ w).wrapping_mul(0x0000_0100_0000_01b3);
+                }
+            }
+            h
+        };
+        let mut order: Vec<(u64, (u32, bool), usize)> = (0..self.contours.len())
+            .map(|c| (hash(c), self.contours[c], c))
+            .collect();
+        order.sort_unstable_by_key(|&(h, (n, closed), c)| (h, n, closed, c));
+        let same = |c: usize, d: usize| {
+            span(c)
+                .iter()
+                .zip(span(d))
+                .all(|(s, t)| bits(s).eq(bits(t)))
+        };
+        let mut copy = vec![false; self.contours.len()];
+        let mut g = 0;
+        while g < order.len() {
+            let mut e = g + 1;
+            while e < order.len() && (order[e].0, order[e].1) == (order[g].0, order[g].1) {
+                e += 1;
+            }
+            // Within a run of equal hashes, each contour is a copy when it equals an
+            // earlier contour of the run that is not a copy itself.
+            for x in g + 1..e {
+                let c = order[x].2;
+                copy[c] = order[g..x].iter().any(|&(_, _, d)| !copy[d] && same(d, c));
+            }
+            g = e;
+        }
+        if !copy.contains(&true) {
+            return None;
+        }
+        let mut out = SegmentSet {
+            across: self.across,
+            tangent_slack: self.tangent_slack,
+            ..SegmentSet::default()
+        };
+        for (c, &(n, closed)) in self.contours.iter().enumerate() {
+            if copy[c] {
+                continue;
+            }
+            let number = out.contours.len() as u32;
+            out.segs.extend(span(c).iter().map(|s| Seg {
+                contour: number,
+                ..*s
+            }));
+            out.contours.push((n, closed));
+        }
+        Some(out)
     }
 
     /// True when no two segments meet ([`SegmentSet::test_pair`] gives None for every
@@ -427,6 +551,7 @@ impl SegmentSet {
         };
         let dir = |s: &Seg| (s.b.x - s.a.x).partial_cmp(&0.0);
         let mut chains: Vec<Chain> = Vec::new();
+        let mut blocks: Vec<(f64, f64)> = Vec::with_capacity(n / CHAIN_BLOCK + 1);
         let mut k = 0;
         while k < n {
             let s = &self.segs[k];
@@ -447,20 +572,28 @@ impl SegmentSet {
                     e += 1;
                 }
             }
-            let (mut lo, mut hi) = (s.a.min(s.b), s.a.max(s.b));
-            for t in &self.segs[k + 1..e] {
-                if !t.b.is_finite() {
-                    return false;
-                }
-                lo = lo.min(t.b);
-                hi = hi.max(t.b);
+            if self.segs[k + 1..e].iter().any(|t| !t.b.is_finite()) {
+                return false;
             }
+            let block = blocks.len() as u32;
+            for run in self.segs[k..e].chunks(CHAIN_BLOCK) {
+                let (lo, hi) = run
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
+                        (lo.min(t.a.y).min(t.b.y), hi.max(t.a.y).max(t.b.y))
+                    });
+                blocks.push((lo, hi));
+            }
+            let (lo, hi) = (s.a.min(s.b), s.a.max(s.b));
+            let last = &self.segs[e - 1];
+            let ys = &blocks[block as usize..];
             chains.push(Chain {
                 start: k as u32,
                 end: e as u32,
                 rev: d == Some(std::cmp::Ordering::Less),
-                lo,
-                hi,
+                lo: DVec2::new(lo.x.min(last.b.x), ys.iter().fold(lo.y, |m, y| m.min(y.0))),
+                hi: DVec2::new(hi.x.max(last.b.x), ys.iter().fold(hi.y, |m, y| m.max(y.1))),
+                block,
             });
             k = e;
         }
@@ -473,7 +606,10 @@ impl SegmentSet {
             }
             for &a in &active {
                 let o = &chains[a];
-                if o.hi.y >= ch.lo.y && ch.hi.y >= o.lo.y && !self.chains_apart(o, ch, &mut spend) {
+                if o.hi.y >= ch.lo.y
+                    && ch.hi.y >= o.lo.y
+                    && !self.chains_apart(o, ch, &blocks, &mut spend)
+                {
                     return false;
                 }
             }
@@ -484,36 +620,90 @@ impl SegmentSet {
 
     /// True when no segment of chain `a` meets one of chain `b` (see
     /// [`SegmentSet::proven_apart`]); false when a pair meets or the budget runs out.
-    fn chains_apart(&self, a: &Chain, b: &Chain, spend: &mut impl FnMut(usize) -> bool) -> bool {
-        let xs = |c: &Chain, i: usize| {
-            let k = if c.rev {
-                c.end as usize - 1 - i
-            } else {
-                c.start as usize + i
-            };
-            let s = &self.segs[k];
-            (k, s.a.x.min(s.b.x), s.a.x.max(s.b.x))
+    /// `ys` holds the y range of every block of [`CHAIN_BLOCK`] consecutive segments of
+    /// each chain (a chain's blocks from [`Chain::block`] on, in storage order).
+    ///
+    /// The blocks of a chain, in x order, have increasing x ranges (the end points of a
+    /// block bound its x range, and consecutive blocks share an end), so the blocks of one
+    /// chain that overlap an x interval are a run found by binary search. Each block of the
+    /// shorter chain within the other's box is compared with the run of the longer
+    /// chain's blocks overlapping its x range; only blocks whose boxes overlap test their
+    /// segment pairs. Nested contours (a board outline around letters, concentric clearing
+    /// rings) have chains whose boxes overlap over their whole length while the chains stay
+    /// apart in y; their blocks do not meet. O(k log m + pairs of blocks that meet) for
+    /// chains of k ≤ m blocks.
+    fn chains_apart(
+        &self,
+        a: &Chain,
+        b: &Chain,
+        ys: &[(f64, f64)],
+        spend: &mut impl FnMut(usize) -> bool,
+    ) -> bool {
+        let (short, long) = if a.end - a.start <= b.end - b.start {
+            (a, b)
+        } else {
+            (b, a)
         };
-        let (na, nb) = ((a.end - a.start) as usize, (b.end - b.start) as usize);
-        let mut j0 = 0;
-        for i in 0..na {
-            let (ka, lo, hi) = xs(a, i);
-            while j0 < nb && xs(b, j0).2 < lo {
-                j0 += 1;
+        let count = |c: &Chain| (c.end - c.start) as usize;
+        let blocks = |c: &Chain| count(c).div_ceil(CHAIN_BLOCK);
+        // Block i of chain c in storage order: its segment range and its box.
+        let block = |c: &Chain, i: usize| {
+            let s0 = c.start as usize + i * CHAIN_BLOCK;
+            let s1 = (s0 + CHAIN_BLOCK).min(c.end as usize);
+            let (x0, x1) = (self.segs[s0].a.x, self.segs[s1 - 1].b.x);
+            let (y0, y1) = ys[c.block as usize + i];
+            (
+                s0..s1,
+                DVec2::new(x0.min(x1), y0),
+                DVec2::new(x0.max(x1), y1),
+            )
+        };
+        // Block i of chain c in x order.
+        let in_x_order = |c: &Chain, i: usize| {
+            if c.rev {
+                block(c, blocks(c) - 1 - i)
+            } else {
+                block(c, i)
             }
-            let mut j = j0;
-            while j < nb {
-                let (kb, blo, _) = xs(b, j);
-                if blo > hi {
+        };
+        let nl = blocks(long);
+        for i in 0..blocks(short) {
+            let (run, lo, hi) = block(short, i);
+            if lo.cmpgt(long.hi).any() || hi.cmplt(long.lo).any() {
+                continue;
+            }
+            if !spend(1) {
+                return false;
+            }
+            // First block of the long chain (in x order) whose x range reaches lo.x.
+            let (mut j, mut top) = (0usize, nl);
+            while j < top {
+                let mid = (j + top) / 2;
+                if in_x_order(long, mid).2.x < lo.x {
+                    j = mid + 1;
+                } else {
+                    top = mid;
+                }
+            }
+            while j < nl {
+                let (other, olo, ohi) = in_x_order(long, j);
+                if olo.x > hi.x {
                     break;
                 }
-                if !spend(1) || self.test_pair(ka, kb).is_some() {
-                    return false;
-                }
                 j += 1;
+                if olo.y > hi.y || ohi.y < lo.y {
+                    continue;
+                }
+                for ka in run.clone() {
+                    for kb in other.clone() {
+                        if !spend(1) || self.test_pair(ka, kb).is_some() {
+                            return false;
+                        }
+                    }
+                }
             }
         }
-        spend(na + nb)
+        true
     }
 
     /// A tile of a larger set: `segs` with their neighbours `links` (same length), in the
@@ -696,7 +886,8 @@ impl SegmentSet {
             return None;
         }
         let across = s.contour != t.contour;
-        if across && self.across == Across::Never || self.adjacent(i, j, s, t) {
+        let one_pocket = s.pocket.is_some() && s.pocket == t.pocket;
+        if across && (self.across == Across::Never || one_pocket) || self.adjacent(i, j, s, t) {
             return None;
         }
         let (i, j) = (i.min(j), i.max(j));

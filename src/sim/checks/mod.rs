@@ -314,8 +314,121 @@ mod tests {
         assert!(s.contacts().is_empty());
     }
 
+    /// Concentric rings (a channel's clearing rings, 2,000 chords each) inside a board
+    /// outline, every contour cut in three passes: the chains' boxes overlap over their whole
+    /// length, yet nothing meets; the grid and every pair agree. Then a ring nudged onto its
+    /// neighbour is caught, in one pass of it or in all.
+    #[test]
+    fn nested_rings_in_passes_are_apart_and_a_touch_is_found() {
+        let ring = |r: f64, n: usize| -> Vec<DVec2> {
+            (0..=n)
+                .map(|k| DVec2::from_angle(k as f64 * std::f64::consts::TAU / n as f64) * r)
+                .collect()
+        };
+        let board = vec![
+            DVec2::new(-20.0, -12.0),
+            DVec2::new(20.0, -12.0),
+            DVec2::new(20.0, 12.0),
+            DVec2::new(-20.0, 12.0),
+            DVec2::new(-20.0, -12.0),
+        ];
+        let build = |rings: &[Vec<DVec2>], passes: usize| {
+            let mut s = SegmentSet::new();
+            s.across = Across::Crossings;
+            for p in rings.iter().chain([&board]) {
+                for _ in 0..passes {
+                    s.push_polyline(p, &[]);
+                }
+            }
+            s
+        };
+        let rings: Vec<Vec<DVec2>> = (1..=4).map(|k| ring(2.0 * k as f64, 500)).collect();
+        for passes in [1, 3] {
+            let s = build(&rings, passes);
+            assert!(s.contacts().is_empty());
+            assert!(s.brute_force().is_empty());
+        }
+        // The third ring bulges across the second at one chord.
+        let mut bent = rings.clone();
+        bent[2][100] = bent[1][100] * 0.9;
+        for passes in [1, 3] {
+            let s = build(&bent, passes);
+            let (grid, all) = (s.contacts(), s.brute_force());
+            assert!(!grid.is_empty());
+            assert_eq!(grid.len(), all.len(), "{passes} passes");
+        }
+    }
+
+    /// Contours of one pocket may cross one another; contours of two pockets, or a pocket
+    /// and a contour outside any, may not. A contour never may cross itself.
+    #[test]
+    fn contours_of_one_pocket_may_cross() {
+        let x = [DVec2::new(0.0, 0.0), DVec2::new(10.0, 10.0)];
+        let y = [DVec2::new(0.0, 10.0), DVec2::new(10.0, 0.0)];
+        for (p, q, crossing) in [
+            (Some(1), Some(1), false),
+            (Some(1), Some(2), true),
+            (Some(1), None, true),
+            (None, None, true),
+        ] {
+            let mut s = SegmentSet::new();
+            s.across = Across::Crossings;
+            s.push_polyline_in(&x, &[], p);
+            s.push_polyline_in(&y, &[], q);
+            assert_eq!(s.contacts().len(), usize::from(crossing), "{p:?} {q:?}");
+        }
+        let mut s = SegmentSet::new();
+        s.across = Across::Crossings;
+        let bow = [x[0], x[1], y[0], y[1]];
+        s.push_polyline_in(&bow, &[], Some(1));
+        s.push_polyline_in(&bow, &[], Some(1));
+        assert_eq!(s.contacts().len(), 2, "each copy crosses itself once");
+        // A second pass of a pocket's contour cut outside the pocket is no copy of it: a
+        // contour of the pocket crossing both crosses the second.
+        let mut s = SegmentSet::new();
+        s.across = Across::Crossings;
+        s.push_polyline_in(&x, &[], Some(1));
+        s.push_polyline_in(&x, &[], None);
+        s.push_polyline_in(&y, &[], Some(1));
+        let c = s.contacts();
+        assert_eq!(c.len(), 1, "{c:?}");
+        assert_eq!((s.segs[c[0].i].contour, s.segs[c[0].j].contour), (1, 2));
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Small polygons on a coarse integer grid (many shared vertices, collinear
+        /// overlaps and touches), some repeated as further passes, some in pockets: the
+        /// sweep with copies left out, the grid and the test of every pair find contacts
+        /// alike.
+        #[test]
+        fn copies_and_pockets_change_nothing_found(
+            polys in proptest::collection::vec(
+                (proptest::collection::vec((0i32..6, 0i32..6), 3..7), 1usize..4, 0u32..3),
+                1..6,
+            ),
+            across in 0usize..2,
+        ) {
+            let mut s = SegmentSet::new();
+            s.across = [Across::Crossings, Across::Never][across];
+            for (pts, passes, pocket) in &polys {
+                let mut p: Vec<DVec2> =
+                    pts.iter().map(|&(x, y)| DVec2::new(x as f64, y as f64)).collect();
+                p.push(p[0]);
+                for _ in 0..*passes {
+                    s.push_polyline_in(&p, &[], (*pocket > 0).then_some(*pocket));
+                }
+            }
+            let folds = s.contacts().iter().filter(|c| {
+                let (a, b) = (&s.segs[c.i], &s.segs[c.j]);
+                a.contour == b.contour && b.index == a.index + 1
+                    || a.contour == b.contour && a.index == 0 && b.index + 1 == s.contours[b.contour as usize].0
+            }).count();
+            let grid = s.contacts().len() - folds;
+            let all = s.brute_force();
+            prop_assert_eq!(grid == 0, all.is_empty(), "grid {} all {}", grid, all.len());
+        }
 
         #[test]
         fn star_polygons_are_simple(
