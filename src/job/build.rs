@@ -144,11 +144,17 @@ impl Ctx<'_> {
         }
     }
 
-    fn region(&self, items: &[usize]) -> Region {
-        let regions: Vec<Region> = items
-            .iter()
+    /// The region of each item's outline (arcs fitted within the build tolerance), made in
+    /// parallel and kept in order.
+    fn item_regions(&self, items: &[usize]) -> Vec<Region> {
+        items
+            .par_iter()
             .map(|&i| Region::from_paths(&self.outlines[i].contours, self.tol))
-            .collect();
+            .collect()
+    }
+
+    fn region(&self, items: &[usize]) -> Region {
+        let regions = self.item_regions(items);
         if regions.len() == 1 {
             regions.into_iter().next().unwrap_or_default()
         } else {
@@ -384,10 +390,7 @@ fn union_paths_with_sources(
     items: &[usize],
     f: impl Fn(&Region) -> Vec<Path>,
 ) -> (Vec<Path>, Vec<String>) {
-    let regions: Vec<Region> = items
-        .iter()
-        .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
-        .collect();
+    let regions = ctx.item_regions(items);
     let union = if regions.len() == 1 {
         regions[0].clone()
     } else {
@@ -463,18 +466,21 @@ fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
 /// (the strokes a backboard carries), as polygons ([`channel_polygon`]): the board tests
 /// their vertices and unions them with its outlines, which flattens them anyway.
 fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
-    let mut out = Vec::new();
+    let mut spines = Vec::new();
     for op in &ctx.design.operation {
         let (OperationKind::Channel, Some(width)) = (op.kind, op.width) else {
             continue;
         };
         for i in ctx.selected(op).into_iter().filter(|i| items.contains(i)) {
             if let Some(c) = spine_of(ctx, i) {
-                out.push(channel_polygon(ctx, c, width).1);
+                spines.push((c, width));
             }
         }
     }
-    out
+    spines
+        .par_iter()
+        .map(|&(c, width)| channel_polygon(ctx, c, width).1)
+        .collect()
 }
 
 /// A channel of `width` along a stroke's spine: the spine as lines and arcs, and the region
@@ -586,10 +592,7 @@ fn operation_specs(
             let paths = ctx.routed(index, op, &name, &items, general, |its| {
                 re_profile(its, side, r, ctx.tol)
             })?;
-            let own: Vec<Region> = items
-                .iter()
-                .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
-                .collect();
+            let own = ctx.item_regions(&items);
             let sources = attribute(ctx, &items, &own, &paths);
             let mut s = spec(
                 ctx,
@@ -686,16 +689,15 @@ fn operation_specs(
         OperationKind::Backboard => {
             let tool = ctx.tool(&mill);
             let r = ctx.radius(tool);
-            let mut regions: Vec<Region> = items
-                .iter()
-                .map(|&i| Region::from_paths(&ctx.outlines[i].contours, ctx.tol))
-                .collect();
+            let mut regions = ctx.item_regions(&items);
             let margin = op.margin.unwrap_or(BACKBOARD_MARGIN_MM * ctx.per_mm);
             let rho = op.min_inner_radius.unwrap_or(r);
             // The board carries every channel cut into it: a channel wider than its stroke
             // by more than the margin would otherwise be cut through by the board's own cut.
-            let channels = channel_regions(ctx, &items);
-            let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
+            let (channels, board) = rayon::join(
+                || channel_regions(ctx, &items),
+                || ops::backboard(&regions, margin, rho, ctx.tol, eps),
+            );
             let channel_outside = !board.contains_samples_of(&channels);
             let board = if channel_outside {
                 regions.extend(channels);
