@@ -1,6 +1,8 @@
 //! Benchmarks of the simulation backend:
 //! - the contour-contact check (hash grid + exact predicates) on 10k, 100k and 1M segments,
 //!   against geo's sweep-line `Intersections` and a naive O(n²) all-pairs baseline;
+//! - the same on a multi-pass job (nested rings in a board, 6 passes of each contour):
+//!   the chain sweep without the repeated passes against the grid alone;
 //! - interpretation throughput (MB/s) against the gcode crate's parser.
 //!
 //! Input: a square grid of closed circles (flattened to 1000-gons), the shape of a nesting
@@ -41,6 +43,57 @@ fn segment_set(polys: &[Vec<DVec2>]) -> SegmentSet {
     s
 }
 
+/// 40 letters, each 4 concentric rings of 250 chords, inside a rectangular board, every
+/// contour repeated `passes` times; contacts between contours are crossings only, as in
+/// the intersection check.
+fn multi_pass_rings(passes: usize) -> SegmentSet {
+    let mut s = SegmentSet::new();
+    s.across = skinpath::sim::checks::Across::Crossings;
+    let mut contours: Vec<Vec<DVec2>> = Vec::new();
+    for l in 0..40 {
+        let o = DVec2::new(12.0 * (l % 10) as f64, 12.0 * (l / 10) as f64);
+        for k in 1..=4 {
+            contours.push(
+                (0..=250)
+                    .map(|i| {
+                        let t = std::f64::consts::TAU * (i % 250) as f64 / 250.0;
+                        o + 1.2 * k as f64 * DVec2::new(t.cos(), t.sin())
+                    })
+                    .collect(),
+            );
+        }
+    }
+    let (lo, hi) = (DVec2::splat(-8.0), DVec2::new(116.0, 44.0));
+    contours.push(vec![
+        lo,
+        DVec2::new(hi.x, lo.y),
+        hi,
+        DVec2::new(lo.x, hi.y),
+        lo,
+    ]);
+    for c in &contours {
+        for _ in 0..passes {
+            s.push_polyline(c, &[]);
+        }
+    }
+    s
+}
+
+/// The contacts the grid alone finds (no sweep first).
+fn grid_only(s: &SegmentSet) -> Vec<skinpath::sim::checks::Contact> {
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    let mut total = 0.0;
+    for g in &s.segs {
+        lo = lo.min(g.a).min(g.b);
+        hi = hi.max(g.a).max(g.b);
+        total += g.a.distance(g.b);
+    }
+    match skinpath::sim::checks::intersect::Grid::new(lo, hi, total, s.segs.len()) {
+        Some(grid) => s.cell_contacts(&grid, 0..u64::MAX),
+        None => s.brute_force(),
+    }
+}
+
 fn geo_lines(polys: &[Vec<DVec2>]) -> Vec<geo::Line<f64>> {
     polys
         .iter()
@@ -70,6 +123,19 @@ fn contacts(c: &mut Criterion) {
             })
         });
     }
+    // A multi-depth router job: nested clearing rings of letters inside a board outline,
+    // every contour cut in 6 passes (the passes repeat each contour bit for bit). Before
+    // the copies were left out of the sweep, such a program always went to the grid:
+    // "grid-only" is that route, measured beside the sweep on the same set.
+    let passes = multi_pass_rings(6);
+    let n = passes.segs.len();
+    g.throughput(Throughput::Elements(n as u64));
+    g.bench_with_input(BenchmarkId::new("passes-sweep", n), &passes, |b, s| {
+        b.iter(|| black_box(s.contacts().len()))
+    });
+    g.bench_with_input(BenchmarkId::new("passes-grid-only", n), &passes, |b, s| {
+        b.iter(|| black_box(grid_only(s).len()))
+    });
     for n in [1_000usize, 10_000] {
         let polys = circles(n);
         let set = segment_set(&polys);
