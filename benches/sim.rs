@@ -79,21 +79,6 @@ fn multi_pass_rings(passes: usize) -> SegmentSet {
     s
 }
 
-/// The contacts the grid alone finds (no sweep first).
-fn grid_only(s: &SegmentSet) -> Vec<skinpath::sim::checks::Contact> {
-    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    let mut total = 0.0;
-    for g in &s.segs {
-        lo = lo.min(g.a).min(g.b);
-        hi = hi.max(g.a).max(g.b);
-        total += g.a.distance(g.b);
-    }
-    match skinpath::sim::checks::intersect::Grid::new(lo, hi, total, s.segs.len()) {
-        Some(grid) => s.cell_contacts(&grid, 0..u64::MAX),
-        None => s.brute_force(),
-    }
-}
-
 fn geo_lines(polys: &[Vec<DVec2>]) -> Vec<geo::Line<f64>> {
     polys
         .iter()
@@ -134,7 +119,7 @@ fn contacts(c: &mut Criterion) {
         b.iter(|| black_box(s.contacts().len()))
     });
     g.bench_with_input(BenchmarkId::new("passes-grid-only", n), &passes, |b, s| {
-        b.iter(|| black_box(grid_only(s).len()))
+        b.iter(|| black_box(s.grid_only_contacts().len()))
     });
     for n in [1_000usize, 10_000] {
         let polys = circles(n);

@@ -406,8 +406,18 @@ impl SegmentSet {
     }
 
     fn grid_contacts(&self) -> Vec<Contact> {
+        if self.segs.len() < 2 || self.proven_apart_with_copies() {
+            return Vec::new();
+        }
+        self.grid_only_contacts()
+    }
+
+    /// The contacts the grid finds over the whole set (no sweep tried first, no folds of
+    /// consecutive segments): the route [`SegmentSet::contacts`] takes when the sweep
+    /// cannot prove the set apart. Unsorted.
+    pub fn grid_only_contacts(&self) -> Vec<Contact> {
         let n = self.segs.len();
-        if n < 2 || self.proven_apart_with_copies() {
+        if n < 2 {
             return Vec::new();
         }
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
