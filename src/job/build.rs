@@ -154,12 +154,7 @@ impl Ctx<'_> {
     }
 
     fn region(&self, items: &[usize]) -> Region {
-        let regions = self.item_regions(items);
-        if regions.len() == 1 {
-            regions.into_iter().next().unwrap_or_default()
-        } else {
-            Region::union(&regions, self.tol)
-        }
+        union_of(&self.item_regions(items), self.tol)
     }
 
     fn tool(&self, want: &[ToolKind]) -> Option<&Tool> {
@@ -391,27 +386,17 @@ fn union_paths_with_sources(
     f: impl Fn(&Region) -> Vec<Path>,
 ) -> (Vec<Path>, Vec<String>) {
     let regions = ctx.item_regions(items);
-    let union = if regions.len() == 1 {
-        regions[0].clone()
-    } else {
-        Region::union(&regions, ctx.tol)
-    };
-    let paths = f(&union);
-    let sources = paths
-        .iter()
-        .map(|p| {
-            let q = p.start().unwrap_or_default();
-            let k = regions
-                .iter()
-                .position(|r| r.contains(q))
-                .unwrap_or_else(|| nearest_region(&regions, q));
-            items
-                .get(k)
-                .map(|&i| ctx.outlines[i].name.clone())
-                .unwrap_or_default()
-        })
-        .collect();
+    let paths = f(&union_of(&regions, ctx.tol));
+    let sources = attribute(ctx, items, &regions, &paths);
     (paths, sources)
+}
+
+/// The union of `regions` within `tol`; a single region as it is.
+fn union_of(regions: &[Region], tol: f64) -> Region {
+    match regions {
+        [one] => one.clone(),
+        _ => Region::union(regions, tol),
+    }
 }
 
 /// The item each path comes from: the item `items[k]` of the first of `regions` that holds

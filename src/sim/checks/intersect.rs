@@ -448,7 +448,7 @@ impl SegmentSet {
     /// copies is a crossing of A with itself. Touches between contours, which copies have
     /// everywhere, do not count under these two modes.
     fn proven_apart_with_copies(&self) -> bool {
-        if self.across == Across::All || self.links.is_some() {
+        if self.across == Across::All {
             return self.proven_apart();
         }
         match self.without_copies() {
@@ -459,7 +459,8 @@ impl SegmentSet {
 
     /// The set without the contours that repeat an earlier one (same number of segments,
     /// same closedness, same pocket, every end point equal bit for bit), contours
-    /// renumbered in order; None when no contour repeats another. Contours are grouped by
+    /// renumbered in order; None when no contour repeats another, and for a tile (whose
+    /// contours are not held whole: its proof is left to the grid). Contours are grouped by
     /// their first segment, then by a hash of all their points, then compared in full:
     /// O(n + m log m) for n segments in m contours.
     fn without_copies(&self) -> Option<SegmentSet> {
@@ -603,15 +604,19 @@ impl SegmentSet {
                     });
                 blocks.push((lo, hi));
             }
-            let (lo, hi) = (s.a.min(s.b), s.a.max(s.b));
-            let last = &self.segs[e - 1];
-            let ys = &blocks[block as usize..];
+            // The chain's box: its end points bound its x range, its blocks its y range.
+            let (x0, x1) = (s.a.x, self.segs[e - 1].b.x);
+            let (y0, y1) = blocks[block as usize..]
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
+                    (lo.min(y.0), hi.max(y.1))
+                });
             chains.push(Chain {
                 start: k as u32,
                 end: e as u32,
                 rev: d == Some(std::cmp::Ordering::Less),
-                lo: DVec2::new(lo.x.min(last.b.x), ys.iter().fold(lo.y, |m, y| m.min(y.0))),
-                hi: DVec2::new(hi.x.max(last.b.x), ys.iter().fold(hi.y, |m, y| m.max(y.1))),
+                lo: DVec2::new(x0.min(x1), y0),
+                hi: DVec2::new(x0.max(x1), y1),
                 block,
             });
             k = e;
