@@ -151,9 +151,6 @@ pub(crate) struct SpanPoly {
     pub(crate) x: Bern,
     pub(crate) y: Bern,
     pub(crate) r: Bern,
-    /// x, y and r side by side when all three are cubics (degree-3 strokes), for
-    /// [`bernstein::eval_d2_cubics`] and [`bernstein::sub_cubics`].
-    pub(crate) cubics: Option<bernstein::Cubics>,
 }
 
 impl SpanPoly {
@@ -165,22 +162,12 @@ impl SpanPoly {
         let xs: Vec<f64> = d.iter().map(|v| v.0.x).collect();
         let ys: Vec<f64> = d.iter().map(|v| v.0.y).collect();
         let rs: Vec<f64> = d.iter().map(|v| v.1).collect();
-        let (x, y, r) = (
-            Bern::from_taylor(&xs, h),
-            Bern::from_taylor(&ys, h),
-            Bern::from_taylor(&rs, h),
-        );
-        let cubics = (x.0.len() == bernstein::CUBIC
-            && y.0.len() == bernstein::CUBIC
-            && r.0.len() == bernstein::CUBIC)
-            .then(|| std::array::from_fn(|i| [x.0[i], y.0[i], r.0[i], 0.0]));
         SpanPoly {
             a,
             b,
-            x,
-            y,
-            r,
-            cubics,
+            x: Bern::from_taylor(&xs, h),
+            y: Bern::from_taylor(&ys, h),
+            r: Bern::from_taylor(&rs, h),
         }
     }
 
@@ -190,16 +177,8 @@ impl SpanPoly {
     pub(crate) fn jet(&self, t: f64) -> [DVec3; 3] {
         let h = self.b - self.a;
         let u = ((t - self.a) / h).clamp(0.0, 1.0);
-        let (k1, k2) = (1.0 / h, 1.0 / (h * h));
-        if let Some(c) = &self.cubics {
-            let [v, d1, d2] = bernstein::eval_d2_cubics(c, u);
-            return [
-                DVec3::new(v[0], v[1], v[2]),
-                DVec3::new(d1[0], d1[1], d1[2]) * k1,
-                DVec3::new(d2[0], d2[1], d2[2]) * k2,
-            ];
-        }
         let [x, y, r] = [&self.x, &self.y, &self.r].map(|c| bernstein::eval_d2(&c.0, u));
+        let (k1, k2) = (1.0 / h, 1.0 / (h * h));
         [
             DVec3::new(x[0], y[0], r[0]),
             DVec3::new(x[1], y[1], r[1]) * k1,

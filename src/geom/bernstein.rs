@@ -117,7 +117,7 @@ pub fn eval_d2(b: &[f64], u: f64) -> [f64; 3] {
 /// Coefficient count of a cubic, the degree of most strokes: [`eval_d2`] and [`sub_into`]
 /// run their loops on arrays of this size, with the same operations in the same order (the
 /// same results, bit for bit) but unrolled.
-pub const CUBIC: usize = 4;
+const CUBIC: usize = 4;
 
 /// [`eval_d2`] on a copy `w` (≥ 2 coefficients) it may overwrite.
 #[inline(always)]
@@ -183,54 +183,6 @@ fn sub_in(b: &[f64], u0: f64, u1: f64, out: &mut [f64], w: &mut [f64]) {
         *o = w[0];
         casteljau_step(w, n - r, s);
     }
-}
-
-/// Three cubics side by side: coefficient i of each in one lane of `[f64; 4]` (the fourth
-/// lane is padding). The x, y and r polynomials of a cubic span are evaluated and subdivided
-/// together by [`eval_d2_cubics`] and [`sub_cubics`], with the operations of [`eval_d2`] and
-/// [`sub_into`] in the same order in every lane (the same values, bit for bit), four wide.
-pub type Cubics = [[f64; 4]; CUBIC];
-
-/// [`casteljau_step`] on every lane.
-#[inline(always)]
-fn casteljau_step_lanes(w: &mut [[f64; 4]], len: usize, u: f64) {
-    for i in 0..len - 1 {
-        let (a, b) = (w[i], w[i + 1]);
-        w[i] = std::array::from_fn(|k| a[k] * (1.0 - u) + b[k] * u);
-    }
-}
-
-/// [`eval_d2`] of each lane of `b` at `u`: `[values, first derivatives, second
-/// derivatives]`, each with one entry per lane.
-pub fn eval_d2_cubics(b: &Cubics, u: f64) -> [[f64; 4]; 3] {
-    let mut w = *b;
-    // The steps of `eval_d2_in` for four coefficients.
-    casteljau_step_lanes(&mut w, CUBIC, u);
-    let deg = (CUBIC - 1) as f64;
-    let d2 = std::array::from_fn(|k| deg * (deg - 1.0) * (w[0][k] - 2.0 * w[1][k] + w[2][k]));
-    casteljau_step_lanes(&mut w, 3, u);
-    let d1 = std::array::from_fn(|k| deg * (w[1][k] - w[0][k]));
-    let v = std::array::from_fn(|k| w[0][k] * (1.0 - u) + w[1][k] * u);
-    [v, d1, d2]
-}
-
-/// [`sub_into`] of each lane of `b`: the pieces on [u0, u1] ⊂ [0, 1], reparametrised to
-/// [0, 1].
-pub fn sub_cubics(b: &Cubics, u0: f64, u1: f64) -> Cubics {
-    let mut out = *b;
-    for r in 0..CUBIC {
-        casteljau_step_lanes(&mut out, CUBIC - r, u0);
-    }
-    if u0 >= 1.0 {
-        return out;
-    }
-    let s = (u1 - u0) / (1.0 - u0);
-    let mut w = out;
-    for (r, o) in out.iter_mut().enumerate() {
-        *o = w[0];
-        casteljau_step_lanes(&mut w, CUBIC - r, s);
-    }
-    out
 }
 
 /// The derivative d/du in place: the first `len − 1` entries become n (bᵢ₊₁ − bᵢ) with
@@ -518,27 +470,6 @@ mod tests {
             prop_assert!((f1 - horner(&da, u)).abs() <= 1e-11 * scale);
             prop_assert!((f2 - horner(&dda, u)).abs() <= 1e-10 * scale);
             prop_assert_eq!(f, eval(&from_power(&a), u));
-        }
-
-        /// Three cubics side by side evaluate and subdivide as each does alone, bit for
-        /// bit (the lanes run the scalar kernel's operations in its order).
-        #[test]
-        fn cubic_lanes_equal_the_scalar_kernel(
-            coefs in proptest::collection::vec(-50.0f64..50.0, 12),
-            u in 0.0f64..=1.0,
-            (u0, u1) in (0.0f64..=1.0, 0.0f64..=1.0).prop_map(|(a, b)| (a.min(b), a.max(b))),
-        ) {
-            let lane = |k: usize| coefs[4 * k..4 * k + 4].to_vec();
-            let lanes: Cubics = std::array::from_fn(|i| [coefs[i], coefs[4 + i], coefs[8 + i], 0.0]);
-            let [v, d1, d2] = eval_d2_cubics(&lanes, u);
-            let sub = sub_cubics(&lanes, u0, u1);
-            for k in 0..3 {
-                let [f, f1, f2] = eval_d2(&lane(k), u);
-                prop_assert_eq!([v[k], d1[k], d2[k]].map(f64::to_bits), [f, f1, f2].map(f64::to_bits));
-                let mut piece = [0.0; CUBIC];
-                sub_into(&lane(k), u0, u1, &mut piece);
-                prop_assert_eq!(sub.map(|c| c[k].to_bits()), piece.map(f64::to_bits));
-            }
         }
     }
 

@@ -471,42 +471,6 @@ fn deriv_ranges_in(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64, buf: &mut [f64]) -
     out
 }
 
-/// [`deriv_ranges`] of x, y and r of a cubic span at once ([`bernstein::sub_cubics`]): the
-/// same steps in each lane, so the same ranges bit for bit.
-fn deriv_ranges_cubics(c: &bernstein::Cubics, sp: &SpanPoly, t0: f64, t1: f64) -> [[Iv; 4]; 3] {
-    let h = sp.b - sp.a;
-    let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
-    let mut buf = bernstein::sub_cubics(c, u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0));
-    let w = t1 - t0;
-    let mut out = [[Iv::pt(0.0); 4]; 3];
-    let (mut f, mut len) = (1.0, buf.len());
-    for k in 0..4 {
-        if k > 0 {
-            // `bernstein::deriv_in_place` on every lane.
-            let n = len - 1;
-            for i in 0..n {
-                let (a, b) = (buf[i], buf[i + 1]);
-                buf[i] = std::array::from_fn(|l| n as f64 * (b[l] - a[l]));
-            }
-            len = n;
-            f /= w;
-        }
-        for (lane, o) in out.iter_mut().enumerate() {
-            let (lo, hi) = buf[..len]
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| {
-                    (lo.min(b[lane]), hi.max(b[lane]))
-                });
-            o[k] = Iv::new(lo * f, hi * f);
-            if w <= 0.0 && k > 0 {
-                let b = [&sp.x, &sp.y, &sp.r][lane];
-                o[k] = Iv::pt(point_deriv(b, u0, h, k));
-            }
-        }
-    }
-    out
-}
-
 /// The k-th t-derivative of a span polynomial at u (for point intervals).
 fn point_deriv(b: &Bern, u0: f64, h: f64, k: usize) -> f64 {
     let mut q = b.clone();
@@ -543,10 +507,9 @@ fn deriv_ranges_heap(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
 /// q±″ = q″ + r″ m + 2 r′ m′ + r m″ with m = (−r′q′ + σ s q′⊥)/L. +∞ when the enclosure of
 /// s² = ‖q′‖² − r′² is not positive.
 fn envelope_d2_bound(sp: &SpanPoly, sigma: f64, t0: f64, t1: f64) -> f64 {
-    let [x, y, r] = match &sp.cubics {
-        Some(c) => deriv_ranges_cubics(c, sp, t0, t1),
-        None => [&sp.x, &sp.y, &sp.r].map(|b| deriv_ranges(b, sp, t0, t1)),
-    };
+    let x = deriv_ranges(&sp.x, sp, t0, t1);
+    let y = deriv_ranges(&sp.y, sp, t0, t1);
+    let r = deriv_ranges(&sp.r, sp, t0, t1);
     let jet = |d: &[Iv; 4]| Jet {
         v: d[1],
         d1: d[2],
@@ -1258,27 +1221,6 @@ mod tests {
     use proptest::prelude::*;
 
     use crate::dbsc::test_util::{open, s_stroke};
-
-    /// The derivative ranges of a cubic span's x, y and r taken together are those each
-    /// polynomial gives alone, bit for bit: on whole spans, pieces, pieces at the span's
-    /// ends and point intervals (where the ranges are the derivatives at the point).
-    #[test]
-    fn cubic_span_ranges_equal_the_ranges_of_each_polynomial() {
-        let c = open(3, &s_stroke());
-        for sp in SpanPoly::all(&c) {
-            let c3 = sp.cubics.expect("a cubic span");
-            let at = |f: f64| sp.a + f * (sp.b - sp.a);
-            for (f0, f1) in [(0.0, 1.0), (0.2, 0.3), (0.0, 0.01), (0.97, 1.0), (0.4, 0.4)] {
-                let (t0, t1) = (at(f0), at(f1));
-                let lanes = deriv_ranges_cubics(&c3, &sp, t0, t1);
-                for (k, b) in [&sp.x, &sp.y, &sp.r].into_iter().enumerate() {
-                    let one = deriv_ranges(b, &sp, t0, t1);
-                    let bits = |r: &[Iv; 4]| r.map(|i| (i.lo.to_bits(), i.hi.to_bits()));
-                    assert_eq!(bits(&lanes[k]), bits(&one), "lane {k} on [{f0}, {f1}]");
-                }
-            }
-        }
-    }
 
     /// An envelope segment borrowing the curve's spans is the segment `new` makes: the
     /// same pieces, points, tangents and second-derivative bounds, on intervals inside one
