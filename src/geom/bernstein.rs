@@ -155,14 +155,21 @@ pub fn split_in_place(work: &mut [f64], u: f64, left: &mut [f64]) {
 /// (u1 − u0)/(1 − u0) keeps the left part.
 pub fn sub_into(b: &[f64], u0: f64, u1: f64, out: &mut [f64]) {
     if let (Ok(c), Ok(o)) = (
-        <[f64; CUBIC]>::try_from(b),
+        <&[f64; CUBIC]>::try_from(b),
         <&mut [f64; CUBIC]>::try_from(&mut *out),
     ) {
-        let mut w = [0.0; CUBIC];
-        sub_in(&c, u0, u1, o, &mut w);
+        *o = sub_array(c, u0, u1);
         return;
     }
     with_scratch(b.len(), |w| sub_in(b, u0, u1, out, w));
+}
+
+/// [`sub_into`] for a polynomial of fixed length `N` (its loops unrolled).
+#[inline(always)]
+pub fn sub_array<const N: usize>(b: &[f64; N], u0: f64, u1: f64) -> [f64; N] {
+    let (mut out, mut w) = ([0.0; N], [0.0; N]);
+    sub_in(b, u0, u1, &mut out, &mut w);
+    out
 }
 
 /// [`sub_into`] with a scratch slice `w` of the same length.

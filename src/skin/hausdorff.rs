@@ -432,73 +432,100 @@ impl Jet {
     }
 }
 
-/// Ranges of the t-derivatives 0..=3 of a span polynomial on [t0, t1]: the Bernstein
-/// coefficients of the piece and of its derivatives enclose them (convex hull property),
-/// computed in a stack buffer ([`bernstein::sub_into`], [`bernstein::deriv_in_place`]).
+/// Ranges of the t-derivatives 0..=3 of a span polynomial on [t0, t1]. Each derivative is
+/// taken on the whole span (Bernstein coefficients n(bᵢ₊₁ − bᵢ), d/dt = d/du / h), then cut
+/// to [t0, t1], whose coefficients enclose it (convex hull property). Cutting first and
+/// differencing the piece's coefficients would divide their rounding errors by
+/// (t1 − t0)ᵏ: on the narrow intervals bisection reaches, that error swamps the range and
+/// the enclosure fails. Stack buffers for polynomials up to [`bernstein::SMALL`]
+/// coefficients.
 fn deriv_ranges(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
     let n = b.0.len();
     if n > bernstein::SMALL {
         return deriv_ranges_heap(b, sp, t0, t1);
     }
-    // Cubic spans: the same steps on a fixed-size buffer, which the compiler unrolls.
-    if n == 4 {
-        return deriv_ranges_in(b, sp, t0, t1, &mut [0.0f64; 4]);
+    if let Ok(c) = <&[f64; 4]>::try_from(&b.0[..]) {
+        return cubic_deriv_ranges(c, sp, t0, t1);
     }
-    deriv_ranges_in(b, sp, t0, t1, &mut [0.0f64; bernstein::SMALL][..n])
+    let mut bufs = [[0.0f64; bernstein::SMALL]; 2];
+    let [d, piece] = &mut bufs;
+    deriv_ranges_in(&b.0, sp, t0, t1, &mut d[..n], &mut piece[..n])
 }
 
-/// [`deriv_ranges`] with a buffer `buf` as long as the polynomial.
-#[inline(always)]
-fn deriv_ranges_in(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64, buf: &mut [f64]) -> [Iv; 4] {
+/// The span parameters u0 ≤ u1 in [0, 1] of [t0, t1].
+fn span_params(sp: &SpanPoly, t0: f64, t1: f64) -> (f64, f64) {
     let h = sp.b - sp.a;
-    let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
-    let mut len = buf.len();
-    bernstein::sub_into(&b.0, u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0), buf);
-    let w = t1 - t0;
+    let u0 = ((t0 - sp.a) / h).clamp(0.0, 1.0);
+    let u1 = ((t1 - sp.a) / h).clamp(0.0, 1.0);
+    (u0.min(u1), u0.max(u1))
+}
+
+/// [`deriv_ranges`] of a cubic: the steps of [`deriv_ranges_in`] (the same values) on
+/// fixed-size arrays, which the compiler unrolls.
+fn cubic_deriv_ranges(c: &[f64; 4], sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
+    let (u0, u1) = span_params(sp, t0, t1);
+    let h = sp.b - sp.a;
+    // bernstein::deriv_in_place, length by length.
+    let d1 = [
+        3.0 * (c[1] - c[0]),
+        3.0 * (c[2] - c[1]),
+        3.0 * (c[3] - c[2]),
+    ];
+    let d2 = [2.0 * (d1[1] - d1[0]), 2.0 * (d1[2] - d1[1])];
+    let d3 = d2[1] - d2[0];
+    let iv = |(lo, hi): (f64, f64), f: f64| Iv::new(lo * f, hi * f);
+    let (f1, f2, f3) = (1.0 / h, 1.0 / h / h, 1.0 / h / h / h);
+    [
+        iv(bernstein::range(&bernstein::sub_array(c, u0, u1)), 1.0),
+        iv(bernstein::range(&bernstein::sub_array(&d1, u0, u1)), f1),
+        iv(bernstein::range(&bernstein::sub_array(&d2, u0, u1)), f2),
+        iv((d3, d3), f3),
+    ]
+}
+
+/// [`deriv_ranges`] with buffers `d` and `piece` as long as the polynomial `b`.
+#[inline(always)]
+fn deriv_ranges_in(
+    b: &[f64],
+    sp: &SpanPoly,
+    t0: f64,
+    t1: f64,
+    d: &mut [f64],
+    piece: &mut [f64],
+) -> [Iv; 4] {
+    let (u0, u1) = span_params(sp, t0, t1);
+    let h = sp.b - sp.a;
+    d.copy_from_slice(b);
+    let mut len = d.len();
     let mut out = [Iv::pt(0.0); 4];
     let mut f = 1.0;
     for (k, o) in out.iter_mut().enumerate() {
         if k > 0 {
-            len = bernstein::deriv_in_place(&mut buf[..len]);
-            f /= w;
+            len = bernstein::deriv_in_place(&mut d[..len]);
+            f /= h;
         }
-        let (lo, hi) = bernstein::range(&buf[..len]);
+        bernstein::sub_into(&d[..len], u0, u1, &mut piece[..len]);
+        let (lo, hi) = bernstein::range(&piece[..len]);
         *o = Iv::new(lo * f, hi * f);
-        if w <= 0.0 && k > 0 {
-            *o = Iv::pt(point_deriv(b, u0, h, k));
-        }
     }
     out
-}
-
-/// The k-th t-derivative of a span polynomial at u (for point intervals).
-fn point_deriv(b: &Bern, u0: f64, h: f64, k: usize) -> f64 {
-    let mut q = b.clone();
-    for _ in 0..k {
-        q = q.deriv();
-    }
-    q.eval(u0.clamp(0.0, 1.0)) / h.powi(k as i32)
 }
 
 /// [`deriv_ranges`] for polynomials longer than the small stack buffer (strokes of degree
 /// above 7).
 fn deriv_ranges_heap(b: &Bern, sp: &SpanPoly, t0: f64, t1: f64) -> [Iv; 4] {
+    let (u0, u1) = span_params(sp, t0, t1);
     let h = sp.b - sp.a;
-    let (u0, u1) = ((t0 - sp.a) / h, (t1 - sp.a) / h);
-    let mut p = b.sub(u0.clamp(0.0, 1.0), u1.clamp(0.0, 1.0));
-    let w = t1 - t0;
+    let mut p = b.clone();
     let mut out = [Iv::pt(0.0); 4];
     let mut f = 1.0;
     for (k, o) in out.iter_mut().enumerate() {
         if k > 0 {
             p = p.deriv();
-            f /= w;
+            f /= h;
         }
-        let (lo, hi) = p.range();
+        let (lo, hi) = p.sub(u0, u1).range();
         *o = Iv::new(lo * f, hi * f);
-        if w <= 0.0 && k > 0 {
-            *o = Iv::pt(point_deriv(b, u0, h, k));
-        }
     }
     out
 }
@@ -549,6 +576,18 @@ struct Node {
     u1: f64,
     n0: f64,
     n1: f64,
+    /// The second-derivative bounds the key was computed with: M₂ of the bisected curve on
+    /// [t0, t1] and, for matching nodes, M₂ of Y between the ends' near points u0, u1.
+    m2x: f64,
+    m2y: f64,
+    /// Whether `m2x` and `m2y` are this node's own bounds. A child of a bisection starts
+    /// with its parent's: the supremum over a sub-interval is at most that over the
+    /// interval, so its key is a valid bound, only looser. It computes its own (the
+    /// searches' largest cost, [`BoundedCurve::d2_bound`]) only when it reaches the top of
+    /// the heap, and many children never do before a search ends. The top node is always
+    /// refined before it is read, so the heap's top key is the one an eager computation
+    /// would have there: every decision, bisection and returned bound stays the same.
+    own: bool,
 }
 
 impl Node {
@@ -608,15 +647,15 @@ fn grid_of(c: &dyn BoundedCurve, n: usize) -> Vec<f64> {
     ts
 }
 
-/// The curve Y of one directed distance with its initial grid and the enclosure slack of
+/// The curve Y of one directed distance with its initial grid and the second-derivative bound of
 /// each grid window, computed once: every point-distance search of the directed bound (one
 /// per sample of X) starts from all windows of the grid.
 struct Target<'a> {
     c: &'a dyn BoundedCurve,
     /// The initial grid (parameter, point).
     grid: Vec<(f64, DVec2)>,
-    /// Per grid window: its [`slack`], or `None` when the window lies in no single
-    /// piece.
+    /// Per grid window: M₂ of Y on it ([`BoundedCurve::d2_bound`]), or `None` when the
+    /// window lies in no single piece.
     windows: Vec<Option<f64>>,
 }
 
@@ -632,17 +671,17 @@ impl<'a> Target<'a> {
             .map(|w| {
                 let (t0, t1) = (w[0].0, w[1].0);
                 let inside = t1 > t0 && pieces.iter().any(|&(a, b)| t0 >= a && t1 <= b);
-                inside.then(|| slack(c, t0, t1))
+                inside.then(|| c.d2_bound(t0, t1))
             })
             .collect();
         Ok(Target { c, grid, windows })
     }
 }
 
-/// How far `c` on [t0, t1] may stray from its chord: (t1 − t0)²·M₂/8 (+∞ for no
-/// information).
-fn slack(c: &dyn BoundedCurve, t0: f64, t1: f64) -> f64 {
-    or_inf((t1 - t0).powi(2) * c.d2_bound(t0, t1) / 8.0)
+/// How far a curve on [t0, t1] with M₂ ≥ sup‖y″‖ there may stray from its chord:
+/// (t1 − t0)²·M₂/8 (+∞ for no information).
+fn slack(t0: f64, t1: f64, m2: f64) -> f64 {
+    or_inf((t1 - t0).powi(2) * m2 / 8.0)
 }
 
 /// d(x, Y) to within `tol` by best-first branch and bound on Y's chords, starting from the
@@ -676,7 +715,6 @@ fn point_distance(
         let l = Line::new(p0, p1).distance(x) - e;
         if l.is_nan() { f64::NEG_INFINITY } else { l }
     };
-    let lb = |t0: f64, t1: f64, p0: DVec2, p1: DVec2| lb_e(slack(y.c, t0, t1), p0, p1);
     // Smallest lower bound of the leaves (nodes too narrow to split).
     let mut leaf_lower = f64::INFINITY;
     for (w, e) in grid.windows(2).zip(&y.windows) {
@@ -684,14 +722,27 @@ fn point_distance(
         let (t1, p1) = w[1];
         upd(t0, p0, &mut best);
         upd(t1, p1, &mut best);
-        let Some(e) = *e else {
+        let Some(m2) = *e else {
             continue;
         };
-        let key = lb_e(e, p0, p1);
-        heap.push(node(-key, t0, t1, p0, p1));
+        let key = lb_e(slack(t0, t1, m2), p0, p1);
+        let mut nd = node(-key, t0, t1, p0, p1);
+        nd.m2x = m2;
+        heap.push(nd);
     }
     let mut count = 0;
-    while let Some(nd) = heap.pop() {
+    while let Some(mut nd) = heap.pop() {
+        if !nd.own {
+            // Its own slack; pruned when that puts it past the best distance.
+            nd.m2x = y.c.d2_bound(nd.t0, nd.t1);
+            nd.own = true;
+            let l = lb_e(slack(nd.t0, nd.t1, nd.m2x), nd.p0, nd.p1);
+            if l < best.upper - tol {
+                nd.key = -l;
+                heap.push(nd);
+            }
+            continue;
+        }
         let l = -nd.key;
         if l >= best.upper - tol || count >= MAX_POINT_NODES || !work.take() {
             // Pruned nodes had lower bounds ≥ upper − tol; the heap's minimum is l.
@@ -707,9 +758,11 @@ fn point_distance(
         let pm = y.c.point(tm)?;
         upd(tm, pm, &mut best);
         for (a, pa, b, pb) in [(nd.t0, nd.p0, tm, pm), (tm, pm, nd.t1, nd.p1)] {
-            let key = lb(a, b, pa, pb);
+            let key = lb_e(slack(a, b, nd.m2x), pa, pb);
             if key < best.upper - tol {
-                heap.push(node(-key, a, b, pa, pb));
+                let mut child = node(-key, a, b, pa, pb);
+                (child.m2x, child.own) = (nd.m2x, false);
+                heap.push(child);
             }
         }
     }
@@ -728,19 +781,23 @@ fn node(key: f64, t0: f64, t1: f64, p0: DVec2, p1: DVec2) -> Node {
         u1: 0.0,
         n0: 0.0,
         n1: 0.0,
+        m2x: f64::INFINITY,
+        m2y: f64::INFINITY,
+        own: true,
     }
 }
 
 /// Upper bound of sup d(x(s), Y) over s ∈ [s0, s1] (inside one piece of X) from points
-/// y(a.t), y(b.t) at distances ≤ a.upper, b.upper of the ends (any points of Y will do).
+/// y(a.t), y(b.t) at distances ≤ a.upper, b.upper of the ends (any points of Y will do),
+/// with M₂ˣ = `m2x` ≥ sup‖x″‖ on [s0, s1] and M₂ʸ = `m2y` ≥ sup‖y″‖ between a.t and b.t.
 fn match_bound(
-    xc: &dyn BoundedCurve,
-    yc: &dyn BoundedCurve,
     (s0, p0, a): (f64, DVec2, &PointDist),
     (s1, p1, b): (f64, DVec2, &PointDist),
+    m2x: f64,
+    m2y: f64,
 ) -> f64 {
-    let ex = (s1 - s0).powi(2) * xc.d2_bound(s0, s1) / 8.0;
-    let ey = (b.t - a.t).powi(2) * yc.d2_bound_any(a.t, b.t) / 8.0;
+    let ex = (s1 - s0).powi(2) * m2x / 8.0;
+    let ey = (b.t - a.t).powi(2) * m2y / 8.0;
     let linear = or_inf(a.upper.max(b.upper) + or_inf(ex) + or_inf(ey));
     // Constant matching: ‖x(s) − y(t_i)‖ is convex along the chord of x, so at most
     // its larger end value, and ‖x(s1) − y(t0)‖ ≤ ‖x(s0) − y(t0)‖ + ‖x(s1) − x(s0)‖.
@@ -748,22 +805,68 @@ fn match_bound(
     linear.min(c)
 }
 
-/// A node of X on [s0, s1] keyed by [`match_bound`], with its ends' near-point data.
-fn match_node(
-    xc: &dyn BoundedCurve,
-    yc: &dyn BoundedCurve,
+/// A node of X on [s0, s1] keyed by [`match_bound`] with M₂ˣ = `m2x`, M₂ʸ = `m2y`, with its
+/// ends' near-point data.
+fn match_node_with(
     (s0, p0, a): (f64, DVec2, &PointDist),
     (s1, p1, b): (f64, DVec2, &PointDist),
+    m2x: f64,
+    m2y: f64,
 ) -> Node {
     let mut nd = node(
-        match_bound(xc, yc, (s0, p0, a), (s1, p1, b)),
+        match_bound((s0, p0, a), (s1, p1, b), m2x, m2y),
         s0,
         s1,
         p0,
         p1,
     );
     (nd.u0, nd.u1, nd.n0, nd.n1) = (a.t, b.t, a.upper, b.upper);
+    (nd.m2x, nd.m2y) = (m2x, m2y);
     nd
+}
+
+/// A node of X on [s0, s1] keyed by [`match_bound`] with its own second-derivative bounds.
+fn match_node(
+    xc: &dyn BoundedCurve,
+    yc: &dyn BoundedCurve,
+    (s0, p0, a): (f64, DVec2, &PointDist),
+    (s1, p1, b): (f64, DVec2, &PointDist),
+) -> Node {
+    let (m2x, m2y) = (xc.d2_bound(s0, s1), yc.d2_bound_any(a.t, b.t));
+    match_node_with((s0, p0, a), (s1, p1, b), m2x, m2y)
+}
+
+/// Matching node `nd` again with its own second-derivative bounds ([`Node::own`]).
+fn match_refined(xc: &dyn BoundedCurve, yc: &dyn BoundedCurve, nd: &Node) -> Node {
+    let (d0, d1) = nd.ends();
+    match_node(xc, yc, (nd.t0, nd.p0, &d0), (nd.t1, nd.p1, &d1))
+}
+
+/// The halves of matching node `nd` split at s (point p, near point d), keyed with `nd`'s
+/// M₂ˣ and, when d.t lies between the ends' near points, its M₂ʸ (else the halves' own
+/// M₂ʸ, since their Y intervals leave `nd`'s).
+fn match_children(
+    yc: &dyn BoundedCurve,
+    nd: &Node,
+    (s, p, d): (f64, DVec2, &PointDist),
+) -> [Node; 2] {
+    let (d0, d1) = nd.ends();
+    let inside = d.t >= nd.u0.min(nd.u1) && d.t <= nd.u0.max(nd.u1);
+    let m2y = |a: f64, b: f64| {
+        if inside {
+            nd.m2y
+        } else {
+            yc.d2_bound_any(a, b)
+        }
+    };
+    let mut halves = [
+        match_node_with((nd.t0, nd.p0, &d0), (s, p, d), nd.m2x, m2y(nd.u0, d.t)),
+        match_node_with((s, p, d), (nd.t1, nd.p1, &d1), nd.m2x, m2y(d.t, nd.u1)),
+    ];
+    for h in &mut halves {
+        h.own = false;
+    }
+    halves
 }
 
 /// Cap on the refinement steps (bisections of X and point-distance searches) of one
@@ -908,6 +1011,10 @@ fn match_search(
     }
     let mut steps = 0;
     while let Some(nd) = heap.pop() {
+        if !nd.own {
+            heap.push(match_refined(xc, yc, &nd));
+            continue;
+        }
         let upper = nd.key;
         match *goal {
             Goal::Below(bound) => {
@@ -960,9 +1067,7 @@ fn match_search(
         let pm = xc.point(sm).ok()?;
         let dm = foot_point(pm, yc, yd, 0.5 * (nd.u0 + nd.u1))?;
         samples.push((pm, dm, false));
-        let (d0, d1) = nd.ends();
-        heap.push(match_node(xc, yc, (nd.t0, nd.p0, &d0), (sm, pm, &dm)));
-        heap.push(match_node(xc, yc, (sm, pm, &dm), (nd.t1, nd.p1, &d1)));
+        heap.extend(match_children(yc, &nd, (sm, pm, &dm)));
     }
     None
 }
@@ -1009,6 +1114,10 @@ fn directed(
     }
     let mut count = 0;
     while let Some(nd) = heap.pop() {
+        if !nd.own {
+            heap.push(match_refined(xc, yc, &nd));
+            continue;
+        }
         let upper = nd.key.max(leaf_upper);
         let decided = threshold.is_some_and(|e| lower > e || upper <= e);
         if upper <= lower + gap || decided || count >= MAX_NODES || !work.take() {
@@ -1027,9 +1136,7 @@ fn directed(
         let hint = Some(0.5 * (nd.u0 + nd.u1));
         let dm = point_distance(pm, &y, hint, ptol, work, &mut pheap)?;
         lower = lower.max(dm.lower);
-        let (d0, d1) = nd.ends();
-        heap.push(match_node(xc, yc, (nd.t0, nd.p0, &d0), (sm, pm, &dm)));
-        heap.push(match_node(xc, yc, (sm, pm, &dm), (nd.t1, nd.p1, &d1)));
+        heap.extend(match_children(yc, &nd, (sm, pm, &dm)));
     }
     Ok(HausdorffBounds {
         lower,
@@ -1572,6 +1679,87 @@ mod tests {
             let w = hausdorff_within(&s, &c, side, 0.0, 1.0, eps, gap).unwrap();
             prop_assert!(w.upper <= eps || w.lower > eps || w.gap() <= gap);
             prop_assert!(w.lower <= h.upper + 1e-12 && h.lower <= w.upper + 1e-12);
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// The cubic path of the derivative ranges gives the generic path's values bit for
+        /// bit, and every range holds the derivative at points of the interval.
+        #[test]
+        fn cubic_derivative_ranges_equal_the_generic_path(
+            c in proptest::collection::vec(-10.0f64..10.0, 4),
+            span in (-2.0f64..2.0, 0.01f64..3.0),
+            f in (0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0),
+        ) {
+            let sp = SpanPoly {
+                a: span.0,
+                b: span.0 + span.1,
+                x: Bern(c.clone()),
+                y: Bern(c.clone()),
+                r: Bern(c.clone()),
+            };
+            let (t0, t1) = (
+                sp.a + span.1 * f.0.min(f.1),
+                sp.a + span.1 * f.0.max(f.1),
+            );
+            let cubic = cubic_deriv_ranges(&[c[0], c[1], c[2], c[3]], &sp, t0, t1);
+            let generic = deriv_ranges_in(&c, &sp, t0, t1, &mut [0.0; 4], &mut [0.0; 4]);
+            prop_assert_eq!(cubic, generic);
+            // Derivatives at a point of [t0, t1] by the power form of the cubic in t.
+            let t = t0 + (t1 - t0) * f.2;
+            let mut q = sp.x.clone();
+            for (k, r) in cubic.iter().enumerate() {
+                let v = q.eval((t - sp.a) / span.1) / span.1.powi(k as i32);
+                let slack = 1e-9 * (1.0 + v.abs()) / span.1.powi(k as i32);
+                prop_assert!(r.lo - slack <= v && v <= r.hi + slack, "k {k}: {v} ∉ {r:?}");
+                q = q.deriv();
+            }
+        }
+
+        /// The second-derivative bound of a sub-interval is at most that of the interval
+        /// (Bernstein pieces of a sub-interval are convex combinations of the interval's
+        /// coefficients and interval arithmetic is inclusion-monotone): what lets a child
+        /// node start with its parent's bound ([`Node::own`]) and be popped no later than
+        /// with its own.
+        #[test]
+        fn second_derivative_bounds_nest(
+            d in proptest::collection::vec((-3.0f64..3.0, -3.0f64..3.0, 0.2f64..0.6), 4),
+            cut in proptest::collection::vec((0.0f64..=1.0, 0.0f64..=1.0), 8),
+            side_left in any::<bool>(),
+        ) {
+            let disks: Vec<(f64, f64, f64)> = d
+                .iter()
+                .enumerate()
+                .map(|(i, &(x, y, r))| (3.0 * i as f64 + 0.3 * x, 0.5 * y, r))
+                .collect();
+            let c = open(3, &disks);
+            let side = if side_left { Side::Left } else { Side::Right };
+            let env = EnvelopeSegment::new(&c, side, 0.0, 1.0).unwrap();
+            let bez = CubicBez::new(
+                DVec2::new(0.0, 0.0),
+                DVec2::new(d[0].0, d[0].1),
+                DVec2::new(d[1].0, d[1].1),
+                DVec2::new(d[2].0, 4.0),
+            );
+            let curves: [&dyn BoundedCurve; 2] = [&env, &bez];
+            for curve in curves {
+                for (a, b) in curve.pieces() {
+                    let (mut t0, mut t1) = (a, b);
+                    let mut outer = curve.d2_bound(t0, t1);
+                    // A chain of nested intervals, as bisections and foot points make them.
+                    for &(f, g) in &cut {
+                        let (u, v) = (t0 + (t1 - t0) * f.min(g), t0 + (t1 - t0) * f.max(g));
+                        let inner = curve.d2_bound(u, v);
+                        prop_assert!(
+                            inner <= outer || outer.is_nan(),
+                            "[{u}, {v}] ⊂ [{t0}, {t1}]: {inner} > {outer}"
+                        );
+                        (t0, t1, outer) = (u, v, inner);
+                    }
+                }
+            }
         }
     }
 }
