@@ -104,8 +104,9 @@ pub enum ReportBounds {
     Tight,
     /// The bounds that decided each side against ε during refinement (cached, so at most
     /// the sides changed by the last insertions cost anything): the upper bound is ≤ ε on
-    /// met sides, the lower bound may be 0. For callers that use the skin, not the numbers
-    /// (toolpaths, the circles of the RE route).
+    /// met sides, the lower bound may be 0; failing sides get the quick rejection's upper
+    /// bound (the matching bound of both directions). For callers that use the skin, not
+    /// the numbers (toolpaths, the circles of the RE route).
     Decided,
 }
 
@@ -300,8 +301,13 @@ struct State<'a> {
 /// What the error bounds of a pass are for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Mode {
-    /// Whether each side meets ε ([`hausdorff_within_work`], quick rejection).
+    /// Whether each side meets ε ([`hausdorff_within_work`], quick rejection without the
+    /// upper bound of failing sides, which a pass never reads).
     Decide,
+    /// The final report of [`ReportBounds::Decided`]: `Decide`'s bounds, with the quick
+    /// rejection's upper bound for failing sides. Sides `Decide` found within ε are read
+    /// from its cache (the same bounds).
+    DecidedReport,
     /// As `Decide`, with the upper bounds of failing sides from the full search: phase 3
     /// compares them.
     Compare,
@@ -326,6 +332,18 @@ fn cache_key(arc: &CubicBez, t0: f64, t1: f64, side: usize, mode: Mode) -> Cache
     (k, side, mode)
 }
 
+/// The bound of `key` computed already: its own or, for [`Mode::DecidedReport`], one that
+/// [`Mode::Decide`] found within `eps` (the same bound: the two differ only where D_H > ε).
+fn cached(cache: &KeyMap<HausdorffBounds>, key: &CacheKey, eps: f64) -> Option<HausdorffBounds> {
+    cache.get(key).copied().or_else(|| {
+        let decide = (key.0, key.1, Mode::Decide);
+        let met = |h: &HausdorffBounds| h.upper <= eps;
+        (key.2 == Mode::DecidedReport)
+            .then(|| cache.get(&decide).copied().filter(met))
+            .flatten()
+    })
+}
+
 /// One Hausdorff bound to compute: a skin arc against the envelope on `side` over [t0, t1].
 struct BoundJob {
     key: CacheKey,
@@ -345,7 +363,7 @@ type Speculative = (Result<HausdorffBounds, HausdorffError>, usize);
 fn speculative_bounds(
     sides: &[SideSkin; 2],
     hi: f64,
-    mode: Mode,
+    (mode, eps): (Mode, f64),
     cache: &KeyMap<HausdorffBounds>,
     bound: impl Fn(&BoundJob) -> Speculative + Sync,
 ) -> KeyMap<Speculative> {
@@ -359,7 +377,7 @@ fn speculative_bounds(
             let t0 = ps[a];
             let t1 = ps.get(a + 1).copied().unwrap_or(hi);
             let key = cache_key(arc, t0, t1, k, mode);
-            if !cache.contains_key(&key) && seen.insert(key) {
+            if cached(cache, &key, eps).is_none() && seen.insert(key) {
                 jobs.push(BoundJob {
                     key,
                     arc: *arc,
@@ -508,12 +526,17 @@ impl State<'_> {
             let env = EnvelopeSegment::with_spans(c, spans, side, t0, t1)?;
             match mode {
                 Mode::Tight => skin_envelope_bounds(arc, &env, gap, w),
-                Mode::Decide => skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w),
+                Mode::Decide => {
+                    skin_envelope_within(arc, &env, (eps, Rejection::QuickLower), gap, w)
+                }
+                Mode::DecidedReport => {
+                    skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w)
+                }
                 Mode::Compare => skin_envelope_within(arc, &env, (eps, Rejection::Full), gap, w),
             }
         };
         let par_budget = self.work.borrow().left.min(MAX_BOUND_WORK);
-        let mut pre = speculative_bounds(&sides, self.hi, mode, &self.cache.borrow(), |j| {
+        let mut pre = speculative_bounds(&sides, self.hi, (mode, eps), &self.cache.borrow(), |j| {
             let mut w = Work::new(par_budget);
             let r = bound(&j.arc, j.side, j.t0, j.t1, &mut w);
             (r, w.spent)
@@ -527,8 +550,8 @@ impl State<'_> {
                 // An arc and its span determine the error: reuse it across passes (most
                 // arcs are unchanged by insertions elsewhere).
                 let key = cache_key(arc, t0, t1, k, mode);
-                let cached = self.cache.borrow().get(&key).copied();
-                let h = match cached {
+                let known = cached(&self.cache.borrow(), &key, eps);
+                let h = match known {
                     Some(h) => h,
                     None => {
                         let mut budget = self.work.borrow_mut();
@@ -1007,7 +1030,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     // caller that retries with `allow_global_overlap` would discard.
     let mode = match opts.report {
         ReportBounds::Tight => Mode::Tight,
-        ReportBounds::Decided => Mode::Decide,
+        ReportBounds::Decided => Mode::DecidedReport,
     };
     // The state moves to the other closure by a unique borrow (its caches are not Sync).
     let state = &mut st;
@@ -1264,6 +1287,7 @@ mod tests {
 
     #[test]
     fn decided_report_bounds_give_the_same_skin_with_less_work() {
+        let mut failing = 0;
         for (c, eps) in [
             (open(3, &s_stroke()), 0.01),
             (open(3, &bend_stroke()), 0.05),
@@ -1287,6 +1311,9 @@ mod tests {
                 // Both enclose the same distance, so the intervals meet.
                 for (a, b) in [(d.error_left, t.error_left), (d.error_right, t.error_right)] {
                     assert!(a.lower <= b.upper && b.lower <= a.upper, "{a:?} vs {b:?}");
+                    // Failing sides too carry a finite upper bound (the passes leave it out).
+                    assert!(a.upper.is_finite(), "{a:?}");
+                    failing += usize::from(a.upper > eps);
                 }
                 // Met sides are proven within ε either way.
                 if d.met_left && d.met_right {
@@ -1299,6 +1326,10 @@ mod tests {
                 );
             }
         }
+        assert!(
+            failing > 0,
+            "no failing side: the finite-upper check tested nothing"
+        );
     }
 
     #[test]

@@ -1162,6 +1162,10 @@ pub enum Rejection {
     /// farthest: cheap; the upper bound returned is then the matching bound of the samples
     /// of both directions.
     Quick,
+    /// As `Quick`, without the other direction's matching bound: when D_H > ε is shown
+    /// `upper` is +∞. For callers that only ask whether the segment meets ε (a pass of the
+    /// skin's refinement); its decisions, and its bounds where D_H ≤ ε, are `Quick`'s.
+    QuickLower,
     /// By the full search alone, with the bounds earlier versions returned (for callers
     /// that compare upper bounds of failing segments). When the first direction
     /// h(skin → envelope) already exceeds ε, `upper` bounds that direction only, not D_H.
@@ -1202,12 +1206,15 @@ fn bounds_impl(
         // Quick proof of D_H > ε at the farthest sample of either direction.
         for forward in [true, false]
             .into_iter()
-            .filter(|_| rejection == Rejection::Quick)
+            .filter(|_| rejection != Rejection::Full)
         {
             if let Some(h) = search(forward, &Goal::Above(eps), work) {
                 // With the other direction's matching bound `upper` bounds D_H too.
-                let other = search(!forward, &Goal::Below(f64::INFINITY), work)
-                    .map_or(f64::INFINITY, |o| o.upper);
+                let other = match rejection {
+                    Rejection::Quick => search(!forward, &Goal::Below(f64::INFINITY), work)
+                        .map_or(f64::INFINITY, |o| o.upper),
+                    _ => f64::INFINITY,
+                };
                 return Ok(HausdorffBounds {
                     lower: h.lower,
                     upper: h.upper.max(other),
