@@ -7,9 +7,12 @@
 //! Peer in the same run: a 10-disk stroke skinned on a one-thread rayon pool (the serial
 //! path) against the default pool (Hausdorff bounds of a pass in parallel); the ratio of
 //! their median times is printed. The same stroke with `ReportBounds::Decided` (what
-//! `build` asks for: no tight bounds for the final report) is timed beside them.
+//! `build` asks for: no tight bounds for the final report) is timed beside them, on both
+//! pools, and so are eight such strokes skinned side by side (as `build` skins a design's
+//! strokes in parallel), whose throughput criterion reports per stroke.
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use rayon::prelude::*;
 use skinpath::dbsc::{DiskBSpline, find_loops};
 use skinpath::geom::{Circle, DVec2};
 use skinpath::skin::dbsc_skin::{DbscSkinOptions, ReportBounds, skin_dbsc};
@@ -163,6 +166,25 @@ fn bench(c: &mut Criterion) {
     // What `build` asks for: the same skin with the bounds that decided ε, no tight report.
     g.bench_function("parallel_decided_report", |b| {
         b.iter(|| parallel.install(|| skin_dbsc(black_box(&ten), &decided)))
+    });
+    g.bench_function("serial_decided_report", |b| {
+        b.iter(|| serial.install(|| skin_dbsc(black_box(&ten), &decided)))
+    });
+    g.finish();
+    // Eight strokes at once: the stroke-level parallelism of a design.
+    let eight = vec![ten.clone(); 8];
+    let mut g = c.benchmark_group("skin_dbsc_10_disks_x8");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(eight.len() as u64));
+    g.bench_function("parallel_decided_report", |b| {
+        b.iter(|| {
+            parallel.install(|| {
+                eight
+                    .par_iter()
+                    .map(|s| skin_dbsc(black_box(s), &decided))
+                    .collect::<Vec<_>>()
+            })
+        })
     });
     g.finish();
     let mut g = c.benchmark_group("find_loops");
