@@ -585,8 +585,9 @@ struct Node {
     /// interval, so its key is a valid bound, only looser. It computes its own (the
     /// searches' largest cost, [`BoundedCurve::d2_bound`]) only when it reaches the top of
     /// the heap, and many children never do before a search ends. The top node is always
-    /// refined before it is read, so the heap's top key is the one an eager computation
-    /// would have there: every decision, bisection and returned bound stays the same.
+    /// refined before it is read, so (the bounds nest, test `second_derivative_bounds_nest`)
+    /// the heap's top key is the one an eager computation would have there: every
+    /// decision, bisection and returned bound stays the same.
     own: bool,
 }
 
@@ -1608,6 +1609,18 @@ mod tests {
         assert!(g.lower <= h.upper && h.lower <= g.upper);
     }
 
+    /// A cubic stroke through disks `d` jittered about centres `spacing` apart along x, and
+    /// the side `left` names.
+    fn gentle_stroke(d: &[(f64, f64, f64)], spacing: f64, left: bool) -> (DiskBSpline, Side) {
+        let disks: Vec<(f64, f64, f64)> = d
+            .iter()
+            .enumerate()
+            .map(|(i, &(x, y, r))| (spacing * i as f64 + 0.3 * x, 0.5 * y, r))
+            .collect();
+        let side = if left { Side::Left } else { Side::Right };
+        (open(3, &disks), side)
+    }
+
     fn iv(a: f64, b: f64) -> Iv {
         Iv::new(a.min(b), a.max(b))
     }
@@ -1658,13 +1671,7 @@ mod tests {
             side_left in any::<bool>(),
         ) {
             // A gently curved stroke (centres along x), a cubic near its envelope.
-            let disks: Vec<(f64, f64, f64)> = d
-                .iter()
-                .enumerate()
-                .map(|(i, &(x, y, r))| (4.0 * i as f64 + 0.3 * x, 0.5 * y, r))
-                .collect();
-            let c = open(3, &disks);
-            let side = if side_left { Side::Left } else { Side::Right };
+            let (c, side) = gentle_stroke(&d, 4.0, side_left);
             let env = EnvelopeSegment::new(&c, side, 0.0, 1.0).unwrap();
             let p = |t: f64| env.point(t).unwrap();
             let (a, b) = (p(0.0), p(1.0));
@@ -1736,13 +1743,7 @@ mod tests {
             cut in proptest::collection::vec((0.0f64..=1.0, 0.0f64..=1.0), 8),
             side_left in any::<bool>(),
         ) {
-            let disks: Vec<(f64, f64, f64)> = d
-                .iter()
-                .enumerate()
-                .map(|(i, &(x, y, r))| (3.0 * i as f64 + 0.3 * x, 0.5 * y, r))
-                .collect();
-            let c = open(3, &disks);
-            let side = if side_left { Side::Left } else { Side::Right };
+            let (c, side) = gentle_stroke(&d, 3.0, side_left);
             let env = EnvelopeSegment::new(&c, side, 0.0, 1.0).unwrap();
             let bez = CubicBez::new(
                 DVec2::new(0.0, 0.0),
