@@ -24,14 +24,47 @@ pub const INLINE: usize = 64;
 /// Coefficient count of the small stack buffer (degree ≤ 7: span polynomials of strokes).
 pub const SMALL: usize = 8;
 
-/// Binomial coefficient C(n, k) as f64 (0 for k > n); exact while C(n, k) < 2⁵³.
+/// Binomial coefficient C(n, k) as f64 (0 for k > n); exact while the product's steps
+/// C(n, i)·(n − i) stay below 2⁵³ (every n ≤ 54). Read
+/// from a table for n < [`INLINE`] (products of Bernstein polynomials take three per
+/// coefficient pair), else computed.
 pub fn binom(n: usize, k: usize) -> f64 {
     if k > n {
         return 0.0;
     }
-    let k = k.min(n - k);
-    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+    match BINOM.get(n) {
+        Some(row) => row[k],
+        None => binom_product(n, k),
+    }
 }
+
+/// C(n, k), k ≤ n, as the product Π (n − i)/(i + 1) over i < min(k, n − k), in this order.
+const fn binom_product(n: usize, k: usize) -> f64 {
+    let k = if k < n - k { k } else { n - k };
+    let mut acc = 1.0;
+    let mut i = 0;
+    while i < k {
+        acc = acc * (n - i) as f64 / (i + 1) as f64;
+        i += 1;
+    }
+    acc
+}
+
+/// [`binom_product`] for n < [`INLINE`], evaluated at compile time (IEEE arithmetic, the
+/// same values as at run time).
+static BINOM: [[f64; INLINE]; INLINE] = {
+    let mut t = [[0.0; INLINE]; INLINE];
+    let mut n = 0;
+    while n < INLINE {
+        let mut k = 0;
+        while k <= n {
+            t[n][k] = binom_product(n, k);
+            k += 1;
+        }
+        n += 1;
+    }
+    t
+};
 
 /// Bernstein coefficients on [0, 1] of the polynomial Σ aₖ uᵏ (power basis, ascending) of
 /// the same degree: bᵢ = Σ_{k≤i} C(i, k)/C(n, k) aₖ (Farouki–Rajan 1987, eq. 7).
@@ -415,6 +448,22 @@ pub fn prove_positive(b: &[f64], max_depth: u32) -> Positivity {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn binomial_table_is_the_run_time_product_and_pascals_triangle() {
+        for n in 0..INLINE + 4 {
+            for k in 0..=n {
+                let run_time = binom_product(std::hint::black_box(n), std::hint::black_box(k));
+                assert_eq!(binom(n, k).to_bits(), run_time.to_bits(), "C({n}, {k})");
+                // Pascal's rule, exact while the product's steps stay below 2⁵³ (n ≤ 54).
+                if n <= 54 && k > 0 && k < n {
+                    assert_eq!(binom(n, k), binom(n - 1, k - 1) + binom(n - 1, k));
+                }
+            }
+            assert_eq!(binom(n, n + 1), 0.0);
+        }
+        assert_eq!(binom(10, 3), 120.0);
+    }
 
     /// Power coefficients of lead · Π (u − rᵢ).
     fn from_roots(rs: &[f64], lead: f64) -> Vec<f64> {
