@@ -987,14 +987,10 @@ fn match_search(
     work: &mut Work,
 ) -> Option<HausdorffBounds> {
     let yd = seed.yd;
-    let mut samples = seed.samples.clone();
-    let mut heap = seed.heap.clone();
     let mut pheap: BinaryHeap<Node> = BinaryHeap::new();
-    let mut lower: f64 = 0.0;
-    // Y's grid for point-distance searches, made on first use.
-    let mut target: Option<Target> = None;
     if let Goal::Above(bound) = *goal {
-        let (p, d, _) = samples
+        let (p, d, _) = seed
+            .samples
             .iter()
             .max_by(|a, b| a.1.upper.total_cmp(&b.1.upper))?;
         if d.upper.partial_cmp(&bound) != Some(Ordering::Greater) || !work.take() {
@@ -1004,12 +1000,18 @@ fn match_search(
         let tol = 0.5 * (d.upper - bound);
         let y = Target::new(yc).ok()?;
         let d = point_distance(*p, &y, Some(d.t), tol, work, &mut pheap).ok()?;
-        let upper = heap.peek()?.key;
+        let upper = seed.heap.peek()?.key;
         return (d.lower > bound).then_some(HausdorffBounds {
             lower: d.lower,
             upper: upper.max(d.lower),
         });
     }
+    let mut heap = seed.heap.clone();
+    // Only the gap's point-distance searches read the samples.
+    let mut samples = matches!(goal, Goal::Gap { .. }).then(|| seed.samples.clone());
+    let mut lower: f64 = 0.0;
+    // Y's grid for point-distance searches, made on first use.
+    let mut target: Option<Target> = None;
     let mut steps = 0;
     while let Some(nd) = heap.pop() {
         if !nd.own {
@@ -1044,6 +1046,7 @@ fn match_search(
         if let Goal::Gap { gap, ptol } = *goal {
             let far = samples
                 .iter_mut()
+                .flatten()
                 .filter(|s| !s.2)
                 .max_by(|a, b| a.1.upper.total_cmp(&b.1.upper));
             if let Some(f) = far
@@ -1067,7 +1070,9 @@ fn match_search(
         }
         let pm = xc.point(sm).ok()?;
         let dm = foot_point(pm, yc, yd, 0.5 * (nd.u0 + nd.u1))?;
-        samples.push((pm, dm, false));
+        if let Some(s) = samples.as_mut() {
+            s.push((pm, dm, false));
+        }
         heap.extend(match_children(yc, &nd, (sm, pm, &dm)));
     }
     None
