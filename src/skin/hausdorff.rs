@@ -648,9 +648,9 @@ fn grid_of(c: &dyn BoundedCurve, n: usize) -> Vec<f64> {
     ts
 }
 
-/// The curve Y of one directed distance with its initial grid and the second-derivative bound of
-/// each grid window, computed once: every point-distance search of the directed bound (one
-/// per sample of X) starts from all windows of the grid.
+/// The curve Y of one directed distance with its initial grid and the second-derivative
+/// bound of each grid window, computed once: every point-distance search of the directed
+/// bound (one per sample of X) starts from all windows of the grid.
 struct Target<'a> {
     c: &'a dyn BoundedCurve,
     /// The initial grid (parameter, point).
