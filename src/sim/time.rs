@@ -44,37 +44,61 @@ pub(super) struct Block {
 
 impl Block {
     /// The block of chord `d` (mm) at programmed `feed` (mm/min; 0 = the rate limit), or at
-    /// the rate limit for a rapid; `rates` in mm/s. None for a chord the limits cannot
-    /// move (zero length, zero or non-finite speed or acceleration).
-    pub(super) fn of_chord(
-        d: DVec3,
-        feed: f64,
-        rapid: bool,
-        rates: [f64; 3],
-        cfg: &CheckConfig,
-    ) -> Option<Block> {
+    /// the rate limit for a rapid. None for a chord the limits cannot move (zero length,
+    /// zero or non-finite speed or acceleration).
+    pub(super) fn of_chord(d: DVec3, feed: f64, rapid: bool, lim: &AxisLimits) -> Option<Block> {
         let len = d.length();
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
-        let unit = d / len;
-        let vmax = axis_limited(rates, unit);
+        let unit = d * (1.0 / len);
+        let vmax = axis_limited(lim.inv_rate, d, len);
         let prog = if feed > 0.0 { feed / 60.0 } else { vmax };
         let v = if rapid { vmax } else { prog.min(vmax) };
-        let a = axis_limited(cfg.accel, unit);
+        let a = axis_limited(lim.inv_accel, d, len);
         (v > 0.0 && a > 0.0 && v.is_finite() && a.is_finite()).then_some(Block { len, unit, v, a })
     }
 }
 
-/// min over axes with u_i ≠ 0 of `limit_i / |u_i|` (GRBL limit_value_by_axis_maximum).
-fn axis_limited(limit: [f64; 3], u: DVec3) -> f64 {
-    let mut v = f64::INFINITY;
-    for (i, &lim) in limit.iter().enumerate() {
-        if u[i] != 0.0 {
-            v = v.min(lim / u[i].abs());
+/// The machine's per-axis limits as reciprocals (so a block takes one division per limit,
+/// not one per axis): 1/rate in s/mm and 1/acceleration in s²/mm, 0 for an unlimited axis
+/// and +∞ for one that cannot move (limit ≤ 0); a NaN limit is ignored.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct AxisLimits {
+    inv_rate: [f64; 3],
+    inv_accel: [f64; 3],
+    junction_deviation: f64,
+}
+
+impl AxisLimits {
+    /// The limits of `cfg` (mm; rates in mm/min).
+    pub(super) fn new(cfg: &CheckConfig) -> Self {
+        let inv = |lim: f64| {
+            if lim > 0.0 {
+                1.0 / lim
+            } else if lim.is_nan() {
+                0.0
+            } else {
+                f64::INFINITY
+            }
+        };
+        AxisLimits {
+            inv_rate: cfg.max_rate.map(|r| inv(r / 60.0)),
+            inv_accel: cfg.accel.map(inv),
+            junction_deviation: cfg.junction_deviation,
         }
     }
-    v
+}
+
+/// The limit along direction `d` (of length `len` > 0) from per-axis limits given as
+/// reciprocals: min over axes with dᵢ ≠ 0 of limitᵢ · len / |dᵢ| = len / maxᵢ(|dᵢ| / limitᵢ)
+/// (GRBL limit_value_by_axis_maximum). A product 0 · ∞ (a still axis that cannot move) is
+/// NaN, which `f64::max` passes over.
+fn axis_limited(inv: [f64; 3], d: DVec3, len: f64) -> f64 {
+    let m = (d.x.abs() * inv[0])
+        .max(d.y.abs() * inv[1])
+        .max(d.z.abs() * inv[2]);
+    len / m
 }
 
 /// Estimates the run time of `motions` (mm) under `cfg` (mm, see [`CheckConfig::in_mm`]).
@@ -101,18 +125,18 @@ pub fn estimate_each(
 }
 
 /// The planner blocks of a rapid or feed move, with whether it is a rapid.
-fn for_blocks(m: &Motion, rates: [f64; 3], cfg: &CheckConfig, mut f: impl FnMut(Block, bool)) {
+fn for_blocks(m: &Motion, lim: &AxisLimits, cfg: &CheckConfig, mut f: impl FnMut(Block, bool)) {
     let is_rapid = m.kind == MotionKind::Rapid;
     if m.arc.is_none() {
         // A line is one chord: no point list to build.
-        if let Some(b) = Block::of_chord(m.to - m.from, m.feed, is_rapid, rates, cfg) {
+        if let Some(b) = Block::of_chord(m.to - m.from, m.feed, is_rapid, lim) {
             f(b, is_rapid);
         }
         return;
     }
     let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
     for w in pts.windows(2) {
-        if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, is_rapid, rates, cfg) {
+        if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, is_rapid, lim) {
             f(b, is_rapid);
         }
     }
@@ -129,7 +153,7 @@ fn for_blocks(m: &Motion, rates: [f64; 3], cfg: &CheckConfig, mut f: impl FnMut(
 #[derive(Clone, Debug)]
 pub struct Estimator {
     cfg: CheckConfig,
-    rates: [f64; 3],
+    lim: AxisLimits,
     /// The window: block, rapid, its junction limit with the block before (0 for the first
     /// block of a run).
     window: Vec<(Block, bool, f64)>,
@@ -148,7 +172,7 @@ impl Estimator {
     pub fn new(cfg: &CheckConfig) -> Self {
         Estimator {
             cfg: cfg.clone(),
-            rates: cfg.max_rate.map(|r| r / 60.0),
+            lim: AxisLimits::new(cfg),
             window: Vec::new(),
             entry: 0.0,
             limit: WINDOW,
@@ -166,11 +190,11 @@ impl Estimator {
                 }
             }
             MotionKind::Rapid | MotionKind::Feed => {
-                let (window, cfg) = (&mut self.window, &self.cfg);
-                for_blocks(m, self.rates, cfg, |b, r| {
+                let (window, lim) = (&mut self.window, &self.lim);
+                for_blocks(m, lim, &self.cfg, |b, r| {
                     let j = window
                         .last()
-                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, cfg));
+                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, lim));
                     window.push((b, r, j));
                 });
                 if self.window.len() >= self.limit {
@@ -219,10 +243,13 @@ impl Estimator {
         // Forward pass over the settled part, from the final entry speed.
         let mut e = lo;
         e[0] = self.entry;
+        let mut vi = e[0].sqrt();
         for i in 0..done {
             let b = self.window[i].0;
             e[i + 1] = e[i + 1].min(e[i] + 2.0 * b.a * b.len);
-            let dt = block_time(b.len, e[i].sqrt(), e[i + 1].sqrt(), b.v, b.a);
+            let vf = e[i + 1].sqrt();
+            let dt = block_time(b.len, vi, vf, b.v, b.a);
+            vi = vf;
             if self.window[i].1 {
                 self.t.rapid += dt;
             } else {
@@ -242,30 +269,31 @@ impl Estimator {
 }
 
 /// Squared junction speed limit between blocks `p` and `q`.
-fn junction_speed_sqr(p: &Block, q: &Block, cfg: &CheckConfig) -> f64 {
+fn junction_speed_sqr(p: &Block, q: &Block, lim: &AxisLimits) -> f64 {
     let cos = -p.unit.dot(q.unit);
-    let lim = p.v.min(q.v).powi(2);
+    let nominal = p.v.min(q.v).powi(2);
     if cos > COS_STRAIGHT {
         return 0.0;
     }
     if cos < -COS_STRAIGHT {
-        return lim;
+        return nominal;
     }
-    let ju = (q.unit - p.unit).normalize_or_zero();
-    let aj = axis_limited(cfg.accel, ju);
+    // The acceleration limit along u₁ − u₀ (not a still vector: cos ≥ −COS_STRAIGHT).
+    let w = q.unit - p.unit;
+    let aj = axis_limited(lim.inv_accel, w, w.length());
     let sin_half = (0.5 * (1.0 - cos)).sqrt();
-    let vj2 = aj * cfg.junction_deviation * sin_half / (1.0 - sin_half);
-    vj2.min(lim)
+    let vj2 = aj * lim.junction_deviation * sin_half / (1.0 - sin_half);
+    vj2.min(nominal)
 }
 
 /// Plans a run of blocks from rest to rest: the squared entry speed of every block,
 /// e[i] for block i and e[n] = 0 for the exit of the last (junction limits, then a backward
 /// and a forward pass over v_next² ≤ v² + 2aL).
-pub(super) fn plan(blocks: &[Block], cfg: &CheckConfig) -> Vec<f64> {
+pub(super) fn plan(blocks: &[Block], lim: &AxisLimits) -> Vec<f64> {
     let n = blocks.len();
     let mut e = vec![0.0; n + 1];
     for i in 1..n {
-        e[i] = junction_speed_sqr(&blocks[i - 1], &blocks[i], cfg);
+        e[i] = junction_speed_sqr(&blocks[i - 1], &blocks[i], lim);
     }
     for i in (0..n).rev() {
         let b = &blocks[i];
@@ -281,13 +309,14 @@ pub(super) fn plan(blocks: &[Block], cfg: &CheckConfig) -> Vec<f64> {
 /// Time of a trapezoidal (or triangular) profile over length `len` from `vi` to `vf` with
 /// nominal `v` and acceleration `a` (see the module docs).
 pub fn block_time(len: f64, vi: f64, vf: f64, v: f64, a: f64) -> f64 {
-    let da = (v * v - vi * vi) / (2.0 * a);
-    let dd = (v * v - vf * vf) / (2.0 * a);
+    let inv_2a = 0.5 / a;
+    let da = (v * v - vi * vi) * inv_2a;
+    let dd = (v * v - vf * vf) * inv_2a;
     if da + dd <= len {
-        (v - vi) / a + (v - vf) / a + (len - da - dd) / v
+        (2.0 * v - vi - vf) * (2.0 * inv_2a) + (len - da - dd) / v
     } else {
         let vp = (a * len + 0.5 * (vi * vi + vf * vf)).sqrt().min(v);
-        (vp - vi).max(0.0) / a + (vp - vf).max(0.0) / a
+        ((vp - vi).max(0.0) + (vp - vf).max(0.0)) * (2.0 * inv_2a)
     }
 }
 

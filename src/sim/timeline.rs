@@ -10,7 +10,7 @@
 
 use super::config::CheckConfig;
 use super::motion::{MotionKind, Motions};
-use super::time::{Block, block_time, plan};
+use super::time::{AxisLimits, Block, block_time, plan};
 use glam::DVec3;
 
 /// One planner block (a chord of a motion) or a dwell, with its place in time.
@@ -116,11 +116,11 @@ pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
     let mut blocks: Vec<Block> = Vec::new();
     // The segment of each block.
     let mut seg_of: Vec<usize> = Vec::new();
-    let rates = cfg.max_rate.map(|r| r / 60.0);
+    let lim = AxisLimits::new(&cfg);
     for (mi, m) in motions.iter().enumerate() {
         match m.kind {
             MotionKind::Dwell { seconds } => {
-                store_speeds(&blocks, &seg_of, &cfg, &mut segs);
+                store_speeds(&blocks, &seg_of, &lim, &mut segs);
                 blocks.clear();
                 seg_of.clear();
                 segs.push(Segment {
@@ -154,7 +154,7 @@ pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
                         vf: 0.0,
                         a: 0.0,
                     });
-                    if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, rapid, rates, &cfg) {
+                    if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, rapid, &lim) {
                         blocks.push(b);
                         seg_of.push(segs.len() - 1);
                     }
@@ -162,7 +162,7 @@ pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
             }
         }
     }
-    store_speeds(&blocks, &seg_of, &cfg, &mut segs);
+    store_speeds(&blocks, &seg_of, &lim, &mut segs);
     let mut t = 0.0;
     for s in &mut segs {
         s.t0 = t;
@@ -176,8 +176,8 @@ pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
 
 /// Plans a run of blocks from rest to rest ([`super::time::plan`]) and stores each block's
 /// entry, cruise (or peak) and exit speed and its duration in its segment.
-fn store_speeds(blocks: &[Block], seg_of: &[usize], cfg: &CheckConfig, segs: &mut [Segment]) {
-    let e = plan(blocks, cfg);
+fn store_speeds(blocks: &[Block], seg_of: &[usize], lim: &AxisLimits, segs: &mut [Segment]) {
+    let e = plan(blocks, lim);
     for (i, b) in blocks.iter().enumerate() {
         let (vi, vf) = (e[i].sqrt(), e[i + 1].sqrt());
         let da = (b.v * b.v - vi * vi) / (2.0 * b.a);
