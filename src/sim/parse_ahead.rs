@@ -83,7 +83,16 @@ impl ParseAhead {
 /// The worker: parses `text` chunk by chunk into `tx` until the text ends or the
 /// interpreter hangs up.
 fn parse_chunks(text: &str, syn: Syntax, tx: &SyncSender<Chunk>, spare: &Receiver<Vec<Line>>) {
-    let mut lines_of = text.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l));
+    // `text.split('\n')` by the memchr crate's search (a third of the time of the
+    // standard library's char searcher here).
+    let mut start = 0;
+    let mut lines_of = memchr::memchr_iter(b'\n', text.as_bytes())
+        .chain(std::iter::once(text.len()))
+        .map(|end| {
+            let l = &text[start..end];
+            start = end + 1;
+            l.strip_suffix('\r').unwrap_or(l)
+        });
     let mut first = 0;
     loop {
         let mut lines = spare.try_recv().unwrap_or_default();
