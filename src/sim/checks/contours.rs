@@ -79,44 +79,115 @@ pub fn cut_contours_marked(
     marks: &[(usize, Option<u32>)],
     cfg: &CheckConfig,
 ) -> Vec<SimContour> {
-    let mut out: Vec<SimContour> = Vec::new();
-    let mut cur: Option<SimContour> = None;
+    let mut out = Vec::new();
+    for_each_cut_contour(motions, marks, cfg, |c| out.push(c.clone()));
+    out
+}
+
+/// Calls `f` with each contour of [`cut_contours_marked`] in order, built in one buffer
+/// reused from contour to contour: a caller that does not keep the contours whole (the
+/// checks keep their segments) needs no memory for all of them at once.
+pub fn for_each_cut_contour(
+    motions: &Motions,
+    marks: &[(usize, Option<u32>)],
+    cfg: &CheckConfig,
+    mut f: impl FnMut(&SimContour),
+) {
+    let mut cur = SimContour {
+        points: Vec::new(),
+        sources: Vec::new(),
+        z: 0.0,
+        session: 0,
+        group: None,
+    };
+    // Whether `cur` holds a contour begun and not yet handed to `f`.
+    let mut open = false;
+    let mut close = |cur: &mut SimContour, open: &mut bool| {
+        if std::mem::take(open) {
+            f(cur);
+        }
+    };
     for (k, m) in motions.iter().enumerate() {
         let planar = m.from.z == m.to.z;
         if matches!(m.kind, MotionKind::Dwell { .. }) {
             continue;
         }
         if !(is_cutting(&m, cfg) && planar) {
-            out.extend(cur.take());
+            close(&mut cur, &mut open);
             continue;
         }
         let group = group_at(marks, m.line);
-        if cur
-            .as_ref()
-            .is_some_and(|c| c.session != m.tool.session || c.group != group)
-        {
-            out.extend(cur.take());
+        if open && (cur.session != m.tool.session || cur.group != group) {
+            close(&mut cur, &mut open);
         }
-        let c = cur.get_or_insert_with(|| SimContour {
-            points: vec![m.from.truncate()],
-            sources: Vec::new(),
-            z: m.from.z,
-            session: m.tool.session,
-            group,
-        });
+        if !open {
+            open = true;
+            cur.points.clear();
+            cur.sources.clear();
+            cur.points.push(m.from.truncate());
+            cur.z = m.from.z;
+            cur.session = m.tool.session;
+            cur.group = group;
+        }
         if m.arc.is_none() {
             // A line flattens to its two ends: no point list to build.
-            c.points.push(m.to.truncate());
-            c.sources.push(k as u32);
+            cur.points.push(m.to.truncate());
+            cur.sources.push(k as u32);
         } else {
             for p in m.flatten_xy(cfg.flatten_tolerance).into_iter().skip(1) {
-                c.points.push(p);
-                c.sources.push(k as u32);
+                cur.points.push(p);
+                cur.sources.push(k as u32);
             }
         }
     }
-    out.extend(cur);
-    out
+    close(&mut cur, &mut open);
+}
+
+/// Where a cut contour starts and the height it is cut at: what the gouge check reads of
+/// it ([`super::gouge::gouge_findings`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContourStart {
+    /// First point.
+    pub point: DVec2,
+    /// Motion index of its first segment (None for a contour of one point).
+    pub source: Option<u32>,
+    /// Height (z, mm).
+    pub z: f64,
+}
+
+/// The segments of the cut contours ([`cut_contours_marked`]) for the intersection check
+/// ([`intersection_findings_in`]) and each contour's start, in one pass that does not keep
+/// the contours' point lists (a second copy of every point, 20 bytes a segment).
+pub fn contour_segments(
+    motions: &Motions,
+    marks: &[(usize, Option<u32>)],
+    cfg: &CheckConfig,
+) -> (SegmentSet, Vec<ContourStart>) {
+    let mut set = new_set(cfg);
+    // At most one segment per straight move: arcs may need more (the vector grows then).
+    set.segs.reserve(motions.len());
+    let mut starts = Vec::new();
+    for_each_cut_contour(motions, marks, cfg, |c| {
+        set.push_polyline_in(&c.points, &c.sources, c.group);
+        starts.push(start_of(c));
+    });
+    (set, starts)
+}
+
+fn start_of(c: &SimContour) -> ContourStart {
+    ContourStart {
+        point: c.points.first().copied().unwrap_or_default(),
+        source: c.sources.first().copied(),
+        z: c.z,
+    }
+}
+
+/// The empty segment set of the intersection check under `cfg`.
+fn new_set(cfg: &CheckConfig) -> SegmentSet {
+    let mut set = SegmentSet::new();
+    set.across = across(cfg);
+    set.tangent_slack = tangent_slack(cfg);
+    set
 }
 
 /// Self-intersections of each contour and crossings between contours (unless
@@ -133,9 +204,7 @@ pub fn intersection_findings(
     motions: &Motions,
     cfg: &CheckConfig,
 ) -> Vec<Finding> {
-    let mut set = SegmentSet::new();
-    set.across = across(cfg);
-    set.tangent_slack = tangent_slack(cfg);
+    let mut set = new_set(cfg);
     // Exact size up front: no doubling growth on long programs.
     set.segs.reserve(
         contours
@@ -147,6 +216,18 @@ pub fn intersection_findings(
     for c in contours {
         set.push_polyline_in(&c.points, &c.sources, c.group);
     }
+    let starts: Vec<ContourStart> = contours.iter().map(start_of).collect();
+    intersection_findings_in(&set, &starts, motions, cfg)
+}
+
+/// [`intersection_findings`] on the segments of the contours ([`contour_segments`]), with
+/// each contour's start for the height of its findings.
+pub fn intersection_findings_in(
+    set: &SegmentSet,
+    starts: &[ContourStart],
+    motions: &Motions,
+    cfg: &CheckConfig,
+) -> Vec<Finding> {
     let mut seen = std::collections::BTreeSet::new();
     let mut out = Vec::new();
     let line_of = |src: u32| motions.get(src as usize).map(|m| m.line).unwrap_or(0);
@@ -167,7 +248,7 @@ pub fn intersection_findings(
         if !seen.insert(key) {
             continue;
         }
-        let z = contours.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
+        let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
         out.push(contact_finding(
             [s.contour, t.contour],
             c.proper,

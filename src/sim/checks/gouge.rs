@@ -1,7 +1,7 @@
 //! Gouge check: the tool centre must stay at least `tool_radius − gouge_tolerance` away from
 //! the design boundary, on the side the profile asks for.
 
-use super::contours::{SimContour, is_cutting};
+use super::contours::{ContourStart, is_cutting};
 use crate::geom::predicates::edge_winding;
 use crate::geom::{DVec2, Line};
 use crate::sim::config::CheckConfig;
@@ -169,7 +169,7 @@ impl<'d> GougeIndex<'d> {
 /// lies on the wrong side of the nearest boundary. One finding per offending line.
 pub fn gouge_findings(
     motions: &Motions,
-    contours: &[SimContour],
+    contours: &[ContourStart],
     design: &[DesignBoundary],
     cfg: &CheckConfig,
 ) -> Vec<Finding> {
@@ -183,14 +183,12 @@ pub fn gouge_findings(
         }
     }
     for c in contours {
-        let Some(&p) = c.points.first() else { continue };
         let line = c
-            .sources
-            .first()
-            .and_then(|&s| motions.get(s as usize))
+            .source
+            .and_then(|s| motions.get(s as usize))
             .map(|m| m.line)
             .unwrap_or(0);
-        out.extend(index.contour_start(p, line, c.z));
+        out.extend(index.contour_start(c.point, line, c.z));
     }
     out
 }

@@ -101,14 +101,10 @@ pub struct CheckFindings {
 /// within each check. Out-of-bounds moves beyond `cfg.max_findings_per_check` are counted
 /// without building their findings.
 pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> CheckFindings {
-    let contours = contours::cut_contours_marked(&prog.motions, &prog.group_marks, cfg);
-    let mut out = Vec::new();
-    out.extend(contours::intersection_findings(
-        &contours,
-        &prog.motions,
-        cfg,
-    ));
-    out.extend(gouge::gouge_findings(&prog.motions, &contours, design, cfg));
+    let (set, starts) = contours::contour_segments(&prog.motions, &prog.group_marks, cfg);
+    let mut out = contours::intersection_findings_in(&set, &starts, &prog.motions, cfg);
+    drop(set);
+    out.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
     // The per-move checks in one pass over the moves; their findings in the order of
     // `out_of_bounds`, `rapids` and `feed_and_power` one after the other.
     let limits = machine::Limits::new(cfg);
@@ -393,6 +389,41 @@ mod tests {
         let c = s.contacts();
         assert_eq!(c.len(), 1, "{c:?}");
         assert_eq!((s.segs[c[0].i].contour, s.segs[c[0].j].contour), (1, 2));
+    }
+
+    /// The segment set built in one pass ([`contours::contour_segments`]) is the one built
+    /// from the contours kept whole, with the same contour starts: a program with arcs,
+    /// tool switches, depth changes, a dwell and pocket marks.
+    #[test]
+    fn contour_segments_match_the_kept_contours() {
+        let src = "G21 G90 F1000 S500\nG0 X1 Y1\nM3\nG1 X5 Y1\nG2 X9 Y5 I0 J4\nY9\n\
+                   M5\nG0 X20 Y0\nM3\n(skinpath:group 4)\nG1 X25\nG4 P0.5\nG3 X25 Y5 R3\n\
+                   (skinpath:group none)\nG1 X20 Y5\nG1 Z-1\nG1 X20 Y0\nM3 S0\nG1 X30\n\
+                   M3 S500\nG1 X30 Y30\nX31\nM5\nM2\n";
+        let cfg = CheckConfig {
+            kind: crate::sim::MachineKind::Laser,
+            ..CheckConfig::default()
+        }
+        .in_mm();
+        let prog = crate::sim::load(Backend::Builtin, src, &cfg);
+        let kept = contours::cut_contours_marked(&prog.motions, &prog.group_marks, &cfg);
+        assert!(kept.len() >= 4, "{kept:?}");
+        let (set, starts) = contours::contour_segments(&prog.motions, &prog.group_marks, &cfg);
+        let mut want = SegmentSet::new();
+        for c in &kept {
+            want.push_polyline_in(&c.points, &c.sources, c.group);
+        }
+        assert_eq!(set.segs, want.segs);
+        assert_eq!(set.contours, want.contours);
+        let want_starts: Vec<contours::ContourStart> = kept
+            .iter()
+            .map(|c| contours::ContourStart {
+                point: c.points[0],
+                source: c.sources.first().copied(),
+                z: c.z,
+            })
+            .collect();
+        assert_eq!(starts, want_starts);
     }
 
     proptest! {
