@@ -72,9 +72,10 @@ struct Timings {
     /// Interpreting the G-code (with `--backend linuxcnc`: running rs274 and reading its
     /// output).
     interpret: f64,
-    /// The checks (intersections, gouges, bounds, rapids, feeds, program end).
+    /// The checks on the cut contours (intersections, gouges).
     checks: f64,
-    /// Statistics and the time estimate (run beside the checks, so the two overlap).
+    /// The per-move checks (bounds, rapids, feeds, program end), statistics and the time
+    /// estimate, in one pass over the moves beside the contour checks (the two overlap).
     estimate: f64,
     /// Assembling and writing the report.
     report: f64,
@@ -196,10 +197,7 @@ pub fn run(a: Args) -> Result<u8> {
     drop(bytes);
     timings.interpret = clock.elapsed().as_secs_f64();
     // The checks and the estimate are independent: they run side by side, each timed alone.
-    let ((found, checks), (stats, estimate)) = rayon::join(
-        || timed(|| skinpath::sim::run_checks(&prog, &cfg, &bounds)),
-        || timed(|| skinpath::sim::usable_stats(&prog, &cfg)),
-    );
+    let (found, stats, [checks, estimate]) = skinpath::sim::checks_and_stats(&prog, &cfg, &bounds);
     (timings.checks, timings.estimate) = (checks, estimate);
     let clock = Instant::now();
     let mut report =
@@ -232,8 +230,8 @@ fn write_report(
     if a.timings && !a.json {
         let t = &timings;
         eprintln!(
-            "timings: read {:.3} s, interpret {:.3} s, checks {:.3} s and estimate {:.3} s \
-             (side by side), report {:.3} s, total {:.3} s",
+            "timings: read {:.3} s, interpret {:.3} s, contour checks {:.3} s and move checks \
+             with estimate {:.3} s (side by side), report {:.3} s, total {:.3} s",
             t.read,
             t.interpret,
             t.checks,
@@ -243,13 +241,6 @@ fn write_report(
         );
     }
     Ok(report.exit_code() as u8)
-}
-
-/// The value of `f` and the seconds it took.
-fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
-    let clock = Instant::now();
-    let value = f();
-    (value, clock.elapsed().as_secs_f64())
 }
 
 /// `NAME.ngc` (any case of the name) in the first folder of `dirs` that holds it.

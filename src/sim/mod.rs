@@ -176,36 +176,46 @@ pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
 /// mm. Interpreter diagnostics come first, then the checks' findings, each check capped at
 /// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
 pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
-    let (found, stats) = rayon::join(|| run_checks(prog, cfg, design), || usable_stats(prog, cfg));
+    let (found, stats, _) = checks_and_stats(prog, cfg, design);
     assemble_with(prog, cfg, found.findings, stats, &found.dropped)
 }
 
-/// The [`stats`] of `prog` (`cfg` may be in inch), or none when the program is unusable.
-/// Independent of [`run_checks`]: [`check`] runs the two side by side.
-pub fn usable_stats(prog: &Program, cfg: &CheckConfig) -> Stats {
-    if prog.unusable.is_some() {
-        Stats::default()
-    } else {
-        stats(prog, &cfg.in_mm())
-    }
-}
-
-/// The findings of [`check`] before capping: interpreter diagnostics, then every check's
-/// (nothing when the program is unusable), with the findings counted but not built
-/// ([`checks::CheckFindings`]). `cfg` may be in inch; `design` is in mm.
-pub fn run_checks(
+/// The findings of [`check`] before capping (interpreter diagnostics, then every check's,
+/// with the findings counted but not built, [`checks::CheckFindings`]) and the [`stats`],
+/// both empty when the program is unusable; also the wall seconds of the two sides below.
+/// `cfg` may be in inch; `design` is in mm.
+///
+/// Two workers share the work in about equal parts: one runs the checks on the cut
+/// contours ([`checks::contour_findings`]), the other the per-move checks
+/// ([`checks::MoveChecks`]) in the time estimate's pass over the moves. The findings are
+/// those of [`checks::run_all`], in its order.
+pub fn checks_and_stats(
     prog: &Program,
     cfg: &CheckConfig,
     design: &[DesignBoundary],
-) -> checks::CheckFindings {
+) -> (checks::CheckFindings, Stats, [f64; 2]) {
     if prog.unusable.is_some() {
-        return checks::CheckFindings::default();
+        return (checks::CheckFindings::default(), Stats::default(), [0.0; 2]);
     }
-    let mut found = checks::run_all(prog, &cfg.in_mm(), design);
+    let mm = cfg.in_mm();
+    let ((contour, t_contours), ((moves, stats), t_moves)) = rayon::join(
+        || {
+            let clock = std::time::Instant::now();
+            let f = checks::contour_findings(prog, &mm, design);
+            (f, clock.elapsed().as_secs_f64())
+        },
+        || {
+            let clock = std::time::Instant::now();
+            let mut checks = checks::MoveChecks::new(&mm);
+            let stats = stats_each(prog, &mm, |m| checks.motion(m));
+            ((checks.finish(prog), stats), clock.elapsed().as_secs_f64())
+        },
+    );
+    let mut found = checks::join(contour, moves);
     found
         .findings
         .splice(0..0, prog.diagnostics.iter().cloned());
-    found
+    (found, stats, [t_contours, t_moves])
 }
 
 /// The report of [`check`] from the findings of [`run_checks`] and the [`stats`] of `prog`:
@@ -290,11 +300,18 @@ pub fn assemble_with(
 
 /// Move count, cut and rapid lengths (helical lengths for arcs), bounds, time.
 pub fn stats(prog: &Program, cfg: &CheckConfig) -> Stats {
+    stats_each(prog, cfg, |_| {})
+}
+
+/// [`stats`], handing every move (dwells too) to `f` on the way.
+fn stats_each(prog: &Program, cfg: &CheckConfig, mut f: impl FnMut(&Motion)) -> Stats {
     let mut s = Stats::default();
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    // One pass over the moves: the estimate hands each to the length and bounds sums.
+    // One pass over the moves: the estimate hands each to `f` and to the length and bounds
+    // sums.
     s.time = time::estimate_each(&prog.motions, cfg, |m| {
+        f(m);
         match m.kind {
             MotionKind::Rapid => s.rapid_length += m.length(),
             MotionKind::Feed => s.cut_length += m.length(),

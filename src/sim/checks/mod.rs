@@ -30,7 +30,7 @@ pub use intersect::{Across, Contact, Seg, SegmentSet};
 
 use super::config::CheckConfig;
 use super::findings::Finding;
-use super::motion::Program;
+use super::motion::{Motion, Program};
 
 /// Findings of one check kept up to a cap per id, the rest only counted.
 #[derive(Clone, Debug)]
@@ -101,29 +101,80 @@ pub struct CheckFindings {
 /// within each check. Out-of-bounds moves beyond `cfg.max_findings_per_check` are counted
 /// without building their findings.
 pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> CheckFindings {
+    let mut moves = MoveChecks::new(cfg);
+    for m in &prog.motions {
+        moves.motion(&m);
+    }
+    join(contour_findings(prog, cfg, design), moves.finish(prog))
+}
+
+/// The checks on the cut contours (`cfg` in mm): self-intersections and crossings, then
+/// gouges. With [`MoveChecks`] on the same program, every check of [`run_all`].
+pub fn contour_findings(
+    prog: &Program,
+    cfg: &CheckConfig,
+    design: &[DesignBoundary],
+) -> Vec<Finding> {
     let (set, starts) = contours::contour_segments(&prog.motions, &prog.group_marks, cfg);
     let mut out = contours::intersection_findings_in(&set, &starts, &prog.motions, cfg);
     drop(set);
     out.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
-    // The per-move checks in one pass over the moves; their findings in the order of
-    // `out_of_bounds`, `rapids` and `feed_and_power` one after the other.
-    let limits = machine::Limits::new(cfg);
-    let mut bounds = Capped::new(cfg.max_findings_per_check);
-    let (mut rapids, mut feeds) = (Vec::new(), Vec::new());
-    let mut fp = machine::FeedPower::default();
-    for m in &prog.motions {
-        limits.check_move(&m, cfg, &mut bounds);
-        machine::rapid_move(&m, cfg, &mut rapids);
-        fp.motion(&m, cfg, &mut feeds);
-    }
-    let dropped = bounds.dropped().collect();
-    out.extend(bounds.kept);
-    out.extend(rapids);
-    out.extend(feeds);
-    out.extend(machine::program_end(prog, cfg));
+    out
+}
+
+/// The findings of [`run_all`]: `contour` ([`contour_findings`]) first, then those of
+/// [`MoveChecks`].
+pub fn join(contour: Vec<Finding>, moves: CheckFindings) -> CheckFindings {
+    let mut findings = contour;
+    findings.extend(moves.findings);
     CheckFindings {
-        findings: out,
-        dropped,
+        findings,
+        dropped: moves.dropped,
+    }
+}
+
+/// The checks of one move at a time (`cfg` in mm): travel limits, rapids, feed and power,
+/// and at the end the program end's. Fed by any pass over the moves (the time estimate's,
+/// so that the moves are read once for both).
+pub struct MoveChecks<'c> {
+    cfg: &'c CheckConfig,
+    limits: machine::Limits,
+    bounds: Capped,
+    rapids: Vec<Finding>,
+    feeds: Vec<Finding>,
+    feed_power: machine::FeedPower,
+}
+
+impl<'c> MoveChecks<'c> {
+    /// No move checked yet.
+    pub fn new(cfg: &'c CheckConfig) -> Self {
+        MoveChecks {
+            cfg,
+            limits: machine::Limits::new(cfg),
+            bounds: Capped::new(cfg.max_findings_per_check),
+            rapids: Vec::new(),
+            feeds: Vec::new(),
+            feed_power: machine::FeedPower::default(),
+        }
+    }
+
+    /// Checks the next move.
+    pub fn motion(&mut self, m: &Motion) {
+        let cfg = self.cfg;
+        self.limits.check_move(m, cfg, &mut self.bounds);
+        machine::rapid_move(m, cfg, &mut self.rapids);
+        self.feed_power.motion(m, cfg, &mut self.feeds);
+    }
+
+    /// The findings of `out_of_bounds`, `rapids` and `feed_and_power` one after the other,
+    /// then the program end's; out-of-bounds findings beyond the cap counted, not built.
+    pub fn finish(self, prog: &Program) -> CheckFindings {
+        let dropped = self.bounds.dropped().collect();
+        let mut findings = self.bounds.kept;
+        findings.extend(self.rapids);
+        findings.extend(self.feeds);
+        findings.extend(machine::program_end(prog, self.cfg));
+        CheckFindings { findings, dropped }
     }
 }
 
