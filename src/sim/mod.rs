@@ -22,7 +22,7 @@
 //!
 //! Module layering (imports only go down): [`findings`] (leaf) ← [`motion`] ← [`config`] ←
 //! [`time`] ← [`report`]; the interpreter, the checks and [`check`] sit on top. The CLI times
-//! the stages separately through [`load_with`], [`run_checks`], [`stats`] and [`assemble`].
+//! the stages separately through [`load_with`], [`checks_and_stats`] and [`assemble`].
 
 pub mod checks;
 pub mod config;
@@ -218,7 +218,7 @@ pub fn checks_and_stats(
     (found, stats, [t_contours, t_moves])
 }
 
-/// The report of [`check`] from the findings of [`run_checks`] and the [`stats`] of `prog`:
+/// The report of [`check`] from the findings and the [`stats`] of [`checks_and_stats`]:
 /// usability, and each check capped at `cfg.max_findings_per_check`.
 pub fn assemble(prog: &Program, cfg: &CheckConfig, all: Vec<Finding>, stats: Stats) -> Report {
     assemble_with(prog, cfg, all, stats, &[])
