@@ -24,7 +24,7 @@ use super::config::{CheckConfig, Dialect, ToolEntry};
 use super::findings::{Finding, Severity};
 use super::motion::{Event, Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState, Units};
 use super::ngc::{self, Expr, Line, OKind, ParamRef, ParamSource, Syntax};
-use super::parse_ahead::{self, ParseAhead};
+use super::parse_ahead::{self, Ahead, ParseAhead};
 use crate::geom::{Arc, DVec2, perp};
 use glam::DVec3;
 use std::borrow::Cow;
@@ -731,36 +731,50 @@ impl<'a> Interp<'a, '_> {
             if src == 0 {
                 self.prog.lines = i + 1;
             }
-            let text = self.sources[src].line(i);
-            let trimmed = text.trim();
-            if trimmed.is_empty() {
-                i += 1;
-                continue;
-            }
-            // Lines met again (loop bodies, subroutines) are parsed once and cached; lines
-            // read for the first time are parsed into one reused buffer and not kept
-            // (bounded memory and no allocation per line on long programs).
-            let cached: Option<std::rc::Rc<Line>> = if i < self.high_water[src] {
-                Some(match self.cache.get(&(src, i)) {
-                    Some(l) => l.clone(),
-                    None => {
-                        let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
-                        self.cache.insert((src, i), l.clone());
-                        l
-                    }
-                })
-            } else {
-                self.high_water[src] = i + 1;
-                None
-            };
-            let early = match (&cached, ahead.as_deref_mut()) {
-                (None, Some(a)) if src == 0 => a.get(i),
+            // Lines of the main program read for the first time come from the worker when
+            // there is one, parsed or marked blank (whitespace only).
+            let fresh = src == 0 && i >= self.high_water[src];
+            let early = match ahead.as_deref_mut() {
+                Some(a) if fresh => a.get(i),
                 _ => None,
             };
-            if cached.is_none() && early.is_none() {
-                ngc::parse_line_into(text, self.syn, &mut scratch);
-            }
-            let parsed: &Line = cached.as_deref().or(early).unwrap_or(&scratch);
+            let cached: Option<std::rc::Rc<Line>>;
+            let parsed: &Line = match early {
+                Some(Ahead::Blank) => {
+                    i += 1;
+                    continue;
+                }
+                Some(Ahead::Line(l)) => {
+                    self.high_water[src] = i + 1;
+                    l
+                }
+                None => {
+                    let text = self.sources[src].line(i);
+                    if text.trim().is_empty() {
+                        i += 1;
+                        continue;
+                    }
+                    // Lines met again (loop bodies, subroutines) are parsed once and
+                    // cached; lines read for the first time are parsed into one reused
+                    // buffer and not kept (bounded memory and no allocation per line on
+                    // long programs).
+                    cached = if i < self.high_water[src] {
+                        Some(match self.cache.get(&(src, i)) {
+                            Some(l) => l.clone(),
+                            None => {
+                                let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
+                                self.cache.insert((src, i), l.clone());
+                                l
+                            }
+                        })
+                    } else {
+                        self.high_water[src] = i + 1;
+                        ngc::parse_line_into(text, self.syn, &mut scratch);
+                        None
+                    };
+                    cached.as_deref().unwrap_or(&scratch)
+                }
+            };
             if parsed.percent && src == 0 {
                 if !started {
                     started = true;
@@ -3063,7 +3077,7 @@ mod tests {
     fn parsing_ahead_gives_the_same_program() {
         // Several chunks of lines: a subroutine called in a loop (its lines met again come
         // from the cache), if/else jumping forward over whole chunks, errors, comments,
-        // CRLF and blank lines, and lines after the end.
+        // CRLF, empty and whitespace-only lines, and lines after the end.
         let chunk = parse_ahead::CHUNK_LINES;
         let mut src = String::from("o100 sub\nG1 X#1 Y[#1*2] F600\nG2 X0 Y0 I1 J1\no100 endsub\n");
         src += "#5 = 0\no200 while [#5 LT 3]\no100 call [#5 + 1]\n#5 = [#5 + 1]\no200 endwhile\n";
@@ -3075,7 +3089,10 @@ mod tests {
         for k in 0..3 * chunk {
             src += &match k % 6 {
                 0 => format!("G1 X{}.5 Y-{k}\r\n", k % 97),
-                1 => "\n".to_string(),
+                1 if k % 4 == 1 => "\n".to_string(),
+                // Whitespace only (the worker marks it blank), and a no-break space, which
+                // `str::trim` takes as whitespace too.
+                1 => " \t\u{a0}\r\n".to_string(),
                 2 => format!("G0 Z{} ; lift\n", k % 5),
                 3 => "G1 Q7 X1\n".to_string(),
                 4 => format!("#7 = [#7 + {k}]\n"),

@@ -31,13 +31,25 @@ pub const MIN_LINES: usize = 16 * CHUNK_LINES;
 struct Chunk {
     /// Index of the first line.
     first: usize,
+    /// The parsed lines; those marked blank are not parsed (stale buffers).
     lines: Vec<Line>,
+    /// Per line: blank (whitespace only, `str::trim` empty).
+    blank: Vec<bool>,
+}
+
+/// A line of the program as the worker hands it out.
+#[derive(Debug, PartialEq)]
+pub enum Ahead<'a> {
+    /// Whitespace only: the interpreter skips it without parsing it.
+    Blank,
+    /// Parsed.
+    Line(&'a Line),
 }
 
 /// The interpreter's end of the worker: hands out parsed lines by index.
 pub struct ParseAhead {
     rx: Receiver<Chunk>,
-    recycle: SyncSender<Vec<Line>>,
+    recycle: SyncSender<(Vec<Line>, Vec<bool>)>,
     cur: Option<Chunk>,
 }
 
@@ -50,7 +62,7 @@ impl ParseAhead {
         syn: Syntax,
     ) -> ParseAhead {
         let (tx, rx) = sync_channel::<Chunk>(IN_FLIGHT);
-        let (recycle, spare) = sync_channel::<Vec<Line>>(IN_FLIGHT + 2);
+        let (recycle, spare) = sync_channel::<(Vec<Line>, Vec<bool>)>(IN_FLIGHT + 2);
         scope.spawn(move || parse_chunks(text, syn, &tx, &spare));
         ParseAhead {
             rx,
@@ -59,10 +71,10 @@ impl ParseAhead {
         }
     }
 
-    /// Line `i` parsed, when the worker has it: `i` must not be below the line asked for
-    /// before (chunks passed are dropped). None when the worker has stopped or `i` is
-    /// behind it; the caller parses the line itself then.
-    pub fn get(&mut self, i: usize) -> Option<&Line> {
+    /// Line `i` parsed or marked blank, when the worker has it: `i` must not be below the
+    /// line asked for before (chunks passed are dropped). None when the worker has stopped
+    /// or `i` is behind it; the caller reads the line itself then.
+    pub fn get(&mut self, i: usize) -> Option<Ahead<'_>> {
         loop {
             match &self.cur {
                 Some(c) if i < c.first => return None,
@@ -71,18 +83,28 @@ impl ParseAhead {
             }
             if let Some(old) = self.cur.take() {
                 // The worker allocates afresh when no buffer comes back.
-                let _ = self.recycle.try_send(old.lines);
+                let _ = self.recycle.try_send((old.lines, old.blank));
             }
             self.cur = Some(self.rx.recv().ok()?);
         }
         let c = self.cur.as_ref()?;
-        c.lines.get(i - c.first)
+        let k = i - c.first;
+        if *c.blank.get(k)? {
+            Some(Ahead::Blank)
+        } else {
+            c.lines.get(k).map(Ahead::Line)
+        }
     }
 }
 
 /// The worker: parses `text` chunk by chunk into `tx` until the text ends or the
 /// interpreter hangs up.
-fn parse_chunks(text: &str, syn: Syntax, tx: &SyncSender<Chunk>, spare: &Receiver<Vec<Line>>) {
+fn parse_chunks(
+    text: &str,
+    syn: Syntax,
+    tx: &SyncSender<Chunk>,
+    spare: &Receiver<(Vec<Line>, Vec<bool>)>,
+) {
     // `text.split('\n')` by the memchr crate's search (a third of the time of the
     // standard library's char searcher here).
     let mut start = 0;
@@ -95,20 +117,33 @@ fn parse_chunks(text: &str, syn: Syntax, tx: &SyncSender<Chunk>, spare: &Receive
         });
     let mut first = 0;
     loop {
-        let mut lines = spare.try_recv().unwrap_or_default();
+        let (mut lines, mut blank) = spare.try_recv().unwrap_or_default();
+        blank.clear();
         let mut n = 0;
         for raw in lines_of.by_ref().take(CHUNK_LINES) {
             if n == lines.len() {
                 lines.push(Line::default());
             }
-            ngc::parse_line_into(raw, syn, &mut lines[n]);
+            // The interpreter's test for a line to skip, taken off its thread.
+            let is_blank = raw.trim().is_empty();
+            if !is_blank {
+                ngc::parse_line_into(raw, syn, &mut lines[n]);
+            }
+            blank.push(is_blank);
             n += 1;
         }
         if n == 0 {
             return;
         }
         lines.truncate(n);
-        if tx.send(Chunk { first, lines }).is_err() {
+        if tx
+            .send(Chunk {
+                first,
+                lines,
+                blank,
+            })
+            .is_err()
+        {
             return;
         }
         first += n;
@@ -132,7 +167,8 @@ mod tests {
         let text: String = (0..3 * CHUNK_LINES + 17)
             .map(|k| match k % 5 {
                 0 => format!("G1 X{k} Y-{k}.5 F300\r\n"),
-                1 => "\n".to_string(),
+                1 if k % 2 == 0 => "\n".to_string(),
+                1 => " \t\r\n".to_string(),
                 2 => format!("#{} = [{k} * 2] (c)\n", 100 + k % 7),
                 3 => format!("o{k} if [1 GT 0]\n"),
                 _ => format!("N{k} G0 Z{}.25 ; note\n", k % 9),
@@ -147,8 +183,17 @@ mod tests {
             // Every line in order, then a forward jump over whole chunks.
             let mut want = Line::default();
             for i in (0..CHUNK_LINES + 5).chain(3 * CHUNK_LINES..lines.len()) {
+                if lines[i].trim().is_empty() {
+                    assert_eq!(ahead.get(i), Some(Ahead::Blank), "line {i}: {:?}", lines[i]);
+                    continue;
+                }
                 ngc::parse_line_into(lines[i], syn(), &mut want);
-                assert_eq!(ahead.get(i), Some(&want), "line {i}: {:?}", lines[i]);
+                assert_eq!(
+                    ahead.get(i),
+                    Some(Ahead::Line(&want)),
+                    "line {i}: {:?}",
+                    lines[i]
+                );
             }
             // Behind the current chunk: the caller parses it.
             assert_eq!(ahead.get(3), None);
