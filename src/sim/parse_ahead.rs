@@ -7,6 +7,8 @@
 //! program, its moves and its diagnostics do not depend on whether the worker ran. Only
 //! first readings use it (the interpreter reads the main program's lines for the first
 //! time in increasing order; loop bodies and subroutines met again come from its cache).
+//! Blank lines (whitespace only), which the interpreter skips, are marked instead of
+//! parsed, so it need not look at their text either ([`Ahead`]).
 //!
 //! Memory is bounded: at most [`IN_FLIGHT`] chunks of [`CHUNK_LINES`] parsed lines wait,
 //! and their buffers are handed back for reuse. The worker stops when the interpreter
