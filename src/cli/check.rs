@@ -196,7 +196,7 @@ pub fn run(a: Args) -> Result<u8> {
     drop(text);
     drop(bytes);
     timings.interpret = clock.elapsed().as_secs_f64();
-    // The checks and the estimate are independent: they run side by side, each timed alone.
+    // The contour checks beside the per-move checks with the estimate, each side timed.
     let (found, stats, [checks, estimate]) = skinpath::sim::checks_and_stats(&prog, &cfg, &bounds);
     (timings.checks, timings.estimate) = (checks, estimate);
     let clock = Instant::now();

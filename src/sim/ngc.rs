@@ -812,8 +812,8 @@ const POW10: [f64; 23] = [
 /// The fastest path of [`parse_line_into`]: lines of words `letter [sign] number` separated
 /// by blanks or nothing, each number written without blanks inside it (`G1 Y2`,
 /// `G0X1Y2`), which is what CAM output is made of. Gives exactly what [`parse_simple`] gives
-/// (same words, columns and bit-identical values); returns false, with `out.words` partly
-/// filled, for anything else (comments, blanks between a letter and its number, other
+/// (same words, columns and bit-identical values); returns false, with `words` partly
+/// overwritten, for anything else (comments, blanks between a letter and its number, other
 /// characters, long lines), which [`parse_simple`] or the general parser then read.
 ///
 /// The words go into `words` in place of the ones it holds (the previous line's), which

@@ -93,6 +93,8 @@ pub fn for_each_cut_contour(
     cfg: &CheckConfig,
     mut f: impl FnMut(&SimContour),
 ) {
+    // A contour begun and not yet handed to `f` has its first point: `cur` is open while
+    // it holds points.
     let mut cur = SimContour {
         points: Vec::new(),
         sources: Vec::new(),
@@ -100,11 +102,11 @@ pub fn for_each_cut_contour(
         session: 0,
         group: None,
     };
-    // Whether `cur` holds a contour begun and not yet handed to `f`.
-    let mut open = false;
-    let mut close = |cur: &mut SimContour, open: &mut bool| {
-        if std::mem::take(open) {
+    let mut close = |cur: &mut SimContour| {
+        if !cur.points.is_empty() {
             f(cur);
+            cur.points.clear();
+            cur.sources.clear();
         }
     };
     for (k, m) in motions.iter().enumerate() {
@@ -113,17 +115,14 @@ pub fn for_each_cut_contour(
             continue;
         }
         if !(is_cutting(&m, cfg) && planar) {
-            close(&mut cur, &mut open);
+            close(&mut cur);
             continue;
         }
         let group = group_at(marks, m.line);
-        if open && (cur.session != m.tool.session || cur.group != group) {
-            close(&mut cur, &mut open);
+        if cur.session != m.tool.session || cur.group != group {
+            close(&mut cur);
         }
-        if !open {
-            open = true;
-            cur.points.clear();
-            cur.sources.clear();
+        if cur.points.is_empty() {
             cur.points.push(m.from.truncate());
             cur.z = m.from.z;
             cur.session = m.tool.session;
@@ -140,7 +139,7 @@ pub fn for_each_cut_contour(
             }
         }
     }
-    close(&mut cur, &mut open);
+    close(&mut cur);
 }
 
 /// Where a cut contour starts and the height it is cut at: what the gouge check reads of
@@ -156,7 +155,7 @@ pub struct ContourStart {
 }
 
 /// The segments of the cut contours ([`cut_contours_marked`]) for the intersection check
-/// ([`intersection_findings_in`]) and each contour's start, in one pass that does not keep
+/// ([`intersection_findings`]) and each contour's start, in one pass that does not keep
 /// the contours' point lists (a second copy of every point, 20 bytes a segment).
 pub fn contour_segments(
     motions: &Motions,
@@ -191,38 +190,15 @@ fn new_set(cfg: &CheckConfig) -> SegmentSet {
 }
 
 /// Self-intersections of each contour and crossings between contours (unless
-/// `cfg.allow_crossings`). Touching or overlapping counts within a contour; between
-/// contours only transversal crossings do (a retraced contour, as in multi-pass laser cuts,
-/// overlaps itself without crossing). Two contours cut under the same pocket mark
-/// ([`note_group_marks`]) may cross, at one depth or at two: they clear one pocket together
-/// (a wire hole deeper than its channel crosses the channel's rings in plan view at every
-/// level). A contour still may not touch itself, and unmarked contours (profiles,
-/// backboards, other tools' programs) are judged strictly.
-/// One finding per pair of source lines.
+/// `cfg.allow_crossings`), on the contours' segments and starts ([`contour_segments`]).
+/// Touching or overlapping counts within a contour; between contours only transversal
+/// crossings do (a retraced contour, as in multi-pass laser cuts, overlaps itself without
+/// crossing). Two contours cut under the same pocket mark ([`note_group_marks`]) may
+/// cross, at one depth or at two: they clear one pocket together (a wire hole deeper than
+/// its channel crosses the channel's rings in plan view at every level). A contour still
+/// may not touch itself, and unmarked contours (profiles, backboards, other tools'
+/// programs) are judged strictly. One finding per pair of source lines.
 pub fn intersection_findings(
-    contours: &[SimContour],
-    motions: &Motions,
-    cfg: &CheckConfig,
-) -> Vec<Finding> {
-    let mut set = new_set(cfg);
-    // Exact size up front: no doubling growth on long programs.
-    set.segs.reserve(
-        contours
-            .iter()
-            .map(|c| c.points.len().saturating_sub(1))
-            .sum(),
-    );
-    set.contours.reserve(contours.len());
-    for c in contours {
-        set.push_polyline_in(&c.points, &c.sources, c.group);
-    }
-    let starts: Vec<ContourStart> = contours.iter().map(start_of).collect();
-    intersection_findings_in(&set, &starts, motions, cfg)
-}
-
-/// [`intersection_findings`] on the segments of the contours ([`contour_segments`]), with
-/// each contour's start for the height of its findings.
-pub fn intersection_findings_in(
     set: &SegmentSet,
     starts: &[ContourStart],
     motions: &Motions,

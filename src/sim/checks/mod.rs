@@ -116,7 +116,7 @@ pub fn contour_findings(
     design: &[DesignBoundary],
 ) -> Vec<Finding> {
     let (set, starts) = contours::contour_segments(&prog.motions, &prog.group_marks, cfg);
-    let mut out = contours::intersection_findings_in(&set, &starts, &prog.motions, cfg);
+    let mut out = contours::intersection_findings(&set, &starts, &prog.motions, cfg);
     drop(set);
     out.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
     out
