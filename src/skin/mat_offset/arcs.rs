@@ -857,7 +857,7 @@ mod tests {
         let t0 = 0.003;
         let with_f = |c: Vec<f64>| {
             let mut skin = gentle_skin();
-            skin.segments[1].curve.f = Poly { c };
+            std::sync::Arc::make_mut(&mut skin.segments[1].curve).f = Poly { c };
             skin
         };
         let dips = with_f(vec![t0 * t0 - 1e-9, -2.0 * t0, 1.0]);

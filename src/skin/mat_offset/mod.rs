@@ -170,8 +170,9 @@ pub struct MatOffset {
     /// Signed offset distance (model units): −δ inner, +δ outer, 0 for the outline itself
     /// ([`outline`]).
     pub d: f64,
-    /// The RE curves of the skin's segments, indexed by [`Piece::Curve`]'s `segment`.
-    pub curves: Vec<ReCurve>,
+    /// The RE curves of the skin's segments, indexed by [`Piece::Curve`]'s `segment`
+    /// (shared with the skin, not copied).
+    pub curves: Vec<std::sync::Arc<ReCurve>>,
     /// The closed contours of the offset. Inner offsets and the outline run the `Plus` side
     /// forwards and the `Minus` side backwards per parameter run; trimmed outer offsets follow the
     /// re-chained pieces.
@@ -363,10 +364,12 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     let mut trims = Vec::new();
     let mut kept: Vec<Vec<(f64, f64)>> = Vec::new();
     for (s, seg) in skin.segments.iter().enumerate() {
-        let p = seg
-            .curve
-            .r_sq()
-            .sub(&crate::skin::re::poly::Poly::constant(delta * delta));
+        // r² − δ²: only the constant term changes.
+        let mut p = seg.curve.r_sq();
+        match p.c.first_mut() {
+            Some(c0) => *c0 -= delta * delta,
+            None => p.c.push(-delta * delta),
+        }
         let roots = p.roots_01(tol, 0.0);
         let mut cuts = vec![0.0];
         for &t in &roots {
@@ -398,7 +401,11 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     let contours = contours_of_runs(skin, -delta, &rs, skin.closed && all_kept)?;
     Ok(MatOffset {
         d: -delta,
-        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        curves: skin
+            .segments
+            .iter()
+            .map(|s| std::sync::Arc::clone(&s.curve))
+            .collect(),
         contours,
         trims,
         loops: Vec::new(),
@@ -414,7 +421,11 @@ pub fn outline(skin: &ReSkin) -> Result<MatOffset, MatOffsetError> {
     let contours = contours_of_runs(skin, 0.0, &rs, skin.closed)?;
     Ok(MatOffset {
         d: 0.0,
-        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        curves: skin
+            .segments
+            .iter()
+            .map(|s| std::sync::Arc::clone(&s.curve))
+            .collect(),
         contours,
         trims: Vec::new(),
         loops: Vec::new(),
@@ -509,7 +520,11 @@ pub fn outer_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     };
     let mut off = MatOffset {
         d: delta,
-        curves: skin.segments.iter().map(|s| s.curve.clone()).collect(),
+        curves: skin
+            .segments
+            .iter()
+            .map(|s| std::sync::Arc::clone(&s.curve))
+            .collect(),
         contours,
         trims: Vec::new(),
         loops: Vec::new(),
@@ -727,7 +742,10 @@ pub(crate) mod tests {
                 for (q, path) in all.iter().enumerate() {
                     let c = &off.contours[q % nc];
                     assert!(path.max_gap() < 1e-8 * scale, "gap {}", path.max_gap());
-                    let flat = path.flatten(1e-5 * scale);
+                    // The closed polyline with its closing edge (flatten does not repeat
+                    // the first point).
+                    let mut flat = path.flatten(1e-5 * scale);
+                    flat.extend(flat.first().copied());
                     for p in &c.pieces {
                         for k in 0..=20 {
                             let q = off.piece_point(p, k as f64 / 20.0).unwrap();

@@ -4,6 +4,7 @@
 //! Evaluation, subdivision and proofs are the shared kernel [`crate::geom::bernstein`].
 
 use crate::geom::bernstein::{self, Step, Visitor};
+use crate::geom::roots::brent_with;
 
 /// A polynomial in the power basis, coefficients in ascending order (`c[k]` of tᵏ).
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -120,8 +121,8 @@ impl Poly {
 
     /// Real roots in [0, 1] to parameter accuracy `tol`, ascending, by Bernstein subdivision
     /// (the variation-diminishing property: no sign change of the Bernstein coefficients on
-    /// an interval ⇒ no root there) and bisection on intervals whose coefficients change sign
-    /// exactly once (then exactly one simple root lies inside). Roots of even multiplicity
+    /// an interval ⇒ no root there) and Brent's method ([`brent_with`]) on intervals whose
+    /// coefficients change sign exactly once (then exactly one simple root lies inside). Roots of even multiplicity
     /// are found where subdivision reaches width `tol` with coefficients that still change
     /// sign or vanish within `zero_tol` (absolute, in units of the polynomial's values).
     pub fn roots_01(&self, tol: f64, zero_tol: f64) -> Vec<f64> {
@@ -158,8 +159,8 @@ pub fn bern_eval(b: &[f64], s: f64) -> f64 {
 
 /// The root policy of [`Poly::roots_01`] on [`bernstein::subdivide`]: zero end
 /// coefficients are roots; a piece without sign change whose coefficients are all clear of
-/// `zero_tol` has none; one change with opposite end values is one simple root, bisected on
-/// the piece's Bernstein form to `tol`; pieces still undecided at width `tol` (or depth
+/// `zero_tol` has none; one change with opposite end values is one simple root, found by
+/// Brent's method on the piece's Bernstein form to `tol`; pieces still undecided at width `tol` (or depth
 /// [`MAX_DEPTH`]) report their midpoint when they change sign or nearly vanish there.
 struct Roots {
     tol: f64,
@@ -191,24 +192,17 @@ impl Visitor for Roots {
             return Step::Keep;
         }
         if changes == 1 && first != 0.0 && last != 0.0 && (first > 0.0) != (last > 0.0) {
-            // Exactly one simple root: bisection on the Bernstein form.
-            let (mut lo, mut hi) = (0.0f64, 1.0f64);
-            let neg_at_lo = first < 0.0;
-            while (hi - lo) * (c - a) > self.tol {
-                let m = 0.5 * (lo + hi);
-                let v = bernstein::eval(b, m);
-                if v == 0.0 {
-                    lo = m;
-                    hi = m;
-                    break;
-                }
-                if (v < 0.0) == neg_at_lo {
-                    lo = m;
-                } else {
-                    hi = m;
-                }
-            }
-            self.out.push(a + 0.5 * (lo + hi) * (c - a));
+            // Exactly one simple root: Brent's method on the piece's Bernstein form, to
+            // `tol` in the global parameter.
+            let s = brent_with(
+                |s| bernstein::eval(b, s),
+                0.0,
+                1.0,
+                first,
+                last,
+                self.tol / (c - a),
+            );
+            self.out.push(a + s * (c - a));
             return Step::Keep;
         }
         if c - a <= self.tol || depth >= MAX_DEPTH {

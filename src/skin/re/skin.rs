@@ -10,6 +10,7 @@ use super::re_curve::{Branch, EndData, FBoundary, Interp, ReCurve};
 use super::tangents::{Touch, hermite_tangent, tangent_for};
 use crate::geom::{Circle, DVec2};
 use glam::DVec3;
+use std::sync::Arc;
 
 /// The RE curve between circles `i` and `j` with its f boundary data and the quartic
 /// parameter k when f was raised to degree 4 (mph eqs. 18–19).
@@ -19,8 +20,9 @@ pub struct Segment {
     pub i: usize,
     /// Index of the second circle (i + 1, or 0 for the closing segment of a closed skin).
     pub j: usize,
-    /// The RE/MPH curve from circle `i` (t = 0) to circle `j` (t = 1).
-    pub curve: ReCurve,
+    /// The RE/MPH curve from circle `i` (t = 0) to circle `j` (t = 1), shared with the
+    /// offsets made from the skin ([`crate::skin::mat_offset::MatOffset::curves`]).
+    pub curve: Arc<ReCurve>,
     /// Boundary values of f, kept to rebuild f with another k ([`ReSkin::set_k`]).
     pub boundary: FBoundary,
     /// The quartic parameter k of mph eqs. 18–19, `None` for the cubic Hermite f.
@@ -132,7 +134,7 @@ impl ReSkin {
         Ok(Segment {
             i,
             j,
-            curve,
+            curve: Arc::new(curve),
             boundary,
             k,
         })
@@ -175,7 +177,7 @@ impl ReSkin {
             None => seg.boundary.cubic(),
         };
         let curve = seg.curve.with_f(f);
-        self.segments[s].curve = curve;
+        self.segments[s].curve = Arc::new(curve);
         self.segments[s].k = k;
         Ok(())
     }
