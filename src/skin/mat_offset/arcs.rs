@@ -59,7 +59,8 @@
 //! joint (each arc lies on its own side of that line, and the line is the ray from either
 //! centre through the joint). The farthest sample whose biarc is within `tol` is found by
 //! galloping and then binary search on the sample index (first trying the previous biarc's
-//! reach), so each biarc replaces as many
+//! reach; a candidate is first tested on its samples alone, since a sample farther than
+//! `tol` from the biarc makes the bound exceed `tol`), so each biarc replaces as many
 //! osculating-circle pieces as the tolerance allows; consecutive arcs of one circle are
 //! merged into one. Every joint is G1: between the two arcs of a biarc by construction,
 //! between biarcs and at the cap arcs because each biarc ends with the exact curve's
@@ -86,6 +87,9 @@ const G1_ANGLE: f64 = 1e-7;
 /// Tangent angles (sines) below this are rounding: an interval whose end tangents are both
 /// within it of the chord is taken as the chord, and a turn this small is no inflection.
 const FLAT_SIN: f64 = 1e-12;
+/// Relative margin of the early rejection of a rhombus hull ([`flat_hull`]), far above the
+/// rounding of the angles it skips.
+const FLAT_REJECT_MARGIN: f64 = 1e-9;
 /// Most samples per piece: beyond, intervals are no longer bisected but unproved (bounds the
 /// work on user data whatever the tolerance).
 const MAX_NODES: usize = 1 << 18;
@@ -305,14 +309,30 @@ fn biarc_candidate(
     let first = arc_from(p0, t0, jt, tol)?;
     let second = arc_from(jt, first.d_end, p1, tol)?;
     let tj = first.d_end;
+    if !nodes_within(&nodes[i..=j], &first, &second, jt, tj, tol) {
+        return None;
+    }
     let mut bound: f64 = 0.0;
     for k in i..j {
         let (vs, n) = hull_verts(nodes, hulls, k)?;
         let verts = &vs[..n];
-        for (sh, behind) in [(&first, true), (&second, false)] {
-            let (part, m) = clip(verts, jt, tj, behind);
-            if m > 0 {
-                bound = bound.max(poly_bound(sh, &part[..m])?);
+        // A hull strictly on one side of the joint's line is its own part there (what
+        // `clip` returns for it) and has no part on the other side.
+        let (mut behind, mut ahead) = (true, true);
+        for v in verts {
+            let s = (*v - jt).dot(tj);
+            behind &= s < 0.0;
+            ahead &= s > 0.0;
+        }
+        if behind || ahead {
+            let sh = if behind { &first } else { &second };
+            bound = bound.max(poly_bound(sh, verts)?);
+        } else {
+            for (sh, behind) in [(&first, true), (&second, false)] {
+                let (part, m) = clip(verts, jt, tj, behind);
+                if m > 0 {
+                    bound = bound.max(poly_bound(sh, &part[..m])?);
+                }
             }
         }
         if bound > tol {
@@ -320,6 +340,35 @@ fn biarc_candidate(
         }
     }
     Some(([first, second], bound))
+}
+
+/// Whether every sample point lies within `tol` of the biarc (`first` where
+/// (x − J)·t_J ≤ 0, `second` elsewhere, as `clip` splits the hulls): a cheap necessary
+/// condition of [`biarc_candidate`]'s bound. Each sample is a vertex of a hull part bounded
+/// against that arc, and the part's bound is at least the sample's distance to the circle
+/// (max_v ‖v − C‖ − R on one side, R − dist(C, hull) ≥ R − ‖x − C‖ on the other) or to
+/// the line; so a sample farther than `tol` rejects the candidate before any hull is
+/// bounded.
+fn nodes_within(
+    nodes: &[Node],
+    first: &Shape,
+    second: &Shape,
+    jt: DVec2,
+    tj: DVec2,
+    tol: f64,
+) -> bool {
+    nodes.iter().all(|n| {
+        let sh = if (n.p - jt).dot(tj) <= 0.0 {
+            first
+        } else {
+            second
+        };
+        let dev = match sh.circle {
+            Some((c, r, _)) => ((n.p - c).length_squared().sqrt() - r).abs(),
+            None => Line::new(sh.p, sh.q).distance(n.p),
+        };
+        dev <= tol
+    })
 }
 
 /// Appends `sh`'s segment, merged with the previous arc when both lie on one circle (the
@@ -398,8 +447,18 @@ fn flat_hull(a: &Node, m: &Node, b: &Node, budget: f64) -> Option<Hull> {
         return None;
     }
     let u = v / l;
+    let ds = [a.d?, m.d?, b.d?];
+    // tan ψ ≥ tan 2θ ≥ 2 |sin θ| for each tangent's angle θ with the chord, so the
+    // half-height is at least l·|sin θ|: a tangent that already makes it exceed the
+    // budget (with a margin far above rounding) rejects the interval without the angles.
+    if ds
+        .iter()
+        .any(|d| l * cross(u, *d).abs() > budget * (1.0 + FLAT_REJECT_MARGIN))
+    {
+        return None;
+    }
     let mut psi: f64 = 0.0;
-    for d in [a.d?, m.d?, b.d?] {
+    for d in ds {
         if u.dot(d) <= 0.0 {
             return None;
         }
