@@ -69,10 +69,40 @@ static BINOM: [[f64; INLINE]; INLINE] = {
 /// the same degree: bᵢ = Σ_{k≤i} C(i, k)/C(n, k) aₖ (Farouki–Rajan 1987, eq. 7).
 pub fn from_power(a: &[f64]) -> Vec<f64> {
     let n = a.len().saturating_sub(1);
-    (0..a.len())
-        .map(|i| (0..=i).map(|k| binom(i, k) / binom(n, k) * a[k]).sum())
-        .collect()
+    match POWER_RATIO.get(n) {
+        // The same quotients, read from the table.
+        Some(rows) => (0..a.len())
+            .map(|i| (0..=i).map(|k| rows[i][k] * a[k]).sum())
+            .collect(),
+        None => (0..a.len())
+            .map(|i| (0..=i).map(|k| binom(i, k) / binom(n, k) * a[k]).sum())
+            .collect(),
+    }
 }
+
+/// Degree below which [`from_power`] reads its quotients C(i, k)/C(n, k) from a table (r²
+/// of a quintic RE segment has degree 12).
+const POWER_TABLE: usize = 16;
+
+/// C(i, k)/C(n, k) for k ≤ i ≤ n < [`POWER_TABLE`], as [`from_power`] would divide them
+/// ([`binom_product`] quotients, evaluated at compile time with the same IEEE operations).
+static POWER_RATIO: [[[f64; POWER_TABLE]; POWER_TABLE]; POWER_TABLE] = {
+    let mut t = [[[0.0; POWER_TABLE]; POWER_TABLE]; POWER_TABLE];
+    let mut n = 0;
+    while n < POWER_TABLE {
+        let mut i = 0;
+        while i <= n {
+            let mut k = 0;
+            while k <= i {
+                t[n][i][k] = binom_product(i, k) / binom_product(n, k);
+                k += 1;
+            }
+            i += 1;
+        }
+        n += 1;
+    }
+    t
+};
 
 /// Runs `f` on a scratch slice of length `n` holding a copy of `b` (a stack array when
 /// `n ≤ INLINE`).
@@ -462,6 +492,24 @@ mod tests {
             assert_eq!(binom(n, n + 1), 0.0);
         }
         assert_eq!(binom(10, 3), 120.0);
+    }
+
+    #[test]
+    fn power_ratio_table_is_the_run_time_quotient() {
+        for n in 0..POWER_TABLE {
+            for i in 0..=n {
+                for k in 0..=i {
+                    let run_time = binom_product(std::hint::black_box(i), k)
+                        / binom_product(std::hint::black_box(n), k);
+                    assert_eq!(POWER_RATIO[n][i][k].to_bits(), run_time.to_bits());
+                }
+            }
+        }
+        // Degree 3 by hand: C(i, k)/C(3, k), so 1 + u maps to (1, 4/3, 5/3, 2).
+        let b = from_power(&[1.0, 1.0, 0.0, 0.0]);
+        for (x, y) in b.iter().zip([1.0, 4.0 / 3.0, 5.0 / 3.0, 2.0]) {
+            assert!((x - y).abs() < 1e-15, "{b:?}");
+        }
     }
 
     /// Power coefficients of lead · Π (u − rᵢ).
