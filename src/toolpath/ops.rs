@@ -507,11 +507,15 @@ mod tests {
         assert!(areas.windows(2).all(|w| w[1] < w[0]));
     }
 
-    /// Distance from `p` to the nearest point of any of `paths` (flattened within 1e-4).
+    /// Distance from `p` to the nearest point of any of `paths` (flattened within 1e-4,
+    /// closing edges included: `flatten` does not repeat a closed path's first point).
     fn distance_to_paths(p: DVec2, paths: &[Path]) -> f64 {
         let mut best = f64::INFINITY;
         for path in paths {
-            let pts = path.flatten(1e-4);
+            let mut pts = path.flatten(1e-4);
+            if path.closed {
+                pts.extend(pts.first().copied());
+            }
             for w in pts.windows(2) {
                 let (a, b) = (w[0], w[1]);
                 let ab = b - a;
