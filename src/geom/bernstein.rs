@@ -157,6 +157,31 @@ pub fn eval(b: &[f64], u: f64) -> f64 {
     })
 }
 
+/// f(u) in O(n) operations, for root polishing, where [`eval`]'s O(n²) de Casteljau steps
+/// dominate: with v = 1 − u, f(u) = vⁿ Σ bᵢ C(n, i) (u/v)ⁱ for u ≤ ½ and
+/// uⁿ Σ bᵢ C(n, i) (v/u)ⁿ⁻ⁱ above, each sum by Horner's rule in a ratio ≤ 1. Its rounding
+/// error is bounded like de Casteljau's, by a small multiple of n·ε·Σ |bᵢ| Bᵢⁿ(u)
+/// (Horner's bound on Σ |bᵢ| C(n, i) rⁱ, times vⁿ or uⁿ). 0 for no coefficients.
+pub fn eval_horner(b: &[f64], u: f64) -> f64 {
+    let Some(n) = b.len().checked_sub(1) else {
+        return 0.0;
+    };
+    let v = 1.0 - u;
+    // n fits i32: a polynomial of 2³¹ coefficients is not a span polynomial.
+    let pow = |x: f64| x.powi(n as i32);
+    if u <= 0.5 {
+        let r = u / v;
+        let sum = (0..=n)
+            .rev()
+            .fold(0.0, |acc, i| acc * r + b[i] * binom(n, i));
+        sum * pow(v)
+    } else {
+        let r = v / u;
+        let sum = (0..=n).fold(0.0, |acc, i| acc * r + b[i] * binom(n, i));
+        sum * pow(u)
+    }
+}
+
 /// (f(u), f′(u), f″(u)) by de Casteljau's algorithm: the last three levels hold the
 /// derivatives, f″ = n(n − 1)(w₀ − 2w₁ + w₂) on the level of three points and
 /// f′ = n(v₁ − v₀) on the level of two: the k + 1 points left after n − k steps are
@@ -316,33 +341,46 @@ pub trait Visitor {
 
 /// Depth-first binary subdivision of `b` at midpoints, left half first, driven by `v`.
 /// All pending pieces live in one arena (at most depth + 2 pieces), so a split costs no
-/// heap allocation once the arena has grown to the walk's depth.
+/// heap allocation once the arena has grown to the walk's depth. The whole polynomial is
+/// visited before the arena exists: a walk that ends there (no sign change, a positivity
+/// proved at once) allocates nothing.
 pub fn subdivide(b: &[f64], v: &mut impl Visitor) {
     let n = b.len();
-    if n == 0 {
+    if n == 0 || v.visit(b, 0.0, 1.0, 0) != Step::Split {
         return;
     }
     let mut arena: Vec<f64> = Vec::with_capacity(n * 16);
     arena.extend_from_slice(b);
     let mut stack: Vec<(f64, f64, u32)> = Vec::with_capacity(16);
-    stack.push((0.0, 1.0, 0));
+    split_top(&mut arena, &mut stack, n, (0.0, 1.0, 0), v);
     while let Some((u0, u1, depth)) = stack.pop() {
         let off = stack.len() * n;
         match v.visit(&arena[off..off + n], u0, u1, depth) {
             Step::Halt => return,
             Step::Keep => arena.truncate(off),
-            Step::Split => {
-                arena.resize(off + 2 * n, 0.0);
-                let (right, left) = arena[off..].split_at_mut(n);
-                split_in_place(right, 0.5, left);
-                let um = 0.5 * (u0 + u1);
-                v.split(left, right, um);
-                // The right half stays in this slot, the left one sits above it.
-                stack.push((um, u1, depth + 1));
-                stack.push((u0, um, depth + 1));
-            }
+            Step::Split => split_top(&mut arena, &mut stack, n, (u0, u1, depth), v),
         }
     }
+}
+
+/// Splits the piece (`u0`, `u1`, `depth`) at the arena's top (the slot of `stack.len()`)
+/// into its halves: the right one stays in this slot, the left one sits above it, and
+/// both are pushed, left last (visited first).
+fn split_top(
+    arena: &mut Vec<f64>,
+    stack: &mut Vec<(f64, f64, u32)>,
+    n: usize,
+    (u0, u1, depth): (f64, f64, u32),
+    v: &mut impl Visitor,
+) {
+    let off = stack.len() * n;
+    arena.resize(off + 2 * n, 0.0);
+    let (right, left) = arena[off..].split_at_mut(n);
+    split_in_place(right, 0.5, left);
+    let um = 0.5 * (u0 + u1);
+    v.split(left, right, um);
+    stack.push((um, u1, depth + 1));
+    stack.push((u0, um, depth + 1));
 }
 
 /// Tolerances and caps of [`isolate_roots`].
@@ -574,6 +612,30 @@ mod tests {
             prop_assert!((f2 - horner(&dda, u)).abs() <= 1e-10 * scale);
             prop_assert_eq!(f, eval(&from_power(&a), u));
         }
+
+        #[test]
+        fn horner_evaluation_matches_de_casteljau(
+            b in proptest::collection::vec(-5.0f64..5.0, 1..20),
+            u in 0.0f64..=1.0,
+        ) {
+            // Both within a few n·ε of Σ |bᵢ| Bᵢⁿ(u), which Σ |bᵢ| bounds.
+            let scale = b.iter().map(|x| x.abs()).sum::<f64>() * b.len() as f64;
+            let (h, c) = (eval_horner(&b, u), eval(&b, u));
+            prop_assert!((h - c).abs() <= 1e-14 * scale, "{} vs {}", h, c);
+        }
+    }
+
+    #[test]
+    fn horner_evaluation_closed_forms() {
+        // (1 − u)³ + u³ = 1 − 3u + 3u²: Bernstein (1, 0, 0, 1); its ends exactly.
+        let b = [1.0, 0.0, 0.0, 1.0];
+        for u in [0.0, 0.2, 0.5, 0.7, 1.0] {
+            assert!((eval_horner(&b, u) - (1.0 - 3.0 * u + 3.0 * u * u)).abs() < 1e-15);
+        }
+        assert_eq!(eval_horner(&b, 0.0), 1.0);
+        assert_eq!(eval_horner(&b, 1.0), 1.0);
+        assert_eq!(eval_horner(&[], 0.3), 0.0);
+        assert_eq!(eval_horner(&[2.5], 0.3), 2.5);
     }
 
     #[test]

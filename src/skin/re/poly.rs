@@ -79,11 +79,7 @@ impl Poly {
             return Poly::constant(0.0);
         }
         let mut c = vec![0.0; self.c.len() + o.c.len() - 1];
-        for (i, a) in self.c.iter().enumerate() {
-            for (j, b) in o.c.iter().enumerate() {
-                c[i + j] += a * b;
-            }
-        }
+        mul_add_into(&self.c, &o.c, &mut c);
         Poly::new(c)
     }
 
@@ -151,6 +147,17 @@ impl Poly {
 
 pub use crate::geom::bernstein::{Positivity, binom};
 
+/// Adds the product of the power-basis coefficients `a` and `b` into `out` (at least
+/// `a.len() + b.len() − 1` long): `out[i + j] += a[i]·b[j]`, i then j ascending, the
+/// order of [`Poly::mul`].
+pub fn mul_add_into(a: &[f64], b: &[f64], out: &mut [f64]) {
+    for (i, x) in a.iter().enumerate() {
+        for (y, o) in b.iter().zip(out.iter_mut().skip(i)) {
+            *o += x * y;
+        }
+    }
+}
+
 /// Value of a Bernstein polynomial at local parameter `s` (de Casteljau,
 /// [`bernstein::eval`]).
 pub fn bern_eval(b: &[f64], s: f64) -> f64 {
@@ -160,7 +167,7 @@ pub fn bern_eval(b: &[f64], s: f64) -> f64 {
 /// The root policy of [`Poly::roots_01`] on [`bernstein::subdivide`]: zero end
 /// coefficients are roots; a piece without sign change whose coefficients are all clear of
 /// `zero_tol` has none; one change with opposite end values is one simple root, found by
-/// Brent's method on the piece's Bernstein form to `tol`; pieces still undecided at width `tol` (or depth
+/// Brent's method on the piece's Bernstein form ([`bernstein::eval_horner`]) to `tol`; pieces still undecided at width `tol` (or depth
 /// [`MAX_DEPTH`]) report their midpoint when they change sign or nearly vanish there.
 struct Roots {
     tol: f64,
@@ -195,7 +202,7 @@ impl Visitor for Roots {
             // Exactly one simple root: Brent's method on the piece's Bernstein form, to
             // `tol` in the global parameter.
             let s = brent_with(
-                |s| bernstein::eval(b, s),
+                |s| bernstein::eval_horner(b, s),
                 0.0,
                 1.0,
                 first,

@@ -9,7 +9,7 @@
 
 use super::cyclographic::{proj, rot_cw};
 use super::mph::PhQuintic;
-use super::poly::Poly;
+use super::poly::{Poly, mul_add_into};
 use crate::geom::DVec2;
 use glam::DVec3;
 
@@ -309,9 +309,32 @@ impl ReCurve {
         self.d[0].mul(&self.d[0]).add(&self.d[1].mul(&self.d[1]))
     }
 
-    /// r² = f² ‖x′‖² as a polynomial (r = f ‖x′‖).
+    /// r² = f² ‖x′‖² as a polynomial (r = f ‖x′‖): f·f times (x′ₓ·x′ₓ + x′ᵧ·x′ᵧ), the
+    /// same operations in the same order as with [`Poly::mul`] and [`Poly::add`], with
+    /// the three products on the stack when they fit.
     pub fn r_sq(&self) -> Poly {
-        self.f.mul(&self.f).mul(&self.speed_sq())
+        /// Coefficients of the stack buffers (degree ≤ 15: squares of quintics and below).
+        const STACK: usize = 16;
+        let (f, x, y) = (&self.f.c, &self.d[0].c, &self.d[1].c);
+        let fits = |p: &[f64]| !p.is_empty() && 2 * p.len() - 1 <= STACK;
+        if !(fits(f) && fits(x) && fits(y)) {
+            return self.f.mul(&self.f).mul(&self.speed_sq());
+        }
+        let square = |p: &[f64]| {
+            let mut out = [0.0; STACK];
+            mul_add_into(p, p, &mut out);
+            (out, 2 * p.len() - 1)
+        };
+        let ((f2, nf), (x2, nx), (y2, ny)) = (square(f), square(x), square(y));
+        // Poly::add: the shorter operand's missing terms are 0.0 (the buffers' zeros).
+        let ns = nx.max(ny);
+        let mut s2 = [0.0; STACK];
+        for (k, s) in s2.iter_mut().enumerate().take(ns) {
+            *s = x2[k] + y2[k];
+        }
+        let mut c = vec![0.0; nf + ns - 1];
+        mul_add_into(&f2[..nf], &s2[..ns], &mut c);
+        Poly::new(c)
     }
 
     /// ȳ(t) = (x + f x′⊥, f‖x′‖) (re-skinning-cnc eq. 5, mph eq. 7).
@@ -489,6 +512,23 @@ mod tests {
                         assert!((m.length() - 1.0).abs() < 1e-12);
                         assert!((m.dot(fr.y1) + fr.r1).abs() < 1e-10 * (1.0 + fr.y1.length()));
                     }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn r_sq_is_the_polynomial_product_bit_for_bit_and_r_squared() {
+        for interp in [Interp::Cubic, Interp::PhQuintic] {
+            for k in [None, Some(2.0)] {
+                let c = sample_curve(interp, k);
+                let r2 = c.r_sq();
+                let by_polys = c.f.mul(&c.f).mul(&c.speed_sq());
+                let bits = |p: &Poly| p.c.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&r2), bits(&by_polys));
+                for t in [0.0, 0.3, 0.77, 1.0] {
+                    let r = c.frame(t).unwrap().r;
+                    assert!((r2.eval(t) - r * r).abs() < 1e-12 * (1.0 + r * r));
                 }
             }
         }
