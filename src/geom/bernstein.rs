@@ -68,15 +68,28 @@ static BINOM: [[f64; INLINE]; INLINE] = {
 /// Bernstein coefficients on [0, 1] of the polynomial Σ aₖ uᵏ (power basis, ascending) of
 /// the same degree: bᵢ = Σ_{k≤i} C(i, k)/C(n, k) aₖ (Farouki–Rajan 1987, eq. 7).
 pub fn from_power(a: &[f64]) -> Vec<f64> {
+    let mut b = vec![0.0; a.len()];
+    from_power_into(a, &mut b);
+    b
+}
+
+/// [`from_power`] written into `out` (its first `a.len()` entries), for callers that keep
+/// the coefficients on the stack.
+pub fn from_power_into(a: &[f64], out: &mut [f64]) {
     let n = a.len().saturating_sub(1);
+    let outs = out.iter_mut().enumerate().take(a.len());
     match POWER_RATIO.get(n) {
         // The same quotients, read from the table.
-        Some(rows) => (0..a.len())
-            .map(|i| (0..=i).map(|k| rows[i][k] * a[k]).sum())
-            .collect(),
-        None => (0..a.len())
-            .map(|i| (0..=i).map(|k| binom(i, k) / binom(n, k) * a[k]).sum())
-            .collect(),
+        Some(rows) => {
+            for (i, o) in outs {
+                *o = (0..=i).map(|k| rows[i][k] * a[k]).sum();
+            }
+        }
+        None => {
+            for (i, o) in outs {
+                *o = (0..=i).map(|k| binom(i, k) / binom(n, k) * a[k]).sum();
+            }
+        }
     }
 }
 

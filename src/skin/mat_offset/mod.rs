@@ -242,26 +242,24 @@ fn check_f(skin: &ReSkin) -> Result<(), MatOffsetError> {
 /// A parameter run on consecutive segments: (segment, t0, t1) with t1 > t0.
 type Run = Vec<(usize, f64, f64)>;
 
-/// Splits per-segment kept intervals into maximal runs, joining across segment ends (and
-/// across the closing join of a closed skin).
-fn runs(kept: &[Vec<(f64, f64)>], closed: bool) -> Vec<Run> {
+/// Splits the kept intervals (segment, t0, t1), in segment order, of a skin of `n`
+/// segments into maximal runs, joining across segment ends (and across the closing join
+/// of a closed skin).
+fn runs(kept: &[(usize, f64, f64)], n: usize, closed: bool) -> Vec<Run> {
     let mut out: Vec<Run> = Vec::new();
     let mut cur: Run = Vec::new();
-    for (s, iv) in kept.iter().enumerate() {
-        for &(a, b) in iv {
-            let joins = cur
-                .last()
-                .is_some_and(|&(ps, _, pb)| ps + 1 == s && pb == 1.0 && a == 0.0);
-            if !joins && !cur.is_empty() {
-                out.push(std::mem::take(&mut cur));
-            }
-            cur.push((s, a, b));
+    for &(s, a, b) in kept {
+        let joins = cur
+            .last()
+            .is_some_and(|&(ps, _, pb)| ps + 1 == s && pb == 1.0 && a == 0.0);
+        if !joins && !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
         }
+        cur.push((s, a, b));
     }
     if !cur.is_empty() {
         out.push(cur);
     }
-    let n = kept.len();
     if closed && out.len() > 1 {
         let first_starts = out
             .first()
@@ -362,7 +360,9 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     check_delta(delta)?;
     check_f(skin)?;
     let mut trims = Vec::new();
-    let mut kept: Vec<Vec<(f64, f64)>> = Vec::new();
+    let nseg = skin.segments.len();
+    let mut kept: Vec<(usize, f64, f64)> = Vec::with_capacity(nseg);
+    let mut cuts: Vec<f64> = Vec::new();
     for (s, seg) in skin.segments.iter().enumerate() {
         // r² − δ²: only the constant term changes.
         let mut p = seg.curve.r_sq();
@@ -371,7 +371,8 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
             None => p.c.push(-delta * delta),
         }
         let roots = p.roots_01(tol, 0.0);
-        let mut cuts = vec![0.0];
+        cuts.clear();
+        cuts.push(0.0);
         for &t in &roots {
             if t > 0.0 && t < 1.0 {
                 let fr = seg
@@ -387,17 +388,16 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
             }
         }
         cuts.push(1.0);
-        let mut iv = Vec::new();
         for w in cuts.windows(2) {
             let m = 0.5 * (w[0] + w[1]);
             if w[1] > w[0] && p.eval(m) > 0.0 {
-                iv.push((w[0], w[1]));
+                kept.push((s, w[0], w[1]));
             }
         }
-        kept.push(iv);
     }
-    let all_kept = kept.iter().all(|iv| iv.len() == 1 && iv[0] == (0.0, 1.0));
-    let rs = runs(&kept, skin.closed);
+    // Every segment kept whole: one interval (s, 0, 1) each.
+    let all_kept = kept.len() == nseg && kept.iter().all(|&(_, a, b)| (a, b) == (0.0, 1.0));
+    let rs = runs(&kept, nseg, skin.closed);
     let contours = contours_of_runs(skin, -delta, &rs, skin.closed && all_kept)?;
     Ok(MatOffset {
         d: -delta,
@@ -416,8 +416,9 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
 /// [`MatOffset`], so it can be evaluated and output like an offset.
 pub fn outline(skin: &ReSkin) -> Result<MatOffset, MatOffsetError> {
     check_f(skin)?;
-    let kept: Vec<Vec<(f64, f64)>> = vec![vec![(0.0, 1.0)]; skin.segments.len()];
-    let rs = runs(&kept, skin.closed);
+    let nseg = skin.segments.len();
+    let kept: Vec<(usize, f64, f64)> = (0..nseg).map(|s| (s, 0.0, 1.0)).collect();
+    let rs = runs(&kept, nseg, skin.closed);
     let contours = contours_of_runs(skin, 0.0, &rs, skin.closed)?;
     Ok(MatOffset {
         d: 0.0,

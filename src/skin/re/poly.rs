@@ -89,6 +89,19 @@ impl Poly {
         bernstein::from_power(&self.c)
     }
 
+    /// Runs `f` on [`Self::to_bernstein`]'s coefficients, kept on the stack up to degree 15.
+    pub fn with_bernstein<R>(&self, f: impl FnOnce(&[f64]) -> R) -> R {
+        const STACK: usize = 16;
+        let n = self.c.len();
+        if n <= STACK {
+            let mut b = [0.0; STACK];
+            bernstein::from_power_into(&self.c, &mut b);
+            f(&b[..n])
+        } else {
+            f(&self.to_bernstein())
+        }
+    }
+
     /// From Bernstein coefficients on [0, 1]: aₖ = C(n,k) Σ_{i≤k} (−1)^{k−i} C(k,i) bᵢ.
     pub fn from_bernstein(b: &[f64]) -> Poly {
         if b.is_empty() {
@@ -122,13 +135,12 @@ impl Poly {
     /// are found where subdivision reaches width `tol` with coefficients that still change
     /// sign or vanish within `zero_tol` (absolute, in units of the polynomial's values).
     pub fn roots_01(&self, tol: f64, zero_tol: f64) -> Vec<f64> {
-        let b = self.to_bernstein();
         let mut roots = Roots {
             tol: tol.max(1e-15),
             zero_tol,
             out: Vec::new(),
         };
-        bernstein::subdivide(&b, &mut roots);
+        self.with_bernstein(|b| bernstein::subdivide(b, &mut roots));
         let mut out = roots.out;
         out.sort_by(f64::total_cmp);
         // Leaves of one multiple root come in chains `tol` apart: report each chain's middle.
@@ -231,7 +243,7 @@ impl Visitor for Roots {
 /// piece (a curve value) is ≤ 0. `max_depth` bounds the subdivision (pieces ≥
 /// 2^−max_depth wide).
 pub fn prove_positive(p: &Poly, max_depth: u32) -> Positivity {
-    bernstein::prove_positive(&p.to_bernstein(), max_depth)
+    p.with_bernstein(|b| bernstein::prove_positive(b, max_depth))
 }
 
 /// Real roots in [0, 1] of the cubic a₀ + a₁t + a₂t² + a₃t³ in closed form (Cardano /
