@@ -160,10 +160,30 @@ impl Poly {
 pub use crate::geom::bernstein::{Positivity, binom};
 
 /// Adds the product of the power-basis coefficients `a` and `b` into `out` (at least
-/// `a.len() + b.len() − 1` long): `out[i + j] += a[i]·b[j]`, i then j ascending, the
-/// order of [`Poly::mul`].
+/// `a.len() + b.len() − 1` long): `out[i + j] += a[i]·b[j]`, i then j ascending, so each
+/// `out[k]` sums its terms in ascending i (the order of [`Poly::mul`]). Two rows are added
+/// per pass over `out`: row by row, each pass's vectorised loads straddle the stores of
+/// the pass before, shifted by one entry, and wait for them (store forwarding fails).
 pub fn mul_add_into(a: &[f64], b: &[f64], out: &mut [f64]) {
-    for (i, x) in a.iter().enumerate() {
+    let nb = b.len();
+    if nb == 0 {
+        return;
+    }
+    let mut rows = a.chunks_exact(2);
+    let mut i = 0;
+    for pair in rows.by_ref() {
+        let (x0, x1) = (pair[0], pair[1]);
+        // Rows i and i + 1 in one pass: out[k] gets a[i]·b[k − i], then a[i + 1]·b[k − i − 1].
+        if let Some(o) = out.get_mut(i) {
+            *o += x0 * b[0];
+        }
+        for (j, o) in out.iter_mut().skip(i + 1).take(nb).enumerate() {
+            let t = if j + 1 < nb { *o + x0 * b[j + 1] } else { *o };
+            *o = t + x1 * b[j];
+        }
+        i += 2;
+    }
+    if let [x] = rows.remainder() {
         for (y, o) in b.iter().zip(out.iter_mut().skip(i)) {
             *o += x * y;
         }
@@ -326,6 +346,39 @@ mod tests {
         rs.iter().fold(Poly::constant(lead), |p, &r| {
             p.mul(&Poly::new(vec![-r, 1.0]))
         })
+    }
+
+    /// `out[i + j] += a[i]·b[j]` row by row: the order `mul_add_into` must keep.
+    fn naive_product(a: &[f64], b: &[f64]) -> Vec<f64> {
+        let mut c = vec![0.0; a.len() + b.len() - 1];
+        for (i, x) in a.iter().enumerate() {
+            for (j, y) in b.iter().enumerate() {
+                c[i + j] += x * y;
+            }
+        }
+        c
+    }
+
+    proptest! {
+        #[test]
+        fn products_sum_in_the_row_order_bit_for_bit(
+            a in proptest::collection::vec(-1e3f64..1e3, 1..12),
+            b in proptest::collection::vec(-1e3f64..1e3, 1..12),
+        ) {
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let want = naive_product(&a, &b);
+            prop_assert_eq!(bits(&Poly::new(a.clone()).mul(&Poly::new(b.clone())).c), bits(&want));
+            // Into a longer buffer with something already in it.
+            let mut out = vec![0.5; a.len() + b.len() + 2];
+            mul_add_into(&a, &b, &mut out);
+            let mut start = vec![0.5; a.len() + b.len() + 2];
+            for (i, x) in a.iter().enumerate() {
+                for (j, y) in b.iter().enumerate() {
+                    start[i + j] += x * y;
+                }
+            }
+            prop_assert_eq!(bits(&out), bits(&start));
+        }
     }
 
     #[test]
