@@ -131,9 +131,10 @@ impl Poly {
     /// Real roots in [0, 1] to parameter accuracy `tol`, ascending, by Bernstein subdivision
     /// (the variation-diminishing property: no sign change of the Bernstein coefficients on
     /// an interval ⇒ no root there) and Brent's method ([`brent_with`]) on intervals whose
-    /// coefficients change sign exactly once (then exactly one simple root lies inside). Roots of even multiplicity
-    /// are found where subdivision reaches width `tol` with coefficients that still change
-    /// sign or vanish within `zero_tol` (absolute, in units of the polynomial's values).
+    /// coefficients change sign exactly once (then exactly one simple root lies inside).
+    /// Roots of even multiplicity are found where subdivision reaches width `tol` with
+    /// coefficients that still change sign or vanish within `zero_tol` (absolute, in units
+    /// of the polynomial's values).
     pub fn roots_01(&self, tol: f64, zero_tol: f64) -> Vec<f64> {
         let mut roots = Roots {
             tol: tol.max(1e-15),
@@ -199,8 +200,9 @@ pub fn bern_eval(b: &[f64], s: f64) -> f64 {
 /// The root policy of [`Poly::roots_01`] on [`bernstein::subdivide`]: zero end
 /// coefficients are roots; a piece without sign change whose coefficients are all clear of
 /// `zero_tol` has none; one change with opposite end values is one simple root, found by
-/// Brent's method on the piece's Bernstein form ([`bernstein::eval_horner`]) to `tol`; pieces still undecided at width `tol` (or depth
-/// [`MAX_DEPTH`]) report their midpoint when they change sign or nearly vanish there.
+/// Brent's method on the piece's Bernstein form ([`bernstein::eval_horner`]) to `tol`;
+/// pieces still undecided at width `tol` (or depth [`MAX_DEPTH`]) report their midpoint
+/// when they change sign or nearly vanish there.
 struct Roots {
     tol: f64,
     zero_tol: f64,
