@@ -93,6 +93,15 @@ pub fn from_power_into(a: &[f64], out: &mut [f64]) {
     }
 }
 
+/// Runs `f` on [`from_power`]'s coefficients of `a`, kept on the stack when
+/// `a.len() ≤ INLINE` ([`with_scratch`]).
+pub fn with_from_power<R>(a: &[f64], f: impl FnOnce(&[f64]) -> R) -> R {
+    with_scratch(a.len(), |b| {
+        from_power_into(a, b);
+        f(b)
+    })
+}
+
 /// Degree below which [`from_power`] reads its quotients C(i, k)/C(n, k) from a table (r²
 /// of a quintic RE segment has degree 12).
 const POWER_TABLE: usize = 16;

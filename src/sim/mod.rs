@@ -199,16 +199,13 @@ pub fn checks_and_stats(
     }
     let mm = cfg.in_mm();
     let ((contour, t_contours), ((moves, stats), t_moves)) = rayon::join(
+        || timed(|| checks::contour_findings(prog, &mm, design)),
         || {
-            let clock = std::time::Instant::now();
-            let f = checks::contour_findings(prog, &mm, design);
-            (f, clock.elapsed().as_secs_f64())
-        },
-        || {
-            let clock = std::time::Instant::now();
-            let mut checks = checks::MoveChecks::new(&mm);
-            let stats = stats_each(prog, &mm, |m| checks.motion(m));
-            ((checks.finish(prog), stats), clock.elapsed().as_secs_f64())
+            timed(|| {
+                let mut checks = checks::MoveChecks::new(&mm);
+                let stats = stats_each(prog, &mm, |m| checks.motion(m));
+                (checks.finish(prog), stats)
+            })
         },
     );
     let mut found = checks::join(contour, moves);
@@ -216,6 +213,13 @@ pub fn checks_and_stats(
         .findings
         .splice(0..0, prog.diagnostics.iter().cloned());
     (found, stats, [t_contours, t_moves])
+}
+
+/// The value of `f` and the wall seconds it took.
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let clock = std::time::Instant::now();
+    let value = f();
+    (value, clock.elapsed().as_secs_f64())
 }
 
 /// The report of [`check`] from the findings and the [`stats`] of [`checks_and_stats`]:

@@ -220,6 +220,14 @@ pub(crate) fn check_tolerance(tol: f64) -> Result<(), MatOffsetError> {
 /// Subdivision depth of the f > 0 proof before offsetting.
 const F_PROOF_DEPTH: u32 = 30;
 
+/// The skin's RE curves for a [`MatOffset`]: shared, not copied.
+fn shared_curves(skin: &ReSkin) -> Vec<std::sync::Arc<ReCurve>> {
+    skin.segments
+        .iter()
+        .map(|s| std::sync::Arc::clone(&s.curve))
+        .collect()
+}
+
 fn check_f(skin: &ReSkin) -> Result<(), MatOffsetError> {
     if skin.segments.is_empty() {
         return Err(MatOffsetError::Empty);
@@ -401,11 +409,7 @@ pub fn inner_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     let contours = contours_of_runs(skin, -delta, &rs, skin.closed && all_kept)?;
     Ok(MatOffset {
         d: -delta,
-        curves: skin
-            .segments
-            .iter()
-            .map(|s| std::sync::Arc::clone(&s.curve))
-            .collect(),
+        curves: shared_curves(skin),
         contours,
         trims,
         loops: Vec::new(),
@@ -422,11 +426,7 @@ pub fn outline(skin: &ReSkin) -> Result<MatOffset, MatOffsetError> {
     let contours = contours_of_runs(skin, 0.0, &rs, skin.closed)?;
     Ok(MatOffset {
         d: 0.0,
-        curves: skin
-            .segments
-            .iter()
-            .map(|s| std::sync::Arc::clone(&s.curve))
-            .collect(),
+        curves: shared_curves(skin),
         contours,
         trims: Vec::new(),
         loops: Vec::new(),
@@ -521,11 +521,7 @@ pub fn outer_offset(skin: &ReSkin, delta: f64, tol: f64) -> Result<MatOffset, Ma
     };
     let mut off = MatOffset {
         d: delta,
-        curves: skin
-            .segments
-            .iter()
-            .map(|s| std::sync::Arc::clone(&s.curve))
-            .collect(),
+        curves: shared_curves(skin),
         contours,
         trims: Vec::new(),
         loops: Vec::new(),

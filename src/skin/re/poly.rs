@@ -89,17 +89,10 @@ impl Poly {
         bernstein::from_power(&self.c)
     }
 
-    /// Runs `f` on [`Self::to_bernstein`]'s coefficients, kept on the stack up to degree 15.
+    /// Runs `f` on [`Self::to_bernstein`]'s coefficients, kept on the stack
+    /// ([`bernstein::with_from_power`]).
     pub fn with_bernstein<R>(&self, f: impl FnOnce(&[f64]) -> R) -> R {
-        const STACK: usize = 16;
-        let n = self.c.len();
-        if n <= STACK {
-            let mut b = [0.0; STACK];
-            bernstein::from_power_into(&self.c, &mut b);
-            f(&b[..n])
-        } else {
-            f(&self.to_bernstein())
-        }
+        bernstein::with_from_power(&self.c, f)
     }
 
     /// From Bernstein coefficients on [0, 1]: aₖ = C(n,k) Σ_{i≤k} (−1)^{k−i} C(k,i) bᵢ.
