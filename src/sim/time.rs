@@ -155,12 +155,16 @@ pub struct Estimator {
     cfg: CheckConfig,
     lim: AxisLimits,
     /// The window: block, rapid, its junction limit with the block before (0 for the first
-    /// block of a run).
+    /// block of a run; computed for blocks before `fresh` only).
     window: Vec<(Block, bool, f64)>,
+    /// Index of the first window block whose junction limit is still to be computed.
+    fresh: usize,
     /// Final squared entry speed of the window's first block.
     entry: f64,
     /// Window length that triggers an attempt to settle blocks.
     limit: usize,
+    /// Squared entry speeds of the window's blocks while settling (a reused buffer).
+    speeds: Vec<f64>,
     t: TimeEstimate,
 }
 
@@ -174,8 +178,10 @@ impl Estimator {
             cfg: cfg.clone(),
             lim: AxisLimits::new(cfg),
             window: Vec::new(),
+            fresh: 0,
             entry: 0.0,
             limit: WINDOW,
+            speeds: Vec::new(),
             t: TimeEstimate::default(),
         }
     }
@@ -190,13 +196,9 @@ impl Estimator {
                 }
             }
             MotionKind::Rapid | MotionKind::Feed => {
-                let (window, lim) = (&mut self.window, &self.lim);
-                for_blocks(m, lim, &self.cfg, |b, r| {
-                    let j = window
-                        .last()
-                        .map_or(0.0, |p| junction_speed_sqr(&p.0, &b, lim));
-                    window.push((b, r, j));
-                });
+                // Junction limits are computed when settling, in a loop of their own.
+                let window = &mut self.window;
+                for_blocks(m, &self.lim, &self.cfg, |b, r| window.push((b, r, 0.0)));
                 if self.window.len() >= self.limit {
                     self.settle(false);
                 }
@@ -214,34 +216,46 @@ impl Estimator {
 
     /// Adds the times of the blocks whose speeds are final (all of them when the run ends
     /// here, `end`).
+    ///
+    /// The backward pass runs from rest after the window (`lo`) and, unless the run ends
+    /// here, alongside it from no limit there (`hi`) until the two agree bit for bit: both
+    /// follow one recurrence, so every earlier entry agrees too and is final. The forward
+    /// pass then times the blocks before that point.
     fn settle(&mut self, end: bool) {
         let n = self.window.len();
         if n == 0 {
             self.entry = 0.0;
             return;
         }
-        let back = |last: f64| {
-            let mut e: Vec<f64> = self.window.iter().map(|w| w.2).collect();
-            e.push(last);
-            for i in (0..n).rev() {
-                let b = &self.window[i].0;
-                e[i] = e[i].min(e[i + 1] + 2.0 * b.a * b.len);
+        // The junction limits of the blocks added since the last settling (the first block
+        // of a run keeps 0). A loop of its own: the square roots and divisions of one
+        // junction do not wait for those of the one before, unlike in `motion`'s body.
+        for i in self.fresh.max(1)..n {
+            let j = junction_speed_sqr(&self.window[i - 1].0, &self.window[i].0, &self.lim);
+            self.window[i].2 = j;
+        }
+        let e = &mut self.speeds;
+        e.clear();
+        e.extend(self.window.iter().map(|w| w.2));
+        e.push(0.0);
+        let mut done = if end { n } else { 0 };
+        let mut hi = (!end).then_some(f64::INFINITY);
+        for i in (0..n).rev() {
+            let b = &self.window[i].0;
+            let junction = e[i];
+            e[i] = junction.min(e[i + 1] + 2.0 * b.a * b.len);
+            if let Some(h) = hi {
+                let h = junction.min(h + 2.0 * b.a * b.len);
+                if h.to_bits() == e[i].to_bits() {
+                    // Highest index whose entry speed does not depend on what follows.
+                    done = i;
+                    hi = None;
+                } else {
+                    hi = Some(h);
+                }
             }
-            e
-        };
-        let lo = back(0.0);
-        let done = if end {
-            n
-        } else {
-            let hi = back(f64::INFINITY);
-            // Highest index whose entry speed does not depend on what follows.
-            (0..=n)
-                .rev()
-                .find(|&i| lo[i].to_bits() == hi[i].to_bits())
-                .unwrap_or(0)
-        };
+        }
         // Forward pass over the settled part, from the final entry speed.
-        let mut e = lo;
         e[0] = self.entry;
         let mut vi = e[0].sqrt();
         for i in 0..done {
@@ -265,6 +279,7 @@ impl Estimator {
             self.window.drain(..done);
             self.limit = WINDOW.max(2 * self.window.len());
         }
+        self.fresh = self.window.len();
     }
 }
 
