@@ -59,8 +59,9 @@
 //! joint (each arc lies on its own side of that line, and the line is the ray from either
 //! centre through the joint). The farthest sample whose biarc is within `tol` is found by
 //! galloping and then binary search on the sample index (first trying the previous biarc's
-//! reach; a candidate is first tested on its samples alone, since a sample farther than
-//! `tol` from the biarc makes the bound exceed `tol`), so each biarc replaces as many
+//! reach), run on the samples alone (a sample farther than `tol` from the biarc makes the
+//! bound exceed `tol`); the hulls are then bounded for the biarc found, and the search
+//! repeated below it with the bound only when that fails. So each biarc replaces as many
 //! osculating-circle pieces as the tolerance allows; consecutive arcs of one circle are
 //! merged into one. Every joint is G1: between the two arcs of a biarc by construction,
 //! between biarcs and at the cap arcs because each biarc ends with the exact curve's
@@ -277,19 +278,10 @@ fn clip(verts: &[DVec2], j: DVec2, t: DVec2, behind: bool) -> ([DVec2; 6], usize
 }
 
 /// The biarc (module docs: equal tangent lengths) from `nodes[i]` to `nodes[j]`, tangent to
-/// the exact curve at both ends, with its deviation bound, when the bound is ≤ `tol`.
-///
-/// The joint J splits the plane by the common normal line of the two arcs: the first arc
-/// lies where (x − J)·t_J ≤ 0, the second where it is ≥ 0, so each hull is clipped by
-/// these half-planes and each part bounded against its own arc; the ray from each centre
-/// through J is that line, so the sector tests of the two arcs meet there.
-fn biarc_candidate(
-    nodes: &[Node],
-    hulls: &[Hull],
-    i: usize,
-    j: usize,
-    tol: f64,
-) -> Option<([Shape; 2], f64)> {
+/// the exact curve at both ends, with its joint J and the unit tangent there, when every
+/// sample between lies within `tol` of it ([`nodes_within`], a necessary condition of
+/// [`biarc_bound`]).
+fn biarc_near(nodes: &[Node], i: usize, j: usize, tol: f64) -> Option<([Shape; 2], DVec2, DVec2)> {
     let (a, b) = (nodes.get(i)?, nodes.get(j)?);
     let (p0, t0, p1, t1) = (a.p, a.d?, b.p, b.d?);
     let v = p1 - p0;
@@ -309,9 +301,27 @@ fn biarc_candidate(
     let first = arc_from(p0, t0, jt, tol)?;
     let second = arc_from(jt, first.d_end, p1, tol)?;
     let tj = first.d_end;
-    if !nodes_within(&nodes[i..=j], &first, &second, jt, tj, tol) {
+    if !nodes_within(nodes.get(i..=j)?, &first, &second, jt, tj, tol) {
         return None;
     }
+    Some(([first, second], jt, tj))
+}
+
+/// The biarc of [`biarc_near`] from `nodes[i]` to `nodes[j]` with its deviation bound, when
+/// the bound is ≤ `tol`.
+///
+/// The joint J splits the plane by the common normal line of the two arcs: the first arc
+/// lies where (x − J)·t_J ≤ 0, the second where it is ≥ 0, so each hull is clipped by
+/// these half-planes and each part bounded against its own arc; the ray from each centre
+/// through J is that line, so the sector tests of the two arcs meet there.
+fn biarc_candidate(
+    nodes: &[Node],
+    hulls: &[Hull],
+    i: usize,
+    j: usize,
+    tol: f64,
+) -> Option<([Shape; 2], f64)> {
+    let ([first, second], jt, tj) = biarc_near(nodes, i, j, tol)?;
     let mut bound: f64 = 0.0;
     for k in i..j {
         let (vs, n) = hull_verts(nodes, hulls, k)?;
@@ -675,6 +685,31 @@ fn farthest<T>(
     Some((lo, best))
 }
 
+/// The biarc from `nodes[i]` reaching farthest (to j ≤ `n`) within `tol` by its bound
+/// ([`biarc_candidate`]), with j; `hint` is the previous biarc's reach.
+///
+/// The search runs on the samples alone first ([`biarc_near`]: a biarc whose samples are
+/// not all within `tol` cannot pass the bound), so the hulls are bounded only for the
+/// biarc found there, and for shorter ones only when that bound fails: where the samples
+/// are dense against `tol` (hull apexes within `tol`/8 of their chords) the two searches
+/// end at the same sample or one apart.
+fn farthest_biarc(
+    nodes: &[Node],
+    hulls: &[Hull],
+    i: usize,
+    n: usize,
+    hint: usize,
+    tol: f64,
+) -> Option<(usize, ([Shape; 2], f64))> {
+    let bounded = |j: usize| biarc_candidate(nodes, hulls, i, j, tol);
+    let (near, _) = farthest(i, n, hint, |j| biarc_near(nodes, i, j, tol))?;
+    match bounded(near) {
+        Some(c) => Some((near, c)),
+        None if near > i + 1 => farthest(i, near - 1, near - 1 - i, bounded),
+        None => None,
+    }
+}
+
 /// Greedy merging of one run (module docs).
 fn merge_run(
     nodes: &[Node],
@@ -687,9 +722,7 @@ fn merge_run(
     let mut i = 0;
     let mut hint = 1;
     while i < n {
-        let Some((j, (shapes, bound))) =
-            farthest(i, n, hint, |j| biarc_candidate(nodes, hulls, i, j, tol))
-        else {
+        let Some((j, (shapes, bound))) = farthest_biarc(nodes, hulls, i, n, hint, tol) else {
             // A chord over one interval: within tol/8 of a proved hull (APEX_FRACTION),
             // unbounded over an unproved one.
             let (a, b) = (nodes[i], nodes[i + 1]);
