@@ -3,7 +3,9 @@
 //!   against geo's sweep-line `Intersections` and a naive O(n²) all-pairs baseline;
 //! - the same on a multi-pass job (nested rings in a board, 6 passes of each contour):
 //!   the chain sweep without the repeated passes against the grid alone;
-//! - interpretation throughput (MB/s) against the gcode crate's parser.
+//! - interpretation throughput (MB/s) against the gcode crate's parser, beside skinpath's
+//!   parser alone (what the gcode crate does: no interpretation) and a floor: lines split
+//!   and every number after a letter parsed, nothing else (the least any reader does).
 //!
 //! Input: a square grid of closed circles (flattened to 1000-gons), the shape of a nesting
 //! or a lettering job: many contours, no intersections, all of them checked.
@@ -168,7 +170,46 @@ fn interpret(c: &mut Criterion) {
     g.bench_function("gcode-crate-parse", |b| {
         b.iter(|| black_box(gcode::parse(&src).map(|p| p.blocks.len()).unwrap_or(0)))
     });
+    let syn = skinpath::sim::ngc::Syntax {
+        ngc: true,
+        checksums: false,
+        dollar: false,
+    };
+    g.bench_function("skinpath-parse-only", |b| {
+        let mut line = skinpath::sim::ngc::Line::default();
+        b.iter(|| {
+            let mut words = 0;
+            for l in src.split('\n') {
+                skinpath::sim::ngc::parse_line_into(l, syn, &mut line);
+                words += line.words.len();
+            }
+            black_box(words)
+        })
+    });
+    g.bench_function("floor-split-and-numbers", |b| {
+        b.iter(|| black_box(split_and_numbers(src.as_bytes())))
+    });
     g.finish();
+}
+
+/// The floor of reading G-code: split at line ends and parse the number after every letter
+/// (fast_float2), keeping only their sum and count; no words, comments, errors or state.
+fn split_and_numbers(text: &[u8]) -> (f64, usize) {
+    let (mut sum, mut count) = (0.0, 0);
+    for line in text.split(|&c| c == b'\n') {
+        let mut k = 0;
+        while k < line.len() {
+            k += 1;
+            if line[k - 1].is_ascii_alphabetic()
+                && let Ok((v, used)) = fast_float2::parse_partial::<f64, _>(&line[k..])
+            {
+                sum += v;
+                count += 1;
+                k += used;
+            }
+        }
+    }
+    (sum, count)
 }
 
 criterion_group! {

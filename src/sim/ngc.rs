@@ -786,10 +786,11 @@ pub fn parse_line_into(raw: &str, syn: Syntax, out: &mut Line) {
     out.errors.clear();
     out.checksum_ok = false;
     // The plain path overwrites the previous line's words in place.
-    if parse_plain(raw.as_bytes(), syn, &mut out.words) {
+    if parse_plain(raw.as_bytes(), syn, &mut out.words, &mut out.comments) {
         return;
     }
     out.words.clear();
+    out.comments.clear();
     if !parse_simple(raw.as_bytes(), syn, out) {
         *out = parse_line(raw, syn);
     }
@@ -811,23 +812,36 @@ const POW10: [f64; 23] = [
 
 /// The fastest path of [`parse_line_into`]: lines of words `letter [sign] number` separated
 /// by blanks or nothing, each number written without blanks inside it (`G1 Y2`,
-/// `G0X1Y2`), which is what CAM output is made of. Gives exactly what [`parse_simple`] gives
-/// (same words, columns and bit-identical values); returns false, with `words` partly
-/// overwritten, for anything else (comments, blanks between a letter and its number, other
-/// characters, long lines), which [`parse_simple`] or the general parser then read.
+/// `G0X1Y2`), with ASCII `( )` comments between words and a `;` comment at the end
+/// (`G2 X1 Y2 I0.5 J0 (arc)`), which is what CAM output is made of. Gives exactly what
+/// [`parse_simple`] gives (same words, columns, bit-identical values and the same comment
+/// texts, trimmed, pushed onto `comments`); returns false, with `words` partly overwritten
+/// and `comments` partly filled, for anything else (blanks between a letter and its number,
+/// a comment inside a word or left open, other characters, long lines), which
+/// [`parse_simple`] or the general parser then read.
 ///
 /// The words go into `words` in place of the ones it holds (the previous line's), which
 /// is then cut to this line's: each field is written where it stays, where a pushed word
 /// would be built on the stack and copied, and that copy's wide load has to wait for the
 /// narrow stores of the value just computed (a store-forwarding stall, measured as 40 % of
 /// this function's time).
-fn parse_plain(raw: &[u8], syn: Syntax, words: &mut Vec<PWord>) -> bool {
+fn parse_plain(
+    raw: &[u8],
+    syn: Syntax,
+    words: &mut Vec<PWord>,
+    comments: &mut Vec<String>,
+) -> bool {
     if raw.len() > PLAIN_MAX {
         return false;
     }
     let n = raw.len();
     let mut k = 0usize;
     let mut count = 0usize;
+    // A comment's text as `parse_simple` keeps it (only ASCII lines are its).
+    let comment = |text: &[u8]| {
+        text.is_ascii()
+            .then(|| std::str::from_utf8(text).unwrap_or("").trim().to_string())
+    };
     loop {
         while k < n && matches!(raw[k], b' ' | b'\t' | b'\r') {
             k += 1;
@@ -837,6 +851,25 @@ fn parse_plain(raw: &[u8], syn: Syntax, words: &mut Vec<PWord>) -> bool {
             return true;
         }
         let c = raw[k];
+        if c == b'(' {
+            let Some(e) = memchr::memchr(b')', &raw[k + 1..]) else {
+                return false;
+            };
+            let Some(text) = comment(&raw[k + 1..k + 1 + e]) else {
+                return false;
+            };
+            comments.push(text);
+            k += e + 2;
+            continue;
+        }
+        if c == b';' {
+            let Some(text) = comment(&raw[k + 1..]) else {
+                return false;
+            };
+            comments.push(text);
+            k = n;
+            continue;
+        }
         if !c.is_ascii_alphabetic() || (syn.ngc && (c == b'o' || c == b'O')) {
             return false;
         }
@@ -845,8 +878,13 @@ fn parse_plain(raw: &[u8], syn: Syntax, words: &mut Vec<PWord>) -> bool {
         let Some((v, end)) = plain_number(raw, k) else {
             return false;
         };
-        // The number must end at a blank, the next letter or the end of the line.
-        if end < n && !matches!(raw[end], b' ' | b'\t' | b'\r' | b'a'..=b'z' | b'A'..=b'Z') {
+        // The number must end at a blank, the next letter, a comment or the end of the line.
+        if end < n
+            && !matches!(
+                raw[end],
+                b' ' | b'\t' | b'\r' | b'(' | b';' | b'a'..=b'z' | b'A'..=b'Z'
+            )
+        {
             return false;
         }
         k = end;
@@ -1277,18 +1315,29 @@ mod tests {
             "G1 X1234567.89012345 Y0.30000000000000004",
             "",
             "   \t",
+            "M3 S1000 (on)",
+            "G1 X1 ; c",
+            "G2 X1(a)Y2 ( b  )I0.5;  end ( of ) line ",
+            "(only a comment)",
+            "G1 X1 ()",
         ] {
             let mut l = Line::default();
-            assert!(parse_plain(line.as_bytes(), NGC, &mut l.words), "{line}");
+            assert!(
+                parse_plain(line.as_bytes(), NGC, &mut l.words, &mut l.comments),
+                "{line}"
+            );
             let mut s = Line::default();
             assert!(parse_simple(line.as_bytes(), NGC, &mut s), "{line}");
             assert_eq!(word_bits(&l), word_bits(&s), "{line}");
+            assert_eq!(l.comments, s.comments, "{line}");
         }
         for line in [
             "G1 X 1",
             "G1 X1 2",
-            "M3 S1000 (on)",
-            "G1 X1 ; c",
+            "G1 X(c)1",
+            "G1 X1 (open",
+            "G1 X1 (é)",
+            "G1 X1 ; é",
             "G1 X1.2.3",
             "G1 X",
             "o100 sub",
@@ -1297,7 +1346,10 @@ mod tests {
             "G1 X1é",
         ] {
             let mut l = Line::default();
-            assert!(!parse_plain(line.as_bytes(), NGC, &mut l.words), "{line}");
+            assert!(
+                !parse_plain(line.as_bytes(), NGC, &mut l.words, &mut l.comments),
+                "{line}"
+            );
         }
     }
 
@@ -1336,15 +1388,16 @@ mod tests {
         /// Where the plain reader takes a line, it gives what the byte fast path gives.
         #[test]
         fn plain_matches_simple(
-            line in "([GMXYZFSogx][-+]?[0-9]{0,9}(\\.[0-9]{0,9})?[ \t]{0,2}){0,8}",
+            line in "([GMXYZFSogx][-+]?[0-9]{0,9}(\\.[0-9]{0,9})?[ \t]{0,2}(\\([a-z ()]{0,5}\\)?)?){0,8}(;[ a-z(]{0,4})?",
             d in 0..3usize,
         ) {
             let syn = DIALECTS[d];
             let mut plain = Line::default();
-            if parse_plain(line.as_bytes(), syn, &mut plain.words) {
+            if parse_plain(line.as_bytes(), syn, &mut plain.words, &mut plain.comments) {
                 let mut simple = Line::default();
                 proptest::prop_assert!(parse_simple(line.as_bytes(), syn, &mut simple));
                 proptest::prop_assert_eq!(word_bits(&plain), word_bits(&simple));
+                proptest::prop_assert_eq!(plain.comments, simple.comments);
             }
         }
     }
