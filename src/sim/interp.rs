@@ -2883,10 +2883,19 @@ impl Block {
     }
 }
 
-/// The code as an integer number of tenths (G90.1 → 901), None if not a tenth.
+/// The code as an integer number of tenths (G90.1 → 901), None if not a tenth (or
+/// negative, or 10⁹ tenths or more). The tenths are rounded half away from zero, as
+/// `f64::round` does, but by truncation (exact below 2⁵³): `f64::round` is a libm call on
+/// the x86-64 baseline, and this runs for every G and M word.
 fn tenths(v: f64) -> Option<i64> {
-    let t = (v * 10.0).round();
-    ((v * 10.0 - t).abs() < 1e-6 && t.abs() < 1e9 && t >= 0.0).then_some(t as i64)
+    let x = v * 10.0;
+    // round(x) lies in [0, 10⁹) exactly when x lies in (−0.5, 10⁹ − 0.5).
+    if !(x > -0.5 && x < 1e9 - 0.5) {
+        return None;
+    }
+    let r = x as i64;
+    let t = if x - r as f64 >= 0.5 { r + 1 } else { r };
+    ((x - t as f64).abs() < 1e-6).then_some(t)
 }
 
 /// Centre of the arc of signed radius `r` from `p0` to `p1` (RS274 R format: r > 0 takes the
@@ -3020,6 +3029,55 @@ mod tests {
         "G1 X2 S12.5 S3",
         "M3",
     ];
+
+    /// [`tenths`] by its definition with `f64::round`.
+    fn tenths_by_round(v: f64) -> Option<i64> {
+        let t = (v * 10.0).round();
+        ((v * 10.0 - t).abs() < 1e-6 && t.abs() < 1e9 && t >= 0.0).then_some(t as i64)
+    }
+
+    #[test]
+    fn tenths_match_rounding_at_the_edges() {
+        let edges = [
+            0.0,
+            -0.0,
+            0.1,
+            90.1,
+            38.2,
+            1.0,
+            -0.04,
+            -0.05,
+            -0.049999999,
+            0.05,
+            0.0499999999,
+            99_999_999.9,
+            99_999_999.95,
+            99_999_999.94,
+            1e8,
+            2.5e15,
+            1e300,
+            -1.0,
+            0.30000001,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MIN_POSITIVE,
+            4503599627370495.5,
+        ];
+        for v in edges {
+            assert_eq!(tenths(v), tenths_by_round(v), "{v:e}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4096))]
+        #[test]
+        fn tenths_match_rounding(code in 0u32..2000, off in -1e-5f64..1e-5, any in proptest::num::f64::ANY) {
+            let v = f64::from(code) / 10.0 + off;
+            proptest::prop_assert_eq!(tenths(v), tenths_by_round(v));
+            proptest::prop_assert_eq!(tenths(any), tenths_by_round(any));
+        }
+    }
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
