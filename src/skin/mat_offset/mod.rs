@@ -592,10 +592,7 @@ fn negative_tau_intervals(
 impl MatOffset {
     /// Point and derivative (w.r.t. the curve's own parameter t) of an exact piece.
     pub fn curve_point(&self, segment: usize, branch: Branch, t: f64) -> Option<(DVec2, DVec2)> {
-        self.curves
-            .get(segment)?
-            .frame(t)
-            .map(|fr| fr.offset(branch, self.d))
+        self.curves.get(segment)?.offset_at(branch, self.d, t)
     }
 
     /// Point of piece `p` at local s ∈ [0, 1].

@@ -77,6 +77,25 @@ pub struct Frame {
     pub dm_minus: DVec2,
 }
 
+/// The first-order part of a [`Frame`] ([`ReCurve::first_order`]), with x″, f, f′, s, s′
+/// and l = ‖y′‖² the rest of the frame is built from.
+struct FirstOrder {
+    x: DVec2,
+    x1: DVec2,
+    x2: DVec2,
+    f: f64,
+    f1: f64,
+    s: f64,
+    s1: f64,
+    y: DVec2,
+    y1: DVec2,
+    l: f64,
+    r: f64,
+    r1: f64,
+    m_plus: DVec2,
+    dm_plus: DVec2,
+}
+
 impl Frame {
     /// m⁺ or m⁻ for `b`.
     pub fn m(&self, b: Branch) -> DVec2 {
@@ -352,49 +371,82 @@ impl ReCurve {
     /// m⁻ = −m⁺ − 2r′y′/‖y′‖² and their derivatives by the quotient rule.
     /// `None` at a singular point of x (s = 0) or where y′ = 0.
     pub fn frame(&self, t: f64) -> Option<Frame> {
+        let o = self.first_order(t)?;
+        let (x1, x2, s, s1, f, f1, y1, r1, l) = (o.x1, o.x2, o.s, o.s1, o.f, o.f1, o.y1, o.r1, o.l);
+        let x3 = d2(&self.d[4], &self.d[5], t);
+        let f2 = self.df[1].eval(t);
+        let xx2 = x1.dot(x2);
+        let s2 = (x2.length_squared() + x1.dot(x3)) / s - xx2 * xx2 / (s * s * s);
+        let y2 = x2 + f2 * rot_cw(x1) + 2.0 * f1 * rot_cw(x2) + f * rot_cw(x3);
+        let r2 = f2 * s + 2.0 * f1 * s1 + f * s2;
+        let m_minus = -o.m_plus - 2.0 * r1 * y1 / l;
+        let dl = 2.0 * y1.dot(y2);
+        let dm_minus = -o.dm_plus - 2.0 * ((r2 * y1 + r1 * y2) * l - r1 * y1 * dl) / (l * l);
+        Some(Frame {
+            x: o.x,
+            x1,
+            y: o.y,
+            y1,
+            y2,
+            r: o.r,
+            r1,
+            r2,
+            m_plus: o.m_plus,
+            m_minus,
+            dm_plus: o.dm_plus,
+            dm_minus,
+        })
+    }
+
+    /// The part of [`ReCurve::frame`] that needs x″ but not x‴: all that m⁺ and its
+    /// derivative need. `None` where [`ReCurve::frame`] is.
+    fn first_order(&self, t: f64) -> Option<FirstOrder> {
         let x = self.x(t);
         let x1 = d2(&self.d[0], &self.d[1], t);
         let x2 = d2(&self.d[2], &self.d[3], t);
-        let x3 = d2(&self.d[4], &self.d[5], t);
         let f = self.f.eval(t);
         let f1 = self.df[0].eval(t);
-        let f2 = self.df[1].eval(t);
         let s = x1.length();
         if s.is_nan() || s <= 0.0 {
             return None;
         }
-        let xx2 = x1.dot(x2);
-        let s1 = xx2 / s;
-        let s2 = (x2.length_squared() + x1.dot(x3)) / s - xx2 * xx2 / (s * s * s);
-        let y = x + f * rot_cw(x1);
+        let s1 = x1.dot(x2) / s;
         let y1 = x1 + f1 * rot_cw(x1) + f * rot_cw(x2);
-        let y2 = x2 + f2 * rot_cw(x1) + 2.0 * f1 * rot_cw(x2) + f * rot_cw(x3);
-        let r = f * s;
-        let r1 = f1 * s + f * s1;
-        let r2 = f2 * s + 2.0 * f1 * s1 + f * s2;
-        let m_plus = -rot_cw(x1) / s;
-        let dm_plus = -(rot_cw(x2) * s - rot_cw(x1) * s1) / (s * s);
         let l = y1.length_squared();
         if l.is_nan() || l <= 0.0 {
             return None;
         }
-        let m_minus = -m_plus - 2.0 * r1 * y1 / l;
-        let dl = 2.0 * y1.dot(y2);
-        let dm_minus = -dm_plus - 2.0 * ((r2 * y1 + r1 * y2) * l - r1 * y1 * dl) / (l * l);
-        Some(Frame {
+        Some(FirstOrder {
             x,
             x1,
-            y,
+            x2,
+            f,
+            f1,
+            s,
+            s1,
+            y: x + f * rot_cw(x1),
             y1,
-            y2,
-            r,
-            r1,
-            r2,
-            m_plus,
-            m_minus,
-            dm_plus,
-            dm_minus,
+            l,
+            r: f * s,
+            r1: f1 * s + f * s1,
+            m_plus: -rot_cw(x1) / s,
+            dm_plus: -(rot_cw(x2) * s - rot_cw(x1) * s1) / (s * s),
         })
+    }
+
+    /// Point and derivative of y + (r + d) m± at `t` ([`Frame::offset`]): what
+    /// `self.frame(t).map(|fr| fr.offset(b, d))` gives, bit for bit, without the second
+    /// derivatives on the + branch, whose m⁺′ needs only x″ (sampling offsets evaluates
+    /// this at every sample).
+    pub fn offset_at(&self, b: Branch, d: f64, t: f64) -> Option<(DVec2, DVec2)> {
+        match b {
+            Branch::Plus => {
+                let o = self.first_order(t)?;
+                let m = o.m_plus;
+                Some((o.y + (o.r + d) * m, o.y1 + o.r1 * m + (o.r + d) * o.dm_plus))
+            }
+            Branch::Minus => self.frame(t).map(|fr| fr.offset(b, d)),
+        }
     }
 
     /// Only the point y + (r + d) m± of [`Frame::offset`], without second derivatives
@@ -511,6 +563,27 @@ mod tests {
                         let m = fr.m(br);
                         assert!((m.length() - 1.0).abs() < 1e-12);
                         assert!((m.dot(fr.y1) + fr.r1).abs() < 1e-10 * (1.0 + fr.y1.length()));
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn offset_at_is_the_frames_offset_bit_for_bit() {
+        for interp in [Interp::Cubic, Interp::PhQuintic] {
+            for k in [None, Some(2.0)] {
+                let c = sample_curve(interp, k);
+                for i in 0..=40 {
+                    let t = i as f64 / 40.0;
+                    for b in [Branch::Plus, Branch::Minus] {
+                        for d in [-0.3, 0.0, 0.45] {
+                            let want = c.frame(t).map(|fr| fr.offset(b, d));
+                            let bits = |v: Option<(DVec2, DVec2)>| {
+                                v.map(|(p, q)| [p.x, p.y, q.x, q.y].map(f64::to_bits))
+                            };
+                            assert_eq!(bits(c.offset_at(b, d, t)), bits(want), "t {t} {b:?}");
+                        }
                     }
                 }
             }
