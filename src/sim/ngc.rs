@@ -837,11 +837,8 @@ fn parse_plain(
     let n = raw.len();
     let mut k = 0usize;
     let mut count = 0usize;
-    // A comment's text as `parse_simple` keeps it (only ASCII lines are its).
-    let comment = |text: &[u8]| {
-        text.is_ascii()
-            .then(|| std::str::from_utf8(text).unwrap_or("").trim().to_string())
-    };
+    // Only ASCII lines are `parse_simple`'s, so only ASCII comments are this path's.
+    let comment = |text: &[u8]| text.is_ascii().then(|| comment_text(text));
     loop {
         while k < n && matches!(raw[k], b' ' | b'\t' | b'\r') {
             k += 1;
@@ -960,6 +957,11 @@ fn plain_number(raw: &[u8], mut k: usize) -> Option<(f64, usize)> {
     Some((if neg { -v } else { v }, k))
 }
 
+/// A comment's text as the fast paths keep it: trimmed (`text` is ASCII there).
+fn comment_text(text: &[u8]) -> String {
+    std::str::from_utf8(text).unwrap_or("").trim().to_string()
+}
+
 /// The fast path of [`parse_line_into`], over bytes: plain ASCII lines of words
 /// `letter [sign] number` with blanks anywhere and `( )` or `;` comments, which is what
 /// CAM output is made of. Numbers are read by `fast_float2` (correctly rounded, as
@@ -980,16 +982,14 @@ fn parse_simple(raw: &[u8], syn: Syntax, out: &mut Line) -> bool {
         match c {
             b' ' | b'\t' | b'\r' => {}
             b';' => {
-                let rest = std::str::from_utf8(&raw[k + 1..]).unwrap_or("");
-                out.comments.push(rest.trim().to_string());
+                out.comments.push(comment_text(&raw[k + 1..]));
                 break;
             }
             b'(' => {
-                let Some(e) = raw[k + 1..].iter().position(|&b| b == b')') else {
+                let Some(e) = memchr::memchr(b')', &raw[k + 1..]) else {
                     return false;
                 };
-                let text = std::str::from_utf8(&raw[k + 1..k + 1 + e]).unwrap_or("");
-                out.comments.push(text.trim().to_string());
+                out.comments.push(comment_text(&raw[k + 1..k + 1 + e]));
                 k += e + 2;
                 continue;
             }
