@@ -281,7 +281,7 @@ fn clip(verts: &[DVec2], j: DVec2, t: DVec2, behind: bool) -> ([DVec2; 6], usize
 /// the exact curve at both ends, with its joint J and the unit tangent there, when every
 /// sample between lies within `tol` of it ([`nodes_within`], a necessary condition of
 /// [`biarc_bound`]).
-fn biarc_near(nodes: &[Node], i: usize, j: usize, tol: f64) -> Option<([Shape; 2], DVec2, DVec2)> {
+fn biarc_near(nodes: &[Node], i: usize, j: usize, tol: f64) -> Option<Biarc> {
     let (a, b) = (nodes.get(i)?, nodes.get(j)?);
     let (p0, t0, p1, t1) = (a.p, a.d?, b.p, b.d?);
     let v = p1 - p0;
@@ -307,21 +307,26 @@ fn biarc_near(nodes: &[Node], i: usize, j: usize, tol: f64) -> Option<([Shape; 2
     Some(([first, second], jt, tj))
 }
 
-/// The biarc of [`biarc_near`] from `nodes[i]` to `nodes[j]` with its deviation bound, when
-/// the bound is ≤ `tol`.
+/// A biarc of [`biarc_near`]: its two arcs, its joint J and the unit tangent there.
+type Biarc = ([Shape; 2], DVec2, DVec2);
+
+/// The deviation bound of `biarc` (from `nodes[i]` to `nodes[j]`, [`biarc_near`]) against
+/// the hulls between, when it is ≤ `tol`.
 ///
 /// The joint J splits the plane by the common normal line of the two arcs: the first arc
 /// lies where (x − J)·t_J ≤ 0, the second where it is ≥ 0, so each hull is clipped by
 /// these half-planes and each part bounded against its own arc; the ray from each centre
 /// through J is that line, so the sector tests of the two arcs meet there.
-fn biarc_candidate(
+fn biarc_bound(
     nodes: &[Node],
     hulls: &[Hull],
     i: usize,
     j: usize,
+    biarc: &Biarc,
     tol: f64,
-) -> Option<([Shape; 2], f64)> {
-    let ([first, second], jt, tj) = biarc_near(nodes, i, j, tol)?;
+) -> Option<f64> {
+    let ([first, second], jt, tj) = biarc;
+    let (jt, tj) = (*jt, *tj);
     let mut bound: f64 = 0.0;
     for k in i..j {
         let (vs, n) = hull_verts(nodes, hulls, k)?;
@@ -349,12 +354,12 @@ fn biarc_candidate(
             return None;
         }
     }
-    Some(([first, second], bound))
+    Some(bound)
 }
 
 /// Whether every sample point lies within `tol` of the biarc (`first` where
 /// (x − J)·t_J ≤ 0, `second` elsewhere, as `clip` splits the hulls): a cheap necessary
-/// condition of [`biarc_candidate`]'s bound. Each sample is a vertex of a hull part bounded
+/// condition of [`biarc_bound`]. Each sample is a vertex of a hull part bounded
 /// against that arc, and the part's bound is at least the sample's distance to the circle
 /// (max_v ‖v − C‖ − R on one side, R − dist(C, hull) ≥ R − ‖x − C‖ on the other) or to
 /// the line; so a sample farther than `tol` rejects the candidate before any hull is
@@ -686,7 +691,7 @@ fn farthest<T>(
 }
 
 /// The biarc from `nodes[i]` reaching farthest (to j ≤ `n`) within `tol` by its bound
-/// ([`biarc_candidate`]), with j; `hint` is the previous biarc's reach.
+/// ([`biarc_bound`]), with j; `hint` is the previous biarc's reach.
 ///
 /// The search runs on the samples alone first ([`biarc_near`]: a biarc whose samples are
 /// not all within `tol` cannot pass the bound), so the hulls are bounded only for the
@@ -701,11 +706,14 @@ fn farthest_biarc(
     hint: usize,
     tol: f64,
 ) -> Option<(usize, ([Shape; 2], f64))> {
-    let bounded = |j: usize| biarc_candidate(nodes, hulls, i, j, tol);
-    let (near, _) = farthest(i, n, hint, |j| biarc_near(nodes, i, j, tol))?;
-    match bounded(near) {
+    let bounded =
+        |j: usize, b: Biarc| biarc_bound(nodes, hulls, i, j, &b, tol).map(|bound| (b.0, bound));
+    let (near, found) = farthest(i, n, hint, |j| biarc_near(nodes, i, j, tol))?;
+    match bounded(near, found) {
         Some(c) => Some((near, c)),
-        None if near > i + 1 => farthest(i, near - 1, near - 1 - i, bounded),
+        None if near > i + 1 => farthest(i, near - 1, near - 1 - i, |j| {
+            bounded(j, biarc_near(nodes, i, j, tol)?)
+        }),
         None => None,
     }
 }
