@@ -77,12 +77,19 @@ pub struct Frame {
     pub dm_minus: DVec2,
 }
 
-/// The first-order part of a [`Frame`] ([`ReCurve::first_order`]), with x″, f, f′, s, s′
-/// and l = ‖y′‖² the rest of the frame is built from.
+/// Point y + (r + d) m and derivative y′ + r′m + (r + d) m′ of an offset curve
+/// ([`Frame::offset`]).
+fn offset_of(y: DVec2, y1: DVec2, r: f64, r1: f64, m: DVec2, dm: DVec2, d: f64) -> (DVec2, DVec2) {
+    (y + (r + d) * m, y1 + r1 * m + (r + d) * dm)
+}
+
+/// The first-order part of a [`Frame`] ([`ReCurve::first_order`]), with x″, x′·x″, f, f′,
+/// s, s′ and l = ‖y′‖² the rest of the frame is built from.
 struct FirstOrder {
     x: DVec2,
     x1: DVec2,
     x2: DVec2,
+    xx2: f64,
     f: f64,
     f1: f64,
     s: f64,
@@ -116,11 +123,7 @@ impl Frame {
     /// Point and derivative of the curve y + (r + d) m± (d = 0: envelope; d = −δ: inner
     /// MAT offset, re-skinning-cnc eq. 13; d = +δ: outer offset).
     pub fn offset(&self, b: Branch, d: f64) -> (DVec2, DVec2) {
-        let m = self.m(b);
-        (
-            self.y + (self.r + d) * m,
-            self.y1 + self.r1 * m + (self.r + d) * self.dm(b),
-        )
+        offset_of(self.y, self.y1, self.r, self.r1, self.m(b), self.dm(b), d)
     }
 
     /// ‖y′‖² − r′²: positive where ȳ′ is space-like (a real envelope exists).
@@ -372,10 +375,10 @@ impl ReCurve {
     /// `None` at a singular point of x (s = 0) or where y′ = 0.
     pub fn frame(&self, t: f64) -> Option<Frame> {
         let o = self.first_order(t)?;
-        let (x1, x2, s, s1, f, f1, y1, r1, l) = (o.x1, o.x2, o.s, o.s1, o.f, o.f1, o.y1, o.r1, o.l);
+        let (x1, x2, xx2, s, s1) = (o.x1, o.x2, o.xx2, o.s, o.s1);
+        let (f, f1, y1, r1, l) = (o.f, o.f1, o.y1, o.r1, o.l);
         let x3 = d2(&self.d[4], &self.d[5], t);
         let f2 = self.df[1].eval(t);
-        let xx2 = x1.dot(x2);
         let s2 = (x2.length_squared() + x1.dot(x3)) / s - xx2 * xx2 / (s * s * s);
         let y2 = x2 + f2 * rot_cw(x1) + 2.0 * f1 * rot_cw(x2) + f * rot_cw(x3);
         let r2 = f2 * s + 2.0 * f1 * s1 + f * s2;
@@ -410,7 +413,8 @@ impl ReCurve {
         if s.is_nan() || s <= 0.0 {
             return None;
         }
-        let s1 = x1.dot(x2) / s;
+        let xx2 = x1.dot(x2);
+        let s1 = xx2 / s;
         let y1 = x1 + f1 * rot_cw(x1) + f * rot_cw(x2);
         let l = y1.length_squared();
         if l.is_nan() || l <= 0.0 {
@@ -420,6 +424,7 @@ impl ReCurve {
             x,
             x1,
             x2,
+            xx2,
             f,
             f1,
             s,
@@ -442,8 +447,7 @@ impl ReCurve {
         match b {
             Branch::Plus => {
                 let o = self.first_order(t)?;
-                let m = o.m_plus;
-                Some((o.y + (o.r + d) * m, o.y1 + o.r1 * m + (o.r + d) * o.dm_plus))
+                Some(offset_of(o.y, o.y1, o.r, o.r1, o.m_plus, o.dm_plus, d))
             }
             Branch::Minus => self.frame(t).map(|fr| fr.offset(b, d)),
         }
