@@ -183,6 +183,14 @@ pub struct Stroke {
     /// Not combined with `knots`; the end indices of an open stroke are ignored.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corners: Option<Vec<usize>>,
+    /// `layer`: the drawing layer the stroke came from (an SVG import writes the Inkscape
+    /// layer's label); operations select by it with `layers = [...]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<String>,
+    /// `color`: the stroke's colour as `#rrggbb` (lower case; an SVG import writes the
+    /// stroke paint); operations select by it with `colors = [...]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color: Option<String>,
 }
 
 impl Stroke {
@@ -200,6 +208,8 @@ impl Stroke {
             control_disks: None,
             attributes: Attributes::default(),
             corners: None,
+            layer: None,
+            color: None,
         }
     }
 
@@ -405,6 +415,14 @@ pub struct Operation {
     /// non-empty, every name defined. Unset: all of them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strokes: Option<Vec<String>>,
+    /// `layers`: selects the strokes and shapes whose `layer` is one of these labels
+    /// (beside `strokes`: an item is selected when any given selector names it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layers: Option<Vec<String>>,
+    /// `colors`: selects the strokes and shapes whose `color` is one of these (`#rrggbb`,
+    /// compared case-insensitively).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colors: Option<Vec<String>>,
     // Common to all kinds.
     /// `passes`: number of passes, in 1..=[`MAX_PASSES`](super::MAX_PASSES); default 1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -509,6 +527,8 @@ impl Operation {
         Operation {
             kind,
             strokes: None,
+            layers: None,
+            colors: None,
             passes: None,
             step_down: None,
             depth: None,

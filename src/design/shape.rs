@@ -100,6 +100,12 @@ pub struct Shape {
     /// at least one, each with at least 3 points, a non-zero area, not crossing or touching itself.
     #[serde(deserialize_with = "xy::rings")]
     pub contours: Vec<Vec<[f64; 2]>>,
+    /// `layer`: the drawing layer the shape came from (see the stroke's `layer`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<String>,
+    /// `color`: the shape's fill colour as `#rrggbb` (see the stroke's `color`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color: Option<String>,
 }
 
 /// The ring's points without a closing point that repeats the first.

@@ -779,6 +779,8 @@ impl Ctx<'_> {
             name: name.clone(),
             fill_rule: None,
             contours,
+            layer: None,
+            color: None,
         };
         match shape.validate(self.file, self.shapes.len()) {
             Ok(()) => self.shapes.push(shape),
