@@ -7,7 +7,7 @@ use super::io;
 use anyhow::{Context, Result};
 use skinpath::job::check::{check_config, design_boundaries};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
-use skinpath::sim::{Backend, CheckConfig, Dialect, interp};
+use skinpath::sim::{Backend, CheckConfig, Dialect, files, interp};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -139,11 +139,13 @@ pub fn run(a: Args) -> Result<u8> {
         .map(|p| vec![p.to_path_buf()])
         .unwrap_or_default();
     dirs.extend(a.sub_path.iter().cloned());
-    let loader = |name: &str| -> Option<String> { find_sub(&dirs, name) };
+    let loader = interp::CheckedLoader(|name: &str| find_sub(&dirs, name));
     let opts = interp::Options {
         load_sub: Some(&loader),
     };
-    let size = std::fs::metadata(&a.program).map_or(0, |m| m.len());
+    // Only a regular file is read (a FIFO would hang, /dev/zero never ends).
+    let size = files::regular_file_size(&a.program)
+        .with_context(|| format!("cannot read {}", a.program.display()))?;
     let stream = cfg
         .stream
         .unwrap_or(size > skinpath::sim::stream::STREAM_ABOVE_BYTES)
@@ -165,8 +167,11 @@ pub fn run(a: Args) -> Result<u8> {
         return write_report(&a, &report, &mut timings, Instant::now());
     }
     let clock = Instant::now();
-    let bytes = std::fs::read(&a.program)
-        .with_context(|| format!("cannot read {}", a.program.display()))?;
+    let bytes = files::read_regular(
+        &a.program,
+        skinpath::sim::stream::STREAM_ABOVE_BYTES.max(size),
+    )
+    .with_context(|| format!("cannot read {}", a.program.display()))?;
     let (text, decode_findings) = skinpath::sim::decode(&bytes);
     timings.read = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
@@ -243,18 +248,23 @@ fn write_report(
     Ok(report.exit_code() as u8)
 }
 
-/// `NAME.ngc` (any case of the name) in the first folder of `dirs` that holds it.
-fn find_sub(dirs: &[PathBuf], name: &str) -> Option<String> {
+/// `NAME.ngc` (any case of the name) in the first folder of `dirs` that holds it: its text,
+/// or why it cannot be read (not a regular file, larger than
+/// [`files::MAX_SUB_FILE_BYTES`]).
+fn find_sub(dirs: &[PathBuf], name: &str) -> Result<Option<String>, String> {
     for d in dirs {
         for cand in [
             format!("{name}.ngc"),
             format!("{}.ngc", name.to_uppercase()),
         ] {
             let p = d.join(cand);
-            if let Ok(b) = std::fs::read(&p) {
-                return Some(String::from_utf8_lossy(&b).into_owned());
+            match files::read_regular(&p, files::MAX_SUB_FILE_BYTES) {
+                Ok(b) => return Ok(Some(String::from_utf8_lossy(&b).into_owned())),
+                Err(files::FileError::Io { source, .. })
+                    if source.kind() == std::io::ErrorKind::NotFound => {}
+                Err(e) => return Err(e.to_string()),
             }
         }
     }
-    None
+    Ok(None)
 }

@@ -54,6 +54,12 @@ pub const MAX_CALL_DEPTH: usize = 10;
 /// G73/G83 retract clearance (LinuxCNC `G83_RAPID_DELTA`: 0.010 inch, 0.254 mm).
 const PECK_CLEARANCE_MM: f64 = 0.254;
 
+/// Largest arc radius accepted (mm): 10 km, far beyond any machine, while keeping the
+/// centre's coordinates within the range where points on the circle are computed to well
+/// under a micrometre (|c| · 2⁻⁵² ≈ 2·10⁻⁹ mm). Larger radii (`R[10**300]`) and
+/// non-finite centres are `invalid-arc` errors.
+const MAX_ARC_RADIUS_MM: f64 = 1e7;
+
 /// Numbered parameters holding stored positions (LinuxCNC manual, "Numbered parameters").
 const P_G28: usize = 5161;
 const P_G30: usize = 5181;
@@ -88,7 +94,31 @@ enum FeedMode {
 }
 
 /// Returns the text of subroutine file `<name>.ngc` from a search path, if any.
-pub type SubLoader<'a> = &'a dyn Fn(&str) -> Option<String>;
+pub type SubLoader<'a> = &'a dyn LoadSub;
+
+/// A source of subroutine files. Any `Fn(&str) -> Option<String>` is one (None: no such
+/// file); [`CheckedLoader`] wraps a loader that can also refuse a file it found.
+pub trait LoadSub {
+    /// The text of `<name>.ngc`: `Ok(None)` when there is no such file, `Err(reason)` when
+    /// there is one that cannot be read (not a regular file, too large, unreadable).
+    fn load(&self, name: &str) -> Result<Option<String>, String>;
+}
+
+impl<F: Fn(&str) -> Option<String>> LoadSub for F {
+    fn load(&self, name: &str) -> Result<Option<String>, String> {
+        Ok(self(name))
+    }
+}
+
+/// A loader `Fn(&str) -> Result<Option<String>, String>` as a [`LoadSub`]: its errors
+/// become `o-word` errors on the line of the call.
+pub struct CheckedLoader<F>(pub F);
+
+impl<F: Fn(&str) -> Result<Option<String>, String>> LoadSub for CheckedLoader<F> {
+    fn load(&self, name: &str) -> Result<Option<String>, String> {
+        (self.0)(name)
+    }
+}
 
 /// Options beyond [`CheckConfig`]: where called subroutine files come from.
 pub struct Options<'a> {
@@ -376,6 +406,8 @@ struct Interp<'a, 'o> {
     /// Plain motion blocks take [`Interp::plain_block`] (off only to test it against the
     /// general route).
     plain_moves: bool,
+    /// Per id, diagnostics kept so far (see [`Interp::diagnose`]).
+    diag_kept: HashMap<&'static str, usize>,
 }
 
 #[derive(Clone, Debug)]
@@ -522,6 +554,7 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
         word_buf: Vec::new(),
         tool_at_stop: ToolState::default(),
         plain_moves: true,
+        diag_kept: HashMap::new(),
     };
     it.params[P_CS] = 1.0;
     it
@@ -687,14 +720,32 @@ impl<'a> Interp<'a, '_> {
         }
     }
 
+    /// Keeps `f` among the program's diagnostics while its id has fewer than
+    /// `max_findings_per_check` (at least 1) kept; beyond, it is only counted in
+    /// [`Program::diagnostics_dropped`], so memory stays bounded whatever the input.
+    fn diagnose(&mut self, f: Finding) {
+        let cap = self.cfg.max_findings_per_check.max(1);
+        let kept = self.diag_kept.entry(f.id).or_insert(0);
+        if *kept < cap {
+            *kept += 1;
+            self.prog.diagnostics.push(f);
+            return;
+        }
+        let dropped = &mut self.prog.diagnostics_dropped;
+        match dropped.iter_mut().find(|d| d.0 == f.id) {
+            Some(d) => d.1 += 1,
+            None => dropped.push((f.id, 1)),
+        }
+    }
+
     fn err(&mut self, id: &'static str, col: Option<usize>, msg: String) {
         let f = self.finding(id, Severity::Error, col, msg);
-        self.prog.diagnostics.push(f);
+        self.diagnose(f);
     }
 
     fn warn(&mut self, id: &'static str, col: Option<usize>, msg: String) {
         let f = self.finding(id, Severity::Warning, col, msg);
-        self.prog.diagnostics.push(f);
+        self.diagnose(f);
     }
 
     /// Runs the program from its first line; `ahead` parses the main program's lines on
@@ -906,14 +957,23 @@ impl<'a> Interp<'a, '_> {
     }
 
     fn count_iteration(&mut self) -> bool {
-        self.iterations += 1;
+        self.count_work(1)
+    }
+
+    /// Counts `n` units of work against the loop budget (`max_loop_iterations`): loop
+    /// iterations, and the repeats of one block (canned-cycle repeats L and pecks, arc
+    /// turns P), so that no block creates more moves than the budget allows. False, with a
+    /// `loop-limit` error naming the line, once the budget is spent: interpretation stops.
+    fn count_work(&mut self, n: u64) -> bool {
+        self.iterations = self.iterations.saturating_add(n);
         if self.iterations > self.cfg.max_loop_iterations {
             self.err(
                 "loop-limit",
                 None,
                 format!(
-                    "loops ran more than {} iterations: interpretation stopped (raise \
-                     max_loop_iterations if the program really needs more)",
+                    "loops, canned-cycle repeats and pecks, and arc turns ran more than {} \
+                     iterations: interpretation stopped (raise max_loop_iterations if the \
+                     program really needs more)",
                     self.cfg.max_loop_iterations
                 ),
             );
@@ -1033,11 +1093,11 @@ impl<'a> Interp<'a, '_> {
                 "debug" | "print" if self.syn.ngc => {
                     let t = self.substitute(text);
                     let f = self.finding("message", Severity::Info, None, t);
-                    self.prog.diagnostics.push(f);
+                    self.diagnose(f);
                 }
                 "msg" => {
                     let f = self.finding("message", Severity::Info, None, text.trim().into());
-                    self.prog.diagnostics.push(f);
+                    self.diagnose(f);
                 }
                 "abort" if self.syn.ngc => {
                     let t = self.substitute(text);
@@ -1149,7 +1209,11 @@ impl<'a> Interp<'a, '_> {
                 }
                 let target = match self.subs.get(label).copied() {
                     Some(t) => Some(t),
-                    None => self.load_sub(label),
+                    None => match self.load_sub(label) {
+                        Ok(t) => t,
+                        // Reported: the file exists and cannot be read.
+                        Err(()) => return Flow::Next,
+                    },
                 };
                 let Some((ts, tl)) = target else {
                     self.err(
@@ -1341,10 +1405,26 @@ impl<'a> Interp<'a, '_> {
         }
     }
 
-    fn load_sub(&mut self, label: &str) -> Option<(usize, usize)> {
-        let text = (self.opts.load_sub?)(label)?;
+    /// The subroutine `label` from its file, loaded by `opts.load_sub`: None when there is
+    /// none, Err after an `o-word` error when the file exists and cannot be read.
+    fn load_sub(&mut self, label: &str) -> Result<Option<(usize, usize)>, ()> {
+        let Some(loader) = self.opts.load_sub else {
+            return Ok(None);
+        };
+        let text = match loader.load(label) {
+            Ok(Some(text)) => text,
+            Ok(None) => return Ok(None),
+            Err(why) => {
+                self.err(
+                    "o-word",
+                    None,
+                    format!("O{label} call: subroutine file cannot be read: {why}"),
+                );
+                return Err(());
+            }
+        };
         self.add_source(format!("{label}.ngc"), Cow::Owned(text));
-        self.subs.get(label).copied()
+        Ok(self.subs.get(label).copied())
     }
 
     /// Sorts the words into `b`; false when the block cannot run.
@@ -2272,6 +2352,11 @@ impl<'a> Interp<'a, '_> {
     }
 
     fn push(&mut self, mut m: Motion) {
+        if !m.length().is_finite() {
+            // Finite words can still overflow (G91 X1e308 twice, or from -1e308 to 1e308):
+            // no NaN or infinity reaches the lengths, the bounds or the time.
+            return self.out_of_range();
+        }
         m.feed = match self.st.feed_mode {
             FeedMode::PerMinute => m.feed,
             FeedMode::InverseTime => m.length() * self.st.feed,
@@ -2281,7 +2366,19 @@ impl<'a> Interp<'a, '_> {
         self.emit(m);
     }
 
+    /// The error of a move whose end point or length is not a finite number.
+    fn out_of_range(&mut self) {
+        self.err(
+            "invalid-value",
+            None,
+            "the move's end point or length is out of range (not a finite number)".into(),
+        );
+    }
+
     fn straight(&mut self, kind: MotionKind, to: DVec3) {
+        if !to.is_finite() {
+            return self.out_of_range();
+        }
         if to != self.st.pos {
             let m = self.motion(kind, to, None);
             self.push(m);
@@ -2424,9 +2521,30 @@ impl<'a> Interp<'a, '_> {
             c
         };
         let turns = b.val('P').map_or(1.0, |p| p.round().max(1.0));
+        // In XY each turn after the first counts against the loop budget (`as` saturates);
+        // in the other planes the chords do, below.
+        if self.st.plane == Plane::Xy && turns > 1.0 && !self.count_work((turns - 1.0) as u64) {
+            return;
+        }
         let mut arc = arc_between(center, p0, p1, ccw);
         if turns > 1.0 {
             arc.sweep += arc.sweep.signum() * (turns - 1.0) * TAU;
+        }
+        let finite = arc.center.is_finite()
+            && arc.radius.is_finite()
+            && arc.sweep.is_finite()
+            && arc.length().is_finite()
+            && to.is_finite();
+        if !finite || arc.radius > MAX_ARC_RADIUS_MM {
+            return self.err(
+                "invalid-arc",
+                None,
+                format!(
+                    "arc radius {:.4e} mm or centre out of range (at most {MAX_ARC_RADIUS_MM:.0e} \
+                     mm, finite)",
+                    arc.radius
+                ),
+            );
         }
         if self.st.plane == Plane::Xy {
             let m = self.motion(MotionKind::Feed, to, Some(arc));
@@ -2435,6 +2553,11 @@ impl<'a> Interp<'a, '_> {
             return;
         }
         let n = ((arc.sweep.abs() / CHORD_ANGLE).ceil() as usize).clamp(1, 1_000_000);
+        // The chords beyond one full turn's count against the loop budget.
+        let turn = (TAU / CHORD_ANGLE).ceil() as usize;
+        if n > turn && !self.count_work((n - turn) as u64) {
+            return;
+        }
         for s in 1..=n {
             let t = s as f64 / n as f64;
             let q = if s == n { p1 } else { arc.eval(t) };
@@ -2551,8 +2674,11 @@ impl<'a> Interp<'a, '_> {
         };
         let mut cur_z = self.st.pos.z;
         for rep in 0..reps {
+            // Each repeat after the first counts against the loop budget.
+            if rep > 0 && !self.count_iteration() {
+                return;
+            }
             // X Y (or polar @ ^) of this hole; in G91 each repeat moves by X Y again.
-            let _ = rep;
             let mut xy = self.st.pos;
             if b.val('@').is_some() || b.val('^').is_some() {
                 let mut pb = b.clone();
@@ -2602,6 +2728,10 @@ impl<'a> Interp<'a, '_> {
                     let q = q.unwrap_or(1.0);
                     let mut depth = r_m;
                     while depth > z_m {
+                        // Each peck after the first counts against the loop budget.
+                        if depth < r_m && !self.count_iteration() {
+                            return;
+                        }
                         let next = (depth - q).max(z_m);
                         if code == 830 && depth < r_m {
                             self.straight(MotionKind::Rapid, at(depth + PECK_CLEARANCE_MM));

@@ -26,6 +26,7 @@
 
 pub mod checks;
 pub mod config;
+pub mod files;
 pub mod findings;
 pub mod interp;
 pub mod lexer;
@@ -212,6 +213,9 @@ pub fn checks_and_stats(
     found
         .findings
         .splice(0..0, prog.diagnostics.iter().cloned());
+    found
+        .dropped
+        .splice(0..0, prog.diagnostics_dropped.iter().copied());
     (found, stats, [t_contours, t_moves])
 }
 
@@ -250,7 +254,13 @@ pub fn assemble_with(
         .diagnostics
         .iter()
         .filter(|d| d.id == "gcode-syntax")
-        .count();
+        .count()
+        + prog
+            .diagnostics_dropped
+            .iter()
+            .filter(|d| d.0 == "gcode-syntax")
+            .map(|d| d.1)
+            .sum::<usize>();
     let usable = prog.words > 0 && syntax <= prog.words;
     let reason = (!usable).then(|| {
         if prog.words == 0 {

@@ -478,8 +478,12 @@ pub use crate::units::Units;
 pub struct Program {
     /// The moves, in program order.
     pub motions: Motions,
-    /// What the reader found wrong (syntax, unsupported codes, invalid values, ...).
+    /// What the reader found wrong (syntax, unsupported codes, invalid values, ...): at
+    /// most `max_findings_per_check` per id from the builtin interpreter.
     pub diagnostics: Vec<super::findings::Finding>,
+    /// Per id, diagnostics found after `diagnostics` held `max_findings_per_check` of that
+    /// id: counted, not kept (a 20 MB line of repeated words gives millions).
+    pub diagnostics_dropped: Vec<(&'static str, usize)>,
     /// How the program ended (None: no M2/M30 or closing `%`).
     pub end: Option<ProgramEnd>,
     /// Tool state after the last line.

@@ -25,9 +25,12 @@ pub const MAX_PARAMETER: i64 = 5601;
 /// Longest line LinuxCNC reads (`LINELEN` − 1).
 pub const MAX_LINE_LEN: usize = 255;
 
-/// Deepest bracket nesting accepted in one expression (a guard against stack exhaustion on
-/// hostile input; LinuxCNC programs nest a handful deep).
-const MAX_NESTING: usize = 64;
+/// Deepest nesting accepted in one expression, counting brackets (function arguments
+/// included), unary signs and parameter indirections (`#`) alike: `[[1]]`, `--1` and `##1`
+/// are each two deep. A guard against stack exhaustion on hostile input (3·10⁴ nested `#`
+/// or unary minus signs); LinuxCNC programs nest a handful deep. Flat runs of binary
+/// operators do not nest (see [`Expr::Chain`]): a sum of 10⁵ terms is one level.
+pub const MAX_NESTING: usize = 64;
 
 /// A binary operator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -146,8 +149,12 @@ pub enum Expr {
     Atan(Box<Expr>, Box<Expr>),
     /// `EXISTS[#<name>]`.
     Exists(String),
-    /// A binary operation.
-    Bin(BinOp, Box<Expr>, Box<Expr>),
+    /// Binary operations folded from the left: `Chain(a, [(op₁, b), (op₂, c)])` is
+    /// `(a op₁ b) op₂ c`. The parser makes one chain of a run of operators that LinuxCNC
+    /// reduces left to right (all its binary operators are left-associative), so a flat sum
+    /// of any length is one node evaluated in a loop, and the tree's depth is bounded by
+    /// [`MAX_NESTING`] times the number of precedence levels.
+    Chain(Box<Expr>, Vec<(BinOp, Expr)>),
 }
 
 /// Where expressions read parameters.
@@ -184,7 +191,13 @@ impl Expr {
             Expr::Exists(n) => Ok(if p.named(n).is_some() { 1.0 } else { 0.0 }),
             Expr::Atan(y, x) => Ok(y.eval(p)?.atan2(x.eval(p)?).to_degrees()),
             Expr::Func(f, e) => func(*f, e.eval(p)?),
-            Expr::Bin(op, a, b) => binary(*op, a.eval(p)?, b.eval(p)?),
+            Expr::Chain(a, rest) => {
+                let mut v = a.eval(p)?;
+                for (op, b) in rest {
+                    v = binary(*op, v, b.eval(p)?)?;
+                }
+                Ok(v)
+            }
         }
     }
 }
@@ -431,21 +444,46 @@ impl Cursor<'_> {
         Err((self.col(), msg.into()))
     }
 
+    /// One level deeper, an error past [`MAX_NESTING`]; [`Cursor::leave`] undoes it.
+    fn enter(&mut self) -> Result<(), (usize, String)> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return self.err(format!(
+                "expression nested deeper than {MAX_NESTING} levels (brackets, unary signs \
+                 and # indirections count)"
+            ));
+        }
+        Ok(())
+    }
+
+    fn leave(&mut self) {
+        self.depth -= 1;
+    }
+
     /// A real value: number, parameter, `[expr]`, function, with optional unary sign.
     fn real_value(&mut self) -> Result<Expr, (usize, String)> {
         match self.peek() {
             Some('-') => {
                 self.i += 1;
-                Ok(Expr::Neg(Box::new(self.real_value()?)))
+                self.enter()?;
+                let v = self.real_value()?;
+                self.leave();
+                Ok(Expr::Neg(Box::new(v)))
             }
             Some('+') => {
                 self.i += 1;
-                self.real_value()
+                self.enter()?;
+                let v = self.real_value()?;
+                self.leave();
+                Ok(v)
             }
             Some('[') => self.bracketed(),
             Some('#') => {
                 self.i += 1;
-                Ok(Expr::Param(self.param_ref()?))
+                self.enter()?;
+                let r = self.param_ref()?;
+                self.leave();
+                Ok(Expr::Param(r))
             }
             Some(c) if c.is_ascii_digit() || c == '.' => self.number(),
             Some(c) if c.is_ascii_alphabetic() => self.function(),
@@ -501,17 +539,12 @@ impl Cursor<'_> {
         if !self.eat('[') {
             return self.err("'[' expected");
         }
-        self.depth += 1;
-        if self.depth > MAX_NESTING {
-            return self.err(format!(
-                "expression nested deeper than {MAX_NESTING} brackets"
-            ));
-        }
+        self.enter()?;
         let e = self.expression()?;
         if !self.eat(']') {
             return self.err("unclosed '[' in expression: ']' expected");
         }
-        self.depth -= 1;
+        self.leave();
         Ok(e)
     }
 
@@ -613,9 +646,18 @@ impl Cursor<'_> {
     }
 }
 
+/// Applies the top operator to the top two values. A left operand that is already a chain
+/// is extended (`(a op₁ b) op₂ c` is the chain of `a` with both), so a left-associative run
+/// stays one flat node whatever its length.
 fn reduce(values: &mut Vec<Expr>, ops: &mut Vec<BinOp>) {
     if let (Some(op), Some(b), Some(a)) = (ops.pop(), values.pop(), values.pop()) {
-        values.push(Expr::Bin(op, Box::new(a), Box::new(b)));
+        values.push(match a {
+            Expr::Chain(first, mut rest) => {
+                rest.push((op, b));
+                Expr::Chain(first, rest)
+            }
+            a => Expr::Chain(Box::new(a), vec![(op, b)]),
+        });
     }
 }
 
@@ -752,6 +794,7 @@ pub fn parse_line(raw: &str, syn: Syntax) -> Line {
                 id: "gcode-syntax",
                 message,
             });
+            cur.depth = 0;
             // Skip to the next letter to keep going.
             while let Some(ch) = cur.peek() {
                 if ch.is_ascii_alphabetic() {

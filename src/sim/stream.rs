@@ -657,7 +657,7 @@ impl<'d> Checker<'d> {
             end,
         ];
         let mut all = prog.diagnostics.clone();
-        let mut dropped: Vec<(&'static str, usize)> = Vec::new();
+        let mut dropped: Vec<(&'static str, usize)> = prog.diagnostics_dropped.clone();
         for st in stages {
             dropped.extend(st.dropped());
             all.extend(st.kept);

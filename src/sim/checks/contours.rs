@@ -84,15 +84,24 @@ pub fn cut_contours_marked(
     out
 }
 
+/// Most segments the contour checks take from one program (arcs flattened): 2²³ segments
+/// hold about 470 MB in the checks' segment set, eight times the densest programs the
+/// benches check (10⁶ segments), while arcs of a million turns or thousands of circles of
+/// kilometre radius would flatten to hundreds of millions. Past it the checks stop with a
+/// [`check_limit`] finding.
+pub const MAX_CONTOUR_SEGMENTS: usize = 1 << 23;
+
 /// Calls `f` with each contour of [`cut_contours_marked`] in order, built in one buffer
 /// reused from contour to contour: a caller that does not keep the contours whole (the
-/// checks keep their segments) needs no memory for all of them at once.
+/// checks keep their segments) needs no memory for all of them at once. Stops before the
+/// move whose flattened segments would take the contours past [`MAX_CONTOUR_SEGMENTS`]
+/// and returns its index (None when every move was taken).
 pub fn for_each_cut_contour(
     motions: &Motions,
     marks: &[(usize, Option<u32>)],
     cfg: &CheckConfig,
     mut f: impl FnMut(&SimContour),
-) {
+) -> Option<usize> {
     // A contour begun and not yet handed to `f` has its first point: `cur` is open while
     // it holds points.
     let mut cur = SimContour {
@@ -109,6 +118,8 @@ pub fn for_each_cut_contour(
             cur.sources.clear();
         }
     };
+    // Segments handed out so far (one per line, the chords of arcs).
+    let mut total = 0usize;
     for (k, m) in motions.iter().enumerate() {
         let planar = m.from.z == m.to.z;
         if matches!(m.kind, MotionKind::Dwell { .. }) {
@@ -128,6 +139,14 @@ pub fn for_each_cut_contour(
             cur.session = m.tool.session;
             cur.group = group;
         }
+        let chords = m
+            .arc
+            .map_or(1, |a| a.chords_for_tolerance(cfg.flatten_tolerance));
+        total += chords;
+        if total > MAX_CONTOUR_SEGMENTS {
+            close(&mut cur);
+            return Some(k);
+        }
         if m.arc.is_none() {
             // A line flattens to its two ends: no point list to build.
             cur.points.push(m.to.truncate());
@@ -140,6 +159,21 @@ pub fn for_each_cut_contour(
         }
     }
     close(&mut cur);
+    None
+}
+
+/// The finding of contour checks stopped at [`MAX_CONTOUR_SEGMENTS`], on `line`: the
+/// intersection and gouge checks saw only the moves before it.
+pub fn check_limit(line: usize) -> Finding {
+    Finding::new(
+        "check-limit",
+        Severity::Error,
+        format!(
+            "the cut contours flatten to more than {MAX_CONTOUR_SEGMENTS} segments: the \
+             intersection and gouge checks stopped at this line and did not check the rest"
+        ),
+    )
+    .line(line)
 }
 
 /// Where a cut contour starts and the height it is cut at: what the gouge check reads of
@@ -157,20 +191,23 @@ pub struct ContourStart {
 /// The segments of the cut contours ([`cut_contours_marked`]) for the intersection check
 /// ([`intersection_findings`]) and each contour's start, in one pass that does not keep
 /// the contours' point lists (a second copy of every point, 20 bytes a segment).
+/// Also the [`check_limit`] finding when the contours were cut short at
+/// [`MAX_CONTOUR_SEGMENTS`].
 pub fn contour_segments(
     motions: &Motions,
     marks: &[(usize, Option<u32>)],
     cfg: &CheckConfig,
-) -> (SegmentSet, Vec<ContourStart>) {
+) -> (SegmentSet, Vec<ContourStart>, Option<Finding>) {
     let mut set = new_set(cfg);
     // At most one segment per straight move: arcs may need more (the vector grows then).
-    set.segs.reserve(motions.len());
+    set.segs.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
     let mut starts = Vec::new();
-    for_each_cut_contour(motions, marks, cfg, |c| {
+    let stop = for_each_cut_contour(motions, marks, cfg, |c| {
         set.push_polyline_in(&c.points, &c.sources, c.group);
         starts.push(start_of(c));
     });
-    (set, starts)
+    let limit = stop.map(|k| check_limit(motions.get(k).map_or(0, |m| m.line)));
+    (set, starts, limit)
 }
 
 fn start_of(c: &SimContour) -> ContourStart {

@@ -5,6 +5,7 @@
 //! | `self-intersection` | error | a cut contour crosses or touches itself (passing twice through one of its vertices without crossing, or tangentially as arc leads at a closed contour's start do, is no touch) |
 //! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`; contours of one marked pocket may) |
 //! | `too-many-contacts` | error | the contours meet in more than `MAX_CONTACTS` places; only the first are listed |
+//! | `check-limit` | error | the cut contours flatten to more than `MAX_CONTOUR_SEGMENTS` segments; the contour checks stopped there |
 //! | `gouge` | error | tool centre nearer the design than tool radius − tolerance, or on the wrong side |
 //! | `out-of-bounds` | error | a move leaves the work area |
 //! | `laser-on-rapid` | warning (GRBL laser mode) / error | G0 with M3/M4 and S > 0 |
@@ -115,8 +116,14 @@ pub fn contour_findings(
     cfg: &CheckConfig,
     design: &[DesignBoundary],
 ) -> Vec<Finding> {
-    let (set, starts) = contours::contour_segments(&prog.motions, &prog.group_marks, cfg);
-    let mut out = contours::intersection_findings(&set, &starts, &prog.motions, cfg);
+    let (set, starts, limit) = contours::contour_segments(&prog.motions, &prog.group_marks, cfg);
+    let mut out: Vec<Finding> = limit.into_iter().collect();
+    out.extend(contours::intersection_findings(
+        &set,
+        &starts,
+        &prog.motions,
+        cfg,
+    ));
     drop(set);
     out.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
     out
@@ -459,7 +466,7 @@ mod tests {
         let prog = crate::sim::load(Backend::Builtin, src, &cfg);
         let kept = contours::cut_contours_marked(&prog.motions, &prog.group_marks, &cfg);
         assert!(kept.len() >= 4, "{kept:?}");
-        let (set, starts) = contours::contour_segments(&prog.motions, &prog.group_marks, &cfg);
+        let (set, starts, _) = contours::contour_segments(&prog.motions, &prog.group_marks, &cfg);
         let mut want = SegmentSet::new();
         for c in &kept {
             want.push_polyline_in(&c.points, &c.sources, c.group);
