@@ -358,3 +358,121 @@ fn a_path_no_stroke_interpolates_is_skipped_with_the_reason() {
     assert!(!imp.design.stroke.is_empty());
     imp.design.strokes().expect("what is imported builds");
 }
+
+/// An Illustrator-style file: XML declaration, a DOCTYPE with an internal subset of entities
+/// (the namespace URIs), entities used in attributes.
+const ILLUSTRATOR: &str = r#"<?xml version="1.0" encoding="utf-8"?>
+<!-- Generator: Adobe Illustrator 16.0.0, SVG Export Plug-In . SVG Version: 6.00 Build 0)  -->
+<!DOCTYPE svg PUBLIC "-//W3C//DTD SVG 1.1//EN" "http://www.w3.org/Graphics/SVG/1.1/DTD/svg11.dtd" [
+	<!ENTITY ns_svg "http://www.w3.org/2000/svg">
+	<!ENTITY ns_xlink "http://www.w3.org/1999/xlink">
+	<!ENTITY st "black">
+]>
+<svg version="1.1" xmlns="&ns_svg;" xmlns:xlink="&ns_xlink;" width="100mm" height="100mm" viewBox="0 0 100 100">
+<path id="line" d="M10 50 H90" stroke="&st;" stroke-width="2" fill="none"/>
+</svg>"#;
+
+#[test]
+fn doctype_with_internal_entities_is_read() {
+    let imp = import(ILLUSTRATOR, "ai.svg", &ImportOptions::default()).unwrap();
+    assert_eq!(imp.design.stroke.len(), 1);
+    let p = imp.design.stroke[0].points.as_ref().unwrap();
+    // 80 user units = 80 mm; width 2 → radius 1.
+    let len = p[0][0] - p[p.len() - 1][0];
+    assert!((len.abs() - 80.0).abs() < 1e-3, "{len}");
+    assert!((p[0][2] - 1.0).abs() < 1e-6, "{p:?}");
+    // A plain DOCTYPE without a subset (Batik, CorelDRAW) too.
+    let plain = r#"<?xml version="1.0"?><!DOCTYPE svg PUBLIC "-//W3C//DTD SVG 1.0//EN" "http://www.w3.org/TR/2001/REC-SVG-20010904/DTD/svg10.dtd"><svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm" viewBox="0 0 10 10"><path id="a" d="M1 5 H9" stroke="black"/></svg>"#;
+    assert_eq!(
+        import(plain, "b.svg", &ImportOptions::default())
+            .unwrap()
+            .design
+            .stroke
+            .len(),
+        1
+    );
+}
+
+/// A "billion laughs" document: each entity is ten of the one before.
+fn entity_bomb(levels: usize) -> String {
+    let mut dtd = String::from("<!ENTITY l0 \"lol\">");
+    for i in 1..=levels {
+        let refs: String = (0..10).map(|_| format!("&l{};", i - 1)).collect();
+        dtd.push_str(&format!("<!ENTITY l{i} \"{refs}\">"));
+    }
+    format!(
+        "<?xml version=\"1.0\"?><!DOCTYPE svg [{dtd}]><svg xmlns=\"http://www.w3.org/2000/svg\"><text>&l{levels};</text></svg>"
+    )
+}
+
+#[test]
+fn entity_bomb_is_an_error_naming_the_file() {
+    // 3 · 10⁹ characters asked for; refused from the declarations before any expansion.
+    let e = import(&entity_bomb(9), "bomb.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("bomb.svg:"), "{e}");
+    assert!(e.contains("entity"), "{e}");
+    // Many references to one large entity at the top level (each within roxmltree's own
+    // per-reference limits) add up, and are refused too: 10⁴ × 10⁴ characters.
+    let big = "x".repeat(10_000);
+    let refs = "&big;".repeat(10_000);
+    let text = format!(
+        "<!DOCTYPE svg [<!ENTITY big \"{big}\">]><svg xmlns=\"http://www.w3.org/2000/svg\"><desc>{refs}</desc></svg>"
+    );
+    let e = import(&text, "wide.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("wide.svg:") && e.contains("expand"), "{e}");
+}
+
+#[test]
+fn external_entities_are_never_read() {
+    // The entity points at a file that exists; referring to it is an error, its content
+    // never appears.
+    for uri in [
+        "/etc/hostname",
+        "file:///etc/passwd",
+        "http://example.com/x",
+    ] {
+        let text = format!(
+            r#"<!DOCTYPE svg [<!ENTITY ext SYSTEM "{uri}">]><svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm"><path id="&ext;" d="M1 1 H9" stroke="black"/></svg>"#
+        );
+        let e = import(&text, "ext.svg", &ImportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("ext.svg:") && e.contains("external"), "{e}");
+    }
+    // Declared but not used: the file imports, the entity is not read.
+    let text = r#"<!DOCTYPE svg [<!ENTITY ext SYSTEM "/etc/passwd">]><svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm"><path id="p" d="M1 1 H9" stroke="black"/></svg>"#;
+    let imp = import(text, "ext.svg", &ImportOptions::default()).unwrap();
+    assert_eq!(imp.design.stroke[0].name, "p");
+}
+
+#[test]
+fn deep_nesting_is_an_error_not_a_stack_overflow() {
+    let depth = 100_000;
+    let text = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\">{}<path d=\"M0 0 H1\" stroke=\"black\"/>{}</svg>",
+        "<g>".repeat(depth),
+        "</g>".repeat(depth)
+    );
+    let e = import(&text, "deep.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("deep.svg:") && e.contains("nest"), "{e}");
+    // A modest depth imports.
+    let text = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10mm\" height=\"10mm\">{}<path id=\"p\" d=\"M0 0 H1\" stroke=\"black\"/>{}</svg>",
+        "<g>".repeat(250),
+        "</g>".repeat(250)
+    );
+    assert_eq!(
+        import(&text, "ok.svg", &ImportOptions::default())
+            .unwrap()
+            .design
+            .stroke
+            .len(),
+        1
+    );
+}

@@ -52,6 +52,8 @@ use super::shape::{Shape, resolve_rings};
 use crate::geom::DVec2;
 use kurbo::{BezPath, CubicBez, PathEl, QuadBez};
 
+pub mod xml;
+
 /// Millimetres per CSS pixel (96 px per inch).
 pub const MM_PER_PX: f64 = 25.4 / 96.0;
 
@@ -105,6 +107,20 @@ pub struct Imported {
     pub max_deviation: f64,
 }
 
+/// usvg's options for import: no image or other external reference is ever resolved (the
+/// resolvers answer nothing, so no file, device, FIFO or URL is opened: images are skipped
+/// from the source anyway), no resources directory.
+fn usvg_options() -> usvg::Options<'static> {
+    usvg::Options {
+        resources_dir: None,
+        image_href_resolver: usvg::ImageHrefResolver {
+            resolve_data: Box::new(|_, _, _| None),
+            resolve_string: Box::new(|_, _| None),
+        },
+        ..usvg::Options::default()
+    }
+}
+
 fn err(file: &str, m: String) -> DesignError {
     DesignError::file(file, ErrorKind::Invalid(m))
 }
@@ -117,18 +133,8 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
             format!("import tolerance {} must be positive", opts.tolerance),
         ));
     }
-    let xml = roxmltree::Document::parse(text).map_err(|e| {
-        let p = e.pos();
-        DesignError::file(
-            file,
-            ErrorKind::Parse {
-                line: Some(p.row as usize),
-                column: Some(p.col as usize),
-                message: format!("not a well-formed SVG file: {e}"),
-            },
-        )
-    })?;
-    let tree = usvg::Tree::from_str(text, &usvg::Options::default()).map_err(|e| {
+    let xml = xml::parse(text, file)?;
+    let tree = usvg::Tree::from_xmltree(&xml, &usvg_options()).map_err(|e| {
         DesignError::file(
             file,
             ErrorKind::Parse {
