@@ -46,12 +46,17 @@
 //! about the page height: the drawing keeps its orientation and sits in x, y ≥ 0 when it
 //! lies on the page.
 
+use super::MAX_ITEMS;
 use super::error::{DesignError, ErrorKind};
 use super::model::{Design, Stroke, Units, VERSION};
 use super::shape::{Shape, resolve_rings};
 use crate::geom::DVec2;
 use kurbo::{BezPath, CubicBez, PathEl, QuadBez};
+use std::collections::{HashMap, HashSet};
 
+mod fill;
+mod fit;
+mod power;
 pub mod xml;
 
 /// Millimetres per CSS pixel (96 px per inch).
@@ -105,6 +110,9 @@ pub struct Imported {
     pub skipped: Vec<Skipped>,
     /// The largest distance between a fitted spine and its SVG centre line, mm.
     pub max_deviation: f64,
+    /// Elements imported with a caveat: a fit beyond the tolerance (with the worst error),
+    /// path data read up to an error.
+    pub warnings: Vec<Skipped>,
 }
 
 /// usvg's options for import: no image or other external reference is ever resolved (the
@@ -125,7 +133,9 @@ fn err(file: &str, m: String) -> DesignError {
     DesignError::file(file, ErrorKind::Invalid(m))
 }
 
-/// Import the SVG `text` (see the module docs); `file` names it in errors.
+/// Import the SVG `text` (see the module docs); `file` names it in errors. One element that
+/// cannot be used is skipped with its id and the reason; a file with nothing usable left is
+/// an error naming the file and what was skipped.
 pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, DesignError> {
     if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
         return Err(err(
@@ -144,10 +154,20 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
             },
         )
     })?;
+    let mut ids = HashMap::new();
+    for n in xml.descendants().filter(|n| n.is_element()) {
+        if let Some(id) = n.attribute("id") {
+            ids.entry(id).or_insert(n);
+        }
+    }
     let mut ctx = Ctx {
         file,
         opts: *opts,
-        xml: &xml,
+        ids,
+        names: HashSet::new(),
+        suffix: HashMap::new(),
+        warnings: Vec::new(),
+        seen: HashSet::new(),
         page_height: tree.size().height() as f64,
         strokes: Vec::new(),
         shapes: Vec::new(),
@@ -155,44 +175,53 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         counter: 0,
         max_deviation: 0.0,
     };
-    // Text and images are listed from the source (usvg without fonts drops text).
-    for (tag, what) in [
-        (
-            "text",
-            "text is not imported: convert it to paths, or use [[text]]",
-        ),
-        ("image", "raster images are not imported"),
-    ] {
-        for (k, n) in xml
-            .descendants()
-            .filter(|n| n.is_element() && n.tag_name().name() == tag)
-            .enumerate()
-        {
-            ctx.skipped.push(Skipped {
-                id: n
-                    .attribute("id")
-                    .map_or_else(|| format!("<{tag}> #{k}"), str::to_string),
-                reason: what.to_string(),
-            });
+    // Text, images and malformed path data are listed from the source (usvg without fonts
+    // drops text, images are never resolved, and usvg drops a path whose data has no
+    // usable segment).
+    let mut malformed = Vec::new();
+    for n in xml.descendants().filter(|n| n.is_element()) {
+        let tag = n.tag_name().name();
+        let reason = match tag {
+            "text" => "text is not imported: convert it to paths (Inkscape: Path > Object to \
+                       Path), or use [[text]]"
+                .to_string(),
+            "image" => "raster images are not imported (their files are not read)".to_string(),
+            "path" => match n.attribute("d").map(path_data_error) {
+                Some(Some(e)) => {
+                    malformed.push((n, e));
+                    continue;
+                }
+                _ => continue,
+            },
+            _ => continue,
+        };
+        ctx.skip(source_name(&xml, n), &reason);
+    }
+    ctx.group(tree.root());
+    // A malformed path that usvg kept was drawn up to the error (as SVG renderers do);
+    // one it dropped had nothing before the error.
+    for (n, e) in malformed {
+        let id = n.attribute("id").unwrap_or("");
+        if !id.is_empty() && ctx.seen.contains(id) {
+            ctx.warn(
+                id.to_string(),
+                format!("path data {e}; imported up to there"),
+            );
+        } else {
+            ctx.skip(source_name(&xml, n), &format!("path data {e}"));
         }
     }
-    ctx.group(tree.root())?;
-    let design = Design {
-        version: VERSION,
-        units: Units::Mm,
-        outline: None,
-        stroke: ctx.strokes,
-        circles: Vec::new(),
-        shape: ctx.shapes,
-        text: Vec::new(),
-        operation: Vec::new(),
-        file: file.to_string(),
-        corners: Vec::new(),
-    };
+    if ctx.strokes.is_empty() && ctx.shapes.is_empty() {
+        return Err(err(file, nothing_usable(&ctx.skipped)));
+    }
+    let mut design = one_item_design(file);
+    design.stroke = ctx.strokes;
+    design.shape = ctx.shapes;
     Ok(Imported {
         design,
         skipped: ctx.skipped,
         max_deviation: ctx.max_deviation,
+        warnings: ctx.warnings,
     })
 }
 
@@ -212,10 +241,126 @@ const ZERO_LENGTH: &str = "subpath of zero length";
 /// interpolation system is singular at every sample count tried, or for all runs together).
 const NO_INTERPOLANT: &str = "no stroke interpolates its points (singular system)";
 
+/// Most points one subpath may flatten to (within a tenth of the tolerance) before it is
+/// refused: the fit compares every spine sample with every point, so this bounds its work
+/// (a 1 m circle flattens to about 10³ points at the default tolerance).
+const MAX_FLAT_POINTS: usize = 20_000;
+
+/// The largest number of segments of one subpath of `data` (`None` for no segment), counted
+/// without flattening.
+fn longest_subpath(data: &usvg::tiny_skia_path::Path) -> Option<usize> {
+    use usvg::tiny_skia_path::PathVerb as V;
+    let (mut best, mut cur) = (None, 0usize);
+    for v in data.verbs() {
+        match v {
+            V::Move => cur = 0,
+            V::Close => {}
+            _ => {
+                cur += 1;
+                best = Some(best.unwrap_or(0).max(cur));
+            }
+        }
+    }
+    best
+}
+
+/// An empty design (version 1, mm) named `file`, for one item to be validated alone.
+fn one_item_design(file: &str) -> Design {
+    Design {
+        version: VERSION,
+        units: Units::Mm,
+        outline: None,
+        stroke: Vec::new(),
+        circles: Vec::new(),
+        shape: Vec::new(),
+        text: Vec::new(),
+        operation: Vec::new(),
+        file: file.to_string(),
+        corners: Vec::new(),
+    }
+}
+
+/// What is wrong with an item, without the file and item (the skip list names those).
+fn reason_of(e: &DesignError) -> String {
+    match &e.part {
+        Some(p) => format!("{p}: {}", e.kind),
+        None => e.kind.to_string(),
+    }
+}
+
+/// The value of the inherited presentation property `name` on `n`: from its `style`
+/// attribute or the attribute itself, else from the nearest ancestor that sets it (CSS
+/// style sheets are not consulted).
+fn inherited<'a>(n: roxmltree::Node<'a, 'a>, name: &str) -> Option<&'a str> {
+    n.ancestors().filter(|a| a.is_element()).find_map(|a| {
+        let styled = a.attribute("style").and_then(|st| {
+            st.split(';').find_map(|decl| {
+                let (k, v) = decl.split_once(':')?;
+                (k.trim() == name).then_some(v)
+            })
+        });
+        styled.or_else(|| a.attribute(name))
+    })
+}
+
+/// Most skipped elements an error about a file with nothing usable names.
+const NAMED_SKIPS: usize = 5;
+
+/// The message of a file with nothing usable: how many elements were skipped, the first
+/// [`NAMED_SKIPS`] with their reasons.
+fn nothing_usable(skipped: &[Skipped]) -> String {
+    if skipped.is_empty() {
+        return "no stroked or filled path to import (the drawing is empty)".to_string();
+    }
+    let named: Vec<String> = skipped
+        .iter()
+        .take(NAMED_SKIPS)
+        .map(|s| format!("{} ({})", s.id, s.reason))
+        .collect();
+    let more = skipped.len().saturating_sub(NAMED_SKIPS);
+    format!(
+        "no stroked or filled path to import: {} element(s) skipped: {}{}",
+        skipped.len(),
+        named.join("; "),
+        if more > 0 {
+            format!("; and {more} more")
+        } else {
+            String::new()
+        }
+    )
+}
+
+/// How an element of the source is named in the lists: its id, or `<tag> at line L`.
+fn source_name(xml: &roxmltree::Document<'_>, n: roxmltree::Node<'_, '_>) -> String {
+    match n.attribute("id") {
+        Some(id) if !id.is_empty() => id.to_string(),
+        _ => {
+            let p = xml.text_pos_at(n.range().start);
+            format!("<{}> at line {}", n.tag_name().name(), p.row)
+        }
+    }
+}
+
+/// Where the path data `d` stops being valid SVG path syntax, in words (`None` when it is
+/// valid throughout), by svgtypes' path parser, the one usvg reads `d` with.
+fn path_data_error(d: &str) -> Option<String> {
+    svgtypes::PathParser::from(d)
+        .find_map(Result::err)
+        .map(|e| format!("is malformed ({e})"))
+}
+
 struct Ctx<'a> {
     file: &'a str,
     opts: ImportOptions,
-    xml: &'a roxmltree::Document<'a>,
+    /// The source's elements by id (the first of each id, as `getElementById`).
+    ids: HashMap<&'a str, roxmltree::Node<'a, 'a>>,
+    /// Names given so far (strokes and shapes), for [`Ctx::unique`].
+    names: HashSet<String>,
+    /// Next suffix to try per base name, so a name repeated n times costs O(n) in all.
+    suffix: HashMap<String, usize>,
+    warnings: Vec<Skipped>,
+    /// Ids of the usvg paths met.
+    seen: HashSet<String>,
     page_height: f64,
     strokes: Vec<Stroke>,
     shapes: Vec<Shape>,
@@ -326,64 +471,19 @@ fn segment_point(ctrl: &[DVec2], t: f64) -> DVec2 {
     })
 }
 
-/// The Inkscape namespace of `inkscape:path-effect` and `inkscape:original-d`.
-const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
-
-/// An Inkscape Power Stroke path effect on an element: its centre line (`inkscape:original-d`)
-/// and its width points (`offset_points="t,w | t,w | …"`: path time t, half width w in user
-/// units, times `scale_width`).
-struct PowerStroke {
-    /// The centre line, in the element's user units.
-    centre: usvg::tiny_skia_path::Path,
-    /// (path time, half width) sorted by time.
-    points: Vec<(f64, f64)>,
-    /// Whether the width runs to zero at the start / end (`zerowidth` caps, Inkscape's
-    /// default); other caps keep the first / last point's width to the end.
-    taper: (bool, bool),
-    /// Path time at the end of the centre line (its number of segments).
-    end: f64,
-}
-
-impl PowerStroke {
-    /// Radius at each path time in `times`: the half widths interpolated linearly between
-    /// the width points (Inkscape draws a smooth interpolating curve through them, by default
-    /// centripetal Catmull–Rom, so between points the widths can differ from Inkscape's by
-    /// that curve's bulge), tapered to `min_radius` at a zero-width cap, times `to_mm`.
-    fn radii(&self, times: &[f64], to_mm: f64, min_radius: f64) -> Vec<f64> {
-        let mut pts = self.points.clone();
-        let (first, last) = (pts[0], pts[pts.len() - 1]);
-        pts.insert(0, (0.0, if self.taper.0 { 0.0 } else { first.1 }));
-        pts.push((self.end, if self.taper.1 { 0.0 } else { last.1 }));
-        times
-            .iter()
-            .map(|&t| {
-                let i = pts.partition_point(|p| p.0 <= t).clamp(1, pts.len() - 1);
-                let (a, b) = (pts[i - 1], pts[i]);
-                let f = if b.0 > a.0 {
-                    ((t - a.0) / (b.0 - a.0)).clamp(0.0, 1.0)
-                } else {
-                    1.0
-                };
-                (((1.0 - f) * a.1 + f * b.1) * to_mm).max(min_radius)
-            })
-            .collect()
-    }
-}
-
 impl Ctx<'_> {
     fn to_mm(&self, p: DVec2) -> DVec2 {
         DVec2::new(p.x * MM_PER_PX, (self.page_height - p.y) * MM_PER_PX)
     }
 
-    fn group(&mut self, g: &usvg::Group) -> Result<(), DesignError> {
+    fn group(&mut self, g: &usvg::Group) {
         for node in g.children() {
             match node {
-                usvg::Node::Group(g) => self.group(g)?,
-                usvg::Node::Path(p) => self.path(p)?,
+                usvg::Node::Group(g) => self.group(g),
+                usvg::Node::Path(p) => self.path(p),
                 usvg::Node::Image(_) | usvg::Node::Text(_) => {}
             }
         }
-        Ok(())
     }
 
     fn element_id(&mut self, id: &str) -> String {
@@ -402,13 +502,46 @@ impl Ctx<'_> {
         });
     }
 
-    fn path(&mut self, p: &usvg::Path) -> Result<(), DesignError> {
+    fn warn(&mut self, id: String, message: String) {
+        self.warnings.push(Skipped {
+            id,
+            reason: message,
+        });
+    }
+
+    /// Import one path: its fill as a shape, its stroke (one per subpath) as strokes; what
+    /// cannot be used is skipped with the reason, never failing the import.
+    fn path(&mut self, p: &usvg::Path) {
         let id = self.element_id(p.id());
-        if !p.is_visible() {
-            self.skip(id, "hidden (visibility or display)");
-            return Ok(());
+        if !p.id().is_empty() {
+            self.seen.insert(p.id().to_string());
         }
-        let power = self.power_stroke(p.id(), &id)?;
+        if !p.is_visible() {
+            let reason = if p.fill().is_none() && p.stroke().is_none() {
+                let width = self
+                    .element(p.id())
+                    .and_then(|n| inherited(n, "stroke-width"));
+                match width {
+                    Some(w) if w.trim().parse::<f64>().is_ok_and(|v| v <= 0.0) => format!(
+                        "stroke-width {}: a stroke of zero or negative width draws nothing, \
+                         and it has no fill",
+                        w.trim()
+                    ),
+                    _ => "neither stroked nor filled".to_string(),
+                }
+            } else {
+                "hidden (visibility: hidden)".to_string()
+            };
+            self.skip(id, &reason);
+            return;
+        }
+        let power = match self.power_stroke(p.id()) {
+            Ok(ps) => ps,
+            Err(reason) => {
+                self.skip(id, &format!("Power Stroke {reason}"));
+                return;
+            }
+        };
         // A fully transparent fill (fill-opacity 0, or the colour `transparent`) paints
         // nothing: it is no area to engrave.
         let fill = p.fill().filter(|f| f.opacity().get() > 0.0);
@@ -426,17 +559,37 @@ impl Ctx<'_> {
                 } else if fill.is_none() {
                     self.skip(id, "its fill is fully transparent and it has no stroke");
                 }
-                return Ok(());
+                return;
             }
         };
         let t = p.abs_transform();
         let scale = ((t.sx as f64 * t.sy as f64 - t.kx as f64 * t.ky as f64).abs()).sqrt();
         let width_mm = stroke_width * scale * MM_PER_PX;
-        let widths = self.widths(p.id(), &id)?;
+        let widths = match self.widths(p.id()) {
+            Ok(w) => w,
+            Err(reason) => {
+                self.skip(id, &reason);
+                return;
+            }
+        };
         let data = match &power {
             Some(ps) => ps.centre.clone(),
             None => p.data().clone(),
         };
+        // Count before work: a subpath of more segments than a stroke may have points is
+        // refused before it is flattened.
+        if let Some(n) = longest_subpath(&data)
+            && n > MAX_ITEMS
+        {
+            self.skip(
+                id,
+                &format!(
+                    "a subpath of {n} segments, more than the limit {MAX_ITEMS} points of a \
+                     stroke; simplify the path"
+                ),
+            );
+            return;
+        }
         let mut segment = 0usize;
         let map = |q: usvg::tiny_skia_path::Point| {
             let x = t.sx as f64 * q.x as f64 + t.kx as f64 * q.y as f64 + t.tx as f64;
@@ -447,6 +600,7 @@ impl Ctx<'_> {
         let mut subpaths: Vec<Subpath> = Vec::new();
         let mut cur: Option<(Subpath, DVec2, DVec2)> = None; // (subpath, start, in-tangent)
         let mut first_tangent = DVec2::ZERO;
+        let mut too_many = false;
         let finish = |cur: &mut Option<(Subpath, DVec2, DVec2)>, out: &mut Vec<Subpath>| {
             if let Some((s, _, _)) = cur.take()
                 && s.pts.len() >= 2
@@ -524,6 +678,10 @@ impl Ctx<'_> {
             }
             let from = s.pts.len();
             flatten_segment(&full, 0.1 * tol, &mut s.pts);
+            if s.pts.len() > MAX_FLAT_POINTS {
+                too_many = true;
+                break;
+            }
             if let Some(ps) = &power {
                 // Path times of the flattened points, and a point at every width point
                 // inside the segment, so the widths are sampled where they turn.
@@ -548,9 +706,19 @@ impl Ctx<'_> {
             *tin = b;
         }
         finish(&mut cur, &mut subpaths);
+        if too_many {
+            self.skip(
+                id,
+                &format!(
+                    "a subpath flattens to more than {MAX_FLAT_POINTS} points within the \
+                     tolerance; simplify the path or raise the tolerance"
+                ),
+            );
+            return;
+        }
         if subpaths.is_empty() {
             self.skip(id, "stroked path of zero length");
-            return Ok(());
+            return;
         }
         if power.is_some() && subpaths.len() > 1 {
             // Inkscape applies Power Stroke to the first subpath only.
@@ -572,258 +740,66 @@ impl Ctx<'_> {
                 Some(ps) => ps.radii(&sp.times, scale * MM_PER_PX, 0.5 * self.opts.tolerance),
                 None => self.radii(&sp.pts, width_mm, widths.as_deref(), scale),
             };
-            match self.fit_subpath(&name, &sp, &radii) {
-                Ok(s) => self.strokes.push(s),
-                Err(reason) => self.skip(name, reason),
-            }
-        }
-        Ok(())
-    }
-
-    /// The Inkscape Power Stroke on the element with id `id`, if it has one: an
-    /// `inkscape:path-effect` reference to an effect with `effect="powerstroke"` and an
-    /// `inkscape:original-d` centre line. Malformed width points are an error naming the
-    /// element.
-    fn power_stroke(&self, id: &str, shown: &str) -> Result<Option<PowerStroke>, DesignError> {
-        let Some(node) = self.element(id) else {
-            return Ok(None);
-        };
-        let (Some(effects), Some(centre)) = (
-            node.attribute((INKSCAPE_NS, "path-effect")),
-            node.attribute((INKSCAPE_NS, "original-d")),
-        ) else {
-            return Ok(None);
-        };
-        let effect = effects
-            .split(';')
-            .filter_map(|r| r.trim().strip_prefix('#'))
-            .filter_map(|r| self.element(r))
-            .find(|n| n.attribute("effect") == Some("powerstroke"));
-        let Some(effect) = effect else {
-            return Ok(None);
-        };
-        let bad = |m: String| err(self.file, format!("element {shown}: Power Stroke {m}"));
-        let bez = BezPath::from_svg(centre).map_err(|e| {
-            bad(format!(
-                "centre line (inkscape:original-d) is not path data: {e}"
-            ))
-        })?;
-        let mut pb = usvg::tiny_skia_path::PathBuilder::new();
-        let mut end = 0.0;
-        let mut started = false;
-        let (mut first, mut current) = (kurbo::Point::ZERO, kurbo::Point::ZERO);
-        for el in bez.elements() {
-            if let Some(p) = el.end_point() {
-                if let PathEl::MoveTo(_) = el {
-                    first = p;
-                }
-                current = p;
-            }
-            let f = |p: kurbo::Point| (p.x as f32, p.y as f32);
-            match *el {
-                PathEl::MoveTo(p) => {
-                    if started {
-                        break; // Power Stroke draws the first subpath only.
+            let fitted = self
+                .fit_subpath(&name, &sp, &radii)
+                .map_err(str::to_string)
+                .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
+            match fitted {
+                Ok((s, dev)) => {
+                    if dev > self.opts.tolerance {
+                        self.warn(
+                            name,
+                            format!(
+                                "the stroke strays {dev:.4} mm from the drawn one, more than \
+                                 the tolerance {} mm",
+                                self.opts.tolerance
+                            ),
+                        );
                     }
-                    started = true;
-                    let (x, y) = f(p);
-                    pb.move_to(x, y);
+                    self.strokes.push(s);
                 }
-                PathEl::LineTo(p) => {
-                    let (x, y) = f(p);
-                    pb.line_to(x, y);
-                    end += 1.0;
-                }
-                PathEl::QuadTo(a, p) => {
-                    let ((ax, ay), (x, y)) = (f(a), f(p));
-                    pb.quad_to(ax, ay, x, y);
-                    end += 1.0;
-                }
-                PathEl::CurveTo(a, b, p) => {
-                    let ((ax, ay), (bx, by), (x, y)) = (f(a), f(b), f(p));
-                    pb.cubic_to(ax, ay, bx, by, x, y);
-                    end += 1.0;
-                }
-                PathEl::ClosePath => {
-                    pb.close();
-                    if current.distance(first) > 0.0 {
-                        end += 1.0; // a closing line; a closing point adds no segment
-                    }
-                }
-            }
-        }
-        let Some(path) = pb.finish() else {
-            return Err(bad("centre line (inkscape:original-d) is empty".into()));
-        };
-        let scale_width = match effect.attribute("scale_width") {
-            None => 1.0,
-            Some(v) => v
-                .trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|w| w.is_finite() && *w > 0.0)
-                .ok_or_else(|| bad(format!("scale_width {v:?} is not a positive number")))?,
-        };
-        let mut points = Vec::new();
-        for item in effect
-            .attribute("offset_points")
-            .unwrap_or("")
-            .split('|')
-            .map(str::trim)
-            .filter(|t| !t.is_empty())
-        {
-            let nums: Vec<Option<f64>> = item
-                .split(',')
-                .map(|v| v.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
-                .collect();
-            match nums[..] {
-                [Some(t), Some(w)] if w > 0.0 => points.push((t, w * scale_width)),
-                _ => {
-                    return Err(bad(format!(
-                        "width point {item:?} is not \"time,half-width\" with a positive width"
-                    )));
-                }
-            }
-        }
-        if points.is_empty() {
-            return Err(bad("has no width points (offset_points)".into()));
-        }
-        points.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let zero = |key: &str| effect.attribute(key).is_none_or(|c| c == "zerowidth");
-        Ok(Some(PowerStroke {
-            centre: path,
-            points,
-            taper: (zero("start_linecap_type"), zero("end_linecap_type")),
-            end,
-        }))
-    }
-
-    /// The fill of `p` as a shape (see the module docs): subpaths closed and flattened within
-    /// the tolerance in millimetres, resolved under `rule`, rounded like stroke points.
-    /// A fill that encloses no area, or whose contours do not make a valid shape after
-    /// rounding, is listed as skipped (a stroked path's empty fill, e.g. a straight line's,
-    /// is not: the path was imported as a stroke).
-    fn fill_shape(&mut self, p: &usvg::Path, id: &str, rule: usvg::FillRule, stroked: bool) {
-        let t = p.abs_transform();
-        let mm = |q: usvg::tiny_skia_path::Point| {
-            let x = t.sx as f64 * q.x as f64 + t.kx as f64 * q.y as f64 + t.tx as f64;
-            let y = t.ky as f64 * q.x as f64 + t.sy as f64 * q.y as f64 + t.ty as f64;
-            self.to_mm(DVec2::new(x, y))
-        };
-        let tol = self.opts.tolerance;
-        let mut rings: Vec<Vec<DVec2>> = Vec::new();
-        let mut cur: Vec<DVec2> = Vec::new();
-        let mut start = DVec2::ZERO;
-        for seg in p.data().segments() {
-            use usvg::tiny_skia_path::PathSegment as S;
-            if !matches!(seg, S::MoveTo(_) | S::Close) && cur.is_empty() {
-                cur.push(start); // drawing on after a close starts at the subpath's start
-            }
-            let last = cur.last().copied().unwrap_or(start);
-            match seg {
-                S::MoveTo(q) => {
-                    rings.push(std::mem::take(&mut cur));
-                    start = mm(q);
-                    cur.push(start);
-                }
-                S::LineTo(q) => cur.push(mm(q)),
-                S::QuadTo(a, b) => flatten_segment(&[last, mm(a), mm(b)], tol, &mut cur),
-                S::CubicTo(a, b, c) => flatten_segment(&[last, mm(a), mm(b), mm(c)], tol, &mut cur),
-                S::Close => rings.push(std::mem::take(&mut cur)),
-            }
-        }
-        rings.push(cur);
-        rings.retain(|r| r.len() >= 3);
-        let rule = match rule {
-            usvg::FillRule::NonZero => super::FillRule::Nonzero,
-            usvg::FillRule::EvenOdd => super::FillRule::Evenodd,
-        };
-        let region = resolve_rings(&rings, rule);
-        let size = region
-            .iter()
-            .flatten()
-            .fold(1.0f64, |m, q| m.max(q.abs().max_element()));
-        // usvg keeps f32 coordinates: digits past 1e-6 mm are noise. Points that rounding
-        // brings within twice the design's near-repeat distance of their predecessor go.
-        let apart = 2.0 * (super::NEAR_FRACTION * size).max(1.0 / ROUND);
-        let contours: Vec<Vec<[f64; 2]>> = region
-            .iter()
-            .map(|r| {
-                let mut out: Vec<[f64; 2]> = Vec::with_capacity(r.len());
-                for q in r {
-                    let v = [q.x, q.y].map(|c| (c * ROUND).round() / ROUND);
-                    let far = |w: &[f64; 2]| (v[0] - w[0]).hypot(v[1] - w[1]) > apart;
-                    if out.last().is_none_or(far) {
-                        out.push(v);
-                    }
-                }
-                while out.len() > 1
-                    && out
-                        .first()
-                        .zip(out.last())
-                        .is_some_and(|(f, l)| (f[0] - l[0]).hypot(f[1] - l[1]) <= apart)
-                {
-                    out.pop();
-                }
-                out
-            })
-            .filter(|r| r.len() >= 3)
-            .collect();
-        let name = if stroked {
-            format!("{id}.fill")
-        } else {
-            id.to_string()
-        };
-        if contours.is_empty() {
-            if !stroked {
-                self.skip(name, "filled shape that encloses no area");
-            }
-            return;
-        }
-        let name = self.unique(name);
-        let shape = Shape {
-            name: name.clone(),
-            fill_rule: None,
-            contours,
-            layer: None,
-            color: None,
-        };
-        match shape.validate(self.file, self.shapes.len()) {
-            Ok(()) => self.shapes.push(shape),
-            Err(e) => {
-                let part = e.part.as_ref().map_or(String::new(), |p| format!("{p}: "));
-                let reason = format!("its fill does not make a valid shape: {part}{}", e.kind);
-                self.skip(name, &reason);
+                Err(reason) => self.skip(name, &reason),
             }
         }
     }
 
-    fn unique(&self, name: String) -> String {
-        let taken = |n: &str| {
-            self.strokes.iter().any(|s| s.name == n) || self.shapes.iter().any(|s| s.name == n)
-        };
-        if !taken(&name) {
+    /// `s` if it makes a valid design on its own (split at its corners and validated as
+    /// loading does), else the reason it does not.
+    fn usable(&self, s: Stroke) -> Result<Stroke, String> {
+        let mut d = one_item_design(self.file);
+        d.stroke.push(s.clone());
+        d.expand()
+            .and_then(|()| super::validate(&d))
+            .map_err(|e| reason_of(&e))?;
+        Ok(s)
+    }
+
+    /// `name`, or `name~k` with the least k ≥ 1 not yet given when `name` is taken: O(1)
+    /// amortised (a set of the names given and the next k to try per base name).
+    fn unique(&mut self, name: String) -> String {
+        if self.names.insert(name.clone()) {
             return name;
         }
-        (1..)
-            .map(|k| format!("{name}~{k}"))
-            .find(|n| !taken(n))
-            .unwrap_or(name)
+        let mut k = self.suffix.get(&name).copied().unwrap_or(1);
+        loop {
+            let candidate = format!("{name}~{k}");
+            k += 1;
+            if self.names.insert(candidate.clone()) {
+                self.suffix.insert(name, k);
+                return candidate;
+            }
+        }
     }
 
     /// The source element with id `id` (usvg keeps ids but not custom or Inkscape
     /// attributes, which are read from the source).
     fn element(&self, id: &str) -> Option<roxmltree::Node<'_, '_>> {
-        if id.is_empty() {
-            return None;
-        }
-        self.xml
-            .descendants()
-            .find(|n| n.is_element() && n.attribute("id") == Some(id))
+        self.ids.get(id).copied()
     }
 
-    /// The `data-skinpath-widths` of the element with id `id`, if any.
-    fn widths(&self, id: &str, shown: &str) -> Result<Option<Vec<f64>>, DesignError> {
+    /// The `data-skinpath-widths` of the element with id `id`, if any; what is wrong with
+    /// it otherwise.
+    fn widths(&self, id: &str) -> Result<Option<Vec<f64>>, String> {
         let Some(node) = self.element(id) else {
             return Ok(None);
         };
@@ -838,297 +814,18 @@ impl Ctx<'_> {
             match tok.parse::<f64>() {
                 Ok(w) if w.is_finite() && w > 0.0 => out.push(w),
                 _ => {
-                    return Err(err(
-                        self.file,
-                        format!(
-                            "element {shown}: data-skinpath-widths value {tok:?} is not a \
-                             positive number"
-                        ),
+                    return Err(format!(
+                        "data-skinpath-widths value {tok:?} is not a positive number"
                     ));
                 }
             }
         }
         if out.len() < 2 {
-            return Err(err(
-                self.file,
-                format!(
-                    "element {shown}: data-skinpath-widths needs at least two widths (start \
-                     and end), got {}",
-                    out.len()
-                ),
+            return Err(format!(
+                "data-skinpath-widths needs at least two widths (start and end), got {}",
+                out.len()
             ));
         }
         Ok(Some(out))
     }
-
-    /// Radius at every point of a subpath: half the stroke width, or the widths spread
-    /// evenly along its length.
-    fn radii(&self, pts: &[DVec2], width_mm: f64, widths: Option<&[f64]>, scale: f64) -> Vec<f64> {
-        let Some(w) = widths else {
-            return vec![0.5 * width_mm; pts.len()];
-        };
-        let mut s = vec![0.0];
-        for q in pts.windows(2) {
-            s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
-        }
-        let total = s.last().copied().unwrap_or(0.0).max(f64::MIN_POSITIVE);
-        let k = (w.len() - 1) as f64;
-        s.iter()
-            .map(|&si| {
-                let u = (si / total * k).clamp(0.0, k);
-                let i = (u.floor() as usize).min(w.len() - 2);
-                let f = u - i as f64;
-                0.5 * ((1.0 - f) * w[i] + f * w[i + 1]) * scale * MM_PER_PX
-            })
-            .collect()
-    }
-
-    /// The stroke of one subpath: runs between corners, each interpolated through enough
-    /// evenly spaced points to stay within the tolerance; the reason it is skipped when a
-    /// run has zero length or no interpolant through its samples builds.
-    fn fit_subpath(
-        &mut self,
-        name: &str,
-        sp: &Subpath,
-        radii: &[f64],
-    ) -> Result<Stroke, &'static str> {
-        let limit = self.opts.corner_angle.to_radians();
-        let mut cuts: Vec<usize> = sp
-            .nodes
-            .iter()
-            .filter(|&&(i, a)| a > limit && (sp.closed || (i > 0 && i + 1 < sp.pts.len())))
-            .map(|&(i, _)| i)
-            .collect();
-        cuts.sort_unstable();
-        cuts.dedup();
-        let n = sp.pts.len();
-        let mut pts = sp.pts.clone();
-        let mut rs = radii.to_vec();
-        if sp.closed {
-            // The last point repeats the first.
-            pts.pop();
-            rs.pop();
-            cuts.retain(|&c| c < n - 1);
-            if cuts.len() == 1 {
-                // One corner on a closed path: also cut half-way round, so no piece starts
-                // and ends at the same point.
-                let m = pts.len();
-                let c = (cuts[0] + m / 2) % m;
-                cuts.push(c);
-                cuts.sort_unstable();
-            }
-        }
-        let m = pts.len();
-        if m < 2 {
-            return Err(ZERO_LENGTH);
-        }
-        // Runs as inclusive index ranges (wrapping for closed paths).
-        let runs: Vec<Vec<usize>> = if cuts.is_empty() {
-            vec![(0..m).collect()]
-        } else if sp.closed {
-            (0..cuts.len())
-                .map(|k| {
-                    let (a, b) = (cuts[k], cuts[(k + 1) % cuts.len()]);
-                    let len = if b > a { b - a } else { m - a + b };
-                    (0..=len).map(|j| (a + j) % m).collect()
-                })
-                .collect()
-        } else {
-            let mut b = vec![0];
-            b.extend(&cuts);
-            b.push(m - 1);
-            b.windows(2).map(|w| (w[0]..=w[1]).collect()).collect()
-        };
-        let whole_closed = sp.closed && cuts.is_empty();
-        let mut points: Vec<[f64; 3]> = Vec::new();
-        let mut corners = Vec::new();
-        for (k, run) in runs.iter().enumerate() {
-            let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
-            let rr: Vec<f64> = run.iter().map(|&i| rs[i]).collect();
-            let (fit, dev) = self.fit_run(name, &rp, &rr, whole_closed)?;
-            self.max_deviation = self.max_deviation.max(dev);
-            if k > 0 {
-                corners.push(points.len() - 1);
-                points.extend_from_slice(&fit[1..]);
-            } else {
-                points.extend_from_slice(&fit);
-            }
-        }
-        let mut s = Stroke::from_disks(name, Vec::new());
-        s.disks = None;
-        if sp.closed && !cuts.is_empty() {
-            points.pop(); // back at the first corner
-            corners.insert(0, 0);
-            s.closed = true;
-        } else if whole_closed {
-            s.closed = true;
-        }
-        s.degree = 3.min(points.len() - 1).max(1);
-        s.points = Some(points);
-        s.corners = if corners.is_empty() {
-            None
-        } else {
-            Some(corners)
-        };
-        // Each run built on its own; the stroke interpolates all of them in one system.
-        s.to_dbsc(self.file, 0).map_err(|_| NO_INTERPOLANT)?;
-        Ok(s)
-    }
-
-    /// Points [x, y, r] whose interpolant stays within the tolerance of the run `pts`
-    /// (both ways), or the closest that builds, and the distance reached.
-    fn fit_run(
-        &self,
-        name: &str,
-        pts: &[DVec2],
-        radii: &[f64],
-        closed: bool,
-    ) -> Result<(Vec<[f64; 3]>, f64), &'static str> {
-        let mut s = vec![0.0];
-        for q in pts.windows(2) {
-            s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
-        }
-        if closed {
-            s.push(s.last().copied().unwrap_or(0.0) + pts[pts.len() - 1].distance(pts[0]));
-        }
-        let total = s.last().copied().unwrap_or(0.0);
-        if total <= 0.0 {
-            return Err(ZERO_LENGTH);
-        }
-        let mut ring: Vec<DVec2> = pts.to_vec();
-        let mut ring_r = radii.to_vec();
-        if closed {
-            ring.push(pts[0]);
-            ring_r.push(radii[0]);
-        }
-        let at = |u: f64| -> [f64; 3] {
-            let i = s.partition_point(|&v| v <= u).clamp(1, s.len() - 1);
-            let (a, b) = (s[i - 1], s[i]);
-            let f = if b > a { (u - a) / (b - a) } else { 0.0 };
-            let p = ring[i - 1].lerp(ring[i], f);
-            let r = ring_r[i - 1] + f * (ring_r[i] - ring_r[i - 1]);
-            // usvg keeps f32 coordinates: digits past 1e-6 mm are noise.
-            [p.x, p.y, r].map(|v| (v * ROUND).round() / ROUND)
-        };
-        let mut count = if closed { 8 } else { 2 };
-        let mut best: Option<(Vec<[f64; 3]>, f64)> = None;
-        loop {
-            let samples: Vec<[f64; 3]> = if closed {
-                (0..count)
-                    .map(|j| at(total * j as f64 / count as f64))
-                    .collect()
-            } else {
-                (0..count)
-                    .map(|j| at(total * j as f64 / (count - 1) as f64))
-                    .collect()
-            };
-            // A fit that does not build (a singular interpolation system) is never kept.
-            let dev = self.deviation(name, &samples, &ring, &ring_r, closed);
-            if dev.is_finite() && best.as_ref().is_none_or(|b| dev < b.1) {
-                best = Some((samples, dev));
-            }
-            let done = best
-                .as_ref()
-                .is_some_and(|b| b.1 <= 0.9 * self.opts.tolerance);
-            if done || count >= MAX_RUN_POINTS {
-                return best.ok_or(NO_INTERPOLANT);
-            }
-            count = if count == 2 { 4 } else { 2 * count - 1 };
-        }
-    }
-
-    /// Both-ways distance between the interpolant of `samples` and the polyline `ring`
-    /// (infinite when the fit fails).
-    /// How far the stroke through `samples` strays from the run (`ring` with radii
-    /// `ring_r`): the largest distance from its spine to the run and from the run to its
-    /// spine, plus the largest radius error at the run's points (the radius at the spine
-    /// sample nearest each point against the point's radius). The sum bounds how far the
-    /// stroke's disks stray from the drawn ones.
-    fn deviation(
-        &self,
-        name: &str,
-        samples: &[[f64; 3]],
-        ring: &[DVec2],
-        ring_r: &[f64],
-        closed: bool,
-    ) -> f64 {
-        let mut st = Stroke::from_disks(name, Vec::new());
-        st.disks = None;
-        st.closed = closed;
-        st.degree = 3.min(samples.len() - 1).max(1);
-        st.points = Some(samples.to_vec());
-        let Ok(c) = st.to_dbsc(self.file, 0) else {
-            return f64::INFINITY;
-        };
-        let (lo, hi) = c.domain();
-        let n = (samples.len() * 16).max(64);
-        let params: Vec<f64> = (0..=n)
-            .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-            .collect();
-        let spine: Vec<DVec2> = params.iter().map(|&t| c.center(t)).collect();
-        let a = spine
-            .iter()
-            .map(|&q| dist_polyline(q, ring))
-            .fold(0.0, f64::max);
-        let b = ring
-            .iter()
-            .map(|&q| dist_polyline(q, &spine))
-            .fold(0.0, f64::max);
-        // Radius error both ways: at each spine sample against the run's radius at the
-        // nearest point of the run, and at each run point against the spine sample nearest it.
-        let to_run = spine
-            .iter()
-            .zip(&params)
-            .map(|(&q, &t)| (c.radius(t) - radius_on_polyline(q, ring, ring_r)).abs())
-            .fold(0.0, f64::max);
-        let to_spine = ring
-            .iter()
-            .zip(ring_r)
-            .map(|(&q, &r)| {
-                let j = (0..spine.len())
-                    .min_by(|&i, &k| q.distance(spine[i]).total_cmp(&q.distance(spine[k])))
-                    .unwrap_or(0);
-                (c.radius(params[j]) - r).abs()
-            })
-            .fold(0.0, f64::max);
-        let radius_error = to_run.max(to_spine);
-        a.max(b) + radius_error
-    }
-}
-
-/// The radius (linear along each segment of `poly`, radii `r` at its points) at the point
-/// of `poly` nearest to `p`.
-fn radius_on_polyline(p: DVec2, poly: &[DVec2], r: &[f64]) -> f64 {
-    if poly.len() == 1 {
-        return r[0];
-    }
-    let mut best = (f64::INFINITY, r[0]);
-    for (i, w) in poly.windows(2).enumerate() {
-        let seg = crate::geom::Line::new(w[0], w[1]);
-        let t = seg.nearest_t(p);
-        let d = seg.eval(t).distance(p);
-        if d < best.0 {
-            best = (d, r[i] + t * (r[i + 1] - r[i]));
-        }
-    }
-    best.1
-}
-
-fn dist_polyline(p: DVec2, poly: &[DVec2]) -> f64 {
-    if poly.len() == 1 {
-        return p.distance(poly[0]);
-    }
-    poly.windows(2)
-        .map(|w| {
-            let (a, b) = (w[0], w[1]);
-            let d = b - a;
-            let l2 = d.length_squared();
-            let t = if l2 > 0.0 {
-                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            p.distance(a + d * t)
-        })
-        .fold(f64::INFINITY, f64::min)
 }
