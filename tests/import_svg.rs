@@ -194,8 +194,9 @@ fn varying_widths_from_data_attribute() {
     }
     let bad = text.replace("2 10", "2 -1");
     let e = load(&bad, "w.svg").unwrap_err().to_string();
+    // The only element is skipped with its reason: nothing usable, an error naming both.
     assert!(
-        e.contains("w.svg") && e.contains("element t") && e.contains("-1"),
+        e.contains("w.svg") && e.contains("t (") && e.contains("-1"),
         "{e}"
     );
 }
@@ -331,7 +332,7 @@ fn inkscape_power_stroke_is_imported_with_its_widths() {
     let bad = text.replace("0.5,3", "0.5;3");
     let e = load(&bad, "p.svg").unwrap_err().to_string();
     assert!(
-        e.contains("p.svg") && e.contains("element curve") && e.contains("Power Stroke"),
+        e.contains("p.svg") && e.contains("curve (") && e.contains("Power Stroke"),
         "{e}"
     );
 }
@@ -357,4 +358,454 @@ fn a_path_no_stroke_interpolates_is_skipped_with_the_reason() {
     assert!(imp.design.stroke.iter().all(|s| s.name != "op0-cut0"));
     assert!(!imp.design.stroke.is_empty());
     imp.design.strokes().expect("what is imported builds");
+}
+
+/// An Illustrator-style file: XML declaration, a DOCTYPE with an internal subset of entities
+/// (the namespace URIs), entities used in attributes.
+const ILLUSTRATOR: &str = r#"<?xml version="1.0" encoding="utf-8"?>
+<!-- Generator: Adobe Illustrator 16.0.0, SVG Export Plug-In . SVG Version: 6.00 Build 0)  -->
+<!DOCTYPE svg PUBLIC "-//W3C//DTD SVG 1.1//EN" "http://www.w3.org/Graphics/SVG/1.1/DTD/svg11.dtd" [
+	<!ENTITY ns_svg "http://www.w3.org/2000/svg">
+	<!ENTITY ns_xlink "http://www.w3.org/1999/xlink">
+	<!ENTITY st "black">
+]>
+<svg version="1.1" xmlns="&ns_svg;" xmlns:xlink="&ns_xlink;" width="100mm" height="100mm" viewBox="0 0 100 100">
+<path id="line" d="M10 50 H90" stroke="&st;" stroke-width="2" fill="none"/>
+</svg>"#;
+
+#[test]
+fn doctype_with_internal_entities_is_read() {
+    let imp = import(ILLUSTRATOR, "ai.svg", &ImportOptions::default()).unwrap();
+    assert_eq!(imp.design.stroke.len(), 1);
+    let p = imp.design.stroke[0].points.as_ref().unwrap();
+    // 80 user units = 80 mm; width 2 → radius 1.
+    let len = p[0][0] - p[p.len() - 1][0];
+    assert!((len.abs() - 80.0).abs() < 1e-3, "{len}");
+    assert!((p[0][2] - 1.0).abs() < 1e-6, "{p:?}");
+    // A plain DOCTYPE without a subset (Batik, CorelDRAW) too.
+    let plain = r#"<?xml version="1.0"?><!DOCTYPE svg PUBLIC "-//W3C//DTD SVG 1.0//EN" "http://www.w3.org/TR/2001/REC-SVG-20010904/DTD/svg10.dtd"><svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm" viewBox="0 0 10 10"><path id="a" d="M1 5 H9" stroke="black"/></svg>"#;
+    assert_eq!(
+        import(plain, "b.svg", &ImportOptions::default())
+            .unwrap()
+            .design
+            .stroke
+            .len(),
+        1
+    );
+}
+
+/// A "billion laughs" document: each entity is ten of the one before.
+fn entity_bomb(levels: usize) -> String {
+    let mut dtd = String::from("<!ENTITY l0 \"lol\">");
+    for i in 1..=levels {
+        let refs: String = (0..10).map(|_| format!("&l{};", i - 1)).collect();
+        dtd.push_str(&format!("<!ENTITY l{i} \"{refs}\">"));
+    }
+    format!(
+        "<?xml version=\"1.0\"?><!DOCTYPE svg [{dtd}]><svg xmlns=\"http://www.w3.org/2000/svg\"><text>&l{levels};</text></svg>"
+    )
+}
+
+#[test]
+fn entity_bomb_is_an_error_naming_the_file() {
+    // 3 · 10⁹ characters asked for; refused from the declarations before any expansion.
+    let e = import(&entity_bomb(9), "bomb.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("bomb.svg:"), "{e}");
+    assert!(e.contains("entity"), "{e}");
+    // Many references to one large entity at the top level (each within roxmltree's own
+    // per-reference limits) add up, and are refused too: 10⁴ × 10⁴ characters.
+    let big = "x".repeat(10_000);
+    let refs = "&big;".repeat(10_000);
+    let text = format!(
+        "<!DOCTYPE svg [<!ENTITY big \"{big}\">]><svg xmlns=\"http://www.w3.org/2000/svg\"><desc>{refs}</desc></svg>"
+    );
+    let e = import(&text, "wide.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("wide.svg:") && e.contains("expand"), "{e}");
+}
+
+#[test]
+fn external_entities_are_never_read() {
+    // The entity points at a file that exists; referring to it is an error, its content
+    // never appears.
+    for uri in [
+        "/etc/hostname",
+        "file:///etc/passwd",
+        "http://example.com/x",
+    ] {
+        let text = format!(
+            r#"<!DOCTYPE svg [<!ENTITY ext SYSTEM "{uri}">]><svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm"><path id="&ext;" d="M1 1 H9" stroke="black"/></svg>"#
+        );
+        let e = import(&text, "ext.svg", &ImportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("ext.svg:") && e.contains("external"), "{e}");
+    }
+    // Declared but not used: the file imports, the entity is not read.
+    let text = r#"<!DOCTYPE svg [<!ENTITY ext SYSTEM "/etc/passwd">]><svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm"><path id="p" d="M1 1 H9" stroke="black"/></svg>"#;
+    let imp = import(text, "ext.svg", &ImportOptions::default()).unwrap();
+    assert_eq!(imp.design.stroke[0].name, "p");
+}
+
+#[test]
+fn deep_nesting_is_an_error_not_a_stack_overflow() {
+    let depth = 100_000;
+    let text = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\">{}<path d=\"M0 0 H1\" stroke=\"black\"/>{}</svg>",
+        "<g>".repeat(depth),
+        "</g>".repeat(depth)
+    );
+    let e = import(&text, "deep.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("deep.svg:") && e.contains("nest"), "{e}");
+    // A modest depth imports.
+    let text = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10mm\" height=\"10mm\">{}<path id=\"p\" d=\"M0 0 H1\" stroke=\"black\"/>{}</svg>",
+        "<g>".repeat(250),
+        "</g>".repeat(250)
+    );
+    assert_eq!(
+        import(&text, "ok.svg", &ImportOptions::default())
+            .unwrap()
+            .design
+            .stroke
+            .len(),
+        1
+    );
+}
+
+// ---- Issue 40 items 8–12: hostile drawings. Each either imports or is refused with a
+// reason naming the file or the element; the counts are checked before the work.
+
+fn page(body: &str) -> String {
+    svg(
+        r#"width="200mm" height="200mm" viewBox="0 0 200 200""#,
+        body,
+    )
+}
+
+fn reasons(imp: &skinpath::design::svg::Imported) -> Vec<(String, String)> {
+    imp.skipped
+        .iter()
+        .map(|s| (s.id.clone(), s.reason.clone()))
+        .collect()
+}
+
+#[test]
+fn two_thousand_equal_ids_get_distinct_names() {
+    let body: String = (0..2000)
+        .map(|i| {
+            format!(
+                r#"<path id="same" d="M{} {} l5 3" stroke="black" fill="none"/>"#,
+                i % 190,
+                i / 190 + 1
+            )
+        })
+        .collect();
+    let imp = import(&page(&body), "ids.svg", &ImportOptions::default()).unwrap();
+    let names: std::collections::HashSet<&str> =
+        imp.design.stroke.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names.len(), 2000);
+    // The first keeps the id, the k-th (k ≥ 1) is `same~k`.
+    assert!(names.contains("same") && names.contains("same~1") && names.contains("same~1999"));
+    // A taken suffixed name is stepped over, not reused.
+    let body = r#"<path id="a~1" d="M0 0 H9" stroke="black"/><path id="a" d="M0 5 H9" stroke="black"/><path id="a" d="M0 9 H9" stroke="black"/>"#;
+    let imp = import(&page(body), "ids.svg", &ImportOptions::default()).unwrap();
+    let names: Vec<&str> = imp.design.stroke.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["a~1", "a", "a~2"]);
+}
+
+#[test]
+fn oversized_paths_and_fills_are_refused_by_count() {
+    // A 10⁶-segment zigzag: refused from the segment count, before it is flattened.
+    let n = 1_000_000;
+    let mut d = String::from("M0 0");
+    for i in 1..n {
+        d.push_str(&format!(" L{} {:.4}", (i % 2) * 10, i as f64 * 1e-4));
+    }
+    let body = format!(
+        r#"<path id="zz" d="{d}" stroke="black" fill="none"/><path id="ok" d="M0 50 H100" stroke="black"/>"#
+    );
+    let imp = import(&page(&body), "zz.svg", &ImportOptions::default()).unwrap();
+    let r = reasons(&imp);
+    assert!(
+        r.iter()
+            .any(|(id, why)| id == "zz" && why.contains(&format!("{} segments", n - 1))),
+        "{r:?}"
+    );
+    assert_eq!(imp.design.stroke.len(), 1);
+    // A fill of 10⁶ points: the same.
+    let pts: String = (0..n)
+        .map(|i| {
+            let a = i as f64 / n as f64 * std::f64::consts::TAU;
+            format!(
+                "{:.5},{:.5} ",
+                100.0 + 90.0 * a.cos(),
+                100.0 + 90.0 * a.sin()
+            )
+        })
+        .collect();
+    let body = format!(r#"<polygon id="big" points="{pts}" fill="black"/>"#);
+    let e = import(&page(&body), "big.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("big.svg:") && e.contains("big (fill with a subpath of"),
+        "{e}"
+    );
+}
+
+/// A polygon through `n` pseudo-random points of the page (xorshift, fixed seed): its
+/// edges cross each other about n²/10 times.
+fn random_polygon(n: usize) -> String {
+    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 200.0
+    };
+    (0..n)
+        .map(|_| format!("{:.3},{:.3} ", next(), next()))
+        .collect()
+}
+
+#[test]
+fn a_fill_crossing_itself_too_often_is_skipped_and_a_modest_one_resolved() {
+    let body = format!(
+        r#"<polygon id="star" points="{}" fill="black"/><path id="ok" d="M0 50 H100" stroke="black"/>"#,
+        random_polygon(10_000)
+    );
+    let imp = import(&page(&body), "x.svg", &ImportOptions::default()).unwrap();
+    let r = reasons(&imp);
+    assert!(
+        r.iter()
+            .any(|(id, why)| id == "star" && why.contains("crosses itself more than")),
+        "{r:?}"
+    );
+    // A pentagram (5 crossings) resolves to a shape with the area of its nonzero fill.
+    let star = r#"<polygon id="p" points="100,10 153,172 15,72 185,72 47,172" fill="black"/>"#;
+    let imp = import(&page(star), "p.svg", &ImportOptions::default()).unwrap();
+    let shape = &imp.design.shape[0];
+    let area: f64 = shape
+        .rings()
+        .iter()
+        .map(|r| skinpath::design::shape::ring_area(r))
+        .sum();
+    // Nonzero fills the whole pentagram, centre included: its area counted independently
+    // on a 1000 × 1000 grid of cell centres by the winding number (Sunday's rule).
+    let p = [
+        (100.0, 10.0),
+        (153.0, 172.0),
+        (15.0, 72.0),
+        (185.0, 72.0),
+        (47.0, 172.0),
+    ];
+    let winding = |x: f64, y: f64| {
+        let mut w = 0;
+        for i in 0..5 {
+            let ((ax, ay), (bx, by)) = (p[i], p[(i + 1) % 5]);
+            let side = (bx - ax) * (y - ay) - (x - ax) * (by - ay);
+            if ay <= y && by > y && side > 0.0 {
+                w += 1;
+            } else if ay > y && by <= y && side < 0.0 {
+                w -= 1;
+            }
+        }
+        w
+    };
+    let (n, x0, y0, span) = (1000, 10.0, 5.0, 180.0);
+    let cell = span / n as f64;
+    let inside = (0..n * n)
+        .filter(|k| {
+            let (i, j) = (k % n, k / n);
+            winding(x0 + (i as f64 + 0.5) * cell, y0 + (j as f64 + 0.5) * cell) != 0
+        })
+        .count();
+    let want = inside as f64 * cell * cell;
+    assert!((area.abs() - want).abs() < 5e-3 * want, "{area} vs {want}");
+}
+
+#[test]
+fn too_many_css_rules_are_refused_before_styling() {
+    let rules: String = (0..10_000)
+        .map(|i| format!(".c{i}{{stroke:#{:06x};stroke-width:1}}", i))
+        .collect();
+    let body = format!(r#"<style>{rules}</style><path id="a" class="c5" d="M0 0 L10 10"/>"#);
+    let e = import(&page(&body), "css.svg", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("css.svg:") && e.contains("CSS rules"), "{e}");
+    // A few hundred rules are styled as usual.
+    let rules: String = (0..300)
+        .map(|i| format!(".c{i}{{stroke:#{:06x};stroke-width:{}}}", i, 1 + i % 3))
+        .collect();
+    let body =
+        format!(r#"<style>{rules}</style><path id="a" class="c5" d="M0 0 L10 10" fill="none"/>"#);
+    let imp = import(&page(&body), "css.svg", &ImportOptions::default()).unwrap();
+    // .c5: stroke-width 1 + 5 % 3 = 3 → radius 1.5 mm (1 user unit = 1 mm).
+    let r = imp.design.stroke[0].points.as_ref().unwrap()[0][2];
+    assert!((r - 1.5).abs() < 1e-6, "{r}");
+}
+
+#[test]
+fn power_stroke_far_wider_than_the_tolerance_warns_with_the_worst_error() {
+    let text = page(
+        r##"<defs><inkscape:path-effect xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" id="pe" effect="powerstroke" offset_points="0.5,100000" start_linecap_type="zerowidth" end_linecap_type="zerowidth"/></defs><path xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" id="ps" inkscape:path-effect="#pe" inkscape:original-d="M10 100 C 60 20 140 180 190 100" d="M10 100 L190 100 L190 101 Z" fill="black"/>"##,
+    );
+    let opts = ImportOptions::default();
+    let imp = import(&text, "ps.svg", &opts).unwrap();
+    let w: Vec<_> = imp.warnings.iter().filter(|w| w.id == "ps").collect();
+    assert_eq!(w.len(), 1, "{:?}", imp.warnings);
+    // The warning carries the worst error, which is the import's max_deviation and over the
+    // tolerance.
+    assert!(imp.max_deviation > opts.tolerance);
+    assert!(
+        w[0].reason
+            .contains(&format!("{:.4} mm", imp.max_deviation)),
+        "{:?}",
+        w[0]
+    );
+}
+
+#[test]
+fn a_bad_element_is_skipped_with_its_reason_and_the_rest_imported() {
+    let body = r#"<path id="closedtiny" d="M10 10 L10.00001 10 Z" stroke="black" fill="none"/>
+        <path id="far" d="M0 0 L1e12 0" stroke="black" fill="none"/>
+        <path id="badw" d="M0 20 H50" stroke="black" data-skinpath-widths="1 -2"/>
+        <text id="t" x="0" y="10">hi</text>
+        <image id="im" href="data:image/png;base64,AAAA" width="5" height="5"/>
+        <path id="bad" d="M 0 0 L 10 10 Q zz" stroke="black" fill="none"/>
+        <path id="bad2" d="zz" stroke="black" fill="none"/>
+        <path id="w0" d="M0 20 H50" stroke="black" stroke-width="0" fill="none"/>
+        <g stroke-width="-5"><path id="wneg" d="M0 30 H50" stroke="black" fill="none"/></g>
+        <path id="ok" d="M0 50 H100" stroke="black" fill="none"/>"#;
+    let imp = import(&page(body), "bad.svg", &ImportOptions::default()).unwrap();
+    let r = reasons(&imp);
+    let why = |id: &str| {
+        r.iter()
+            .find(|(i, _)| i == id)
+            .map(|(_, w)| w.clone())
+            .unwrap_or_else(|| panic!("{id} not listed: {r:?}"))
+    };
+    assert!(why("far").contains("beyond"), "{r:?}");
+    assert!(why("badw").contains("-2"), "{r:?}");
+    assert!(why("t").contains("text"), "{r:?}");
+    assert!(why("im").contains("raster"), "{r:?}");
+    assert!(why("bad2").contains("malformed"), "{r:?}");
+    assert!(why("w0").starts_with("stroke-width 0"), "{r:?}");
+    assert!(why("wneg").starts_with("stroke-width -5"), "{r:?}");
+    assert!(!why("w0").contains("hidden"));
+    // Data up to the error is imported, with a warning.
+    assert!(
+        imp.warnings
+            .iter()
+            .any(|w| w.id == "bad" && w.reason.contains("malformed"))
+    );
+    let names: Vec<&str> = imp.design.stroke.iter().map(|s| s.name.as_str()).collect();
+    assert!(names.contains(&"ok") && names.contains(&"bad"), "{names:?}");
+    // Errors never name an output file: nothing usable names the SVG and what was skipped.
+    let e = import(
+        &page(r#"<text id="t">x</text><path id="w0" d="M0 0 H5" stroke="black" stroke-width="0" fill="none"/>"#),
+        "none.svg",
+        &ImportOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.starts_with("none.svg:") && e.contains("2 element(s) skipped") && e.contains("w0 ("),
+        "{e}"
+    );
+}
+
+/// Runs `skinpath import` as a child under a 120 s limit and 4 GB of address space (a hang
+/// or runaway memory guard, never a speed test): exit code and stderr.
+fn import_limited(svg: &std::path::Path, out: &std::path::Path) -> (Option<i32>, String) {
+    let cmd = format!(
+        "ulimit -v 4000000; exec timeout -s KILL 120 '{}' import '{}' -o '{}'",
+        env!("CARGO_BIN_EXE_skinpath"),
+        svg.display(),
+        out.display()
+    );
+    let o = std::process::Command::new("sh")
+        .args(["-c", &cmd])
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn tmp(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("skinpath-import-svg-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn image_references_are_never_opened() {
+    // A FIFO that nobody writes: opening it would block forever; /dev/zero would be read
+    // without end. Both stay closed: the import ends, the images are listed as skipped.
+    let d = tmp("images");
+    let fifo = d.join("fifo");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    let body = format!(
+        r#"<image id="z" href="/dev/zero" width="10" height="10"/><image id="pw" href="/etc/passwd" width="10" height="10"/><image id="up" href="../../../../etc/passwd" width="10" height="10"/><image id="f" href="{}" width="10" height="10"/><feImage/><path id="k" d="M0 0 H10" stroke="black"/>"#,
+        fifo.display()
+    );
+    let svg = d.join("img.svg");
+    std::fs::write(&svg, page(&body)).unwrap();
+    let out = d.join("img.toml");
+    let (code, err) = import_limited(&svg, &out);
+    assert_eq!(code, Some(0), "{err}");
+    for id in ["z", "pw", "up", "f"] {
+        assert!(
+            err.contains(&format!("skipped {id}: raster images")),
+            "{err}"
+        );
+    }
+    assert!(made, "mkfifo");
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert!(!written.contains("root:"), "{written}");
+}
+
+#[test]
+fn cli_import_of_many_paths_ends_and_nothing_usable_writes_nothing() {
+    let d = tmp("many");
+    // 2·10⁴ short paths: the import is linear in the drawing (no name search, no element
+    // search per path); the child limit only guards against a regression to a hang.
+    let body: String = (0..20_000)
+        .map(|i| {
+            format!(
+                r#"<path id="p{i}" d="M{} {} l3 2" stroke="black" stroke-width="0.2" fill="none"/>"#,
+                (i * 7) % 190,
+                (i * 13) % 190
+            )
+        })
+        .collect();
+    let svg = d.join("many.svg");
+    std::fs::write(&svg, page(&body)).unwrap();
+    let out = d.join("many.toml");
+    let (code, err) = import_limited(&svg, &out);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("imported 20000 stroke(s)"), "{err}");
+    // Nothing usable: an error naming the SVG (not the output), nothing written.
+    let svg = d.join("none.svg");
+    std::fs::write(&svg, page(r#"<text id="t">x</text>"#)).unwrap();
+    let out = d.join("none.toml");
+    let (code, err) = import_limited(&svg, &out);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("none.svg:") && !err.contains("none.toml"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }

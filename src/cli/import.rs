@@ -43,12 +43,8 @@ pub fn run(a: Args) -> Result<u8> {
     for s in &imported.skipped {
         eprintln!("skipped {}: {}", s.id, s.reason);
     }
-    if imported.design.stroke.is_empty() && imported.design.shape.is_empty() {
-        bail!(
-            "{}: no stroked or filled path to import ({} element(s) skipped)",
-            a.svg.display(),
-            imported.skipped.len()
-        );
+    for w in &imported.warnings {
+        eprintln!("warning: {}: {}", w.id, w.reason);
     }
     let mut design = imported.design;
     design.file = out_name.clone();

@@ -1,0 +1,285 @@
+//! Fitting a stroke to a subpath: runs between corners, each interpolated by a disk
+//! B-spline through evenly spaced samples until it stays within the tolerance.
+
+use super::*;
+
+impl Ctx<'_> {
+    /// Radius at every point of a subpath: half the stroke width, or the widths spread
+    /// evenly along its length.
+    pub(super) fn radii(
+        &self,
+        pts: &[DVec2],
+        width_mm: f64,
+        widths: Option<&[f64]>,
+        scale: f64,
+    ) -> Vec<f64> {
+        let Some(w) = widths else {
+            return vec![0.5 * width_mm; pts.len()];
+        };
+        let mut s = vec![0.0];
+        for q in pts.windows(2) {
+            s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
+        }
+        let total = s.last().copied().unwrap_or(0.0).max(f64::MIN_POSITIVE);
+        let k = (w.len() - 1) as f64;
+        s.iter()
+            .map(|&si| {
+                let u = (si / total * k).clamp(0.0, k);
+                let i = (u.floor() as usize).min(w.len() - 2);
+                let f = u - i as f64;
+                0.5 * ((1.0 - f) * w[i] + f * w[i + 1]) * scale * MM_PER_PX
+            })
+            .collect()
+    }
+
+    /// The stroke of one subpath: runs between corners, each interpolated through enough
+    /// evenly spaced points to stay within the tolerance; the reason it is skipped when a
+    /// run has zero length or no interpolant through its samples builds.
+    pub(super) fn fit_subpath(
+        &mut self,
+        name: &str,
+        sp: &Subpath,
+        radii: &[f64],
+    ) -> Result<(Stroke, f64), &'static str> {
+        let limit = self.opts.corner_angle.to_radians();
+        let mut cuts: Vec<usize> = sp
+            .nodes
+            .iter()
+            .filter(|&&(i, a)| a > limit && (sp.closed || (i > 0 && i + 1 < sp.pts.len())))
+            .map(|&(i, _)| i)
+            .collect();
+        cuts.sort_unstable();
+        cuts.dedup();
+        let n = sp.pts.len();
+        let mut pts = sp.pts.clone();
+        let mut rs = radii.to_vec();
+        if sp.closed {
+            // The last point repeats the first.
+            pts.pop();
+            rs.pop();
+            cuts.retain(|&c| c < n - 1);
+            if cuts.len() == 1 {
+                // One corner on a closed path: also cut half-way round, so no piece starts
+                // and ends at the same point.
+                let m = pts.len();
+                let c = (cuts[0] + m / 2) % m;
+                cuts.push(c);
+                cuts.sort_unstable();
+            }
+        }
+        let m = pts.len();
+        if m < 2 {
+            return Err(ZERO_LENGTH);
+        }
+        // Runs as inclusive index ranges (wrapping for closed paths).
+        let runs: Vec<Vec<usize>> = if cuts.is_empty() {
+            vec![(0..m).collect()]
+        } else if sp.closed {
+            (0..cuts.len())
+                .map(|k| {
+                    let (a, b) = (cuts[k], cuts[(k + 1) % cuts.len()]);
+                    let len = if b > a { b - a } else { m - a + b };
+                    (0..=len).map(|j| (a + j) % m).collect()
+                })
+                .collect()
+        } else {
+            let mut b = vec![0];
+            b.extend(&cuts);
+            b.push(m - 1);
+            b.windows(2).map(|w| (w[0]..=w[1]).collect()).collect()
+        };
+        let whole_closed = sp.closed && cuts.is_empty();
+        let mut points: Vec<[f64; 3]> = Vec::new();
+        let mut worst = 0.0f64;
+        let mut corners = Vec::new();
+        for (k, run) in runs.iter().enumerate() {
+            let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
+            let rr: Vec<f64> = run.iter().map(|&i| rs[i]).collect();
+            let (fit, dev) = self.fit_run(name, &rp, &rr, whole_closed)?;
+            self.max_deviation = self.max_deviation.max(dev);
+            worst = worst.max(dev);
+            if k > 0 {
+                corners.push(points.len() - 1);
+                points.extend_from_slice(&fit[1..]);
+            } else {
+                points.extend_from_slice(&fit);
+            }
+        }
+        let mut s = Stroke::from_disks(name, Vec::new());
+        s.disks = None;
+        if sp.closed && !cuts.is_empty() {
+            points.pop(); // back at the first corner
+            corners.insert(0, 0);
+            s.closed = true;
+        } else if whole_closed {
+            s.closed = true;
+        }
+        s.degree = 3.min(points.len() - 1).max(1);
+        s.points = Some(points);
+        s.corners = if corners.is_empty() {
+            None
+        } else {
+            Some(corners)
+        };
+        // Each run built on its own; the stroke interpolates all of them in one system.
+        s.to_dbsc(self.file, 0).map_err(|_| NO_INTERPOLANT)?;
+        Ok((s, worst))
+    }
+
+    /// Points [x, y, r] whose interpolant stays within the tolerance of the run `pts`
+    /// (both ways), or the closest that builds, and the distance reached.
+    pub(super) fn fit_run(
+        &self,
+        name: &str,
+        pts: &[DVec2],
+        radii: &[f64],
+        closed: bool,
+    ) -> Result<(Vec<[f64; 3]>, f64), &'static str> {
+        let mut s = vec![0.0];
+        for q in pts.windows(2) {
+            s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
+        }
+        if closed {
+            s.push(s.last().copied().unwrap_or(0.0) + pts[pts.len() - 1].distance(pts[0]));
+        }
+        let total = s.last().copied().unwrap_or(0.0);
+        if total <= 0.0 {
+            return Err(ZERO_LENGTH);
+        }
+        let mut ring: Vec<DVec2> = pts.to_vec();
+        let mut ring_r = radii.to_vec();
+        if closed {
+            ring.push(pts[0]);
+            ring_r.push(radii[0]);
+        }
+        let at = |u: f64| -> [f64; 3] {
+            let i = s.partition_point(|&v| v <= u).clamp(1, s.len() - 1);
+            let (a, b) = (s[i - 1], s[i]);
+            let f = if b > a { (u - a) / (b - a) } else { 0.0 };
+            let p = ring[i - 1].lerp(ring[i], f);
+            let r = ring_r[i - 1] + f * (ring_r[i] - ring_r[i - 1]);
+            // usvg keeps f32 coordinates: digits past 1e-6 mm are noise.
+            [p.x, p.y, r].map(|v| (v * ROUND).round() / ROUND)
+        };
+        let mut count = if closed { 8 } else { 2 };
+        let mut best: Option<(Vec<[f64; 3]>, f64)> = None;
+        loop {
+            let samples: Vec<[f64; 3]> = if closed {
+                (0..count)
+                    .map(|j| at(total * j as f64 / count as f64))
+                    .collect()
+            } else {
+                (0..count)
+                    .map(|j| at(total * j as f64 / (count - 1) as f64))
+                    .collect()
+            };
+            // A fit that does not build (a singular interpolation system) is never kept.
+            let dev = self.deviation(name, &samples, &ring, &ring_r, closed);
+            if dev.is_finite() && best.as_ref().is_none_or(|b| dev < b.1) {
+                best = Some((samples, dev));
+            }
+            let done = best
+                .as_ref()
+                .is_some_and(|b| b.1 <= 0.9 * self.opts.tolerance);
+            if done || count >= MAX_RUN_POINTS {
+                return best.ok_or(NO_INTERPOLANT);
+            }
+            count = if count == 2 { 4 } else { 2 * count - 1 };
+        }
+    }
+
+    /// Both-ways distance between the interpolant of `samples` and the polyline `ring`
+    /// (infinite when the fit fails).
+    /// How far the stroke through `samples` strays from the run (`ring` with radii
+    /// `ring_r`): the largest distance from its spine to the run and from the run to its
+    /// spine, plus the largest radius error at the run's points (the radius at the spine
+    /// sample nearest each point against the point's radius). The sum bounds how far the
+    /// stroke's disks stray from the drawn ones.
+    pub(super) fn deviation(
+        &self,
+        name: &str,
+        samples: &[[f64; 3]],
+        ring: &[DVec2],
+        ring_r: &[f64],
+        closed: bool,
+    ) -> f64 {
+        let mut st = Stroke::from_disks(name, Vec::new());
+        st.disks = None;
+        st.closed = closed;
+        st.degree = 3.min(samples.len() - 1).max(1);
+        st.points = Some(samples.to_vec());
+        let Ok(c) = st.to_dbsc(self.file, 0) else {
+            return f64::INFINITY;
+        };
+        let (lo, hi) = c.domain();
+        let n = (samples.len() * 16).max(64);
+        let params: Vec<f64> = (0..=n)
+            .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+            .collect();
+        let spine: Vec<DVec2> = params.iter().map(|&t| c.center(t)).collect();
+        let a = spine
+            .iter()
+            .map(|&q| dist_polyline(q, ring))
+            .fold(0.0, f64::max);
+        let b = ring
+            .iter()
+            .map(|&q| dist_polyline(q, &spine))
+            .fold(0.0, f64::max);
+        // Radius error both ways: at each spine sample against the run's radius at the
+        // nearest point of the run, and at each run point against the spine sample nearest it.
+        let to_run = spine
+            .iter()
+            .zip(&params)
+            .map(|(&q, &t)| (c.radius(t) - radius_on_polyline(q, ring, ring_r)).abs())
+            .fold(0.0, f64::max);
+        let to_spine = ring
+            .iter()
+            .zip(ring_r)
+            .map(|(&q, &r)| {
+                let j = (0..spine.len())
+                    .min_by(|&i, &k| q.distance(spine[i]).total_cmp(&q.distance(spine[k])))
+                    .unwrap_or(0);
+                (c.radius(params[j]) - r).abs()
+            })
+            .fold(0.0, f64::max);
+        let radius_error = to_run.max(to_spine);
+        a.max(b) + radius_error
+    }
+}
+
+/// The radius (linear along each segment of `poly`, radii `r` at its points) at the point
+/// of `poly` nearest to `p`.
+fn radius_on_polyline(p: DVec2, poly: &[DVec2], r: &[f64]) -> f64 {
+    if poly.len() == 1 {
+        return r[0];
+    }
+    let mut best = (f64::INFINITY, r[0]);
+    for (i, w) in poly.windows(2).enumerate() {
+        let seg = crate::geom::Line::new(w[0], w[1]);
+        let t = seg.nearest_t(p);
+        let d = seg.eval(t).distance(p);
+        if d < best.0 {
+            best = (d, r[i] + t * (r[i + 1] - r[i]));
+        }
+    }
+    best.1
+}
+
+fn dist_polyline(p: DVec2, poly: &[DVec2]) -> f64 {
+    if poly.len() == 1 {
+        return p.distance(poly[0]);
+    }
+    poly.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let d = b - a;
+            let l2 = d.length_squared();
+            let t = if l2 > 0.0 {
+                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            p.distance(a + d * t)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
