@@ -67,11 +67,12 @@ pub mod toolpath;
 pub mod units;
 
 // Dependencies of the `skinpath` binary only (argument parsing, error chains, progress
-// bars): the library does not use them, and `unused_crate_dependencies` would otherwise name
-// them.
+// bars, signal handling): the library does not use them, and `unused_crate_dependencies`
+// would otherwise name them.
 use anyhow as _;
 use clap as _;
 use indicatif as _;
+use signal_hook as _;
 
 pub use dbsc::DiskBSpline;
 pub use design::Design;

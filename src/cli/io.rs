@@ -2,7 +2,9 @@
 //! atomic writes (temporary file `.skinpath-tmp-PID-NAME` in the target directory, then
 //! rename) so that a failed run never leaves a half-written file behind and never touches
 //! the input; the outputs of one run are written as a set, and temporary files of killed
-//! runs are removed by the next run that writes into their folder.
+//! runs are removed by the next run that writes into their folder. A target that exists
+//! and is not a regular file (`-o /dev/null`, a FIFO) is written in place, never replaced:
+//! see [`Target`].
 
 use anyhow::{Context, Result, bail};
 use std::fs;
@@ -74,6 +76,7 @@ fn write_temporary(path: &Path, bytes: &[u8]) -> Result<PathBuf> {
         );
     }
     remove_stale_temporaries(&dir);
+    super::signals::watch_folder(&dir);
     let tmp = dir.join(format!("{TMP_PREFIX}{}-{name}", std::process::id()));
     let result = (|| -> Result<()> {
         let mut f =
@@ -99,28 +102,95 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_set(&[(path, bytes.to_vec())])
 }
 
-/// Writes several files as a set: every one goes to its temporary file first, and only
-/// when all of them are written are they renamed into place (the first, the main output,
-/// last, so a reader never sees a preview without its program). On any error no target
-/// is touched and every temporary file is removed.
+/// How an output target is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Target {
+    /// A regular file or a new name: a temporary file beside it, renamed over it.
+    Replace,
+    /// An existing character device or FIFO (`/dev/null`, `/dev/stdout`, a named pipe):
+    /// opened and written in place, as a shell redirection does. Renaming a temporary file
+    /// over it would replace the device with a regular file.
+    InPlace,
+}
+
+/// How `path` is to be written; an error for targets that are neither regular files nor
+/// character devices or FIFOs (a folder, a block device, a socket).
+fn target_of(path: &Path) -> Result<Target> {
+    let Ok(meta) = fs::metadata(path) else {
+        return Ok(Target::Replace);
+    };
+    let kind = meta.file_type();
+    if kind.is_file() {
+        return Ok(Target::Replace);
+    }
+    if kind.is_dir() {
+        bail!("cannot write {}: it is a folder", path.display());
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_char_device() || kind.is_fifo() {
+            return Ok(Target::InPlace);
+        }
+    }
+    bail!(
+        "cannot write {}: it is neither a regular file nor a character device or FIFO",
+        path.display()
+    )
+}
+
+/// Writes `bytes` into the existing non-regular file `path` ([`Target::InPlace`]).
+fn write_in_place(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut f = fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .with_context(|| format!("cannot open {}", path.display()))?;
+    f.write_all(bytes)
+        .and_then(|()| f.flush())
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Writes several files as a set: every regular target goes to its temporary file first;
+/// when all of them are written, the in-place targets ([`Target`]) are written, then the
+/// temporary files are renamed into place (the first, the main output, last, so a reader
+/// never sees a preview without its program). On any error before the renames no regular
+/// target is touched and every temporary file is removed.
 pub fn write_set(files: &[(&Path, Vec<u8>)]) -> Result<()> {
-    let mut tmps: Vec<PathBuf> = Vec::new();
-    for (path, bytes) in files {
+    let targets = files
+        .iter()
+        .map(|(p, _)| target_of(p))
+        .collect::<Result<Vec<_>>>()?;
+    let mut tmps: Vec<Option<PathBuf>> = Vec::new();
+    let remove = |tmps: &[Option<PathBuf>]| {
+        for t in tmps.iter().flatten() {
+            let _ = fs::remove_file(t);
+        }
+    };
+    for ((path, bytes), target) in files.iter().zip(&targets) {
+        if *target == Target::InPlace {
+            tmps.push(None);
+            continue;
+        }
         match write_temporary(path, bytes) {
-            Ok(t) => tmps.push(t),
+            Ok(t) => tmps.push(Some(t)),
             Err(e) => {
-                for t in &tmps {
-                    let _ = fs::remove_file(t);
-                }
+                remove(&tmps);
                 return Err(e);
             }
         }
     }
+    for ((path, bytes), target) in files.iter().zip(&targets) {
+        if *target == Target::InPlace
+            && let Err(e) = write_in_place(path, bytes)
+        {
+            remove(&tmps);
+            return Err(e);
+        }
+    }
     for (k, ((path, _), tmp)) in files.iter().zip(&tmps).enumerate().rev() {
+        let Some(tmp) = tmp else { continue };
         if let Err(e) = fs::rename(tmp, path) {
-            for t in &tmps[..=k] {
-                let _ = fs::remove_file(t);
-            }
+            remove(&tmps[..=k]);
             return Err(e)
                 .with_context(|| format!("cannot move {} to {}", tmp.display(), path.display()));
         }

@@ -12,6 +12,7 @@ mod machines;
 mod outline;
 mod preview;
 mod progress;
+mod signals;
 mod text;
 
 use clap::{Parser, Subcommand};
@@ -54,6 +55,7 @@ pub const EXIT_UNUSABLE: u8 = 2;
 /// Parse the arguments, run the command, print errors a person can act on.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
+    signals::install();
     let result = match cli.command {
         Command::Outline(a) => outline::run(a),
         Command::Inspect(a) => inspect::run(a),

@@ -3,8 +3,8 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::design::text::{Align, Font, Kerning, Text};
-use skinpath::design::{Design, Format, Units, VERSION};
+use skinpath::design::text::{Align, Font, Kerning, Text, layout_problem};
+use skinpath::design::{Design, Format, MAX_COORD, Units, VERSION};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -66,23 +66,38 @@ pub fn run(a: Args) -> Result<u8> {
     t.letter_spacing = a.letter_spacing;
     t.line_spacing = a.line_spacing;
     t.kerning = (a.kerning == "none").then_some(Kerning::None);
+    // Every option is checked before any layout, and named in the error (the design the
+    // command writes is an implementation detail).
+    if let Some(p) = t.problem() {
+        bail!("{}: {}", option_of(p.key), p.message);
+    }
+    if !(a.margin.is_finite() && (0.0..=MAX_COORD).contains(&a.margin)) {
+        bail!(
+            "--margin: {} must be a distance from 0 to {MAX_COORD}",
+            a.margin
+        );
+    }
     // Place the lettering's lower-left corner (stroke radius included) `margin` from the
     // origin, so it builds inside any machine's work area without --place.
-    if !(a.margin.is_finite() && a.margin >= 0.0) {
-        bail!("--margin must be zero or positive, got {}", a.margin);
-    }
-    let pts: Vec<_> = t
+    let r = 0.5 * a.width;
+    let (min_x, min_y) = t
         .layout()
-        .into_iter()
-        .flat_map(|(_, _, p)| p.concat())
-        .collect();
-    if pts.is_empty() {
+        .iter()
+        .flat_map(|(_, _, p)| p.iter().flatten())
+        .fold((f64::INFINITY, f64::INFINITY), |(x, y), p| {
+            (x.min(p.x), y.min(p.y))
+        });
+    if !(min_x.is_finite() && min_y.is_finite()) {
         bail!("the text has no visible character");
     }
-    let min_x = pts.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
-    let min_y = pts.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-    let r = 0.5 * a.width;
     t.at = Some([a.margin + r - min_x, a.margin + r - min_y]);
+    if let Some(p) = layout_problem(&t.layout(), r) {
+        bail!(
+            "{}: {} (--height, --line-spacing, --letter-spacing and --margin set its size)",
+            option_of(p.key),
+            p.message
+        );
+    }
     let design = Design {
         version: VERSION,
         units: Units::Mm,
@@ -101,4 +116,16 @@ pub fn run(a: Args) -> Result<u8> {
     io::write_atomic(&a.output, body.as_bytes())
         .with_context(|| format!("writing {}", a.output.display()))?;
     Ok(0)
+}
+
+/// The option or argument of `skinpath text` that sets the `[[text]]` key `key`.
+fn option_of(key: &str) -> &'static str {
+    match key {
+        "height" => "--height",
+        "width" => "--width",
+        "letter_spacing" => "--letter-spacing",
+        "line_spacing" => "--line-spacing",
+        "at" => "--margin",
+        _ => "the text",
+    }
 }

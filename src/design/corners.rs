@@ -230,6 +230,7 @@ impl Design {
     pub fn expand(&mut self) -> Result<(), DesignError> {
         let mut renamed: Vec<(String, Vec<String>)> = Vec::new();
         let texts = std::mem::take(&mut self.text);
+        super::text::check_total(&texts, &self.file)?;
         for (i, t) in texts.iter().enumerate() {
             let strokes = t.to_strokes(&self.file, i)?;
             renamed.push((

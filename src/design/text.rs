@@ -32,7 +32,7 @@
 use super::corners::{CORNER_ANGLE_DEG, sharp_turns};
 use super::error::{DesignError, ErrorKind, Item, Part};
 use super::model::{DEFAULT_DEGREE, Stroke};
-use super::validate::MAX_COORD;
+use super::validate::{MAX_COORD, MIN_RADIUS};
 use crate::geom::{DVec2, Line};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
@@ -40,6 +40,55 @@ use std::sync::OnceLock;
 /// Default distance between baselines, in multiples of the cap height: the Hershey fonts'
 /// cap line to descender line is 28 units for a 21-unit cap height, plus a gap.
 pub const DEFAULT_LINE_SPACING: f64 = 1.6;
+
+/// Largest number of characters of a `[[text]]` element, line breaks included, and of
+/// all the text of one design together: each visible character becomes a few strokes that
+/// are skinned, offset and checked, and a job of this many characters builds within about
+/// ten seconds; a longer text is a mistake or belongs in several jobs.
+pub const MAX_TEXT_CHARS: usize = 5_000;
+
+/// Smallest cap height, design units: 21 × [`MIN_RADIUS`], so that one unit of the 21-unit
+/// Hershey grid is at least the smallest radius and a letter's points stay apart.
+pub const MIN_HEIGHT: f64 = 2.1e-3;
+
+/// How many distinct characters a missing-glyph error names.
+const MISSING_SHOWN: usize = 8;
+
+/// What is wrong with a `[[text]]` element ([`Text::problem`]): the key it concerns and the
+/// problem, without the file or element (which the caller knows).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextProblem {
+    /// The design-file key: `text`, `height`, `width`, `at`, `letter_spacing`,
+    /// `line_spacing`.
+    pub key: &'static str,
+    /// What is wrong and the allowed range.
+    pub message: String,
+}
+
+/// The total number of characters of `texts` ([`MAX_TEXT_CHARS`] for a whole design):
+/// an error naming `file` and the element that passes the limit, checked before any text
+/// is laid out.
+pub fn check_total(texts: &[Text], file: &str) -> Result<(), DesignError> {
+    let mut total = 0usize;
+    for (index, t) in texts.iter().enumerate() {
+        total += t.text.chars().count();
+        if total > MAX_TEXT_CHARS {
+            return Err(DesignError::at(
+                file,
+                Item::Text {
+                    index,
+                    name: t.name.clone(),
+                },
+                Some(Part::Key("text".into())),
+                ErrorKind::Invalid(format!(
+                    "the design's texts reach {total} characters here, more than the limit \
+                     {MAX_TEXT_CHARS} (line breaks included)"
+                )),
+            ));
+        }
+    }
+    Ok(())
+}
 
 /// Cap height of the Hershey glyph grid: cap line at −12, baseline at 9.
 const HERSHEY_CAP: f64 = 21.0;
@@ -165,14 +214,18 @@ pub struct Text {
     /// mean all of its strokes.
     pub name: String,
     /// `text` (required): the characters to set, lines split at `\n`; printable ASCII
-    /// (space to `~`) only, with at least one visible character.
+    /// (space to `~`) only, with at least one visible character; at most
+    /// [`MAX_TEXT_CHARS`] characters (line breaks included), in one element and in all the
+    /// texts of a design together.
     pub text: String,
     /// `font`: `"sans"` or `"script"`; default `sans`.
     #[serde(default)]
     pub font: Font,
-    /// `height` (required): cap height (baseline to cap line), design units, > 0.
+    /// `height` (required): cap height (baseline to cap line), design units,
+    /// [`MIN_HEIGHT`] to [`MAX_COORD`].
     pub height: f64,
-    /// `width` (required): stroke width (twice the stroke radius), design units, > 0.
+    /// `width` (required): stroke width (twice the stroke radius), design units,
+    /// 2·[`MIN_RADIUS`] to [`MAX_COORD`].
     pub width: f64,
     /// `at`: anchor `[x, y]` on the first line's baseline, finite; default [0, 0].
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -359,68 +412,116 @@ impl Text {
     }
 
     fn check(&self, file: &str, index: usize) -> Result<(), DesignError> {
-        let item = || Item::Text {
-            index,
-            name: self.name.clone(),
-        };
-        let bad = |key: &str, m: String| {
-            DesignError::at(
+        match self.problem() {
+            None => Ok(()),
+            Some(p) => Err(DesignError::at(
                 file,
-                item(),
-                Some(Part::Key(key.into())),
-                ErrorKind::Invalid(m),
-            )
-        };
+                Item::Text {
+                    index,
+                    name: self.name.clone(),
+                },
+                Some(Part::Key(p.key.into())),
+                ErrorKind::Invalid(p.message),
+            )),
+        }
+    }
+
+    /// The first problem with the element's values, or `None`: checked before any layout,
+    /// in O(characters). The ranges: at most [`MAX_TEXT_CHARS`] characters with at least
+    /// one visible, every one in the font; `height` within [`MIN_HEIGHT`]..=[`MAX_COORD`],
+    /// `width` within 2·[`MIN_RADIUS`]..=[`MAX_COORD`], `at` within ±[`MAX_COORD`],
+    /// `letter_spacing` finite within ±[`MAX_COORD`], `line_spacing` in (0, [`MAX_COORD`]].
+    /// `skinpath text` shows the same problems under its option names.
+    pub fn problem(&self) -> Option<TextProblem> {
+        let bad = |key: &'static str, message: String| Some(TextProblem { key, message });
+        let chars = self.text.chars().count();
+        if chars > MAX_TEXT_CHARS {
+            return bad(
+                "text",
+                format!(
+                    "{chars} characters, more than the limit {MAX_TEXT_CHARS} (line breaks \
+                     included); split the text"
+                ),
+            );
+        }
         // Lengths are bounded like every other design length (MAX_COORD): a letter 1e300
-        // high would lay out to infinite coordinates.
-        for (key, v) in [("height", self.height), ("width", self.width)] {
-            if !(v.is_finite() && v > 0.0 && v <= MAX_COORD) {
-                return Err(bad(
+        // high would lay out to infinite coordinates; below MIN_HEIGHT a letter's grid
+        // points fall together and it has no stroke left.
+        let min_width = 2.0 * MIN_RADIUS;
+        for (key, v, min) in [
+            ("height", self.height, MIN_HEIGHT),
+            ("width", self.width, min_width),
+        ] {
+            if !(v.is_finite() && (min..=MAX_COORD).contains(&v)) {
+                let why = if key == "height" {
+                    "the smallest radius times the font's 21-unit cap height"
+                } else {
+                    "twice the smallest radius"
+                };
+                return bad(
                     key,
-                    format!("{key} {v} must be a positive number of at most {MAX_COORD}"),
-                ));
+                    format!("{v:?} must be a number from {min:?} ({why}) to {MAX_COORD}"),
+                );
             }
         }
         if let Some(at) = self.at
             && !at.iter().all(|v| v.abs() <= MAX_COORD)
         {
-            return Err(bad(
+            return bad(
                 "at",
-                format!("`at` must be two numbers within ±{MAX_COORD}"),
-            ));
+                format!("{at:?} must be two numbers within ±{MAX_COORD}"),
+            );
         }
         if let Some(s) = self.letter_spacing
             && !(s.is_finite() && s.abs() <= MAX_COORD)
         {
-            return Err(bad(
+            return bad(
                 "letter_spacing",
-                format!("must be a number within ±{MAX_COORD}"),
-            ));
+                format!("{s:?} must be a number within ±{MAX_COORD}"),
+            );
         }
         if let Some(s) = self.line_spacing
             && !(s.is_finite() && s > 0.0 && s <= MAX_COORD)
         {
-            return Err(bad(
+            return bad(
                 "line_spacing",
-                format!("must be a positive number of at most {MAX_COORD}"),
-            ));
+                format!("{s:?} must be a positive number of at most {MAX_COORD}"),
+            );
         }
-        if self.text.trim().is_empty() {
-            return Err(bad("text", "the text has no visible character".into()));
-        }
+        let mut missing: Vec<char> = Vec::new();
+        let mut first = None;
         for (i, c) in self.text.chars().enumerate() {
             if c != '\n' && self.font.glyph(c).is_none() {
-                return Err(bad(
-                    "text",
-                    format!(
-                        "character {i} ({c:?}) is not in font \"{}\": it has printable ASCII \
-                         (space to ~) only",
-                        self.font.as_str()
-                    ),
-                ));
+                first.get_or_insert((i, c));
+                if !missing.contains(&c) && missing.len() < MISSING_SHOWN {
+                    missing.push(c);
+                }
             }
         }
-        Ok(())
+        if let Some((i, c)) = first {
+            let list: Vec<String> = missing
+                .iter()
+                .map(|c| format!("{c:?} (U+{:04X})", *c as u32))
+                .collect();
+            return bad(
+                "text",
+                format!(
+                    "font \"{}\" lacks {}{} (first at character {i}, {c:?}): it has printable \
+                     ASCII (space to ~) only",
+                    self.font.as_str(),
+                    list.join(", "),
+                    if missing.len() == MISSING_SHOWN {
+                        ", ..."
+                    } else {
+                        ""
+                    },
+                ),
+            );
+        }
+        if self.text.trim().is_empty() {
+            return bad("text", "the text has no visible character".into());
+        }
+        None
     }
 
     /// Design units per Hershey grid unit.
@@ -480,9 +581,21 @@ impl Text {
     /// The text's strokes (see the module docs); `file` and `index` name it in errors.
     pub fn to_strokes(&self, file: &str, index: usize) -> Result<Vec<Stroke>, DesignError> {
         self.check(file, index)?;
+        let layout = self.layout();
+        if let Some(p) = layout_problem(&layout, 0.5 * self.width) {
+            return Err(DesignError::at(
+                file,
+                Item::Text {
+                    index,
+                    name: self.name.clone(),
+                },
+                Some(Part::Key(p.key.into())),
+                ErrorKind::Invalid(p.message),
+            ));
+        }
         let r = 0.5 * self.width;
         let mut out = Vec::new();
-        for (i, c, polys) in self.layout() {
+        for (i, c, polys) in layout {
             for (k, poly) in polys.into_iter().enumerate() {
                 let name = format!("{}/{}:{}/{}", self.name, i, char_tag(c), k);
                 if let Some(s) = polyline_stroke(&name, &poly, r) {
@@ -492,6 +605,23 @@ impl Text {
         }
         Ok(out)
     }
+}
+
+/// The problem of a laid-out text ([`Text::layout`]) whose strokes of radius `r` reach
+/// beyond ±[`MAX_COORD`] (a large height times a large line spacing), or `None`.
+pub fn layout_problem(layout: &[(usize, char, Vec<Vec<DVec2>>)], r: f64) -> Option<TextProblem> {
+    let far = layout
+        .iter()
+        .flat_map(|(_, _, polys)| polys.iter().flatten())
+        .find(|p| !(p.x.abs() + r <= MAX_COORD && p.y.abs() + r <= MAX_COORD))?;
+    Some(TextProblem {
+        key: "text",
+        message: format!(
+            "the lettering reaches ({:.1}, {:.1}), beyond ±{MAX_COORD}: give a smaller height, \
+             line_spacing or letter_spacing, or an `at` nearer the origin",
+            far.x, far.y
+        ),
+    })
 }
 
 /// A stroke of radius `r` through the vertices of `poly` (consecutive duplicates dropped):
@@ -656,6 +786,51 @@ mod tests {
             let e = t.check("f.toml", 0).expect_err(key).to_string();
             assert!(e.contains("f.toml") && e.contains(key), "{key}: {e}");
         }
+    }
+
+    #[test]
+    fn limits_are_checked_before_layout_and_named() {
+        assert!((MIN_HEIGHT - HERSHEY_CAP * MIN_RADIUS).abs() < 1e-15);
+        let ok = Text::new(
+            "t",
+            &"A".repeat(MAX_TEXT_CHARS),
+            MIN_HEIGHT,
+            2.0 * MIN_RADIUS,
+        );
+        assert_eq!(ok.problem(), None);
+        let long = Text::new("t", &"A".repeat(MAX_TEXT_CHARS + 1), 10.0, 1.0);
+        let p = long.problem().unwrap();
+        assert_eq!(p.key, "text");
+        assert!(
+            p.message.contains(&MAX_TEXT_CHARS.to_string()),
+            "{}",
+            p.message
+        );
+        let p = Text::new("t", "AV", MIN_HEIGHT * 0.99, 1.0)
+            .problem()
+            .unwrap();
+        assert_eq!(p.key, "height");
+        let p = Text::new("t", "AV", 1.0, MIN_RADIUS).problem().unwrap();
+        assert_eq!(p.key, "width");
+        let p = Text::new("t", "a漢b字漢", 1.0, 0.1).problem().unwrap();
+        assert_eq!(p.key, "text");
+        assert!(
+            p.message
+                .contains("'漢' (U+6F22), '字' (U+5B57) (first at character 1"),
+            "{}",
+            p.message
+        );
+        // The design-wide total counts every element.
+        let half = Text::new("t", &"A".repeat(MAX_TEXT_CHARS / 2 + 1), 10.0, 1.0);
+        assert!(check_total(std::slice::from_ref(&half), "f.toml").is_ok());
+        let e = check_total(&[half.clone(), half], "f.toml").unwrap_err();
+        assert!(e.to_string().contains("text 1"), "{e}");
+        // A layout beyond the coordinate limit is named.
+        let mut far = Text::new("t", "A\nB", 1e6, 1.0);
+        far.line_spacing = Some(100.0);
+        assert_eq!(far.problem(), None);
+        assert_eq!(layout_problem(&far.layout(), 0.5).unwrap().key, "text");
+        assert!(far.to_strokes("f.toml", 0).is_err());
     }
 
     #[test]

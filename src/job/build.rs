@@ -391,6 +391,47 @@ fn union_paths_with_sources(
     (paths, sources)
 }
 
+/// Refuses a fill whose spacing would make more than [`ops::MAX_HATCH_LINES`] hatch lines
+/// in one direction ([`ops::hatch_line_count`]) or more than [`ops::MAX_FILL_RINGS`]
+/// concentric rings ([`ops::ring_count_bound`]) across its items, before any is made.
+fn fill_count_check(
+    ctx: &Ctx,
+    index: usize,
+    op: &Operation,
+    items: &[usize],
+    angle: f64,
+    spacing: f64,
+) -> Result<(), JobError> {
+    let regions = ctx.item_regions(items);
+    let (count, limit, what) = match op.pattern.unwrap_or_default() {
+        FillPattern::Hatch => {
+            let mut n = ops::hatch_line_count(&regions, angle, spacing);
+            if op.cross_hatch.unwrap_or(false) {
+                let across = angle + std::f64::consts::FRAC_PI_2;
+                n = n.max(ops::hatch_line_count(&regions, across, spacing));
+            }
+            (n, ops::MAX_HATCH_LINES, "hatch lines in one direction")
+        }
+        FillPattern::Concentric => (
+            ops::ring_count_bound(&regions, spacing),
+            ops::MAX_FILL_RINGS,
+            "concentric rings",
+        ),
+    };
+    if count > limit as f64 {
+        return Err(op_err(
+            ctx,
+            index,
+            op,
+            format!(
+                "fill with spacing {spacing} would make about {count:.0} {what}, more than \
+                 the limit {limit}: give a larger spacing"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The union of `regions` within `tol`; a single region as it is.
 fn union_of(regions: &[Region], tol: f64) -> Region {
     match regions {
@@ -812,6 +853,7 @@ fn operation_specs(
             let angle = op.angle.unwrap_or(0.0).to_radians();
             let alternate = op.alternate.unwrap_or(true);
             let cross = op.cross_hatch.unwrap_or(false);
+            fill_count_check(ctx, index, op, &items, angle, spacing)?;
             // Touching and crossing strokes are filled as one region (their union).
             let (paths, sources) = union_paths_with_sources(ctx, &items, |region| {
                 // Keep the tool inside: hatch the region shrunk by the tool radius.
@@ -839,7 +881,7 @@ fn operation_specs(
                         r.max(spacing / 2.0),
                         spacing,
                         r.max(spacing / 2.0),
-                        10_000,
+                        ops::MAX_FILL_RINGS,
                         eps,
                     ),
                 }
@@ -1436,38 +1478,21 @@ pub fn place_job(
     let wa = &profile.work_area;
     let a_lo = DVec2::new(wa.x.min(), wa.y.min()) * k;
     let a_hi = DVec2::new(wa.x.max(), wa.y.max()) * k;
-    let a_size = a_hi - a_lo;
-    let pad = match place {
-        Place::LowerLeft => margin + inset,
-        _ => inset,
-    };
     let units = if (design_mm_per_unit - 1.0).abs() < 1e-12 {
         "mm"
     } else {
         "in"
     };
-    if size.x + pad + inset > a_size.x || size.y + pad + inset > a_size.y {
-        let room = a_size - DVec2::splat(pad + inset);
-        let fit = (room.x / size.x).min(room.y / size.y);
-        return Err(JobError::Options(format!(
-            "the job is {:.1} x {:.1} {units} (tool paths included{}), larger than the work \
-             area of profile \"{}\", {:.1} x {:.1} {units}: use --fit {:.0}x{:.0} to scale the \
-             design down to fit (about --scale {:.3} of the current size), or a larger machine",
-            size.x,
-            size.y,
-            if pad > inset {
-                format!(", plus the {margin} margin")
-            } else {
-                String::new()
-            },
-            profile.name,
-            a_size.x,
-            a_size.y,
-            (room.x - inset).max(0.0).floor(),
-            (room.y - inset).max(0.0).floor(),
-            scale * fit.max(0.0) * 0.99,
-        )));
-    }
+    super::size::check_fits(
+        size,
+        false,
+        profile,
+        design_mm_per_unit,
+        place,
+        margin,
+        inset,
+        scale,
+    )?;
     let offset = match place {
         Place::Design => DVec2::ZERO,
         Place::LowerLeft => a_lo + DVec2::splat(margin + inset) - lo,

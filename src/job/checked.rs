@@ -188,16 +188,16 @@ impl Job<'_> {
         let clock = StageClock::new(o.progress);
         let on_progress = |p: Progress| clock.seen(p);
         let progress: Option<ProgressFn<'_>> = Some(&on_progress);
-        let (design, mut built, scale) = self.scaled_build(progress)?;
-        clock.start(Stage::Place);
         let decimals = profile.gcode_settings().map(|g| g.decimals).unwrap_or(3);
-        let k = profile.units.mm_per_unit() / design.units.mm_per_unit();
+        let k = profile.units.mm_per_unit() / self.design.units.mm_per_unit();
         // Two units of the program's last decimal, so that coordinate rounding cannot put an
         // arc's extreme point a hair outside the work area: a reader takes the arc's radius
         // from the rounded start and the rounded centre offset, each off by up to half a unit
         // per axis, so the radius (and the extreme) moves by up to √2 units (seed 0x5EED0013
         // case 138: a hole's circle reached x = −0.0004 with one unit).
         let inset = 2.0 * 10f64.powi(-(decimals as i32)) * k;
+        let (design, mut built, scale) = self.scaled_build(progress, inset)?;
+        clock.start(Stage::Place);
         let placement = place_job(
             &mut built,
             profile,
@@ -280,9 +280,13 @@ impl Job<'_> {
     }
 
     /// The design scaled as [`JobOptions::scale`] says and its toolpath (not yet placed).
+    /// Without `--fit`, a design whose extent alone cannot fit the work area (with the
+    /// placement's padding and the rounding `inset`) is refused before the build
+    /// ([`super::size::early_extent`]).
     fn scaled_build(
         &self,
         progress: Option<ProgressFn<'_>>,
+        inset: f64,
     ) -> Result<(Design, BuildResult, f64), JobError> {
         let o = &self.options;
         let original = self.design;
@@ -312,6 +316,21 @@ impl Job<'_> {
         } else {
             original.clone()
         };
+        let slack = 2.0 * (o.build.epsilon + 2.0 * o.build.tolerance) + o.build.tolerance;
+        if fit.is_none()
+            && let Some((lo, hi)) = super::size::early_extent(&design, slack)
+        {
+            super::size::check_fits(
+                hi - lo,
+                true,
+                self.profile,
+                design.units.mm_per_unit(),
+                o.place,
+                o.margin,
+                inset,
+                scale,
+            )?;
+        }
         let build = |d: &Design| build_toolpath_with(d, self.profile, &o.build, progress);
         let mut built = build(&design)?;
         if let Some((w, h)) = fit {

@@ -11,6 +11,7 @@ pub mod preview;
 pub mod progress;
 pub mod re_route;
 pub mod shapes;
+pub mod size;
 
 pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, Summary, design_of_strokes};
 pub use progress::{Progress, ProgressFn, Stage, Timings};
