@@ -11,10 +11,17 @@ use super::model::{Design, Operation, OperationKind};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Width (mm) at or below which a stroke is a hairline whatever the tool: a line drawn to be
-/// followed, not a shape whose two edges are cut. Inkscape's and the laser tools' "hairline"
-/// strokes are thinner than this; a 0.5 mm pen line is the widest stroke plotter art
-/// draws as a line.
-pub const HAIRLINE_MM: f64 = 0.5;
+/// followed, not a shape whose two edges are cut. SVG's default `stroke-width` is 1 user
+/// unit, 1 mm in a document drawn in millimetres (svg2gcode's `shapes.svg` leaves it unset
+/// on two of its seven outlines); pen-plotter art and Inkscape's hairlines (0.26 mm)
+/// are thinner. Cutting both edges of a stroke this thin leaves a sliver narrower than a
+/// millimetre between two kerfs.
+pub const HAIRLINE_MM: f64 = 1.0;
+
+/// Relative slack of the hairline test: widths read from an SVG pass through f32
+/// (≈ 6·10⁻⁸ relative precision) and transforms, so a 1 mm stroke may come out a hair
+/// wider.
+pub const HAIRLINE_SLACK: f64 = 1e-6;
 
 /// `#rrggbb` in lower case, or `None` when `s` is not `#` and six hexadecimal digits (any
 /// case).
@@ -102,8 +109,14 @@ impl Design {
                 *c = n;
             }
         };
-        self.stroke.iter_mut().filter_map(|s| s.color.as_mut()).for_each(fix);
-        self.shape.iter_mut().filter_map(|s| s.color.as_mut()).for_each(fix);
+        self.stroke
+            .iter_mut()
+            .filter_map(|s| s.color.as_mut())
+            .for_each(fix);
+        self.shape
+            .iter_mut()
+            .filter_map(|s| s.color.as_mut())
+            .for_each(fix);
         for op in &mut self.operation {
             op.colors.iter_mut().flatten().for_each(fix);
         }
@@ -119,8 +132,8 @@ impl Design {
 }
 
 /// The operation kind [`default_operations`] gives the stroke `s`: `line` when it is a
-/// hairline (its width 2·max rᵢ over its listed disks or points is at most `hairline`),
-/// else `profile`. The radius of a disk B-spline is a convex combination of its control
+/// hairline (its width 2·max rᵢ over its listed disks or points is at most `hairline`, with
+/// [`HAIRLINE_SLACK`]), else `profile`. The radius of a disk B-spline is a convex combination of its control
 /// radii (B-spline basis: Nᵢ ≥ 0, Σ Nᵢ = 1), so it never exceeds their largest.
 pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> OperationKind {
     let r = s
@@ -130,7 +143,7 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
         .flatten()
         .map(|d| d[2])
         .fold(0.0f64, f64::max);
-    if 2.0 * r <= hairline {
+    if 2.0 * r <= hairline * (1.0 + HAIRLINE_SLACK) {
         OperationKind::Line
     } else {
         OperationKind::Profile
@@ -303,7 +316,8 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
 
     #[test]
     fn unknown_or_malformed_selectors_and_colours_are_errors() {
-        let msg = load("[[operation]]\nkind = \"line\"\nlayers = [\"ink\", \"Ink\"]\n").unwrap_err();
+        let msg =
+            load("[[operation]]\nkind = \"line\"\nlayers = [\"ink\", \"Ink\"]\n").unwrap_err();
         assert!(msg.starts_with(FILE), "{msg}");
         assert!(msg.contains("operation 0 (line), key `layers`"), "{msg}");
         assert!(msg.contains("\"Ink\""), "{msg}");
@@ -360,7 +374,10 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
         let d = load("").unwrap();
         let ops = default_operations(&d, HAIRLINE_MM);
         let kinds: Vec<&str> = ops.iter().map(|o| o.kind.as_str()).collect();
-        assert_eq!(kinds, ["line", "profile", "line", "line", "profile", "profile"]);
+        assert_eq!(
+            kinds,
+            ["line", "profile", "line", "line", "profile", "profile"]
+        );
         // "thin" and "wide" share layer and colour but not kind: named; "blue" is all of
         // layer "marks"; "plate" all of layer "cut".
         assert_eq!(ops[0].strokes, Some(vec!["thin".to_string()]));

@@ -26,8 +26,8 @@ use super::progress::{ProgressFn, Stage, report};
 use super::re_route::{ReItem, RouteNote, RouteRefusal, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
 use crate::design::{
-    Design, FillPattern, HAIRLINE_MM, HoleAt, Operation, OperationKind, OutlineMethod,
-    ProfileSide, Selection, Tags, default_operations,
+    Design, FillPattern, HAIRLINE_MM, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
+    Selection, Tags, default_operations,
 };
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
@@ -486,6 +486,27 @@ fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
     ctx.stroke_index.get(name).map(|&k| &ctx.strokes[k])
 }
 
+/// Whether the line `next` of stroke `to` continues the line `prev` of stroke `from` (the
+/// open piece before it): the two are pieces of one stroke split at a corner
+/// ([`Design::corners`]) and meet there exactly. Pieces with stroke attributes stay apart
+/// (a cut takes the attributes of the stroke it names).
+fn joins_at_corner(ctx: &Ctx, from: &str, to: &str, prev: &Path, next: &Path) -> bool {
+    let plain = |n: &str| {
+        (ctx.stroke_index.get(n)).is_some_and(|&k| ctx.design.stroke[k].attributes.is_empty())
+    };
+    !prev.closed
+        && !next.closed
+        && prev.end().is_some()
+        && prev.end() == next.start()
+        && ctx
+            .design
+            .corners
+            .iter()
+            .any(|c| c.pieces[0] == from && c.pieces[1] == to)
+        && plain(from)
+        && plain(to)
+}
+
 /// The paths a `line` operation cuts for item `item` ([`crate::toolpath::line`]): a
 /// stroke's spine, a shape's contours, a circle sequence's centres.
 fn line_paths(ctx: &Ctx, item: usize) -> Vec<Path> {
@@ -646,16 +667,28 @@ fn operation_specs(
                     .find_map(|k| ctx.profile.tools.iter().find(|t| t.kind == *k))
             };
             // Per selected item its paths (independent fits: in parallel, kept in order).
-            let per_item: Vec<(usize, Vec<Path>)> = items
-                .par_iter()
-                .map(|&i| (i, line_paths(ctx, i)))
-                .collect();
-            let mut paths = Vec::new();
-            let mut sources = Vec::new();
+            let per_item: Vec<(usize, Vec<Path>)> =
+                items.par_iter().map(|&i| (i, line_paths(ctx, i))).collect();
+            let mut paths: Vec<Path> = Vec::new();
+            let mut sources: Vec<String> = Vec::new();
+            // The item of the last path's last piece.
+            let mut last = "";
             for (i, ps) in per_item {
+                let name = ctx.outlines[i].name.as_str();
                 for p in ps {
-                    paths.push(p);
-                    sources.push(ctx.outlines[i].name.clone());
+                    // The pieces of a stroke split at corners are one line: joined.
+                    match paths.last_mut() {
+                        Some(prev) if joins_at_corner(ctx, last, name, prev, &p) => {
+                            prev.segs.extend(p.segs);
+                            let (a, b) = (prev.start(), prev.end());
+                            prev.closed = a.zip(b).is_some_and(|(a, b)| a == b);
+                        }
+                        _ => {
+                            paths.push(p);
+                            sources.push(name.to_string());
+                        }
+                    }
+                    last = name;
                 }
             }
             let mut line_op = op.clone();
