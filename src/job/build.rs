@@ -1,9 +1,14 @@
 //! From a design and a machine profile to an ordered toolpath: each `[[operation]]` of the
-//! design (or, with none, one profile of every outline) becomes operation geometry
-//! ([`crate::toolpath::ops`]) and is planned into cuts ([`crate::toolpath::plan`]).
+//! design (or, with none, the default operations: per item for a drawing, see
+//! [`crate::design::default_operations`], else one profile of every outline) becomes
+//! operation geometry ([`crate::toolpath::ops`], [`crate::toolpath::line`]) and is planned
+//! into cuts ([`crate::toolpath::plan`]).
 //!
 //! Defaults where the design is silent, as a shop CAM would choose them:
 //! - profile side: on the line for lasers, outside for routers (the part keeps its size);
+//! - line depth on a router: [`LINE_DEPTH_MM`] with the profile's V-bit, else its cutter;
+//! - hairline width (a drawing's strokes cut as lines when no operation is given):
+//!   max(kerf or tool diameter, [`HAIRLINE_MM`]);
 //! - feed: half the machine's slower XY maximum; power: 100 %;
 //! - router depth per pass: the tool diameter (a conservative full-width step);
 //! - backboard margin 5 mm (scaled to the design's units), inner corner radius = tool radius;
@@ -615,8 +620,8 @@ fn stroke_attributes(
     item: usize,
     curve: &DiskBSpline,
 ) -> Result<StrokeAttributes, JobError> {
-    let name = &ctx.outlines[item].name;
-    let Some(k) = ctx.design.stroke.iter().position(|s| &s.name == name) else {
+    let name = ctx.outlines[item].name.as_str();
+    let Some(&k) = ctx.stroke_index.get(name) else {
         return Ok(StrokeAttributes::default());
     };
     let mut out = StrokeAttributes::default();
