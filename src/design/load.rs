@@ -49,6 +49,7 @@ pub fn from_str(text: &str, format: Format, file_name: &str) -> Result<Design, D
     design.file = file_name.to_string();
     design.expand()?;
     validate(&design)?;
+    design.normalize_colors();
     Ok(design)
 }
 

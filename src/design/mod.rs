@@ -45,8 +45,10 @@
 //! contours = [[[0.0, -10.0], [40.0, -10.0], [40.0, -4.0], [0.0, -4.0]]]  # [[x, y], ...]
 //!
 //! [[operation]]               # toolpath operations: plain data for the toolpath stage
-//! kind = "channel"            # profile | channel | backboard | holes | fill | vcarve
+//! kind = "channel"            # profile | channel | backboard | holes | fill | vcarve | line
 //! strokes = ["s1"]            # default: all strokes, circle sequences and shapes
+//! # layers = ["cut"]          # also selects by the items' `layer` and `color` ([`select`])
+//! # colors = ["#ff0000"]
 //! width = 6.0
 //! depth = 8.0
 //! ```
@@ -104,8 +106,17 @@
 //! `margin`, `min_inner_radius`; holes `diameter` (required), `at` = "ends" | "start" |
 //! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),
 //! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
-//! required), `max_depth`. A per-kind key on another kind is an error, and so is a name in
-//! `strokes` that no stroke, circle sequence or shape has.
+//! required), `max_depth`; line: only `strokes`/`layers`/`colors`, `passes`, `step_down`,
+//! `depth` (routers; default a shallow engraving depth), `feed`, `power`, `air_assist`
+//! (no `lead_in`, no `tabs`). A per-kind key on another kind is an error, and so is a name
+//! in `strokes` that no stroke, circle sequence or shape has.
+//!
+//! Layers and colours. Strokes and shapes may carry `layer = "..."` (any label) and
+//! `color = "#rrggbb"` (six hexadecimal digits, any case; loading writes lower case).
+//! Operations select by them with `layers = [...]` and `colors = [...]` beside `strokes`:
+//! an item is selected when any given selector names it ([`select`]). Each list is
+//! non-empty; a layer or colour that no stroke or shape has is an error that lists the
+//! design's layers (colours).
 //!
 //! Geometry: [`Design::strokes`] gives every stroke as a
 //! [`DiskBSpline`](crate::dbsc::DiskBSpline) (points strokes through
@@ -121,6 +132,7 @@ pub mod corners;
 mod error;
 mod load;
 mod model;
+pub mod select;
 pub mod shape;
 pub mod svg;
 pub mod text;
@@ -135,6 +147,7 @@ pub use model::{
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
     VERSION,
 };
+pub use select::{HAIRLINE_MM, Selection, Tags, default_operations, normalize_color};
 pub use shape::{FillRule, Shape};
 pub use text::Text;
 pub use validate::{

@@ -320,7 +320,7 @@ pub struct CircleSeq {
 }
 
 /// The kind of an `[[operation]]`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum OperationKind {
     /// Cut on, outside or inside the outline.
@@ -335,6 +335,10 @@ pub enum OperationKind {
     Fill,
     /// V-bit carving along the spine, depth from the radius.
     Vcarve,
+    /// Cut or engrave once along a stroke's spine (centre line), a shape's boundary or the
+    /// polyline through a circle sequence's centres: lasers on the path, routers on the
+    /// path at a shallow depth (see [`crate::job`]'s build for the defaults).
+    Line,
 }
 
 impl OperationKind {
@@ -347,6 +351,7 @@ impl OperationKind {
             OperationKind::Holes => "holes",
             OperationKind::Fill => "fill",
             OperationKind::Vcarve => "vcarve",
+            OperationKind::Line => "line",
         }
     }
 }

@@ -2,8 +2,9 @@
 
 use super::error::{DesignError, ErrorKind, Item, Part};
 use super::model::{Design, Fit, Operation, OperationKind, Stroke, VERSION};
+use super::select::normalize_color;
 use crate::spline::SplineError;
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 
 type Result<T> = std::result::Result<T, DesignError>;
 
@@ -82,6 +83,7 @@ pub fn validate(d: &Design) -> Result<()> {
             name: s.name.clone(),
         };
         check_name(file, &s.name, item.clone(), &mut names)?;
+        check_color(file, &item, s.color.as_deref())?;
         check_stroke(file, s, &item)?;
         if s.points.is_some() {
             // A fit can still fail (e.g. a control disk of non-positive radius): report it
@@ -116,15 +118,122 @@ pub fn validate(d: &Design) -> Result<()> {
             index,
             name: sh.name.clone(),
         };
-        check_name(file, &sh.name, item, &mut names)?;
+        check_name(file, &sh.name, item.clone(), &mut names)?;
+        check_color(file, &item, sh.color.as_deref())?;
         sh.validate(file, index)?;
     }
+    let tags = Known::of(d);
     for (index, op) in d.operation.iter().enumerate() {
         let item = Item::Operation {
             index,
             kind: op.kind.as_str().to_string(),
         };
         check_operation(file, op, &item, &names)?;
+        check_selectors(file, op, &item, &tags)?;
+    }
+    Ok(())
+}
+
+/// An item's `color`, when given, is `#rrggbb` (any case).
+fn check_color(file: &str, item: &Item, color: Option<&str>) -> Result<()> {
+    match color {
+        Some(c) if normalize_color(c).is_none() => Err(invalid(
+            file,
+            item,
+            "color",
+            format!("color {c:?} is not a colour #rrggbb (six hexadecimal digits)"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The layers and colours (lower case) the design's strokes and shapes carry, sorted.
+struct Known<'a> {
+    layers: BTreeSet<&'a str>,
+    colors: BTreeSet<String>,
+}
+
+impl<'a> Known<'a> {
+    fn of(d: &'a Design) -> Self {
+        let tags = d
+            .stroke
+            .iter()
+            .map(|s| (&s.layer, &s.color))
+            .chain(d.shape.iter().map(|s| (&s.layer, &s.color)));
+        let mut k = Known {
+            layers: BTreeSet::new(),
+            colors: BTreeSet::new(),
+        };
+        for (l, c) in tags {
+            k.layers.extend(l.as_deref());
+            k.colors.extend(c.as_deref().and_then(normalize_color));
+        }
+        k
+    }
+}
+
+/// `layers` and `colors` of an operation: non-empty lists, each colour `#rrggbb`, each
+/// layer and colour one that a stroke or shape has (the error lists those the design has).
+fn check_selectors(file: &str, op: &Operation, item: &Item, known: &Known) -> Result<()> {
+    let list = |set: &mut dyn Iterator<Item = String>| {
+        let v: Vec<String> = set.map(|s| format!("\"{s}\"")).collect();
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    if let Some(layers) = &op.layers {
+        if layers.is_empty() {
+            return Err(invalid(
+                file,
+                item,
+                "layers",
+                "`layers` names no layer (leave it out)".into(),
+            ));
+        }
+        if let Some(l) = layers.iter().find(|l| !known.layers.contains(l.as_str())) {
+            return Err(invalid(
+                file,
+                item,
+                "layers",
+                format!(
+                    "no stroke or shape is on layer \"{l}\"; the design's layers are: {}",
+                    list(&mut known.layers.iter().map(|s| s.to_string()))
+                ),
+            ));
+        }
+    }
+    if let Some(colors) = &op.colors {
+        if colors.is_empty() {
+            return Err(invalid(
+                file,
+                item,
+                "colors",
+                "`colors` names no colour (leave it out)".into(),
+            ));
+        }
+        for c in colors {
+            let Some(n) = normalize_color(c) else {
+                return Err(invalid(
+                    file,
+                    item,
+                    "colors",
+                    format!("{c:?} is not a colour #rrggbb (six hexadecimal digits)"),
+                ));
+            };
+            if !known.colors.contains(&n) {
+                return Err(invalid(
+                    file,
+                    item,
+                    "colors",
+                    format!(
+                        "no stroke or shape has colour {n}; the design's colours are: {}",
+                        list(&mut known.colors.iter().cloned())
+                    ),
+                ));
+            }
+        }
     }
     Ok(())
 }
@@ -519,7 +628,9 @@ fn applies(key: &str) -> &'static [OperationKind] {
         "max_depth" => &[Vcarve],
         // Tabs hold a part cut free; the skin route is chosen for outline cuts.
         "tabs" | "method" => &[Profile, Backboard],
-        _ => &[Profile, Channel, Backboard, Holes, Fill, Vcarve],
+        // A line has no waste side to lead in from.
+        "lead_in" => &[Profile, Channel, Backboard, Holes, Fill, Vcarve],
+        _ => &[Profile, Channel, Backboard, Holes, Fill, Vcarve, Line],
     }
 }
 
@@ -544,6 +655,7 @@ fn check_operation(
         ("max_depth", op.max_depth.is_some()),
         ("tabs", op.tabs.is_some()),
         ("method", op.method.is_some()),
+        ("lead_in", op.lead_in.is_some()),
     ];
     for (key, present) in set {
         if present && !applies(key).contains(&op.kind) {

@@ -17,7 +17,8 @@ use crate::machine::{
     ArcFormat, Dialect, GcodeSettings, LaserMode, LaserSettings, MachineKind, Profile, RapidOff,
     RouterSettings, Units, format_number, pow10, push_number, template,
 };
-use crate::toolpath::{Cut, Move, MoveKind, Toolpath};
+pub use crate::sim::checks::intersect::LINE_GROUP;
+use crate::toolpath::{Cut, Move, MoveKind, OperationKind, Toolpath};
 use glam::{DVec2, DVec3};
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -55,8 +56,10 @@ impl Default for GcodeOptions {
 /// Prefix of the comment that marks the cuts of one pocket: `(skinpath:group N)` before the
 /// first cut of pocket N, `(skinpath:group none)` before a cut of no pocket. Moves of one
 /// pocket may cross each other (concentric rings meeting a hole); the checker
-/// judges every other crossing, and every file without the marks, strictly. The marks are
-/// written whether or not the profile writes comments.
+/// judges every other crossing, and every file without the marks, strictly. Cuts of `line`
+/// operations go under `(skinpath:group 0)` ([`LINE_GROUP`]): lines of a drawing may cross
+/// each other, themselves and other cuts. The marks are written whether or not the profile
+/// writes comments.
 pub const GROUP_MARK: &str = "skinpath:group";
 
 /// Where a line of the program came from: the operation (index in the toolpath) and the
@@ -337,13 +340,19 @@ impl Writer<'_> {
                 self.at.cut = ci;
                 self.at.mv = None;
                 self.origin = Some((oi, ci));
-                if cut.group != self.group {
-                    let m = match cut.group {
+                // Line cuts go under the lines' mark: they may cross.
+                let group = if op.kind == OperationKind::Line {
+                    Some(LINE_GROUP)
+                } else {
+                    cut.group
+                };
+                if group != self.group {
+                    let m = match group {
                         Some(g) => format!("{GROUP_MARK} {g}"),
                         None => format!("{GROUP_MARK} none"),
                     };
                     self.mark(&m);
-                    self.group = cut.group;
+                    self.group = group;
                 }
                 self.cut(cut)?;
             }

@@ -53,10 +53,10 @@ impl Default for LaserSvgOptions {
     }
 }
 
-/// The stroke colour of an operation kind.
+/// The stroke colour of an operation kind; a line is cut like a profile, in its colour.
 pub fn color_of(colors: &OperationColors, kind: OperationKind) -> &str {
     match kind {
-        OperationKind::Profile => &colors.profile,
+        OperationKind::Profile | OperationKind::Line => &colors.profile,
         OperationKind::Channel => &colors.channel,
         OperationKind::Backboard => &colors.backboard,
         OperationKind::Holes => &colors.holes,

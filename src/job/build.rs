@@ -1,9 +1,14 @@
 //! From a design and a machine profile to an ordered toolpath: each `[[operation]]` of the
-//! design (or, with none, one profile of every outline) becomes operation geometry
-//! ([`crate::toolpath::ops`]) and is planned into cuts ([`crate::toolpath::plan`]).
+//! design (or, with none, the default operations: per item for a drawing, see
+//! [`crate::design::default_operations`], else one profile of every outline) becomes
+//! operation geometry ([`crate::toolpath::ops`], [`crate::toolpath::line`]) and is planned
+//! into cuts ([`crate::toolpath::plan`]).
 //!
 //! Defaults where the design is silent, as a shop CAM would choose them:
 //! - profile side: on the line for lasers, outside for routers (the part keeps its size);
+//! - line depth on a router: [`LINE_DEPTH_MM`] with the profile's V-bit, else its cutter;
+//! - hairline width (a drawing's strokes cut as lines when no operation is given):
+//!   max(kerf or tool diameter, [`HAIRLINE_MM`]);
 //! - feed: half the machine's slower XY maximum; power: 100 %;
 //! - router depth per pass: the tool diameter (a conservative full-width step);
 //! - backboard margin 5 mm (scaled to the design's units), inner corner radius = tool radius;
@@ -26,7 +31,8 @@ use super::progress::{ProgressFn, Stage, report};
 use super::re_route::{ReItem, RouteNote, RouteRefusal, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
 use crate::design::{
-    Design, FillPattern, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
+    Design, FillPattern, HAIRLINE_MM, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
+    Selection, Tags, default_operations,
 };
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
@@ -42,6 +48,7 @@ use crate::toolpath::swept::swept_arc_region;
 use crate::toolpath::{OperationKind as TpKind, Toolpath};
 use glam::DVec3;
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::sync::Mutex;
 
 /// Options of a build.
@@ -71,6 +78,12 @@ impl Default for BuildOptions {
 const STEPOVER: f64 = 0.4;
 /// Default backboard margin in millimetres.
 const BACKBOARD_MARGIN_MM: f64 = 5.0;
+/// Depth (mm) of a router's `line` operation that sets no `depth`: a shallow engraving, as
+/// a pen-plotter line or a scribed mark; with a 60° V-bit the groove is
+/// 2·0.2·tan 30° ≈ 0.23 mm wide.
+pub const LINE_DEPTH_MM: f64 = 0.2;
+/// Depth (mm) of the profiles of a design without operations on a router.
+pub const DEFAULT_PROFILE_DEPTH_MM: f64 = 3.0;
 /// Spacing of V-carve samples along the spine, in millimetres: the chord sagitta
 /// s²/(8ρ) stays below 8 µm wherever the spine's curvature radius ρ ≥ 1 mm.
 const VCARVE_STEP_MM: f64 = 0.25;
@@ -95,6 +108,10 @@ struct Ctx<'a> {
     design: &'a Design,
     profile: &'a Profile,
     strokes: Vec<DiskBSpline>,
+    /// Index in `design.stroke` (and `strokes`) of each stroke, by name.
+    stroke_index: HashMap<&'a str, usize>,
+    /// Layer and colour of each stroke and shape, by name.
+    tags: HashMap<&'a str, Tags<'a>>,
     outlines: Vec<ItemOutline>,
     tol: f64,
     /// Design units per millimetre.
@@ -134,14 +151,45 @@ impl Ctx<'_> {
         !matches!(self.profile.kind, MachineKind::Router)
     }
 
-    /// Names of the items an operation applies to (all when unset).
+    /// The items an operation applies to, in item order: those its `strokes`, `layers` or
+    /// `colors` name, all when it gives none ([`Selection`]).
     fn selected(&self, op: &Operation) -> Vec<usize> {
-        match &op.strokes {
-            None => (0..self.outlines.len()).collect(),
-            Some(names) => (0..self.outlines.len())
-                .filter(|&i| names.iter().any(|n| *n == self.outlines[i].name))
-                .collect(),
+        let sel = Selection::of(op);
+        (0..self.outlines.len())
+            .filter(|&i| {
+                let name = self.outlines[i].name.as_str();
+                let tags = self.tags.get(name).copied().unwrap_or_default();
+                sel.selects(name, tags)
+            })
+            .collect()
+    }
+
+    /// Width at or below which a stroke of a design without operations is a hairline, cut
+    /// once along its spine: max(kerf or tool diameter, [`HAIRLINE_MM`]) in design units
+    /// (a stroke no wider than the tool cannot have both edges cut).
+    fn hairline(&self) -> f64 {
+        let tool = self.tool(&[ToolKind::Endmill, ToolKind::Ballnose, ToolKind::Beam]);
+        (2.0 * self.radius(tool)).max(HAIRLINE_MM * self.per_mm)
+    }
+
+    /// The operations of a design without any: a drawing (an .svg, or items with `layer` or
+    /// `color`) is cut item by item ([`default_operations`]: hairlines as lines, the rest
+    /// profiled); any other design is one profile around the union of everything. Router
+    /// profiles are [`DEFAULT_PROFILE_DEPTH_MM`] deep.
+    fn default_ops(&self) -> Vec<Operation> {
+        let d = self.design;
+        let drawing = d.is_tagged() || d.file.to_ascii_lowercase().ends_with(".svg");
+        let mut ops = if drawing {
+            default_operations(d, self.hairline())
+        } else {
+            vec![Operation::new(OperationKind::Profile)]
+        };
+        for op in &mut ops {
+            if !self.laser() && op.kind == OperationKind::Profile {
+                op.depth = Some(DEFAULT_PROFILE_DEPTH_MM * self.per_mm);
+            }
         }
+        ops
     }
 
     /// The region of each item's outline (arcs fitted within the build tolerance), made in
@@ -480,12 +528,59 @@ fn nearest_region(regions: &[Region], q: DVec2) -> usize {
 }
 
 fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
+    let name = ctx.outlines[item].name.as_str();
+    ctx.stroke_index.get(name).map(|&k| &ctx.strokes[k])
+}
+
+/// Whether the line `next` of stroke `to` continues the line `prev` of stroke `from` (the
+/// open piece before it): the two are pieces of one stroke split at a corner
+/// ([`Design::corners`]) and meet there exactly. Pieces with stroke attributes stay apart
+/// (a cut takes the attributes of the stroke it names).
+fn joins_at_corner(ctx: &Ctx, from: &str, to: &str, prev: &Path, next: &Path) -> bool {
+    let plain = |n: &str| {
+        (ctx.stroke_index.get(n)).is_some_and(|&k| ctx.design.stroke[k].attributes.is_empty())
+    };
+    !prev.closed
+        && !next.closed
+        && prev.end().is_some()
+        && prev.end() == next.start()
+        && ctx
+            .design
+            .corners
+            .iter()
+            .any(|c| c.pieces[0] == from && c.pieces[1] == to)
+        && plain(from)
+        && plain(to)
+}
+
+/// The paths a `line` operation cuts for item `item` ([`crate::toolpath::line`]): a
+/// stroke's spine, a shape's contours, a circle sequence's centres.
+fn line_paths(ctx: &Ctx, item: usize) -> Vec<Path> {
+    use crate::toolpath::line::{polyline_path, spine_path};
+    if let Some(c) = spine_of(ctx, item) {
+        return vec![spine_path(c, ctx.tol)];
+    }
     let name = &ctx.outlines[item].name;
+    if let Some(sh) = ctx.design.shape.iter().find(|s| &s.name == name) {
+        return sh
+            .contours
+            .iter()
+            .filter_map(|ring| {
+                let pts: Vec<DVec2> = ring.iter().map(|p| DVec2::new(p[0], p[1])).collect();
+                polyline_path(&pts, true)
+            })
+            .collect();
+    }
     ctx.design
-        .stroke
+        .circles
         .iter()
-        .position(|s| &s.name == name)
-        .map(|k| &ctx.strokes[k])
+        .find(|c| &c.name == name)
+        .and_then(|c| {
+            let pts: Vec<DVec2> = c.circles.iter().map(|p| DVec2::new(p[0], p[1])).collect();
+            polyline_path(&pts, c.closed)
+        })
+        .into_iter()
+        .collect()
 }
 
 /// The swept regions of the design's channel operations along the strokes among `items`
@@ -516,8 +611,7 @@ fn channel_regions(ctx: &Ctx, items: &[usize]) -> Vec<Region> {
 /// [`channel_polygon`].
 fn channel_swept(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
     let eps = ctx.tol * 0.1;
-    let arcs = crate::dbsc::spine::spine_cubics(c).and_then(|cubics| {
-        let pline = crate::toolpath::region::pline_from_path(&cubics, ctx.tol);
+    let arcs = crate::toolpath::line::spine_pline(c, ctx.tol).and_then(|pline| {
         let region = swept_arc_region(&pline, width / 2.0, eps)?;
         Some((crate::toolpath::region::path_from_pline(&pline), region))
     });
@@ -567,8 +661,8 @@ fn stroke_attributes(
     item: usize,
     curve: &DiskBSpline,
 ) -> Result<StrokeAttributes, JobError> {
-    let name = &ctx.outlines[item].name;
-    let Some(k) = ctx.design.stroke.iter().position(|s| &s.name == name) else {
+    let name = ctx.outlines[item].name.as_str();
+    let Some(&k) = ctx.stroke_index.get(name) else {
         return Ok(StrokeAttributes::default());
     };
     let mut out = StrokeAttributes::default();
@@ -595,14 +689,70 @@ fn operation_specs(
     let laser = ctx.laser();
     let name = format!("{} {}", op.kind.as_str(), index + 1);
     let eps = ctx.tol * 0.1;
-    if !laser && op.depth.is_none() && !matches!(op.kind, OperationKind::Vcarve) {
+    let depth_optional = matches!(op.kind, OperationKind::Vcarve | OperationKind::Line);
+    if !laser && op.depth.is_none() && !depth_optional {
         return Err(op_err(ctx, index, op, "a router operation needs `depth`"));
     }
     let mill = [ToolKind::Endmill, ToolKind::Ballnose, ToolKind::Beam];
+    // A router engraves a line with a V-bit when it has one, else with a cutter.
+    let engrave = [ToolKind::Vbit, ToolKind::Endmill, ToolKind::Ballnose];
+    let want: &[ToolKind] = match op.kind {
+        OperationKind::Line => &engrave,
+        _ => &mill,
+    };
     if !laser && !matches!(op.kind, OperationKind::Vcarve) {
-        ctx.tool_for(index, op, &mill)?;
+        ctx.tool_for(index, op, want)?;
     }
     let out = match op.kind {
+        OperationKind::Line => {
+            let tool = if laser {
+                ctx.tool(&mill)
+            } else {
+                engrave
+                    .iter()
+                    .find_map(|k| ctx.profile.tools.iter().find(|t| t.kind == *k))
+            };
+            // Per selected item its paths (independent fits: in parallel, kept in order).
+            let per_item: Vec<(usize, Vec<Path>)> =
+                items.par_iter().map(|&i| (i, line_paths(ctx, i))).collect();
+            let mut paths: Vec<Path> = Vec::new();
+            let mut sources: Vec<String> = Vec::new();
+            // The item of the last path's last piece.
+            let mut last = "";
+            for (i, ps) in per_item {
+                let name = ctx.outlines[i].name.as_str();
+                for p in ps {
+                    // The pieces of a stroke split at corners are one line: joined.
+                    match paths.last_mut() {
+                        Some(prev) if joins_at_corner(ctx, last, name, prev, &p) => {
+                            prev.segs.extend(p.segs);
+                            let (a, b) = (prev.start(), prev.end());
+                            prev.closed = a.zip(b).is_some_and(|(a, b)| a == b);
+                        }
+                        _ => {
+                            paths.push(p);
+                            sources.push(name.to_string());
+                        }
+                    }
+                    last = name;
+                }
+            }
+            let mut line_op = op.clone();
+            if !laser && line_op.depth.is_none() {
+                line_op.depth = Some(LINE_DEPTH_MM * ctx.per_mm);
+            }
+            let mut s = spec(
+                ctx,
+                design_index,
+                name,
+                TpKind::Line,
+                &line_op,
+                Geometry::Paths(paths),
+                tool,
+            );
+            s.sources = sources;
+            vec![s]
+        }
         OperationKind::Profile => {
             let tool = ctx.tool(&mill);
             let r = ctx.radius(tool);
@@ -1197,7 +1347,10 @@ fn attributes_on_moves(ctx: &Ctx, tp: &mut Toolpath) -> Result<(), JobError> {
         tol: ctx.tol * 1e-3,
     };
     for op in &mut tp.operations {
-        if matches!(op.kind, TpKind::Profile | TpKind::Fill | TpKind::Channel) {
+        if matches!(
+            op.kind,
+            TpKind::Profile | TpKind::Fill | TpKind::Channel | TpKind::Line
+        ) {
             attrs::apply(op, &fields, &opts);
         }
     }
@@ -1287,6 +1440,10 @@ pub fn build_toolpath_with(
     let ctx = Ctx {
         design,
         profile,
+        stroke_index: (design.stroke.iter().enumerate())
+            .map(|(k, s)| (s.name.as_str(), k))
+            .collect(),
+        tags: design.tags(),
         strokes,
         outlines,
         tol: opts.tolerance,
@@ -1300,13 +1457,10 @@ pub fn build_toolpath_with(
     let n_ops = design.operation.len().max(1) + 1;
     report(progress, Stage::Toolpath, 0, n_ops);
     if design.operation.is_empty() {
-        // Any design builds: one profile of every outline.
-        let op = Operation::new(OperationKind::Profile);
-        let mut op = op;
-        if !ctx.laser() {
-            op.depth = Some(3.0 * ctx.per_mm);
+        // Any design builds: the default operations (`Ctx::default_ops`).
+        for (k, op) in ctx.default_ops().iter().enumerate() {
+            specs.extend(operation_specs(&ctx, k, None, op)?);
         }
-        specs.extend(operation_specs(&ctx, 0, None, &op)?);
     }
     // Operations are independent: built in parallel, joined in order (the first error in
     // operation order is the one returned, as in a serial build).

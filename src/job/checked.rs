@@ -383,7 +383,11 @@ pub fn check_program(
     cfg.gouge_tolerance = cfg
         .gouge_tolerance
         .max(2.0 * opts.tolerance * kk + 10f64.powi(-(decimals as i32)) + cfg.flatten_tolerance);
-    let only_outside_profiles = design.operation.is_empty() && profile.kind == MachineKind::Router;
+    // The default operations of a drawing may engrave lines inside it: no gouge check then.
+    let only_outside_profiles = design.operation.is_empty()
+        && profile.kind == MachineKind::Router
+        && (built.toolpath.operations.iter())
+            .all(|o| o.kind == crate::toolpath::OperationKind::Profile);
     let bounds = if only_outside_profiles {
         design_boundaries(
             &built.outlines,

@@ -6,6 +6,7 @@
 pub mod attrs;
 pub mod biarc;
 pub mod cut;
+pub mod line;
 pub mod model;
 pub mod ops;
 pub mod order;

@@ -73,6 +73,9 @@ pub enum OperationKind {
     Fill,
     /// Carve with a V-bit along the medial axis, depth following the width.
     VCarve,
+    /// Cut or engrave once along a drawn line (a stroke's spine, a shape's boundary): the
+    /// emitter marks these cuts as lines, which may cross each other and themselves.
+    Line,
 }
 
 /// An operation: one kind of work with one tool, its cuts in machine order.

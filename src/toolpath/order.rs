@@ -311,26 +311,30 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
     };
     let pairs_per_sweep = (order.len() * order.len().saturating_sub(1) / 2).max(1);
     let sweeps = MAX_2OPT_SWEEPS.min(MAX_2OPT_WORK / pairs_per_sweep);
+    // Start, end and closedness of each path in `order`, kept in step with it: the pair
+    // tests read these instead of each path's segments.
+    let mut at: Vec<(DVec2, DVec2, bool)> = order
+        .iter()
+        .map(|(_, p)| {
+            let (s, e) = ends(p);
+            (s, e, p.closed)
+        })
+        .collect();
+    // After reversal a block is entered at its last path's reversed start (its end for
+    // open paths, its start for closed ones) and left at its first path's reversed end.
+    let rev_start = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { s } else { e };
+    let rev_end = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { e } else { s };
     for _ in 0..sweeps {
         let mut improved = false;
         let m = order.len();
         for a in 0..m {
             for b in a + 1..m {
-                let prev_end = if a == 0 {
-                    home
-                } else {
-                    ends(&order[a - 1].1).1
-                };
-                let (sa, _) = ends(&order[a].1);
-                let (_, eb) = ends(&order[b].1);
-                let next_start = (b + 1 < m).then(|| ends(&order[b + 1].1).0);
-                // After reversal the block is entered at b's reversed start (its end for
-                // open paths, its start for closed ones) and left at a's reversed end.
-                let rev_start = |p: &Path| if p.closed { ends(p).0 } else { ends(p).1 };
-                let rev_end = |p: &Path| if p.closed { ends(p).1 } else { ends(p).0 };
+                let prev_end = if a == 0 { home } else { at[a - 1].1 };
+                let (sa, eb) = (at[a].0, at[b].1);
+                let next_start = (b + 1 < m).then(|| at[b + 1].0);
                 let old = prev_end.distance(sa) + next_start.map_or(0.0, |s| eb.distance(s));
-                let new = prev_end.distance(rev_start(&order[b].1))
-                    + next_start.map_or(0.0, |s| rev_end(&order[a].1).distance(s));
+                let new = prev_end.distance(rev_start(&at[b]))
+                    + next_start.map_or(0.0, |s| rev_end(&at[a]).distance(s));
                 if new + 1e-12 < old {
                     let p = pos_of(&order);
                     let blocked = order[a..=b]
@@ -338,9 +342,12 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
                         .any(|(j, _)| before[*j].iter().any(|&k| p[k] >= a && p[k] <= b));
                     if !blocked {
                         order[a..=b].reverse();
-                        for item in &mut order[a..=b] {
+                        at[a..=b].reverse();
+                        for (item, cached) in order[a..=b].iter_mut().zip(&mut at[a..=b]) {
                             if !item.1.closed {
                                 item.1 = item.1.reversed();
+                                let (s, e) = ends(&item.1);
+                                *cached = (s, e, false);
                             }
                         }
                         improved = true;

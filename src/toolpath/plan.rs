@@ -2,7 +2,7 @@
 //! tabs and leads, and the cut order.
 //!
 //! Operations run in a fixed order that keeps the work held until the end: holes, fills,
-//! V-carving, channels, profiles, backboard. Within an operation, inner contours are cut
+//! V-carving, lines, channels, profiles, backboard. Within an operation, inner contours are cut
 //! before the contours that enclose them, then travel is shortened ([`super::order`]).
 
 use super::cut::{CutOptions, Lead, Tabs, contour_cut_leads, step_levels};
@@ -83,9 +83,10 @@ fn rank(kind: OperationKind) -> usize {
         OperationKind::Holes => 0,
         OperationKind::Fill => 1,
         OperationKind::VCarve => 2,
-        OperationKind::Channel => 3,
-        OperationKind::Profile => 4,
-        OperationKind::Backboard => 5,
+        OperationKind::Line => 3,
+        OperationKind::Channel => 4,
+        OperationKind::Profile => 5,
+        OperationKind::Backboard => 6,
     }
 }
 

@@ -70,6 +70,11 @@ pub struct Seg {
     pub pocket: Option<u32>,
 }
 
+/// The pocket mark of line cuts (`(skinpath:group 0)`; pockets are numbered from 1): cuts
+/// along a drawing's lines, whose contacts with any contour, their own included, never
+/// count ([`SegmentSet::test_pair`]).
+pub const LINE_GROUP: u32 = 0;
+
 /// Which contacts between segments of two different contours [`SegmentSet::test_pair`]
 /// reports (within one contour every contact counts).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -911,7 +916,12 @@ impl SegmentSet {
         }
         let across = s.contour != t.contour;
         let one_pocket = s.pocket.is_some() && s.pocket == t.pocket;
-        if across && (self.across == Across::Never || one_pocket) || self.adjacent(i, j, s, t) {
+        // Line cuts follow a drawing's lines: they may cross anything, themselves included.
+        let line = s.pocket == Some(LINE_GROUP) || t.pocket == Some(LINE_GROUP);
+        if line
+            || across && (self.across == Across::Never || one_pocket)
+            || self.adjacent(i, j, s, t)
+        {
             return None;
         }
         let (i, j) = (i.min(j), i.max(j));
