@@ -121,6 +121,7 @@ pub mod corners;
 mod error;
 mod load;
 mod model;
+pub mod neon;
 pub mod shape;
 pub mod svg;
 pub mod text;
@@ -135,6 +136,7 @@ pub use model::{
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
     VERSION,
 };
+pub use neon::{Flex, FlexPreset, Neon, NeonRun};
 pub use shape::{FillRule, Shape};
 pub use text::Text;
 pub use validate::{

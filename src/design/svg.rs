@@ -182,6 +182,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         operation: Vec::new(),
         file: file.to_string(),
         corners: Vec::new(),
+        neon: None,
     };
     Ok(Imported {
         design,
