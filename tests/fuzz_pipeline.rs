@@ -79,6 +79,7 @@ fn random_design(rng: &mut Rng) -> Design {
         operation,
         text: Vec::new(),
         corners: Vec::new(),
+        neon: None,
         file: "fuzz.toml".into(),
     }
 }

@@ -41,6 +41,10 @@ pub struct Args {
     /// written only together with the output, and never to the output's own path.
     #[arg(long)]
     preview: Option<PathBuf>,
+    /// Also write the neon bill of materials (flex runs, lengths, cut lengths, bend radii)
+    /// as CSV here; needs a `[neon]` table, and is written only together with the output.
+    #[arg(long, value_name = "FILE.csv")]
+    bom: Option<PathBuf>,
     /// Where the job goes on the machine (G-code, laser SVG and DXF alike): `lower-left`
     /// (the default) puts the job's lower-left corner, tool paths included, at the work
     /// area's lower-left corner plus `--margin`; `center` centres it in the work area;
@@ -153,6 +157,15 @@ pub fn run(a: Args) -> Result<u8> {
             );
         }
     }
+    if let Some(p) = &a.bom {
+        io::refuse_overwriting_inputs(p, &inputs)?;
+        if io::same_file(p, &output) || a.preview.as_ref().is_some_and(|q| io::same_file(p, q)) {
+            bail!(
+                "--bom {} is another output of this run: give the bill of materials its own name",
+                p.display()
+            );
+        }
+    }
     if !(a.margin.is_finite() && a.margin >= 0.0) {
         bail!(
             "--margin must be a finite, non-negative distance in design units, got {}",
@@ -176,6 +189,12 @@ pub fn run(a: Args) -> Result<u8> {
     let text = io::read_text(&a.design)?;
     let file = a.design.display().to_string();
     let original = skinpath::design::load(&text, &file)?;
+    if a.bom.is_some() && original.neon.is_none() {
+        bail!(
+            "{file}: --bom needs a [neon] table in the design (the flex the bill of materials \
+             is for): add `[neon]` with `flex = \"6mm\"` or `\"8mm\"`"
+        );
+    }
     timings.add(Stage::Read, t_read.elapsed());
     let mut build = BuildOptions::default();
     if let Some(t) = a.tolerance {
@@ -255,6 +274,9 @@ pub fn run(a: Args) -> Result<u8> {
         );
         outputs.push((p, super::preview::render(p, &scene, Default::default())?));
     }
+    if let (Some(p), Some(bom)) = (&a.bom, &out.built.neon) {
+        outputs.push((p, bom.to_csv().into_bytes()));
+    }
     outputs.insert(0, (&output, out.program.clone().into_bytes()));
     io::write_set(&outputs)?;
     timings.add(Stage::Write, t_write.elapsed());
@@ -309,6 +331,9 @@ pub fn run(a: Args) -> Result<u8> {
                     o.name, u.depth, u.at.x, u.at.y
                 )?;
             }
+        }
+        if let Some(bom) = &out.built.neon {
+            print_bom(&mut text, bom)?;
         }
         for r in &out.built.routes {
             writeln!(
@@ -380,6 +405,45 @@ fn print_summary(
         Some(t) => writeln!(text, "estimated time {} (with acceleration)", hms(t)),
         None => writeln!(text, "time at programmed feeds {}", hms(s.cut_time)),
     }
+}
+
+/// The neon bill of materials: one line per run, the totals and every warning.
+fn print_bom(text: &mut String, bom: &skinpath::job::neon::NeonBom) -> std::fmt::Result {
+    writeln!(
+        text,
+        "neon: {} runs of {:.0} mm flex, {:.1} mm in total, order {:.0} mm (cut unit {:.0} \
+         mm), {} wire holes",
+        bom.runs.len(),
+        bom.flex.width_mm,
+        bom.total_length_mm,
+        bom.total_cut_length_mm,
+        bom.flex.cut_unit_mm,
+        bom.holes
+    )?;
+    for r in &bom.runs {
+        writeln!(
+            text,
+            "  {}{}: {} strokes, {:.1} mm (cut {:.0} mm), tightest bend {} at \"{}\" ({:.2}, \
+             {:.2})",
+            r.name,
+            if r.closed { " (closed)" } else { "" },
+            r.strokes.len(),
+            r.length_mm,
+            r.cut_length_mm,
+            if r.min_bend_radius_mm.is_finite() {
+                format!("{:.2} mm", r.min_bend_radius_mm)
+            } else {
+                "none (straight)".into()
+            },
+            r.at.stroke,
+            r.at.x,
+            r.at.y
+        )?;
+    }
+    for w in &bom.warnings {
+        writeln!(text, "  warning ({}): {}", w.kind, w.message)?;
+    }
+    Ok(())
 }
 
 fn hms(seconds: f64) -> String {

@@ -109,6 +109,7 @@ pub fn run(a: Args) -> Result<u8> {
         operation: Vec::new(),
         file: a.output.display().to_string(),
         corners: Vec::new(),
+        neon: None,
     };
     let body = design.to_string_as(format)?;
     // What is written must load (and so build): check it before writing.

@@ -48,6 +48,8 @@ pub fn from_str(text: &str, format: Format, file_name: &str) -> Result<Design, D
     };
     design.file = file_name.to_string();
     design.expand()?;
+    super::neon::validate(&design)?;
+    super::neon::apply_defaults(&mut design);
     validate(&design)?;
     design.normalize_colors();
     Ok(design)

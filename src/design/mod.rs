@@ -132,6 +132,7 @@ pub mod corners;
 mod error;
 mod load;
 mod model;
+pub mod neon;
 pub mod select;
 pub mod shape;
 pub mod svg;
@@ -147,6 +148,7 @@ pub use model::{
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
     VERSION,
 };
+pub use neon::{Flex, FlexPreset, Neon, NeonRun};
 pub use select::{HAIRLINE_MM, Selection, Tags, default_operations, normalize_color};
 pub use shape::{FillRule, Shape};
 pub use text::Text;

@@ -80,6 +80,9 @@ pub struct Design {
     /// The `[[operation]]` tables: toolpath operations (plain data for the toolpath stage).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operation: Vec<Operation>,
+    /// The `[neon]` table: the LED-neon flex (see [`crate::design::neon`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub neon: Option<super::neon::Neon>,
     /// The file name the design was loaded from (not part of the file).
     #[serde(skip)]
     pub file: String,

@@ -572,6 +572,7 @@ fn full_design() -> Design {
         operation: ops,
         file: "round.trip".into(),
         corners: vec![],
+        neon: None,
     }
 }
 
@@ -846,6 +847,7 @@ proptest::proptest! {
             operation: vec![],
             file: "p.toml".into(),
             corners: vec![],
+            neon: None,
         };
         validate(&d).unwrap();
         let t = from_str(&d.to_toml_string().unwrap(), Format::Toml, "p.toml").unwrap();

@@ -76,6 +76,7 @@ pub fn validate(d: &Design) -> Result<()> {
             ),
         ));
     }
+    super::neon::validate(d)?;
     let mut names: HashMap<&str, Item> = HashMap::new();
     for (index, s) in d.stroke.iter().enumerate() {
         let item = Item::Stroke {

@@ -12,6 +12,7 @@ pub mod hull;
 pub mod line;
 pub mod path;
 pub mod predicates;
+pub mod quad;
 pub mod roots;
 pub mod slabs;
 pub mod tol;

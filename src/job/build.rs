@@ -102,6 +102,8 @@ pub struct BuildResult {
     pub routes: Vec<RouteNote>,
     /// Wall time spent building the RE/MPH skins of the items (seconds; 0 without them).
     pub re_skin_seconds: f64,
+    /// The neon bill of materials, for a design with a `[neon]` table ([`super::neon`]).
+    pub neon: Option<super::neon::NeonBom>,
 }
 
 struct Ctx<'a> {
@@ -125,6 +127,8 @@ struct Ctx<'a> {
     /// Route notes with the number of the operation that took them (operations are built
     /// in parallel; the notes are put in operation order at the end).
     routes: Mutex<Vec<(usize, RouteNote)>>,
+    /// The flex and its runs, for a design with a `[neon]` table.
+    neon: Option<(crate::design::Flex, Vec<super::neon::Run>)>,
 }
 
 impl Ctx<'_> {
@@ -909,7 +913,21 @@ fn operation_specs(
             let at = op.at.unwrap_or_default();
             let mut points = Vec::new();
             let mut sources = Vec::new();
-            for &i in &items {
+            // With a `[neon]` table: one hole at each end of each flex run, never at a
+            // join inside a run (the runs' strokes selected by the operation).
+            if let Some((_, runs)) = &ctx.neon {
+                let strokes: Vec<usize> = items
+                    .iter()
+                    .filter_map(|&i| {
+                        let name = &ctx.outlines[i].name;
+                        ctx.design.stroke.iter().position(|s| &s.name == name)
+                    })
+                    .collect();
+                let holes =
+                    super::neon::run_hole_points(ctx.design, &ctx.strokes, runs, at, &strokes);
+                (points, sources) = holes.into_iter().unzip();
+            }
+            for &i in items.iter().filter(|_| ctx.neon.is_none()) {
                 let ends: Vec<DVec2> = if let Some(c) = spine_of(ctx, i) {
                     if c.is_closed() {
                         continue;
@@ -1452,7 +1470,14 @@ pub fn build_toolpath_with(
         method: opts.method,
         re,
         routes: Mutex::new(Vec::new()),
+        neon: None,
     };
+    let mut ctx = ctx;
+    if let Some(n) = &design.neon {
+        let flex = n.flex(design.units);
+        let runs = super::neon::runs(design, &ctx.strokes, &flex);
+        ctx.neon = Some((flex, runs));
+    }
     let mut specs = Vec::new();
     let n_ops = design.operation.len().max(1) + 1;
     report(progress, Stage::Toolpath, 0, n_ops);
@@ -1477,6 +1502,18 @@ pub fn build_toolpath_with(
         specs.extend(b?);
     }
     assign_pockets(&ctx, &mut specs);
+    let neon = ctx.neon.as_ref().map(|(flex, runs)| {
+        let holes = specs
+            .iter()
+            .filter(|s| s.kind == TpKind::Holes)
+            .map(|s| match &s.geometry {
+                Geometry::Points(p) => p.len(),
+                Geometry::Paths(p) => p.len(),
+                _ => 0,
+            })
+            .sum();
+        super::neon::bom(design, &ctx.strokes, runs, flex, ctx.tol * 1e-3, holes)
+    });
     let (mut toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
     attributes_on_moves(&ctx, &mut toolpath)?;
     report(progress, Stage::Toolpath, n_ops, n_ops);
@@ -1490,6 +1527,7 @@ pub fn build_toolpath_with(
         },
         re_skin_seconds,
         outlines: ctx.outlines,
+        neon,
     })
 }
 

@@ -358,6 +358,10 @@ impl Job<'_> {
                 built = build(&design)?;
             }
         }
+        // Flex-sized features keep their size: say where the scaled art no longer fits them.
+        if let Some(b) = &mut built.neon {
+            b.judge(scale);
+        }
         Ok((design, built, scale))
     }
 }
@@ -561,6 +565,9 @@ pub struct Summary {
     /// Strokes whose skin cut into them, built on the union of their disks instead
     /// ([`crate::job::outline::ItemOutline::disk_union`]).
     pub disk_unions: Vec<DiskUnionSummary>,
+    /// The neon bill of materials (designs with a `[neon]` table).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub neon: Option<super::neon::NeonBom>,
 }
 
 /// A stroke built on the union of its disks because its skin cut into it.
@@ -644,6 +651,7 @@ impl JobOutput {
                     })
                 })
                 .collect(),
+            neon: self.built.neon.clone(),
         }
     }
 }
@@ -693,6 +701,7 @@ pub fn design_of_strokes(
         operation: Vec::new(),
         file: file.to_string(),
         corners: Vec::new(),
+        neon: None,
     };
     d.expand()?;
     crate::design::validate(&d)?;

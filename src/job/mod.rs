@@ -6,6 +6,7 @@ pub mod build;
 pub mod check;
 pub mod checked;
 pub mod inspect;
+pub mod neon;
 pub mod outline;
 pub mod preview;
 pub mod progress;

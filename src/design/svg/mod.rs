@@ -277,6 +277,7 @@ fn one_item_design(file: &str) -> Design {
         operation: Vec::new(),
         file: file.to_string(),
         corners: Vec::new(),
+        neon: None,
     }
 }
 
