@@ -335,6 +335,41 @@ pub fn run(a: Args) -> Result<u8> {
         if let Some(bom) = &out.built.neon {
             print_bom(&mut text, bom)?;
         }
+        let repaired: Vec<_> = (out.built.outlines.iter())
+            .filter_map(|o| o.repair.as_ref().map(|r| (o, r)))
+            .collect();
+        for (o, r) in &repaired {
+            writeln!(
+                text,
+                "  outline {}: split {} time(s), {} piece(s) on the union of their disks, within \
+                 {:.4} of its disks ({})",
+                o.name,
+                r.splits.len(),
+                r.fallbacks.len(),
+                r.deviation,
+                r.splits
+                    .first()
+                    .map(|s| s.reason.as_str())
+                    .or_else(|| r.fallbacks.first().map(|f| f.reason.as_str()))
+                    .unwrap_or_default()
+            )?;
+        }
+        if let Some((worst, r)) = repaired
+            .iter()
+            .max_by(|a, b| a.1.deviation.total_cmp(&b.1.deviation))
+        {
+            writeln!(
+                text,
+                "  skin: {} of {} stroke(s) could not be skinned as one piece: {} split(s), {} \
+                 piece(s) on disk unions; worst deviation {:.4} ({})",
+                repaired.len(),
+                out.design.stroke.len(),
+                repaired.iter().map(|(_, r)| r.splits.len()).sum::<usize>(),
+                repaired.iter().map(|(_, r)| r.fallbacks.len()).sum::<usize>(),
+                r.deviation,
+                worst.name
+            )?;
+        }
         for r in &out.built.routes {
             writeln!(
                 text,

@@ -568,6 +568,30 @@ pub struct Summary {
     /// The neon bill of materials (designs with a `[neon]` table).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub neon: Option<super::neon::NeonBom>,
+    /// Strokes that could not be skinned as one piece: split at the failing places, pieces
+    /// that still failed built on the union of their disks
+    /// ([`crate::job::outline::ItemOutline::repair`]).
+    pub skin_repairs: Vec<SkinRepairSummary>,
+}
+
+/// What was done to a stroke that could not be skinned as one piece.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct SkinRepairSummary {
+    /// The stroke's name.
+    pub stroke: String,
+    /// How often it was split (pieces = splits + 1).
+    pub splits: usize,
+    /// Pieces built on the union of their disks.
+    pub fallbacks: usize,
+    /// Worst deviation of its outline from its disks (design units): how far a disk reaches
+    /// outside the outline or the outline outside the disks.
+    pub deviation: f64,
+    /// Where the deviation is largest (design coordinates, before placement).
+    pub deviation_at: [f64; 2],
+    /// Curve parameters of the splits.
+    pub split_at: Vec<f64>,
+    /// Why the first split or fallback was needed (the skinning error).
+    pub reason: String,
 }
 
 /// A stroke built on the union of its disks because its skin cut into it.
@@ -652,6 +676,28 @@ impl JobOutput {
                 })
                 .collect(),
             neon: self.built.neon.clone(),
+            skin_repairs: self
+                .built
+                .outlines
+                .iter()
+                .filter_map(|o| {
+                    let r = o.repair.as_ref()?;
+                    Some(SkinRepairSummary {
+                        stroke: o.name.clone(),
+                        splits: r.splits.len(),
+                        fallbacks: r.fallbacks.len(),
+                        deviation: r.deviation,
+                        deviation_at: [r.deviation_at.x, r.deviation_at.y],
+                        split_at: r.splits.iter().map(|s| s.t).collect(),
+                        reason: r
+                            .splits
+                            .first()
+                            .map(|s| s.reason.clone())
+                            .or_else(|| r.fallbacks.first().map(|f| f.reason.clone()))
+                            .unwrap_or_default(),
+                    })
+                })
+                .collect(),
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use super::JobError;
 use super::progress::{ProgressFn, Stage, report};
-use crate::dbsc::flatten::{flatten, flatten_disks};
+use crate::dbsc::flatten::flatten;
 use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
 use crate::emit::outline::{
@@ -12,14 +12,14 @@ use crate::emit::outline::{
     StrokeOutline,
 };
 use crate::geom::{Circle, DVec2, Path};
-use crate::skin::coverage::{Uncovered, uncovered};
-use crate::skin::dbsc_skin::{
-    DbscSkinError, DbscSkinOptions, ReportBounds, SegmentReport, skin_dbsc,
-};
+use crate::skin::coverage::Uncovered;
+use crate::skin::dbsc_skin::{DbscSkinError, DbscSkinOptions, ReportBounds, SegmentReport};
 use crate::skin::re::{self, Branch, Interp, Touch};
 use crate::skin::{SkinOptions, outline_circles};
-use crate::toolpath::ops::swept_disks;
 use crate::toolpath::region::Region;
+
+pub mod repair;
+pub use repair::{SkinFallback, SkinRepair, SkinSplit};
 
 pub use crate::skin::re::outline::{ReOutline, ReOutlineError, re_offsets, sequence_touches};
 
@@ -77,6 +77,10 @@ pub struct ItemOutline {
     /// stroke's disks ([`crate::toolpath::ops::swept_disks`]), flattened within the
     /// outline tolerance, instead of the skin.
     pub disk_union: Option<Uncovered>,
+    /// What was done where the stroke could not be skinned as one piece: splits, pieces
+    /// built on the union of their disks, and the outline's deviation from the disks
+    /// ([`repair`]). `None` for a stroke skinned as it is.
+    pub repair: Option<SkinRepair>,
 }
 
 /// Parameter tolerance of loop detection: roots of τ± located to 1e-10 of the parameter.
@@ -113,7 +117,11 @@ fn item_err(design: &Design, item: &'static str, name: &str, e: impl Into<ItemEr
     }
 }
 
-/// The skin outline of one stroke (kruppa-2023 Sec. 4) with its loop report.
+/// The skin outline of one stroke (kruppa-2023 Sec. 4) with its loop report. A stroke that
+/// cannot be skinned as it is, or whose skin cuts into it by more than [`miss_limit`], is
+/// split at the failing place and its pieces skinned again, a piece that still fails being
+/// built on the union of its disks ([`repair`]); only an envelope loop search that fails is
+/// an error.
 pub fn stroke_outline(
     design: &Design,
     name: &str,
@@ -121,47 +129,50 @@ pub fn stroke_outline(
     opts: &OutlineOptions,
 ) -> Result<ItemOutline, JobError> {
     let loops = find_loops(c, LOOP_PARAM_TOL).map_err(|e| item_err(design, "stroke", name, e))?;
-    let mut skin_opts = DbscSkinOptions {
+    let skin_opts = DbscSkinOptions {
         eps: opts.epsilon,
         report: opts.report,
         ..DbscSkinOptions::default()
     };
-    let fail = |e: DbscSkinError| {
-        // Name the disks and what to change, not only the paper's condition.
-        let hint = crate::design::corners::skin_hint(c).map_or(String::new(), |h| format!("; {h}"));
-        item_err(design, "stroke", name, ItemError::Skin { source: e, hint })
-    };
-    let (sk, self_overlap) = match skin_dbsc(c, &skin_opts) {
-        Ok(sk) => (sk, false),
-        // The spine crosses itself: skin it anyway and resolve the overlap by a union.
-        Err(DbscSkinError::SelfIntersection { .. }) => {
-            skin_opts.allow_global_overlap = true;
-            (skin_dbsc(c, &skin_opts).map_err(fail)?, true)
+    let failure = match repair::skin_piece(c, &skin_opts) {
+        Ok((sk, self_overlap)) => {
+            let contours = repair::skin_contours(&sk, self_overlap, opts.tolerance);
+            // Where phase 3 stopped with ε far from met, the skin can cut through the
+            // stroke (a hairpin): measure it.
+            match repair::missed(c, &contours, opts.tolerance, miss_limit(opts)) {
+                None => {
+                    return Ok(ItemOutline {
+                        name: name.to_string(),
+                        contours,
+                        circles: sk.circles,
+                        loops: Some(loops),
+                        segments: sk.report,
+                        self_overlap,
+                        disk_union: None,
+                        repair: None,
+                    });
+                }
+                Some(u) => repair::Failure0::Missed(u),
+            }
         }
-        Err(e) => return Err(fail(e)),
+        Err(e) => repair::Failure0::Error(e),
     };
-    let mut contours = if self_overlap {
-        Region::from_overlapping_paths(&sk.outline, opts.tolerance).paths()
-    } else {
-        sk.outline
-    };
-    // Where phase 3 stopped with ε far from met, the skin can cut through the stroke (a
-    // hairpin): measure it, and fall back to the exact shape, the union of the disks.
-    let disks = flatten_disks(c, opts.tolerance);
-    let polygons: Vec<Vec<DVec2>> = contours.iter().map(|p| p.flatten(opts.tolerance)).collect();
-    let missed = uncovered(&disks, &polygons).filter(|u| u.depth > miss_limit(opts));
-    if missed.is_some() {
-        let circles: Vec<Circle> = disks.iter().map(|&(_, d)| d).collect();
-        contours = swept_disks(&circles, opts.tolerance).paths();
-    }
+    let r = repair::repair(c, failure, &skin_opts, opts.tolerance, miss_limit(opts));
+    let disk_union = r
+        .repair
+        .fallbacks
+        .iter()
+        .filter_map(|f| f.missed)
+        .max_by(|a, b| a.depth.total_cmp(&b.depth));
     Ok(ItemOutline {
         name: name.to_string(),
-        contours,
-        circles: sk.circles,
+        contours: r.contours,
+        circles: r.circles,
         loops: Some(loops),
-        segments: sk.report,
-        self_overlap,
-        disk_union: missed,
+        segments: r.segments,
+        self_overlap: r.self_overlap,
+        disk_union,
+        repair: Some(r.repair),
     })
 }
 
@@ -192,6 +203,7 @@ pub fn circles_outline(
         segments: Vec::new(),
         self_overlap: false,
         disk_union: None,
+        repair: None,
     })
 }
 
@@ -320,7 +332,19 @@ fn stroke_drawing(
             message: "the stroke crosses itself: the outline is the boundary of the union".into(),
         });
     }
-    if let Some(u) = item.and_then(|i| i.disk_union) {
+    if let Some(r) = item.and_then(|i| i.repair.as_ref()) {
+        for f in &r.fallbacks {
+            markers.push(Marker {
+                kind: MarkerKind::DiskUnion,
+                at: [f.at.x, f.at.y],
+                message: format!(
+                    "t in [{:.6}, {:.6}] could not be skinned ({}): the outline there is the \
+                     union of the stroke's disks",
+                    f.t[0], f.t[1], f.reason
+                ),
+            });
+        }
+    } else if let Some(u) = item.and_then(|i| i.disk_union) {
         markers.push(Marker {
             kind: MarkerKind::DiskUnion,
             at: [u.at.x, u.at.y],

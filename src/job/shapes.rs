@@ -29,6 +29,7 @@ pub fn shape_outline(shape: &Shape) -> ItemOutline {
         segments: Vec::new(),
         self_overlap: false,
         disk_union: None,
+        repair: None,
     }
 }
 

@@ -400,6 +400,23 @@ fn param_bits(ps: &[f64]) -> Vec<u64> {
     ps.iter().map(|t| t.to_bits()).collect()
 }
 
+/// The test [`skin_dbsc`] starts with, alone: the knot circles ⟨q(u_i); r(u_i)⟩ (eq. 19)
+/// must be an admissible sequence (Def. 4.1), else [`DbscSkinError::NotAdmissible`]
+/// exactly as [`skin_dbsc`] reports it. O(n log n) for n knot circles, without the loop
+/// search and the Hausdorff refinement that [`skin_dbsc`] runs beside and after it: a
+/// caller that splits strokes until they skin tests pieces with this first.
+pub fn check_knot_circles(c: &DiskBSpline) -> Result<(), DbscSkinError> {
+    let closed = c.is_closed();
+    let (_, hi) = c.domain();
+    let mut params = c.breakpoints();
+    if closed {
+        params.pop();
+    }
+    let circles: Vec<Circle> = params.iter().map(|&t| c.circle_at(t)).collect();
+    check_admissible(&circles, closed, &adm_opts())
+        .map_err(|e| not_admissible(&params, hi, closed, e))
+}
+
 fn adm_opts() -> AdmissibilityOptions {
     AdmissibilityOptions::default()
 }

@@ -332,12 +332,24 @@ pub fn swept_disks(disks: &[Circle], tol: f64) -> Region {
     Region::from_overlapping_rings(hulls, tol)
 }
 
-/// A full circle as a counter-clockwise polygon inscribed within `tol`.
+/// A full circle as a counter-clockwise polygon inscribed within `tol`; a circle whose
+/// radius is within `tol` (one chord would do) gets [`MIN_DISK_CHORDS`] chords, so that
+/// every disk has an area in the union however small it is.
 fn disk_ring(d: &Circle, tol: f64) -> Vec<DVec2> {
-    let mut ring = Arc::new(d.c, d.r, 0.0, std::f64::consts::TAU).flatten(tol);
+    let full = Arc::new(d.c, d.r, 0.0, std::f64::consts::TAU);
+    let mut ring = if full.chords_for_tolerance(tol) < MIN_DISK_CHORDS {
+        (0..=MIN_DISK_CHORDS)
+            .map(|k| full.eval(k as f64 / MIN_DISK_CHORDS as f64))
+            .collect()
+    } else {
+        full.flatten(tol)
+    };
     ring.pop();
     ring
 }
+
+/// Fewest chords of a disk's polygon in [`swept_disks`]: a triangle, inscribed.
+const MIN_DISK_CHORDS: usize = 3;
 
 /// The convex hull of two disks as a counter-clockwise polygon (see [`swept_disks`]).
 fn hull_ring(a: &Circle, b: &Circle, tol: f64) -> Vec<DVec2> {
