@@ -2537,13 +2537,21 @@ impl<'a> Interp<'a, '_> {
             && arc.sweep.is_finite()
             && arc.length().is_finite()
             && to.is_finite();
-        if !finite || arc.radius > MAX_ARC_RADIUS_MM {
+        if !finite {
+            return self.err(
+                "invalid-arc",
+                None,
+                "the arc's centre, radius or length is not a finite number (its words \
+                 overflow)"
+                    .into(),
+            );
+        }
+        if arc.radius > MAX_ARC_RADIUS_MM {
             return self.err(
                 "invalid-arc",
                 None,
                 format!(
-                    "arc radius {:.4e} mm or centre out of range (at most {MAX_ARC_RADIUS_MM:.0e} \
-                     mm, finite)",
+                    "arc radius {:.4e} mm is larger than {MAX_ARC_RADIUS_MM:.0e} mm",
                     arc.radius
                 ),
             );
