@@ -2352,9 +2352,11 @@ impl<'a> Interp<'a, '_> {
     }
 
     fn push(&mut self, mut m: Motion) {
-        if !m.length().is_finite() {
-            // Finite words can still overflow (G91 X1e308 twice, or from -1e308 to 1e308):
-            // no NaN or infinity reaches the lengths, the bounds or the time.
+        // Finite words can still overflow (G91 X1e308 twice, or from -1e308 to 1e308): no
+        // NaN or infinity reaches the lengths, the bounds or the time. The squared length
+        // (no square root on the hot path) overflows from about 1e154 mm on: out of range
+        // too. Arcs are checked in `arc_move`.
+        if !(m.to - m.from).length_squared().is_finite() {
             return self.out_of_range();
         }
         m.feed = match self.st.feed_mode {
@@ -2535,13 +2537,21 @@ impl<'a> Interp<'a, '_> {
             && arc.sweep.is_finite()
             && arc.length().is_finite()
             && to.is_finite();
-        if !finite || arc.radius > MAX_ARC_RADIUS_MM {
+        if !finite {
+            return self.err(
+                "invalid-arc",
+                None,
+                "the arc's centre, radius or length is not a finite number (its words \
+                 overflow)"
+                    .into(),
+            );
+        }
+        if arc.radius > MAX_ARC_RADIUS_MM {
             return self.err(
                 "invalid-arc",
                 None,
                 format!(
-                    "arc radius {:.4e} mm or centre out of range (at most {MAX_ARC_RADIUS_MM:.0e} \
-                     mm, finite)",
+                    "arc radius {:.4e} mm is larger than {MAX_ARC_RADIUS_MM:.0e} mm",
                     arc.radius
                 ),
             );

@@ -33,6 +33,17 @@ const MAX_COVER_PER_SEG: f64 = 4.0;
 /// [`SegmentSet::contacts_capped`] says so; 2²⁰ contacts take about 40 MB.
 pub const MAX_CONTACTS: usize = 1 << 20;
 
+/// A segment longer than this many times the median segment length is checked apart from
+/// the others ([`SegmentSet::split_contacts`]): one far move among 10⁵ short ones would
+/// otherwise size the grid by the bounding box it spans (all short segments in one cell,
+/// quadratic) or cover 10⁹ cells. 64 keeps the ordinary mix of a program (arc chords,
+/// lines a few hundred times longer are rare) on the single grid.
+const LONG_SEGMENT: f64 = 64.0;
+
+/// Fewest segments for which [`SegmentSet::grid_only_contacts`] looks for long ones: below
+/// it the single grid is cheap whatever the lengths.
+const SPLIT_MIN: usize = 1024;
+
 /// Steps per segment [`SegmentSet::proven_apart`] may take before it leaves the decision to
 /// the grid.
 const CHAIN_BUDGET: usize = 16;
@@ -425,17 +436,193 @@ impl SegmentSet {
         if n < 2 {
             return Vec::new();
         }
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        let mut total = 0.0;
-        for s in &self.segs {
-            lo = lo.min(s.a).min(s.b);
-            hi = hi.max(s.a).max(s.b);
-            total += s.a.distance(s.b);
+        let all: Vec<u32> = match u32::try_from(n) {
+            Ok(n) => (0..n).collect(),
+            Err(_) => Vec::new(),
+        };
+        if let Some(long) = (n >= SPLIT_MIN).then(|| self.long_segments(&all)).flatten() {
+            let mut out = Vec::new();
+            self.split_contacts(&all, long, &mut out);
+            return out;
         }
+        let (lo, hi, total) = self.extent(self.segs.iter());
         match Grid::new(lo, hi, total, n) {
             Some(g) => self.cell_contacts(&g, 0..u64::MAX),
             None => self.brute_force_contacts(),
         }
+    }
+
+    /// Bounds (lo, hi) and total length of `segs`.
+    fn extent<'s>(&self, segs: impl Iterator<Item = &'s Seg>) -> (DVec2, DVec2, f64) {
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let mut total = 0.0;
+        for s in segs {
+            lo = lo.min(s.a).min(s.b);
+            hi = hi.max(s.a).max(s.b);
+            total += s.a.distance(s.b);
+        }
+        (lo, hi, total)
+    }
+
+    /// The segments among `ids` longer than [`LONG_SEGMENT`] times their median length,
+    /// in order, when there are any: a uniform grid
+    /// sized for the others would make each of them cover a great many cells, and one
+    /// sized for them (or for the bounding box they span) would put the others all in a
+    /// few cells. None when every length is finite and none is that long, or some length
+    /// is not finite (the plain grid, or its brute-force fallback, decides then).
+    fn long_segments(&self, ids: &[u32]) -> Option<Vec<u32>> {
+        if ids.len() < 2 {
+            return None;
+        }
+        let len = |k: u32| {
+            let s = &self.segs[k as usize];
+            s.a.distance(s.b)
+        };
+        let mut lengths: Vec<f64> = ids.iter().map(|&k| len(k)).collect();
+        if !lengths.iter().all(|l| l.is_finite()) {
+            return None;
+        }
+        let mid = lengths.len() / 2;
+        let (_, median, _) = lengths.select_nth_unstable_by(mid, f64::total_cmp);
+        let bar = LONG_SEGMENT * *median;
+        if !(bar > 0.0) {
+            return None;
+        }
+        let long: Vec<u32> = ids.iter().copied().filter(|&k| len(k) > bar).collect();
+        (!long.is_empty()).then_some(long)
+    }
+
+    /// The contacts among `ids` (segment indices, ascending) of which the segments `long`
+    /// (ascending, a subset, all longer than the median) stand far out: the others among
+    /// themselves on a grid sized for them, the long ones among themselves the same way
+    /// (recursively), and the long ones against the others ([`SegmentSet::long_against`]).
+    /// Each level holds at most half the segments of the one before. Unsorted, with
+    /// repeats; stops adding at [`MAX_CONTACTS`].
+    fn split_contacts(&self, ids: &[u32], long: Vec<u32>, out: &mut Vec<Contact>) {
+        let short = self.without(ids, &long);
+        self.subset_contacts(&short, out);
+        match self.long_segments(&long) {
+            Some(longer) => self.split_contacts(&long, longer, out),
+            None => self.subset_contacts(&long, out),
+        }
+        self.long_against(&long, &short, out);
+    }
+
+    /// `ids` without `drop` (both ascending, `drop` a subset).
+    fn without(&self, ids: &[u32], drop: &[u32]) -> Vec<u32> {
+        let mut d = drop.iter().peekable();
+        ids.iter()
+            .copied()
+            .filter(|&k| {
+                if d.peek() == Some(&&k) {
+                    d.next();
+                    false
+                } else {
+                    true
+                }
+            })
+            .collect()
+    }
+
+    /// The contacts between a segment of `long` and one of `short` (segment indices,
+    /// ascending, every one of `long` longer than those of `short` by far): `long` split by
+    /// length again where its own lengths spread ([`SegmentSet::long_segments`]), then on
+    /// a grid whose cells are sized for the long ones, holding the short segments within
+    /// their bounds too, where only pairs of one long and one short segment are tested.
+    fn long_against(&self, long: &[u32], short: &[u32], out: &mut Vec<Contact>) {
+        if long.is_empty() || out.len() >= MAX_CONTACTS {
+            return;
+        }
+        if let Some(longer) = self.long_segments(long) {
+            let rest = self.without(long, &longer);
+            self.long_against(&longer, short, out);
+            self.long_against(&rest, short, out);
+            return;
+        }
+        let seg = |k: &u32| &self.segs[*k as usize];
+        let (llo, lhi, ltotal) = self.extent(long.iter().map(seg));
+        let near: Vec<u32> = short
+            .iter()
+            .copied()
+            .filter(|k| {
+                let s = seg(k);
+                !(s.a.min(s.b).cmpgt(lhi).any() || s.a.max(s.b).cmplt(llo).any())
+            })
+            .collect();
+        if near.is_empty() {
+            return;
+        }
+        let (slo, shi, _) = self.extent(near.iter().map(seg));
+        let Some(grid) = Grid::new(llo.min(slo), lhi.max(shi), ltotal, long.len().max(2)) else {
+            return self.pairs_between(long, &near, out);
+        };
+        // Entries (cell, long?, segment) sorted by cell, the short ones first in each.
+        let mut entries: Vec<(u64, bool, u32)> = Vec::with_capacity(2 * (long.len() + near.len()));
+        for (set, flag) in [(long, true), (&near[..], false)] {
+            for k in set {
+                let s = seg(k);
+                grid.cover(s.a, s.b, |key| entries.push((key, flag, *k)));
+            }
+        }
+        entries.sort_unstable();
+        let mut js: Vec<u32> = Vec::new();
+        let mut g = 0;
+        while g < entries.len() && out.len() < MAX_CONTACTS {
+            let key = entries[g].0;
+            let mut e = g + 1;
+            while e < entries.len() && entries[e].0 == key {
+                e += 1;
+            }
+            let cell = &entries[g..e];
+            let split = cell.partition_point(|x| !x.1);
+            let (shorts, longs) = cell.split_at(split);
+            js.clear();
+            js.extend(shorts.iter().map(|x| x.2));
+            for &(_, _, i) in longs {
+                self.pairs_between(&[i], &js, out);
+            }
+            g = e;
+        }
+    }
+
+    /// Every pair of one segment of `a` and one of `b` tested (the fallback of
+    /// [`SegmentSet::split_contacts`] where a grid cannot be built).
+    fn pairs_between(&self, a: &[u32], b: &[u32], out: &mut Vec<Contact>) {
+        for &i in a {
+            for &j in b {
+                if out.len() >= MAX_CONTACTS {
+                    return;
+                }
+                if let Some(c) = self.test_pair(i as usize, j as usize) {
+                    out.push(c);
+                }
+            }
+        }
+    }
+
+    /// The contacts among the segments `ids` on a grid sized for them alone, cell by cell
+    /// as [`SegmentSet::cell_contacts`] tests them; appended to `out`.
+    fn subset_contacts(&self, ids: &[u32], out: &mut Vec<Contact>) {
+        if ids.len() < 2 {
+            return;
+        }
+        let (lo, hi, total) = self.extent(ids.iter().map(|&k| &self.segs[k as usize]));
+        let Some(grid) = Grid::new(lo, hi, total, ids.len()) else {
+            for (x, &i) in ids.iter().enumerate() {
+                self.pairs_between(&[i], &ids[x + 1..], out);
+            }
+            return;
+        };
+        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * ids.len());
+        for &k in ids {
+            let s = &self.segs[k as usize];
+            grid.cover(s.a, s.b, |key| entries.push((key, k)));
+        }
+        entries.sort_unstable();
+        let room = MAX_CONTACTS.saturating_sub(out.len());
+        let mut found = self.sorted_cell_contacts(entries.len(), |i| entries[i]);
+        found.truncate(room);
+        out.extend(found);
     }
 
     /// [`SegmentSet::proven_apart`] on the set with every contour that repeats an earlier
@@ -1304,6 +1491,53 @@ mod tests {
             assert_eq!(got, naive(&s));
             assert!(!got.is_empty());
         }
+    }
+
+    /// A walk of short steps with long jumps of several scales among them (the split of
+    /// [`SegmentSet::split_contacts`], recursively): the contacts are those of every pair
+    /// tested, and the long jumps' bounds no longer size the grid (issue #40: 10⁵ short
+    /// moves and one `G1 X1000000000`).
+    #[test]
+    fn long_segments_apart_give_the_contacts_of_every_pair() {
+        let mut state = 777u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut s = SegmentSet::new();
+        let mut p = DVec2::ZERO;
+        let mut pts = vec![p];
+        for k in 0..3000 {
+            let step = match k % 500 {
+                0 => 1e9,
+                250 => 1e3,
+                100 | 300 => 40.0,
+                _ => 0.3,
+            };
+            let v = DVec2::new(next() - 0.5, next() - 0.5) * step;
+            // The far jumps land at (x, 0.5), |x| up to 5·10⁸, and the walk goes on there.
+            p = if step > 1e6 {
+                DVec2::new(v.x, 0.5)
+            } else {
+                p + v
+            };
+            pts.push(p);
+        }
+        s.push_polyline(&pts, &[]);
+        assert!(SPLIT_MIN <= s.segs.len());
+        let long = s.long_segments(&(0..s.segs.len() as u32).collect::<Vec<_>>());
+        assert!(long.is_some_and(|l| l.len() >= 6 && l.len() < 100));
+        let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
+        let want = naive(&s);
+        assert_eq!(got, want);
+        // Long segments cross short ones too: the long-against-short pass is exercised.
+        let long_short = want.iter().any(|&(i, j)| {
+            let len = |k: usize| s.segs[k].a.distance(s.segs[k].b);
+            (len(i) > 100.0) != (len(j) > 100.0)
+        });
+        assert!(long_short && want.len() > 100, "{}", want.len());
     }
 
     /// Polylines on a coarse integer lattice (shared vertices, collinear overlaps, vertical
