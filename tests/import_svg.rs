@@ -809,3 +809,73 @@ fn cli_import_of_many_paths_ends_and_nothing_usable_writes_nothing() {
     );
     assert!(!out.exists());
 }
+
+// ---- Issue 39 item 1 (import side): real path data is cleaned within the tolerance.
+
+#[test]
+fn repeated_points_and_zero_length_segments_are_merged() {
+    let body = r#"<path id="r" d="M0 10 L0 10 L10 10 L10 10 L10.000001 10 L20 15 L20 15" stroke="black" fill="none"/>"#;
+    let opts = ImportOptions::default();
+    let imp = import(&page(body), "r.svg", &opts).unwrap();
+    assert!(imp.skipped.is_empty(), "{:?}", imp.skipped);
+    let d = {
+        let mut d = imp.design;
+        d.expand().unwrap();
+        d
+    };
+    let truth = [
+        DVec2::new(0.0, 190.0),
+        DVec2::new(10.0, 190.0),
+        DVec2::new(20.0, 185.0),
+    ];
+    let h = hausdorff(&spine(&d, "r"), &truth);
+    assert!(h <= opts.tolerance, "{h}");
+}
+
+#[test]
+fn a_path_drawn_back_to_its_start_is_a_closed_stroke() {
+    // No `Z`: the pen ends 0.01 mm from where it started (within the 0.05 mm tolerance).
+    let body =
+        r#"<path id="sq" d="M10 10 L50 10 L50 50 L10 50 L10 10.01" stroke="black" fill="none"/>"#;
+    let imp = import(&page(body), "c.svg", &ImportOptions::default()).unwrap();
+    let s = &imp.design.stroke[0];
+    assert!(s.closed, "{s:?}");
+    // Four corners of the square, the start one included.
+    assert_eq!(s.corners.as_ref().map(Vec::len), Some(4), "{s:?}");
+    // 1 mm away is a gap the user drew: the stroke stays open.
+    let body =
+        r#"<path id="u" d="M10 10 L50 10 L50 50 L10 50 L10 11" stroke="black" fill="none"/>"#;
+    let imp = import(&page(body), "c.svg", &ImportOptions::default()).unwrap();
+    assert!(!imp.design.stroke[0].closed);
+}
+
+#[test]
+fn pen_jitter_is_not_a_corner_and_real_corners_stay() {
+    // A 60 mm line digitised every 0.2 mm with ±0.01 mm of noise across it: every vertex
+    // turns by about 11°, the zig-zag of a shaky pen, above nothing the eye sees.
+    let mut d = String::from("M10 100");
+    for i in 1..=300 {
+        let y = 100.0 + if i % 2 == 0 { 0.01 } else { -0.01 };
+        d.push_str(&format!(" L{:.3} {y:.3}", 10.0 + 0.2 * i as f64));
+    }
+    // Then a real 90° corner and 20 mm up.
+    d.push_str(" L70 80");
+    let body = format!(r#"<path id="j" d="{d}" stroke="black" stroke-width="1" fill="none"/>"#);
+    let opts = ImportOptions {
+        corner_angle: 5.0,
+        ..ImportOptions::default()
+    };
+    let imp = import(&page(&body), "j.svg", &opts).unwrap();
+    let s = &imp.design.stroke[0];
+    // One corner: the right angle at (70, 100); the jitter turns (above the 5° corner
+    // angle) are not corners.
+    assert_eq!(s.corners.as_ref().map(Vec::len), Some(1), "{:?}", s.corners);
+    let pts = s.points.as_ref().unwrap();
+    let c = pts[s.corners.as_ref().unwrap()[0]];
+    assert!(
+        (c[0] - 70.0).abs() < 0.05 && (c[1] - 100.0).abs() < 0.05,
+        "{c:?}"
+    );
+    assert!(imp.warnings.is_empty(), "{:?}", imp.warnings);
+    assert!(imp.max_deviation <= opts.tolerance, "{}", imp.max_deviation);
+}

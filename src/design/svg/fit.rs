@@ -3,6 +3,125 @@
 
 use super::*;
 
+/// Points of a subpath closer than `tol · MERGE_FRACTION` to the point kept before them are
+/// merged into it (repeated points, zero-length segments, digitiser noise): the cleaned line
+/// stays within that distance of the drawn one.
+pub(super) const MERGE_FRACTION: f64 = 0.1;
+
+/// A corner whose point lies within `tol · JITTER_FRACTION` of the chord between the
+/// points [`JITTER_REACH`]·tol before and after it along the path is pen jitter, not a
+/// corner: the turn is invisible at the tolerance's scale. A true corner turning by θ with
+/// legs that long lies JITTER_REACH·tol·sin(θ/2) from that chord: over half the tolerance
+/// for every θ above 14.4°.
+pub(super) const JITTER_FRACTION: f64 = 0.5;
+
+/// How far along the path (in tolerances) the jitter test looks on each side of a corner.
+pub(super) const JITTER_REACH: f64 = 4.0;
+
+/// Clean a subpath within the tolerance `tol` before fitting: merge points closer than
+/// [`MERGE_FRACTION`]·tol to the one before (keeping the last point), close an open subpath
+/// whose ends are within `tol` (a path drawn back to its start, as pens and exporters leave
+/// it, is a closed stroke), and demote corners that are pen jitter ([`JITTER_FRACTION`]):
+/// the distance of the corner from the chord through the points [`JITTER_REACH`]·tol
+/// before and after it along the path.
+pub(super) fn clean(sp: &mut Subpath, tol: f64) {
+    let merge = MERGE_FRACTION * tol;
+    let n = sp.pts.len();
+    let mut keep: Vec<usize> = Vec::with_capacity(n);
+    for i in 0..n {
+        match keep.last() {
+            Some(&k) if sp.pts[i].distance(sp.pts[k]) <= merge => {
+                if i + 1 == n && keep.len() > 1 {
+                    // Keep the end point; drop the near point before it.
+                    keep.pop();
+                    keep.push(i);
+                }
+            }
+            _ => keep.push(i),
+        }
+    }
+    if keep.len() < n {
+        // New index of every old point: the kept point it merged into.
+        let mut new_of = vec![0usize; n];
+        let mut k = 0;
+        for (i, slot) in new_of.iter_mut().enumerate() {
+            while k + 1 < keep.len() && keep[k + 1] <= i {
+                k += 1;
+            }
+            *slot = k;
+        }
+        let mut nodes: Vec<(usize, f64)> = Vec::with_capacity(sp.nodes.len());
+        for &(i, a) in &sp.nodes {
+            let j = new_of[i.min(n - 1)];
+            match nodes.last_mut() {
+                Some(last) if last.0 == j => last.1 = last.1.max(a),
+                _ => nodes.push((j, a)),
+            }
+        }
+        sp.nodes = nodes;
+        if sp.times.len() == n {
+            sp.times = keep.iter().map(|&i| sp.times[i]).collect();
+        }
+        sp.pts = keep.iter().map(|&i| sp.pts[i]).collect();
+    }
+    let m = sp.pts.len();
+    if !sp.closed && m >= 4 && sp.pts[0].distance(sp.pts[m - 1]) <= tol {
+        // Drawn back to its start: closed, the last point made the first exactly.
+        let first = sp.pts[1] - sp.pts[0];
+        let last = sp.pts[m - 1] - sp.pts[m - 2];
+        sp.pts[m - 1] = sp.pts[0];
+        sp.closed = true;
+        if let Some(n0) = sp.nodes.first_mut() {
+            n0.1 = turn(last, first);
+        }
+    }
+    // Pen jitter: corners without a visible turn at the tolerance's scale.
+    let m = sp.pts.len();
+    if m < 3 {
+        return;
+    }
+    let pts = &sp.pts;
+    let closed = sp.closed;
+    let reach = |i: usize, step: isize| -> Option<usize> {
+        let mut j = i;
+        let mut walked = 0.0;
+        for _ in 0..m {
+            let next = j as isize + step;
+            let next = if closed {
+                next.rem_euclid(m as isize - 1) as usize
+            } else if next < 0 || next >= m as isize {
+                return Some(j);
+            } else {
+                next as usize
+            };
+            walked += pts[j].distance(pts[next]);
+            j = next;
+            if walked >= JITTER_REACH * tol {
+                return Some(j);
+            }
+        }
+        None
+    };
+    for node in sp.nodes.iter_mut() {
+        if node.1 == 0.0 {
+            continue;
+        }
+        let (Some(a), Some(b)) = (reach(node.0, -1), reach(node.0, 1)) else {
+            continue;
+        };
+        if a == node.0 || b == node.0 {
+            continue;
+        }
+        let chord = crate::geom::Line::new(pts[a], pts[b]);
+        let d = chord
+            .eval(chord.nearest_t(pts[node.0]))
+            .distance(pts[node.0]);
+        if d < JITTER_FRACTION * tol {
+            node.1 = 0.0;
+        }
+    }
+}
+
 impl Ctx<'_> {
     /// Radius at every point of a subpath: half the stroke width, or the widths spread
     /// evenly along its length.

@@ -730,7 +730,8 @@ impl Ctx<'_> {
             );
         }
         let many = subpaths.len() > 1;
-        for (j, sp) in subpaths.into_iter().enumerate() {
+        for (j, mut sp) in subpaths.into_iter().enumerate() {
+            fit::clean(&mut sp, self.opts.tolerance);
             let name = if many {
                 format!("{id}.{j}")
             } else {
