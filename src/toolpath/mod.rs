@@ -15,6 +15,7 @@ pub mod re_route;
 pub mod region;
 pub mod stats;
 pub mod swept;
+pub mod valleys;
 pub mod winding;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

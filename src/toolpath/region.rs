@@ -536,7 +536,19 @@ impl Region {
     /// winding tests of the V vertices in against the W segments out (and back) through
     /// slab indexes, O(V + W) plus the segments met in the slabs, and the segment tests of
     /// [`Region::simple`] and [`Region::apart_from`].
+    ///
+    /// A large region grown by `delta` has its narrow valleys closed first
+    /// ([`super::valleys::fill_narrow_valleys`], within `tol` of the exact offset); the
+    /// result is still checked against this region.
     pub fn offset_checked(&self, delta: f64, eps: f64, tol: f64) -> Region {
+        if let Some(filled) = super::valleys::fill_narrow_valleys(self, delta, tol) {
+            let out = filled.offset(delta, eps);
+            return if self.sound_offset(&out, delta, eps) {
+                out
+            } else {
+                filled.buffered(delta, tol)
+            };
+        }
         self.checked_offset(self.offset(delta, eps), delta, eps, tol)
     }
 
