@@ -187,9 +187,9 @@ pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
     }
     let lower = |c: Option<&str>| c.map(str::to_ascii_lowercase);
     // Groups keyed by (kind, layer, colour), in order of first appearance.
-    let mut order: Vec<(OperationKind, Option<&str>, Option<String>)> = Vec::new();
-    let mut groups: HashMap<(OperationKind, Option<&str>, Option<String>), Vec<&str>> =
-        HashMap::new();
+    type Key<'k> = (OperationKind, Option<&'k str>, Option<String>);
+    let mut order: Vec<Key<'_>> = Vec::new();
+    let mut groups: HashMap<Key<'_>, Vec<&str>> = HashMap::new();
     let mut per_layer: BTreeMap<&str, usize> = BTreeMap::new();
     let mut per_color: BTreeMap<String, usize> = BTreeMap::new();
     for &(name, tags, kind) in &items {
