@@ -44,6 +44,11 @@
 //! fill_rule = "nonzero"       # or "evenodd"; default "nonzero"
 //! contours = [[[0.0, -10.0], [40.0, -10.0], [40.0, -4.0], [0.0, -4.0]]]  # [[x, y], ...]
 //!
+//! [neon]                      # optional: the LED-neon flex ([`neon`])
+//! flex = "6mm"                # preset "6mm" | "8mm"; width, height, min_bend_radius,
+//! min_bend_radius = 20.0      # cut_unit, hole_diameter, channel_depth, board_thickness,
+//!                             # join_tolerance, break_at override it
+//!
 //! [[operation]]               # toolpath operations: plain data for the toolpath stage
 //! kind = "channel"            # profile | channel | backboard | holes | fill | vcarve | line
 //! strokes = ["s1"]            # default: all strokes, circle sequences and shapes
@@ -117,6 +122,13 @@
 //! an item is selected when any given selector names it ([`select`]). Each list is
 //! non-empty; a layer or colour that no stroke or shape has is an error that lists the
 //! design's layers (colours).
+//!
+//! Neon. `[neon]` describes the LED flex a sign is made for (presets `flex = "6mm"` and
+//! `"8mm"`, each key overriding; `[[neon.run]]` tables with `strokes = [...]` make explicit
+//! runs, `break_at = [[x, y], ...]` breaks joins). With it, channel, holes and backboard
+//! operations take the flex's sizes for the keys they leave unset, holes go where flex runs
+//! end, and `build` reports the bill of materials ([`crate::job::neon`]). Errors name the
+//! key: `file: [neon] cut_unit: -1 must be positive and at most 10000000`. See [`neon`].
 //!
 //! Geometry: [`Design::strokes`] gives every stroke as a
 //! [`DiskBSpline`](crate::dbsc::DiskBSpline) (points strokes through

@@ -45,6 +45,10 @@ pub const LENGTH_REL_TOL: f64 = 1e-9;
 /// Parameter tolerance of the bend refinement, as a fraction of the knot span.
 pub const BEND_PARAM_TOL: f64 = 1e-10;
 
+/// Flattening tolerance of the spines for the merge test, as a fraction of the flex width:
+/// 6 µm for 6 mm flex, far below a distance that decides whether channels merge.
+pub const SPINE_FLATTEN_OF_WIDTH: f64 = 1e-3;
+
 /// One stroke of a run, as the run passes it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Leg {
@@ -541,9 +545,9 @@ pub struct NeonBom {
     /// Every stretch bent tighter than the flex (design units).
     #[serde(skip)]
     pub tight: Vec<TightBend>,
-    /// Runs closer than the channel width (design units).
+    /// The runs' spines, flattened (design units), for the merge test of [`NeonBom::judge`].
     #[serde(skip)]
-    pub close: Vec<CloseRuns>,
+    pub spines: Vec<Vec<DVec2>>,
     /// The flex minimum radius and the channel width, design units.
     #[serde(skip)]
     pub limits: (f64, f64),
@@ -572,8 +576,7 @@ fn place(design: &Design, c: &DiskBSpline, stroke: usize, t: f64) -> RunPlace {
 }
 
 /// The bill of materials of `runs` (module docs) with the flex `flex`; `tol` is the
-/// absolute length tolerance per stroke (design units) and the flattening tolerance of the
-/// spines for the distance between runs; `holes` the wire holes drilled.
+/// absolute length tolerance per stroke (design units); `holes` the wire holes drilled.
 pub fn bom(
     design: &Design,
     curves: &[DiskBSpline],
@@ -678,7 +681,7 @@ pub fn bom(
         });
     }
     let width = channel_width(design, flex);
-    let close = close_runs(curves, runs, width, tol);
+    let spines = run_polylines(curves, runs, SPINE_FLATTEN_OF_WIDTH * flex.width);
     let total_length_mm = out_runs.iter().map(|r| r.length_mm).sum();
     let total_cut_length_mm = out_runs.iter().map(|r| r.cut_length_mm).sum();
     let mut b = NeonBom {
@@ -695,7 +698,7 @@ pub fn bom(
         scale: 1.0,
         warnings: Vec::new(),
         tight,
-        close,
+        spines,
         limits: (flex.min_bend_radius, width),
         mm,
     };
@@ -714,19 +717,28 @@ pub fn channel_width(design: &Design, flex: &Flex) -> f64 {
         .unwrap_or(flex.width + CHANNEL_CLEARANCE_MM / design.units.mm_per_unit())
 }
 
-/// Pairs of runs whose spines (flattened within `tol`) come closer than `width`, with the
-/// smallest distance and its place; pairs whose bounding boxes are `width` apart are
-/// skipped.
-fn close_runs(curves: &[DiskBSpline], runs: &[Run], width: f64, tol: f64) -> Vec<CloseRuns> {
-    let polys: Vec<Vec<DVec2>> = runs
-        .iter()
+/// The runs' spines flattened within `tol`, one polyline per run (its legs in order).
+fn run_polylines(curves: &[DiskBSpline], runs: &[Run], tol: f64) -> Vec<Vec<DVec2>> {
+    runs.iter()
         .map(|r| {
             r.legs
                 .iter()
-                .flat_map(|l| crate::dbsc::flatten::flatten_spine(&curves[l.stroke], tol))
+                .flat_map(|l| {
+                    let mut p = crate::dbsc::flatten::flatten_spine(&curves[l.stroke], tol);
+                    if l.reversed {
+                        p.reverse();
+                    }
+                    p
+                })
                 .collect()
         })
-        .collect();
+        .collect()
+}
+
+/// Pairs of runs (polylines `polys`, names `names`) with two segments whose distance d lies
+/// in [lo, hi): per pair the smallest such d and the midpoint of its closest points. Pairs
+/// whose bounding boxes are `hi` apart are skipped.
+fn close_runs(polys: &[Vec<DVec2>], names: &[String], lo: f64, hi: f64) -> Vec<CloseRuns> {
     let boxes: Vec<(DVec2, DVec2)> = polys
         .iter()
         .map(|p| {
@@ -741,21 +753,21 @@ fn close_runs(curves: &[DiskBSpline], runs: &[Run], width: f64, tol: f64) -> Vec
         for j in i + 1..polys.len() {
             let (a, b) = (boxes[i], boxes[j]);
             let gap = (b.0 - a.1).max(a.0 - b.1).max(DVec2::ZERO);
-            if gap.length() >= width {
+            if gap.length() >= hi {
                 continue;
             }
             let mut best = (f64::INFINITY, DVec2::ZERO);
             for s in polys[i].windows(2) {
                 for u in polys[j].windows(2) {
                     let (d, m) = segment_distance(s[0], s[1], u[0], u[1]);
-                    if d < best.0 {
+                    if d >= lo && d < best.0 {
                         best = (d, m);
                     }
                 }
             }
-            if best.0 < width {
+            if best.0 < hi {
                 out.push(CloseRuns {
-                    runs: [runs[i].name.clone(), runs[j].name.clone()],
+                    runs: [names[i].clone(), names[j].clone()],
                     distance: best.0,
                     at: best.1.to_array(),
                 });
@@ -846,9 +858,12 @@ impl NeonBom {
                 at: [b.at.x, b.at.y],
             });
         }
-        if scale != 1.0 {
-            for c in &self.close {
-                if c.distance / scale >= width {
+        if scale < 1.0 {
+            // A place where two runs are closer than the channel width now but were not at
+            // the design's size: distance d with d < width ≤ d/scale.
+            let names: Vec<String> = self.runs.iter().map(|r| r.name.clone()).collect();
+            for c in close_runs(&self.spines, &names, width * scale, width) {
+                {
                     w.push(NeonWarning {
                         kind: "merge".into(),
                         message: format!(
