@@ -2,8 +2,8 @@
 //! are split into pieces that each skin; the union of the pieces' outlines (geo) is one
 //! simple polygon that contains every disk, with the area of geo's union of the exact
 //! capsules (segment ⊕ disk) within the tolerance. Also the corner letters of the issue
-//! (N, M, W, Z, V, A, K, E, 4, 7) outline and build, and an unskinnable stroke's error names
-//! its disks and what to change.
+//! (N, M, W, Z, V, A, K, E, 4, 7) outline and build, and an unskinnable stroke is repaired
+//! (issue 39) with a hint that names its disks and what to change.
 
 use geo::{Area, BooleanOps, Contains, Coord, LineString, MultiPolygon, Polygon};
 use glam::DVec2;
@@ -160,15 +160,16 @@ fn corner_letters_outline_and_build() {
 }
 
 #[test]
-fn unskinnable_stroke_names_disks_and_what_to_change() {
-    // A bulge whose radius swallows its neighbours: no envelope, not skinnable.
+fn unskinnable_stroke_is_repaired_and_names_disks_and_what_to_change() {
+    // A bulge whose radius swallows its neighbours: no envelope, not skinnable as one piece.
+    // It gets an outline all the same (issue 39: split, or the union of its disks), and the
+    // repair says which disks to change.
     let text = "version = 1\n[[stroke]]\nname = \"bulge\"\ndegree = 2\n\
                 disks = [[0, 0, 2], [10, 0, 2], [10.5, 0.2, 8], [11, 0, 2], [20, 0, 2]]\n";
     let d = load(text, "b.toml").unwrap();
-    let m = design_outlines(&d, &OutlineOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(m.starts_with("b.toml: stroke \"bulge\""), "{m}");
+    let o = design_outlines(&d, &OutlineOptions::default()).unwrap();
+    let r = o[0].repair.as_ref().expect("repaired");
+    let m = r.hint.clone().unwrap_or_default();
     assert!(m.contains("what to change"), "{m}");
     assert!(
         m.contains("disk 1 lies inside disk 2") && m.contains("lower the radius of disk 2"),

@@ -592,6 +592,9 @@ pub struct SkinRepairSummary {
     pub split_at: Vec<f64>,
     /// Why the first split or fallback was needed (the skinning error).
     pub reason: String,
+    /// Which control disks to change, and how, for the stroke to skin as one piece ("" when
+    /// nothing stands out).
+    pub hint: String,
 }
 
 /// A stroke built on the union of its disks because its skin cut into it.
@@ -695,6 +698,7 @@ impl JobOutput {
                             .map(|s| s.reason.clone())
                             .or_else(|| r.fallbacks.first().map(|f| f.reason.clone()))
                             .unwrap_or_default(),
+                        hint: r.hint.clone().unwrap_or_default(),
                     })
                 })
                 .collect(),

@@ -98,6 +98,9 @@ pub struct SkinRepair {
     pub deviation: f64,
     /// Where the deviation is largest.
     pub deviation_at: DVec2,
+    /// Which control disks to change, and how, for the stroke to skin as one piece
+    /// ([`crate::design::corners::skin_hint`]), when something stands out.
+    pub hint: Option<String>,
 }
 
 /// The outline of a stroke from its pieces.
@@ -281,6 +284,7 @@ pub fn repair(
             fallbacks,
             deviation,
             deviation_at,
+            hint: crate::design::corners::skin_hint(c),
         },
     }
 }
