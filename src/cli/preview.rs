@@ -126,6 +126,13 @@ pub fn run(a: Args) -> Result<u8> {
         }
     };
     write(&a.output, &scene, png)?;
+    if let Some(f) = scene.stopped() {
+        eprintln!(
+            "skinpath: warning: {}: the simulator stopped reading the program ({f}); the \
+             preview shows the moves before that point",
+            a.input.display()
+        );
+    }
     crate::print_stdout(&format!(
         "wrote {} ({} moves, {} contours, {} findings, time {})\n",
         a.output.display(),

@@ -20,7 +20,7 @@ use glam::DVec2;
 /// findings; `work_area` draws the machine's travel.
 pub fn scene_of_gcode(title: &str, text: &str, cfg: &CheckConfig, work_area: bool) -> Scene {
     let prog = sim::load(sim::Backend::Builtin, text, cfg);
-    checked_scene(title, text, cfg, &prog, work_area)
+    checked_scene(title, text, cfg, prog, work_area)
 }
 
 /// [`scene_of_gcode`] for a PNG of `png` (when given): the image's size is checked from
@@ -39,25 +39,31 @@ pub fn scene_of_gcode_for(
         let (lo, hi) = frame_region(motion_bounds(&prog.motions), std::iter::empty(), wa);
         check_size(&Layout::of_box(lo, hi, SvgOptions::default().legend), size)?;
     }
-    Ok(checked_scene(title, text, cfg, &prog, work_area))
+    Ok(checked_scene(title, text, cfg, prog, work_area))
 }
 
+/// The scene of a program read under `cfg`, with the checker's findings; the program's
+/// motions move into the scene.
 fn checked_scene(
     title: &str,
     text: &str,
     cfg: &CheckConfig,
-    prog: &sim::Program,
+    mut prog: sim::Program,
     work_area: bool,
 ) -> Scene {
-    let report = sim::check(prog, cfg, &[]);
-    Scene::from_program(ProgramInput {
-        title,
-        program: prog,
-        text: Some(text),
-        cfg,
-        findings: report.findings,
-        draw_work_area: work_area,
-    })
+    let report = sim::check(&prog, cfg, &[]);
+    let motions = std::mem::take(&mut prog.motions);
+    Scene::from_program_motions(
+        ProgramInput {
+            title,
+            program: &prog,
+            text: Some(text),
+            cfg,
+            findings: report.findings,
+            draw_work_area: work_area,
+        },
+        motions,
+    )
 }
 
 /// The scene of a toolpath built for `profile`: its G-code `program` read back by the
@@ -168,7 +174,7 @@ pub fn scene_of_program(
             }
             // The kind does not change what the simulator reads, only what the checker
             // and the drawing make of it.
-            Ok(checked_scene(title, text, &cfg, &prog, false))
+            Ok(checked_scene(title, text, &cfg, prog, false))
         }
     }
 }

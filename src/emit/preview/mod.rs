@@ -33,6 +33,10 @@ pub use html::{HtmlOptions, player_html};
 pub use png::{PngOptions, scene_png};
 pub use svg::{SvgOptions, scene_svg};
 
+/// What the simulator's findings say when it stopped reading the program at one of its
+/// limits (loop iterations, subroutine depth, ...): the moves after that point are missing.
+pub const STOPPED: &str = "interpretation stopped";
+
 /// Number of colour steps of the power/depth scale (and legend rows).
 pub const COLOR_STEPS: usize = 5;
 
@@ -142,8 +146,14 @@ pub struct ProgramInput<'a> {
 impl Scene {
     /// A scene from a program the simulator read.
     pub fn from_program(input: ProgramInput<'_>) -> Scene {
-        let cfg = input.cfg.in_mm();
         let motions = input.program.motions.clone();
+        Scene::from_program_motions(input, motions)
+    }
+
+    /// [`Scene::from_program`] with the program's motions handed over instead of copied
+    /// (`input.program.motions` is not read): a program of 10⁷ moves holds 400 MB of them.
+    pub fn from_program_motions(input: ProgramInput<'_>, motions: Motions) -> Scene {
+        let cfg = input.cfg.in_mm();
         let (operations, op_of) = operations_from_comments(input.text, &motions);
         let work_area = input.draw_work_area.then(|| work_area_of(&cfg));
         let mut scene = Scene::assemble(
@@ -287,6 +297,12 @@ impl Scene {
         self.motions
             .get(i)
             .is_some_and(|m| is_cutting(&m, &self.cfg))
+    }
+
+    /// The finding saying the simulator stopped reading the program at a limit (see
+    /// [`STOPPED`]), when it did: the scene holds the moves before that point only.
+    pub fn stopped(&self) -> Option<&Finding> {
+        self.findings.iter().find(|f| f.message.contains(STOPPED))
     }
 
     /// Per-block times from the simulator's planner (what the HTML player animates),

@@ -220,6 +220,19 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions, notes: &[String]) -> Vec<Row> {
         ),
         "title",
     ));
+    if let Some(f) = scene.stopped() {
+        rows.push(text(
+            format!(
+                "reading stopped at a limit{} [{}]: the moves after it are not shown",
+                f.lines
+                    .first()
+                    .map(|l| format!(" on line {l}"))
+                    .unwrap_or_default(),
+                f.id
+            ),
+            "limit",
+        ));
+    }
     for n in notes {
         rows.push(text(n.clone(), "limit"));
     }
@@ -594,6 +607,64 @@ impl Layer {
     }
 }
 
+/// A path of connected travels being collected: its points simplified to the pixel as they
+/// come (see [`simplify`]), at most `cap` of them (then it is drawn and a new one starts).
+struct Chain {
+    pixel: f64,
+    cap: usize,
+    pts: Vec<DVec2>,
+    /// The last point added (kept or not): the path's end.
+    end: Option<DVec2>,
+}
+
+impl Chain {
+    fn new(pixel: f64, cap: usize) -> Chain {
+        Chain {
+            pixel,
+            cap: cap.max(2),
+            pts: Vec::new(),
+            end: None,
+        }
+    }
+
+    /// Adds a travel through page points `pts`; one that does not start where the path
+    /// ends starts a new path.
+    fn extend(&mut self, pts: &[DVec2], page: &mut Drawing, layer: &mut Layer, width: f64) {
+        let Some(&first) = pts.first() else {
+            return;
+        };
+        if self.end != Some(first) {
+            self.flush(page, layer, width);
+            self.pts.push(first);
+        }
+        for &p in &pts[1..] {
+            if self.pts.last().is_some_and(|l| l.distance(p) >= self.pixel) {
+                if self.pts.len() + 1 >= self.cap {
+                    self.end = Some(p);
+                    self.flush(page, layer, width);
+                }
+                self.pts.push(p);
+            }
+            self.end = Some(p);
+        }
+    }
+
+    /// Draws the path collected (when the layer admits it) and starts an empty one.
+    fn flush(&mut self, page: &mut Drawing, layer: &mut Layer, width: f64) {
+        let mut pts = std::mem::take(&mut self.pts);
+        if let Some(end) = self.end.take()
+            && pts.last() != Some(&end)
+        {
+            pts.push(end);
+        }
+        if pts.len() >= 2
+            && let Some(pts) = layer.polyline(&pts, width, RAPID_COLOR, false)
+        {
+            page.polyline("rapid", pts, false, Style::default(), None);
+        }
+    }
+}
+
 /// `pts` without the points closer than `tol` to the last point kept (the last point
 /// always stays): every point left out lies within `tol` of a kept one, so the drawing
 /// moves by less than `tol` (radial-distance simplification).
@@ -678,23 +749,26 @@ pub fn scene_drawing(
         },
         &[],
     );
+    // Connected travels are one path (moves that only change z, cutting or not, leave the
+    // path in xy as it is), kept simplified to the pixel as it grows.
+    let mut chain = Chain::new(detail.pixel, RAPID_BUDGET.points);
     for m in scene.motions.iter() {
         if matches!(m.kind, MotionKind::Dwell { .. })
-            || crate::sim::checks::is_cutting(&m, &scene.cfg)
+            || (m.from.truncate() == m.to.truncate() && m.arc.is_none())
         {
             continue;
         }
-        if m.from.truncate() == m.to.truncate() && m.arc.is_none() {
+        if crate::sim::checks::is_cutting(&m, &scene.cfg) {
+            chain.flush(&mut page, &mut rapids, sz.rapid);
             continue;
         }
         let pts: Vec<DVec2> = move_points(&m, flat_tol)
             .iter()
             .map(|p| frame.map(*p))
             .collect();
-        if let Some(pts) = rapids.polyline(&pts, sz.rapid, RAPID_COLOR, false) {
-            page.polyline("rapid", pts, false, Style::default(), None);
-        }
+        chain.extend(&pts, &mut page, &mut rapids, sz.rapid);
     }
+    chain.flush(&mut page, &mut rapids, sz.rapid);
     page.close();
 
     // Cuts by operation: contours, then the cutting moves that change depth (plunges,
