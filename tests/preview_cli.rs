@@ -137,3 +137,66 @@ fn errors_name_what_to_change() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains(".svg, .png or .html"));
 }
+
+/// An SVG drawing is a design, as `build` reads it (issue 40, item 13): it used to be read
+/// as G-code (an empty preview with dozens of syntax findings, exit 0).
+#[test]
+fn svg_drawing_previews_as_the_design_it_imports_to() {
+    let drawing = root("examples/gallery/badge.svg");
+    let out = tmp("badge-preview.svg");
+    let o = skinpath(&[
+        "preview",
+        &drawing,
+        "--machine",
+        "grbl-laser",
+        "-o",
+        &out.display().to_string(),
+    ]);
+    ok(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let text = std::fs::read_to_string(&out).expect("svg");
+    let doc = roxmltree::Document::parse(&text).expect("parses");
+    let cuts = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("cut"))
+        .count();
+    // The same contours `build` makes of the drawing: the build's G-code read back.
+    let gcode = tmp("badge.gcode");
+    ok(&skinpath(&[
+        "build",
+        &drawing,
+        "--machine",
+        "grbl-laser",
+        "--place",
+        "design",
+        "-o",
+        &gcode.display().to_string(),
+    ]));
+    let prog = skinpath(&[
+        "preview",
+        &gcode.display().to_string(),
+        "--machine",
+        "grbl-laser",
+        "-o",
+        &tmp("badge-gcode.svg").display().to_string(),
+    ]);
+    ok(&prog);
+    let contours = |s: &str| {
+        s.split(" contours")
+            .next()
+            .and_then(|h| h.rsplit(' ').next())
+            .and_then(|n| n.parse::<usize>().ok())
+    };
+    assert!(cuts > 0, "{stdout}");
+    assert_eq!(contours(&stdout), Some(cuts), "{stdout}");
+    assert_eq!(
+        contours(&stdout),
+        contours(&String::from_utf8_lossy(&prog.stdout)),
+        "{stdout}"
+    );
+    assert!(!text.contains("syntax"), "no G-code syntax findings");
+    // A design needs a machine, an SVG drawing too.
+    let o = skinpath(&["preview", &drawing, "-o", &out.display().to_string()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--machine"));
+}

@@ -268,7 +268,10 @@ fn player_plays_where_the_simulator_says() {
         json!([]),
     );
     let total = info[0].as_f64().unwrap_or(f64::NAN);
-    assert!((total - s.timeline.total).abs() < 1e-9 * total.max(1.0));
+    let timeline = s.timeline();
+    assert!((total - timeline.total).abs() < 1e-9 * total.max(1.0));
+    // The scene's time is the planner's total.
+    assert!((s.total_time - timeline.total).abs() < 1e-9 * total.max(1.0));
     eprintln!(
         "router page: load {:.0} ms (script {:.1} ms), {} blocks, total {:.2} s",
         load.as_secs_f64() * 1e3,
@@ -280,7 +283,7 @@ fn player_plays_where_the_simulator_says() {
     // compare the tool's screen position with the simulator's, through the page's mapping.
     for k in 1..10 {
         let t = total * k as f64 / 10.0;
-        let (want, motion) = s.timeline.position_at(t).expect("a position");
+        let (want, motion) = timeline.position_at(t).expect("a position");
         let r = d.js(
             "const s = document.getElementById('scrub'); s.value = String(arguments[0]);\
              s.dispatchEvent(new Event('input', {bubbles: true}));\
@@ -304,7 +307,7 @@ fn player_plays_where_the_simulator_says() {
             "t = {t}: tool at {got:?}, simulator at {sim_px:?} ({dist} px)"
         );
         assert!((r[4].as_f64().unwrap_or(f64::NAN) - t).abs() < 1e-9);
-        let line = s.motions[motion].line;
+        let line = s.motions.get(motion).expect("a motion").line;
         assert_eq!(r[2].as_u64(), Some(line as u64));
         let shown = r[3].as_str().unwrap_or("");
         let text = PROGRAM.lines().nth(line - 1).unwrap_or("");
@@ -354,7 +357,8 @@ fn a_million_moves_load() {
     let t = Instant::now();
     let s = scene(&text, &cfg, false);
     let build = t.elapsed();
-    assert!(s.timeline.segments.len() >= 1_000_000);
+    let blocks = s.timeline().segments.len();
+    assert!(blocks >= 1_000_000);
     let t = Instant::now();
     let html = player_html(&s, &HtmlOptions::default()).expect("html");
     let write = t.elapsed();
@@ -375,7 +379,7 @@ fn a_million_moves_load() {
         info[1].as_f64().unwrap_or(f64::NAN),
         info[2].as_f64().unwrap_or(f64::NAN)
     );
-    assert_eq!(info[0].as_u64(), Some(s.timeline.segments.len() as u64));
+    assert_eq!(info[0].as_u64(), Some(blocks as u64));
     let errors = d.errors();
     assert!(errors.is_empty(), "console errors: {errors:?}");
     // Generous: the goal is under 3 s (reported above); this only catches a hang.

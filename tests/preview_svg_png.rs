@@ -1,9 +1,9 @@
 //! Preview SVG and PNG: parse the SVG back, count paths against the program, find the
-//! planted finding, and read pixels of the PNG rasterised from the same SVG.
+//! planted finding, and read pixels of the PNG drawn from the same drawing.
 
 use glam::DVec2;
 use skinpath::emit::preview::svg::view_box;
-use skinpath::emit::preview::{PngOptions, ProgramInput, Scene, SvgOptions, rasterize, scene_svg};
+use skinpath::emit::preview::{PngOptions, ProgramInput, Scene, SvgOptions, scene_png, scene_svg};
 use skinpath::sim::{self, Backend, CheckConfig};
 
 fn scene(text: &str, cfg: &CheckConfig) -> Scene {
@@ -183,7 +183,7 @@ fn png_has_the_cut_colour_on_a_cut_and_not_beside_it() {
         draw_work_area: false,
     });
     let svg = scene_svg(&s, &SvgOptions::default());
-    let png = rasterize(&svg, PngOptions::Width(800)).expect("rasterises");
+    let png = scene_png(&s, &SvgOptions::default(), PngOptions::Width(800)).expect("rasterises");
     let img = decode(&png);
     assert_eq!(img.width(), 800);
     let (lo, hi) = view_box(&s);
@@ -207,12 +207,12 @@ fn png_has_the_cut_colour_on_a_cut_and_not_beside_it() {
     let (x, y) = at(DVec2::new(25.0, 15.0));
     assert!(close(pixel(&img, x, y), [255, 255, 255], 2));
     // DPI sizing: 96 dpi is one CSS pixel per 1/96 inch of the page's millimetres.
-    let png = rasterize(&svg, PngOptions::Dpi(96.0)).expect("rasterises");
+    let png = scene_png(&s, &SvgOptions::default(), PngOptions::Dpi(96.0)).expect("rasterises");
     let img = decode(&png);
     let want = (page_w / 25.4 * 96.0).round() as u32;
     assert!(img.width().abs_diff(want) <= 1, "{} vs {want}", img.width());
-    assert!(rasterize(&svg, PngOptions::Width(0)).is_err());
-    assert!(rasterize(&svg, PngOptions::Dpi(f64::NAN)).is_err());
+    assert!(scene_png(&s, &SvgOptions::default(), PngOptions::Width(0)).is_err());
+    assert!(scene_png(&s, &SvgOptions::default(), PngOptions::Dpi(f64::NAN)).is_err());
 }
 
 #[test]
@@ -244,7 +244,9 @@ fn laser_svg_hairlines_are_visible_in_the_png() {
     );
     assert!(!s.contours.is_empty());
     let svg = scene_svg(&s, &SvgOptions::default());
-    let img = decode(&rasterize(&svg, PngOptions::Width(1600)).expect("rasterises"));
+    let img = decode(
+        &scene_png(&s, &SvgOptions::default(), PngOptions::Width(1600)).expect("rasterises"),
+    );
     let scale = s.color_scale();
     let colors: Vec<[u8; 3]> = (0..skinpath::emit::preview::COLOR_STEPS)
         .map(|k| hex(&scale.color(k)))

@@ -5,8 +5,9 @@
 use super::build::load_profile;
 use super::io;
 use anyhow::{Context, Result, bail};
+use skinpath::design::ErrorKind;
 use skinpath::emit::preview::{
-    HtmlOptions, PngOptions, Scene, SvgOptions, player_html, rasterize, scene_svg,
+    HtmlOptions, PngOptions, Scene, SvgOptions, player_html, scene_png, scene_svg,
 };
 use skinpath::job::build::BuildOptions;
 use skinpath::job::preview::{scene_of_design, scene_of_program};
@@ -14,9 +15,10 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// A design (.toml or .json) or a G-code program (any other extension).
+    /// A design (.toml or .json), an SVG drawing (.svg, imported as `build` imports it) or
+    /// a G-code program (any other extension).
     input: PathBuf,
-    /// Output file: .svg (drawing), .png (the same drawing rasterised) or .html (player).
+    /// Output file: .svg (drawing), .png (the same drawing as an image) or .html (player).
     #[arg(short, long)]
     output: PathBuf,
     /// Machine profile: a shipped name (see `skinpath machines`) or a .toml path. Required
@@ -61,7 +63,7 @@ pub fn format_of(path: &Path) -> Result<Format> {
 pub fn render(path: &Path, scene: &Scene, png: PngOptions) -> Result<Vec<u8>> {
     Ok(match format_of(path)? {
         Format::Svg => scene_svg(scene, &SvgOptions::default()).into_bytes(),
-        Format::Png => rasterize(&scene_svg(scene, &SvgOptions::default()), png)?,
+        Format::Png => scene_png(scene, &SvgOptions::default(), png)?,
         Format::Html => player_html(scene, &HtmlOptions::default())?.into_bytes(),
     })
 }
@@ -80,12 +82,8 @@ fn png_options(a: &Args) -> Result<PngOptions> {
     })
 }
 
-fn is_design(path: &Path) -> bool {
-    matches!(io::extension(path).as_str(), "toml" | "json")
-}
-
 pub fn run(a: Args) -> Result<u8> {
-    format_of(&a.output)?;
+    let format = format_of(&a.output)?;
     let mut inputs: Vec<&Path> = vec![&a.input];
     let machine_path = a.machine.as_ref().map(PathBuf::from);
     if let Some(m) = machine_path.as_ref().filter(|m| m.exists()) {
@@ -93,6 +91,8 @@ pub fn run(a: Args) -> Result<u8> {
     }
     io::refuse_overwriting_inputs(&a.output, &inputs)?;
     let png = png_options(&a)?;
+    // A PNG's size is checked from the program's bounds before the checker runs.
+    let sized = (format == Format::Png).then_some(png);
     let title = a
         .input
         .file_name()
@@ -100,33 +100,46 @@ pub fn run(a: Args) -> Result<u8> {
         .unwrap_or_else(|| "preview".into());
     let profile = a.machine.as_deref().map(load_profile).transpose()?;
     let text = io::read_text(&a.input)?;
-    let scene = if is_design(&a.input) {
-        let Some(profile) = profile else {
-            bail!(
-                "{}: a design previews for a machine; add --machine NAME (see `skinpath machines`)",
-                a.input.display()
-            );
-        };
-        let design = skinpath::design::load(&text, &a.input.display().to_string())?;
-        let mut opts = BuildOptions::default();
-        if let Some(t) = a.tolerance {
-            opts.tolerance = t;
+    let file = a.input.display().to_string();
+    // The file kind is the design loader's (`build` reads its input the same way): .toml,
+    // .json and .svg are designs, anything else is a program.
+    let scene = match skinpath::design::load(&text, &file) {
+        Err(e) if e.kind == ErrorKind::UnknownFormat => {
+            scene_of_program(&title, &text, profile.as_ref(), sized)?
         }
-        if let Some(e) = a.epsilon {
-            opts.epsilon = e;
+        design => {
+            let design = design?;
+            let Some(profile) = profile else {
+                bail!(
+                    "{file}: a design previews for a machine; add --machine NAME (see `skinpath \
+                     machines`)"
+                );
+            };
+            let mut opts = BuildOptions::default();
+            if let Some(t) = a.tolerance {
+                opts.tolerance = t;
+            }
+            if let Some(e) = a.epsilon {
+                opts.epsilon = e;
+            }
+            scene_of_design(&title, &design, &profile, &opts, sized)?
         }
-        scene_of_design(&title, &design, &profile, &opts)?
-    } else {
-        scene_of_program(&title, &text, profile.as_ref())
     };
     write(&a.output, &scene, png)?;
+    if let Some(f) = scene.stopped() {
+        eprintln!(
+            "skinpath: warning: {}: the simulator stopped reading the program ({f}); the \
+             preview shows the moves before that point",
+            a.input.display()
+        );
+    }
     crate::print_stdout(&format!(
         "wrote {} ({} moves, {} contours, {} findings, time {})\n",
         a.output.display(),
         scene.motions.len(),
         scene.contours.len(),
         scene.findings.len(),
-        skinpath::emit::preview::svg::hms(scene.timeline.total)
+        skinpath::emit::preview::svg::hms(scene.total_time)
     ))?;
     Ok(0)
 }

@@ -7,7 +7,9 @@ use super::JobError;
 use super::build::{BuildOptions, build_toolpath};
 use super::check::check_config;
 use crate::design::{Design, OperationKind};
-use crate::emit::preview::{ProgramInput, Scene};
+use crate::emit::preview::png::{PngOptions, check_size};
+use crate::emit::preview::svg::{Layout, SvgOptions, frame_region};
+use crate::emit::preview::{ProgramInput, Scene, motion_bounds, work_area_of};
 use crate::emit::{GcodeOptions, gcode};
 use crate::machine::{MachineKind, Profile};
 use crate::sim::{self, CheckConfig, MotionKind};
@@ -18,15 +20,50 @@ use glam::DVec2;
 /// findings; `work_area` draws the machine's travel.
 pub fn scene_of_gcode(title: &str, text: &str, cfg: &CheckConfig, work_area: bool) -> Scene {
     let prog = sim::load(sim::Backend::Builtin, text, cfg);
+    checked_scene(title, text, cfg, prog, work_area)
+}
+
+/// [`scene_of_gcode`] for a PNG of `png` (when given): the image's size is checked from
+/// the program's bounds as soon as it is read, before the checker runs, so a program
+/// whose picture would be too large is refused at once.
+pub fn scene_of_gcode_for(
+    title: &str,
+    text: &str,
+    cfg: &CheckConfig,
+    work_area: bool,
+    png: Option<PngOptions>,
+) -> Result<Scene, JobError> {
+    let prog = sim::load(sim::Backend::Builtin, text, cfg);
+    if let Some(size) = png {
+        let wa = work_area.then(|| work_area_of(&cfg.in_mm()));
+        let (lo, hi) = frame_region(motion_bounds(&prog.motions), std::iter::empty(), wa);
+        check_size(&Layout::of_box(lo, hi, SvgOptions::default().legend), size)?;
+    }
+    Ok(checked_scene(title, text, cfg, prog, work_area))
+}
+
+/// The scene of a program read under `cfg`, with the checker's findings; the program's
+/// motions move into the scene.
+fn checked_scene(
+    title: &str,
+    text: &str,
+    cfg: &CheckConfig,
+    mut prog: sim::Program,
+    work_area: bool,
+) -> Scene {
     let report = sim::check(&prog, cfg, &[]);
-    Scene::from_program(ProgramInput {
-        title,
-        program: &prog,
-        text: Some(text),
-        cfg,
-        findings: report.findings,
-        draw_work_area: work_area,
-    })
+    let motions = std::mem::take(&mut prog.motions);
+    Scene::from_program_motions(
+        ProgramInput {
+            title,
+            program: &prog,
+            text: Some(text),
+            cfg,
+            findings: report.findings,
+            draw_work_area: work_area,
+        },
+        motions,
+    )
 }
 
 /// The scene of a toolpath built for `profile`: its G-code `program` read back by the
@@ -59,12 +96,14 @@ pub fn scene_of_build(
 /// The scene of a design built for `profile` with `opts` (design placement): the toolpath,
 /// and for G-code machines its program (arcs fitted within a tenth of the build tolerance)
 /// read back and checked. A job outside the machine's travel is drawn, not refused: the
-/// checker marks it.
+/// checker marks it. With `png`, the image's size is checked before the checker runs
+/// ([`scene_of_gcode_for`]).
 pub fn scene_of_design(
     title: &str,
     design: &Design,
     profile: &Profile,
     opts: &BuildOptions,
+    png: Option<PngOptions>,
 ) -> Result<Scene, JobError> {
     let built = build_toolpath(design, profile, opts)?;
     let allow_crossings = design
@@ -85,24 +124,36 @@ pub fn scene_of_design(
             },
         )?)
     };
-    Ok(scene_of_build(
-        title,
-        &built.toolpath,
-        profile,
-        design.units.mm_per_unit(),
-        program.as_deref(),
-        allow_crossings,
-    ))
+    let tool_r = profile.default_tool().map(|t| t.radius()).unwrap_or(0.0);
+    let mut cfg = check_config(profile, tool_r);
+    cfg.allow_crossings = allow_crossings;
+    match program {
+        Some(g) => scene_of_gcode_for(title, &g, &cfg, true, png),
+        None => Ok(scene_of_build(
+            title,
+            &built.toolpath,
+            profile,
+            design.units.mm_per_unit(),
+            None,
+            allow_crossings,
+        )),
+    }
 }
 
 /// The scene of a G-code program from any tool. With a machine profile, its travel, limits
 /// and tool; without, the default checker configuration with crossings allowed, read as a
 /// router when some feed move goes below z = 0 and as a laser otherwise (no work area).
-pub fn scene_of_program(title: &str, text: &str, profile: Option<&Profile>) -> Scene {
+/// With `png`, the image's size is checked before the checker runs.
+pub fn scene_of_program(
+    title: &str,
+    text: &str,
+    profile: Option<&Profile>,
+    png: Option<PngOptions>,
+) -> Result<Scene, JobError> {
     match profile {
         Some(p) => {
             let r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
-            scene_of_gcode(title, text, &check_config(p, r), true)
+            scene_of_gcode_for(title, text, &check_config(p, r), true, png)
         }
         None => {
             let mut cfg = CheckConfig {
@@ -117,7 +168,13 @@ pub fn scene_of_program(title: &str, text: &str, profile: Option<&Profile>) -> S
             {
                 cfg.kind = sim::MachineKind::Router;
             }
-            scene_of_gcode(title, text, &cfg, false)
+            if let Some(size) = png {
+                let (lo, hi) = frame_region(motion_bounds(&prog.motions), std::iter::empty(), None);
+                check_size(&Layout::of_box(lo, hi, SvgOptions::default().legend), size)?;
+            }
+            // The kind does not change what the simulator reads, only what the checker
+            // and the drawing make of it.
+            Ok(checked_scene(title, text, &cfg, prog, false))
         }
     }
 }
@@ -131,12 +188,12 @@ mod tests {
     #[test]
     fn program_without_machine_guesses_the_kind() {
         let router = "G21 G90\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F100\nG1 X10 Y0\nG1 X10 Y10\nG0 Z5\nM2\n";
-        let s = scene_of_program("r", router, None);
+        let s = scene_of_program("r", router, None, None).expect("a scene");
         assert_eq!(s.kind, sim::MachineKind::Router);
         assert!(!s.contours.is_empty());
         assert!(s.work_area.is_none());
         let laser = "G21 G90\nG0 X0 Y0\nM3 S500\nG1 X10 Y0 F600\nG1 X10 Y10\nM5\nM2\n";
-        let s = scene_of_program("l", laser, None);
+        let s = scene_of_program("l", laser, None, None).expect("a scene");
         assert_eq!(s.kind, sim::MachineKind::Laser);
     }
 }

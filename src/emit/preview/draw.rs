@@ -1,10 +1,16 @@
 //! The drawing layer every skinpath picture goes through (the outline drawing and the
-//! toolpath preview): world coordinates with y up mapped onto a page in millimetres, drawn
-//! with the one SVG writer ([`SvgPage`]). The PNG is this SVG rasterised ([`super::png`]), so
-//! there is no second drawing code.
+//! toolpath preview): world coordinates with y up mapped onto a page in millimetres
+//! ([`Frame`]), and one drawing model ([`Drawing`]: groups, polylines, circles, rectangles,
+//! stroke digits and text on a page) with two backends: SVG text through the one SVG writer
+//! ([`SvgPage`], [`Drawing::to_svg`]) and a tiny-skia pixmap ([`Drawing::to_pixmap`]), so
+//! the SVG and the PNG show the same picture from the same drawing.
 
 pub use crate::emit::svg_page::{SvgPage, num};
 use glam::DVec2;
+use tiny_skia::{
+    FillRule, LineCap, LineJoin, Paint as SkPaint, PathBuilder, Pixmap, Stroke, StrokeDash,
+    Transform,
+};
 
 /// World (y up) to page (y down) mapping: `page = (p − lo) · scale` with y flipped about
 /// the top edge `hi.y`, shifted by `offset`.
@@ -40,6 +46,603 @@ impl Frame {
     pub fn size(&self) -> DVec2 {
         (self.hi - self.lo) * self.scale
     }
+}
+
+/// An sRGB colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rgb(pub u8, pub u8, pub u8);
+
+impl Rgb {
+    /// White, the page's background.
+    pub const WHITE: Rgb = Rgb(0xff, 0xff, 0xff);
+
+    /// `#rrggbb`.
+    pub fn hex(self) -> String {
+        format!("#{:02x}{:02x}{:02x}", self.0, self.1, self.2)
+    }
+}
+
+/// What a fill or a stroke paints.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Paint {
+    /// Nothing (SVG `none`).
+    None,
+    /// A colour.
+    Color(Rgb),
+}
+
+/// Presentation of an element or a group, SVG's model: a field left `None` (or `false`) is
+/// not set and inherits from the enclosing group, down to SVG's initial values (fill black,
+/// no stroke, stroke width 1, butt caps, miter joins, opaque).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Style {
+    /// Fill paint.
+    pub fill: Option<Paint>,
+    /// Fill opacity, 0..1.
+    pub fill_opacity: Option<f64>,
+    /// Stroke paint.
+    pub stroke: Option<Paint>,
+    /// Stroke width, page units.
+    pub stroke_width: Option<f64>,
+    /// Stroke opacity, 0..1.
+    pub stroke_opacity: Option<f64>,
+    /// Dash and gap lengths, page units.
+    pub dash: Option<[f64; 2]>,
+    /// Round line caps.
+    pub round_caps: bool,
+    /// Round line joins.
+    pub round_joins: bool,
+}
+
+impl Style {
+    /// A stroke of `color` and `width`, no fill.
+    pub fn stroked(color: Rgb, width: f64) -> Style {
+        Style {
+            fill: Some(Paint::None),
+            stroke: Some(Paint::Color(color)),
+            stroke_width: Some(width),
+            ..Style::default()
+        }
+    }
+
+    /// A fill of `color`.
+    pub fn filled(color: Rgb) -> Style {
+        Style {
+            fill: Some(Paint::Color(color)),
+            ..Style::default()
+        }
+    }
+
+    /// Round caps and joins.
+    pub fn round(self) -> Style {
+        Style {
+            round_caps: true,
+            round_joins: true,
+            ..self
+        }
+    }
+
+    /// This style with what it leaves unset taken from `parent`.
+    pub fn over(&self, parent: &Style) -> Style {
+        Style {
+            fill: self.fill.or(parent.fill),
+            fill_opacity: self.fill_opacity.or(parent.fill_opacity),
+            stroke: self.stroke.or(parent.stroke),
+            stroke_width: self.stroke_width.or(parent.stroke_width),
+            stroke_opacity: self.stroke_opacity.or(parent.stroke_opacity),
+            dash: self.dash.or(parent.dash),
+            round_caps: self.round_caps || parent.round_caps,
+            round_joins: self.round_joins || parent.round_joins,
+        }
+    }
+
+    /// The SVG presentation attributes of what is set.
+    fn attrs(&self) -> Vec<(&'static str, String)> {
+        let paint = |p: Paint| match p {
+            Paint::None => "none".to_string(),
+            Paint::Color(c) => c.hex(),
+        };
+        let mut a = Vec::new();
+        if let Some(p) = self.fill {
+            a.push(("fill", paint(p)));
+        }
+        if let Some(o) = self.fill_opacity {
+            a.push(("fill-opacity", num(o)));
+        }
+        if let Some(p) = self.stroke {
+            a.push(("stroke", paint(p)));
+        }
+        if let Some(w) = self.stroke_width {
+            a.push(("stroke-width", num(w)));
+        }
+        if let Some(o) = self.stroke_opacity {
+            a.push(("stroke-opacity", num(o)));
+        }
+        if let Some([d, g]) = self.dash {
+            a.push(("stroke-dasharray", format!("{} {}", num(d), num(g))));
+        }
+        if self.round_caps {
+            a.push(("stroke-linecap", "round".into()));
+        }
+        if self.round_joins {
+            a.push(("stroke-linejoin", "round".into()));
+        }
+        a
+    }
+}
+
+/// One element of a [`Drawing`], in page units (y down).
+#[derive(Clone, Debug, PartialEq)]
+enum Item {
+    /// A group: its id (none when empty), style and SVG-only `data-` attributes.
+    Open {
+        id: String,
+        style: Style,
+        data: Vec<(&'static str, String)>,
+    },
+    /// The end of the innermost open group.
+    Close,
+    /// Polylines (subpaths) with one style; `id` only in the SVG.
+    Path {
+        class: String,
+        id: Option<String>,
+        subpaths: Vec<Vec<DVec2>>,
+        closed: bool,
+        style: Style,
+    },
+    /// A circle with an SVG tooltip.
+    Circle {
+        class: String,
+        center: DVec2,
+        r: f64,
+        style: Style,
+        title: Option<String>,
+    },
+    /// An axis-aligned rectangle.
+    Rect {
+        class: String,
+        at: DVec2,
+        size: DVec2,
+        style: Style,
+    },
+    /// Digits drawn as strokes on a white halo ([`super::glyphs`]), centred on `center`.
+    Number {
+        class: String,
+        center: DVec2,
+        height: f64,
+        color: Rgb,
+        text: String,
+    },
+    /// Text in a system sans-serif font, baseline start at `at`.
+    Text {
+        class: String,
+        at: DVec2,
+        size: f64,
+        color: Rgb,
+        text: String,
+    },
+}
+
+/// A picture on a page of `width` × `height` units (1 unit = 1 mm), white background:
+/// the one model both backends draw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drawing {
+    /// Page width, mm.
+    pub width: f64,
+    /// Page height, mm.
+    pub height: f64,
+    items: Vec<Item>,
+}
+
+/// Opacity of the white halo behind stroke digits.
+const HALO_OPACITY: f64 = 0.85;
+/// Halo width as a multiple of the digits' stroke width.
+const HALO_WIDTH: f64 = 2.6;
+/// Points per stroked piece in the pixmap backend: tiny-skia's scan converter keeps every
+/// edge of a path active across its rows, so one path of 10⁵ segments costs several times
+/// what 10⁵/64 short paths do (same pixels: the pieces share their end points).
+const PIECE_POINTS: usize = 64;
+
+impl Drawing {
+    /// An empty page of `width` × `height` mm.
+    pub fn new(width: f64, height: f64) -> Drawing {
+        Drawing {
+            width,
+            height,
+            items: Vec::new(),
+        }
+    }
+
+    /// Opens a group with id `id` (none when empty), `style` and SVG `data-` attributes.
+    pub fn open(&mut self, id: &str, style: Style, data: &[(&'static str, &str)]) {
+        self.items.push(Item::Open {
+            id: id.to_string(),
+            style,
+            data: data.iter().map(|(k, v)| (*k, v.to_string())).collect(),
+        });
+    }
+
+    /// Closes the innermost open group.
+    pub fn close(&mut self) {
+        self.items.push(Item::Close);
+    }
+
+    /// A polyline through page points (nothing for fewer than two); `id` names it in the SVG.
+    pub fn polyline(
+        &mut self,
+        class: &str,
+        pts: Vec<DVec2>,
+        closed: bool,
+        style: Style,
+        id: Option<String>,
+    ) {
+        if pts.len() < 2 {
+            return;
+        }
+        self.items.push(Item::Path {
+            class: class.to_string(),
+            id,
+            subpaths: vec![pts],
+            closed,
+            style,
+        });
+    }
+
+    /// A circle with an optional tooltip (SVG only).
+    pub fn circle(
+        &mut self,
+        class: &str,
+        center: DVec2,
+        r: f64,
+        style: Style,
+        title: Option<&str>,
+    ) {
+        self.items.push(Item::Circle {
+            class: class.to_string(),
+            center,
+            r,
+            style,
+            title: title.map(str::to_string),
+        });
+    }
+
+    /// A rectangle with corner `at` and `size`.
+    pub fn rect(&mut self, class: &str, at: DVec2, size: DVec2, style: Style) {
+        self.items.push(Item::Rect {
+            class: class.to_string(),
+            at,
+            size,
+            style,
+        });
+    }
+
+    /// Digits (and '-') drawn as strokes on a white halo, centred on `center`.
+    pub fn number(&mut self, class: &str, center: DVec2, height: f64, color: Rgb, text: &str) {
+        self.items.push(Item::Number {
+            class: class.to_string(),
+            center,
+            height,
+            color,
+            text: text.to_string(),
+        });
+    }
+
+    /// Text in a system sans-serif font; `at` is the baseline start.
+    pub fn text(&mut self, class: &str, at: DVec2, size: f64, color: Rgb, text: &str) {
+        self.items.push(Item::Text {
+            class: class.to_string(),
+            at,
+            size,
+            color,
+            text: text.to_string(),
+        });
+    }
+
+    /// The drawing as an SVG document (1 user unit = 1 mm, white background).
+    pub fn to_svg(&self) -> String {
+        let mut page = SvgPage::new(self.width, self.height, 1.0);
+        let attrs = |style: &Style| style.attrs();
+        for item in &self.items {
+            match item {
+                Item::Open { id, style, data } => {
+                    let mut a = data.clone();
+                    a.extend(attrs(style));
+                    page.open(id, &borrow(&a));
+                }
+                Item::Close => page.close(),
+                Item::Path {
+                    class,
+                    id,
+                    subpaths,
+                    closed,
+                    style,
+                } => {
+                    let d: Vec<String> = subpaths
+                        .iter()
+                        .map(|p| SvgPage::path_data(p, *closed))
+                        .collect();
+                    let mut a = attrs(style);
+                    if let Some(id) = id {
+                        a.push(("id", id.clone()));
+                    }
+                    page.path(class, &d.join(" "), &borrow(&a));
+                }
+                Item::Circle {
+                    class,
+                    center,
+                    r,
+                    style,
+                    title,
+                } => page.circle(class, *center, *r, &borrow(&attrs(style)), title.as_deref()),
+                Item::Rect {
+                    class,
+                    at,
+                    size,
+                    style,
+                } => page.rect(class, *at, *size, &borrow(&attrs(style))),
+                Item::Number {
+                    class,
+                    center,
+                    height,
+                    color,
+                    text,
+                } => page.number(class, *center, *height, &color.hex(), text),
+                Item::Text {
+                    class,
+                    at,
+                    size,
+                    color,
+                    text,
+                } => page.text(class, *at, *size, &color.hex(), text),
+            }
+        }
+        page.finish()
+    }
+
+    /// The drawing rasterised by tiny-skia on a white `w` × `h` pixmap (the page scaled to
+    /// fill it). Text is set with a system font through usvg/resvg when one is installed
+    /// (DejaVu, Liberation, ...); without one the words are left out and everything else
+    /// (shapes and stroke digits) still shows. None when the pixmap cannot be allocated.
+    pub fn to_pixmap(&self, w: u32, h: u32) -> Option<Pixmap> {
+        let mut pixmap = Pixmap::new(w, h)?;
+        pixmap.fill(tiny_skia::Color::WHITE);
+        let t = Transform::from_scale(
+            (w as f64 / self.width) as f32,
+            (h as f64 / self.height) as f32,
+        );
+        let mut stack = vec![Style::default()];
+        let mut texts = SvgPage::bare(self.width, self.height, 1.0);
+        let mut has_text = false;
+        for item in &self.items {
+            let parent = stack.last().copied().unwrap_or_default();
+            match item {
+                Item::Open { style, .. } => stack.push(style.over(&parent)),
+                Item::Close => {
+                    if stack.len() > 1 {
+                        stack.pop();
+                    }
+                }
+                Item::Path {
+                    subpaths,
+                    closed,
+                    style,
+                    ..
+                } => paint_path(&mut pixmap, t, subpaths, *closed, &style.over(&parent)),
+                Item::Circle {
+                    center, r, style, ..
+                } => {
+                    if let Some(p) =
+                        PathBuilder::from_circle(center.x as f32, center.y as f32, *r as f32)
+                    {
+                        paint_shape(&mut pixmap, t, &p, &style.over(&parent));
+                    }
+                }
+                Item::Rect {
+                    at, size, style, ..
+                } => {
+                    let r = tiny_skia::Rect::from_xywh(
+                        at.x as f32,
+                        at.y as f32,
+                        size.x as f32,
+                        size.y as f32,
+                    );
+                    if let Some(r) = r {
+                        paint_shape(
+                            &mut pixmap,
+                            t,
+                            &PathBuilder::from_rect(r),
+                            &style.over(&parent),
+                        );
+                    }
+                }
+                Item::Number {
+                    center,
+                    height,
+                    color,
+                    text,
+                    ..
+                } => {
+                    let segs: Vec<Vec<DVec2>> =
+                        super::glyphs::number_segments(text, *center, *height)
+                            .into_iter()
+                            .map(|[a, b]| vec![a, b])
+                            .collect();
+                    let width = height * super::glyphs::STROKE;
+                    let halo = Style {
+                        stroke_opacity: Some(HALO_OPACITY),
+                        ..Style::stroked(Rgb::WHITE, HALO_WIDTH * width).round()
+                    };
+                    paint_path(&mut pixmap, t, &segs, false, &halo);
+                    paint_path(
+                        &mut pixmap,
+                        t,
+                        &segs,
+                        false,
+                        &Style::stroked(*color, width).round(),
+                    );
+                }
+                Item::Text {
+                    class,
+                    at,
+                    size,
+                    color,
+                    text,
+                } => {
+                    texts.text(class, *at, *size, &color.hex(), text);
+                    has_text = true;
+                }
+            }
+        }
+        if has_text {
+            draw_text(&mut pixmap, texts.finish(), w, h);
+        }
+        Some(pixmap)
+    }
+}
+
+/// Attribute pairs as the SVG writer takes them.
+fn borrow<'a>(a: &'a [(&'static str, String)]) -> Vec<(&'static str, &'a str)> {
+    a.iter().map(|(k, v)| (*k, v.as_str())).collect()
+}
+
+fn sk_paint(color: Rgb, opacity: Option<f64>) -> SkPaint<'static> {
+    let mut p = SkPaint::default();
+    let a = (opacity.unwrap_or(1.0).clamp(0.0, 1.0) * 255.0).round() as u8;
+    p.set_color_rgba8(color.0, color.1, color.2, a);
+    p.anti_alias = true;
+    p
+}
+
+fn sk_stroke(style: &Style) -> Stroke {
+    let mut s = Stroke {
+        width: style.stroke_width.unwrap_or(1.0) as f32,
+        ..Stroke::default()
+    };
+    if style.round_caps {
+        s.line_cap = LineCap::Round;
+    }
+    if style.round_joins {
+        s.line_join = LineJoin::Round;
+    }
+    if let Some([d, g]) = style.dash {
+        s.dash = StrokeDash::new(vec![d as f32, g as f32], 0.0);
+    }
+    s
+}
+
+/// Fills and strokes a closed shape (circle, rectangle) as SVG does: fill first.
+fn paint_shape(pixmap: &mut Pixmap, t: Transform, path: &tiny_skia::Path, style: &Style) {
+    // SVG's initial fill is black.
+    let fill = style.fill.unwrap_or(Paint::Color(Rgb(0, 0, 0)));
+    if let Paint::Color(c) = fill {
+        pixmap.fill_path(
+            path,
+            &sk_paint(c, style.fill_opacity),
+            FillRule::Winding,
+            t,
+            None,
+        );
+    }
+    if let Some(Paint::Color(c)) = style.stroke {
+        pixmap.stroke_path(
+            path,
+            &sk_paint(c, style.stroke_opacity),
+            &sk_stroke(style),
+            t,
+            None,
+        );
+    }
+}
+
+/// Fills (closed subpaths, or open ones closed as SVG fills them) and strokes polylines.
+/// Strokes go in pieces of [`PIECE_POINTS`] points; a subpath whose points all coincide is
+/// drawn as its round cap (a dot) when it has round caps, as SVG renderers do.
+fn paint_path(
+    pixmap: &mut Pixmap,
+    t: Transform,
+    subpaths: &[Vec<DVec2>],
+    closed: bool,
+    style: &Style,
+) {
+    let fill = style.fill.unwrap_or(Paint::Color(Rgb(0, 0, 0)));
+    if let Paint::Color(c) = fill {
+        let mut pb = PathBuilder::new();
+        for sp in subpaths.iter().filter(|sp| sp.len() >= 3) {
+            pb.move_to(sp[0].x as f32, sp[0].y as f32);
+            for p in &sp[1..] {
+                pb.line_to(p.x as f32, p.y as f32);
+            }
+            pb.close();
+        }
+        if let Some(path) = pb.finish() {
+            pixmap.fill_path(
+                &path,
+                &sk_paint(c, style.fill_opacity),
+                FillRule::Winding,
+                t,
+                None,
+            );
+        }
+    }
+    let Some(Paint::Color(c)) = style.stroke else {
+        return;
+    };
+    let paint = sk_paint(c, style.stroke_opacity);
+    let stroke = sk_stroke(style);
+    let mut pb = PathBuilder::new();
+    let mut segments = 0;
+    let mut flush = |pb: &mut PathBuilder, segments: &mut usize| {
+        if let Some(path) = std::mem::replace(pb, PathBuilder::new()).finish() {
+            pixmap.stroke_path(&path, &paint, &stroke, t, None);
+        }
+        *segments = 0;
+    };
+    let mut dots = Vec::new();
+    for sp in subpaths {
+        let Some(first) = sp.first() else {
+            continue;
+        };
+        if sp.iter().all(|p| p == first) {
+            dots.push(*first);
+            continue;
+        }
+        let closing = closed.then_some(first);
+        for (k, p) in sp.iter().chain(closing).enumerate() {
+            if k == 0 {
+                pb.move_to(p.x as f32, p.y as f32);
+                continue;
+            }
+            pb.line_to(p.x as f32, p.y as f32);
+            segments += 1;
+            if segments >= PIECE_POINTS {
+                flush(&mut pb, &mut segments);
+                pb.move_to(p.x as f32, p.y as f32);
+            }
+        }
+    }
+    flush(&mut pb, &mut segments);
+    if style.round_caps {
+        let r = 0.5 * style.stroke_width.unwrap_or(1.0);
+        for d in dots {
+            if let Some(dot) = PathBuilder::from_circle(d.x as f32, d.y as f32, r as f32) {
+                pixmap.fill_path(&dot, &paint, FillRule::Winding, t, None);
+            }
+        }
+    }
+}
+
+/// Sets the text elements of `svg` (a page of the drawing's size holding only text) onto
+/// the pixmap with usvg and resvg, fonts from the system.
+fn draw_text(pixmap: &mut Pixmap, svg: String, w: u32, h: u32) {
+    let mut opt = resvg::usvg::Options::default();
+    opt.fontdb_mut().load_system_fonts();
+    // The document is ours and holds only text: it parses.
+    let Ok(tree) = resvg::usvg::Tree::from_str(&svg, &opt) else {
+        return;
+    };
+    let page = tree.size();
+    let t = Transform::from_scale(w as f32 / page.width(), h as f32 / page.height());
+    resvg::render(&tree, t, &mut pixmap.as_mut());
 }
 
 #[cfg(test)]

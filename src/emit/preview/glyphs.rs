@@ -1,5 +1,5 @@
-//! Digits drawn as strokes, so order numbers show in every renderer without a font (resvg
-//! needs one for `<text>`, and none is shipped). Seven-segment shapes in a cell 0.6 wide and
+//! Digits drawn as strokes, so order numbers show in every renderer without a font (text
+//! needs one, and none is shipped). Seven-segment shapes in a cell 0.6 wide and
 //! 1 tall, y down.
 
 use super::draw::num;
@@ -43,11 +43,12 @@ pub fn width(text: &str, height: f64) -> f64 {
     }
 }
 
-/// Path data of the digits of `text` (other characters are skipped), centred on `center`.
-pub fn number_path(text: &str, center: DVec2, height: f64) -> String {
+/// The stroke segments of the digits of `text` (other characters are skipped), centred on
+/// `center`, `height` tall (y down).
+pub fn number_segments(text: &str, center: DVec2, height: f64) -> Vec<[DVec2; 2]> {
     let w = width(text, height);
     let origin = center - DVec2::new(0.5 * w, 0.5 * height);
-    let mut d = String::new();
+    let mut out = Vec::new();
     for (i, ch) in text.chars().enumerate() {
         let bits = match ch {
             '-' => DASH,
@@ -58,21 +59,28 @@ pub fn number_path(text: &str, center: DVec2, height: f64) -> String {
         };
         let cell = origin + DVec2::new(i as f64 * ADVANCE * height, 0.0);
         for (s, seg) in SEGMENTS.iter().enumerate() {
-            if bits & (1 << s) == 0 {
-                continue;
+            if bits & (1 << s) != 0 {
+                let p = |(x, y): (f64, f64)| cell + DVec2::new(x * WIDTH * height, y * height);
+                out.push([p(seg[0]), p(seg[1])]);
             }
-            let p = |(x, y): (f64, f64)| cell + DVec2::new(x * WIDTH * height, y * height);
-            let (a, b) = (p(seg[0]), p(seg[1]));
-            let _ = write!(
-                d,
-                "{}M{} {} L{} {}",
-                if d.is_empty() { "" } else { " " },
-                num(a.x),
-                num(a.y),
-                num(b.x),
-                num(b.y)
-            );
         }
+    }
+    out
+}
+
+/// Path data of [`number_segments`].
+pub fn number_path(text: &str, center: DVec2, height: f64) -> String {
+    let mut d = String::new();
+    for [a, b] in number_segments(text, center, height) {
+        let _ = write!(
+            d,
+            "{}M{} {} L{} {}",
+            if d.is_empty() { "" } else { " " },
+            num(a.x),
+            num(a.y),
+            num(b.x),
+            num(b.y)
+        );
     }
     d
 }

@@ -59,7 +59,8 @@ fn script_json(v: &serde_json::Value) -> String {
 
 /// The player page of `scene`.
 pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitError> {
-    let segs = &scene.timeline.segments;
+    let timeline = scene.timeline();
+    let segs = &timeline.segments;
     let n = segs.len();
     if n > u32::MAX as usize / 8 {
         return Err(EmitError::InvalidOption {
@@ -88,18 +89,19 @@ pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitErro
         t[3 * n + i] = s.vc as f32;
         t[4 * n + i] = s.vf as f32;
         t[5 * n + i] = s.a as f32;
-        let m = &scene.motions[s.motion];
-        let style = if matches!(m.kind, crate::sim::MotionKind::Dwell { .. }) {
-            STYLE_DWELL
-        } else if scene.is_cut(s.motion) {
-            STYLE_CUT | ((scale.step(scene.value_of(m)) as u8) << 2)
-        } else {
-            STYLE_TRAVEL
+        let m = scene.motions.get(s.motion);
+        let style = match &m {
+            Some(m) if matches!(m.kind, crate::sim::MotionKind::Dwell { .. }) => STYLE_DWELL,
+            Some(m) if scene.is_cut(s.motion) => {
+                STYLE_CUT | ((scale.step(scene.value_of(m)) as u8) << 2)
+            }
+            _ => STYLE_TRAVEL,
         };
         k.push(style);
         let op = scene.op_of.get(s.motion).copied().unwrap_or(0).min(65535) as u16;
         o.extend_from_slice(&op.to_le_bytes());
-        l.extend_from_slice(&(m.line.min(u32::MAX as usize) as u32).to_le_bytes());
+        let line = m.map_or(0, |m| m.line.min(u32::MAX as usize) as u32);
+        l.extend_from_slice(&line.to_le_bytes());
     }
     let (lo, hi) = view_box(scene);
     let steps: Vec<String> = (0..super::COLOR_STEPS).map(|s| scale.color(s)).collect();
@@ -112,9 +114,10 @@ pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitErro
     let findings: Vec<serde_json::Value> = scene
         .findings
         .iter()
-        .map(|f| {
+        .enumerate()
+        .map(|(i, f)| {
             let pts: Vec<[f64; 2]> = scene
-                .finding_points(f)
+                .finding_points(i)
                 .iter()
                 .filter(|p| p.is_finite())
                 .map(|p| [p.x, p.y])
@@ -132,15 +135,15 @@ pub fn player_html(scene: &Scene, opts: &HtmlOptions) -> Result<String, EmitErro
         "title": scene.title,
         "kind": match scene.kind { crate::sim::MachineKind::Laser => "laser", _ => "router" },
         "n": n,
-        "total": scene.timeline.total,
+        "total": timeline.total,
         "view": [lo.x, lo.y, hi.x, hi.y],
         "workArea": scene.work_area.map(|(a, b)| [a.x, a.y, b.x, b.y]),
         "operations": scene.operations,
         "colors": steps,
         "ranges": ranges,
-        "rapidColor": RAPID_COLOR,
-        "startColor": START_COLOR,
-        "findingColor": FINDING_COLOR,
+        "rapidColor": RAPID_COLOR.hex(),
+        "startColor": START_COLOR.hex(),
+        "findingColor": FINDING_COLOR.hex(),
         "findings": findings,
         "checked": scene.checked,
         "starts": scene.contours.iter().filter_map(|c| c.points.first()).map(|p| [p.x, p.y]).collect::<Vec<_>>(),

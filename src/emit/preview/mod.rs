@@ -1,11 +1,12 @@
-//! Toolpath previews people look at: one scene model, one SVG renderer (the PNG is that SVG
-//! rasterised by resvg), and a self-contained HTML player.
+//! Toolpath previews people look at: one scene model, one drawing of it
+//! ([`svg::scene_drawing`], sized and detailed for its output before it is drawn) with two
+//! backends (SVG text, tiny-skia pixmap for the PNG), and a self-contained HTML player.
 //!
 //! ```text
 //! G-code ─► sim::load ─► Program ─┐
-//! Toolpath ─► motions ────────────┴► Scene (motions, operations, contours, findings,
-//!                                      timeline) ─► svg::render ─► png::rasterize
-//!                                                 └► html::player
+//! Toolpath ─► motions ────────────┴► Scene (motions, operations, contours, findings)
+//!            ─► svg::scene_drawing ─► Drawing ─► to_svg | to_pixmap (png::scene_png)
+//!            └► html::player (with the planner's timeline)
 //! ```
 //!
 //! A [`Scene`] holds the motions in machine millimetres as the simulator reads them, so a
@@ -26,10 +27,15 @@ use crate::sim::{
 };
 use crate::toolpath::{MoveKind, Toolpath};
 use glam::{DVec2, DVec3};
+use std::collections::HashMap;
 
 pub use html::{HtmlOptions, player_html};
-pub use png::{PngOptions, rasterize};
+pub use png::{PngOptions, scene_png};
 pub use svg::{SvgOptions, scene_svg};
+
+/// What the simulator's findings say when it stopped reading the program at one of its
+/// limits (loop iterations, subroutine depth, ...): the moves after that point are missing.
+pub const STOPPED: &str = "interpretation stopped";
 
 /// Number of colour steps of the power/depth scale (and legend rows).
 pub const COLOR_STEPS: usize = 5;
@@ -45,8 +51,8 @@ pub struct Scene {
     pub work_area: Option<(DVec2, DVec2)>,
     /// Operation names; `op_of` indexes this list.
     pub operations: Vec<String>,
-    /// The simulator's motions (mm).
-    pub motions: Vec<Motion>,
+    /// The simulator's motions (mm), stored compactly.
+    pub motions: Motions,
     /// Operation of each motion.
     pub op_of: Vec<usize>,
     /// Checker configuration (mm) the scene was read with: what counts as cutting.
@@ -55,10 +61,13 @@ pub struct Scene {
     pub contours: Vec<SimContour>,
     /// The checker's findings.
     pub findings: Vec<Finding>,
+    /// Where each finding is drawn ([`Scene::finding_points`]), found once for all.
+    finding_at: Vec<Vec<DVec2>>,
     /// Whether the checker ran (a scene of a toolpath without G-code is not checked).
     pub checked: bool,
-    /// Per-block times from the simulator's planner.
-    pub timeline: Timeline,
+    /// The planner's time for the whole program, seconds (with acceleration; the total of
+    /// [`Scene::timeline`]).
+    pub total_time: f64,
     /// The program's source lines, when the scene was read from G-code (1-based lines map
     /// to index line − 1).
     pub source: Option<String>,
@@ -90,8 +99,8 @@ impl ColorScale {
         ((f * COLOR_STEPS as f64) as usize).min(COLOR_STEPS - 1)
     }
 
-    /// `#rrggbb` of a colour step.
-    pub fn color(&self, step: usize) -> String {
+    /// The colour of a step.
+    pub fn rgb(&self, step: usize) -> draw::Rgb {
         let [a, b] = match self.kind {
             MachineKind::Laser => LASER_RAMP,
             MachineKind::Router => ROUTER_RAMP,
@@ -102,12 +111,12 @@ impl ColorScale {
             1.0
         };
         let mix = |x: u8, y: u8| (x as f64 + f * (y as f64 - x as f64)).round() as u8;
-        format!(
-            "#{:02x}{:02x}{:02x}",
-            mix(a.0, b.0),
-            mix(a.1, b.1),
-            mix(a.2, b.2)
-        )
+        draw::Rgb(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+    }
+
+    /// `#rrggbb` of a colour step.
+    pub fn color(&self, step: usize) -> String {
+        self.rgb(step).hex()
     }
 
     /// The value range `[from, to)` of a colour step.
@@ -137,15 +146,16 @@ pub struct ProgramInput<'a> {
 impl Scene {
     /// A scene from a program the simulator read.
     pub fn from_program(input: ProgramInput<'_>) -> Scene {
+        let motions = input.program.motions.clone();
+        Scene::from_program_motions(input, motions)
+    }
+
+    /// [`Scene::from_program`] with the program's motions handed over instead of copied
+    /// (`input.program.motions` is not read): a program of 10⁷ moves holds 400 MB of them.
+    pub fn from_program_motions(input: ProgramInput<'_>, motions: Motions) -> Scene {
         let cfg = input.cfg.in_mm();
-        let motions = input.program.motions.to_vec();
         let (operations, op_of) = operations_from_comments(input.text, &motions);
-        let work_area = input.draw_work_area.then(|| {
-            (
-                DVec2::new(cfg.work_min[0], cfg.work_min[1]),
-                DVec2::new(cfg.work_max[0], cfg.work_max[1]),
-            )
-        });
+        let work_area = input.draw_work_area.then(|| work_area_of(&cfg));
         let mut scene = Scene::assemble(
             input.title,
             cfg,
@@ -244,7 +254,7 @@ impl Scene {
             cfg,
             work_area,
             operations,
-            motions,
+            Motions::from(&motions[..]),
             op_of,
             Vec::new(),
             None,
@@ -257,14 +267,14 @@ impl Scene {
         cfg: CheckConfig,
         work_area: Option<(DVec2, DVec2)>,
         operations: Vec<String>,
-        motions: Vec<Motion>,
+        motions: Motions,
         op_of: Vec<usize>,
         findings: Vec<Finding>,
         source: Option<String>,
     ) -> Scene {
-        let stored = Motions::from(&motions[..]);
-        let contours = cut_contours(&stored, &cfg);
-        let timeline = timeline(&stored, &cfg);
+        let contours = cut_contours(&motions, &cfg);
+        let total_time = crate::sim::time::estimate(&motions, &cfg).total;
+        let finding_at = finding_anchors(&motions, &findings);
         Scene {
             kind: cfg.kind,
             title: title.to_string(),
@@ -275,7 +285,8 @@ impl Scene {
             cfg,
             contours,
             findings,
-            timeline,
+            finding_at,
+            total_time,
             checked: false,
             source,
         }
@@ -285,7 +296,19 @@ impl Scene {
     pub fn is_cut(&self, i: usize) -> bool {
         self.motions
             .get(i)
-            .is_some_and(|m| is_cutting(m, &self.cfg))
+            .is_some_and(|m| is_cutting(&m, &self.cfg))
+    }
+
+    /// The finding saying the simulator stopped reading the program at a limit (see
+    /// [`STOPPED`]), when it did: the scene holds the moves before that point only.
+    pub fn stopped(&self) -> Option<&Finding> {
+        self.findings.iter().find(|f| f.message.contains(STOPPED))
+    }
+
+    /// Per-block times from the simulator's planner (what the HTML player animates),
+    /// computed on demand: a block per chord, 104 bytes each.
+    pub fn timeline(&self) -> Timeline {
+        timeline(&self.motions, &self.cfg)
     }
 
     /// The value a cut's colour stands for: S for lasers, depth below z = 0 for routers.
@@ -301,7 +324,7 @@ impl Scene {
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
         for m in self.motions.iter().filter(|m| is_cutting(m, &self.cfg)) {
-            let v = self.value_of(m);
+            let v = self.value_of(&m);
             if v.is_finite() {
                 lo = lo.min(v);
                 hi = hi.max(v);
@@ -328,7 +351,7 @@ impl Scene {
         c.sources
             .iter()
             .filter_map(|&k| self.motions.get(k as usize))
-            .map(|m| self.value_of(m))
+            .map(|m| self.value_of(&m))
             .fold(f64::NEG_INFINITY, f64::max)
     }
 
@@ -343,33 +366,70 @@ impl Scene {
 
     /// Bounds (min, max) of every motion in xy, None when nothing moves.
     pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
-        let mut lo = DVec2::splat(f64::INFINITY);
-        let mut hi = DVec2::splat(f64::NEG_INFINITY);
-        for m in &self.motions {
-            if matches!(m.kind, MotionKind::Dwell { .. }) {
-                continue;
-            }
-            let (a, b) = m.bounds();
-            if a.is_finite() && b.is_finite() {
-                lo = lo.min(a.truncate());
-                hi = hi.max(b.truncate());
-            }
-        }
-        (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+        motion_bounds(&self.motions)
     }
 
-    /// Where a finding is drawn: its coordinates, or the end of the first motion on its
+    /// Where finding `i` is drawn: its coordinates, or the end of the first motion on its
     /// first line.
-    pub fn finding_points(&self, f: &Finding) -> Vec<DVec2> {
-        if !f.at.is_empty() {
-            return f.at.iter().map(|p| DVec2::new(p[0], p[1])).collect();
-        }
-        f.lines
-            .first()
-            .and_then(|&l| self.motions.iter().find(|m| m.line == l))
-            .map(|m| vec![m.to.truncate()])
-            .unwrap_or_default()
+    pub fn finding_points(&self, i: usize) -> &[DVec2] {
+        self.finding_at.get(i).map_or(&[], |v| v.as_slice())
     }
+}
+
+/// Bounds (min, max) of every move in xy (dwells and non-finite moves left out), None when
+/// nothing moves.
+pub fn motion_bounds(motions: &Motions) -> Option<(DVec2, DVec2)> {
+    let mut lo = DVec2::splat(f64::INFINITY);
+    let mut hi = DVec2::splat(f64::NEG_INFINITY);
+    for m in motions.iter() {
+        if matches!(m.kind, MotionKind::Dwell { .. }) {
+            continue;
+        }
+        let (a, b) = m.bounds();
+        if a.is_finite() && b.is_finite() {
+            lo = lo.min(a.truncate());
+            hi = hi.max(b.truncate());
+        }
+    }
+    (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+}
+
+/// The machine's travel in xy (min, max) of a configuration in mm.
+pub fn work_area_of(cfg: &CheckConfig) -> (DVec2, DVec2) {
+    (
+        DVec2::new(cfg.work_min[0], cfg.work_min[1]),
+        DVec2::new(cfg.work_max[0], cfg.work_max[1]),
+    )
+}
+
+/// Where each finding is drawn: its coordinates, or the end of the first motion on its
+/// first line (one pass over the motions for all findings).
+fn finding_anchors(motions: &Motions, findings: &[Finding]) -> Vec<Vec<DVec2>> {
+    let mut first_on: HashMap<usize, Option<DVec2>> = findings
+        .iter()
+        .filter(|f| f.at.is_empty())
+        .filter_map(|f| f.lines.first().map(|&l| (l, None)))
+        .collect();
+    if !first_on.is_empty() {
+        for m in motions.iter() {
+            if let Some(slot @ None) = first_on.get_mut(&m.line) {
+                *slot = Some(m.to.truncate());
+            }
+        }
+    }
+    findings
+        .iter()
+        .map(|f| {
+            if !f.at.is_empty() {
+                return f.at.iter().map(|p| DVec2::new(p[0], p[1])).collect();
+            }
+            f.lines
+                .first()
+                .and_then(|l| first_on.get(l).copied().flatten())
+                .into_iter()
+                .collect()
+        })
+        .collect()
 }
 
 /// Operations named by skinpath's `op N NAME KIND` comments (any dialect's comment syntax):
@@ -377,7 +437,7 @@ impl Scene {
 /// one operation, "program".
 pub fn operations_from_comments(
     text: Option<&str>,
-    motions: &[Motion],
+    motions: &Motions,
 ) -> (Vec<String>, Vec<usize>) {
     let mut starts: Vec<(usize, String)> = Vec::new();
     if let Some(text) = text {
@@ -427,10 +487,10 @@ mod tests {
     fn operations_follow_comments() {
         let src = "(op 0 outline profile)\nG1 X1 F100\n; op 1 inner channel\nG1 X2\nG1 X3\n";
         let p = interpret(src, 0.005);
-        let (ops, of) = operations_from_comments(Some(src), &p.motions.to_vec());
+        let (ops, of) = operations_from_comments(Some(src), &p.motions);
         assert_eq!(ops, vec!["outline (profile)", "inner (channel)"]);
         assert_eq!(of, vec![0, 1, 1]);
-        let (ops, of) = operations_from_comments(None, &p.motions.to_vec());
+        let (ops, of) = operations_from_comments(None, &p.motions);
         assert_eq!(ops, vec!["program"]);
         assert_eq!(of, vec![0, 0, 0]);
     }

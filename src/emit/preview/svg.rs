@@ -3,8 +3,15 @@
 //! with their order numbers, the checker's findings ringed at their places, and a legend
 //! that lists the scale, the operations and the findings with their G-code lines. Page in
 //! millimetres, 1 page unit = 1 mm of the machine, y up as on the machine.
+//!
+//! The picture is a [`Drawing`] ([`scene_drawing`]) that the SVG writes as text and the PNG
+//! rasterises ([`super::png`]). Its size and level of detail are decided before anything is
+//! drawn ([`Layout`], [`Detail`]): polylines are simplified to the output's pixel, moves
+//! shorter than a pixel merge, and each layer (cuts, rapids, markers, findings) draws at most
+//! a fixed number of elements, points and, for a raster, pixels of ink; a layer that reaches
+//! its budget stops there and the legend says how much was drawn.
 
-use super::draw::{Frame, SvgPage, num};
+use super::draw::{Drawing, Frame, Paint, Rgb, Style};
 use super::{COLOR_STEPS, Scene};
 use crate::sim::{MachineKind, MotionKind, Severity};
 use glam::DVec2;
@@ -47,14 +54,62 @@ const FINDING_LINES: usize = 8;
 const NUMBERED_FINDINGS: usize = 30;
 
 /// Colours of the parts that are not cuts.
-pub const RAPID_COLOR: &str = "#a9b4bd";
+pub const RAPID_COLOR: Rgb = Rgb(0xa9, 0xb4, 0xbd);
 /// Colour of the cut start markers.
-pub const START_COLOR: &str = "#2ca02c";
+pub const START_COLOR: Rgb = Rgb(0x2c, 0xa0, 0x2c);
 /// Colour of the checker's findings.
-pub const FINDING_COLOR: &str = "#e00000";
-const WORK_FILL: &str = "#f6f6f2";
-const WORK_STROKE: &str = "#b8b8b0";
-const TEXT_COLOR: &str = "#222222";
+pub const FINDING_COLOR: Rgb = Rgb(0xe0, 0x00, 0x00);
+const WORK_FILL: Rgb = Rgb(0xf6, 0xf6, 0xf2);
+const WORK_STROKE: Rgb = Rgb(0xb8, 0xb8, 0xb0);
+const TEXT_COLOR: Rgb = Rgb(0x22, 0x22, 0x22);
+/// Colour of the cut order numbers.
+const ORDER_COLOR: Rgb = Rgb(0x1b, 0x5e, 0x20);
+/// Opacity of the direction arrows.
+const ARROW_OPACITY: f64 = 0.75;
+
+/// Operations listed in the legend one by one (a count of the rest beyond).
+const LISTED_OPERATIONS: usize = 24;
+/// Largest raster side the SVG's detail is meant for, pixels: geometry closer than the
+/// page's larger side over this merges (the largest PNG, [`super::png::MAX_SIDE`]).
+pub const SVG_DETAIL_SIDE: f64 = 16384.0;
+
+/// What one layer of the drawing may hold.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LayerBudget {
+    /// Drawn elements (paths, circles).
+    pub elements: usize,
+    /// Polyline points over all its paths.
+    pub points: usize,
+    /// Raster ink: the area its strokes cover, counted as (length + width) · width per path,
+    /// in pixels² (rasterising costs about this many pixel writes; ignored for SVG).
+    pub ink: f64,
+}
+
+/// Cut contours and ramps: a million points, 10⁵ paths, 4·10⁷ px² of ink (about 15 times a
+/// 1600 × 1600 image covered; tiny-skia strokes some 10⁷ px² a second).
+pub const CUT_BUDGET: LayerBudget = LayerBudget {
+    elements: 100_000,
+    points: 1_000_000,
+    ink: 4.0e7,
+};
+/// Rapids and travels.
+pub const RAPID_BUDGET: LayerBudget = LayerBudget {
+    elements: 50_000,
+    points: 500_000,
+    ink: 2.0e7,
+};
+/// Start markers, order numbers and direction arrows.
+pub const MARK_BUDGET: LayerBudget = LayerBudget {
+    elements: 20_000,
+    points: 100_000,
+    ink: 1.0e7,
+};
+/// Finding rings and numbers.
+pub const FINDING_BUDGET: LayerBudget = LayerBudget {
+    elements: 20_000,
+    points: 100_000,
+    ink: 1.0e7,
+};
 
 /// Seconds as `h:mm:ss` or `m:ss.s`.
 pub fn hms(t: f64) -> String {
@@ -72,16 +127,26 @@ pub fn hms(t: f64) -> String {
 /// The region the drawing shows (world mm): the moves and findings, and the work area when
 /// it is not much larger than the job.
 pub fn view_box(scene: &Scene) -> (DVec2, DVec2) {
-    let (mut lo, mut hi) = scene.bounds().unwrap_or((DVec2::ZERO, DVec2::ONE));
-    for f in &scene.findings {
-        for p in scene.finding_points(f) {
-            if p.is_finite() {
-                lo = lo.min(p);
-                hi = hi.max(p);
-            }
+    let findings = (0..scene.findings.len()).flat_map(|i| scene.finding_points(i).iter().copied());
+    frame_region(scene.bounds(), findings, scene.work_area)
+}
+
+/// The region framing `bounds` (of the moves, None when nothing moves), the finite
+/// `points`, and `work_area` when it is at most [`WORK_AREA_RATIO`] times the job's area,
+/// with a margin. It only grows with what it frames.
+pub fn frame_region(
+    bounds: Option<(DVec2, DVec2)>,
+    points: impl Iterator<Item = DVec2>,
+    work_area: Option<(DVec2, DVec2)>,
+) -> (DVec2, DVec2) {
+    let (mut lo, mut hi) = bounds.unwrap_or((DVec2::ZERO, DVec2::ONE));
+    for p in points {
+        if p.is_finite() {
+            lo = lo.min(p);
+            hi = hi.max(p);
         }
     }
-    if let Some((wl, wh)) = scene.work_area {
+    if let Some((wl, wh)) = work_area {
         let job = (hi - lo).max(DVec2::splat(1.0));
         let wa = (wh - wl).max(DVec2::ZERO);
         if wa.x * wa.y <= WORK_AREA_RATIO * job.x * job.y {
@@ -95,7 +160,7 @@ pub fn view_box(scene: &Scene) -> (DVec2, DVec2) {
 }
 
 /// Sizes derived from the drawing's larger side `s` (mm).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sizes {
     /// Cut stroke width.
     pub cut: f64,
@@ -128,12 +193,13 @@ impl Sizes {
 
 /// Text lines of the legend with optional swatch colour and dash flag.
 struct Row {
-    swatch: Option<(String, bool)>,
+    swatch: Option<(Rgb, bool)>,
     text: String,
     class: &'static str,
 }
 
-fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
+/// The legend's rows; `notes` (what the drawing left out) follow the title.
+fn legend_rows(scene: &Scene, opts: &SvgOptions, notes: &[String]) -> Vec<Row> {
     let mut rows = Vec::new();
     let text = |s: String, class| Row {
         swatch: None,
@@ -150,10 +216,26 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
             scene.motions.len(),
             cut_moves,
             scene.contours.len(),
-            hms(scene.timeline.total)
+            hms(scene.total_time)
         ),
         "title",
     ));
+    if let Some(f) = scene.stopped() {
+        rows.push(text(
+            format!(
+                "reading stopped at a limit{} [{}]: the moves after it are not shown",
+                f.lines
+                    .first()
+                    .map(|l| format!(" on line {l}"))
+                    .unwrap_or_default(),
+                f.id
+            ),
+            "limit",
+        ));
+    }
+    for n in notes {
+        rows.push(text(n.clone(), "limit"));
+    }
     let scale = scene.color_scale();
     let what = match scene.kind {
         MachineKind::Laser => "cut colour: laser power S",
@@ -161,9 +243,9 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
     };
     rows.push(text(what.to_string(), "scale"));
     let mut used = [false; COLOR_STEPS];
-    for (i, m) in scene.motions.iter().enumerate() {
-        if scene.is_cut(i) {
-            used[scale.step(scene.value_of(m))] = true;
+    for m in scene.motions.iter() {
+        if crate::sim::checks::is_cutting(&m, &scene.cfg) {
+            used[scale.step(scene.value_of(&m))] = true;
         }
     }
     let fmt = |v: f64| match scene.kind {
@@ -178,29 +260,42 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
             fmt(scale.hi)
         };
         rows.push(Row {
-            swatch: Some((scale.color(k), false)),
+            swatch: Some((scale.rgb(k), false)),
             text: label,
             class: "scale",
         });
     }
     rows.push(Row {
-        swatch: Some((RAPID_COLOR.to_string(), true)),
+        swatch: Some((RAPID_COLOR, true)),
         text: "rapids and travels".into(),
         class: "key",
     });
     rows.push(Row {
-        swatch: Some((START_COLOR.to_string(), false)),
+        swatch: Some((START_COLOR, false)),
         text: "cut starts, numbered in cutting order; arrows show the direction".into(),
         class: "key",
     });
-    for (i, name) in scene.operations.iter().enumerate() {
-        let n = scene
-            .contours
-            .iter()
-            .filter(|c| scene.contour_op(c) == i)
-            .count();
+    let mut per_op = vec![0usize; scene.operations.len()];
+    for c in &scene.contours {
+        if let Some(n) = per_op.get_mut(scene.contour_op(c)) {
+            *n += 1;
+        }
+    }
+    for (i, name) in scene.operations.iter().enumerate().take(LISTED_OPERATIONS) {
         rows.push(text(
-            format!("operation {}: {name}, {n} contours", i + 1),
+            format!("operation {}: {name}, {} contours", i + 1, per_op[i]),
+            "op",
+        ));
+    }
+    if scene.operations.len() > LISTED_OPERATIONS {
+        let rest = &per_op[LISTED_OPERATIONS..];
+        rows.push(text(
+            format!(
+                "operations {} to {}: {} contours",
+                LISTED_OPERATIONS + 1,
+                scene.operations.len(),
+                rest.iter().sum::<usize>()
+            ),
             "op",
         ));
     }
@@ -213,7 +308,7 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions) -> Vec<Row> {
         rows.push(text("checker: no findings".into(), "findings"));
     } else {
         rows.push(Row {
-            swatch: Some((FINDING_COLOR.to_string(), false)),
+            swatch: Some((FINDING_COLOR, false)),
             text: format!(
                 "checker: {} findings (ringed and numbered)",
                 scene.findings.len()
@@ -281,29 +376,354 @@ fn midpoint(pts: &[DVec2]) -> Option<(DVec2, DVec2)> {
     None
 }
 
+/// Where the drawing goes on the page and how big its parts are, decided from the region
+/// it frames before anything is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Layout {
+    /// Lower-left corner of the framed region (world mm).
+    pub lo: DVec2,
+    /// Upper-right corner of the framed region (world mm).
+    pub hi: DVec2,
+    /// Stroke widths, marker and font sizes.
+    pub sizes: Sizes,
+    /// Page width, mm: the region, or the legend's minimum width.
+    pub width: f64,
+    /// Height of the drawing above the legend, mm.
+    pub drawing_height: f64,
+    /// Whether a legend goes below the drawing.
+    pub legend: bool,
+}
+
+impl Layout {
+    /// The layout of a drawing framing `lo..hi` (see [`view_box`]).
+    pub fn of_box(lo: DVec2, hi: DVec2, legend: bool) -> Layout {
+        let size = hi - lo;
+        let sizes = Sizes::of(size.max_element());
+        // The legend needs room for its text even below a narrow drawing.
+        let width = if legend {
+            size.x.max(40.0 * sizes.font)
+        } else {
+            size.x
+        };
+        Layout {
+            lo,
+            hi,
+            sizes,
+            width,
+            drawing_height: size.y,
+            legend,
+        }
+    }
+
+    /// The layout of `scene`'s drawing.
+    pub fn of(scene: &Scene, opts: &SvgOptions) -> Layout {
+        let (lo, hi) = view_box(scene);
+        Layout::of_box(lo, hi, opts.legend)
+    }
+
+    /// Height of a legend row, mm.
+    fn line_height(&self) -> f64 {
+        1.5 * self.sizes.font
+    }
+
+    /// Page height with a legend of `rows` rows, mm.
+    pub fn height(&self, rows: usize) -> f64 {
+        if !self.legend || rows == 0 {
+            self.drawing_height
+        } else {
+            self.drawing_height + (rows as f64 + 0.8) * self.line_height()
+        }
+    }
+}
+
+/// How fine the drawing is: geometry closer than a pixel merges, and whether the layers'
+/// ink budgets apply (a raster).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Detail {
+    /// Page size of one output pixel, mm.
+    pub pixel: f64,
+    /// True for a raster (the ink budgets apply).
+    pub raster: bool,
+}
+
+impl Detail {
+    /// The SVG's detail: a pixel of the largest raster of the page
+    /// ([`SVG_DETAIL_SIDE`] pixels a side).
+    pub fn svg(layout: &Layout) -> Detail {
+        Detail {
+            pixel: layout.width.max(layout.drawing_height) / SVG_DETAIL_SIDE,
+            raster: false,
+        }
+    }
+}
+
+/// What a layer of the drawing has drawn against its [`LayerBudget`]; the first elements
+/// in drawing order are drawn, the layer stops at the first that would exceed a budget.
+struct Layer {
+    name: &'static str,
+    budget: LayerBudget,
+    detail: Detail,
+    elements: usize,
+    points: usize,
+    ink: f64,
+    full: bool,
+    /// Elements left out once the budget was reached.
+    left_out: usize,
+    /// Whether the last element drawn was cut short at the budget.
+    truncated: bool,
+    /// The last dot (a path shorter than a pixel) drawn and its colour: the next one of
+    /// that colour within a pixel of it merges into it.
+    last_dot: Option<(DVec2, Rgb)>,
+}
+
+impl Layer {
+    fn new(name: &'static str, budget: LayerBudget, detail: Detail) -> Layer {
+        Layer {
+            name,
+            budget,
+            detail,
+            elements: 0,
+            points: 0,
+            ink: 0.0,
+            full: false,
+            left_out: 0,
+            truncated: false,
+            last_dot: None,
+        }
+    }
+
+    /// Whether an element of `points` points, `length` long and `width` wide (page mm)
+    /// fits; counts it when it does, and as left out when it does not.
+    fn admit(&mut self, points: usize, length: f64, width: f64) -> bool {
+        let ink = if self.detail.raster {
+            (length + width) * width / (self.detail.pixel * self.detail.pixel)
+        } else {
+            0.0
+        };
+        if !self.full
+            && (self.elements + 1 > self.budget.elements
+                || self.points + points > self.budget.points
+                || self.ink + ink > self.budget.ink)
+        {
+            self.full = true;
+        }
+        if self.full {
+            self.left_out += 1;
+            return false;
+        }
+        self.elements += 1;
+        self.points += points;
+        self.ink += ink;
+        true
+    }
+
+    /// Admits a polyline of page points stroked `width` wide in `color`, simplified to the
+    /// pixel. A polyline shorter than a pixel is a dot: dropped when `dots` is false
+    /// (rapids), merged into the previous dot when that has its colour and lies within a
+    /// pixel. None when nothing is drawn.
+    fn polyline(
+        &mut self,
+        pts: &[DVec2],
+        width: f64,
+        color: Rgb,
+        dots: bool,
+    ) -> Option<Vec<DVec2>> {
+        let pts = simplify(pts, self.detail.pixel);
+        let first = *pts.first()?;
+        let length: f64 = pts.windows(2).map(|w| w[0].distance(w[1])).sum();
+        if pts.len() <= 2 && length < self.detail.pixel {
+            let merges = self
+                .last_dot
+                .is_some_and(|(d, c)| c == color && d.distance(first) < self.detail.pixel);
+            if !dots || merges || !self.admit(2, 0.0, width) {
+                return None;
+            }
+            self.last_dot = Some((first, color));
+            return Some(if pts.len() == 2 {
+                pts
+            } else {
+                vec![first, first]
+            });
+        }
+        self.fit(pts, width)
+    }
+
+    /// Admits a polyline stroked `width` wide, or as much of its start as the budget holds
+    /// (then the layer is full).
+    fn fit(&mut self, mut pts: Vec<DVec2>, width: f64) -> Option<Vec<DVec2>> {
+        if !self.full && self.elements + 1 > self.budget.elements {
+            self.full = true;
+        }
+        if self.full {
+            self.left_out += 1;
+            return None;
+        }
+        // Ink per page mm of length (the width term is the round caps).
+        let per_mm = if self.detail.raster {
+            width / (self.detail.pixel * self.detail.pixel)
+        } else {
+            0.0
+        };
+        let mut ink = self.ink + width * per_mm;
+        let mut taken = 1;
+        for (i, w) in pts.windows(2).enumerate() {
+            let more = w[0].distance(w[1]) * per_mm;
+            if self.points + i + 2 > self.budget.points || ink + more > self.budget.ink {
+                break;
+            }
+            ink += more;
+            taken = i + 2;
+        }
+        if taken < pts.len() {
+            self.full = true;
+            if taken < 2 {
+                self.left_out += 1;
+                return None;
+            }
+            self.truncated = true;
+            pts.truncate(taken);
+        }
+        self.elements += 1;
+        self.points += taken;
+        self.ink = ink;
+        Some(pts)
+    }
+
+    /// The legend's note when the layer left something out.
+    fn note(&self) -> Option<String> {
+        (self.left_out > 0 || self.truncated).then(|| {
+            format!(
+                "preview limit: {} of {} {} drawn{} (the first in program order)",
+                self.elements,
+                self.elements + self.left_out,
+                self.name,
+                if self.truncated {
+                    ", the last in part"
+                } else {
+                    ""
+                }
+            )
+        })
+    }
+}
+
+/// A path of connected travels being collected: its points simplified to the pixel as they
+/// come (see [`simplify`]), at most `cap` of them (then it is drawn and a new one starts).
+struct Chain {
+    pixel: f64,
+    cap: usize,
+    pts: Vec<DVec2>,
+    /// The last point added (kept or not): the path's end.
+    end: Option<DVec2>,
+}
+
+impl Chain {
+    fn new(pixel: f64, cap: usize) -> Chain {
+        Chain {
+            pixel,
+            cap: cap.max(2),
+            pts: Vec::new(),
+            end: None,
+        }
+    }
+
+    /// Adds a travel through page points `pts`; one that does not start where the path
+    /// ends starts a new path.
+    fn extend(&mut self, pts: &[DVec2], page: &mut Drawing, layer: &mut Layer, width: f64) {
+        let Some(&first) = pts.first() else {
+            return;
+        };
+        if self.end != Some(first) {
+            self.flush(page, layer, width);
+            self.pts.push(first);
+        }
+        for &p in &pts[1..] {
+            if self.pts.last().is_some_and(|l| l.distance(p) >= self.pixel) {
+                if self.pts.len() + 1 >= self.cap {
+                    self.end = Some(p);
+                    self.flush(page, layer, width);
+                }
+                self.pts.push(p);
+            }
+            self.end = Some(p);
+        }
+    }
+
+    /// Draws the path collected (when the layer admits it) and starts an empty one.
+    fn flush(&mut self, page: &mut Drawing, layer: &mut Layer, width: f64) {
+        let mut pts = std::mem::take(&mut self.pts);
+        if let Some(end) = self.end.take()
+            && pts.last() != Some(&end)
+        {
+            pts.push(end);
+        }
+        if pts.len() >= 2
+            && let Some(pts) = layer.polyline(&pts, width, RAPID_COLOR, false)
+        {
+            page.polyline("rapid", pts, false, Style::default(), None);
+        }
+    }
+}
+
+/// `pts` without the points closer than `tol` to the last point kept (the last point
+/// always stays): every point left out lies within `tol` of a kept one, so the drawing
+/// moves by less than `tol` (radial-distance simplification).
+pub fn simplify(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
+    let Some((&first, rest)) = pts.split_first() else {
+        return Vec::new();
+    };
+    let mut out = vec![first];
+    let mut last = first;
+    for &p in rest {
+        if p.distance(last) >= tol {
+            out.push(p);
+            last = p;
+        }
+    }
+    if let Some(&end) = pts.last()
+        && last != end
+    {
+        out.push(end);
+    }
+    out
+}
+
+/// The xy points of a move with sagitta ≤ `tol`. An arc of more than one turn covers its
+/// circle once: the later turns retrace it.
+fn move_points(m: &crate::sim::Motion, tol: f64) -> Vec<DVec2> {
+    match m.arc {
+        Some(a) if a.sweep.abs() > std::f64::consts::TAU => crate::geom::Arc {
+            sweep: std::f64::consts::TAU.copysign(a.sweep),
+            ..a
+        }
+        .flatten(tol),
+        _ => m.flatten_xy(tol),
+    }
+}
+
 /// The preview SVG of `scene`.
 pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
-    let (lo, hi) = view_box(scene);
+    let layout = Layout::of(scene, opts);
+    scene_drawing(scene, opts, &layout, &Detail::svg(&layout)).to_svg()
+}
+
+/// The preview drawing of `scene` on `layout` at `detail` (see the module's notes).
+pub fn scene_drawing(
+    scene: &Scene,
+    opts: &SvgOptions,
+    layout: &Layout,
+    detail: &Detail,
+) -> Drawing {
+    let (lo, hi) = (layout.lo, layout.hi);
     let size = hi - lo;
-    let sz = Sizes::of(size.max_element());
+    let sz = layout.sizes;
     let frame = Frame::new(lo, hi, 1.0, DVec2::ZERO);
-    let rows = if opts.legend {
-        legend_rows(scene, opts)
-    } else {
-        Vec::new()
-    };
-    let line_h = 1.5 * sz.font;
-    let legend_h = if rows.is_empty() {
-        0.0
-    } else {
-        (rows.len() as f64 + 0.8) * line_h
-    };
-    // The legend needs room for its text even below a narrow drawing.
-    let width = size
-        .x
-        .max(if rows.is_empty() { 0.0 } else { 40.0 * sz.font });
-    let mut page = SvgPage::new(width, size.y + legend_h, 1.0);
+    let mut page = Drawing::new(layout.width, layout.drawing_height);
     let flat_tol = (0.1 * sz.cut).max(1e-4);
+    let mut rapids = Layer::new("rapids", RAPID_BUDGET, *detail);
+    let mut cuts = Layer::new("cut paths", CUT_BUDGET, *detail);
+    let mut marks = Layer::new("start markers and arrows", MARK_BUDGET, *detail);
+    let mut rings = Layer::new("finding marks", FINDING_BUDGET, *detail);
 
     if let Some((wl, wh)) = scene.work_area {
         let a = frame.map(DVec2::new(wl.x, wh.y));
@@ -312,107 +732,144 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
             "work-area",
             a,
             b - a,
-            &[
-                ("fill", WORK_FILL),
-                ("stroke", WORK_STROKE),
-                ("stroke-width", &num(0.5 * sz.cut)),
-            ],
+            Style {
+                fill: Some(Paint::Color(WORK_FILL)),
+                ..Style::stroked(WORK_STROKE, 0.5 * sz.cut)
+            },
         );
     }
 
     // Rapids and travels: every move that does not cut and moves in xy.
     page.open(
         "rapids",
-        &[
-            ("fill", "none"),
-            ("stroke", RAPID_COLOR),
-            ("stroke-width", &num(sz.rapid)),
-            (
-                "stroke-dasharray",
-                &format!("{} {}", num(3.0 * sz.cut), num(2.0 * sz.cut)),
-            ),
-            ("stroke-linecap", "round"),
-        ],
+        Style {
+            dash: Some([3.0 * sz.cut, 2.0 * sz.cut]),
+            round_caps: true,
+            ..Style::stroked(RAPID_COLOR, sz.rapid)
+        },
+        &[],
     );
-    for (i, m) in scene.motions.iter().enumerate() {
-        if matches!(m.kind, MotionKind::Dwell { .. }) || scene.is_cut(i) {
+    // Connected travels are one path (moves that only change z, cutting or not, leave the
+    // path in xy as it is), kept simplified to the pixel as it grows.
+    let mut chain = Chain::new(detail.pixel, RAPID_BUDGET.points);
+    for m in scene.motions.iter() {
+        if matches!(m.kind, MotionKind::Dwell { .. })
+            || (m.from.truncate() == m.to.truncate() && m.arc.is_none())
+        {
             continue;
         }
-        if m.from.truncate() == m.to.truncate() && m.arc.is_none() {
+        if crate::sim::checks::is_cutting(&m, &scene.cfg) {
+            chain.flush(&mut page, &mut rapids, sz.rapid);
             continue;
         }
-        let pts: Vec<DVec2> = m
-            .flatten_xy(flat_tol)
+        let pts: Vec<DVec2> = move_points(&m, flat_tol)
             .iter()
             .map(|p| frame.map(*p))
             .collect();
-        page.polyline("rapid", &pts, false, &[]);
+        chain.extend(&pts, &mut page, &mut rapids, sz.rapid);
     }
+    chain.flush(&mut page, &mut rapids, sz.rapid);
     page.close();
 
+    // Cuts by operation: contours, then the cutting moves that change depth (plunges,
+    // ramps, helices), which belong to no contour.
     let scale = scene.color_scale();
+    let nops = scene.operations.len().max(1);
+    let mut contours_of: Vec<Vec<usize>> = vec![Vec::new(); nops];
+    for (ci, c) in scene.contours.iter().enumerate() {
+        contours_of[scene.contour_op(c).min(nops - 1)].push(ci);
+    }
+    let mut ramps_of: Vec<Vec<usize>> = vec![Vec::new(); nops];
+    for (i, m) in scene.motions.iter().enumerate() {
+        if m.from.z != m.to.z && crate::sim::checks::is_cutting(&m, &scene.cfg) {
+            let op = scene.op_of.get(i).copied().unwrap_or(0);
+            ramps_of[op.min(nops - 1)].push(i);
+        }
+    }
+    let mut drawn_contour = vec![false; scene.contours.len()];
     for (oi, name) in scene.operations.iter().enumerate() {
+        if contours_of[oi].is_empty() && ramps_of[oi].is_empty() {
+            continue;
+        }
         page.open(
             &format!("op{oi}"),
-            &[
-                ("data-name", name),
-                ("fill", "none"),
-                ("stroke-width", &num(sz.cut)),
-                ("stroke-linecap", "round"),
-                ("stroke-linejoin", "round"),
-            ],
+            Style {
+                fill: Some(Paint::None),
+                stroke_width: Some(sz.cut),
+                ..Style::default()
+            }
+            .round(),
+            &[("data-name", name)],
         );
-        for (ci, c) in scene.contours.iter().enumerate() {
-            if scene.contour_op(c) != oi {
-                continue;
-            }
-            let color = scale.color(scale.step(scene.contour_value(c)));
+        for &ci in &contours_of[oi] {
+            let c = &scene.contours[ci];
+            let color = scale.rgb(scale.step(scene.contour_value(c)));
             let pts: Vec<DVec2> = c.points.iter().map(|p| frame.map(*p)).collect();
-            page.polyline(
-                "cut",
-                &pts,
-                false,
-                &[("id", &format!("contour{}", ci + 1)), ("stroke", &color)],
-            );
-        }
-        // Cutting moves that change depth (plunges, ramps, helices) belong to no contour.
-        for (i, m) in scene.motions.iter().enumerate() {
-            if scene.op_of.get(i) != Some(&oi) || !scene.is_cut(i) || m.from.z == m.to.z {
-                continue;
+            if let Some(pts) = cuts.polyline(&pts, sz.cut, color, true) {
+                drawn_contour[ci] = true;
+                let style = Style {
+                    stroke: Some(Paint::Color(color)),
+                    ..Style::default()
+                };
+                page.polyline("cut", pts, false, style, Some(format!("contour{}", ci + 1)));
             }
-            let pts: Vec<DVec2> = m
-                .flatten_xy(flat_tol)
+        }
+        for &i in &ramps_of[oi] {
+            let Some(m) = scene.motions.get(i) else {
+                continue;
+            };
+            let pts: Vec<DVec2> = move_points(&m, flat_tol)
                 .iter()
                 .map(|p| frame.map(*p))
                 .collect();
-            let color = scale.color(scale.step(scene.value_of(m)));
-            page.polyline("ramp", &pts, false, &[("stroke", &color)]);
+            let color = scale.rgb(scale.step(scene.value_of(&m)));
+            if let Some(pts) = cuts.polyline(&pts, sz.cut, color, true) {
+                let style = Style {
+                    stroke: Some(Paint::Color(color)),
+                    ..Style::default()
+                };
+                page.polyline("ramp", pts, false, style, None);
+            }
         }
         page.close();
     }
 
-    page.open("arrows", &[("fill", TEXT_COLOR), ("fill-opacity", "0.75")]);
-    for c in &scene.contours {
+    page.open(
+        "arrows",
+        Style {
+            fill: Some(Paint::Color(TEXT_COLOR)),
+            fill_opacity: Some(ARROW_OPACITY),
+            ..Style::default()
+        },
+        &[],
+    );
+    for (ci, c) in scene.contours.iter().enumerate() {
+        if !drawn_contour[ci] {
+            continue;
+        }
         let pts: Vec<DVec2> = c.points.iter().map(|p| frame.map(*p)).collect();
         let len: f64 = pts.windows(2).map(|w| w[0].distance(w[1])).sum();
         if len < 3.0 * sz.arrow {
             continue;
         }
         if let Some((p, d)) = midpoint(&pts) {
+            if !marks.admit(3, 1.2 * sz.arrow, 0.8 * sz.arrow) {
+                break;
+            }
             let nrm = d.perp();
             let tip = p + d * (0.5 * sz.arrow);
             let back = p - d * (0.5 * sz.arrow);
-            let tri = [
+            let tri = vec![
                 tip,
                 back + nrm * (0.4 * sz.arrow),
                 back - nrm * (0.4 * sz.arrow),
             ];
-            page.polyline("arrow", &tri, true, &[]);
+            page.polyline("arrow", tri, true, Style::default(), None);
         }
     }
     page.close();
 
-    page.open("starts", &[]);
+    page.open("starts", Style::default(), &[]);
     // Many cuts (hatching): small markers, so the cuts stay visible between them.
     let marker = if scene.contours.len() > opts.max_numbers {
         0.6 * sz.marker
@@ -427,10 +884,11 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     let starts: Vec<Option<DVec2>> = scene
         .contours
         .iter()
-        .map(|c| c.points.first().map(|p| frame.map(*p)))
+        .zip(&drawn_contour)
+        .map(|(c, &drawn)| c.points.first().filter(|_| drawn).map(|p| frame.map(*p)))
         .collect();
     let mut ci = 0;
-    while ci < starts.len() {
+    'starts: while ci < starts.len() {
         let Some(p) = starts[ci] else {
             ci += 1;
             continue;
@@ -442,11 +900,14 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
             last += 1;
         }
         for k in ci..=last {
+            if !marks.admit(1, 0.0, 2.0 * marker) {
+                break 'starts;
+            }
             page.circle(
                 "start",
                 p,
                 marker,
-                &[("fill", START_COLOR)],
+                Style::filled(START_COLOR),
                 Some(&format!("contour {} starts here", k + 1)),
             );
         }
@@ -457,35 +918,33 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
                 (ci + 1).to_string()
             };
             let w = super::glyphs::width(&label, sz.number);
+            if !marks.admit(7 * label.len(), w, sz.number) {
+                break;
+            }
             let at = p + DVec2::new(sz.marker + 0.5 * w + 0.2 * sz.number, -0.8 * sz.number);
-            page.number("order", at, sz.number, "#1b5e20", &label);
+            page.number("order", at, sz.number, ORDER_COLOR, &label);
         }
         ci = last + 1;
     }
     page.close();
 
-    page.open(
-        "findings",
-        &[
-            ("fill", "none"),
-            ("stroke", FINDING_COLOR),
-            ("stroke-width", &num(0.8 * sz.cut)),
-        ],
-    );
-    for (fi, f) in scene.findings.iter().enumerate() {
-        let pts = scene.finding_points(f);
+    page.open("findings", Style::stroked(FINDING_COLOR, 0.8 * sz.cut), &[]);
+    'findings: for (fi, f) in scene.findings.iter().enumerate() {
         let ring = if f.severity == Severity::Error {
             5.0 * sz.cut
         } else {
             4.0 * sz.cut
         };
-        for p in pts.iter().filter(|p| p.is_finite()) {
+        for p in scene.finding_points(fi).iter().filter(|p| p.is_finite()) {
             let q = frame.map(*p);
+            if !rings.admit(1, std::f64::consts::TAU * ring, 0.8 * sz.cut) {
+                break 'findings;
+            }
             page.circle(
                 &format!("finding {}", f.id),
                 q,
                 ring,
-                &[],
+                Style::default(),
                 Some(&format!("{}. {f}", fi + 1)),
             );
             if scene.findings.len() > NUMBERED_FINDINGS {
@@ -502,26 +961,37 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     }
     page.close();
 
+    let notes: Vec<String> = [&cuts, &rapids, &marks, &rings]
+        .iter()
+        .filter_map(|l| l.note())
+        .collect();
+    let rows = if opts.legend {
+        legend_rows(scene, opts, &notes)
+    } else {
+        Vec::new()
+    };
+    page.height = layout.height(rows.len());
     if !rows.is_empty() {
-        page.open("legend", &[]);
+        page.open("legend", Style::default(), &[]);
+        let line_h = layout.line_height();
         let x0 = 0.5 * sz.font;
         let mut y = size.y + line_h;
         for r in &rows {
             let mut x = x0;
-            if let Some((color, dashed)) = &r.swatch {
+            if let Some((color, dashed)) = r.swatch {
                 let a = DVec2::new(x, y - 0.35 * sz.font);
                 let b = a + DVec2::new(1.6 * sz.font, 0.0);
-                let width = num(0.45 * sz.font);
-                let dash = format!("{} {}", num(0.4 * sz.font), num(0.25 * sz.font));
-                let mut attrs = vec![("stroke", color.as_str()), ("stroke-width", &width)];
-                if *dashed {
-                    attrs.push(("stroke-dasharray", &dash));
-                }
-                page.path("swatch", &SvgPage::path_data(&[a, b], false), &attrs);
+                let style = Style {
+                    stroke: Some(Paint::Color(color)),
+                    stroke_width: Some(0.45 * sz.font),
+                    dash: dashed.then_some([0.4 * sz.font, 0.25 * sz.font]),
+                    ..Style::default()
+                };
+                page.polyline("swatch", vec![a, b], false, style, None);
                 x += 2.2 * sz.font;
             }
             // Average glyph advance of a sans-serif font is about 0.55 em.
-            let fits = ((width - x) / (0.55 * sz.font)).max(8.0) as usize;
+            let fits = ((layout.width - x) / (0.55 * sz.font)).max(8.0) as usize;
             let t: String = if r.text.chars().count() > fits {
                 let mut t: String = r.text.chars().take(fits.saturating_sub(3)).collect();
                 t.push_str("...");
@@ -534,5 +1004,5 @@ pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
         }
         page.close();
     }
-    page.finish()
+    page
 }
