@@ -436,20 +436,35 @@ impl SegmentSet {
         if n < 2 {
             return Vec::new();
         }
-        let all: Vec<u32> = match u32::try_from(n) {
-            Ok(n) => (0..n).collect(),
-            Err(_) => Vec::new(),
-        };
-        if let Some(long) = (n >= SPLIT_MIN).then(|| self.long_segments(&all)).flatten() {
-            let mut out = Vec::new();
-            self.split_contacts(&all, long, &mut out);
-            return out;
-        }
         let (lo, hi, total) = self.extent(self.segs.iter());
-        match Grid::new(lo, hi, total, n) {
-            Some(g) => self.cell_contacts(&g, 0..u64::MAX),
-            None => self.brute_force_contacts(),
+        let Some(grid) = Grid::new(lo, hi, total, n) else {
+            return self.brute_force_contacts();
+        };
+        // Cells far larger than a typical segment (sized by a few long segments, or by the
+        // bounding box they span) crowd the short ones: the long ones are then checked
+        // apart.
+        if n >= SPLIT_MIN
+            && u32::try_from(n).is_ok()
+            && grid.h > LONG_SEGMENT * self.median_length()
+        {
+            let all: Vec<u32> = (0..n as u32).collect();
+            if let Some(long) = self.long_segments(&all) {
+                let mut out = Vec::new();
+                self.split_contacts(&all, long, &mut out);
+                return out;
+            }
         }
+        self.cell_contacts(&grid, 0..u64::MAX)
+    }
+
+    /// The median segment length (the upper one for an even count; 0 for no segment).
+    fn median_length(&self) -> f64 {
+        let mut lengths: Vec<f64> = self.segs.iter().map(|s| s.a.distance(s.b)).collect();
+        if lengths.is_empty() {
+            return 0.0;
+        }
+        let mid = lengths.len() / 2;
+        *lengths.select_nth_unstable_by(mid, f64::total_cmp).1
     }
 
     /// Bounds (lo, hi) and total length of `segs`.
