@@ -879,3 +879,166 @@ fn pen_jitter_is_not_a_corner_and_real_corners_stay() {
     assert!(imp.warnings.is_empty(), "{:?}", imp.warnings);
     assert!(imp.max_deviation <= opts.tolerance, "{}", imp.max_deviation);
 }
+
+// ---- Issue 39 item 2 (SVG side): layers, colours and the paint model.
+
+fn area(s: &skinpath::design::Shape) -> f64 {
+    s.rings()
+        .iter()
+        .map(|r| skinpath::design::shape::ring_area(r))
+        .sum()
+}
+
+#[test]
+fn inkscape_layers_and_colours_are_kept() {
+    let text = r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <g inkscape:groupmode="layer" inkscape:label="Cut" id="layer1">
+        <path id="path12" d="M10 10 H90" stroke="#FF0000" stroke-width="0.1" fill="none"/>
+        <g id="g7"><rect id="r1" x="10" y="20" width="30" height="30" fill="rgb(0,0,255)"/></g>
+      </g>
+      <g inkscape:groupmode="layer" inkscape:label="Engrave" id="layer2">
+        <path d="M10 80 H90" stroke="black" fill="none"/>
+      </g>
+      <path id="loose" d="M10 90 H90" stroke="#00ff00" fill="none"/>
+    </svg>"##;
+    let imp = import(text, "l.svg", &ImportOptions::default()).unwrap();
+    let by = |n: &str| {
+        imp.design
+            .stroke
+            .iter()
+            .find(|s| s.name == n)
+            .unwrap_or_else(|| panic!("{n}: {:?}", imp.design.stroke))
+    };
+    let s = by("Cut/path12");
+    assert_eq!(s.layer.as_deref(), Some("Cut"));
+    assert_eq!(s.color.as_deref(), Some("#ff0000"));
+    let e = imp
+        .design
+        .stroke
+        .iter()
+        .find(|s| s.name.starts_with("Engrave/"))
+        .unwrap();
+    assert_eq!(
+        (e.layer.as_deref(), e.color.as_deref()),
+        (Some("Engrave"), Some("#000000"))
+    );
+    let l = by("loose");
+    assert_eq!(
+        (l.layer.as_deref(), l.color.as_deref()),
+        (None, Some("#00ff00"))
+    );
+    let r = &imp.design.shape[0];
+    assert_eq!(r.name, "Cut/r1");
+    assert_eq!(
+        (r.layer.as_deref(), r.color.as_deref()),
+        (Some("Cut"), Some("#0000ff"))
+    );
+    // The design writes and reads back with its layers and colours.
+    let toml = imp.design.to_toml_string().unwrap();
+    let back = load(&toml, "l.toml").unwrap();
+    assert!(
+        back.stroke
+            .iter()
+            .any(|s| s.layer.as_deref() == Some("Cut"))
+    );
+}
+
+#[test]
+fn later_fills_hide_earlier_ones_and_white_knocks_out() {
+    let opts = ImportOptions::default();
+    // A 60 × 40 black rectangle, a red 20 × 20 square over its middle, a white 10 × 10
+    // square over the rectangle's corner region, a black 10 × 10 square overlapping the
+    // rectangle's right edge (merged with it: same colour), and a blue square hidden
+    // entirely by a later green one.
+    let body = r##"<rect id="black" x="20" y="20" width="60" height="40" fill="black"/>
+        <rect id="red" x="40" y="30" width="20" height="20" fill="#f00"/>
+        <rect id="white" x="22" y="22" width="10" height="10" fill="white"/>
+        <rect id="more" x="75" y="25" width="10" height="10" fill="#000"/>
+        <rect id="blue" x="120" y="120" width="10" height="10" fill="blue"/>
+        <rect id="green" x="115" y="115" width="20" height="20" fill="green"/>"##;
+    let imp = import(&page(body), "p.svg", &opts).unwrap();
+    let names: Vec<&str> = imp.design.shape.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["red", "more", "green"], "{:?}", imp.skipped);
+    let get = |n: &str| imp.design.shape.iter().find(|s| s.name == n).unwrap();
+    // Red is whole: 400 mm².
+    // usvg keeps f32 coordinates: areas agree to about 1e-7 of their size.
+    assert!(
+        (area(get("red")) - 400.0).abs() < 1e-6 * 400.0,
+        "{}",
+        area(get("red"))
+    );
+    // Black (merged into "more", its colour's later fill): 60·40 + the 5 × 10 part of the
+    // small square outside it − red 400 − white 100 = 2400 + 50 − 500.
+    let black = get("more");
+    assert!(
+        (area(black) - 1950.0).abs() < 1e-6 * 1950.0,
+        "{}",
+        area(black)
+    );
+    assert_eq!(black.color.as_deref(), Some("#000000"));
+    // Its contours: the outer boundary and two holes (the red and the white squares): every
+    // visible boundary is kept.
+    assert_eq!(black.contours.len(), 3);
+    assert!((area(get("green")) - 400.0).abs() < 1e-6 * 400.0);
+    let why = |id: &str| {
+        imp.skipped
+            .iter()
+            .find(|s| s.id == id)
+            .map(|s| s.reason.clone())
+            .unwrap_or_default()
+    };
+    assert!(why("white").contains("knockout"), "{:?}", imp.skipped);
+    assert!(why("blue").contains("hidden"), "{:?}", imp.skipped);
+}
+
+#[test]
+fn real_drawings_keep_their_visible_art() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/svg_real");
+    let read = |f: &str| std::fs::read_to_string(format!("{dir}/{f}")).unwrap();
+    let opts = ImportOptions::default();
+    // svg2gcode's Koch curve: a white curve over a black rectangle that fills the page.
+    // The rectangle is the page background, not ink: the design is the curve, not one
+    // rectangle.
+    let imp = import(&read("koch.svg"), "koch.svg", &opts).unwrap();
+    assert!(imp.design.shape.is_empty(), "{:?}", imp.design.shape.len());
+    assert_eq!(imp.design.stroke.len(), 1);
+    assert_eq!(imp.design.stroke[0].color.as_deref(), Some("#ffffff"));
+    assert!(
+        imp.skipped
+            .iter()
+            .any(|s| s.reason.starts_with("page background"))
+    );
+    // The Vanderbilt logo: a gold star, a black star on it, a white V on that. The ink is a
+    // gold ring (outer star minus the black star) and a black star minus the V: the inner
+    // star and the letter stay as boundaries.
+    let imp = import(&read("Vanderbilt_Commodores_logo.svg"), "v.svg", &opts).unwrap();
+    let shapes = &imp.design.shape;
+    assert_eq!(shapes.len(), 2);
+    let gold = shapes
+        .iter()
+        .find(|s| s.color.as_deref() == Some("#a8996e"))
+        .unwrap();
+    let black = shapes
+        .iter()
+        .find(|s| s.color.as_deref() == Some("#000000"))
+        .unwrap();
+    assert_eq!((gold.contours.len(), black.contours.len()), (2, 2));
+    // The gold ring's hole is the black star's outline: equal areas.
+    let hole = |s: &skinpath::design::Shape| {
+        s.rings()
+            .iter()
+            .map(|r| skinpath::design::shape::ring_area(r))
+            .filter(|&a| a < 0.0)
+            .sum::<f64>()
+    };
+    let outer = |s: &skinpath::design::Shape| {
+        s.rings()
+            .iter()
+            .map(|r| skinpath::design::shape::ring_area(r))
+            .filter(|&a| a > 0.0)
+            .sum::<f64>()
+    };
+    assert!((-hole(gold) - outer(black)).abs() < 1e-3 * outer(black));
+    // The V is a hole in the black star of a sensible size (a fraction of the star).
+    assert!(-hole(black) > 0.05 * outer(black) && -hole(black) < 0.5 * outer(black));
+}

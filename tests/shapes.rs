@@ -221,9 +221,16 @@ depth = 3.0
 #[test]
 fn filled_rect_and_ring_import_with_closed_form_area() {
     let tol = 0.05;
+    // The three rings lie 100 units apart (fills of one colour that overlap merge, as the
+    // paint model has it).
     let ring = |id: &str, sweep_inner: u8, rule: &str| {
+        let dy = match id {
+            "nonzero" => 0,
+            "evenodd" => 100,
+            _ => 200,
+        };
         format!(
-            r#"<path id="{id}" fill="black" fill-rule="{rule}" d="M 50 70 a 20 20 0 1 0 40 0 a 20 20 0 1 0 -40 0 Z M 62 70 a 8 8 0 1 {sweep_inner} 16 0 a 8 8 0 1 {sweep_inner} -16 0 Z"/>"#
+            r#"<path id="{id}" transform="translate(0 {dy})" fill="black" fill-rule="{rule}" d="M 50 70 a 20 20 0 1 0 40 0 a 20 20 0 1 0 -40 0 Z M 62 70 a 8 8 0 1 {sweep_inner} 16 0 a 8 8 0 1 {sweep_inner} -16 0 Z"/>"#
         )
     };
     let text = svg(

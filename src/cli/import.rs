@@ -46,6 +46,9 @@ pub fn run(a: Args) -> Result<u8> {
     for w in &imported.warnings {
         eprintln!("warning: {}: {}", w.id, w.reason);
     }
+    for line in found_per_layer_and_colour(&imported.design) {
+        eprintln!("{line}");
+    }
     let mut design = imported.design;
     design.file = out_name.clone();
     let body = design.to_string_as(format)?;
@@ -63,4 +66,41 @@ pub fn run(a: Args) -> Result<u8> {
         imported.max_deviation
     );
     Ok(0)
+}
+
+/// One line per layer and colour: how many strokes (with their length along the points)
+/// and filled shapes the import found there.
+fn found_per_layer_and_colour(d: &skinpath::design::Design) -> Vec<String> {
+    use std::collections::BTreeMap;
+    // (strokes, their length in mm, shapes)
+    let mut groups: BTreeMap<(String, String), (usize, f64, usize)> = BTreeMap::new();
+    let key = |layer: &Option<String>, color: &Option<String>| {
+        (
+            layer
+                .as_deref()
+                .map_or("(no layer)".to_string(), |l| format!("layer \"{l}\"")),
+            color
+                .clone()
+                .unwrap_or_else(|| "no solid colour".to_string()),
+        )
+    };
+    for s in &d.stroke {
+        let g = groups.entry(key(&s.layer, &s.color)).or_default();
+        g.0 += 1;
+        if let Some(p) = &s.points {
+            g.1 += p
+                .windows(2)
+                .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+                .sum::<f64>();
+        }
+    }
+    for s in &d.shape {
+        groups.entry(key(&s.layer, &s.color)).or_default().2 += 1;
+    }
+    groups
+        .into_iter()
+        .map(|((layer, color), (strokes, length, fills))| {
+            format!("{layer}, {color}: {strokes} stroke(s) ({length:.1} mm), {fills} fill(s)")
+        })
+        .collect()
 }

@@ -75,9 +75,10 @@ impl Ctx<'_> {
         &mut self,
         p: &usvg::Path,
         id: &str,
-        rule: usvg::FillRule,
+        fill: &usvg::Fill,
         stroked: bool,
     ) {
+        let rule = fill.rule();
         let t = p.abs_transform();
         let mm = |q: usvg::tiny_skia_path::Point| {
             let x = t.sx as f64 * q.x as f64 + t.kx as f64 * q.y as f64 + t.tx as f64;
@@ -157,56 +158,110 @@ impl Ctx<'_> {
             return;
         }
         let region = resolve_rings(&rings, rule);
-        let size = region
-            .iter()
-            .flatten()
-            .fold(1.0f64, |m, q| m.max(q.abs().max_element()));
-        // usvg keeps f32 coordinates: digits past 1e-6 mm are noise. Points that rounding
-        // brings within twice the design's near-repeat distance of their predecessor go.
-        let apart = 2.0 * (crate::design::NEAR_FRACTION * size).max(1.0 / ROUND);
-        let contours: Vec<Vec<[f64; 2]>> = region
-            .iter()
-            .map(|r| {
-                let mut out: Vec<[f64; 2]> = Vec::with_capacity(r.len());
-                for q in r {
-                    let v = [q.x, q.y].map(|c| (c * ROUND).round() / ROUND);
-                    let far = |w: &[f64; 2]| (v[0] - w[0]).hypot(v[1] - w[1]) > apart;
-                    if out.last().is_none_or(far) {
-                        out.push(v);
-                    }
-                }
-                while out.len() > 1
-                    && out
-                        .first()
-                        .zip(out.last())
-                        .is_some_and(|(f, l)| (f[0] - l[0]).hypot(f[1] - l[1]) <= apart)
-                {
-                    out.pop();
-                }
-                out
-            })
-            .filter(|r| r.len() >= 3)
-            .collect();
-        if contours.is_empty() {
+        if region.is_empty() {
             if !stroked {
                 self.skip(name, "filled shape that encloses no area");
             }
             return;
         }
-        let name = self.unique(name);
-        let shape = Shape {
-            name: name.clone(),
-            fill_rule: None,
-            contours,
-            layer: None,
-            color: None,
+        let color = paint_color(fill.paint());
+        if self.paint.is_empty() && self.strokes.is_empty() && self.covers_page(&region) {
+            self.skip(
+                name,
+                "page background (a fill covering the whole page, painted first): not ink; \
+                 fills of its colour knock out",
+            );
+            self.paint.background = Some(color.unwrap_or_else(|| paint::WHITE.to_string()));
+            return;
+        }
+        let knockout = color.as_deref() == Some(paint::WHITE)
+            || (color.is_some() && color == self.paint.background);
+        let region = paint::Region {
+            name: self.unique(name),
+            layer: self.layer.clone(),
+            color,
+            rings: region,
         };
-        match shape.validate(self.file, self.shapes.len()) {
-            Ok(()) => self.shapes.push(shape),
-            Err(e) => {
-                let part = e.part.as_ref().map_or(String::new(), |p| format!("{p}: "));
-                let reason = format!("its fill does not make a valid shape: {part}{}", e.kind);
-                self.skip(name, &reason);
+        let knocked = knockout.then(|| region.name.clone());
+        for gone in self.paint.paint(region, knockout) {
+            self.skip(gone, "hidden: later fills cover it entirely");
+        }
+        if let Some(name) = knocked {
+            self.skip(
+                name,
+                "white or background-coloured fill: a knockout, cut out of the fills under \
+                 it, not ink itself",
+            );
+        }
+    }
+
+    /// Whether the rings' bounding box covers the page (within the tolerance).
+    fn covers_page(&self, rings: &[Vec<DVec2>]) -> bool {
+        let (lo, hi) = rings.iter().flatten().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let t = self.opts.tolerance;
+        let page = DVec2::new(self.page_width, self.page_height) * MM_PER_PX;
+        lo.x <= t && lo.y <= t && hi.x >= page.x - t && hi.y >= page.y - t
+    }
+
+    /// The visible regions as shapes, in paint order: rounded like stroke points, checked
+    /// one by one (a region that does not make a valid shape is skipped with the reason).
+    pub(super) fn finish_paint(&mut self) {
+        let regions = std::mem::take(&mut self.paint.regions);
+        for r in regions.into_iter().flatten() {
+            let size = r
+                .rings
+                .iter()
+                .flatten()
+                .fold(1.0f64, |m, q| m.max(q.abs().max_element()));
+            // usvg keeps f32 coordinates: digits past 1e-6 mm are noise. Points that
+            // rounding brings within twice the design's near-repeat distance of their
+            // predecessor go.
+            let apart = 2.0 * (crate::design::NEAR_FRACTION * size).max(1.0 / ROUND);
+            let contours: Vec<Vec<[f64; 2]>> = r
+                .rings
+                .iter()
+                .map(|ring| {
+                    let mut out: Vec<[f64; 2]> = Vec::with_capacity(ring.len());
+                    for q in ring {
+                        let v = [q.x, q.y].map(|c| (c * ROUND).round() / ROUND);
+                        let far = |w: &[f64; 2]| (v[0] - w[0]).hypot(v[1] - w[1]) > apart;
+                        if out.last().is_none_or(far) {
+                            out.push(v);
+                        }
+                    }
+                    while out.len() > 1
+                        && out
+                            .first()
+                            .zip(out.last())
+                            .is_some_and(|(f, l)| (f[0] - l[0]).hypot(f[1] - l[1]) <= apart)
+                    {
+                        out.pop();
+                    }
+                    out
+                })
+                .filter(|ring| ring.len() >= 3)
+                .collect();
+            if contours.is_empty() {
+                self.skip(r.name, "its visible part encloses no area");
+                continue;
+            }
+            let shape = Shape {
+                name: r.name.clone(),
+                fill_rule: None,
+                contours,
+                layer: r.layer,
+                color: r.color,
+            };
+            match shape.validate(self.file, self.shapes.len()) {
+                Ok(()) => self.shapes.push(shape),
+                Err(e) => {
+                    let part = e.part.as_ref().map_or(String::new(), |p| format!("{p}: "));
+                    let reason = format!("its fill does not make a valid shape: {part}{}", e.kind);
+                    self.skip(r.name, &reason);
+                }
             }
         }
     }

@@ -56,8 +56,13 @@ use std::collections::{HashMap, HashSet};
 
 mod fill;
 mod fit;
+mod paint;
 mod power;
 pub mod xml;
+
+/// The Inkscape namespace (`inkscape:path-effect`, `inkscape:original-d`,
+/// `inkscape:groupmode`, `inkscape:label`).
+const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
 
 /// Millimetres per CSS pixel (96 px per inch).
 pub const MM_PER_PX: f64 = 25.4 / 96.0;
@@ -168,7 +173,10 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         suffix: HashMap::new(),
         warnings: Vec::new(),
         seen: HashSet::new(),
+        page_width: tree.size().width() as f64,
         page_height: tree.size().height() as f64,
+        layer: None,
+        paint: paint::Paint::default(),
         strokes: Vec::new(),
         shapes: Vec::new(),
         skipped: Vec::new(),
@@ -198,6 +206,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         ctx.skip(source_name(&xml, n), &reason);
     }
     ctx.group(tree.root());
+    ctx.finish_paint();
     // A malformed path that usvg kept was drawn up to the error (as SVG renderers do);
     // one it dropped had nothing before the error.
     for (n, e) in malformed {
@@ -304,6 +313,25 @@ fn inherited<'a>(n: roxmltree::Node<'a, 'a>, name: &str) -> Option<&'a str> {
     })
 }
 
+/// The label of an Inkscape layer (`inkscape:groupmode="layer"`, its `inkscape:label`, else
+/// its id), `None` for any other element.
+fn layer_label<'a>(n: roxmltree::Node<'a, 'a>) -> Option<&'a str> {
+    if n.attribute((INKSCAPE_NS, "groupmode")) != Some("layer") {
+        return None;
+    }
+    n.attribute((INKSCAPE_NS, "label"))
+        .or_else(|| n.attribute("id"))
+        .filter(|l| !l.is_empty())
+}
+
+/// A solid paint as `#rrggbb` (lower case); `None` for gradients and patterns.
+fn paint_color(p: &usvg::Paint) -> Option<String> {
+    match p {
+        usvg::Paint::Color(c) => Some(format!("#{:02x}{:02x}{:02x}", c.red, c.green, c.blue)),
+        _ => None,
+    }
+}
+
 /// Most skipped elements an error about a file with nothing usable names.
 const NAMED_SKIPS: usize = 5;
 
@@ -362,7 +390,11 @@ struct Ctx<'a> {
     warnings: Vec<Skipped>,
     /// Ids of the usvg paths met.
     seen: HashSet<String>,
+    page_width: f64,
     page_height: f64,
+    /// The label of the Inkscape layer being walked.
+    layer: Option<String>,
+    paint: paint::Paint,
     strokes: Vec<Stroke>,
     shapes: Vec<Shape>,
     skipped: Vec<Skipped>,
@@ -478,6 +510,10 @@ impl Ctx<'_> {
     }
 
     fn group(&mut self, g: &usvg::Group) {
+        let outer = self.layer.clone();
+        if let Some(label) = self.element(g.id()).and_then(layer_label) {
+            self.layer = Some(label.to_string());
+        }
         for node in g.children() {
             match node {
                 usvg::Node::Group(g) => self.group(g),
@@ -485,14 +521,29 @@ impl Ctx<'_> {
                 usvg::Node::Image(_) | usvg::Node::Text(_) => {}
             }
         }
+        self.layer = outer;
     }
 
+    /// The name of a usvg path: its id, or `<path> #k` (k-th path in paint order), after
+    /// its layer's label and a slash (`Layer 1/path12`) when it lies in an Inkscape layer.
+    /// Sets the layer being walked from the source when the path has an id (usvg may fold
+    /// the layer's group away).
     fn element_id(&mut self, id: &str) -> String {
         self.counter += 1;
-        if id.is_empty() {
+        if let Some(label) = self
+            .element(id)
+            .and_then(|n| n.ancestors().skip(1).find_map(layer_label))
+        {
+            self.layer = Some(label.to_string());
+        }
+        let own = if id.is_empty() {
             format!("<path> #{}", self.counter - 1)
         } else {
             id.to_string()
+        };
+        match &self.layer {
+            Some(l) => format!("{l}/{own}"),
+            None => own,
         }
     }
 
@@ -549,7 +600,7 @@ impl Ctx<'_> {
         if power.is_none()
             && let Some(fill) = fill
         {
-            self.fill_shape(p, &id, fill.rule(), p.stroke().is_some());
+            self.fill_shape(p, &id, fill, p.stroke().is_some());
         }
         let stroke_width = match (&power, p.stroke()) {
             (Some(_), _) => 0.0,
@@ -729,6 +780,11 @@ impl Ctx<'_> {
                 "Power Stroke draws only a path's first subpath",
             );
         }
+        // A Power Stroke is drawn as its filled outline: its colour is the fill's.
+        let color = match &power {
+            Some(_) => p.fill().and_then(|f| paint_color(f.paint())),
+            None => p.stroke().and_then(|st| paint_color(st.paint())),
+        };
         let many = subpaths.len() > 1;
         for (j, mut sp) in subpaths.into_iter().enumerate() {
             fit::clean(&mut sp, self.opts.tolerance);
@@ -747,7 +803,9 @@ impl Ctx<'_> {
                 .map_err(str::to_string)
                 .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
             match fitted {
-                Ok((s, dev)) => {
+                Ok((mut s, dev)) => {
+                    s.layer = self.layer.clone();
+                    s.color = color.clone();
                     if dev > self.opts.tolerance {
                         self.warn(
                             name,

@@ -3,9 +3,6 @@
 
 use super::*;
 
-/// The Inkscape namespace of `inkscape:path-effect` and `inkscape:original-d`.
-const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
-
 /// An Inkscape Power Stroke path effect on an element: its centre line (`inkscape:original-d`)
 /// and its width points (`offset_points="t,w | t,w | …"`: path time t, half width w in user
 /// units, times `scale_width`).
