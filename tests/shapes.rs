@@ -350,13 +350,21 @@ fn fill_and_stroke_give_a_stroke_and_a_shape() {
     // A straight line's default black fill has no area: no shape, nothing skipped.
     assert_eq!(shapes, ["dot.fill"]);
     assert!(imp.skipped.is_empty(), "{:?}", imp.skipped);
-    // The whole design builds: the stroke's band and the fill make one region.
+    // The whole design builds with the per-item defaults of a drawing: the line (SVG's
+    // default width, 1 mm: a hairline) is cut once along its path; the dot's stroke band
+    // and its fill make one region, profiled by one contour (its stroke's outer edge).
     let d = load(&text, "b.svg").unwrap();
     let profile = builtin_profile("grbl-laser").unwrap().unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();
-    let prof = &built.toolpath.operations[0];
-    // One contour around the dot (its stroke's outer edge) and one around the line.
-    assert_eq!(prof.cuts.len(), 2, "{}", prof.cuts.len());
+    let ops: Vec<_> = (built.toolpath.operations.iter())
+        .map(|o| (o.kind, o.cuts.len()))
+        .collect();
+    use skinpath::toolpath::OperationKind as Tp;
+    assert_eq!(ops, [(Tp::Line, 1), (Tp::Profile, 1)], "{ops:?}");
+    let line = &built.toolpath.operations[0].cuts[0];
+    let end = line.moves.last().unwrap().to;
+    let d = line.start.distance(end);
+    assert!((d - 80.0).abs() < 1e-3, "{d}");
 }
 
 /// Fills that paint nothing are skipped and listed by id: fully transparent, or without

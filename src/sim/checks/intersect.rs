@@ -1232,6 +1232,42 @@ fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
 mod tests {
     use super::*;
 
+    /// Contours under the line mark cross each other, themselves and unmarked contours
+    /// without a contact (by the grid and by brute force alike); two unmarked contours
+    /// that cross still give one.
+    #[test]
+    fn line_cuts_cross_freely_other_cuts_do_not() {
+        let p = |x: f64, y: f64| DVec2::new(x, y);
+        // A bow tie crossing itself at (1, 1), a line across it, and an unmarked square
+        // the line crosses.
+        let bow = [p(0.0, 0.0), p(2.0, 2.0), p(2.0, 0.0), p(0.0, 2.0)];
+        let across = [p(-1.0, 1.5), p(3.0, 1.5)];
+        let square = [
+            p(2.5, 1.0),
+            p(3.5, 1.0),
+            p(3.5, 2.0),
+            p(2.5, 2.0),
+            p(2.5, 1.0),
+        ];
+        let mut s = SegmentSet::new();
+        s.across = Across::Crossings;
+        s.push_polyline_in(&bow, &[], Some(LINE_GROUP));
+        s.push_polyline_in(&across, &[], Some(LINE_GROUP));
+        s.push_polyline(&square, &[]);
+        assert!(s.contacts_capped().0.is_empty());
+        assert!(s.brute_force_contacts().is_empty());
+        // Unmarked, the bow tie crosses itself (at (1, 1)), the line crosses each of the
+        // bow tie's three segments and the square's left side.
+        let mut t = SegmentSet::new();
+        t.across = Across::Crossings;
+        t.push_polyline(&bow, &[]);
+        t.push_polyline(&across, &[]);
+        t.push_polyline(&square, &[]);
+        let found = t.brute_force_contacts();
+        assert_eq!(found.len(), 1 + 3 + 1, "{found:?}");
+        assert_eq!(t.contacts_capped().0.len(), found.len());
+    }
+
     /// Passes of one contour are left out of the sweep's set; contours that only start
     /// alike, or repeat a contour in another pocket, are kept.
     #[test]
