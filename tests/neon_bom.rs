@@ -521,3 +521,22 @@ fn scaling_down_warns_where_channels_merge_and_bends_tighten() {
         "{m}"
     );
 }
+
+#[test]
+fn neon_table_round_trips_through_toml_and_json() {
+    let text = "version = 1\n[neon]\nflex = \"8mm\"\ncut_unit = 33.3\nbreak_at = [[1.5, 2.5]]\n\
+        [[neon.run]]\nname = \"r\"\nstrokes = [\"s\"]\n\
+        [[stroke]]\nname = \"s\"\ndisks = [[0, 0, 1], [9, 9, 1]]\n";
+    let d = design(text);
+    for format in [
+        skinpath::design::Format::Toml,
+        skinpath::design::Format::Json,
+    ] {
+        let body = d.to_string_as(format).unwrap();
+        let back = skinpath::design::from_str(&body, format, "back").unwrap();
+        assert_eq!(back.neon, d.neon, "{body}");
+    }
+    let n = d.neon.unwrap();
+    assert_eq!(n.run[0].strokes, ["s"]);
+    assert_eq!(n.break_at, Some(vec![[1.5, 2.5]]));
+}
