@@ -521,3 +521,112 @@ fn scaling_down_warns_where_channels_merge_and_bends_tighten() {
         "{m}"
     );
 }
+
+#[test]
+fn neon_table_round_trips_through_toml_and_json() {
+    let text = "version = 1\n[neon]\nflex = \"8mm\"\ncut_unit = 33.3\nbreak_at = [[1.5, 2.5]]\n\
+        [[neon.run]]\nname = \"r\"\nstrokes = [\"s\"]\n\
+        [[stroke]]\nname = \"s\"\ndisks = [[0, 0, 1], [9, 9, 1]]\n";
+    let d = design(text);
+    for format in [
+        skinpath::design::Format::Toml,
+        skinpath::design::Format::Json,
+    ] {
+        let body = d.to_string_as(format).unwrap();
+        let back = skinpath::design::from_str(&body, format, "back").unwrap();
+        assert_eq!(back.neon, d.neon, "{body}");
+    }
+    let n = d.neon.unwrap();
+    assert_eq!(n.run[0].strokes, ["s"]);
+    assert_eq!(n.break_at, Some(vec![[1.5, 2.5]]));
+}
+
+/// Disks `[x, y, 2]` as a TOML list, each point mapped by `f`.
+fn disks_toml(pts: &[(f64, f64)], f: &dyn Fn(DVec2) -> DVec2) -> String {
+    let v: Vec<String> = pts
+        .iter()
+        .map(|&(x, y)| {
+            let p = f(DVec2::new(x, y));
+            format!("[{:.15}, {:.15}, 2.0]", p.x, p.y)
+        })
+        .collect();
+    format!("[{}]", v.join(", "))
+}
+
+/// The BOM of two strokes that meet at `pts_a`'s last point (`pts_b` starts there), both
+/// mapped by `f`, `b` written backwards when `reverse_b`.
+fn two_stroke_bom(
+    pts_a: &[(f64, f64)],
+    pts_b: &[(f64, f64)],
+    f: &dyn Fn(DVec2) -> DVec2,
+    reverse_b: bool,
+) -> skinpath::job::neon::NeonBom {
+    let mut b = pts_b.to_vec();
+    if reverse_b {
+        b.reverse();
+    }
+    let text = format!(
+        "version = 1\n[neon]\njoin_tolerance = 0.001\n[[stroke]]\nname = \"a\"\ndisks = {}\n\
+         [[stroke]]\nname = \"b\"\ndisks = {}\n",
+        disks_toml(pts_a, f),
+        disks_toml(&b, f)
+    );
+    let d = design(&text);
+    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    build_toolpath(&d, &p, &BuildOptions::default())
+        .unwrap()
+        .neon
+        .unwrap()
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(16))]
+    /// Two joined strokes make one run whose length is the sum of their Richardson lengths;
+    /// writing one stroke backwards changes neither the length nor the smallest bend
+    /// radius; a copy rotated by θ and scaled by s has s times the length and the radius.
+    #[test]
+    fn run_length_and_bend_are_invariant(
+        steps in proptest::collection::vec((8.0f64..25.0, -1.2f64..1.2), 6..9),
+        theta in 0.0f64..std::f64::consts::TAU,
+        s in 0.3f64..4.0,
+    ) {
+        let mut pts = vec![(0.0, 0.0)];
+        let mut heading = 0.0f64;
+        for (len, turn) in &steps {
+            heading += turn;
+            let (x, y) = pts[pts.len() - 1];
+            pts.push((x + len * heading.cos(), y + len * heading.sin()));
+        }
+        let k = 4.min(pts.len() - 3);
+        // b's second disk continues a's last leg: a clamped spline's end tangents lie along
+        // its end legs, so the join is tangent-continuous and the bend comes from the spans.
+        let (a, mut b) = (pts[..=k].to_vec(), pts[k..].to_vec());
+        let (p, q) = (pts[k - 1], pts[k]);
+        b.insert(1, (q.0 + 0.5 * (q.0 - p.0), q.1 + 0.5 * (q.1 - p.1)));
+        let id = |p: DVec2| p;
+        let bom = two_stroke_bom(&a, &b, &id, false);
+        proptest::prop_assert_eq!(bom.runs.len(), 1);
+        let d = design(&format!(
+            "version = 1\n[[stroke]]\nname = \"a\"\ndisks = {}\n[[stroke]]\nname = \"b\"\ndisks = {}\n",
+            disks_toml(&a, &id),
+            disks_toml(&b, &id)
+        ));
+        let curves = d.strokes().unwrap();
+        let want = richardson_length(&curves[0]) + richardson_length(&curves[1]);
+        let r = &bom.runs[0];
+        proptest::prop_assert!(r.min_bend_radius_mm > 0.0, "{:?}", r);
+        proptest::prop_assert!((r.length_mm - want).abs() <= 1e-6 * want, "{} vs {}", r.length_mm, want);
+        let rev = two_stroke_bom(&a, &b, &id, true);
+        let rr = &rev.runs[0];
+        proptest::prop_assert!((rr.length_mm - r.length_mm).abs() <= 1e-9 * want);
+        proptest::prop_assert!((rr.min_bend_radius_mm - r.min_bend_radius_mm).abs()
+            <= 1e-6 * r.min_bend_radius_mm.max(1.0));
+        let (c, sn) = (theta.cos(), theta.sin());
+        let moved = |p: DVec2| DVec2::new(c * p.x - sn * p.y, sn * p.x + c * p.y) * s;
+        let m = two_stroke_bom(&a, &b, &moved, false);
+        let mr = &m.runs[0];
+        proptest::prop_assert!((mr.length_mm - s * r.length_mm).abs() <= 1e-8 * s * want);
+        proptest::prop_assert!((mr.min_bend_radius_mm - s * r.min_bend_radius_mm).abs()
+            <= 1e-6 * s * r.min_bend_radius_mm.max(1.0), "{} vs {}", mr.min_bend_radius_mm, s * r.min_bend_radius_mm);
+    }
+}

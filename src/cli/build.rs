@@ -442,7 +442,11 @@ fn print_summary(
     }
 }
 
-/// The neon bill of materials: one line per run, the totals and every warning.
+/// Neon warnings printed in the text summary: a polyline font's word has dozens of
+/// corners; past this many the summary says how many more `--json` lists.
+const MAX_NEON_WARNINGS: usize = 40;
+
+/// The neon bill of materials: one line per run, the totals and the warnings.
 fn print_bom(text: &mut String, bom: &skinpath::job::neon::NeonBom) -> std::fmt::Result {
     writeln!(
         text,
@@ -475,8 +479,15 @@ fn print_bom(text: &mut String, bom: &skinpath::job::neon::NeonBom) -> std::fmt:
             r.at.y
         )?;
     }
-    for w in &bom.warnings {
+    for w in bom.warnings.iter().take(MAX_NEON_WARNINGS) {
         writeln!(text, "  warning ({}): {}", w.kind, w.message)?;
+    }
+    if bom.warnings.len() > MAX_NEON_WARNINGS {
+        writeln!(
+            text,
+            "  ... and {} more neon warnings (`--json` lists every one)",
+            bom.warnings.len() - MAX_NEON_WARNINGS
+        )?;
     }
     Ok(())
 }
