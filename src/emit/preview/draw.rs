@@ -664,4 +664,112 @@ mod tests {
         assert_eq!(num(2.5), "2.5");
         assert_eq!(num(3.0), "3");
     }
+
+    fn pixel(p: &Pixmap, x: u32, y: u32) -> [u8; 3] {
+        let c = p.pixel(x, y).expect("inside");
+        [c.red(), c.green(), c.blue()]
+    }
+
+    /// One drawing, two backends: the SVG carries the styles (inherited from groups) as
+    /// attributes, and the pixmap paints the same shapes where the SVG puts them.
+    #[test]
+    fn svg_and_pixmap_draw_the_same_shapes() {
+        let red = Rgb(0xc0, 0x10, 0x20);
+        let mut d = Drawing::new(100.0, 50.0);
+        d.open("g", Style::stroked(red, 4.0).round(), &[("data-name", "x")]);
+        // A horizontal line at y = 10 from x = 10 to 90 and a dot at (50, 40).
+        d.polyline(
+            "line",
+            vec![DVec2::new(10.0, 10.0), DVec2::new(90.0, 10.0)],
+            false,
+            Style::default(),
+            Some("l1".into()),
+        );
+        d.polyline(
+            "dot",
+            vec![DVec2::new(50.0, 40.0), DVec2::new(50.0, 40.0)],
+            false,
+            Style::default(),
+            None,
+        );
+        d.close();
+        d.circle(
+            "c",
+            DVec2::new(80.0, 35.0),
+            5.0,
+            Style::filled(Rgb(0, 0x80, 0)),
+            None,
+        );
+        let svg = d.to_svg();
+        let doc = roxmltree::Document::parse(&svg).expect("parses");
+        let g = doc
+            .descendants()
+            .find(|n| n.attribute("id") == Some("g"))
+            .expect("group");
+        assert_eq!(g.attribute("stroke"), Some("#c01020"));
+        assert_eq!(g.attribute("stroke-width"), Some("4"));
+        assert_eq!(g.attribute("stroke-linecap"), Some("round"));
+        assert_eq!(g.attribute("fill"), Some("none"));
+        assert_eq!(g.attribute("data-name"), Some("x"));
+        let l = doc
+            .descendants()
+            .find(|n| n.attribute("id") == Some("l1"))
+            .expect("line");
+        assert_eq!(l.attribute("d"), Some("M10 10 L90 10"));
+        // 2 pixels per mm.
+        let p = d.to_pixmap(200, 100).expect("pixmap");
+        assert_eq!(pixel(&p, 100, 20), [0xc0, 0x10, 0x20], "on the line");
+        assert_eq!(pixel(&p, 100, 30), [255, 255, 255], "5 mm off it");
+        // The round cap reaches 2 mm past the end, not 3.
+        assert_eq!(pixel(&p, 182, 20), [0xc0, 0x10, 0x20]);
+        assert_eq!(pixel(&p, 187, 20), [255, 255, 255]);
+        assert_eq!(pixel(&p, 100, 80), [0xc0, 0x10, 0x20], "the dot");
+        assert_eq!(pixel(&p, 160, 70), [0, 0x80, 0], "the filled circle");
+        // Without a group, SVG's initial values: a closed path is filled black.
+        let mut d = Drawing::new(10.0, 10.0);
+        let sq = vec![
+            DVec2::new(2.0, 2.0),
+            DVec2::new(8.0, 2.0),
+            DVec2::new(8.0, 8.0),
+            DVec2::new(2.0, 8.0),
+        ];
+        d.polyline("sq", sq, true, Style::default(), None);
+        let p = d.to_pixmap(10, 10).expect("pixmap");
+        assert_eq!(pixel(&p, 5, 5), [0, 0, 0]);
+        assert_eq!(pixel(&p, 0, 0), [255, 255, 255]);
+    }
+
+    /// A long polyline is stroked in pieces: the pieces join without gaps.
+    #[test]
+    fn long_polylines_are_stroked_without_gaps() {
+        let n = 10 * PIECE_POINTS;
+        let pts: Vec<DVec2> = (0..=n)
+            .map(|i| DVec2::new(5.0 + 90.0 * i as f64 / n as f64, 5.0))
+            .collect();
+        let mut d = Drawing::new(100.0, 10.0);
+        d.polyline("l", pts, false, Style::stroked(Rgb(0, 0, 0), 2.0), None);
+        let p = d.to_pixmap(100, 10).expect("pixmap");
+        for x in 6..95 {
+            assert_eq!(pixel(&p, x, 5), [0, 0, 0], "x = {x}");
+        }
+    }
+
+    #[test]
+    fn styles_inherit_what_they_leave_unset() {
+        let parent = Style {
+            dash: Some([1.0, 2.0]),
+            ..Style::stroked(Rgb(1, 2, 3), 0.5).round()
+        };
+        let child = Style {
+            stroke: Some(Paint::Color(Rgb(9, 9, 9))),
+            ..Style::default()
+        };
+        let s = child.over(&parent);
+        assert_eq!(s.stroke, Some(Paint::Color(Rgb(9, 9, 9))));
+        assert_eq!(s.stroke_width, Some(0.5));
+        assert_eq!(s.dash, Some([1.0, 2.0]));
+        assert!(s.round_caps && s.round_joins);
+        assert_eq!(s.fill, Some(Paint::None));
+        assert_eq!(Rgb(0x0a, 0xb0, 0xff).hex(), "#0ab0ff");
+    }
 }

@@ -1006,3 +1006,144 @@ pub fn scene_drawing(
     }
     page
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn detail(pixel: f64, raster: bool) -> Detail {
+        Detail { pixel, raster }
+    }
+
+    proptest! {
+        /// Radial-distance simplification: the ends stay, kept points are a pixel apart
+        /// (the last one excepted) and every point left out lies within the tolerance of
+        /// the kept point before it.
+        #[test]
+        fn simplify_moves_no_point_by_more_than_the_tolerance(
+            raw in prop::collection::vec((-10.0f64..10.0, -10.0f64..10.0), 1..200),
+            tol in 0.01f64..3.0,
+        ) {
+            let pts: Vec<DVec2> = raw.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+            let out = simplify(&pts, tol);
+            prop_assert_eq!(out[0], pts[0]);
+            prop_assert_eq!(*out.last().unwrap(), *pts.last().unwrap());
+            for w in out[..out.len() - 1].windows(2) {
+                prop_assert!(w[0].distance(w[1]) >= tol);
+            }
+            // Walk the input: each point is kept, or within tol of the last kept one.
+            let mut k = 0;
+            for p in &pts {
+                if k + 1 < out.len() && *p == out[k + 1] {
+                    k += 1;
+                } else {
+                    prop_assert!(p.distance(out[k]) < tol || *p == out[k] || *p == *out.last().unwrap());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn layers_stop_at_their_budget_and_say_so() {
+        let budget = LayerBudget {
+            elements: 3,
+            points: 10,
+            ink: f64::INFINITY,
+        };
+        let mut l = Layer::new("things", budget, detail(0.1, false));
+        let line = |x: f64| vec![DVec2::new(x, 0.0), DVec2::new(x, 1.0), DVec2::new(x, 2.0)];
+        assert!(l.polyline(&line(0.0), 0.1, Rgb::WHITE, true).is_some());
+        assert!(l.polyline(&line(1.0), 0.1, Rgb::WHITE, true).is_some());
+        assert_eq!(l.note(), None);
+        // 6 points used: the third path fits (9 points), the fourth does not (one path
+        // of 3 elements at most).
+        assert!(l.polyline(&line(2.0), 0.1, Rgb::WHITE, true).is_some());
+        assert!(l.polyline(&line(3.0), 0.1, Rgb::WHITE, true).is_none());
+        assert_eq!(
+            l.note().as_deref(),
+            Some("preview limit: 3 of 4 things drawn (the first in program order)")
+        );
+        // A path longer than the points left is drawn in part.
+        let mut l = Layer::new("things", budget, detail(0.1, false));
+        let long: Vec<DVec2> = (0..20).map(|i| DVec2::new(i as f64, 0.0)).collect();
+        assert_eq!(
+            l.polyline(&long, 0.1, Rgb::WHITE, true).map(|p| p.len()),
+            Some(10)
+        );
+        assert!(l.note().is_some_and(|n| n.contains("in part")));
+    }
+
+    #[test]
+    fn raster_ink_bounds_long_strokes() {
+        // Ink (length + width) · width / pixel²: a 100 mm line 1 mm wide at 0.1 mm pixels
+        // is (100 + 1) · 1 / 0.01 = 10100 px².
+        let budget = LayerBudget {
+            elements: 100,
+            points: 100,
+            ink: 25_000.0,
+        };
+        let mut l = Layer::new("lines", budget, detail(0.1, true));
+        let line = vec![DVec2::ZERO, DVec2::new(100.0, 0.0)];
+        assert!(l.polyline(&line, 1.0, Rgb::WHITE, true).is_some());
+        assert!(l.polyline(&line, 1.0, Rgb::WHITE, true).is_some());
+        assert!(l.polyline(&line, 1.0, Rgb::WHITE, true).is_none());
+        assert!((l.ink - 20_200.0).abs() < 1e-6, "{}", l.ink);
+        // The SVG has no ink budget.
+        let mut l = Layer::new("lines", budget, detail(0.1, false));
+        for _ in 0..50 {
+            assert!(l.polyline(&line, 1.0, Rgb::WHITE, true).is_some());
+        }
+    }
+
+    #[test]
+    fn sub_pixel_paths_are_dots_merged_by_colour() {
+        let mut l = Layer::new("cuts", CUT_BUDGET, detail(1.0, true));
+        let tiny = |x: f64| vec![DVec2::new(x, 0.0), DVec2::new(x + 0.1, 0.0)];
+        let blue = Rgb(0, 0, 255);
+        assert!(l.polyline(&tiny(0.0), 0.5, blue, true).is_some());
+        assert!(l.polyline(&tiny(0.3), 0.5, blue, true).is_none(), "merged");
+        assert!(
+            l.polyline(&tiny(0.3), 0.5, Rgb::WHITE, true).is_some(),
+            "other colour"
+        );
+        assert!(
+            l.polyline(&tiny(5.0), 0.5, Rgb::WHITE, true).is_some(),
+            "elsewhere"
+        );
+        // Travels shorter than a pixel are not drawn at all.
+        let mut r = Layer::new("rapids", RAPID_BUDGET, detail(1.0, true));
+        assert!(r.polyline(&tiny(0.0), 0.5, RAPID_COLOR, false).is_none());
+        assert_eq!(r.note(), None);
+    }
+
+    #[test]
+    fn arcs_of_many_turns_are_drawn_once_round() {
+        use crate::sim::{Motion, MotionKind, ToolState};
+        use glam::DVec3;
+        let arc = crate::geom::Arc {
+            center: DVec2::ZERO,
+            radius: 10.0,
+            start: 0.0,
+            sweep: 1000.0 * std::f64::consts::TAU,
+        };
+        let m = Motion {
+            kind: MotionKind::Feed,
+            from: DVec3::new(10.0, 0.0, 0.0),
+            to: DVec3::new(10.0, 0.0, 0.0),
+            arc: Some(arc),
+            feed: 100.0,
+            tool: ToolState::default(),
+            line: 1,
+            group: None,
+        };
+        let tol = 0.01;
+        let once = crate::geom::Arc {
+            sweep: std::f64::consts::TAU,
+            ..arc
+        };
+        let pts = move_points(&m, tol);
+        assert_eq!(pts.len(), once.chords_for_tolerance(tol) + 1);
+        assert!(pts.iter().all(|p| (p.length() - 10.0).abs() < 1e-9));
+    }
+}
