@@ -4,8 +4,9 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::design::Format;
 use skinpath::design::svg::{ImportOptions, import};
+use skinpath::design::{Format, HAIRLINE_MM, Operation, OperationKind, default_operations};
+use skinpath::job::build::DEFAULT_PROFILE_DEPTH_MM;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -51,6 +52,16 @@ pub fn run(a: Args) -> Result<u8> {
     }
     let mut design = imported.design;
     design.file = out_name.clone();
+    // The operations `build` would choose for this drawing, written out so that the user
+    // sees and edits them: hairlines as lines, wider strokes and fills profiled (with the
+    // router depth `build` gives a drawing without operations; lasers ignore depth).
+    design.operation = default_operations(&design, HAIRLINE_MM / design.units.mm_per_unit());
+    for op in &mut design.operation {
+        if op.kind == OperationKind::Profile {
+            op.depth = Some(DEFAULT_PROFILE_DEPTH_MM / design.units.mm_per_unit());
+        }
+        eprintln!("operation {}", describe(op));
+    }
     let body = design.to_string_as(format)?;
     // What is written must load: check it before writing.
     skinpath::design::from_str(&body, format, &out_name)?;
@@ -66,6 +77,28 @@ pub fn run(a: Args) -> Result<u8> {
         imported.max_deviation
     );
     Ok(0)
+}
+
+/// An operation as `import` reports it: its kind and what it selects.
+fn describe(op: &Operation) -> String {
+    let list = |key: &str, v: &Option<Vec<String>>| {
+        v.as_ref().map(|v| match v.len() {
+            1 => format!("{key} = [\"{}\"]", v[0]),
+            n => format!("{n} {key}"),
+        })
+    };
+    let selects = [
+        list("layers", &op.layers),
+        list("colors", &op.colors),
+        list("strokes", &op.strokes),
+    ]
+    .into_iter()
+    .flatten()
+    .collect::<Vec<_>>();
+    match selects.is_empty() {
+        true => format!("{}: every item", op.kind.as_str()),
+        false => format!("{}: {}", op.kind.as_str(), selects.join(", ")),
+    }
 }
 
 /// One line per layer and colour: how many strokes (with their length along the points)
