@@ -603,7 +603,10 @@ impl SegmentSet {
                 if out.len() >= MAX_CONTACTS {
                     return;
                 }
-                if let Some(c) = self.test_pair(i as usize, j as usize) {
+                // In index order, as the plain grid tests them: the same contact point to
+                // the last bit.
+                let (i, j) = (i.min(j) as usize, i.max(j) as usize);
+                if let Some(c) = self.test_pair(i, j) {
                     out.push(c);
                 }
             }
