@@ -495,7 +495,7 @@ impl SegmentSet {
         let mid = lengths.len() / 2;
         let (_, median, _) = lengths.select_nth_unstable_by(mid, f64::total_cmp);
         let bar = LONG_SEGMENT * *median;
-        if !(bar > 0.0) {
+        if bar.is_nan() || bar <= 0.0 {
             return None;
         }
         let long: Vec<u32> = ids.iter().copied().filter(|&k| len(k) > bar).collect();
