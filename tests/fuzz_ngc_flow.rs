@@ -42,7 +42,7 @@ fn expr(rng: &mut Rng, depth: usize) -> String {
         1 => format!("[{}2]", "-".repeat(depth)),
         2 => format!("{}1", "#".repeat(depth)),
         3 => {
-            let op: &str = *rng.pick(&["+", "*", "-", "/", " MOD "]);
+            let op = *rng.pick(&["+", "*", "-", "/", " MOD "]);
             format!("[{}]", vec!["1"; depth.max(1)].join(op))
         }
         _ => format!("[SIN[{}]]", rng.below(360)),

@@ -500,7 +500,7 @@ impl SegmentSet {
         let mid = lengths.len() / 2;
         let (_, median, _) = lengths.select_nth_unstable_by(mid, f64::total_cmp);
         let bar = LONG_SEGMENT * *median;
-        if !(bar > 0.0) {
+        if bar.is_nan() || bar <= 0.0 {
             return None;
         }
         let long: Vec<u32> = ids.iter().copied().filter(|&k| len(k) > bar).collect();
@@ -608,7 +608,10 @@ impl SegmentSet {
                 if out.len() >= MAX_CONTACTS {
                     return;
                 }
-                if let Some(c) = self.test_pair(i as usize, j as usize) {
+                // In index order, as the plain grid tests them: the same contact point to
+                // the last bit.
+                let (i, j) = (i.min(j) as usize, i.max(j) as usize);
+                if let Some(c) = self.test_pair(i, j) {
                     out.push(c);
                 }
             }
