@@ -587,7 +587,10 @@ mod tests {
             })
             .collect();
         assert_eq!(got, want);
-        assert_eq!(hatch_line_count(std::slice::from_ref(&r), 0.0, spacing), k as f64);
+        assert_eq!(
+            hatch_line_count(std::slice::from_ref(&r), 0.0, spacing),
+            k as f64
+        );
         assert!(ring_count_bound(&[r], spacing) >= (10.0 / spacing).floor());
     }
 
