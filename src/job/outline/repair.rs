@@ -127,7 +127,7 @@ struct Piece {
 
 /// What became of a piece.
 enum Done {
-    Skinned(DbscSkin, bool),
+    Skinned(Box<DbscSkin>, bool),
     Fallback(SkinFallback, Region),
 }
 
@@ -220,14 +220,14 @@ pub fn repair(
             Some(f) => f,
             None => match attempt(&piece, opts, tol, limit) {
                 Ok((sk, overlap)) => {
-                    done.push((piece.range, Done::Skinned(sk, overlap)));
+                    done.push((piece.range, Done::Skinned(Box::new(sk), overlap)));
                     continue;
                 }
                 Err(f) => f,
             },
         };
         let halves = (piece.range.1 - piece.range.0 >= shortest && pieces < budget)
-            .then(|| failure.place)
+            .then_some(failure.place)
             .flatten()
             .and_then(|t| split(&piece, t).map(|h| (t, h)));
         match halves {
