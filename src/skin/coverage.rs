@@ -76,38 +76,48 @@ pub fn uncovered(disks: &[(f64, Circle)], polygons: &[Vec<DVec2>]) -> Option<Unc
         .max_by(|a, b| a.depth.total_cmp(&b.depth))
 }
 
-/// How far the closed `polygons` reach outside the union of `disks`: the largest distance
-/// from a boundary point to the union, d(p, ⋃D) = max(0, min_i(‖p − c_i‖ − r_i)), over the
-/// vertices and points spaced at most `step` apart along every edge (the distance to a union
-/// of disks is 1-Lipschitz, so the sampling misses at most `step`/2). With `depth` of
-/// [`uncovered`] it bounds the two-sided deviation of an outline from its stroke: every
-/// point of a disk lies within `depth` of the region, every boundary point within this of
-/// a disk. Disks are scanned in order of centre x from the nearest, stopping where
-/// |Δx| − r_max exceeds the best distance found: O(P·k) for P samples and k disks in reach.
-/// Returns the distance and the boundary point where it is largest: (0, origin) when
-/// there are no polygons; infinite when there are no disks.
+/// How far the closed `polygons` reach outside the region swept by `disks` (a disk family
+/// sampled in order, centre and radius linear between consecutive samples, as
+/// [`crate::dbsc::flatten::flatten_disks`] gives it): the largest distance from a boundary
+/// point p to that region, max(0, min over consecutive pairs of [`hull_distance`]), over
+/// the vertices and points spaced at most `step` apart along every edge (the distance is
+/// 1-Lipschitz, so the sampling misses at most `step`/2). With `depth` of [`uncovered`] it
+/// bounds the two-sided deviation of an outline from its stroke: every point of a disk
+/// lies within `depth` of the region, every boundary point within this of a disk. Pairs
+/// are scanned in order of their middle's x from the nearest, stopping where |Δx| minus
+/// the largest half extent exceeds the best distance found. Returns the distance and the
+/// boundary point where it is largest: (0, origin) when there are no polygons; infinite
+/// when there are no disks.
 pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVec2) {
     if disks.is_empty() {
         let at = polygons.iter().flatten().next().copied();
         return at.map_or((0.0, DVec2::ZERO), |p| (f64::INFINITY, p));
     }
-    let mut sorted: Vec<Circle> = disks.to_vec();
-    sorted.sort_by(|a, b| a.c.x.total_cmp(&b.c.x));
-    let r_max = sorted.iter().map(|d| d.r).fold(0.0, f64::max);
+    let mut pairs: Vec<(Circle, Circle)> = if disks.len() == 1 {
+        vec![(disks[0], disks[0])]
+    } else {
+        disks.windows(2).map(|w| (w[0], w[1])).collect()
+    };
+    let mid = |(a, b): &(Circle, Circle)| 0.5 * (a.c.x + b.c.x);
+    pairs.sort_by(|x, y| mid(x).total_cmp(&mid(y)));
+    let half = pairs
+        .iter()
+        .map(|(a, b)| 0.5 * (a.c.x - b.c.x).abs() + a.r.max(b.r))
+        .fold(0.0, f64::max);
     let dist = |p: DVec2| -> f64 {
-        let start = sorted.partition_point(|d| d.c.x < p.x);
+        let start = pairs.partition_point(|q| mid(q) < p.x);
         let mut best = f64::INFINITY;
-        for d in sorted[start..].iter() {
-            if d.c.x - p.x - r_max > best {
+        for q in &pairs[start..] {
+            if mid(q) - p.x - half > best {
                 break;
             }
-            best = best.min(p.distance(d.c) - d.r);
+            best = best.min(hull_distance(p, &q.0, &q.1));
         }
-        for d in sorted[..start].iter().rev() {
-            if p.x - d.c.x - r_max > best {
+        for q in pairs[..start].iter().rev() {
+            if p.x - mid(q) - half > best {
                 break;
             }
-            best = best.min(p.distance(d.c) - d.r);
+            best = best.min(hull_distance(p, &q.0, &q.1));
         }
         best.max(0.0)
     };
@@ -131,6 +141,25 @@ pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVe
         }
     }
     worst
+}
+
+/// Signed distance from `p` to the region swept by the disk from `a` to `b` with centre
+/// and radius linear in s ∈ [0, 1]: f(s) = ‖p − c(s)‖ − r(s) is convex in s; with u = b − a,
+/// k = (r_b − r_a)/‖u‖ (|k| < 1, else one disk holds the other and the nearer of the two
+/// decides), h the distance of p from the line and t₀ its foot's parameter, f′(s) = 0 at
+/// s* = t₀ + k·h / (‖u‖·√(1 − k²)), clamped to [0, 1].
+pub fn hull_distance(p: DVec2, a: &Circle, b: &Circle) -> f64 {
+    let u = b.c - a.c;
+    let l = u.length();
+    let disk = |d: &Circle| p.distance(d.c) - d.r;
+    let k = (b.r - a.r) / l;
+    if l <= 0.0 || k.abs() >= 1.0 {
+        return disk(a).min(disk(b));
+    }
+    let t0 = (p - a.c).dot(u) / (l * l);
+    let h = crate::geom::cross(u, p - a.c).abs() / l;
+    let s = (t0 + k * h / (l * (1.0 - k * k).sqrt())).clamp(0.0, 1.0);
+    p.distance(a.c + s * u) - (a.r + s * (b.r - a.r))
 }
 
 /// Cap on the samples [`excess`] takes along one edge (a guard against a `step` far below
@@ -191,20 +220,38 @@ mod tests {
         // Inside the disk: no excess. Two disks far apart with a bar between them: the
         // middle of the bar's edge is 5 from both centres (r = 1): 4, found by sampling only.
         assert_eq!(excess(&d, &[square(1.0)], 0.01).0, 0.0);
+        // Two disks swept from one to the other (a capsule of radius 1): a bar 3 above the
+        // axis is 2 outside it all along, found by sampling the edges.
         let two = [
             Circle::new(DVec2::new(-5.0, 0.0), 1.0),
             Circle::new(DVec2::new(5.0, 0.0), 1.0),
         ];
         let bar = vec![vec![
-            DVec2::new(-5.0, 0.0),
-            DVec2::new(5.0, 0.0),
-            DVec2::new(5.0, 0.1),
-            DVec2::new(-5.0, 0.1),
+            DVec2::new(-5.0, 3.0),
+            DVec2::new(5.0, 3.0),
+            DVec2::new(5.0, 3.1),
+            DVec2::new(-5.0, 3.1),
         ]];
-        let fine = excess(&two, &bar, 0.01).0;
-        let exact = (25.0f64 + 0.01).sqrt() - 1.0;
-        assert!((fine - exact).abs() < 0.01, "{fine} vs {exact}");
-        assert!(excess(&two, &bar, 0.0).0 < 0.2);
+        let (fine, _) = excess(&two, &bar, 0.01);
+        assert!((fine - 2.1).abs() < 1e-12, "{fine}");
         assert_eq!(excess(&[], &bar, 0.1).0, f64::INFINITY);
+        // The hull distance against a dense sampling of the swept disks (radius 1 to 3).
+        let (a, b) = (
+            Circle::new(DVec2::new(0.0, 0.0), 1.0),
+            Circle::new(DVec2::new(10.0, 2.0), 3.0),
+        );
+        for p in [
+            DVec2::new(4.0, 8.0),
+            DVec2::new(-3.0, -1.0),
+            DVec2::new(12.0, -5.0),
+        ] {
+            let dense = (0..=20000)
+                .map(|i| {
+                    let s = i as f64 / 20000.0;
+                    p.distance(a.c.lerp(b.c, s)) - (a.r + s * (b.r - a.r))
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!((hull_distance(p, &a, &b) - dense).abs() < 1e-6, "{p}");
+        }
     }
 }

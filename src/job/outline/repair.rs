@@ -6,9 +6,9 @@
 //! insertion (Boehm, P&T A5.1, [`BSpline::split`]), so the pieces' disks are the stroke's
 //! disks, and two neighbouring pieces share the disk at the split: the round joint of a
 //! corner (`design::corners`), without refitting anything. The stroke's region is the
-//! union of its pieces' regions, so the outline is the union of the pieces' outlines
-//! ([`Region::from_overlapping_paths`], non-zero winding, flattened within the tolerance):
-//! simple (the boundary of a union) and holding every disk as each piece holds its own.
+//! union of its pieces' regions, so the outline is the boolean union of the pieces' regions
+//! ([`Region::union`], flattened within the tolerance): simple (the boundary of a union)
+//! and holding every disk as each piece holds its own.
 //!
 //! **Where to split** ([`failing_place`]): at the middle circle of a triplet that violates
 //! kruppa-2023 Def. 4.1 cond. 2 or 3 (the bend is there; splitting removes the triplet);
@@ -16,7 +16,9 @@
 //! in the middle of the widest parameter gap between the circles the error names (a stroke
 //! that comes back over itself: the split separates the covered part from the part
 //! covering it); at the deepest disk where a skin cuts into its stroke
-//! ([`crate::skin::coverage::uncovered`]); in the middle of the piece for any other error
+//! ([`crate::skin::coverage::uncovered`]) or, for a piece, where its skin runs outside the
+//! piece's disks by more than the same limit (at the nearest disk; where that is an end of
+//! the piece, the piece is built on its disks); in the middle of the piece for any other error
 //! except an exhausted work budget, which is not retried (its cost is already spent). A
 //! closed stroke is first opened at its seam (the same curve, clamped at both ends).
 //!
@@ -125,8 +127,8 @@ struct Piece {
 
 /// What became of a piece.
 enum Done {
-    Skinned(DbscSkin, bool),
-    Fallback(SkinFallback, Vec<Path>),
+    Skinned(Box<DbscSkin>, bool),
+    Fallback(SkinFallback, Region),
 }
 
 /// How a piece failed: where to split it (if anywhere) and why.
@@ -218,14 +220,14 @@ pub fn repair(
             Some(f) => f,
             None => match attempt(&piece, opts, tol, limit) {
                 Ok((sk, overlap)) => {
-                    done.push((piece.range, Done::Skinned(sk, overlap)));
+                    done.push((piece.range, Done::Skinned(Box::new(sk), overlap)));
                     continue;
                 }
                 Err(f) => f,
             },
         };
         let halves = (piece.range.1 - piece.range.0 >= shortest && pieces < budget)
-            .then(|| failure.place)
+            .then_some(failure.place)
             .flatten()
             .and_then(|t| split(&piece, t).map(|h| (t, h)));
         match halves {
@@ -247,16 +249,13 @@ pub fn repair(
                     reason: failure.reason,
                     missed: failure.missed,
                 };
-                done.push((
-                    piece.range,
-                    Done::Fallback(fb, swept_disks(&circles, tol).paths()),
-                ));
+                done.push((piece.range, Done::Fallback(fb, swept_disks(&circles, tol))));
             }
         }
     }
     done.sort_by(|a, b| a.0.0.total_cmp(&b.0.0));
     splits.sort_by(|a, b| a.t.total_cmp(&b.t));
-    let mut paths = Vec::new();
+    let mut regions = Vec::new();
     let mut circles = Vec::new();
     let mut segments = Vec::new();
     let mut fallbacks = Vec::new();
@@ -265,17 +264,19 @@ pub fn repair(
         match d {
             Done::Skinned(sk, overlap) => {
                 self_overlap |= overlap;
-                paths.extend(sk.outline);
+                regions.push(Region::from_overlapping_paths(&sk.outline, tol));
                 circles.extend(sk.circles);
                 segments.extend(sk.report);
             }
-            Done::Fallback(fb, p) => {
-                paths.extend(p);
+            Done::Fallback(fb, region) => {
+                regions.push(region);
                 fallbacks.push(fb);
             }
         }
     }
-    let contours = Region::from_overlapping_paths(&paths, tol).paths();
+    // Each piece is a region of its own (a piece on its disks may have a hole that another
+    // piece covers), so the outline is the boolean union of the regions.
+    let contours = Region::union(&regions, tol).paths();
     let (deviation, deviation_at) = deviation(c, &contours, tol);
     Repaired {
         contours,
@@ -339,10 +340,31 @@ fn attempt(
     match check_knot_circles(&p.curve).and_then(|()| skin_piece(&p.curve, opts)) {
         Ok((sk, overlap)) => {
             let contours = skin_contours(&sk, overlap, tol);
-            match missed(&p.curve, &contours, tol, limit) {
-                None => Ok((sk, overlap)),
-                Some(u) => Err(missed_failure(u, p.range)),
+            if let Some(u) = missed(&p.curve, &contours, tol, limit) {
+                return Err(missed_failure(u, p.range));
             }
+            // A piece's skin may also round a bend well outside its disks (where its
+            // Hausdorff bound stays unmet): split it there too, at the nearest disk.
+            let disks = flatten_disks(&p.curve, tol);
+            let circles: Vec<Circle> = disks.iter().map(|&(_, d)| d).collect();
+            let polygons: Vec<Vec<DVec2>> = contours.iter().map(|c| c.flatten(tol)).collect();
+            let (out, at) = excess(&circles, &polygons, EXCESS_STEP * tol);
+            if out <= limit {
+                return Ok((sk, overlap));
+            }
+            let nearest = disks
+                .iter()
+                .map(|&(t, d)| (t, at.distance(d.c) - d.r))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(t, _)| t);
+            Err(Failure {
+                place: nearest.filter(|&t| inside(t, p.range)),
+                reason: format!(
+                    "the skin runs {out:.3} outside the stroke's disks near ({:.3}, {:.3})",
+                    at.x, at.y
+                ),
+                missed: None,
+            })
         }
         Err(e) => Err(Failure {
             place: failing_place(&e, p.range),
