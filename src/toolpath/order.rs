@@ -303,8 +303,9 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
                                 *cached = (s, e, false);
                             }
                         }
-                        for k in a.saturating_sub(1)..=b {
-                            gap[k] = gap_at(&at, k);
+                        let from = a.saturating_sub(1);
+                        for (k, g) in gap.iter_mut().enumerate().take(b + 1).skip(from) {
+                            *g = gap_at(&at, k);
                         }
                         head = prev_end.distance(at[a].0);
                         improved = true;
