@@ -324,17 +324,33 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
     // open paths, its start for closed ones) and left at its first path's reversed end.
     let rev_start = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { s } else { e };
     let rev_end = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { e } else { s };
+    let m = order.len();
+    // Travel from each path's end to the next path's start (0 after the last), kept in step
+    // with `at`: the part of a pair's old travel that does not depend on the block's start.
+    let gap_at = |at: &[(DVec2, DVec2, bool)], b: usize| {
+        if b + 1 < m {
+            at[b].1.distance(at[b + 1].0)
+        } else {
+            0.0
+        }
+    };
+    let mut gap: Vec<f64> = (0..m).map(|b| gap_at(&at, b)).collect();
     for _ in 0..sweeps {
         let mut improved = false;
-        let m = order.len();
         for a in 0..m {
+            let prev_end = if a == 0 { home } else { at[a - 1].1 };
+            let mut head = prev_end.distance(at[a].0);
             for b in a + 1..m {
-                let prev_end = if a == 0 { home } else { at[a - 1].1 };
-                let (sa, eb) = (at[a].0, at[b].1);
+                let old = head + gap[b];
+                // new = enter + leave with leave ≥ 0, so new + 1e-12 ≥ enter + 1e-12 in
+                // floating point as well: a block that cannot be entered cheaply enough is
+                // skipped before its second distance is taken.
+                let enter = prev_end.distance(rev_start(&at[b]));
+                if enter + 1e-12 >= old {
+                    continue;
+                }
                 let next_start = (b + 1 < m).then(|| at[b + 1].0);
-                let old = prev_end.distance(sa) + next_start.map_or(0.0, |s| eb.distance(s));
-                let new = prev_end.distance(rev_start(&at[b]))
-                    + next_start.map_or(0.0, |s| rev_end(&at[a]).distance(s));
+                let new = enter + next_start.map_or(0.0, |s| rev_end(&at[a]).distance(s));
                 if new + 1e-12 < old {
                     let p = pos_of(&order);
                     let blocked = order[a..=b]
@@ -350,6 +366,11 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
                                 *cached = (s, e, false);
                             }
                         }
+                        let from = a.saturating_sub(1);
+                        for (k, g) in gap.iter_mut().enumerate().take(b + 1).skip(from) {
+                            *g = gap_at(&at, k);
+                        }
+                        head = prev_end.distance(at[a].0);
                         improved = true;
                     }
                 }
