@@ -37,9 +37,21 @@
 //!   shape named `ID.fill`; what the SVG paints is what the design holds. Give a path
 //!   `fill="none"` to import only its stroke (SVG fills a path black unless told otherwise).
 //!   An Inkscape Power Stroke's fill is the stroke's drawing, not a shape.
+//! - Fills follow the paint model ([`paint`]): in document order a later fill hides what
+//!   lies under it, fills of one colour that overlap merge, white and background fills knock
+//!   out; each shape is the visible part of its fill.
+//! - Strokes and shapes carry the Inkscape layer they lie in (`layer`, the layer's label, also
+//!   the prefix of their names: `Layer 1/path12`) and their paint (`color`, `#rrggbb`).
+//! - Path data is cleaned within the tolerance before fitting ([`fit::clean`]); a fit beyond
+//!   the tolerance is kept with a warning naming the element and the worst error.
 //! - Filled paths whose fill encloses no area or is fully transparent (listed when they
-//!   have no stroke), hidden paths, paths with neither fill nor stroke, images and text are
-//!   skipped, each listed by id with the reason.
+//!   have no stroke), hidden paths, paths with neither fill nor stroke (or a stroke-width of
+//!   zero or less), images, text and malformed path data are skipped, each listed by id with
+//!   the reason; so is any element that does not make a valid stroke or shape, or whose
+//!   counts exceed the limits (checked before the work). One bad element never stops the
+//!   import; a file with nothing usable is an error naming the file and what was skipped.
+//!   The XML is read by [`xml::parse`] (DTD and internal entities within bounds, nothing
+//!   external); no image or other external reference is ever opened.
 //!
 //! Coordinates: millimetres, 96 px per inch (mm, cm, in, pt, pc and px are resolved by
 //! usvg from `width`/`height` and the viewBox); SVG's y axis points down, so y is flipped
