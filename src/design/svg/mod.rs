@@ -188,6 +188,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         page_width: tree.size().width() as f64,
         page_height: tree.size().height() as f64,
         layer: None,
+        path_layer: None,
         paint: paint::Paint::default(),
         strokes: Vec::new(),
         shapes: Vec::new(),
@@ -405,6 +406,8 @@ struct Ctx<'a> {
     page_height: f64,
     /// The label of the Inkscape layer being walked.
     layer: Option<String>,
+    /// The layer of the path being imported.
+    path_layer: Option<String>,
     paint: paint::Paint,
     strokes: Vec<Stroke>,
     shapes: Vec<Shape>,
@@ -537,22 +540,24 @@ impl Ctx<'_> {
 
     /// The name of a usvg path: its id, or `<path> #k` (k-th path in paint order), after
     /// its layer's label and a slash (`Layer 1/path12`) when it lies in an Inkscape layer.
-    /// Sets the layer being walked from the source when the path has an id (usvg may fold
-    /// the layer's group away).
+    /// Sets the path's layer: from the source when the path has an id (usvg may fold the
+    /// layer's group away), else the layer being walked.
     fn element_id(&mut self, id: &str) -> String {
         self.counter += 1;
-        if let Some(label) = self
-            .element(id)
-            .and_then(|n| n.ancestors().skip(1).find_map(layer_label))
-        {
-            self.layer = Some(label.to_string());
-        }
+        self.path_layer = match self.element(id) {
+            Some(n) => n
+                .ancestors()
+                .skip(1)
+                .find_map(layer_label)
+                .map(str::to_string),
+            None => self.layer.clone(),
+        };
         let own = if id.is_empty() {
             format!("<path> #{}", self.counter - 1)
         } else {
             id.to_string()
         };
-        match &self.layer {
+        match &self.path_layer {
             Some(l) => format!("{l}/{own}"),
             None => own,
         }
@@ -815,7 +820,7 @@ impl Ctx<'_> {
                 .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
             match fitted {
                 Ok((mut s, dev)) => {
-                    s.layer = self.layer.clone();
+                    s.layer = self.path_layer.clone();
                     s.color = color.clone();
                     if dev > self.opts.tolerance {
                         self.warn(
