@@ -178,7 +178,7 @@ impl Ctx<'_> {
             || (color.is_some() && color == self.paint.background);
         let region = paint::Region {
             name: self.unique(name),
-            layer: self.layer.clone(),
+            layer: self.path_layer.clone(),
             color,
             rings: region,
         };

@@ -37,9 +37,21 @@
 //!   shape named `ID.fill`; what the SVG paints is what the design holds. Give a path
 //!   `fill="none"` to import only its stroke (SVG fills a path black unless told otherwise).
 //!   An Inkscape Power Stroke's fill is the stroke's drawing, not a shape.
+//! - Fills follow the paint model ([`paint`]): in document order a later fill hides what
+//!   lies under it, fills of one colour that overlap merge, white and background fills knock
+//!   out; each shape is the visible part of its fill.
+//! - Strokes and shapes carry the Inkscape layer they lie in (`layer`, the layer's label, also
+//!   the prefix of their names: `Layer 1/path12`) and their paint (`color`, `#rrggbb`).
+//! - Path data is cleaned within the tolerance before fitting ([`fit::clean`]); a fit beyond
+//!   the tolerance is kept with a warning naming the element and the worst error.
 //! - Filled paths whose fill encloses no area or is fully transparent (listed when they
-//!   have no stroke), hidden paths, paths with neither fill nor stroke, images and text are
-//!   skipped, each listed by id with the reason.
+//!   have no stroke), hidden paths, paths with neither fill nor stroke (or a stroke-width of
+//!   zero or less), images, text and malformed path data are skipped, each listed by id with
+//!   the reason; so is any element that does not make a valid stroke or shape, or whose
+//!   counts exceed the limits (checked before the work). One bad element never stops the
+//!   import; a file with nothing usable is an error naming the file and what was skipped.
+//!   The XML is read by [`xml::parse`] (DTD and internal entities within bounds, nothing
+//!   external); no image or other external reference is ever opened.
 //!
 //! Coordinates: millimetres, 96 px per inch (mm, cm, in, pt, pc and px are resolved by
 //! usvg from `width`/`height` and the viewBox); SVG's y axis points down, so y is flipped
@@ -176,6 +188,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         page_width: tree.size().width() as f64,
         page_height: tree.size().height() as f64,
         layer: None,
+        path_layer: None,
         paint: paint::Paint::default(),
         strokes: Vec::new(),
         shapes: Vec::new(),
@@ -394,6 +407,8 @@ struct Ctx<'a> {
     page_height: f64,
     /// The label of the Inkscape layer being walked.
     layer: Option<String>,
+    /// The layer of the path being imported.
+    path_layer: Option<String>,
     paint: paint::Paint,
     strokes: Vec<Stroke>,
     shapes: Vec<Shape>,
@@ -526,22 +541,24 @@ impl Ctx<'_> {
 
     /// The name of a usvg path: its id, or `<path> #k` (k-th path in paint order), after
     /// its layer's label and a slash (`Layer 1/path12`) when it lies in an Inkscape layer.
-    /// Sets the layer being walked from the source when the path has an id (usvg may fold
-    /// the layer's group away).
+    /// Sets the path's layer: from the source when the path has an id (usvg may fold the
+    /// layer's group away), else the layer being walked.
     fn element_id(&mut self, id: &str) -> String {
         self.counter += 1;
-        if let Some(label) = self
-            .element(id)
-            .and_then(|n| n.ancestors().skip(1).find_map(layer_label))
-        {
-            self.layer = Some(label.to_string());
-        }
+        self.path_layer = match self.element(id) {
+            Some(n) => n
+                .ancestors()
+                .skip(1)
+                .find_map(layer_label)
+                .map(str::to_string),
+            None => self.layer.clone(),
+        };
         let own = if id.is_empty() {
             format!("<path> #{}", self.counter - 1)
         } else {
             id.to_string()
         };
-        match &self.layer {
+        match &self.path_layer {
             Some(l) => format!("{l}/{own}"),
             None => own,
         }
@@ -804,7 +821,7 @@ impl Ctx<'_> {
                 .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
             match fitted {
                 Ok((mut s, dev)) => {
-                    s.layer = self.layer.clone();
+                    s.layer = self.path_layer.clone();
                     s.color = color.clone();
                     if dev > self.opts.tolerance {
                         self.warn(

@@ -154,7 +154,10 @@ fn expansion(
     }
     let mut n = value.len() as u64;
     for r in references(value) {
-        n = n.saturating_add(expansion(r, defs, memo, depth + 1));
+        // The reference `&r;` is replaced by its expansion.
+        n = n
+            .saturating_sub(r.len() as u64 + 2)
+            .saturating_add(expansion(r, defs, memo, depth + 1));
     }
     memo.insert(name.to_string(), n);
     n
