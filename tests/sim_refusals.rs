@@ -67,7 +67,10 @@ const TABLE: &[(&str, &[(Dialect, Expect)])] = &[
         "percent_end_without_start.nc",
         &[
             (Dialect::Linuxcnc, Some((Error, "percent-without-start", 3))),
-            (Dialect::Generic, Some((Warning, "percent-without-start", 3))),
+            (
+                Dialect::Generic,
+                Some((Warning, "percent-without-start", 3)),
+            ),
             (Dialect::Grbl, None),
         ],
     ),
@@ -99,7 +102,9 @@ const TABLE: &[(&str, &[(Dialect, Expect)])] = &[
 ];
 
 fn source(file: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sim_corpus/refusals").join(file);
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/sim_corpus/refusals")
+        .join(file);
     std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
@@ -183,7 +188,10 @@ fn the_estimate_never_invents_a_feed() {
         assert_eq!((n, r.stats.time.untimed_moves), (1, 0), "{r}");
         let (v, a) = (v / 60.0, CheckConfig::default().accel[0]);
         let t = r.stats.time.feed;
-        assert!(t >= len / v && t <= len / v + v / a, "{t} for {len} mm at {v} mm/s");
+        assert!(
+            t >= len / v && t <= len / v + v / a,
+            "{t} for {len} mm at {v} mm/s"
+        );
     }
     // F0 after a feed: Marlin keeps the last feed (500 mm/min) for all 30 mm.
     let src = source("f0_after_feed.nc");
