@@ -60,6 +60,14 @@ const PECK_CLEARANCE_MM: f64 = 0.254;
 /// non-finite centres are `invalid-arc` errors.
 const MAX_ARC_RADIUS_MM: f64 = 1e7;
 
+/// Marlin's feed rate before any F word (mm/min): `feedrate_mm_s = MMM_TO_MMS(1500.0f)` in
+/// Marlin/src/module/motion.cpp.
+pub const MARLIN_DEFAULT_FEED_MM_MIN: f64 = 1500.0;
+
+/// Smoothieware's feed rate before any F word (mm/min): `default_feed_rate`, compiled-in
+/// default 100 (Robot.cpp `by_default(100.0F)`) when the config file does not set it.
+pub const SMOOTHIE_DEFAULT_FEED_MM_MIN: f64 = 100.0;
+
 /// Numbered parameters holding stored positions (LinuxCNC manual, "Numbered parameters").
 const P_G28: usize = 5161;
 const P_G30: usize = 5181;
@@ -408,6 +416,9 @@ struct Interp<'a, 'o> {
     plain_moves: bool,
     /// Per id, diagnostics kept so far (see [`Interp::diagnose`]).
     diag_kept: HashMap<&'static str, usize>,
+    /// (source, line) of the last `no-feed-rate` finding: one per line, however many moves
+    /// the line makes (arcs, canned cycles).
+    no_feed_at: Option<(usize, usize)>,
 }
 
 #[derive(Clone, Debug)]
@@ -555,6 +566,7 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
         tool_at_stop: ToolState::default(),
         plain_moves: true,
         diag_kept: HashMap::new(),
+        no_feed_at: None,
     };
     it.params[P_CS] = 1.0;
     it
@@ -833,8 +845,25 @@ impl<'a> Interp<'a, '_> {
                     i += 1;
                     continue;
                 }
-                // The closing tape mark ends the program.
-                let _ = percent_open;
+                // The closing tape mark ends the program. LinuxCNC takes `%` as a tape
+                // mark only in a program that opened with one; elsewhere it is "Bad
+                // character used" (interp_read.cc read_text / read_items).
+                if !percent_open {
+                    let msg = "`%` ends a program that did not start with one";
+                    match self.cfg.dialect {
+                        Dialect::Linuxcnc => self.err(
+                            "percent-without-start",
+                            None,
+                            format!("{msg}: LinuxCNC refuses it (\"Bad character used\")"),
+                        ),
+                        Dialect::Generic => self.warn(
+                            "percent-without-start",
+                            None,
+                            format!("{msg} (LinuxCNC refuses it: \"Bad character used\")"),
+                        ),
+                        _ => {}
+                    }
+                }
                 if self.prog.end.is_none() {
                     self.prog.end = Some(ProgramEnd {
                         line: i + 1,
@@ -1632,6 +1661,12 @@ impl<'a> Interp<'a, '_> {
                     Some(b.col('F')),
                     format!("feed F{f} is negative"),
                 );
+            } else if f == 0.0 && self.firmware_feed().is_some() {
+                self.warn(
+                    "no-feed-rate",
+                    Some(b.col('F')),
+                    "F0 is ignored by Marlin and Smoothieware: the last feed rate applies".into(),
+                );
             } else {
                 self.st.feed = f;
                 self.st.feed_k = self.st.k();
@@ -2255,7 +2290,7 @@ impl<'a> Interp<'a, '_> {
     }
 
     /// A block of plain words `G0`/`G1`, `X`, `Y`, `Z`, `F` and `S` (each at most once,
-    /// numbers, F ≥ 0, S ≥ 0) and `N` in a feed per minute mode with G0 or G1 in force or
+    /// numbers, F > 0, S ≥ 0) and `N` in a feed per minute mode with G0 or G1 in force or
     /// given: what CAM programs are made of (a laser's inline power in S too). Runs it as
     /// [`Interp::exec`] would (the same state changes, word count and move) without sorting
     /// it into a [`Block`]; returns false, having changed nothing, for any other line.
@@ -2296,7 +2331,8 @@ impl<'a> Interp<'a, '_> {
                 'X' => &mut xyz[0],
                 'Y' => &mut xyz[1],
                 'Z' => &mut xyz[2],
-                'F' if v >= 0.0 => &mut feed,
+                // F0 takes the general route (Marlin and Smoothie ignore it).
+                'F' if v > 0.0 => &mut feed,
                 'S' if v >= 0.0 => &mut speed,
                 _ => return false,
             };
@@ -2359,6 +2395,12 @@ impl<'a> Interp<'a, '_> {
         if !(m.to - m.from).length_squared().is_finite() {
             return self.out_of_range();
         }
+        if m.kind == MotionKind::Feed
+            && self.st.feed_mode != FeedMode::InverseTime
+            && self.st.feed <= 0.0
+        {
+            self.no_feed(&mut m);
+        }
         m.feed = match self.st.feed_mode {
             FeedMode::PerMinute => m.feed,
             FeedMode::InverseTime => m.length() * self.st.feed,
@@ -2366,6 +2408,63 @@ impl<'a> Interp<'a, '_> {
         };
         m.group = self.group;
         self.emit(m);
+    }
+
+    /// The firmware's feed rate (mm/min) before any F word, for dialects that have one.
+    fn firmware_feed(&self) -> Option<f64> {
+        match self.cfg.dialect {
+            Dialect::Marlin => Some(MARLIN_DEFAULT_FEED_MM_MIN),
+            Dialect::Smoothie => Some(SMOOTHIE_DEFAULT_FEED_MM_MIN),
+            _ => None,
+        }
+    }
+
+    /// A feed move `m` while no feed rate is set (no F yet, or F0): LinuxCNC and GRBL refuse
+    /// it (an error, one per line); Marlin and Smoothieware run it at their default feed
+    /// (a warning, once); the generic dialect warns and leaves the move untimed.
+    fn no_feed(&mut self, m: &mut Motion) {
+        if let Some(f) = self.firmware_feed() {
+            // Ungiven F is the firmware default from then on (F0 never reaches here: ignored).
+            self.st.feed = f;
+            self.st.feed_k = 1.0;
+            m.feed = f;
+            if self.no_feed_at.is_none() {
+                self.no_feed_at = Some((self.src, self.line));
+                self.warn(
+                    "no-feed-rate",
+                    None,
+                    format!("feed move before any F: the firmware default F{f} mm/min applies"),
+                );
+            }
+            return;
+        }
+        if self.no_feed_at == Some((self.src, self.line)) {
+            return;
+        }
+        let first = self.no_feed_at.is_none();
+        self.no_feed_at = Some((self.src, self.line));
+        let what = match self.st.mode {
+            Mode::ArcCw | Mode::ArcCcw => "Cannot make arc with zero feed rate",
+            Mode::Cycle(_) => "Cannot feed with zero feed rate",
+            _ => "Cannot do g1 with zero feed rate",
+        };
+        match self.cfg.dialect {
+            Dialect::Linuxcnc => self.err("no-feed-rate", None, format!("{what} (LinuxCNC)")),
+            Dialect::Grbl => self.err(
+                "no-feed-rate",
+                None,
+                "feed rate has not yet been set or is undefined (GRBL error:22)".into(),
+            ),
+            _ if first => self.warn(
+                "no-feed-rate",
+                None,
+                format!(
+                    "feed move without a feed rate (LinuxCNC: \"{what}\", GRBL: error:22); \
+                     not timed"
+                ),
+            ),
+            _ => {}
+        }
     }
 
     /// The error of a move whose end point or length is not a finite number.

@@ -124,6 +124,13 @@ impl fmt::Display for Report {
             hms(s.time.rapid),
             hms(s.time.dwell)
         )?;
+        if s.time.untimed_moves > 0 {
+            writeln!(
+                f,
+                "time incomplete: {} feed moves without a feed rate are not timed",
+                s.time.untimed_moves
+            )?;
+        }
         if let Some([lo, hi]) = s.bbox {
             writeln!(
                 f,

@@ -29,6 +29,9 @@ pub struct TimeEstimate {
     pub rapid: f64,
     /// Time spent in dwells, seconds.
     pub dwell: f64,
+    /// Feed moves without a feed rate (no F, or F0, where the controller refuses them):
+    /// they contribute no time, so the estimate is incomplete when this is not 0.
+    pub untimed_moves: usize,
 }
 
 /// One planner block: a straight chord with its nominal speed and acceleration.
@@ -43,7 +46,8 @@ pub(super) struct Block {
 }
 
 impl Block {
-    /// The block of chord `d` (mm) at programmed `feed` (mm/min; 0 = the rate limit), or at
+    /// The block of chord `d` (mm) at programmed `feed` (mm/min; 0 = the rate limit, which
+    /// [`Estimator::motion`] never passes for a feed move), or at
     /// the rate limit for a rapid. None for a chord the limits cannot move (zero length,
     /// zero or non-finite speed or acceleration).
     pub(super) fn of_chord(d: DVec3, feed: f64, rapid: bool, lim: &AxisLimits) -> Option<Block> {
@@ -124,6 +128,12 @@ pub fn estimate_each(
     est.finish()
 }
 
+/// True for a feed move without a feed rate (no F, or F0): it gets no planner blocks and
+/// no time, here and in [`super::timeline`], rather than an invented feed.
+pub(super) fn untimed(m: &Motion) -> bool {
+    m.kind == MotionKind::Feed && (m.feed <= 0.0 || m.feed.is_nan())
+}
+
 /// The planner blocks of a rapid or feed move, with whether it is a rapid.
 fn for_blocks(m: &Motion, lim: &AxisLimits, cfg: &CheckConfig, mut f: impl FnMut(Block, bool)) {
     let is_rapid = m.kind == MotionKind::Rapid;
@@ -195,6 +205,8 @@ impl Estimator {
                     self.t.dwell += seconds;
                 }
             }
+            // No feed is invented: the controller refuses the move, the estimate counts it.
+            MotionKind::Feed if untimed(m) => self.t.untimed_moves += 1,
             MotionKind::Rapid | MotionKind::Feed => {
                 // Junction limits are computed when settling, in a loop of their own.
                 let window = &mut self.window;

@@ -10,7 +10,7 @@
 
 use super::config::CheckConfig;
 use super::motion::{MotionKind, Motions};
-use super::time::{AxisLimits, Block, block_time, plan};
+use super::time::{AxisLimits, Block, block_time, plan, untimed};
 use glam::DVec3;
 
 /// One planner block (a chord of a motion) or a dwell, with its place in time.
@@ -154,6 +154,9 @@ pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
                         vf: 0.0,
                         a: 0.0,
                     });
+                    if untimed(&m) {
+                        continue;
+                    }
                     if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, rapid, &lim) {
                         blocks.push(b);
                         seg_of.push(segs.len() - 1);

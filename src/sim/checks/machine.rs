@@ -2,7 +2,7 @@
 //! ranges, and how the program ends.
 
 use super::contours::is_cutting;
-use crate::sim::config::{CheckConfig, MachineKind};
+use crate::sim::config::{CheckConfig, Dialect, MachineKind};
 use crate::sim::findings::{Finding, Severity};
 use crate::sim::motion::{Motion, MotionKind, Motions, Program};
 
@@ -210,7 +210,10 @@ impl FeedPower {
             return;
         }
         let f = m.feed;
-        if f < cfg.feed_min || f > cfg.feed_max {
+        // LinuxCNC and GRBL refuse a feed move without F: the interpreter's `no-feed-rate`
+        // error already names it.
+        let refused = f <= 0.0 && matches!(cfg.dialect, Dialect::Linuxcnc | Dialect::Grbl);
+        if !refused && (f < cfg.feed_min || f > cfg.feed_max) {
             if self.last_feed != Some(f) {
                 let msg = if f <= 0.0 {
                     "cutting move without a feed rate (no F set)".to_string()

@@ -1,0 +1,5 @@
+G21 G90
+o100 if [1 GT 0]
+G1 X10 F100
+o100 endif
+M2
