@@ -168,18 +168,30 @@ fn points(kind: Kind, seeds: &[(f64, f64, f64)], r0: f64) -> Vec<[f64; 3]> {
         let (turn, step, r) = match kind {
             // Out and back: turns near 180° every other point.
             Kind::Hairpin => (
-                if k % 2 == 0 { 0.2 * (a - 0.5) } else { 3.1 + 0.04 * b },
+                if k % 2 == 0 {
+                    0.2 * (a - 0.5)
+                } else {
+                    3.1 + 0.04 * b
+                },
                 r0 * (2.0 + 6.0 * c),
                 r0,
             ),
             Kind::ZigZag => (
-                if k % 2 == 0 { 2.6 + 0.5 * a } else { -2.6 - 0.5 * a },
+                if k % 2 == 0 {
+                    2.6 + 0.5 * a
+                } else {
+                    -2.6 - 0.5 * a
+                },
                 r0 * (0.8 + 3.0 * b),
                 r0 * (0.6 + 0.8 * c),
             ),
             Kind::NearlyCoincident => (
                 3.0 * (a - 0.5),
-                if k % 3 == 1 { r0 * 1e-3 * (0.1 + b) } else { r0 * (1.0 + 3.0 * b) },
+                if k % 3 == 1 {
+                    r0 * 1e-3 * (0.1 + b)
+                } else {
+                    r0 * (1.0 + 3.0 * b)
+                },
                 r0 * (0.7 + 0.6 * c),
             ),
             Kind::TinyRadius => (2.5 * (a - 0.5), 40.0 * (0.2 + b), 0.02 + 0.03 * c),

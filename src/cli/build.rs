@@ -365,7 +365,10 @@ pub fn run(a: Args) -> Result<u8> {
                 repaired.len(),
                 out.design.stroke.len(),
                 repaired.iter().map(|(_, r)| r.splits.len()).sum::<usize>(),
-                repaired.iter().map(|(_, r)| r.fallbacks.len()).sum::<usize>(),
+                repaired
+                    .iter()
+                    .map(|(_, r)| r.fallbacks.len())
+                    .sum::<usize>(),
                 r.deviation,
                 worst.name
             )?;

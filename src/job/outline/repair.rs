@@ -247,7 +247,10 @@ pub fn repair(
                     reason: failure.reason,
                     missed: failure.missed,
                 };
-                done.push((piece.range, Done::Fallback(fb, swept_disks(&circles, tol).paths())));
+                done.push((
+                    piece.range,
+                    Done::Fallback(fb, swept_disks(&circles, tol).paths()),
+                ));
             }
         }
     }
@@ -456,7 +459,11 @@ fn open_at_seam(c: &DiskBSpline) -> DiskBSpline {
             .insert_knot(hi, p)?;
         let knots = full.knots();
         let first = knots.iter().position(|&u| u == lo).unwrap_or(1).max(1);
-        let first_hi = knots.iter().position(|&u| u == hi).unwrap_or(knots.len()).max(first);
+        let first_hi = knots
+            .iter()
+            .position(|&u| u == hi)
+            .unwrap_or(knots.len())
+            .max(first);
         // After insertion lo and hi have multiplicity p: control value `first − 1` is C(lo)
         // and `first_hi − 1` is C(hi) (as in `BSpline::split`); one more copy of each end
         // clamps the knot vector.
@@ -493,7 +500,10 @@ mod tests {
         let disks: Vec<Circle> = (0..7)
             .map(|k| {
                 let a = k as f64 * std::f64::consts::TAU / 7.0;
-                Circle::new(DVec2::new(10.0 * a.cos(), 6.0 * a.sin()), 1.0 + 0.2 * k as f64)
+                Circle::new(
+                    DVec2::new(10.0 * a.cos(), 6.0 * a.sin()),
+                    1.0 + 0.2 * k as f64,
+                )
             })
             .collect();
         for degree in [1, 2, 3] {
@@ -505,7 +515,10 @@ mod tests {
             for i in 0..=200 {
                 let t = lo + (hi - lo) * i as f64 / 200.0;
                 let (a, b) = (c.circle_at(t), o.circle_at(t));
-                assert!(a.c.distance(b.c) < 1e-9 && (a.r - b.r).abs() < 1e-9, "{degree} {t}");
+                assert!(
+                    a.c.distance(b.c) < 1e-9 && (a.r - b.r).abs() < 1e-9,
+                    "{degree} {t}"
+                );
             }
             // Clamped: the first and last control disks are the curve's ends.
             let cd = o.control_disks();
