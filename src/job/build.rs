@@ -1769,6 +1769,7 @@ pub fn fit_scale(job: DVec2, outline: DVec2, w: f64, h: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use cavalier_contours::polyline::PlineSource;
 
     /// The square [x, x + a] × [y, y + a] as a closed path.
     fn square(x: f64, y: f64, a: f64) -> Path {
