@@ -630,3 +630,119 @@ proptest::proptest! {
             <= 1e-6 * s * r.min_bend_radius_mm.max(1.0), "{} vs {}", mr.min_bend_radius_mm, s * r.min_bend_radius_mm);
     }
 }
+
+/// Builds `design` in `dir` on grbl-router and returns (success, stdout + stderr).
+fn build_router(dir: &std::path::Path, design: &str) -> (bool, String) {
+    let o = skinpath(
+        &[
+            "build",
+            design,
+            "--machine",
+            "grbl-router",
+            "-o",
+            "out.gcode",
+        ],
+        dir,
+    );
+    let all = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    (o.status.success(), all)
+}
+
+/// Issue 41 item 5: the neon starters (`text --neon`, `init --neon`) and script text with
+/// the gallery's channel, holes and backboard build and check clean on grbl-router with
+/// default flags: the channel is one pocket where strokes meet or cross, and the wire holes
+/// in it belong to its group. Holes sit only at run ends, inside the channel.
+#[test]
+fn neon_starters_and_script_text_check_clean() {
+    let dir = tmpdir("starters");
+    let cases: [(&str, &[&str]); 4] = [
+        (
+            "hello.toml",
+            &[
+                "text",
+                "Hello World!",
+                "--font",
+                "script",
+                "--height",
+                "22",
+                "--neon",
+            ],
+        ),
+        ("open.toml", &["text", "OPEN", "--neon"]),
+        ("open8.toml", &["text", "OPEN", "--neon", "8mm"]),
+        ("starter.toml", &["init", "--neon"]),
+    ];
+    for (file, args) in cases {
+        let mut args = args.to_vec();
+        args.extend(["-o", file]);
+        let o = skinpath(&args, &dir);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        assert!(text.contains("[neon]"), "{file}: {text}");
+        let (ok, out) = build_router(&dir, file);
+        assert!(ok, "{file}: {out}");
+        assert!(out.contains("check: 0 errors, 0 warnings"), "{file}: {out}");
+        let d = load(&text, file).unwrap();
+        let flex = d.neon.as_ref().unwrap().flex(d.units);
+        let (holes, ends) = holes_at_run_ends(&d, flex.width + 0.5, flex.hole_diameter);
+        assert_eq!(holes, ends, "{file}");
+    }
+    // The issue's reproduction: script text, 6 mm strokes, the gallery sign's operations
+    // with explicit sizes (no [neon] table: a hole at every stroke end).
+    let o = skinpath(
+        &[
+            "text",
+            "Hello World!",
+            "--font",
+            "script",
+            "--height",
+            "22",
+            "--width",
+            "6",
+            "-o",
+            "hw.toml",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let gallery = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/gallery/neon_open.toml"),
+    )
+    .unwrap();
+    let ops = &gallery[gallery.find("[[operation]]").unwrap()..];
+    let text = std::fs::read_to_string(dir.join("hw.toml")).unwrap() + "\n" + ops;
+    std::fs::write(dir.join("hw.toml"), text).unwrap();
+    let (ok, out) = build_router(&dir, "hw.toml");
+    assert!(ok, "{out}");
+    assert!(out.contains("check: 0 errors, 0 warnings"), "{out}");
+}
+
+/// Two strokes that cross: one channel over both is one pocket and checks clean; two
+/// profile cut-outs of them, or a wire hole outside any channel on a profile's path, are
+/// real crossings and still fail with `contour-crossing`.
+#[test]
+fn crossings_of_one_region_pass_and_real_crossings_fail() {
+    let dir = tmpdir("crossing");
+    let strokes = "version = 1\nunits = \"mm\"\n\n\
+        [[stroke]]\nname = \"a\"\npoints = [[20, 20, 3], [80, 20, 3]]\n\n\
+        [[stroke]]\nname = \"b\"\npoints = [[50, 5, 3], [50, 45, 3]]\n\n\
+        [[stroke]]\nname = \"c\"\npoints = [[70, 24.6, 1], [70, 40, 1]]\n";
+    let channel = "\n[[operation]]\nkind = \"channel\"\nstrokes = [\"a\", \"b\"]\n\
+        width = 6.5\ndepth = 5.0\n\n[[operation]]\nkind = \"holes\"\nstrokes = [\"a\", \"b\"]\n\
+        diameter = 4.0\ndepth = 6.0\n";
+    let profiles = "\n[[operation]]\nkind = \"profile\"\nstrokes = [\"a\"]\ndepth = 3.0\n\n\
+        [[operation]]\nkind = \"profile\"\nstrokes = [\"b\"]\ndepth = 3.0\n";
+    let hole_on_profile = "\n[[operation]]\nkind = \"profile\"\nstrokes = [\"a\"]\n\
+        depth = 3.0\n\n[[operation]]\nkind = \"holes\"\nstrokes = [\"c\"]\ndiameter = 4.0\n\
+        depth = 3.0\n";
+    for (file, ops, clean) in [
+        ("one.toml", channel, true),
+        ("profiles.toml", profiles, false),
+        ("hole.toml", hole_on_profile, false),
+    ] {
+        std::fs::write(dir.join(file), format!("{strokes}{ops}")).unwrap();
+        let (ok, out) = build_router(&dir, file);
+        assert_eq!(ok, clean, "{file}: {out}");
+        assert_eq!(out.contains("[contour-crossing]"), !clean, "{file}: {out}");
+    }
+}

@@ -12,6 +12,10 @@ pub struct Args {
     /// Overwrite the file if it exists.
     #[arg(long)]
     force: bool,
+    /// Write the neon-sign starter: script text, a `[neon]` table and the channel, wire
+    /// holes and backboard operations.
+    #[arg(long)]
+    neon: bool,
 }
 
 /// The starter design.
@@ -64,7 +68,44 @@ depth = 2.0               # total depth (routers); ignored by lasers
 power = 80                # percent (lasers)
 "#;
 
+/// The neon-sign starter (`init --neon`).
+pub const STARTER_NEON: &str = r#"# A skinpath neon sign (format v1). Build it with
+#   skinpath build design.toml --machine grbl-router -o design.nc --preview design-preview.png
+# `build` prints the bill of materials: the flex runs, their lengths and cut lengths.
+# Every length is in `units`; y points up; the origin is the machine's zero.
+version = 1
+units = "mm"
+
+# The LED flex: preset "6mm" (6 x 10 mm) or "8mm" (8 x 12 mm). Keys set here override the
+# preset: width, height, min_bend_radius, cut_unit, hole_diameter, channel_depth,
+# board_thickness, join_tolerance, break_at. Check your flex's datasheet.
+[neon]
+flex = "6mm"
+
+# The sign's words: single-stroke text, width = the flex width. Joined script letters are
+# one flex run. `skinpath text "WORD" --neon -o sign.toml` starts a sign from a word.
+[[text]]
+name = "sign"
+text = "Neon"
+font = "script"
+height = 30
+width = 6
+at = [14, 16]
+
+# Sized by [neon]: the channel is the flex width + 0.5 mm wide and channel_depth deep; the
+# wire holes (one at each end of each run) and the backboard cut go through the board.
+[[operation]]
+kind = "channel"
+
+[[operation]]
+kind = "holes"
+
+[[operation]]
+kind = "backboard"
+"#;
+
 pub fn run(a: Args) -> Result<u8> {
+    let starter = if a.neon { STARTER_NEON } else { STARTER };
     if a.output.exists() && !a.force {
         bail!(
             "{} exists: choose another name with -o or pass --force",
@@ -72,9 +113,9 @@ pub fn run(a: Args) -> Result<u8> {
         );
     }
     // The starter must load as it is; a failure here is a bug in skinpath, reported as such.
-    skinpath::design::load(STARTER, &a.output.display().to_string())
+    skinpath::design::load(starter, &a.output.display().to_string())
         .context("the built-in starter design does not load")?;
-    io::write_atomic(&a.output, STARTER.as_bytes())
+    io::write_atomic(&a.output, starter.as_bytes())
         .with_context(|| format!("writing {}", a.output.display()))?;
     Ok(0)
 }

@@ -4,7 +4,7 @@
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::text::{Align, Font, Kerning, Text, layout_problem};
-use skinpath::design::{Design, Format, MAX_COORD, Units, VERSION};
+use skinpath::design::{Design, FlexPreset, Format, MAX_COORD, Neon, Operation, Units, VERSION};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -17,9 +17,9 @@ pub struct Args {
     /// Cap height (baseline to cap line), mm.
     #[arg(long, default_value_t = 40.0)]
     height: f64,
-    /// Stroke width (neon flex or bit width), mm.
-    #[arg(long, default_value_t = 4.0)]
-    width: f64,
+    /// Stroke width (neon flex or bit width), mm [default: 4; with --neon the flex width].
+    #[arg(long)]
+    width: Option<f64>,
     /// Font: sans (Hershey Roman Simplex) or script (joining letters).
     #[arg(long, default_value = "sans", value_parser = ["sans", "script"])]
     font: String,
@@ -43,6 +43,39 @@ pub struct Args {
     /// Name of the text element (its strokes are NAME/...).
     #[arg(long, default_value = "text")]
     name: String,
+    /// A neon sign: a `[neon]` table for this flex (6mm or 8mm; bare --neon: 6mm) and the
+    /// channel, wire holes and backboard operations, sized by the flex.
+    #[arg(long, num_args = 0..=1, default_missing_value = "6mm", value_parser = ["6mm", "8mm"])]
+    neon: Option<String>,
+}
+
+/// Stroke width without --neon, mm.
+const DEFAULT_WIDTH_MM: f64 = 4.0;
+
+/// The operations of a neon sign, in cutting order: the channel for the flex, the wire
+/// holes where runs end, the backboard around it all. Their sizes come from the `[neon]`
+/// table when the design is loaded.
+const NEON_OPERATIONS: [&str; 3] = ["channel", "holes", "backboard"];
+
+/// The `[neon]` table and operations for the flex `preset` (`"6mm"` or `"8mm"`).
+fn neon_parts(preset: &str) -> Result<(Neon, Vec<Operation>)> {
+    let flex = if preset == "8mm" {
+        FlexPreset::Mm8
+    } else {
+        FlexPreset::Mm6
+    };
+    let neon = Neon {
+        flex: Some(flex),
+        ..Neon::default()
+    };
+    let ops = NEON_OPERATIONS
+        .iter()
+        .map(|k| {
+            toml::from_str::<Operation>(&format!("kind = \"{k}\""))
+                .with_context(|| format!("the built-in {k} operation does not load"))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((neon, ops))
 }
 
 pub fn run(a: Args) -> Result<u8> {
@@ -52,7 +85,13 @@ pub fn run(a: Args) -> Result<u8> {
             a.output.display()
         )
     })?;
-    let mut t = Text::new(&a.name, &a.text.replace("\\n", "\n"), a.height, a.width);
+    let neon = a.neon.as_deref().map(neon_parts).transpose()?;
+    let width = match (&a.width, &neon) {
+        (Some(w), _) => *w,
+        (None, Some((n, _))) => n.flex(Units::Mm).width,
+        (None, None) => DEFAULT_WIDTH_MM,
+    };
+    let mut t = Text::new(&a.name, &a.text.replace("\\n", "\n"), a.height, width);
     t.font = if a.font == "script" {
         Font::Script
     } else {
@@ -79,7 +118,7 @@ pub fn run(a: Args) -> Result<u8> {
     }
     // Place the lettering's lower-left corner (stroke radius included) `margin` from the
     // origin, so it builds inside any machine's work area without --place.
-    let r = 0.5 * a.width;
+    let r = 0.5 * width;
     let (min_x, min_y) = t
         .layout()
         .iter()
@@ -106,10 +145,13 @@ pub fn run(a: Args) -> Result<u8> {
         circles: Vec::new(),
         shape: Vec::new(),
         text: vec![t],
-        operation: Vec::new(),
+        operation: neon
+            .as_ref()
+            .map(|(_, ops)| ops.clone())
+            .unwrap_or_default(),
         file: a.output.display().to_string(),
         corners: Vec::new(),
-        neon: None,
+        neon: neon.map(|(n, _)| n),
     };
     let body = design.to_string_as(format)?;
     // What is written must load (and so build): check it before writing.

@@ -630,6 +630,25 @@ fn channel_polygon(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
     (Path::polyline(&pts, c.is_closed()), region)
 }
 
+/// A pocket without the posts of material narrower than a tool of radius `r`: the
+/// morphological closing (R ⊕ D_r) ⊖ D_r (Serra, *Image Analysis and Mathematical
+/// Morphology*, 1982, ch. II), the region grown and then shrunk by `r`. It contains R, and
+/// every part of the complement it gives up is narrower than the tool's diameter (no disk
+/// D_r fits in it); posts and notches a disk of radius `r` fits in stay. `eps` is the
+/// offsets' position tolerance; should the offsets fail (a result that does not hold R's
+/// area within `tol` per unit of perimeter), R is kept as it is.
+fn without_narrow_posts(region: &Region, r: f64, tol: f64, eps: f64) -> Region {
+    if r <= 0.0 || region.is_empty() {
+        return region.clone();
+    }
+    let closed = region.offset(r, eps).offset(-r, eps);
+    if closed.is_empty() || closed.area() < region.area() - tol * region.perimeter() {
+        region.clone()
+    } else {
+        closed
+    }
+}
+
 /// Parameter samples of a stroke's spine about `step` apart along its length.
 fn spine_params(c: &DiskBSpline, step: f64) -> Vec<f64> {
     let (lo, hi) = c.domain();
@@ -834,6 +853,13 @@ fn operation_specs(
             // Crossing and touching channels merge into one pocket (a T-junction is one
             // channel network).
             let region = Region::union_keeping_arcs(&regions, ctx.tol);
+            // Posts of material narrower than the tool (where strokes meet at sharp
+            // angles) are cleared with the pocket: the tool could not leave them standing.
+            let region = if laser {
+                region
+            } else {
+                without_narrow_posts(&region, r, ctx.tol, eps)
+            };
             let step = (STEPOVER * 2.0 * r).max(ctx.tol);
             // A channel the tool's width (within the tolerance on each wall) is a slot: one
             // pass along each spine. Offsetting its region by r would leave a sliver ring
@@ -1264,7 +1290,16 @@ fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
         .map(|(print, r)| {
             let fp = match print {
                 Print::Closed(p) => {
-                    Region::from_paths(std::slice::from_ref(*p), ctx.tol).offset(*r, eps)
+                    let grown =
+                        Region::from_paths(std::slice::from_ref(*p), ctx.tol).offset(*r, eps);
+                    // A ring that encloses no area on its own (one traversed clockwise, a
+                    // ring around an island, or one that touches itself) still clears the
+                    // tool's disk swept along it.
+                    if grown.is_empty() {
+                        ops::swept_region(&p.flatten(ctx.tol), true, *r, ctx.tol)
+                    } else {
+                        grown
+                    }
                 }
                 Print::Swept(pts) => ops::swept_region(pts, false, *r, ctx.tol),
             };
@@ -1729,4 +1764,64 @@ pub fn fit_scale(job: DVec2, outline: DVec2, w: f64, h: f64) -> Option<f64> {
     let sy = (h - extra.y) / outline.y;
     let s = sx.min(sy);
     (s.is_finite() && s > 0.0).then_some(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cavalier_contours::polyline::PlineSource;
+
+    /// The square [x, x + a] × [y, y + a] as a closed path.
+    fn square(x: f64, y: f64, a: f64) -> Path {
+        let pts = [
+            DVec2::new(x, y),
+            DVec2::new(x + a, y),
+            DVec2::new(x + a, y + a),
+            DVec2::new(x, y + a),
+        ];
+        Path::polyline(&pts, true)
+    }
+
+    /// Areas of the holes (posts of material) of a region.
+    fn post_areas(region: &Region) -> Vec<f64> {
+        region
+            .contours
+            .iter()
+            .map(|c| c.area())
+            .filter(|a| *a < 0.0)
+            .map(|a| -a)
+            .collect()
+    }
+
+    /// A post narrower than the tool is cleared with the pocket; a wider one stays, with
+    /// its corners rounded by the tool: a square post of side a keeps a² − (4 − π)·r²
+    /// (the opening of a square by a disk of radius r).
+    #[test]
+    fn narrow_posts_are_cleared_and_wide_ones_kept() {
+        let (r, tol) = (1.5875, 1e-3);
+        let eps = tol * 0.1;
+        let narrow = Region::from_paths(&[square(0.0, 0.0, 20.0), square(9.0, 9.0, 2.0)], tol);
+        assert_eq!(post_areas(&narrow).len(), 1);
+        let cleared = without_narrow_posts(&narrow, r, tol, eps);
+        assert!(post_areas(&cleared).is_empty());
+        assert!((cleared.area() - 400.0).abs() < 1e-6 * 400.0);
+
+        let a = 6.0;
+        let wide = Region::from_paths(&[square(0.0, 0.0, 20.0), square(7.0, 7.0, a)], tol);
+        let kept = without_narrow_posts(&wide, r, tol, eps);
+        let posts = post_areas(&kept);
+        assert_eq!(posts.len(), 1);
+        let want = a * a - (4.0 - std::f64::consts::PI) * r * r;
+        assert!(
+            (posts[0] - want).abs() < 1e-6 * want,
+            "{} vs {want}",
+            posts[0]
+        );
+        // No post left is narrower than the tool: each one still holds a disk of radius r
+        // (shrunk by r it is not empty).
+        for c in kept.contours.iter().filter(|c| c.area() < 0.0) {
+            let post = Region::from_contours(vec![c.clone()]);
+            assert!(!post.offset(-(r - tol), eps).is_empty());
+        }
+    }
 }
