@@ -6,7 +6,7 @@
 # `skinpath init`, or written by hand), built for its own machine with --preview, checked
 # with `skinpath check`, and also built and checked on grbl-laser, grbl-router and
 # svg-laser with default flags. Previews are PNGs from skinpath's own preview renderer
-# (`build --preview NAME.png`, the same drawing as the SVG preview, rasterised by resvg).
+# (`build --preview NAME.png`, the same drawing as the SVG preview, painted by tiny-skia).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -57,8 +57,9 @@ TOML
 # 3. A drawing imported from an SVG (its filled plate becomes a shape).
 "$bin" import $g/landscape.svg -o $g/landscape.toml
 
-# 3b. A badge imported from an SVG of filled shapes (areas, engraved by a hatch) and strokes
-#     (lines, cut on the line).
+# 3b. A badge imported from an SVG of filled shapes and strokes: `import` writes the
+#     operations it chose (the 1 mm tag outline a line cut once, the wider stroke and the
+#     fills profiled); the user adds a hatch that engraves the filled areas.
 "$bin" import $g/badge.svg -o $g/badge.toml
 cat >> $g/badge.toml <<'TOML'
 
@@ -70,12 +71,6 @@ angle = 45.0
 spacing = 0.5
 power = 35.0
 depth = 0.3
-
-[[operation]]
-kind = "profile"
-side = "on"
-power = 80.0
-depth = 1.0
 TOML
 
 # 4. Laser engraving: two centred lines, hatched.

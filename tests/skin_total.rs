@@ -288,13 +288,14 @@ mod common;
 /// Real handwriting (tests/skin_data, AxiDraw examples, GPL-2.0): builds from the .svg on a
 /// laser and a router, every stroke repaired where it could not be skinned, and the
 /// program checks clean with the same profile. Before the repair the builds stopped at the
-/// first such stroke (9 of 49 strokes of the signatures, 84 of 177 of "Happy Birthday").
+/// first such stroke (9 of 49 strokes of the signatures, 84 of 177 of "Happy Birthday";
+/// 83 of those still need a repair once the import has cleaned the path data).
 #[test]
 fn real_handwriting_builds_and_checks_clean() {
     let dir = common::tmpdir("skin-total");
     for (file, repaired_at_least) in [
         ("axidraw_signatures.svg", 9),
-        ("axidraw_happy_birthday.svg", 84),
+        ("axidraw_happy_birthday.svg", 83),
     ] {
         let src = format!("{}/tests/skin_data/{file}", common::ROOT);
         for machine in ["grbl-laser", "grbl-router"] {

@@ -158,10 +158,12 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
 /// - wider strokes, shapes (outer boundaries and holes) and circle sequences → `profile`
 ///   (touching items are cut around their union, as every profile does).
 ///
-/// Items are grouped by kind, layer and colour, in order of first appearance; each group is
-/// one operation selecting exactly its items: by `layers = [L]` when the group is every
-/// item of layer L, else by `colors = [C]` when it is every item of colour C, else by
-/// `strokes = [...]` (no selector at all when it is every item of the design). No item is
+/// Lines are grouped by layer and colour; all profiled items are one group (touching items
+/// must be cut around their union, and two profiles of overlapping items would cross).
+/// Groups come in order of first appearance; each is one operation selecting exactly its
+/// items: by `layers = [...]` when the group is every item of those layers, else by
+/// `colors = [...]` when it is every item of those colours, else by `strokes = [...]` (no
+/// selector at all when it is every item of the design). No item is
 /// selected twice. Operation settings (depth, power, feed) are left unset: the build's
 /// defaults apply, and a router needs `depth` on profiles. Texts must have been laid out
 /// (a loaded design has).
@@ -186,14 +188,19 @@ pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
         items.push((&s.name, tags, OperationKind::Profile));
     }
     let lower = |c: Option<&str>| c.map(str::to_ascii_lowercase);
-    // Groups keyed by (kind, layer, colour), in order of first appearance.
+    // Groups keyed by (kind, layer, colour), in order of first appearance. Profiled items
+    // are one group whatever their layer and colour: touching items must be cut around
+    // their union, which only one operation does (two profiles of overlapping items cross).
     type Key<'k> = (OperationKind, Option<&'k str>, Option<String>);
     let mut order: Vec<Key<'_>> = Vec::new();
-    let mut groups: HashMap<Key<'_>, Vec<&str>> = HashMap::new();
+    let mut groups: HashMap<Key<'_>, Vec<(&str, Tags<'_>)>> = HashMap::new();
     let mut per_layer: BTreeMap<&str, usize> = BTreeMap::new();
     let mut per_color: BTreeMap<String, usize> = BTreeMap::new();
     for &(name, tags, kind) in &items {
-        let key = (kind, tags.layer, lower(tags.color));
+        let key = match kind {
+            OperationKind::Line => (kind, tags.layer, lower(tags.color)),
+            _ => (kind, None, None),
+        };
         if let Some(l) = tags.layer {
             *per_layer.entry(l).or_default() += 1;
         }
@@ -206,25 +213,50 @@ pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
                 order.push(key);
                 Vec::new()
             })
-            .push(name);
+            .push((name, tags));
     }
     let mut out = Vec::new();
     for key in order {
-        let names = &groups[&key];
-        let (kind, layer, color) = key;
-        let mut op = Operation::new(kind);
-        if names.len() == items.len() {
+        let members = &groups[&key];
+        let mut op = Operation::new(key.0);
+        if members.len() == items.len() {
             // Every item: no selector.
-        } else if let Some(l) = layer.filter(|l| per_layer.get(l) == Some(&names.len())) {
-            op.layers = Some(vec![l.to_string()]);
-        } else if let Some(c) = color.filter(|c| per_color.get(c) == Some(&names.len())) {
-            op.colors = Some(vec![c]);
+        } else if let Some(layers) = whole(
+            members,
+            |t| t.layer.map(str::to_string),
+            |l| per_layer.get(l.as_str()).copied(),
+        ) {
+            op.layers = Some(layers);
+        } else if let Some(colors) =
+            whole(members, |t| lower(t.color), |c| per_color.get(c).copied())
+        {
+            op.colors = Some(colors);
         } else {
-            op.strokes = Some(names.iter().map(|n| n.to_string()).collect());
+            op.strokes = Some(members.iter().map(|(n, _)| n.to_string()).collect());
         }
         out.push(op);
     }
     out
+}
+
+/// The values of `tag` (layers or colours, in order of first appearance) when `members`
+/// are exactly every item carrying those values (`count` of each value in the design), so
+/// that a selector by them picks the members and nothing else; `None` when a member has
+/// no such tag or the values also tag other items.
+fn whole<'a>(
+    members: &[(&str, Tags<'a>)],
+    tag: impl Fn(Tags<'a>) -> Option<String>,
+    count: impl Fn(&String) -> Option<usize>,
+) -> Option<Vec<String>> {
+    let mut values: Vec<String> = Vec::new();
+    for &(_, t) in members {
+        let v = tag(t)?;
+        if !values.contains(&v) {
+            values.push(v);
+        }
+    }
+    let total: usize = values.iter().map(|v| count(v).unwrap_or(0)).sum();
+    (total == members.len()).then_some(values)
 }
 
 #[cfg(test)]
@@ -374,18 +406,20 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
         let d = load("").unwrap();
         let ops = default_operations(&d, HAIRLINE_MM);
         let kinds: Vec<&str> = ops.iter().map(|o| o.kind.as_str()).collect();
-        assert_eq!(
-            kinds,
-            ["line", "profile", "line", "line", "profile", "profile"]
-        );
+        assert_eq!(kinds, ["line", "profile", "line", "line"]);
         // "thin" and "wide" share layer and colour but not kind: named; "blue" is all of
-        // layer "marks"; "plate" all of layer "cut".
+        // layer "marks"; the profiled items ("wide", "dots", "plate") are one operation.
         assert_eq!(ops[0].strokes, Some(vec!["thin".to_string()]));
-        assert_eq!(ops[1].strokes, Some(vec!["wide".to_string()]));
+        assert_eq!(
+            ops[1].strokes,
+            Some(vec![
+                "wide".to_string(),
+                "dots".to_string(),
+                "plate".to_string()
+            ])
+        );
         assert_eq!(ops[2].layers, Some(vec!["marks".to_string()]));
         assert_eq!(ops[3].strokes, Some(vec!["plain".to_string()]));
-        assert_eq!(ops[4].strokes, Some(vec!["dots".to_string()]));
-        assert_eq!(ops[5].layers, Some(vec!["cut".to_string()]));
         let mut count: HashMap<String, usize> = HashMap::new();
         for op in &ops {
             for n in selected(&d, op) {
@@ -401,8 +435,8 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
         // A threshold below every stroke's width: everything is profiled, one operation
         // with no selector.
         let wide = default_operations(&d, 0.1);
-        assert_eq!(wide.len(), 4);
-        assert!(wide.iter().all(|o| o.kind == OperationKind::Profile));
+        assert_eq!(wide.len(), 1);
+        assert!(wide[0].kind == OperationKind::Profile && wide[0].strokes.is_none());
     }
 
     /// A layer whose items are one kind with several colours is selected by its layer; a
@@ -441,5 +475,13 @@ disks = [[0.0, 20.0, 3.0], [10.0, 20.0, 3.0]]
         d2.stroke.pop();
         let ops = default_operations(&d2, HAIRLINE_MM);
         assert_eq!(ops[2].colors, Some(vec!["#00ff00".to_string()]));
+        // Profiled items of several whole layers are one operation selecting the layers.
+        let mut d3 = d2.clone();
+        for s in &mut d3.stroke[..2] {
+            s.disks = Some(vec![[0.0, 0.0, 2.0], [10.0, 0.0, 2.0]]);
+        }
+        let ops = default_operations(&d3, HAIRLINE_MM);
+        assert_eq!(ops[0].kind, OperationKind::Profile);
+        assert_eq!(ops[0].layers, Some(vec!["a".to_string(), "b".to_string()]));
     }
 }
