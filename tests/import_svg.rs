@@ -1042,3 +1042,40 @@ fn real_drawings_keep_their_visible_art() {
     // The V is a hole in the black star of a sensible size (a fraction of the star).
     assert!(-hole(black) > 0.05 * outer(black) && -hole(black) < 0.5 * outer(black));
 }
+
+/// `build drawing.svg` names what the import left out (issue 40 item 12: it used to drop
+/// text and malformed paths without a word) and still builds the rest.
+#[test]
+fn build_from_svg_lists_skipped_elements() {
+    let dir = std::env::temp_dir().join(format!("skinpath-build-skips-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = dir.join("d.svg");
+    std::fs::write(
+        &src,
+        svg(
+            r#"width="100mm" height="100mm" viewBox="0 0 100 100""#,
+            r#"<text id="caption" x="0" y="90">hello</text>
+               <path id="broken" d="M 0 10 L" stroke="black" fill="none"/>
+               <path id="keep" d="M10 50 H60" stroke="black" stroke-width="3" fill="none"/>"#,
+        ),
+    )
+    .unwrap();
+    let out = dir.join("d.gcode");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_skinpath"))
+        .args([
+            "build",
+            src.to_str().unwrap(),
+            "--machine",
+            "grbl-laser",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("skipped caption:"), "{err}");
+    assert!(err.contains("broken"), "{err}");
+    assert!(out.exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -188,7 +188,10 @@ pub fn run(a: Args) -> Result<u8> {
     };
     let text = io::read_text(&a.design)?;
     let file = a.design.display().to_string();
-    let original = skinpath::design::load(&text, &file)?;
+    let (original, notes) = skinpath::design::load_noted(&text, &file)?;
+    for n in &notes {
+        eprintln!("{file}: {n}");
+    }
     if a.bom.is_some() && original.neon.is_none() {
         bail!(
             "{file}: --bom needs a [neon] table in the design (the flex the bill of materials \

@@ -32,12 +32,18 @@ impl Format {
 /// Parse and validate a design, choosing the format by `file_name`'s extension; an `.svg`
 /// file is imported ([`super::svg::load_svg`]).
 pub fn load(text: &str, file_name: &str) -> Result<Design, DesignError> {
+    load_noted(text, file_name).map(|(d, _)| d)
+}
+
+/// [`load`], with the lines an SVG import has to say (skipped elements and warnings, see
+/// [`super::svg::load_svg_noted`]); none for design files.
+pub fn load_noted(text: &str, file_name: &str) -> Result<(Design, Vec<String>), DesignError> {
     if file_name.to_ascii_lowercase().ends_with(".svg") {
-        return super::svg::load_svg(text, file_name);
+        return super::svg::load_svg_noted(text, file_name);
     }
     let format = Format::from_file_name(file_name)
         .ok_or_else(|| DesignError::file(file_name, ErrorKind::UnknownFormat))?;
-    from_str(text, format, file_name)
+    Ok((from_str(text, format, file_name)?, Vec::new()))
 }
 
 /// Parse and validate a design in `format`; `file_name` names the file in errors.

@@ -154,7 +154,7 @@ mod validate;
 pub use build::attribute_curve;
 pub use corners::Corner;
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
-pub use load::{Format, from_str, line_col, load};
+pub use load::{Format, from_str, line_col, load, load_noted};
 pub use model::{
     Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, Operation,
     OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,

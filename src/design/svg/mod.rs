@@ -250,10 +250,23 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
 /// Load an SVG file as a design (import with default options, then the usual expansion
 /// and validation).
 pub fn load_svg(text: &str, file: &str) -> Result<Design, DesignError> {
-    let mut d = import(text, file, &ImportOptions::default())?.design;
+    load_svg_noted(text, file).map(|(d, _)| d)
+}
+
+/// [`load_svg`], with what the import left out or caught: one line per skipped element
+/// (`skipped ID: reason`) and per warning (`warning: ID: reason`), for the caller to show.
+pub fn load_svg_noted(text: &str, file: &str) -> Result<(Design, Vec<String>), DesignError> {
+    let imported = import(text, file, &ImportOptions::default())?;
+    let notes = (imported
+        .skipped
+        .iter()
+        .map(|s| format!("skipped {}: {}", s.id, s.reason)))
+    .chain((imported.warnings.iter()).map(|w| format!("warning: {}: {}", w.id, w.reason)))
+    .collect();
+    let mut d = imported.design;
     d.expand()?;
     super::validate(&d)?;
-    Ok(d)
+    Ok((d, notes))
 }
 
 /// Why a subpath is skipped: it has no length.
