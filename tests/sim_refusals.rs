@@ -66,7 +66,10 @@ const TABLE: &[(&str, &[(Dialect, Expect)])] = &[
     (
         "percent_end_without_start.nc",
         &[
-            (Dialect::Linuxcnc, Some((Error, "percent-without-start", 3))),
+            (
+                Dialect::Linuxcnc,
+                Some((Warning, "percent-without-start", 3)),
+            ),
             (
                 Dialect::Generic,
                 Some((Warning, "percent-without-start", 3)),

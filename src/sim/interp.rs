@@ -845,24 +845,18 @@ impl<'a> Interp<'a, '_> {
                     i += 1;
                     continue;
                 }
-                // The closing tape mark ends the program. LinuxCNC takes `%` as a tape
-                // mark only in a program that opened with one; elsewhere it is "Bad
-                // character used" (interp_read.cc read_text / read_items).
-                if !percent_open {
-                    let msg = "`%` ends a program that did not start with one";
-                    match self.cfg.dialect {
-                        Dialect::Linuxcnc => self.err(
-                            "percent-without-start",
-                            None,
-                            format!("{msg}: LinuxCNC refuses it (\"Bad character used\")"),
-                        ),
-                        Dialect::Generic => self.warn(
-                            "percent-without-start",
-                            None,
-                            format!("{msg} (LinuxCNC refuses it: \"Bad character used\")"),
-                        ),
-                        _ => {}
-                    }
+                // The closing tape mark ends the program. Without an opening one it is a
+                // warning: LinuxCNC's rs274 reads it as the end (the cross-check in
+                // tests/sim_refusals.rs runs it), other readers may refuse the file.
+                if !percent_open && matches!(self.cfg.dialect, Dialect::Linuxcnc | Dialect::Generic)
+                {
+                    self.warn(
+                        "percent-without-start",
+                        None,
+                        "`%` ends a program that did not start with one (LinuxCNC stops there; \
+                         other readers may refuse a lone tape mark)"
+                            .to_string(),
+                    );
                 }
                 if self.prog.end.is_none() {
                     self.prog.end = Some(ProgramEnd {
