@@ -266,6 +266,12 @@ fn resolve_crossing(rings: &[Vec<DVec2>], rule: FillRule) -> Vec<Vec<DVec2>> {
         FillRule::Evenodd => GeoRule::EvenOdd,
     };
     let merged = subject.boolean_op_with_fill_rule(&empty, OpType::Union, rule);
+    rings_of(&merged)
+}
+
+/// The rings of `mp` as point rings without a closing point: each polygon's exterior
+/// counter-clockwise, then its holes clockwise; rings of fewer than 3 points dropped.
+pub(crate) fn rings_of(mp: &geo::MultiPolygon<f64>) -> Vec<Vec<DVec2>> {
     let ring = |ls: &geo::LineString<f64>, ccw: bool| {
         let mut pts: Vec<DVec2> = ls.coords().map(|c| DVec2::new(c.x, c.y)).collect();
         if pts.len() > 1 && pts.first() == pts.last() {
@@ -277,7 +283,7 @@ fn resolve_crossing(rings: &[Vec<DVec2>], rule: FillRule) -> Vec<Vec<DVec2>> {
         pts
     };
     let mut out = Vec::new();
-    for p in &merged.0 {
+    for p in &mp.0 {
         out.push(ring(p.exterior(), true));
         out.extend(p.interiors().iter().map(|h| ring(h, false)));
     }

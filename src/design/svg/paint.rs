@@ -16,7 +16,7 @@
 //! n fills that do not overlap costs O(n log n).
 
 use super::*;
-use crate::design::shape::ring_area;
+use crate::design::shape::rings_of;
 use geo::BooleanOps;
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
@@ -66,26 +66,6 @@ fn to_geo(rings: &[Vec<DVec2>]) -> geo::MultiPolygon<f64> {
     )
 }
 
-fn from_geo(mp: &geo::MultiPolygon<f64>) -> Vec<Vec<DVec2>> {
-    let ring = |ls: &geo::LineString<f64>, ccw: bool| {
-        let mut pts: Vec<DVec2> = ls.coords().map(|c| DVec2::new(c.x, c.y)).collect();
-        if pts.len() > 1 && pts.first() == pts.last() {
-            pts.pop();
-        }
-        if (ring_area(&pts) > 0.0) != ccw {
-            pts.reverse();
-        }
-        pts
-    };
-    let mut out = Vec::new();
-    for p in &mp.0 {
-        out.push(ring(p.exterior(), true));
-        out.extend(p.interiors().iter().map(|h| ring(h, false)));
-    }
-    out.retain(|r| r.len() >= 3);
-    out
-}
-
 impl Paint {
     /// Paint a fill: cut it out of the earlier regions of other colours or layers it
     /// overlaps, merge the overlapping ones of its colour and layer into it, and keep it
@@ -109,9 +89,9 @@ impl Paint {
             };
             let same = !knockout && r.color == fill.color && r.layer == fill.layer;
             if same {
-                merged = from_geo(&to_geo(&merged).union(&to_geo(&r.rings)));
+                merged = rings_of(&to_geo(&merged).union(&to_geo(&r.rings)));
             } else {
-                r.rings = from_geo(&to_geo(&r.rings).difference(&clip));
+                r.rings = rings_of(&to_geo(&r.rings).difference(&clip));
             }
             let gone = same || r.rings.is_empty();
             if let Some(old) = self.boxes[i].take() {
