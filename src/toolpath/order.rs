@@ -137,6 +137,21 @@ fn split_seg(s: &PathSeg, t: f64) -> (PathSeg, PathSeg) {
     }
 }
 
+/// `path` as it is cut when the tool comes from `pos`: a closed path rotated to start at
+/// its point nearest `pos` (within `tol`), an open one from its nearer end.
+fn entered_near(path: &Path, pos: DVec2, tol: f64) -> Path {
+    if path.closed {
+        rotate_to_nearest(path, pos, tol)
+    } else {
+        let (s, e) = ends(path);
+        if e.distance(pos) < s.distance(pos) {
+            path.reversed()
+        } else {
+            path.clone()
+        }
+    }
+}
+
 /// The closed path started at its point nearest to `p` (splitting a segment there; a split
 /// within `eps` of a segment end uses that end).
 pub fn rotate_to_nearest(path: &Path, p: DVec2, eps: f64) -> Path {
@@ -209,16 +224,7 @@ fn given_order(paths: &[Path], before: &[Vec<usize>], home: DVec2, tol: f64) -> 
     let mut order = Vec::with_capacity(n);
     let mut pos = home;
     while let Some(Reverse(i)) = ready.pop() {
-        let p = if paths[i].closed {
-            rotate_to_nearest(&paths[i], pos, tol)
-        } else {
-            let (s, e) = ends(&paths[i]);
-            if e.distance(pos) < s.distance(pos) {
-                paths[i].reversed()
-            } else {
-                paths[i].clone()
-            }
-        };
+        let p = entered_near(&paths[i], pos, tol);
         pos = ends(&p).1;
         order.push((i, p));
         for &j in &after[i] {
@@ -279,16 +285,7 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
             {
                 continue;
             }
-            let cand = if paths[i].closed {
-                rotate_to_nearest(&paths[i], pos, tol)
-            } else {
-                let (s, e) = ends(&paths[i]);
-                if e.distance(pos) < s.distance(pos) {
-                    paths[i].reversed()
-                } else {
-                    paths[i].clone()
-                }
-            };
+            let cand = entered_near(&paths[i], pos, tol);
             let d = ends(&cand).0.distance(pos);
             if best.as_ref().is_none_or(|b| d < b.1) {
                 best = Some((i, d, cand));
