@@ -4,7 +4,7 @@
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::text::{Align, Font, Kerning, Text, layout_problem};
-use skinpath::design::{Design, FlexPreset, Format, MAX_COORD, Neon, Operation, Units, VERSION};
+use skinpath::design::{Design, FlexPreset, Format, MAX_COORD, Neon, Operation, Units};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -138,20 +138,13 @@ pub fn run(a: Args) -> Result<u8> {
         );
     }
     let design = Design {
-        version: VERSION,
-        units: Units::Mm,
-        outline: None,
-        stroke: Vec::new(),
-        circles: Vec::new(),
-        shape: Vec::new(),
         text: vec![t],
         operation: neon
             .as_ref()
             .map(|(_, ops)| ops.clone())
             .unwrap_or_default(),
-        file: a.output.display().to_string(),
-        corners: Vec::new(),
         neon: neon.map(|(n, _)| n),
+        ..Design::empty(&a.output.display().to_string())
     };
     let body = design.to_string_as(format)?;
     // What is written must load (and so build): check it before writing.

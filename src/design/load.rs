@@ -148,6 +148,24 @@ fn parse_json(text: &str, file_name: &str) -> Result<Design, DesignError> {
 }
 
 impl Design {
+    /// A design of format [`VERSION`](super::VERSION) in millimetres with no item or
+    /// operation, named `file` (for designs built in code: a text, an import).
+    pub fn empty(file: &str) -> Design {
+        Design {
+            version: super::VERSION,
+            units: super::Units::Mm,
+            outline: None,
+            stroke: Vec::new(),
+            circles: Vec::new(),
+            shape: Vec::new(),
+            text: Vec::new(),
+            operation: Vec::new(),
+            file: file.to_string(),
+            corners: Vec::new(),
+            neon: None,
+        }
+    }
+
     /// The design as TOML text (format v1).
     pub fn to_toml_string(&self) -> Result<String, DesignError> {
         toml::to_string(self)

@@ -413,18 +413,23 @@ impl Text {
             .collect()
     }
 
+    /// The error of this text (the `index`-th of `file`) for problem `p`, at `p`'s key.
+    fn error(&self, file: &str, index: usize, p: TextProblem) -> DesignError {
+        DesignError::at(
+            file,
+            Item::Text {
+                index,
+                name: self.name.clone(),
+            },
+            Some(Part::Key(p.key.into())),
+            ErrorKind::Invalid(p.message),
+        )
+    }
+
     fn check(&self, file: &str, index: usize) -> Result<(), DesignError> {
         match self.problem() {
             None => Ok(()),
-            Some(p) => Err(DesignError::at(
-                file,
-                Item::Text {
-                    index,
-                    name: self.name.clone(),
-                },
-                Some(Part::Key(p.key.into())),
-                ErrorKind::Invalid(p.message),
-            )),
+            Some(p) => Err(self.error(file, index, p)),
         }
     }
 
@@ -585,15 +590,7 @@ impl Text {
         self.check(file, index)?;
         let layout = self.layout();
         if let Some(p) = layout_problem(&layout, 0.5 * self.width) {
-            return Err(DesignError::at(
-                file,
-                Item::Text {
-                    index,
-                    name: self.name.clone(),
-                },
-                Some(Part::Key(p.key.into())),
-                ErrorKind::Invalid(p.message),
-            ));
+            return Err(self.error(file, index, p));
         }
         let r = 0.5 * self.width;
         let mut out = Vec::new();

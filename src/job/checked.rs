@@ -741,17 +741,9 @@ pub fn design_of_strokes(
         })
         .collect();
     let mut d = Design {
-        version: crate::design::VERSION,
-        units: crate::design::Units::Mm,
-        outline: None,
         stroke,
         circles,
-        shape: Vec::new(),
-        text: Vec::new(),
-        operation: Vec::new(),
-        file: file.to_string(),
-        corners: Vec::new(),
-        neon: None,
+        ..Design::empty(file)
     };
     d.expand()?;
     crate::design::validate(&d)?;

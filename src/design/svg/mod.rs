@@ -60,7 +60,7 @@
 
 use super::MAX_ITEMS;
 use super::error::{DesignError, ErrorKind};
-use super::model::{Design, Stroke, Units, VERSION};
+use super::model::{Design, Stroke};
 use super::shape::{Shape, resolve_rings};
 use crate::geom::DVec2;
 use kurbo::{BezPath, CubicBez, PathEl, QuadBez};
@@ -236,7 +236,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
     if ctx.strokes.is_empty() && ctx.shapes.is_empty() {
         return Err(err(file, nothing_usable(&ctx.skipped)));
     }
-    let mut design = one_item_design(file);
+    let mut design = Design::empty(file);
     design.stroke = ctx.strokes;
     design.shape = ctx.shapes;
     Ok(Imported {
@@ -297,23 +297,6 @@ fn longest_subpath(data: &usvg::tiny_skia_path::Path) -> Option<usize> {
         }
     }
     best
-}
-
-/// An empty design (version 1, mm) named `file`, for one item to be validated alone.
-fn one_item_design(file: &str) -> Design {
-    Design {
-        version: VERSION,
-        units: Units::Mm,
-        outline: None,
-        stroke: Vec::new(),
-        circles: Vec::new(),
-        shape: Vec::new(),
-        text: Vec::new(),
-        operation: Vec::new(),
-        file: file.to_string(),
-        corners: Vec::new(),
-        neon: None,
-    }
 }
 
 /// What is wrong with an item, without the file and item (the skip list names those).
@@ -856,7 +839,7 @@ impl Ctx<'_> {
     /// `s` if it makes a valid design on its own (split at its corners and validated as
     /// loading does), else the reason it does not.
     fn usable(&self, s: Stroke) -> Result<Stroke, String> {
-        let mut d = one_item_design(self.file);
+        let mut d = Design::empty(self.file);
         d.stroke.push(s.clone());
         d.expand()
             .and_then(|()| super::validate(&d))
