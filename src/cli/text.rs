@@ -20,7 +20,8 @@ pub struct Args {
     /// Stroke width (neon flex or bit width), mm [default: 4; with --neon the flex width].
     #[arg(long)]
     width: Option<f64>,
-    /// Font: sans (Hershey Roman Simplex) or script (joining letters).
+    /// Font: sans (Hershey Roman Simplex) or script (joining letters); both have printable
+    /// ASCII and the Latin-1 letters (é, ü, ñ, ß, ç, å, ...).
     #[arg(long, default_value = "sans", value_parser = ["sans", "script"])]
     font: String,
     /// Alignment of the lines.
@@ -120,7 +121,7 @@ pub fn run(a: Args) -> Result<u8> {
     // origin, so it builds inside any machine's work area without --place.
     let r = 0.5 * width;
     let (min_x, min_y) = t
-        .layout()
+        .spine_layout(false)
         .iter()
         .flat_map(|(_, _, p)| p.iter().flatten())
         .fold((f64::INFINITY, f64::INFINITY), |(x, y), p| {
@@ -130,7 +131,7 @@ pub fn run(a: Args) -> Result<u8> {
         bail!("the text has no visible character");
     }
     t.at = Some([a.margin + r - min_x, a.margin + r - min_y]);
-    if let Some(p) = layout_problem(&t.layout(), r) {
+    if let Some(p) = layout_problem(&t.spine_layout(true), r) {
         bail!(
             "{}: {} (--height, --line-spacing, --letter-spacing and --margin set its size)",
             option_of(p.key),

@@ -4,7 +4,7 @@
 //! ```toml
 //! [[text]]
 //! name = "sign"               # strokes are called sign/<char index>:<char>/<k>
-//! text = "OPEN\nlate"         # lines split at \n; printable ASCII
+//! text = "OPEN\nlate"         # lines split at \n; printable ASCII and Latin-1 letters
 //! font = "sans"               # "sans" (Hershey Roman Simplex) | "script" (joining letters)
 //! height = 80.0               # cap height: baseline to cap line, design units
 //! width = 8.0                 # stroke width (twice the radius)
@@ -21,21 +21,34 @@
 //! `kerning = "auto"` (the default) each pair of neighbouring letters is kerned optically
 //! from the glyphs' own strokes (see [`pair_kern`]): a pair that stands farther apart than
 //! the font's own stem gap (the nearest distance between two "n"s) moves together until its
-//! centre lines are that far apart, within a bounded shift ("AV", "To", "LT", "P."). Script letters join at the advance, so the
-//! script font is never kerned. Every pen-down polyline becomes a stroke through its vertices (cubic
-//! interpolation, chord-length parameters: wu-2021 "Interpolation", eq. 16) with a corner
-//! wherever it turns by more than [`super::corners::CORNER_ANGLE_DEG`];
-//! a polyline that ends where it starts is a closed stroke. In the script font the letters'
-//! entry and exit strokes meet the neighbours' at the advance, so a word is one connected
-//! shape once the strokes are united.
+//! centre lines are that far apart, within a bounded shift ("AV", "To", "LT", "P.").
+//! Script letters join at the advance, so the script font is never kerned.
+//!
+//! Besides printable ASCII the fonts have the Latin-1 letters (à to ÿ, À to Ý, ß, æ, Æ;
+//! not Ð ð Þ þ) and the signs ¡ ¿ « » ° · and the no-break space, composed from the ASCII glyphs
+//! ([`latin1`]: base letter plus mark strokes, placed by the glyph's box). Any other
+//! character is refused, naming it and its position.
+//!
+//! Every pen-down polyline becomes a smooth stroke ([`smooth`]): cubic B-splines fitted by
+//! least squares within [`smooth::FIT_TOLERANCE`] (2.4 % of the cap height) of the
+//! polyline, G1 where the glyph is a curve, with a corner wherever the polyline turns by
+//! more than [`smooth::FONT_CORNER_DEG`], and the polyline's end points and end directions
+//! kept. A polyline that ends where it starts and has no corner is a closed stroke. In the
+//! script font the letters' entry and exit strokes meet the neighbours' at the advance
+//! (same point, same direction), so a word is one connected shape once the strokes are
+//! united, and one smooth flex run.
 
-use super::corners::{CORNER_ANGLE_DEG, sharp_turns};
 use super::error::{DesignError, ErrorKind, Item, Part};
 use super::model::{DEFAULT_DEGREE, Stroke};
 use super::validate::{MAX_COORD, MIN_RADIUS};
 use crate::geom::{DVec2, Line};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
+
+#[path = "fonts/latin1.rs"]
+pub mod latin1;
+#[path = "fonts/smooth.rs"]
+pub mod smooth;
 
 /// Default distance between baselines, in multiples of the cap height: the Hershey fonts'
 /// cap line to descender line is 28 units for a 21-unit cap height, plus a gap.
@@ -138,14 +151,75 @@ impl Font {
         cell.get_or_init(|| parse_jhf(self.data()))
     }
 
-    /// The glyph of `c`, if the font has it.
-    pub fn glyph(self, c: char) -> Option<&'static Glyph> {
-        let code = c as u32;
-        if !(32..128).contains(&code) {
-            return None;
-        }
-        self.glyphs().get((code - 32) as usize)
+    /// The composed Latin-1 glyphs (U+00A0..=U+00FF, `None` where the font lacks one),
+    /// composed once ([`latin1`]).
+    fn latin1_glyphs(self) -> &'static [Option<Glyph>] {
+        static SANS: OnceLock<Vec<Option<Glyph>>> = OnceLock::new();
+        static SCRIPT: OnceLock<Vec<Option<Glyph>>> = OnceLock::new();
+        let (cell, slant, joined) = match self {
+            Font::Sans => (&SANS, 0.0, false),
+            Font::Script => (&SCRIPT, latin1::SCRIPT_SLANT, true),
+        };
+        cell.get_or_init(|| {
+            let ascii = |c: char| self.glyph(c).cloned();
+            ('\u{a0}'..='\u{ff}')
+                .map(|c| latin1::compose(c, &ascii, slant, joined))
+                .collect()
+        })
     }
+
+    /// Index of `c` among the font's glyphs: ASCII 32..=127 first, then U+00A0..=U+00FF.
+    fn glyph_index(c: char) -> Option<usize> {
+        let code = c as usize;
+        match code {
+            32..128 => Some(code - 32),
+            0xa0..=0xff => Some(code - 0xa0 + 96),
+            _ => None,
+        }
+    }
+
+    /// The glyph of `c`, if the font has it: printable ASCII, and the Latin-1 letters and
+    /// signs of [`latin1`] (composed from the ASCII glyphs).
+    pub fn glyph(self, c: char) -> Option<&'static Glyph> {
+        let i = Self::glyph_index(c)?;
+        if i < 96 {
+            self.glyphs().get(i)
+        } else {
+            self.latin1_glyphs().get(i - 96)?.as_ref()
+        }
+    }
+
+    /// The smooth spines of the glyph of `c` ([`smooth`], within [`smooth::FIT_TOLERANCE`]
+    /// of its polylines; grid units), fitted once per glyph.
+    pub fn spines(self, c: char) -> Option<&'static [smooth::Spine]> {
+        const GLYPHS: usize = 192;
+        static SANS: [OnceLock<Vec<smooth::Spine>>; GLYPHS] = [const { OnceLock::new() }; GLYPHS];
+        static SCRIPT: [OnceLock<Vec<smooth::Spine>>; GLYPHS] = [const { OnceLock::new() }; GLYPHS];
+        let g = self.glyph(c)?;
+        let cells = match self {
+            Font::Sans => &SANS,
+            Font::Script => &SCRIPT,
+        };
+        let cell = cells.get(Self::glyph_index(c)?)?;
+        Some(cell.get_or_init(|| {
+            glyph_grid_polylines(g)
+                .iter()
+                .filter_map(|p| smooth::fit_polyline(p, smooth::FIT_TOLERANCE))
+                .collect()
+        }))
+    }
+}
+
+/// The glyph's polylines on its own grid (y down, unshifted).
+fn glyph_grid_polylines(g: &Glyph) -> Vec<Vec<DVec2>> {
+    g.strokes
+        .iter()
+        .map(|p| {
+            p.iter()
+                .map(|&[x, y]| DVec2::new(x as f64, y as f64))
+                .collect()
+        })
+        .collect()
 }
 
 /// Horizontal alignment of each line about the anchor.
@@ -216,7 +290,8 @@ pub struct Text {
     /// mean all of its strokes.
     pub name: String,
     /// `text` (required): the characters to set, lines split at `\n`; printable ASCII
-    /// (space to `~`) only, with at least one visible character; at most
+    /// (space to `~`) and the Latin-1 letters and signs of [`latin1`] only, with at least
+    /// one visible character; at most
     /// [`MAX_TEXT_CHARS`] characters (line breaks included), in one element and in all the
     /// texts of a design together.
     pub text: String,
@@ -514,7 +589,7 @@ impl Text {
                 "text",
                 format!(
                     "font \"{}\" lacks {}{} (first at character {i}, {c:?}): it has printable \
-                     ASCII (space to ~) only",
+                     ASCII (space to ~), the Latin-1 letters but Ð ð Þ þ, and ¡ ¿ « » ° · only",
                     self.font.as_str(),
                     list.join(", "),
                     if missing.len() == MISSING_SHOWN {
@@ -541,9 +616,10 @@ impl Text {
         self.advances(line).iter().sum()
     }
 
-    /// The laid-out polylines: for every character (index into the text, char) its
-    /// pen-down polylines in design coordinates (y up).
-    pub fn layout(&self) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
+    /// Where each character goes: its index in the text, the character, its glyph, and
+    /// the map of its grid points into design coordinates, (x, y) ↦ (x0 + x·s,
+    /// baseline − (y − 9)·s) with s = [`Text::scale`], as (x0, baseline).
+    fn placements(&self) -> Vec<(usize, char, &'static Glyph, [f64; 2])> {
         let s = self.scale();
         let at = self.at.unwrap_or([0.0, 0.0]);
         let pitch = self.line_spacing.unwrap_or(DEFAULT_LINE_SPACING) * self.height;
@@ -560,22 +636,7 @@ impl Text {
             let baseline = at[1] - row as f64 * pitch;
             for (c, advance) in line.chars().zip(advances) {
                 if let Some(g) = self.font.glyph(c) {
-                    let x0 = pen - g.left as f64 * s;
-                    let polys = g
-                        .strokes
-                        .iter()
-                        .map(|p| {
-                            p.iter()
-                                .map(|&[x, y]| {
-                                    DVec2::new(
-                                        x0 + x as f64 * s,
-                                        baseline - (y as f64 - HERSHEY_BASELINE) * s,
-                                    )
-                                })
-                                .collect()
-                        })
-                        .collect();
-                    out.push((index, c, polys));
+                    out.push((index, c, g, [pen - g.left as f64 * s, baseline]));
                     pen += advance;
                 }
                 index += 1;
@@ -585,25 +646,102 @@ impl Text {
         out
     }
 
+    /// The design point of grid point `p` of a glyph placed at `origin` (see
+    /// [`Text::placements`]).
+    fn place(&self, origin: [f64; 2], p: DVec2) -> DVec2 {
+        let s = self.scale();
+        DVec2::new(
+            origin[0] + p.x * s,
+            origin[1] - (p.y - HERSHEY_BASELINE) * s,
+        )
+    }
+
+    /// The laid-out polylines: for every character (index into the text, char) its
+    /// glyph's pen-down polylines in design coordinates (y up).
+    pub fn layout(&self) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
+        self.placements()
+            .into_iter()
+            .map(|(i, c, g, origin)| {
+                let polys = glyph_grid_polylines(g)
+                    .into_iter()
+                    .map(|p| p.into_iter().map(|q| self.place(origin, q)).collect())
+                    .collect();
+                (i, c, polys)
+            })
+            .collect()
+    }
+
+    /// The laid-out smooth spines ([`smooth`]): for every character its glyph's spines in
+    /// design coordinates (y up), as [`Text::layout`] places the polylines.
+    pub fn layout_spines(&self) -> Vec<(usize, char, Vec<smooth::Spine>)> {
+        self.placements()
+            .into_iter()
+            .map(|(i, c, _, origin)| {
+                let spines = self
+                    .font
+                    .spines(c)
+                    .unwrap_or_default()
+                    .iter()
+                    .map(|sp| sp.map(|q| self.place(origin, q)))
+                    .collect();
+                (i, c, spines)
+            })
+            .collect()
+    }
+
+    /// The laid-out spines as point lists in the shape of [`Text::layout`]: their control
+    /// polygons when `control` (whose hull holds each curve), else points along the
+    /// curves ([`smooth::Spine::samples`]).
+    pub fn spine_layout(&self, control: bool) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
+        self.layout_spines()
+            .into_iter()
+            .map(|(i, c, spines)| {
+                let pts = spines
+                    .iter()
+                    .map(|sp| {
+                        if control {
+                            sp.ctrl.clone()
+                        } else {
+                            sp.samples()
+                        }
+                    })
+                    .collect();
+                (i, c, pts)
+            })
+            .collect()
+    }
+
     /// The text's strokes (see the module docs); `file` and `index` name it in errors.
     pub fn to_strokes(&self, file: &str, index: usize) -> Result<Vec<Stroke>, DesignError> {
         self.check(file, index)?;
-        let layout = self.layout();
-        if let Some(p) = layout_problem(&layout, 0.5 * self.width) {
+        let r = 0.5 * self.width;
+        if let Some(p) = layout_problem(&self.spine_layout(true), r) {
             return Err(self.error(file, index, p));
         }
-        let r = 0.5 * self.width;
         let mut out = Vec::new();
-        for (i, c, polys) in layout {
-            for (k, poly) in polys.into_iter().enumerate() {
+        for (i, c, spines) in self.layout_spines() {
+            for (k, mut spine) in spines.into_iter().enumerate() {
+                smooth::split_returning(&mut spine, r);
                 let name = format!("{}/{}:{}/{}", self.name, i, char_tag(c), k);
-                if let Some(s) = polyline_stroke(&name, &poly, r) {
-                    out.push(s);
-                }
+                out.push(spine_stroke(&name, &spine, r));
             }
         }
         Ok(out)
     }
+}
+
+/// The stroke of radius `r` whose control disks are the spine's control points: loading
+/// splits it at the spine's corners into pieces on clamped uniform knots, the curves of
+/// [`smooth::Spine::curves`].
+fn spine_stroke(name: &str, spine: &smooth::Spine, r: f64) -> Stroke {
+    let disks = spine.ctrl.iter().map(|p| [p.x, p.y, r]).collect();
+    let mut s = Stroke::from_disks(name, disks);
+    s.degree = DEFAULT_DEGREE
+        .min(spine.ctrl.len().saturating_sub(1))
+        .max(1);
+    s.closed = spine.closed;
+    s.corners = (!spine.corners.is_empty()).then(|| spine.corners.clone());
+    s
 }
 
 /// The problem of a laid-out text ([`Text::layout`]) whose strokes of radius `r` reach
@@ -621,145 +759,6 @@ pub fn layout_problem(layout: &[(usize, char, Vec<Vec<DVec2>>)], r: f64) -> Opti
             far.x, far.y
         ),
     })
-}
-
-/// A stroke of radius `r` through the vertices of `poly` (consecutive duplicates dropped):
-/// closed when it ends where it starts, with corners where it turns by more than
-/// [`CORNER_ANGLE_DEG`], degree 3 or less when there are fewer points. `None` for a single
-/// point.
-pub fn polyline_stroke(name: &str, poly: &[DVec2], r: f64) -> Option<Stroke> {
-    polyline_stroke_radii(name, poly, &vec![r; poly.len()], CORNER_ANGLE_DEG)
-}
-
-/// [`polyline_stroke`] with a radius per vertex and the corner angle in degrees. The
-/// polyline is also split where a long straight segment meets short ones (`LENGTH_JUMP`)
-/// and where an open run loops back over one of its own ends (see `split_returning_runs`).
-pub fn polyline_stroke_radii(
-    name: &str,
-    poly: &[DVec2],
-    radii: &[f64],
-    corner_deg: f64,
-) -> Option<Stroke> {
-    // Vertices closer than this fraction of the stroke's extent count as one.
-    const SAME_POINT: f64 = 1e-9;
-    let extent = poly
-        .iter()
-        .map(|p| p.distance(poly[0]))
-        .fold(0.0, f64::max)
-        .max(f64::MIN_POSITIVE);
-    let mut pts: Vec<DVec2> = Vec::new();
-    let mut rs: Vec<f64> = Vec::new();
-    for (p, &r) in poly.iter().zip(radii) {
-        if pts
-            .last()
-            .is_none_or(|q| q.distance(*p) > SAME_POINT * extent)
-        {
-            pts.push(*p);
-            rs.push(r);
-        }
-    }
-    if pts.len() < 2 {
-        return None;
-    }
-    let mut closed = false;
-    if pts.len() >= 4 && pts[0].distance(pts[pts.len() - 1]) <= SAME_POINT * extent {
-        pts.pop();
-        rs.pop();
-        closed = true;
-    }
-    let mut corners = sharp_turns(&pts, closed, corner_deg);
-    corners.extend(length_jumps(&pts, closed));
-    corners.sort_unstable();
-    corners.dedup();
-    if !closed {
-        split_returning_runs(&pts, &rs, &mut corners);
-    }
-    let points: Vec<[f64; 3]> = pts.iter().zip(&rs).map(|(p, &r)| [p.x, p.y, r]).collect();
-    let mut s = Stroke::from_disks(name, Vec::new());
-    s.disks = None;
-    s.degree = DEFAULT_DEGREE.min(points.len() - 1);
-    if closed && corners.is_empty() {
-        s.degree = s.degree.min(points.len().saturating_sub(1)).max(1);
-    }
-    s.points = Some(points);
-    s.closed = closed;
-    s.corners = if corners.is_empty() {
-        None
-    } else {
-        Some(corners)
-    };
-    Some(s)
-}
-
-/// Ratio of neighbouring segment lengths above which a vertex joins a straight stretch to a
-/// curve (a Hershey `P`: the bowl's long top line, then short segments round the bend). An
-/// interpolating cubic through such a vertex overshoots the long segment (by up to 1.4 % of
-/// the cap height on the `P`), so the vertex becomes a joint like a corner: the straight
-/// stretch stays straight.
-const LENGTH_JUMP: f64 = 2.5;
-
-/// Vertices where one neighbouring segment is more than [`LENGTH_JUMP`] times the other.
-fn length_jumps(pts: &[DVec2], closed: bool) -> Vec<usize> {
-    let n = pts.len();
-    if n < 3 {
-        return Vec::new();
-    }
-    (0..n)
-        .filter(|&i| closed || (i > 0 && i + 1 < n))
-        .filter(|&i| {
-            let a = pts[(i + n - 1) % n].distance(pts[i]);
-            let b = pts[i].distance(pts[(i + 1) % n]);
-            a.max(b) > LENGTH_JUMP * a.min(b)
-        })
-        .collect()
-}
-
-/// How many times a run that comes back to its own end is halved at most.
-const MAX_RETURN_SPLITS: usize = 4;
-
-/// Split the runs of an open polyline (between `corners`) that come back within two
-/// radii of one of their own ends after running away from it by more than four radii (a
-/// loop closing over its start, as in the script `o` and `O`): the end disk of such a run
-/// would be covered by the run's other disks, which skinning cannot take (kruppa-2023
-/// Def. 4.1 cond. 1). The run is split at its middle vertex, a joint like a corner; each
-/// half then leaves its ends for good.
-fn split_returning_runs(pts: &[DVec2], rs: &[f64], corners: &mut Vec<usize>) {
-    for _ in 0..MAX_RETURN_SPLITS {
-        let mut bounds = vec![0];
-        bounds.extend(corners.iter().copied());
-        bounds.push(pts.len() - 1);
-        let mut added = None;
-        for w in bounds.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            if b - a < 3 {
-                continue;
-            }
-            let r = rs[a..=b].iter().copied().fold(0.0, f64::max);
-            let returns = |end: usize, order: &mut dyn Iterator<Item = usize>| {
-                let mut along = 0.0;
-                let mut prev = pts[end];
-                for j in order {
-                    along += prev.distance(pts[j]);
-                    prev = pts[j];
-                    if along > 4.0 * r && pts[j].distance(pts[end]) < 2.0 * r {
-                        return true;
-                    }
-                }
-                false
-            };
-            if returns(a, &mut (a + 1..=b)) || returns(b, &mut (a..b).rev()) {
-                added = Some((a + b) / 2);
-                break;
-            }
-        }
-        match added {
-            Some(m) if !corners.contains(&m) => {
-                corners.push(m);
-                corners.sort_unstable();
-            }
-            _ => return,
-        }
-    }
 }
 
 #[cfg(test)]
