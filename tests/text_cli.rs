@@ -2,6 +2,7 @@
 //! (issue 12 items 4 and 5, and its "Done when").
 
 use skinpath::design::load;
+use skinpath::design::text::smooth;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -255,11 +256,11 @@ fn open_at_80_mm_measures_80_mm_cap_line_to_baseline() {
     assert!(t.status.success());
     let d = load(&std::fs::read_to_string(&design).unwrap(), "open.toml").unwrap();
     // Extent of the spines (the centre lines the flex follows), sampled densely: the
-    // straight letters run exactly from baseline to cap line; the O, smoothed through the
-    // vertices of Hershey's digitised oval, bulges past their flat top and bottom by a third
-    // of a grid unit (1.3 mm here), as round letters overshoot in type design.
+    // straight letters run exactly from baseline to cap line; the O's smooth spine lies
+    // within the fit tolerance of Hershey's digitised oval, so its top and bottom are
+    // within that of the cap line and the baseline.
     const TOLERANCE: f64 = 0.05;
-    const ROUND_OVERSHOOT: f64 = 0.02;
+    let round_tolerance = 2.0 * smooth::FIT_TOLERANCE * 80.0 / 21.0;
     let extent = |pick: &dyn Fn(&str) -> bool| {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for (s, c) in d.stroke.iter().zip(d.strokes().unwrap()) {
@@ -281,10 +282,7 @@ fn open_at_80_mm_measures_80_mm_cap_line_to_baseline() {
         "cap line to baseline {straight}"
     );
     let round = extent(&|n: &str| n.contains(":O/"));
-    assert!(
-        (80.0..=80.0 * (1.0 + 2.0 * ROUND_OVERSHOOT)).contains(&round),
-        "O {round}"
-    );
+    assert!((round - 80.0).abs() <= round_tolerance, "O {round}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -314,7 +312,7 @@ fn init_writes_a_starter_that_builds_and_refuses_to_overwrite() {
 fn bad_text_names_the_character() {
     let dir = tmp("bad");
     let design = dir.join("bad.toml");
-    let o = run(&["text", "caf\u{e9}", "-o"], &[&design]);
+    let o = run(&["text", "caf\u{20ac}", "-o"], &[&design]);
     assert!(!o.status.success());
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("character 3") && e.contains("sans"), "{e}");

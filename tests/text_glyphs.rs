@@ -1,4 +1,5 @@
-//! Every glyph of every shipped font (A–Z, a–z, 0–9 and common punctuation) outlines
+//! Every glyph of every shipped font (A–Z, a–z, 0–9, common punctuation and a sample of
+//! the Latin-1 letters and signs) outlines
 //! without error at heights 10, 40 and 150 mm and two stroke widths (issue 12).
 
 use skinpath::design::Design;
@@ -6,8 +7,7 @@ use skinpath::design::text::{Font, Text};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 
 /// Letters, digits and the punctuation of signs and addresses.
-const GLYPHS: &str =
-    "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.,:;!?'\"-+&()/#@%*=$";
+const GLYPHS: &str = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.,:;!?'\"-+&()/#@%*=$éÜñßçÅæÆØ¡¿«°";
 
 /// Stroke widths as fractions of the cap height: a thin engraving line and a bold neon
 /// tube (8 mm flex on 80 mm letters is 1/10).

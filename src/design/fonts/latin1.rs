@@ -81,10 +81,13 @@ const SHARP_S: &[[i32; 2]] = &[
     [0, 9],
     [-2, 8],
 ];
-/// The sans Æ: the A's left leg up to the apex and on as the E's top bar; the E's stem
-/// down from the apex and its bottom bar; the E's middle bar; the A's crossbar.
+/// The sans Æ: the A's left leg up to the apex; the E's top bar from the apex; the E's
+/// stem down from the apex and its bottom bar; the E's middle bar; the A's crossbar. (The
+/// top bar is a stroke of its own: slanted for the script, it meets the stem at 72°, a
+/// turn the corner angle would take for a curve.)
 const AE_CAPITAL: &[&[[i32; 2]]] = &[
-    &[[-9, 9], [1, -12], [11, -12]],
+    &[[-9, 9], [1, -12]],
+    &[[1, -12], [11, -12]],
     &[[1, -12], [1, 9], [11, 9]],
     &[[1, -2], [9, -2]],
     &[[-5, 1], [1, 1]],

@@ -10,7 +10,7 @@
 //!   ([`crate::spline::fit::least_squares_with_params`], P&T Sec. 9.4.1) to points
 //!   resampled every [`SAMPLE_STEP`] along it, with the fewest control points (from 4 up)
 //!   whose curve lies within [`FIT_TOLERANCE`] of the polyline both ways (two-sided
-//!   distance, [`deviation`]); a piece that a straight segment already meets is a segment.
+//!   distance, [`deviation`]); a piece whose vertices are collinear is a segment.
 //!   Its end points are the polyline's, exactly (the fit keeps them), and its end tangents
 //!   are the polyline's end segments: the second and the second-last control point are
 //!   moved onto those segments' lines ([`keep_end_tangents`]), so script letters whose
@@ -220,19 +220,23 @@ pub fn keep_end_tangents(ctrl: &mut [DVec2], pts: &[DVec2]) {
     ctrl[n - 2] = set(pts[k - 1], pts[k - 2], ctrl[n - 2]);
 }
 
-/// The control points of an open piece through the polyline `pts` (module docs): a
-/// segment when one is within `tol`, else the least-squares cubic with the fewest control
+/// Distance from their chord, relative to their length, within which a piece's vertices
+/// are collinear: such a piece is its chord (its end directions are the chord's).
+const COLLINEAR: f64 = 1e-12;
+
+/// The control points of an open piece through the polyline `pts` (module docs): its
+/// chord when the vertices are collinear ([`COLLINEAR`]), else the least-squares cubic with the fewest control
 /// points within `tol` (the closest one tried when none is).
 fn fit_open(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
     let (a, b) = (pts[0], pts[pts.len() - 1]);
     let line = vec![a, b];
-    if pts.len() == 2 || deviation(&[a, b], pts) <= tol {
+    if pts.len() == 2 || deviation(&[a, b], pts) <= COLLINEAR * arc_length(pts) {
         return line;
     }
     let len = arc_length(pts);
     let p = SPINE_DEGREE;
     let mut best: Option<(f64, Vec<DVec2>)> = None;
-    for n in p + 1..=MAX_CTRL.min(2 * pts.len() + p) {
+    for n in p + 1..=MAX_CTRL {
         let m = ((len / SAMPLE_STEP).ceil() as usize + 1).max(2 * (n - p) + 2);
         let q = resample(pts, m);
         let Ok(c) = least_squares_with_params(&q, &uniform_knot_params(m), n, p, false) else {
@@ -262,7 +266,7 @@ fn fit_closed(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
     let len = arc_length(&ring);
     let p = SPINE_DEGREE;
     let mut best: Option<(f64, Vec<DVec2>)> = None;
-    for n in p + 1..=MAX_CTRL.min(2 * pts.len() + p) {
+    for n in p + 1..=MAX_CTRL {
         let m = ((len / SAMPLE_STEP).ceil() as usize).max(2 * n);
         // m points round the ring; uniform parameters put the periodic breaks at j/n.
         let mut q = resample(&ring, m + 1);
