@@ -145,6 +145,7 @@ mod error;
 mod load;
 mod model;
 pub mod neon;
+pub mod output;
 pub mod select;
 pub mod shape;
 pub mod svg;
@@ -161,6 +162,7 @@ pub use model::{
     VERSION,
 };
 pub use neon::{Flex, FlexPreset, Neon, NeonRun};
+pub use output::{OperationRef, Output};
 pub use select::{HAIRLINE_MM, Selection, Tags, default_operations, normalize_color};
 pub use shape::{FillRule, Shape};
 pub use text::Text;
