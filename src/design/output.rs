@@ -342,3 +342,202 @@ fn check_selectors(d: &Design, index: usize, o: &Output) -> Result<(), DesignErr
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A design with two strokes on layers, three operations (one named, one on a layer,
+    /// one by colour) and `outputs` appended.
+    fn design(outputs: &str) -> Result<Design, DesignError> {
+        let text = format!(
+            r##"version = 1
+[[stroke]]
+name = "a"
+layer = "cut"
+color = "#FF0000"
+disks = [[0.0, 0.0, 2.0], [10.0, 0.0, 2.0]]
+[[stroke]]
+name = "b"
+disks = [[0.0, 10.0, 2.0], [10.0, 10.0, 2.0]]
+[[operation]]
+kind = "channel"
+name = "chan"
+width = 3.0
+depth = 2.0
+[[operation]]
+kind = "profile"
+layers = ["cut"]
+depth = 2.0
+[[operation]]
+kind = "profile"
+colors = ["#ff0000"]
+depth = 2.0
+{outputs}"##
+        );
+        crate::design::load(&text, "o.toml")
+    }
+
+    fn selection(outputs: &str) -> Vec<Option<Vec<usize>>> {
+        let d = design(outputs).unwrap();
+        d.output.iter().map(|o| o.operations_of(&d)).collect()
+    }
+
+    fn error(outputs: &str) -> String {
+        design(outputs).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn selectors_pick_operations_in_design_order() {
+        let sel = selection(
+            r##"[[output]]
+name = "all"
+machine = "grbl-router"
+[[output]]
+name = "by-name-and-number"
+machine = "grbl-router"
+operations = [3, "chan"]
+[[output]]
+name = "by_kind"
+machine = "grbl-laser"
+operations = ["profile"]
+[[output]]
+name = "layer"
+machine = "grbl-laser"
+layers = ["cut"]
+[[output]]
+name = "Colour2"
+machine = "grbl-laser"
+colors = ["#FF0000"]
+"##,
+        );
+        assert_eq!(
+            sel,
+            vec![
+                None,
+                Some(vec![0, 2]),
+                Some(vec![1, 2]),
+                Some(vec![1]),
+                Some(vec![2])
+            ]
+        );
+    }
+
+    #[test]
+    fn a_name_wins_over_a_kind() {
+        // An operation named "profile" is selected by that name, not every profile.
+        let d = design("").unwrap();
+        let mut d2 = d.clone();
+        d2.operation[0].name = Some("profile".into());
+        let o = Output {
+            name: "x".into(),
+            machine: "grbl-router".into(),
+            operations: Some(vec![OperationRef::Name("profile".into())]),
+            layers: None,
+            colors: None,
+            file: None,
+        };
+        assert_eq!(o.operations_of(&d2), Some(vec![0]));
+        assert_eq!(o.operations_of(&d), Some(vec![1, 2]));
+    }
+
+    #[test]
+    fn errors_name_the_output_and_the_key() {
+        let out = |body: &str| format!("[[output]]\nname = \"ok\"\nmachine = \"m\"\n{body}");
+        let cases: [(String, &[&str]); 10] = [
+            (
+                out("[[output]]\nname = \"ok\"\nmachine = \"n\"\n"),
+                &["output 1 \"ok\"", "name already used by output 0 \"ok\""],
+            ),
+            (
+                "[[output]]\nname = \"a b\"\nmachine = \"m\"\n".into(),
+                &["output 0 \"a b\", key `name`", "ASCII letters"],
+            ),
+            (
+                "[[output]]\nname = \"\"\nmachine = \"m\"\n".into(),
+                &["output 0 \"\", key `name`"],
+            ),
+            (
+                "[[output]]\nname = \"x\"\nmachine = \" \"\n".into(),
+                &["output 0 \"x\", key `machine`", "is empty"],
+            ),
+            (
+                out("operations = [\"chan\", 4]\n"),
+                &[
+                    "output 0 \"ok\", key `operations`",
+                    "4 names no operation",
+                    "\"chan\"",
+                ],
+            ),
+            (
+                out("operations = [\"nope\"]\n"),
+                &["key `operations`", "\"nope\" names no operation"],
+            ),
+            (out("operations = []\n"), &["names no operation"]),
+            (
+                out("layers = [\"engrave\"]\n"),
+                &["key `layers`", "no operation selects layer \"engrave\""],
+            ),
+            (
+                out("colors = [\"#00ff00\"]\n"),
+                &["key `colors`", "no operation selects colour #00ff00"],
+            ),
+            (
+                out("file = \"../{name}.nc\"\n"),
+                &["key `file`", "names a folder"],
+            ),
+        ];
+        for (body, wanted) in &cases {
+            let e = error(body);
+            assert!(e.starts_with("o.toml: "), "{e}");
+            for w in *wanted {
+                assert!(e.contains(w), "{body}\n{e}\nmissing {w:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn file_templates_are_checked() {
+        assert_eq!(template_problem("{stem}.{name}.{ext}"), None);
+        assert_eq!(template_problem("sign-{name}.dxf"), None);
+        for bad in [
+            "",
+            ".{name}.nc",
+            "a/b.nc",
+            "a\\b.nc",
+            "{stem}.{nme}.nc",
+            "x}.nc",
+        ] {
+            assert!(template_problem(bad).is_some(), "{bad:?}");
+        }
+        let o = Output {
+            name: "face".into(),
+            machine: "svg-laser".into(),
+            operations: None,
+            layers: None,
+            colors: None,
+            file: None,
+        };
+        assert_eq!(o.file_name("sign", "svg"), "sign.face.svg");
+    }
+
+    #[test]
+    fn a_design_without_operations_takes_no_selector() {
+        let text = "version = 1\n[[stroke]]\nname = \"a\"\ndisks = [[0,0,1],[5,0,1]]\n\
+                    [[output]]\nname = \"r\"\nmachine = \"grbl-router\"\n";
+        let d = crate::design::load(text, "e.toml").unwrap();
+        assert_eq!(d.output[0].operations_of(&d), None);
+        let e = crate::design::load(&format!("{text}operations = [1]\n"), "e.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("has no [[operation]] to select"), "{e}");
+    }
+
+    #[test]
+    fn an_empty_operation_name_is_refused() {
+        let text = "version = 1\n[[stroke]]\nname = \"a\"\ndisks = [[0,0,1],[5,0,1]]\n\
+                    [[operation]]\nkind = \"profile\"\nname = \" \"\n";
+        let e = crate::design::load(text, "e.toml").unwrap_err().to_string();
+        assert!(e.contains("operation 0 (profile), key `name`"), "{e}");
+    }
+}
