@@ -103,10 +103,8 @@ impl Output {
     /// The 0-based indices of the design's operations `r` names (empty when none).
     fn resolve(d: &Design, r: &OperationRef) -> Vec<usize> {
         match r {
-            OperationRef::Index(n) => (1..=d.operation.len())
-                .contains(n)
-                .then(|| vec![n - 1])
-                .unwrap_or_default(),
+            OperationRef::Index(n) if (1..=d.operation.len()).contains(n) => vec![n - 1],
+            OperationRef::Index(_) => Vec::new(),
             OperationRef::Name(s) => {
                 let named: Vec<usize> = (d.operation.iter().enumerate())
                     .filter(|(_, op)| op.name.as_deref() == Some(s.as_str()))
