@@ -442,3 +442,38 @@ fn a_signal_during_the_write_leaves_neither_program_nor_temporary_files() {
     assert_eq!(temporaries(), Vec::<String>::new());
     assert_eq!(listing(&d), ["face.fifo.gcode", "sign.toml"]);
 }
+
+#[test]
+fn the_neon_starter_layers_build_and_check_clean_when_taken_in() {
+    let d = tmpdir("outputs-starter");
+    let starter = d.join("design.toml");
+    let o = skinpath(&["init", "--neon", "-o", s(&starter)]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    // Take the layers in: every line from the first commented-out table on loses its `# `.
+    let written = std::fs::read_to_string(&starter).unwrap();
+    let at = written
+        .find("# [[operation]]")
+        .expect("the commented layers");
+    let mut taken = written[..at].to_string();
+    for line in written[at..].lines() {
+        taken.push_str(
+            line.strip_prefix("# ")
+                .unwrap_or(line.trim_start_matches('#')),
+        );
+        taken.push('\n');
+    }
+    std::fs::write(&starter, taken).unwrap();
+    let b = Command::new(env!("CARGO_BIN_EXE_skinpath"))
+        .args(["build", "design.toml"])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert_eq!(b.status.code(), Some(0), "{}", text(&b));
+    for (file, machine) in [
+        ("design.router.gcode", "grbl-router"),
+        ("design.face.gcode", "grbl-laser"),
+    ] {
+        let c = skinpath(&["check", s(&d.join(file)), "--machine", machine]);
+        assert_eq!(c.status.code(), Some(0), "{file}: {}", text(&c));
+    }
+}
