@@ -477,3 +477,62 @@ fn the_neon_starter_layers_build_and_check_clean_when_taken_in() {
         assert_eq!(c.status.code(), Some(0), "{file}: {}", text(&c));
     }
 }
+
+#[test]
+fn a_profile_file_is_read_from_the_design_folder() {
+    let d = tmpdir("outputs-profile-file");
+    let sub = d.join("sub");
+    std::fs::create_dir_all(&sub).unwrap();
+    let shipped = Path::new(common::ROOT).join("machines/grbl-laser.toml");
+    std::fs::copy(&shipped, sub.join("my-laser.toml")).unwrap();
+    let outputs = TWO.replace("machine = \"grbl-laser\"", "machine = \"my-laser.toml\"");
+    write(&sub, "sign.toml", &sign(&outputs));
+    // Run from the folder above: the relative profile path is the design's, not the cwd's.
+    let o = Command::new(env!("CARGO_BIN_EXE_skinpath"))
+        .args(["build", "sub/sign.toml", "--only", "laser", "--json"])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    let j = json(&o);
+    assert_eq!(j["files"], serde_json::json!(["sign.laser.gcode"]));
+    let c = skinpath(&[
+        "check",
+        s(&d.join("sign.laser.gcode")),
+        "--machine",
+        s(&sub.join("my-laser.toml")),
+    ]);
+    assert_eq!(c.status.code(), Some(0), "{}", text(&c));
+}
+
+#[test]
+fn an_output_too_large_for_its_machine_is_refused_from_its_own_operations() {
+    // 400 mm of stroke on a 300 x 180 mm router: the output's backboard goes around every
+    // item, so the design's extent alone refuses it (before the build), naming the output.
+    let d = tmpdir("outputs-too-large");
+    let design = write(
+        &d,
+        "long.toml",
+        r#"version = 1
+[[stroke]]
+name = "bar"
+disks = [[0.0, 0.0, 3.0], [400.0, 0.0, 3.0]]
+[[operation]]
+name = "board"
+kind = "backboard"
+depth = 3.0
+[[output]]
+name = "router"
+machine = "grbl-router"
+operations = ["board"]
+"#,
+    );
+    let o = skinpath(&["build", s(&design), "-o", s(&d.join("long.gcode"))]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("output \"router\" (machine grbl-router)"),
+        "{err}"
+    );
+    assert!(err.contains("the job is at least"), "{err}");
+    assert_eq!(listing(&d), ["long.toml"]);
+}

@@ -325,10 +325,22 @@ impl Job<'_> {
             original.clone()
         };
         let slack = 2.0 * (o.build.epsilon + 2.0 * o.build.tolerance) + o.build.tolerance;
-        // The early extent reads every operation: a selection may cut less than it says.
+        // The early extent reads the design's operations: with a selection, only those.
+        let selected;
+        let cut = match only {
+            Some(only) => {
+                selected = Design {
+                    operation: (only.iter())
+                        .filter_map(|&i| design.operation.get(i).cloned())
+                        .collect(),
+                    ..design.clone()
+                };
+                &selected
+            }
+            None => &design,
+        };
         if fit.is_none()
-            && only.is_none()
-            && let Some((lo, hi)) = super::size::early_extent(&design, slack)
+            && let Some((lo, hi)) = super::size::early_extent(cut, slack)
         {
             super::size::check_fits(
                 hi - lo,
