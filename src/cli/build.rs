@@ -30,6 +30,8 @@ pub struct Args {
     pub(super) only: Vec<String>,
     /// Output file (.gcode, .nc, .ngc, .tap, .svg or .dxf); default: the design's name in the
     /// current folder, with .gcode for G-code machines and .svg for SVG laser profiles.
+    /// With `[[output]]` tables: the folder and file stem of every output's file (or a
+    /// folder), `STEM.NAME.gcode` or `.svg`.
     #[arg(short, long)]
     pub(super) output: Option<PathBuf>,
     /// Output format, when the extension does not say it.
@@ -96,7 +98,7 @@ pub fn load_profile(spec: &str) -> Result<Profile> {
     bail!("no machine profile named {spec:?} (see `skinpath machines`) and no such file")
 }
 
-pub(super) fn format_of(a: &Args, output: &Path) -> Result<OutputFormat> {
+fn format_of(a: &Args, output: &Path) -> Result<OutputFormat> {
     if let Some(f) = &a.format {
         return OutputFormat::from_extension(f)
             .with_context(|| format!("--format {f}: expected gcode, svg or dxf"));

@@ -84,7 +84,7 @@ pub struct Design {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub neon: Option<super::neon::Neon>,
     /// The `[[output]]` tables: the layers of a job, each a program of some of the
-    /// operations for its own machine (see [`crate::design::output`]). None: one program
+    /// operations for its own machine (see [`crate::design::output`]). Empty: one program
     /// of every operation for the machine the build is given.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub output: Vec<super::output::Output>,
