@@ -80,6 +80,7 @@ fn random_design(rng: &mut Rng) -> Design {
         text: Vec::new(),
         corners: Vec::new(),
         neon: None,
+        output: Vec::new(),
         file: "fuzz.toml".into(),
     }
 }

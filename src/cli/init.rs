@@ -104,8 +104,52 @@ kind = "holes"
 kind = "backboard"
 "#;
 
+/// The layers of the neon starter, written commented out after [`STARTER_NEON`] (see
+/// [`neon_starter`]): a laser-cut acrylic face beside the routed board, as two outputs.
+pub const NEON_LAYERS: &str = r#"[[operation]]
+name = "face"
+kind = "backboard"
+
+[[output]]
+name = "router"
+machine = "grbl-router"
+operations = [1, 2, 3]
+
+[[output]]
+name = "face"
+machine = "grbl-laser"
+operations = ["face"]
+"#;
+
+/// What `init --neon` writes: [`STARTER_NEON`], then [`NEON_LAYERS`] commented out with
+/// how to use them.
+pub fn neon_starter() -> String {
+    let mut s = String::from(STARTER_NEON);
+    s.push_str(
+        "\n# Layers: to cut the board on a router and an acrylic face of the same outline on a\n\
+         # laser, remove the `# ` below; then `skinpath build design.toml` (no --machine)\n\
+         # writes design.router.gcode and design.face.gcode, each checked for its machine, as\n\
+         # a set. --only face builds one of them.\n",
+    );
+    for line in NEON_LAYERS.lines() {
+        s.push('#');
+        if !line.is_empty() {
+            s.push(' ');
+            s.push_str(line);
+        }
+        s.push('\n');
+    }
+    s
+}
+
 pub fn run(a: Args) -> Result<u8> {
-    let starter = if a.neon { STARTER_NEON } else { STARTER };
+    let neon;
+    let starter = if a.neon {
+        neon = neon_starter();
+        neon.as_str()
+    } else {
+        STARTER
+    };
     if a.output.exists() && !a.force {
         bail!(
             "{} exists: choose another name with -o or pass --force",
@@ -118,4 +162,23 @@ pub fn run(a: Args) -> Result<u8> {
     io::write_atomic(&a.output, starter.as_bytes())
         .with_context(|| format!("writing {}", a.output.display()))?;
     Ok(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The neon starter with its layers taken in loads, and its outputs select the board's
+    /// operations and the face.
+    #[test]
+    fn the_neon_starter_layers_load_when_taken_in() {
+        let text = format!("{STARTER_NEON}{NEON_LAYERS}");
+        let d = skinpath::design::load(&text, "design.toml").unwrap();
+        let sel: Vec<_> = d.output.iter().map(|o| o.operations_of(&d)).collect();
+        assert_eq!(sel, vec![Some(vec![0, 1, 2]), Some(vec![3])]);
+        // Commented out, they change nothing.
+        let plain = skinpath::design::load(STARTER_NEON, "design.toml").unwrap();
+        let commented = skinpath::design::load(&neon_starter(), "design.toml").unwrap();
+        assert_eq!(plain, commented);
+    }
 }

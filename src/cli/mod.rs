@@ -2,6 +2,7 @@
 //! processes and the terminal; everything else is the library.
 
 mod build;
+mod build_outputs;
 mod check;
 
 mod import;

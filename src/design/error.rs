@@ -44,6 +44,13 @@ pub enum Item {
         /// The shape's `name` key.
         name: String,
     },
+    /// `[[output]]` number `index` (0-based) with its `name`.
+    Output {
+        /// 0-based position among the outputs.
+        index: usize,
+        /// The output's `name` key.
+        name: String,
+    },
 }
 
 impl fmt::Display for Item {
@@ -55,6 +62,7 @@ impl fmt::Display for Item {
             Item::Outline => write!(f, "outline"),
             Item::Text { index, name } => write!(f, "text {index} \"{name}\""),
             Item::Shape { index, name } => write!(f, "shape {index} \"{name}\""),
+            Item::Output { index, name } => write!(f, "output {index} \"{name}\""),
         }
     }
 }

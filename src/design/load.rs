@@ -163,6 +163,7 @@ impl Design {
             file: file.to_string(),
             corners: Vec::new(),
             neon: None,
+            output: Vec::new(),
         }
     }
 

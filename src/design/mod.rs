@@ -51,11 +51,18 @@
 //!
 //! [[operation]]               # toolpath operations: plain data for the toolpath stage
 //! kind = "channel"            # profile | channel | backboard | holes | fill | vcarve | line
+//! # name = "channels"         # optional; `[[output]]` tables select by it
 //! strokes = ["s1"]            # default: all strokes, circle sequences and shapes
 //! # layers = ["cut"]          # also selects by the items' `layer` and `color` ([`select`])
 //! # colors = ["#ff0000"]
 //! width = 6.0
 //! depth = 8.0
+//!
+//! [[output]]                  # optional: one program per output ([`output`])
+//! name = "router"             # unique; letters, digits, `-`, `_`
+//! machine = "grbl-router"     # a shipped profile or a .toml path
+//! operations = ["channels", 2]  # names, kinds, 1-based numbers; or layers/colors selectors
+//! # file = "{stem}.{name}.{ext}"
 //! ```
 //!
 //! JSON files use the same keys: `{"version": 1, "units": "mm", "stroke": [{"name": "s1",
@@ -145,6 +152,7 @@ mod error;
 mod load;
 mod model;
 pub mod neon;
+pub mod output;
 pub mod select;
 pub mod shape;
 pub mod svg;
@@ -161,6 +169,7 @@ pub use model::{
     VERSION,
 };
 pub use neon::{Flex, FlexPreset, Neon, NeonRun};
+pub use output::{OperationRef, Output};
 pub use select::{HAIRLINE_MM, Selection, Tags, default_operations, normalize_color};
 pub use shape::{FillRule, Shape};
 pub use text::Text;

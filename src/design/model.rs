@@ -83,6 +83,11 @@ pub struct Design {
     /// The `[neon]` table: the LED-neon flex (see [`crate::design::neon`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub neon: Option<super::neon::Neon>,
+    /// The `[[output]]` tables: the layers of a job, each a program of some of the
+    /// operations for its own machine (see [`crate::design::output`]). Empty: one program
+    /// of every operation for the machine the build is given.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub output: Vec<super::output::Output>,
     /// The file name the design was loaded from (not part of the file).
     #[serde(skip)]
     pub file: String,
@@ -419,6 +424,10 @@ pub struct Tabs {
 pub struct Operation {
     /// `kind` (required): which operation; decides which of the keys below apply.
     pub kind: OperationKind,
+    /// `name`: what the operation is called (non-empty when given; several operations may
+    /// share one); an `[[output]]`'s `operations` selects by it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
     /// `strokes`: the strokes, circle sequences, shapes and texts it applies to, by name;
     /// non-empty, every name defined. Unset: all of them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -534,6 +543,7 @@ impl Operation {
     pub fn new(kind: OperationKind) -> Self {
         Operation {
             kind,
+            name: None,
             strokes: None,
             layers: None,
             colors: None,

@@ -120,6 +120,9 @@ impl Design {
         for op in &mut self.operation {
             op.colors.iter_mut().flatten().for_each(fix);
         }
+        for o in &mut self.output {
+            o.colors.iter_mut().flatten().for_each(fix);
+        }
     }
 
     /// Whether some stroke or shape has a `layer` or `color`: the design is a drawing

@@ -515,8 +515,13 @@ fn full_design() -> Design {
     s3.fit = Some(Fit::Approximate);
     s3.parametrization = Some(Parametrization::Centripetal);
     s3.control_disks = Some(4);
+    s1.layer = Some("cut".into());
+    s1.color = Some("#ff0000".into());
     let mut ops = Vec::new();
     let mut p = Operation::new(OperationKind::Profile);
+    p.name = Some("outside".into());
+    p.layers = Some(vec!["cut".into()]);
+    p.colors = Some(vec!["#ff0000".into()]);
     p.side = Some(ProfileSide::Outside);
     p.passes = Some(3);
     p.step_down = Some(1.0);
@@ -573,6 +578,17 @@ fn full_design() -> Design {
         file: "round.trip".into(),
         corners: vec![],
         neon: None,
+        output: vec![Output {
+            name: "board".into(),
+            machine: "grbl-router".into(),
+            operations: Some(vec![
+                OperationRef::Index(1),
+                OperationRef::Name("fill".into()),
+            ]),
+            layers: Some(vec!["cut".into()]),
+            colors: Some(vec!["#ff0000".into()]),
+            file: Some("{stem}-{name}.nc".into()),
+        }],
     }
 }
 
@@ -848,6 +864,7 @@ proptest::proptest! {
             file: "p.toml".into(),
             corners: vec![],
             neon: None,
+            output: vec![],
         };
         validate(&d).unwrap();
         let t = from_str(&d.to_toml_string().unwrap(), Format::Toml, "p.toml").unwrap();

@@ -132,7 +132,7 @@ pub fn validate(d: &Design) -> Result<()> {
         check_operation(file, op, &item, &names)?;
         check_selectors(file, op, &item, &tags)?;
     }
-    Ok(())
+    super::output::validate(d)
 }
 
 /// An item's `color`, when given, is `#rrggbb` (any case).

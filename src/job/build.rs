@@ -1427,6 +1427,21 @@ pub fn build_toolpath_with(
     opts: &BuildOptions,
     progress: Option<ProgressFn<'_>>,
 ) -> Result<BuildResult, JobError> {
+    build_toolpath_of(design, profile, opts, progress, None)
+}
+
+/// [`build_toolpath_with`], building only the operations whose 0-based indices `only`
+/// lists (an `[[output]]`'s, see [`crate::design::output`]); `None`: every operation. The
+/// others still shape the build as design context (a backboard keeps its margin from every
+/// channel, the neon runs use the design's channel width); they are not cut.
+pub fn build_toolpath_of(
+    design: &Design,
+    profile: &Profile,
+    opts: &BuildOptions,
+    progress: Option<ProgressFn<'_>>,
+    only: Option<&[usize]>,
+) -> Result<BuildResult, JobError> {
+    let wanted = |i: &usize| only.is_none_or(|o| o.contains(i));
     if !(opts.tolerance > 0.0 && opts.epsilon > 0.0) {
         return Err(JobError::Options(format!(
             "tolerance ({}) and epsilon ({}) must be positive",
@@ -1443,7 +1458,12 @@ pub fn build_toolpath_with(
     let mut outlines = design_outlines_with(design, &outline_opts, progress)?;
     let strokes = design.strokes()?;
     let mut methods = vec![opts.method];
-    for (i, op) in design.operation.iter().enumerate() {
+    for (i, op) in design
+        .operation
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| wanted(i))
+    {
         if let Some(m) = op.method {
             if m == OutlineMethod::Envelope {
                 return Err(JobError::Operation {
@@ -1526,6 +1546,7 @@ pub fn build_toolpath_with(
     // operation order is the one returned, as in a serial build).
     let done = std::sync::atomic::AtomicUsize::new(0);
     let built: Vec<Result<Vec<_>, JobError>> = (design.operation.par_iter().enumerate())
+        .filter(|(i, _)| wanted(i))
         .map(|(i, op)| {
             let r = operation_specs(&ctx, i, Some(i), op);
             let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);

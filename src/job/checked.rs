@@ -13,7 +13,7 @@
 
 use super::JobError;
 use super::build::{
-    BuildOptions, BuildResult, Place, Placement, build_toolpath_with, fit_scale, outline_bounds,
+    BuildOptions, BuildResult, Place, Placement, build_toolpath_of, fit_scale, outline_bounds,
     place_job, scaled_design,
 };
 use super::check::{check_config, design_boundaries};
@@ -177,6 +177,13 @@ pub struct JobOutput {
 impl Job<'_> {
     /// Builds, places, writes and (G-code) checks the job.
     pub fn run(&self) -> Result<JobOutput, JobError> {
+        self.run_of(None)
+    }
+
+    /// [`Job::run`], building only the operations whose 0-based indices `only` lists (an
+    /// `[[output]]`'s selection, [`crate::design::Output::operations_of`]); `None`: every
+    /// operation. The design's other operations stay context ([`build_toolpath_of`]).
+    pub fn run_of(&self, only: Option<&[usize]>) -> Result<JobOutput, JobError> {
         let o = &self.options;
         let profile = self.profile;
         if !(o.margin.is_finite() && o.margin >= 0.0) {
@@ -196,7 +203,7 @@ impl Job<'_> {
         // per axis, so the radius (and the extreme) moves by up to √2 units (seed 0x5EED0013
         // case 138: a hole's circle reached x = −0.0004 with one unit).
         let inset = 2.0 * 10f64.powi(-(decimals as i32)) * k;
-        let (design, mut built, scale) = self.scaled_build(progress, inset)?;
+        let (design, mut built, scale) = self.scaled_build(progress, inset, only)?;
         clock.start(Stage::Place);
         let placement = place_job(
             &mut built,
@@ -287,6 +294,7 @@ impl Job<'_> {
         &self,
         progress: Option<ProgressFn<'_>>,
         inset: f64,
+        only: Option<&[usize]>,
     ) -> Result<(Design, BuildResult, f64), JobError> {
         let o = &self.options;
         let original = self.design;
@@ -317,8 +325,22 @@ impl Job<'_> {
             original.clone()
         };
         let slack = 2.0 * (o.build.epsilon + 2.0 * o.build.tolerance) + o.build.tolerance;
+        // The early extent reads the design's operations: with a selection, only those.
+        let selected;
+        let cut = match only {
+            Some(only) => {
+                selected = Design {
+                    operation: (only.iter())
+                        .filter_map(|&i| design.operation.get(i).cloned())
+                        .collect(),
+                    ..design.clone()
+                };
+                &selected
+            }
+            None => &design,
+        };
         if fit.is_none()
-            && let Some((lo, hi)) = super::size::early_extent(&design, slack)
+            && let Some((lo, hi)) = super::size::early_extent(cut, slack)
         {
             super::size::check_fits(
                 hi - lo,
@@ -331,7 +353,7 @@ impl Job<'_> {
                 scale,
             )?;
         }
-        let build = |d: &Design| build_toolpath_with(d, self.profile, &o.build, progress);
+        let build = |d: &Design| build_toolpath_of(d, self.profile, &o.build, progress, only);
         let mut built = build(&design)?;
         if let Some((w, h)) = fit {
             // The outlines scale with the design, offsets and margins do not: a few rounds.

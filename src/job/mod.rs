@@ -8,6 +8,7 @@ pub mod checked;
 pub mod inspect;
 pub mod neon;
 pub mod outline;
+pub mod outputs;
 pub mod preview;
 pub mod progress;
 pub mod re_route;
@@ -49,6 +50,17 @@ pub enum JobError {
         kind: String,
         /// What went wrong.
         message: String,
+    },
+    /// One output of a design with `[[output]]` tables failed (see [`outputs`]); nothing
+    /// of any output is returned.
+    #[error("output \"{output}\" (machine {machine}): {source}")]
+    Output {
+        /// The output's `name`.
+        output: String,
+        /// The name of its machine profile.
+        machine: String,
+        /// What went wrong.
+        source: Box<JobError>,
     },
     /// Job options out of range (the message names the option).
     #[error("{0}")]
