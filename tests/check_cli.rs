@@ -62,7 +62,13 @@ fn json_report_when_the_input_is_unusable() {
     let p = prog.to_string_lossy().into_owned();
     for args in [
         vec!["check", missing.as_str(), "--json"],
-        vec!["check", p.as_str(), "--machine", "no-such-machine", "--json"],
+        vec![
+            "check",
+            p.as_str(),
+            "--machine",
+            "no-such-machine",
+            "--json",
+        ],
     ] {
         let o = skinpath(&args);
         let out = String::from_utf8_lossy(&o.stdout);

@@ -113,9 +113,9 @@ pub fn run(a: Args) -> Result<u8> {
 fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
     use skinpath::sim::rs274::Rs274Error;
     let id = match e.downcast_ref::<Rs274Error>() {
-        Some(
-            Rs274Error::Timeout(_) | Rs274Error::OutputTooLarge(_) | Rs274Error::Stalled(_),
-        ) => BACKEND_LIMIT,
+        Some(Rs274Error::Timeout(_) | Rs274Error::OutputTooLarge(_) | Rs274Error::Stalled(_)) => {
+            BACKEND_LIMIT
+        }
         Some(_) => BACKEND_ERROR,
         None => INPUT_ERROR,
     };

@@ -13,8 +13,8 @@
 
 use super::JobError;
 use super::build::{
-    BuildOptions, BuildResult, Place, Placement, build_toolpath_with, fit_scale, outline_bounds,
-    place_job, scaled_design,
+    BuildOptions, BuildResult, Place, PlaceAt, Placement, build_toolpath_placed, fit_scale,
+    outline_bounds, place_job, scaled_design,
 };
 use super::check::{check_config, design_boundaries};
 use super::progress::{Progress, ProgressFn, Stage, Timings};
@@ -331,7 +331,14 @@ impl Job<'_> {
                 scale,
             )?;
         }
-        let build = |d: &Design| build_toolpath_with(d, self.profile, &o.build, progress);
+        // Ordered from the machine's origin where the placement will put it.
+        let at = PlaceAt {
+            place: o.place,
+            margin: o.margin,
+            inset,
+        };
+        let build =
+            |d: &Design| build_toolpath_placed(d, self.profile, &o.build, Some(at), progress);
         let mut built = build(&design)?;
         if let Some((w, h)) = fit {
             // The outlines scale with the design, offsets and margins do not: a few rounds.

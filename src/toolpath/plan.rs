@@ -25,6 +25,40 @@ pub enum Geometry {
     AttrPolylines3(Vec<AttrPolyline>),
 }
 
+impl Geometry {
+    /// The box (lo, hi) in xy of what the tool centre follows, or `None` when there is
+    /// nothing: paths by their segments' boxes (arcs exact, cubics by their control points,
+    /// [`crate::geom::PathSeg::bounding_box`]), points and polylines by their points. It does
+    /// not depend on the cut order, so a placement computed from it is known before the order
+    /// is chosen (leads, added by the cuts, can reach past it).
+    pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
+        let mut lo = DVec2::splat(f64::INFINITY);
+        let mut hi = DVec2::splat(f64::NEG_INFINITY);
+        let mut grow = |a: DVec2, b: DVec2| {
+            lo = lo.min(a);
+            hi = hi.max(b);
+        };
+        match self {
+            Geometry::Paths(paths) => {
+                for s in paths.iter().flat_map(|p| &p.segs) {
+                    let (a, b) = s.bounding_box();
+                    grow(a, b);
+                }
+            }
+            Geometry::Points(points) => points.iter().for_each(|&p| grow(p, p)),
+            Geometry::Polylines3(lines) => lines
+                .iter()
+                .flatten()
+                .for_each(|p| grow(p.truncate(), p.truncate())),
+            Geometry::AttrPolylines3(lines) => lines
+                .iter()
+                .flat_map(|l| &l.points)
+                .for_each(|p| grow(p.truncate(), p.truncate())),
+        }
+        (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+    }
+}
+
 /// A polyline with per-point z, feed and power: the move that reaches `points[i]` cuts at
 /// `feed[i]` and `power[i]`. An empty `feed` or `power` (or one of another length than
 /// `points`) falls back to the operation's value; the plunge to the first point uses the
