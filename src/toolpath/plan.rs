@@ -392,6 +392,52 @@ mod tests {
         }
     }
 
+    /// The box of the geometry is the box of the planned toolpath (no leads), whatever the
+    /// tool's start and so whatever the order and seams: a circle of radius 3 about (10, 20)
+    /// as two half arcs starting at 45° (its box 7..13 × 17..23 comes from the arcs'
+    /// extremes, not their ends), a square 40..44 × 0..4 and a drilled point (−5, 30).
+    #[test]
+    fn geometry_bounds_are_the_planned_box_from_any_start() {
+        use crate::geom::{Arc, PathSeg};
+        let c = DVec2::new(10.0, 20.0);
+        let q = std::f64::consts::FRAC_PI_4;
+        let circle = Path::new(
+            vec![
+                PathSeg::Arc(Arc::new(c, 3.0, q, std::f64::consts::PI)),
+                PathSeg::Arc(Arc::new(
+                    c,
+                    3.0,
+                    q + std::f64::consts::PI,
+                    std::f64::consts::PI,
+                )),
+            ],
+            true,
+        );
+        let paths = Geometry::Paths(vec![square(DVec2::new(42.0, 2.0), 2.0), circle]);
+        let points = Geometry::Points(vec![DVec2::new(-5.0, 30.0)]);
+        let (lo, hi) = paths.bounds().expect("paths have a box");
+        assert!(lo.distance(DVec2::new(7.0, 0.0)) < 1e-12, "{lo}");
+        assert!(hi.distance(DVec2::new(44.0, 23.0)) < 1e-12, "{hi}");
+        assert_eq!(
+            points.bounds(),
+            Some((DVec2::new(-5.0, 30.0), DVec2::new(-5.0, 30.0)))
+        );
+        assert_eq!(Geometry::Points(vec![]).bounds(), None);
+        let specs = [spec(OperationKind::Profile, paths)];
+        for home in [
+            DVec2::ZERO,
+            DVec2::new(100.0, -50.0),
+            DVec2::new(10.0, 26.0),
+        ] {
+            let (tp, _) = plan(&specs, home, 1e-6);
+            let s = tp.stats(home);
+            let got = [s.bbox_min[0], s.bbox_min[1], s.bbox_max[0], s.bbox_max[1]];
+            for (g, w) in got.into_iter().zip([lo.x, lo.y, hi.x, hi.y]) {
+                assert!((g - w).abs() < 1e-9, "{home}: {got:?}");
+            }
+        }
+    }
+
     #[test]
     fn operations_run_holes_first_backboard_last() {
         let specs = vec![
