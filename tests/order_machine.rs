@@ -88,8 +88,8 @@ fn build(dir: &Path, toml: &str, args: &[&str]) -> (String, String) {
 }
 
 /// The design moved by (10000, −5000) gives the same program as the design, byte for byte,
-/// on lasers and routers of three dialects, placed at the lower-left corner or the centre,
-/// scaled or not.
+/// on lasers and routers of four dialects, placed at the lower-left corner or the centre,
+/// with a margin, scaled by a factor or to fit a size.
 #[test]
 fn moved_design_builds_to_the_same_program() {
     let d = tmpdir("order-moved");
@@ -103,6 +103,7 @@ fn moved_design_builds_to_the_same_program() {
         &["--machine", "grbl-router", "--place", "center"],
         &["--machine", "smoothie-laser", "--scale", "0.5"],
         &["--machine", "grbl-laser", "--margin", "7.5"],
+        &["--machine", "grbl-laser", "--fit", "60x50"],
     ];
     for args in cases {
         let (a, _) = build(&d.join("here"), &here, args);
