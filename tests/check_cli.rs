@@ -48,3 +48,41 @@ fn timings_are_printed_per_stage() {
     assert_eq!(tv, pv);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `--json` prints a JSON report when the input cannot be used at all (issue 42, item 4):
+/// a missing program, an unknown machine profile. Not usable, the error as its reason and
+/// its one `input-error` finding, exit 2; without `--json` the error stays on standard
+/// error with the same status.
+#[test]
+fn json_report_when_the_input_is_unusable() {
+    let d = tmpdir("check-json-unusable");
+    let prog = d.join("p.gcode");
+    std::fs::write(&prog, "G21 G90\nG0 X1 Y1\nM2\n").expect("write");
+    let missing = d.join("missing.gcode").to_string_lossy().into_owned();
+    let p = prog.to_string_lossy().into_owned();
+    for args in [
+        vec!["check", missing.as_str(), "--json"],
+        vec![
+            "check",
+            p.as_str(),
+            "--machine",
+            "no-such-machine",
+            "--json",
+        ],
+    ] {
+        let o = skinpath(&args);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {out}");
+        let v: serde_json::Value = serde_json::from_str(&out).expect("a JSON report");
+        assert_eq!(v["usable"], false, "{out}");
+        assert_eq!(v["backend"], "builtin", "{out}");
+        assert_eq!(v["findings"][0]["id"], "input-error", "{out}");
+        assert_eq!(v["findings"].as_array().map(Vec::len), Some(1), "{out}");
+        assert!(v["reason"].as_str().is_some_and(|r| !r.is_empty()), "{out}");
+        let text = skinpath(&args[..args.len() - 1]);
+        assert_eq!(text.status.code(), Some(2));
+        assert!(text.stdout.is_empty());
+        assert!(!text.stderr.is_empty());
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

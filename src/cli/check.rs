@@ -1,6 +1,8 @@
 //! `skinpath check PROGRAM [--machine P] [--dialect D] [--design D] [--json] [--timings]
 //! [--backend builtin|linuxcnc]`. Exit status 0 when clean, 1 when a check fails, 2 when the
-//! input is unusable.
+//! input is unusable or the backend fails (rs274 not installed, stopped at its limit). With
+//! `--json` every outcome is a JSON report on standard output, those of exit 2 included:
+//! `usable` false, the error as `reason` and as the one finding ([`failure_report`]).
 
 use super::build::load_profile;
 use super::io;
@@ -44,7 +46,8 @@ pub struct Args {
     /// Folders searched for called subroutine files `NAME.ngc` (after the program's folder).
     #[arg(long)]
     sub_path: Vec<PathBuf>,
-    /// Longest time rs274 may run (seconds) with `--backend linuxcnc`.
+    /// Most processor time rs274 may use (seconds) with `--backend linuxcnc` (a limit on
+    /// work: a busy machine stretches the wall time, not this).
     #[arg(long, default_value_t = 20.0)]
     rs274_timeout: f64,
     /// Print the report as JSON.
@@ -81,7 +84,60 @@ struct Timings {
     report: f64,
 }
 
+/// Finding id of a report whose backend stopped at its limit (rs274's processor time or
+/// output size, or the wall-clock safeguard).
+pub const BACKEND_LIMIT: &str = "backend-limit";
+/// Finding id of a report whose backend failed otherwise (rs274 not installed, killed, no
+/// output, its folder unwritable).
+pub const BACKEND_ERROR: &str = "backend-error";
+/// Finding id of a report on input that could not be used (file unreadable, bad profile,
+/// design or tool table).
+pub const INPUT_ERROR: &str = "input-error";
+
+/// Checks as `a` says. With `--json` an error is a JSON report too ([`failure_report`]),
+/// printed here, with exit status [`super::EXIT_UNUSABLE`].
 pub fn run(a: Args) -> Result<u8> {
+    match checked(&a) {
+        Err(e) if a.json => {
+            let report = failure_report(&a, &e);
+            crate::print_stdout(&format!("{}\n", serde_json::to_string_pretty(&report)?))?;
+            Ok(super::EXIT_UNUSABLE)
+        }
+        r => r,
+    }
+}
+
+/// The report of a check that could not run: not usable, the error as its reason and as its
+/// one finding, whose id tells a backend stopped at its limit ([`BACKEND_LIMIT`]) from one
+/// that failed ([`BACKEND_ERROR`]) and from unusable input ([`INPUT_ERROR`]).
+fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
+    use skinpath::sim::rs274::Rs274Error;
+    let id = match e.downcast_ref::<Rs274Error>() {
+        Some(Rs274Error::Timeout(_) | Rs274Error::OutputTooLarge(_) | Rs274Error::Stalled(_)) => {
+            BACKEND_LIMIT
+        }
+        Some(_) => BACKEND_ERROR,
+        None => INPUT_ERROR,
+    };
+    let message = super::chain(e);
+    skinpath::sim::Report {
+        backend: if a.backend == "linuxcnc" {
+            Backend::LinuxCnc.name()
+        } else {
+            Backend::Builtin.name()
+        },
+        usable: false,
+        reason: Some(message.clone()),
+        findings: vec![skinpath::sim::Finding::new(
+            id,
+            skinpath::sim::Severity::Error,
+            message,
+        )],
+        ..Default::default()
+    }
+}
+
+fn checked(a: &Args) -> Result<u8> {
     let mut timings = Timings::default();
     let (mut cfg, tool_r) = match &a.machine {
         Some(m) => {
@@ -164,7 +220,7 @@ pub fn run(a: Args) -> Result<u8> {
         if report.usable {
             report.findings.splice(0..0, utf8);
         }
-        return write_report(&a, &report, &mut timings, Instant::now());
+        return write_report(a, &report, &mut timings, Instant::now());
     }
     let clock = Instant::now();
     let bytes = files::read_regular(
@@ -211,7 +267,7 @@ pub fn run(a: Args) -> Result<u8> {
     if report.usable {
         report.findings.splice(0..0, decode_findings);
     }
-    write_report(&a, &report, &mut timings, clock)
+    write_report(a, &report, &mut timings, clock)
 }
 
 /// Prints `report` as `a` asks (text or JSON, with timings) and returns the exit status;

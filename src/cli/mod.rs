@@ -80,7 +80,7 @@ pub fn run() -> ExitCode {
 /// The error and its causes, `outer: cause: cause`, as anyhow's `{:#}` prints them, except
 /// that a cause whose text the message already holds is not repeated (typed library errors
 /// show their source in their own message and keep it as `source()` for callers).
-fn chain(e: &anyhow::Error) -> String {
+pub(crate) fn chain(e: &anyhow::Error) -> String {
     let mut text = e.to_string();
     for cause in e.chain().skip(1) {
         let m = cause.to_string();

@@ -1410,7 +1410,8 @@ fn attributes_on_moves(ctx: &Ctx, tp: &mut Toolpath) -> Result<(), JobError> {
     Ok(())
 }
 
-/// Plan the whole design for `profile`.
+/// Plan the whole design for `profile`, the tool starting at the design's origin (the
+/// machine's origin when the job is placed at the design's coordinates, [`Place::Design`]).
 pub fn build_toolpath(
     design: &Design,
     profile: &Profile,
@@ -1427,17 +1428,51 @@ pub fn build_toolpath_with(
     opts: &BuildOptions,
     progress: Option<ProgressFn<'_>>,
 ) -> Result<BuildResult, JobError> {
-    build_toolpath_of(design, profile, opts, progress, None)
+    build_toolpath_placed(design, profile, opts, None, progress, None)
 }
 
-/// [`build_toolpath_with`], building only the operations whose 0-based indices `only`
-/// lists (an `[[output]]`'s, see [`crate::design::output`]); `None`: every operation. The
-/// others still shape the build as design context (a backboard keeps its margin from every
-/// channel, the neon runs use the design's channel width); they are not cut.
-pub fn build_toolpath_of(
+/// How a job will be placed ([`place_job`]): what fixes the machine's origin in design
+/// coordinates before the cut order is chosen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaceAt {
+    /// The placement asked for.
+    pub place: Place,
+    /// Distance from the work area's edges with [`Place::LowerLeft`] (design units).
+    pub margin: f64,
+    /// Rounding inset (design units): see [`place_job`].
+    pub inset: f64,
+}
+
+/// Grid (design units) the placed toolpath's coordinates are snapped to when the placement
+/// moves the job. A design moved by D before placement reaches the same placed coordinates
+/// only within the rounding of numbers of size D (ulp(10⁴) ≈ 1.8·10⁻¹², a few of them per
+/// built point); a number that prints at a rounding tie (an arc's centre offset `I` at
+/// exactly x.xxx5: the job's box corner placed at the inset, plus a tool radius of 1.5875
+/// mm) would print either way. On this grid both land on the same double, far below the
+/// program's last decimal (10⁻³ mm, 10⁻⁴ in) and above that noise for moves up to 10⁶ units.
+pub const PLACE_GRID: f64 = 1e-9;
+
+/// Most plans of one build placed by [`build_toolpath_placed`]: the first from the
+/// placement of the geometry, one more when leads move the placed job, a last when that
+/// moved the leads again.
+const MAX_PLACE_ROUNDS: usize = 3;
+
+/// [`build_toolpath_with`] for a job that [`place_job`] will place as `at` says: the cut
+/// order, the seams of closed contours and the travel figures are chosen from the machine's
+/// origin where it will be (design coordinates: minus the placement's shift), so that they
+/// are those of the machine and a design moved before placement builds the same program
+/// once placed. With `at = None`, the design's origin ([`build_toolpath_with`]). The
+/// toolpath is still in design coordinates: [`place_job`] moves it.
+///
+/// `only` lists the 0-based indices of the operations to build (an `[[output]]`'s, see
+/// [`crate::design::output`]); `None`: every operation. The others still shape the build
+/// as design context (a backboard keeps its margin from every channel, the neon runs use
+/// the design's channel width); they are not cut.
+pub fn build_toolpath_placed(
     design: &Design,
     profile: &Profile,
     opts: &BuildOptions,
+    at: Option<PlaceAt>,
     progress: Option<ProgressFn<'_>>,
     only: Option<&[usize]>,
 ) -> Result<BuildResult, JobError> {
@@ -1570,7 +1605,16 @@ pub fn build_toolpath_of(
             .sum();
         super::neon::bom(design, &ctx.strokes, runs, flex, ctx.tol * 1e-3, holes)
     });
-    let (mut toolpath, stats) = plan(&specs, DVec2::ZERO, opts.tolerance);
+    let (mut toolpath, stats) = match at {
+        Some(at) => plan_placed(
+            &specs,
+            profile,
+            design.units.mm_per_unit(),
+            at,
+            opts.tolerance,
+        ),
+        None => plan(&specs, DVec2::ZERO, opts.tolerance),
+    };
     attributes_on_moves(&ctx, &mut toolpath)?;
     report(progress, Stage::Toolpath, n_ops, n_ops);
     Ok(BuildResult {
@@ -1585,6 +1629,75 @@ pub fn build_toolpath_of(
         outlines: ctx.outlines,
         neon,
     })
+}
+
+/// [`plan`] of `specs` from the machine's origin of a job placed as `at` says, in design
+/// coordinates: minus the shift [`placement_offset`] gives the box of the specs' geometry
+/// ([`Geometry::bounds`], the same whatever the order). Leads (`lead_in`) can reach past
+/// that box and so move the placed job: while the shift of the planned toolpath's box
+/// differs from the one planned from by more than `tol`, the job is planned again from it
+/// (at most [`MAX_PLACE_ROUNDS`] plans). Every step moves with the design, so a design
+/// moved before placement gets the same order.
+fn plan_placed(
+    specs: &[OpSpec],
+    profile: &Profile,
+    design_mm_per_unit: f64,
+    at: PlaceAt,
+    tol: f64,
+) -> (Toolpath, Vec<PlanStats>) {
+    let Some((lo, hi)) = (specs.iter().filter_map(|s| s.geometry.bounds()))
+        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    else {
+        return plan(specs, DVec2::ZERO, tol);
+    };
+    let offset_of = |lo, hi| placement_offset(lo, hi, profile, design_mm_per_unit, at);
+    let mut offset = offset_of(lo, hi);
+    let mut planned = plan(specs, -offset, tol);
+    for _ in 1..MAX_PLACE_ROUNDS {
+        let s = planned.0.stats(DVec2::ZERO);
+        let (lo, hi) = (
+            DVec2::from_slice(&s.bbox_min),
+            DVec2::from_slice(&s.bbox_max),
+        );
+        if !(lo.is_finite() && hi.is_finite()) {
+            break;
+        }
+        let next = offset_of(lo, hi);
+        if next.distance(offset) <= tol {
+            break;
+        }
+        offset = next;
+        planned = plan(specs, -offset, tol);
+    }
+    planned
+}
+
+/// The shift [`place_job`] gives a job whose box is `lo..hi` (design units) on `profile`:
+/// none at the design's coordinates; the box's lower-left corner to the work area's plus
+/// `margin + inset`; the box's centre to the work area's.
+pub fn placement_offset(
+    lo: DVec2,
+    hi: DVec2,
+    profile: &Profile,
+    design_mm_per_unit: f64,
+    at: PlaceAt,
+) -> DVec2 {
+    let (a_lo, a_hi) = work_area_xy(profile, design_mm_per_unit);
+    match at.place {
+        Place::Design => DVec2::ZERO,
+        Place::LowerLeft => a_lo + DVec2::splat(at.margin + at.inset) - lo,
+        Place::Center => 0.5 * (a_lo + a_hi) - 0.5 * (lo + hi),
+    }
+}
+
+/// The work area's corners in xy (lower-left, upper-right), in design units.
+fn work_area_xy(profile: &Profile, design_mm_per_unit: f64) -> (DVec2, DVec2) {
+    let k = profile.units.mm_per_unit() / design_mm_per_unit;
+    let wa = &profile.work_area;
+    (
+        DVec2::new(wa.x.min(), wa.y.min()) * k,
+        DVec2::new(wa.x.max(), wa.y.max()) * k,
+    )
 }
 
 /// Where a built job goes on the machine.
@@ -1721,11 +1834,7 @@ pub fn place_job(
     let lo = DVec2::new(s.bbox_min[0], s.bbox_min[1]);
     let hi = DVec2::new(s.bbox_max[0], s.bbox_max[1]);
     let size = hi - lo;
-    // Work area corners in design units.
-    let k = profile.units.mm_per_unit() / design_mm_per_unit;
-    let wa = &profile.work_area;
-    let a_lo = DVec2::new(wa.x.min(), wa.y.min()) * k;
-    let a_hi = DVec2::new(wa.x.max(), wa.y.max()) * k;
+    let (a_lo, a_hi) = work_area_xy(profile, design_mm_per_unit);
     let units = if (design_mm_per_unit - 1.0).abs() < 1e-12 {
         "mm"
     } else {
@@ -1741,11 +1850,12 @@ pub fn place_job(
         inset,
         scale,
     )?;
-    let offset = match place {
-        Place::Design => DVec2::ZERO,
-        Place::LowerLeft => a_lo + DVec2::splat(margin + inset) - lo,
-        Place::Center => 0.5 * (a_lo + a_hi) - 0.5 * (lo + hi),
+    let at = PlaceAt {
+        place,
+        margin,
+        inset,
     };
+    let offset = placement_offset(lo, hi, profile, design_mm_per_unit, at);
     let (plo, phi) = (lo + offset, hi + offset);
     if place == Place::Design
         && (plo.x < a_lo.x || plo.y < a_lo.y || phi.x > a_hi.x || phi.y > a_hi.y)
@@ -1758,7 +1868,11 @@ pub fn place_job(
         )));
     }
     if offset != DVec2::ZERO {
-        built.toolpath = built.toolpath.translated(offset);
+        // Snapped to the placement grid: a design moved before placement differs here by
+        // its rounding only, and must print the same numbers.
+        built.toolpath = built
+            .toolpath
+            .mapped_xy(|p| ((p + offset) / PLACE_GRID).round() * PLACE_GRID);
         for o in &mut built.outlines {
             for p in &mut o.contours {
                 *p = p.translated(offset);

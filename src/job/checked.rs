@@ -13,8 +13,8 @@
 
 use super::JobError;
 use super::build::{
-    BuildOptions, BuildResult, Place, Placement, build_toolpath_of, fit_scale, outline_bounds,
-    place_job, scaled_design,
+    BuildOptions, BuildResult, Place, PlaceAt, Placement, build_toolpath_placed, fit_scale,
+    outline_bounds, place_job, scaled_design,
 };
 use super::check::{check_config, design_boundaries};
 use super::progress::{Progress, ProgressFn, Stage, Timings};
@@ -182,7 +182,7 @@ impl Job<'_> {
 
     /// [`Job::run`], building only the operations whose 0-based indices `only` lists (an
     /// `[[output]]`'s selection, [`crate::design::Output::operations_of`]); `None`: every
-    /// operation. The design's other operations stay context ([`build_toolpath_of`]).
+    /// operation. The design's other operations stay context ([`build_toolpath_placed`]).
     pub fn run_of(&self, only: Option<&[usize]>) -> Result<JobOutput, JobError> {
         let o = &self.options;
         let profile = self.profile;
@@ -353,7 +353,14 @@ impl Job<'_> {
                 scale,
             )?;
         }
-        let build = |d: &Design| build_toolpath_of(d, self.profile, &o.build, progress, only);
+        // Ordered from the machine's origin where the placement will put it.
+        let at = PlaceAt {
+            place: o.place,
+            margin: o.margin,
+            inset,
+        };
+        let build =
+            |d: &Design| build_toolpath_placed(d, self.profile, &o.build, Some(at), progress, only);
         let mut built = build(&design)?;
         if let Some((w, h)) = fit {
             // The outlines scale with the design, offsets and margins do not: a few rounds.

@@ -1,6 +1,6 @@
 //! The outputs of one design ([`crate::design::output`]): one checked [`Job`] per
 //! `[[output]]`, each with its own machine profile and format and only its own operations
-//! (the others stay design context, see [`super::build::build_toolpath_of`]).
+//! (the others stay design context, see [`super::build::build_toolpath_placed`]).
 //!
 //! All outputs are built at one scale, so that the layers of a sign match: with
 //! [`Scale::Fit`] every output is first fitted on its own, then the ones fitted larger than

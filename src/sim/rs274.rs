@@ -9,6 +9,14 @@
 //! (seen as about 1 in 25 runs when six run at once). A run killed by a signal is an error,
 //! never an empty reading. The folder goes on every exit path; folders left by killed
 //! processes are removed by the next run.
+//!
+//! The time limit is on work, not on the wall clock: rs274 is stopped when it has used
+//! [`Rs274Options::timeout`] of processor time (user + system, read from
+//! `/proc/PID/stat`), so a machine busy with other work, which stretches the wall time of a
+//! run but not its processor time, does not stop a program that would finish. Only a run
+//! that stays [`WALL_BACKSTOP_FACTOR`] times that long on the wall clock (rs274 blocked
+//! without working) is stopped on the wall clock; where `/proc` cannot be read (not Linux)
+//! the limit is the wall clock.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -17,10 +25,23 @@ use std::time::{Duration, Instant};
 /// Prefix of the temporary folders of rs274 runs.
 pub const TMP_PREFIX: &str = "skinpath-rs274-";
 
+/// A run still going after this many times [`Rs274Options::timeout`] of wall time is
+/// stopped whatever processor time it used: rs274 blocked without working (it reads no
+/// input, so this is a safeguard, not an expected path). Large enough that a process
+/// given a thirtieth of a processor on a busy machine still reaches its processor-time
+/// limit first.
+pub const WALL_BACKSTOP_FACTOR: u32 = 30;
+
+/// Clock ticks per second of the `utime` and `stime` fields of `/proc/PID/stat`
+/// (proc(5): "measured in clock ticks (divide by sysconf(_SC_CLK_TCK))"): Linux's `USER_HZ`,
+/// fixed at 100 on every architecture LinuxCNC is packaged for (amd64, arm64, armhf, i386).
+const USER_HZ: f64 = 100.0;
+
 /// How to run rs274.
 #[derive(Clone, Debug)]
 pub struct Rs274Options {
-    /// rs274 is killed after this long (a runaway `while` loop never ends).
+    /// rs274 is killed when it has used this much processor time (user + system; the wall
+    /// clock where `/proc` cannot be read): a runaway `while` loop never ends.
     pub timeout: Duration,
     /// rs274 is killed when its standard output passes this many bytes (a runaway loop that
     /// moves would fill the disk).
@@ -85,12 +106,20 @@ pub enum Rs274Error {
         #[source]
         source: std::io::Error,
     },
-    /// rs274 ran past [`Rs274Options::timeout`].
+    /// rs274 used more than [`Rs274Options::timeout`] of processor time (of wall time where
+    /// processor time cannot be read).
     #[error(
-        "rs274 did not finish within {:.1} s: stopped (a runaway loop? raise \
-         --rs274-timeout if the program is just long)", .0.as_secs_f64()
+        "rs274 did not finish within {:.1} s of processor time: stopped (a runaway loop? \
+         raise --rs274-timeout if the program is just long)", .0.as_secs_f64()
     )]
     Timeout(Duration),
+    /// rs274 was still running after [`WALL_BACKSTOP_FACTOR`] times
+    /// [`Rs274Options::timeout`] of wall time without reaching its processor-time limit.
+    #[error(
+        "rs274 was still running after {:.1} s of wall time without using its processor \
+         time: stopped (blocked?)", .0.as_secs_f64()
+    )]
+    Stalled(Duration),
     /// rs274 wrote more than [`Rs274Options::max_output`] bytes.
     #[error("rs274 wrote more than {} MB: stopped (a runaway loop?)", .0 >> 20)]
     OutputTooLarge(u64),
@@ -147,14 +176,23 @@ pub fn run(text: &str, opts: &Rs274Options) -> Result<Rs274Output, Rs274Error> {
             break status;
         }
         let size = std::fs::metadata(&out_path).map(|m| m.len()).unwrap_or(0);
-        if start.elapsed() > opts.timeout || size > opts.max_output {
+        let wall = start.elapsed();
+        let stop = if size > opts.max_output {
+            Some(Rs274Error::OutputTooLarge(opts.max_output))
+        } else {
+            match processor_time(child.id()) {
+                Some(cpu) if cpu > opts.timeout => Some(Rs274Error::Timeout(opts.timeout)),
+                Some(_) if wall > opts.timeout * WALL_BACKSTOP_FACTOR => {
+                    Some(Rs274Error::Stalled(opts.timeout * WALL_BACKSTOP_FACTOR))
+                }
+                None if wall > opts.timeout => Some(Rs274Error::Timeout(opts.timeout)),
+                _ => None,
+            }
+        };
+        if let Some(e) = stop {
             let _ = child.kill();
             let _ = child.wait();
-            return Err(if size > opts.max_output {
-                Rs274Error::OutputTooLarge(opts.max_output)
-            } else {
-                Rs274Error::Timeout(opts.timeout)
-            });
+            return Err(e);
         }
         std::thread::sleep(Duration::from_millis(5));
     };
@@ -174,6 +212,25 @@ pub fn run(text: &str, opts: &Rs274Options) -> Result<Rs274Output, Rs274Error> {
         return Err(Rs274Error::NoOutput);
     }
     Ok(output)
+}
+
+/// Processor time (user + system) process `pid` has used so far: fields 14 and 15 of
+/// `/proc/PID/stat` (proc(5)) over [`USER_HZ`]; `None` where that file cannot be read or
+/// parsed. The fields are counted after the command name's closing parenthesis, since the
+/// name itself may hold spaces.
+fn processor_time(pid: u32) -> Option<Duration> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    parse_processor_time(&stat)
+}
+
+/// [`processor_time`] of the text of a `/proc/PID/stat` file.
+fn parse_processor_time(stat: &str) -> Option<Duration> {
+    let (_, after_name) = stat.rsplit_once(')')?;
+    // Field 3 (state) is the first after the name: utime (14) and stime (15) follow.
+    let mut fields = after_name.split_whitespace().skip(14 - 3);
+    let utime: u64 = fields.next()?.parse().ok()?;
+    let stime: u64 = fields.next()?.parse().ok()?;
+    Some(Duration::from_secs_f64((utime + stime) as f64 / USER_HZ))
 }
 
 #[cfg(unix)]
@@ -233,5 +290,31 @@ fn own_tmp_dir(tmp: &Path) -> Result<TmpDir, Rs274Error> {
                 });
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A `/proc/PID/stat` line (format of proc(5)) whose command name holds spaces and a
+    /// parenthesis: utime 250 and stime 75 ticks are 3.25 s.
+    #[test]
+    fn processor_time_reads_utime_and_stime_after_the_name() {
+        let stat = "4242 (rs274 (x) y) R 1 4242 4242 0 -1 4194304 1000 0 0 0 250 75 0 0 20 0 \
+                    1 0 12345 1000000 200 18446744073709551615";
+        assert_eq!(
+            parse_processor_time(stat),
+            Some(Duration::from_secs_f64(3.25))
+        );
+        assert_eq!(parse_processor_time("4242 (cut"), None);
+    }
+
+    /// This process's own entry reads (on Linux); a process that does not exist has none.
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn own_processor_time_is_read() {
+        assert!(processor_time(std::process::id()).is_some());
+        assert_eq!(processor_time(u32::MAX), None);
     }
 }

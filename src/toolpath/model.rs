@@ -104,7 +104,14 @@ pub struct Toolpath {
 impl Toolpath {
     /// The same toolpath moved by `d` in the plane (arc centres move along).
     pub fn translated(&self, d: DVec2) -> Toolpath {
-        let d3 = DVec3::new(d.x, d.y, 0.0);
+        self.mapped_xy(|p| p + d)
+    }
+
+    /// The toolpath with every point's x and y (move ends, cut starts, arc centres) mapped
+    /// by `f`; z, feeds and the rest unchanged. `f` must keep distances (a translation, or
+    /// one followed by a rounding far below the tolerances) for the arcs to stay arcs.
+    pub fn mapped_xy(&self, f: impl Fn(DVec2) -> DVec2) -> Toolpath {
+        let f3 = |p: DVec3| f(p.truncate()).extend(p.z);
         Toolpath {
             operations: self
                 .operations
@@ -120,19 +127,19 @@ impl Toolpath {
                         .map(|c| Cut {
                             source: c.source.clone(),
                             group: c.group,
-                            start: c.start + d3,
+                            start: f3(c.start),
                             moves: c
                                 .moves
                                 .iter()
                                 .map(|m| Move {
                                     kind: match m.kind {
                                         MoveKind::Arc { center, ccw } => MoveKind::Arc {
-                                            center: center + d,
+                                            center: f(center),
                                             ccw,
                                         },
                                         k => k,
                                     },
-                                    to: m.to + d3,
+                                    to: f3(m.to),
                                     ..*m
                                 })
                                 .collect(),

@@ -25,6 +25,40 @@ pub enum Geometry {
     AttrPolylines3(Vec<AttrPolyline>),
 }
 
+impl Geometry {
+    /// The box (lo, hi) in xy of what the tool centre follows, or `None` when there is
+    /// nothing: paths by their segments' boxes (arcs exact, cubics by their control points,
+    /// [`crate::geom::PathSeg::bounding_box`]), points and polylines by their points. It does
+    /// not depend on the cut order, so a placement computed from it is known before the order
+    /// is chosen (leads, added by the cuts, can reach past it).
+    pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
+        let mut lo = DVec2::splat(f64::INFINITY);
+        let mut hi = DVec2::splat(f64::NEG_INFINITY);
+        let mut grow = |a: DVec2, b: DVec2| {
+            lo = lo.min(a);
+            hi = hi.max(b);
+        };
+        match self {
+            Geometry::Paths(paths) => {
+                for s in paths.iter().flat_map(|p| &p.segs) {
+                    let (a, b) = s.bounding_box();
+                    grow(a, b);
+                }
+            }
+            Geometry::Points(points) => points.iter().for_each(|&p| grow(p, p)),
+            Geometry::Polylines3(lines) => lines
+                .iter()
+                .flatten()
+                .for_each(|p| grow(p.truncate(), p.truncate())),
+            Geometry::AttrPolylines3(lines) => lines
+                .iter()
+                .flat_map(|l| &l.points)
+                .for_each(|p| grow(p.truncate(), p.truncate())),
+        }
+        (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+    }
+}
+
 /// A polyline with per-point z, feed and power: the move that reaches `points[i]` cuts at
 /// `feed[i]` and `power[i]`. An empty `feed` or `power` (or one of another length than
 /// `points`) falls back to the operation's value; the plunge to the first point uses the
@@ -355,6 +389,52 @@ mod tests {
             tabs: None,
             lead: Lead::None,
             dwell: 0.5,
+        }
+    }
+
+    /// The box of the geometry is the box of the planned toolpath (no leads), whatever the
+    /// tool's start and so whatever the order and seams: a circle of radius 3 about (10, 20)
+    /// as two half arcs starting at 45° (its box 7..13 × 17..23 comes from the arcs'
+    /// extremes, not their ends), a square 40..44 × 0..4 and a drilled point (−5, 30).
+    #[test]
+    fn geometry_bounds_are_the_planned_box_from_any_start() {
+        use crate::geom::{Arc, PathSeg};
+        let c = DVec2::new(10.0, 20.0);
+        let q = std::f64::consts::FRAC_PI_4;
+        let circle = Path::new(
+            vec![
+                PathSeg::Arc(Arc::new(c, 3.0, q, std::f64::consts::PI)),
+                PathSeg::Arc(Arc::new(
+                    c,
+                    3.0,
+                    q + std::f64::consts::PI,
+                    std::f64::consts::PI,
+                )),
+            ],
+            true,
+        );
+        let paths = Geometry::Paths(vec![square(DVec2::new(42.0, 2.0), 2.0), circle]);
+        let points = Geometry::Points(vec![DVec2::new(-5.0, 30.0)]);
+        let (lo, hi) = paths.bounds().expect("paths have a box");
+        assert!(lo.distance(DVec2::new(7.0, 0.0)) < 1e-12, "{lo}");
+        assert!(hi.distance(DVec2::new(44.0, 23.0)) < 1e-12, "{hi}");
+        assert_eq!(
+            points.bounds(),
+            Some((DVec2::new(-5.0, 30.0), DVec2::new(-5.0, 30.0)))
+        );
+        assert_eq!(Geometry::Points(vec![]).bounds(), None);
+        let specs = [spec(OperationKind::Profile, paths)];
+        for home in [
+            DVec2::ZERO,
+            DVec2::new(100.0, -50.0),
+            DVec2::new(10.0, 26.0),
+        ] {
+            let (tp, _) = plan(&specs, home, 1e-6);
+            let s = tp.stats(home);
+            let got = [s.bbox_min[0], s.bbox_min[1], s.bbox_max[0], s.bbox_max[1]];
+            for (g, w) in got.into_iter().zip([lo.x, lo.y, hi.x, hi.y]) {
+                assert!((g - w).abs() < 1e-9, "{home}: {got:?}");
+            }
         }
     }
 
