@@ -1808,6 +1808,89 @@ mod tests {
         assert!(naive(&s).is_empty());
     }
 
+    /// An Archimedean spiral about `c`: `turns` turns `pitch` apart in `per_turn` chords a
+    /// turn, points rounded to 3 decimals as a program writes them.
+    fn spiral(c: DVec2, turns: usize, per_turn: usize, pitch: f64) -> Vec<DVec2> {
+        (0..=turns * per_turn)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / per_turn as f64;
+                let r = pitch * t / std::f64::consts::TAU;
+                ((c + r * DVec2::new(t.cos(), t.sin())) * 1e3).round() / 1e3
+            })
+            .collect()
+    }
+
+    /// A dense spiral (40 turns 0.45 apart, 2,000 chords a turn: its half turns' chains all
+    /// nest) is proven apart by the block grid, without the budget running out; its
+    /// chords are far shorter than the gap between turns (≤ 2π·18/2000 ≈ 0.057 < 0.45), so
+    /// no two non-consecutive ones can meet. A chord across it is found where the grid of
+    /// segments and every pair tested agree.
+    #[test]
+    fn dense_spiral_is_proven_apart_and_a_chord_across_it_is_found() {
+        let c = DVec2::new(50.0, 50.0);
+        let mut s = SegmentSet::new();
+        s.push_polyline(&spiral(c, 40, 2000, 0.45), &[]);
+        let n = s.segs.len();
+        assert!(n > 70_000, "{n}");
+        assert!(s.proven_apart());
+        assert!(s.contacts().is_empty());
+        // A chord from the centre out, off the rounded points' lattice, crosses every turn
+        // once (40; the points rounded near the centre, where chords are 10⁻⁴ long, zigzag
+        // across it a few more times); its start touches the first point.
+        s.push_polyline(&pts(&[(50.0, 50.0), (80.0, 61.3)]), &[]);
+        assert!(!s.proven_apart());
+        let got = s.contacts();
+        let crossings = got.iter().filter(|c| c.proper).count();
+        assert!((40..=44).contains(&crossings), "{crossings}");
+        assert!(got.iter().all(|c| c.j == n));
+        let by_pairs: Vec<_> = (0..n)
+            .filter_map(|i| s.test_pair(i, n))
+            .map(|c| (c.i, c.j))
+            .collect();
+        assert_eq!(got.iter().map(|c| (c.i, c.j)).collect::<Vec<_>>(), by_pairs);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
+        /// Dense sets of a few thousand segments (random walks of short steps packed in a
+        /// small square, several contours, steps a fraction of their spacing): the contacts
+        /// are those of every pair tested exactly, and the sweep proves a set apart only
+        /// when no pair meets.
+        #[test]
+        fn dense_sets_match_every_pair(
+            seed in proptest::prelude::any::<u64>(),
+            contours in 2usize..8,
+            step in proptest::sample::select(vec![0.02, 0.1, 0.5]),
+        ) {
+            let mut state = seed | 1;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let mut s = SegmentSet::new();
+            s.across = Across::Crossings;
+            for _ in 0..contours {
+                let mut p = DVec2::new(10.0 * next(), 10.0 * next());
+                let mut heading = std::f64::consts::TAU * next();
+                let mut line = vec![p];
+                for _ in 0..3000 / contours {
+                    heading += 0.6 * (next() - 0.5);
+                    p += step * DVec2::new(heading.cos(), heading.sin());
+                    line.push((p * 1e3).round() / 1e3);
+                }
+                s.push_polyline(&line, &[]);
+            }
+            let want = naive(&s);
+            let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
+            proptest::prop_assert_eq!(&got, &want);
+            if s.proven_apart() {
+                proptest::prop_assert!(want.is_empty());
+            }
+        }
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
         /// The chain sweep never declares apart a set in which some pair meets, and where
