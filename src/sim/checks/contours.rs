@@ -297,6 +297,43 @@ pub(crate) fn pass_numbers(keys: &[PathKey]) -> Vec<(u32, u32)> {
         .collect()
 }
 
+/// A multiplicative hasher for the small integer keys of [`ContactFolder`] (SipHash,
+/// the standard one, took a tenth of a retraced program's check): each word is mixed in by
+/// h = (rotl(h, 5) ⊕ w) · K with K = ⌊2⁶⁴/φ⌋ (Fibonacci hashing, Knuth TAOCP vol. 3
+/// §6.4), as rustc's FxHasher does. Keys come from the program, not from an adversary
+/// who would gain anything by colliding them.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct WordHasher(u64);
+
+/// ⌊2⁶⁴/φ⌋, the multiplier of [`WordHasher`].
+const FIBONACCI_K: u64 = 0x9e37_79b9_7f4a_7c15;
+
+impl std::hash::Hasher for WordHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, w: u64) {
+        self.0 = (self.0.rotate_left(5) ^ w).wrapping_mul(FIBONACCI_K);
+    }
+    fn write_u32(&mut self, w: u32) {
+        self.write_u64(u64::from(w));
+    }
+    fn write_usize(&mut self, w: usize) {
+        self.write_u64(w as u64);
+    }
+    fn write_u8(&mut self, w: u8) {
+        self.write_u64(u64::from(w));
+    }
+}
+
+/// Hash maps keyed by small integers ([`WordHasher`]).
+type WordMap<K, V> = std::collections::HashMap<K, V, std::hash::BuildHasherDefault<WordHasher>>;
+
 /// One side of a contact as the crossing findings read it.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Side {
@@ -327,16 +364,27 @@ struct Folded {
 pub(crate) struct ContactFolder<'p> {
     passes: &'p [(u32, u32)],
     allow_crossings: bool,
-    by_lines: std::collections::HashMap<(bool, usize, usize), usize>,
-    by_path: std::collections::HashMap<[(u32, u32); 2], usize>,
+    /// Per path (first contour): cut more than once.
+    repeated: Vec<bool>,
+    by_lines: WordMap<(bool, usize, usize), usize>,
+    by_path: WordMap<[(u32, u32); 2], usize>,
     found: Vec<Folded>,
 }
 
 impl<'p> ContactFolder<'p> {
     /// A folder for contours numbered by `passes` ([`pass_numbers`]).
     pub fn new(passes: &'p [(u32, u32)], cfg: &CheckConfig) -> Self {
+        let mut repeated = vec![false; passes.len()];
+        for &(first, pass) in passes {
+            if pass > 1
+                && let Some(r) = repeated.get_mut(first as usize)
+            {
+                *r = true;
+            }
+        }
         ContactFolder {
             passes,
+            repeated,
             allow_crossings: cfg.allow_crossings,
             by_lines: Default::default(),
             by_path: Default::default(),
@@ -363,8 +411,12 @@ impl<'p> ContactFolder<'p> {
             s.line.min(t.line),
             s.line.max(t.line),
         );
-        let k = match (self.by_path.get(&path), self.by_lines.get(&lines)) {
-            (Some(&k), _) | (None, Some(&k)) => k,
+        // Only a contact on a path cut more than once can repeat an earlier one's place.
+        let repeated = |p: u32| self.repeated.get(p as usize).copied().unwrap_or(false);
+        let by_path = repeated(ps) || repeated(pt);
+        let earlier = by_path.then(|| self.by_path.get(&path).copied()).flatten();
+        let k = match (earlier, self.by_lines.get(&lines)) {
+            (Some(k), _) | (None, Some(&k)) => k,
             (None, None) => {
                 self.found.push(Folded {
                     contours: [s.contour, t.contour],
@@ -376,8 +428,14 @@ impl<'p> ContactFolder<'p> {
                 self.found.len() - 1
             }
         };
-        self.by_path.entry(path).or_insert(k);
+        if by_path {
+            self.by_path.entry(path).or_insert(k);
+        }
         self.by_lines.entry(lines).or_insert(k);
+        if !by_path {
+            // Both paths cut once: pass 1 of each, nothing to list.
+            return;
+        }
         let p0 = self.pass(self.found[k].contours[0]).0;
         let f = &mut self.found[k];
         // Each pass number goes with the side of the finding on the same path (both sides
