@@ -48,6 +48,13 @@ const SPLIT_MIN: usize = 1024;
 /// the grid.
 const CHAIN_BUDGET: usize = 16;
 
+/// Steps per segment of the first try of the sweep over chains in
+/// [`SegmentSet::proven_apart`] (and 4096 more): enough for sets whose chains each overlap
+/// a few others (the benches' circles, rounded to 3 decimals, need between 1/2 and 1),
+/// a sixteenth of the full budget lost where chains overlap by the hundred (a spiral)
+/// before the block grid decides.
+const SWEEP_TRIAL: usize = 1;
+
 /// A run of segments `start..end` whose x strictly increases (or decreases when `rev`),
 /// with its bounding box (see [`SegmentSet::proven_apart`]).
 struct Chain {
@@ -829,6 +836,14 @@ impl SegmentSet {
             });
             k = e;
         }
+        chains.sort_by(|a, b| a.lo.x.total_cmp(&b.lo.x));
+        // A short try of the sweep over chains, which decides sparse sets (circles apart,
+        // each chain near a few others) for less than the grid costs; then the grid; then
+        // the sweep in full where the grid cannot be built.
+        let trial = SWEEP_TRIAL.saturating_mul(n).saturating_add(4096);
+        if let Some(apart) = self.chains_sweep(&chains, &blocks, trial) {
+            return apart;
+        }
         let full = CHAIN_BUDGET.saturating_mul(n).saturating_add(4096);
         let mut budget = full;
         let mut spend = |k: usize| {
@@ -838,37 +853,48 @@ impl SegmentSet {
         if let Some(apart) = self.blocks_apart_on_grid(&chains, &blocks, &mut spend) {
             return apart;
         }
-        // Blocks too unequal for one grid: the sweep over chains, on a budget of its own.
-        let mut budget = full;
+        self.chains_sweep(&chains, &blocks, full).unwrap_or(false)
+    }
+
+    /// The sweep over `chains` (sorted by their boxes' low x) of
+    /// [`SegmentSet::proven_apart`]: Some(true) when no two segments meet, Some(false) when a
+    /// pair meets, None when it ran out of steps first: `budget` for the comparisons of
+    /// chains whose boxes overlap, [`CHAIN_BUDGET`] per segment for the scan of the chains
+    /// active at each one (cheap box tests: a column of circles keeps hundreds active).
+    fn chains_sweep(&self, chains: &[Chain], blocks: &[(f64, f64)], budget: usize) -> Option<bool> {
+        let mut scan = CHAIN_BUDGET
+            .saturating_mul(self.segs.len())
+            .saturating_add(4096);
+        let mut left = budget;
         let mut spend = |k: usize| {
-            budget = budget.saturating_sub(k);
-            budget > 0
+            left = left.saturating_sub(k);
+            left > 0
         };
-        chains.sort_by(|a, b| a.lo.x.total_cmp(&b.lo.x));
         let mut active: Vec<usize> = Vec::new();
         for (c, ch) in chains.iter().enumerate() {
             active.retain(|&a| chains[a].hi.x >= ch.lo.x);
-            if !spend(active.len() + 1) {
-                return false;
+            scan = scan.saturating_sub(active.len() + 1);
+            if scan == 0 || !spend(1) {
+                return None;
             }
             for &a in &active {
                 let o = &chains[a];
                 if o.hi.y >= ch.lo.y
                     && ch.hi.y >= o.lo.y
-                    && !self.chains_apart(o, ch, &blocks, &mut spend)
+                    && !self.chains_apart(o, ch, blocks, &mut spend)
                 {
-                    return false;
+                    return if left == 0 { None } else { Some(false) };
                 }
             }
             active.push(c);
         }
-        true
+        Some(true)
     }
 
     /// [`SegmentSet::proven_apart`] by the blocks of its chains on a uniform grid: Some(true)
     /// when no two segments meet, Some(false) when a pair meets or the budget runs out, None
     /// when the grid would take too many cells (blocks far larger than the typical one, as
-    /// a long move among short ones): the chain sweep decides then.
+    /// a long move among short ones): the chain sweep decides then. `chains` in any order.
     ///
     /// Each block (up to [`CHAIN_BLOCK`] consecutive segments of one chain, `ys` its y
     /// range, its end points its x range) is entered into every cell its box overlaps; the
