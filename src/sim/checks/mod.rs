@@ -3,7 +3,7 @@
 //! | id | severity | what |
 //! |---|---|---|
 //! | `self-intersection` | error | a cut contour crosses or touches itself (passing twice through one of its vertices without crossing, or tangentially as arc leads at a closed contour's start do, is no touch) |
-//! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`; contours of one marked pocket may, line cuts (`skinpath:group 0`) may cross anything) |
+//! | `contour-crossing` | error | two cut contours cross, one finding per crossing whatever the passes of each path (listed) (off with `allow_crossings`; contours of one marked pocket may, line cuts (`skinpath:group 0`) may cross anything) |
 //! | `too-many-contacts` | error | the contours meet in more than `MAX_CONTACTS` places; only the first are listed |
 //! | `check-limit` | error | the cut contours flatten to more than `MAX_CONTOUR_SEGMENTS` segments; the contour checks stopped there |
 //! | `gouge` | error | tool centre nearer the design than tool radius − tolerance, or on the wrong side |
