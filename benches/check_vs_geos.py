@@ -6,8 +6,11 @@ Peers:
   memory: the intersection test alone, no reading or parsing;
 - LinuxCNC's stand-alone interpreter `rs274 -n 0 -g` on the same file, when installed.
 
-The program: closed 1000-gons of radius 4 on a 9 mm grid (a nesting or lettering job: many
-contours, no intersections), cut with a laser, written as `G1 X… Y…` lines of about 20 bytes.
+Two programs, each cut with a laser and written as `G1 X… Y…` lines of about 20 bytes:
+- circles: closed 1000-gons of radius 4 on a 9 mm grid (a nesting or lettering job: many
+  contours, no intersections; sparse);
+- spiral: one Archimedean spiral of 200 turns 0.45 mm apart (a spiral fill or an engraving;
+  dense: its half turns all nest), issue #42.
 
 Run (release binary built first):
     python3 benches/check_vs_geos.py --segments 1000000 --skinpath target/release/skinpath
@@ -42,6 +45,18 @@ def circles(n):
     return out
 
 
+def spiral(n):
+    """One spiral of 200 turns 0.45 mm apart in `n` chords about (100, 100), rounded as the
+    program writes its points."""
+    per = n // 200
+    pts = []
+    for i in range(200 * per + 1):
+        t = math.tau * i / per
+        r = 0.45 * t / math.tau
+        pts.append((round(100.0 + r * math.cos(t), 3), round(100.0 + r * math.sin(t), 3)))
+    return [pts]
+
+
 def write_program(polys, path):
     with open(path, "w") as f:
         f.write("G21 G90 G17\nF1500 S800\n")
@@ -71,17 +86,8 @@ def best_of(k, fn):
     return best, best_cpu
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--segments", type=int, default=1_000_000)
-    ap.add_argument("--skinpath", default="target/release/skinpath")
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--keep", help="write the program here and keep it")
-    a = ap.parse_args()
-
-    polys = circles(a.segments)
-    tmp = tempfile.mkdtemp(prefix="skinpath-bench-")
-    path = a.keep or os.path.join(tmp, "program.gcode")
+def bench(a, polys, path):
+    """Times `check` of the program of `polys` written to `path` against its peers."""
     write_program(polys, path)
     size = os.path.getsize(path)
     segs = sum(len(p) - 1 for p in polys)
@@ -128,6 +134,20 @@ def main():
     else:
         print("LinuxCNC rs274: not installed here (linuxcnc-uspace): skipped")
 
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--segments", type=int, default=1_000_000)
+    ap.add_argument("--skinpath", default="target/release/skinpath")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--keep", help="write the programs into this folder and keep them")
+    a = ap.parse_args()
+
+    tmp = tempfile.mkdtemp(prefix="skinpath-bench-")
+    for name, polys in (("circles", circles(a.segments)), ("spiral", spiral(a.segments))):
+        print(f"== {name}")
+        path = os.path.join(a.keep or tmp, f"{name}.gcode")
+        bench(a, polys, path)
     if not a.keep:
         shutil.rmtree(tmp, ignore_errors=True)
     return 0

@@ -1,6 +1,7 @@
 //! Benchmarks of the simulation backend:
 //! - the contour-contact check (hash grid + exact predicates) on 10k, 100k and 1M segments,
-//!   against geo's sweep-line `Intersections` and a naive O(n²) all-pairs baseline;
+//!   against geo's sweep-line `Intersections` and a naive O(n²) all-pairs baseline; the
+//!   same against geo's sweep on a dense spiral (100k and 1M segments, 200 turns);
 //! - the same on a multi-pass job (nested rings in a board, 6 passes of each contour):
 //!   the chain sweep without the repeated passes against the grid alone;
 //! - interpretation throughput (MB/s) against the gcode crate's parser, beside skinpath's
@@ -35,6 +36,22 @@ fn circles(n: usize) -> Vec<Vec<DVec2>> {
                 .collect()
         })
         .collect()
+}
+
+/// `n` segments as one Archimedean spiral of 200 turns 0.45 mm apart (a spiral fill or an
+/// engraving), points rounded to 3 decimals as a program writes them: dense geometry, whose
+/// x-monotone half turns all nest.
+fn spiral(n: usize) -> Vec<Vec<DVec2>> {
+    let per_turn = n / 200;
+    vec![
+        (0..=200 * per_turn)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / per_turn as f64;
+                let r = 0.45 * t / std::f64::consts::TAU;
+                ((DVec2::splat(100.0) + r * DVec2::new(t.cos(), t.sin())) * 1e3).round() / 1e3
+            })
+            .collect(),
+    ]
 }
 
 fn segment_set(polys: &[Vec<DVec2>]) -> SegmentSet {
@@ -104,6 +121,23 @@ fn contacts(c: &mut Criterion) {
             })
         });
         g.bench_with_input(BenchmarkId::new("geo-sweep", n), &polys, |b, p| {
+            b.iter(|| {
+                let lines = geo_lines(p);
+                black_box(geo::algorithm::sweep::Intersections::from_iter(lines).count())
+            })
+        });
+    }
+    // Dense: the spiral, against geo's sweep on the same segments.
+    for n in [100_000usize, 1_000_000] {
+        let polys = spiral(n);
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_with_input(BenchmarkId::new("spiral-grid", n), &polys, |b, p| {
+            b.iter(|| {
+                let s = segment_set(p);
+                black_box(s.contacts().len())
+            })
+        });
+        g.bench_with_input(BenchmarkId::new("spiral-geo-sweep", n), &polys, |b, p| {
             b.iter(|| {
                 let lines = geo_lines(p);
                 black_box(geo::algorithm::sweep::Intersections::from_iter(lines).count())

@@ -242,6 +242,8 @@ struct ContactRec {
     point: DVec2,
     proper: bool,
     contour: [u32; 2],
+    /// Positions of the segments in their contours.
+    index: [u32; 2],
     line: [u64; 2],
     /// Height of the first segment's contour.
     z: f64,
@@ -255,6 +257,7 @@ impl ContactRec {
             point: c.point,
             proper: c.proper,
             contour: [s.contour, t.contour],
+            index: [s.index, t.index],
             line: [s.line, t.line],
             z: s.z,
         }
@@ -272,6 +275,8 @@ struct Cur {
     count: u32,
     first_rec: Option<SegRec>,
     held: Option<SegRec>,
+    /// Its path so far ([`contours::PathHasher`]).
+    path: contours::PathHasher,
 }
 
 /// The checks' state between moves.
@@ -292,6 +297,8 @@ struct Checker<'d> {
     time: Estimator,
     cur: Option<Cur>,
     contours: u32,
+    /// Path key of every contour ended so far, in order.
+    paths: Vec<contours::PathKey>,
     spill: TempFile,
     out: Option<BufWriter<std::fs::File>>,
     segs: u64,
@@ -326,6 +333,7 @@ impl<'d> Checker<'d> {
             time: Estimator::new(cfg),
             cur: None,
             contours: 0,
+            paths: Vec::new(),
             spill,
             out: Some(out),
             segs: 0,
@@ -407,6 +415,7 @@ impl<'d> Checker<'d> {
                 count: 0,
                 first_rec: None,
                 held: None,
+                path: contours::PathHasher::default(),
             });
             self.contours += 1;
         }
@@ -428,6 +437,7 @@ impl<'d> Checker<'d> {
             return;
         }
         c.prev = p;
+        c.path.segment(q, p);
         let mut rec = SegRec {
             a: q,
             b: p,
@@ -477,6 +487,7 @@ impl<'d> Checker<'d> {
             return;
         };
         let closed = c.count >= 2 && c.first == c.prev;
+        self.paths.push(c.path.key(closed, c.group));
         if closed && let (Some(f), Some(l)) = (c.first_rec.as_mut(), c.held.as_mut()) {
             f.link.prev_a = Some(l.a);
             f.link.wrap = true;
@@ -615,24 +626,17 @@ impl<'d> Checker<'d> {
         let mut all = std::mem::take(&mut self.contacts);
         all.sort_by_key(|c| (c.i, c.j));
         all.dedup_by(|p, q| p.i == q.i && p.j == q.j);
-        let mut seen = std::collections::BTreeSet::new();
+        let passes = contours::pass_numbers(&self.paths);
+        let mut folder = contours::ContactFolder::new(&passes, &self.cfg);
         for c in all {
-            let same = c.contour[0] == c.contour[1];
-            if !same && (!c.proper || self.cfg.allow_crossings) {
-                continue;
-            }
-            let (l1, l2) = (c.line[0] as usize, c.line[1] as usize);
-            let key = (same, l1.min(l2), l1.max(l2));
-            if !seen.insert(key) {
-                continue;
-            }
-            out.push(contours::contact_finding(
-                c.contour,
-                c.proper,
-                [key.1, key.2],
-                [c.point.x, c.point.y, c.z],
-            ));
+            let side = |k: usize| contours::Side {
+                contour: c.contour[k],
+                index: c.index[k],
+                line: c.line[k] as usize,
+            };
+            folder.contact(side(0), side(1), c.proper, [c.point.x, c.point.y, c.z]);
         }
+        folder.finish(out);
         Ok(())
     }
 

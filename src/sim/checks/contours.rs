@@ -6,6 +6,7 @@
 //! toolpath) or [`OutlineContour`](crate::emit::outline::OutlineContour) (a flattened contour
 //! of the outline document).
 
+use super::Capped;
 use super::intersect::{Across, MAX_CONTACTS, SegmentSet};
 use crate::geom::DVec2;
 use crate::sim::config::{CheckConfig, MachineKind};
@@ -226,50 +227,319 @@ fn new_set(cfg: &CheckConfig) -> SegmentSet {
     set
 }
 
+/// What tells one contour's path from another's, for numbering the passes of a path cut
+/// several times ([`pass_numbers`]): segment count, closedness, pocket mark, and the 128-bit
+/// FNV-1a hash (Fowler–Noll–Vo, offset basis and prime of the 128-bit variant) of the bits
+/// of every segment's end points, in order. Two contours with equal keys repeat one path
+/// bit for bit unless the hash collides (about 2⁻¹²⁸ a pair).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct PathKey {
+    count: u32,
+    closed: bool,
+    pocket: Option<u32>,
+    hash: u128,
+}
+
+/// Builds a [`PathKey`] segment by segment (both routes of the check feed it the same
+/// segments: those [`SegmentSet::push_polyline_in`] keeps).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PathHasher {
+    count: u32,
+    hash: u128,
+}
+
+/// FNV-1a 128-bit offset basis.
+const FNV128_BASIS: u128 = 0x6c62_272e_07bb_0142_62b8_2175_6295_c58d;
+/// FNV-1a 128-bit prime, 2⁸⁸ + 2⁸ + 0x3b.
+const FNV128_PRIME: u128 = (1 << 88) + (1 << 8) + 0x3b;
+
+impl Default for PathHasher {
+    fn default() -> Self {
+        PathHasher {
+            count: 0,
+            hash: FNV128_BASIS,
+        }
+    }
+}
+
+impl PathHasher {
+    /// Adds the segment `a`–`b`.
+    pub fn segment(&mut self, a: DVec2, b: DVec2) {
+        self.count += 1;
+        for w in [a.x, a.y, b.x, b.y] {
+            self.hash = (self.hash ^ u128::from(w.to_bits())).wrapping_mul(FNV128_PRIME);
+        }
+    }
+
+    /// The key of the contour fed so far.
+    pub fn key(&self, closed: bool, pocket: Option<u32>) -> PathKey {
+        PathKey {
+            count: self.count,
+            closed,
+            pocket,
+            hash: self.hash,
+        }
+    }
+}
+
+/// Per contour (keys in contour order): the first contour with the same path key and the
+/// pass number of this one among the contours of that path (1 for the first).
+pub(crate) fn pass_numbers(keys: &[PathKey]) -> Vec<(u32, u32)> {
+    let mut seen: std::collections::HashMap<PathKey, (u32, u32)> =
+        std::collections::HashMap::with_capacity(keys.len());
+    keys.iter()
+        .enumerate()
+        .map(|(c, k)| {
+            let e = seen.entry(*k).or_insert((c as u32, 0));
+            e.1 += 1;
+            *e
+        })
+        .collect()
+}
+
+/// A multiplicative hasher for the small integer keys of [`ContactFolder`] (SipHash,
+/// the standard one, took a tenth of a retraced program's check): each word is mixed in by
+/// h = (rotl(h, 5) ⊕ w) · K with K = ⌊2⁶⁴/φ⌋ (Fibonacci hashing, Knuth TAOCP vol. 3
+/// §6.4), as rustc's FxHasher does. Keys come from the program, not from an adversary
+/// who would gain anything by colliding them.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct WordHasher(u64);
+
+/// ⌊2⁶⁴/φ⌋, the multiplier of [`WordHasher`].
+const FIBONACCI_K: u64 = 0x9e37_79b9_7f4a_7c15;
+
+impl std::hash::Hasher for WordHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, w: u64) {
+        self.0 = (self.0.rotate_left(5) ^ w).wrapping_mul(FIBONACCI_K);
+    }
+    fn write_u32(&mut self, w: u32) {
+        self.write_u64(u64::from(w));
+    }
+    fn write_usize(&mut self, w: usize) {
+        self.write_u64(w as u64);
+    }
+    fn write_u8(&mut self, w: u8) {
+        self.write_u64(u64::from(w));
+    }
+}
+
+/// Hash maps keyed by small integers ([`WordHasher`]).
+type WordMap<K, V> = std::collections::HashMap<K, V, std::hash::BuildHasherDefault<WordHasher>>;
+
+/// One side of a contact as the crossing findings read it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Side {
+    /// Contour number.
+    pub contour: u32,
+    /// Position of the segment in its contour.
+    pub index: u32,
+    /// Source line of the segment's move.
+    pub line: usize,
+}
+
+/// A finding of [`ContactFolder`] before it is built: the first contact of its crossing,
+/// and the pass numbers of each side's path met there.
+#[derive(Clone, Debug)]
+struct Folded {
+    contours: [u32; 2],
+    proper: bool,
+    lines: [usize; 2],
+    at: [f64; 3],
+    passes: [std::collections::BTreeSet<u32>; 2],
+}
+
+/// Turns the contacts of the intersection check (taken in segment-pair order) into its
+/// findings, on both routes: one per pair of source lines as before, and one per crossing
+/// of two paths whatever the number of passes each is cut in (issue #42): a contact whose
+/// segments repeat, at the same positions of the same paths ([`pass_numbers`]), those of
+/// an earlier contact joins that contact's finding, which lists the passes.
+pub(crate) struct ContactFolder<'p> {
+    passes: &'p [(u32, u32)],
+    allow_crossings: bool,
+    /// Per path (first contour): cut more than once.
+    repeated: Vec<bool>,
+    by_lines: WordMap<(bool, usize, usize), usize>,
+    by_path: WordMap<[(u32, u32); 2], usize>,
+    found: Vec<Folded>,
+}
+
+impl<'p> ContactFolder<'p> {
+    /// A folder for contours numbered by `passes` ([`pass_numbers`]).
+    pub fn new(passes: &'p [(u32, u32)], cfg: &CheckConfig) -> Self {
+        let mut repeated = vec![false; passes.len()];
+        for &(first, pass) in passes {
+            if pass > 1
+                && let Some(r) = repeated.get_mut(first as usize)
+            {
+                *r = true;
+            }
+        }
+        ContactFolder {
+            passes,
+            repeated,
+            allow_crossings: cfg.allow_crossings,
+            by_lines: Default::default(),
+            by_path: Default::default(),
+            found: Vec::new(),
+        }
+    }
+
+    /// The path (first contour) and pass number of contour `c`.
+    fn pass(&self, c: u32) -> (u32, u32) {
+        self.passes.get(c as usize).copied().unwrap_or((c, 1))
+    }
+
+    /// Takes the next contact between sides `s` and `t` (`proper`: their interiors cross)
+    /// at `at`.
+    pub fn contact(&mut self, s: Side, t: Side, proper: bool, at: [f64; 3]) {
+        if s.contour != t.contour && (!proper || self.allow_crossings) {
+            return;
+        }
+        let ((ps, ns), (pt, nt)) = (self.pass(s.contour), self.pass(t.contour));
+        let mut path = [(ps, s.index), (pt, t.index)];
+        path.sort_unstable();
+        let lines = (
+            s.contour == t.contour,
+            s.line.min(t.line),
+            s.line.max(t.line),
+        );
+        // Only a contact on a path cut more than once can repeat an earlier one's place.
+        let repeated = |p: u32| self.repeated.get(p as usize).copied().unwrap_or(false);
+        let by_path = repeated(ps) || repeated(pt);
+        let earlier = by_path.then(|| self.by_path.get(&path).copied()).flatten();
+        let k = match (earlier, self.by_lines.get(&lines)) {
+            (Some(k), _) | (None, Some(&k)) => k,
+            (None, None) => {
+                self.found.push(Folded {
+                    contours: [s.contour, t.contour],
+                    proper,
+                    lines: [lines.1, lines.2],
+                    at,
+                    passes: Default::default(),
+                });
+                self.found.len() - 1
+            }
+        };
+        if by_path {
+            self.by_path.entry(path).or_insert(k);
+        }
+        self.by_lines.entry(lines).or_insert(k);
+        if !by_path {
+            // Both paths cut once: pass 1 of each, nothing to list.
+            return;
+        }
+        let p0 = self.pass(self.found[k].contours[0]).0;
+        let f = &mut self.found[k];
+        // Each pass number goes with the side of the finding on the same path (both sides
+        // when the finding is a path crossing itself).
+        if ps == pt {
+            f.passes.iter_mut().for_each(|p| {
+                p.insert(ns);
+                p.insert(nt);
+            });
+        } else {
+            let (a, b) = if ps == p0 { (ns, nt) } else { (nt, ns) };
+            f.passes[0].insert(a);
+            f.passes[1].insert(b);
+        }
+    }
+
+    /// The findings, in the order of their first contacts, into `out` (findings beyond its
+    /// cap only counted).
+    pub fn finish(self, out: &mut Capped) {
+        for f in self.found {
+            let id = if f.contours[0] == f.contours[1] {
+                "self-intersection"
+            } else {
+                "contour-crossing"
+            };
+            out.push_with(id, || {
+                let mut g = contact_finding(f.contours, f.proper, f.lines, f.at);
+                let list = |p: &std::collections::BTreeSet<u32>| {
+                    p.iter().map(u32::to_string).collect::<Vec<_>>().join(", ")
+                };
+                if f.passes.iter().any(|p| p.len() > 1) {
+                    g.message += &if f.contours[0] == f.contours[1] {
+                        format!(" (in passes {} of its path)", list(&f.passes[0]))
+                    } else {
+                        format!(
+                            " (in passes {} of contour {}'s path and {} of contour {}'s)",
+                            list(&f.passes[0]),
+                            f.contours[0],
+                            list(&f.passes[1]),
+                            f.contours[1]
+                        )
+                    };
+                }
+                Some(g)
+            });
+        }
+    }
+}
+
 /// Self-intersections of each contour and crossings between contours (unless
-/// `cfg.allow_crossings`), on the contours' segments and starts ([`contour_segments`]).
+/// `cfg.allow_crossings`), on the contours' segments and starts ([`contour_segments`]),
+/// into `out` (kept up to its cap per id, the rest counted).
 /// Touching or overlapping counts within a contour; between contours only transversal
 /// crossings do (a retraced contour, as in multi-pass laser cuts, overlaps itself without
 /// crossing). Two contours cut under the same pocket mark ([`note_group_marks`]) may
 /// cross, at one depth or at two: they clear one pocket together (a wire hole deeper than
 /// its channel crosses the channel's rings in plan view at every level). A contour still
 /// may not touch itself, and unmarked contours (profiles, backboards, other tools'
-/// programs) are judged strictly. One finding per pair of source lines.
-pub fn intersection_findings(
+/// programs) are judged strictly. One finding per pair of source lines, and one per
+/// crossing of two paths whatever their passes ([`ContactFolder`]).
+pub(crate) fn intersection_findings(
     set: &SegmentSet,
     starts: &[ContourStart],
     motions: &Motions,
     cfg: &CheckConfig,
-) -> Vec<Finding> {
-    let mut seen = std::collections::BTreeSet::new();
-    let mut out = Vec::new();
+    out: &mut Capped,
+) {
     let line_of = |src: u32| motions.get(src as usize).map(|m| m.line).unwrap_or(0);
     let (contacts, capped) = set.contacts_capped();
     if capped {
         out.push(too_many_contacts());
     }
+    let passes = pass_numbers(&path_keys(set));
+    let mut folder = ContactFolder::new(&passes, cfg);
     for c in contacts {
         let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
             continue;
         };
-        let same = s.contour == t.contour;
-        if !same && (!c.proper || cfg.allow_crossings) {
-            continue;
-        }
-        let (l1, l2) = (line_of(s.source), line_of(t.source));
-        let key = (same, l1.min(l2), l1.max(l2));
-        if !seen.insert(key) {
-            continue;
-        }
+        let side = |g: &super::Seg| Side {
+            contour: g.contour,
+            index: g.index,
+            line: line_of(g.source),
+        };
         let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
-        out.push(contact_finding(
-            [s.contour, t.contour],
-            c.proper,
-            [key.1, key.2],
-            [c.point.x, c.point.y, z],
-        ));
+        folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
     }
-    out
+    folder.finish(out);
+}
+
+/// The [`PathKey`] of every contour of `set`, in order.
+fn path_keys(set: &SegmentSet) -> Vec<PathKey> {
+    let mut at = 0usize;
+    set.contours
+        .iter()
+        .map(|&(n, closed)| {
+            let segs = set.segs.get(at..at + n as usize).unwrap_or_default();
+            at += n as usize;
+            let mut h = PathHasher::default();
+            for g in segs {
+                h.segment(g.a, g.b);
+            }
+            h.key(closed, segs.first().and_then(|g| g.pocket))
+        })
+        .collect()
 }
 
 /// The contacts between two cut contours the intersection check looks for: proper

@@ -48,6 +48,13 @@ const SPLIT_MIN: usize = 1024;
 /// the grid.
 const CHAIN_BUDGET: usize = 16;
 
+/// Steps per segment of the first try of the sweep over chains in
+/// [`SegmentSet::proven_apart`] (and 4096 more): enough for sets whose chains each overlap
+/// a few others (the benches' circles, rounded to 3 decimals, need between 1/2 and 1),
+/// a sixteenth of the full budget lost where chains overlap by the hundred (a spiral)
+/// before the block grid decides.
+const SWEEP_TRIAL: usize = 1;
+
 /// A run of segments `start..end` whose x strictly increases (or decreases when `rev`),
 /// with its bounding box (see [`SegmentSet::proven_apart`]).
 struct Chain {
@@ -768,17 +775,15 @@ impl SegmentSet {
     /// Two segments of one chain that are not consecutive have disjoint x ranges, so only
     /// segments of two chains can meet, and only where the chains' bounding boxes overlap
     /// (closed): for such chains every pair of segments with overlapping x ranges (closed)
-    /// is tested, walking both chains in x order.
+    /// is tested, walking both chains in x order. The chains' blocks are first laid on a
+    /// grid ([`SegmentSet::blocks_apart_on_grid`]), which decides in O(n) where chains'
+    /// boxes overlap by the hundred (a spiral's half turns all nest); the sweep over
+    /// chains decides where the blocks are too unequal for one grid.
     fn proven_apart(&self) -> bool {
         if self.links.is_some() {
             return false;
         }
         let n = self.segs.len();
-        let mut budget = CHAIN_BUDGET.saturating_mul(n).saturating_add(4096);
-        let mut spend = |k: usize| {
-            budget = budget.saturating_sub(k);
-            budget > 0
-        };
         let dir = |s: &Seg| (s.b.x - s.a.x).partial_cmp(&0.0);
         let mut chains: Vec<Chain> = Vec::new();
         let mut blocks: Vec<(f64, f64)> = Vec::with_capacity(n / CHAIN_BLOCK + 1);
@@ -832,22 +837,218 @@ impl SegmentSet {
             k = e;
         }
         chains.sort_by(|a, b| a.lo.x.total_cmp(&b.lo.x));
+        // A short try of the sweep over chains, which decides sparse sets (circles apart,
+        // each chain near a few others) for less than the grid costs; then the grid; then
+        // the sweep in full where the grid cannot be built.
+        let trial = SWEEP_TRIAL.saturating_mul(n).saturating_add(4096);
+        if let Some(apart) = self.chains_sweep(&chains, &blocks, trial) {
+            return apart;
+        }
+        let full = CHAIN_BUDGET.saturating_mul(n).saturating_add(4096);
+        let mut budget = full;
+        let mut spend = |k: usize| {
+            budget = budget.saturating_sub(k);
+            budget > 0
+        };
+        if let Some(apart) = self.blocks_apart_on_grid(&chains, &blocks, &mut spend) {
+            return apart;
+        }
+        self.chains_sweep(&chains, &blocks, full).unwrap_or(false)
+    }
+
+    /// The sweep over `chains` (sorted by their boxes' low x) of
+    /// [`SegmentSet::proven_apart`]: Some(true) when no two segments meet, Some(false) when a
+    /// pair meets, None when it ran out of steps first: `budget` for the comparisons of
+    /// chains whose boxes overlap, [`CHAIN_BUDGET`] per segment for the scan of the chains
+    /// active at each one (cheap box tests: a column of circles keeps hundreds active).
+    fn chains_sweep(&self, chains: &[Chain], blocks: &[(f64, f64)], budget: usize) -> Option<bool> {
+        let mut scan = CHAIN_BUDGET
+            .saturating_mul(self.segs.len())
+            .saturating_add(4096);
+        let mut left = budget;
+        let mut spend = |k: usize| {
+            left = left.saturating_sub(k);
+            left > 0
+        };
         let mut active: Vec<usize> = Vec::new();
         for (c, ch) in chains.iter().enumerate() {
             active.retain(|&a| chains[a].hi.x >= ch.lo.x);
-            if !spend(active.len() + 1) {
-                return false;
+            scan = scan.saturating_sub(active.len() + 1);
+            if scan == 0 || !spend(1) {
+                return None;
             }
             for &a in &active {
                 let o = &chains[a];
                 if o.hi.y >= ch.lo.y
                     && ch.hi.y >= o.lo.y
-                    && !self.chains_apart(o, ch, &blocks, &mut spend)
+                    && !self.chains_apart(o, ch, blocks, &mut spend)
                 {
-                    return false;
+                    return if left == 0 { None } else { Some(false) };
                 }
             }
             active.push(c);
+        }
+        Some(true)
+    }
+
+    /// [`SegmentSet::proven_apart`] by the blocks of its chains on a uniform grid: Some(true)
+    /// when no two segments meet, Some(false) when a pair meets or the budget runs out, None
+    /// when the grid would take too many cells (blocks far larger than the typical one, as
+    /// a long move among short ones): the chain sweep decides then. `chains` in any order.
+    ///
+    /// Each block (up to [`CHAIN_BLOCK`] consecutive segments of one chain, `ys` its y
+    /// range, its end points its x range) is entered into every cell its box overlaps; the
+    /// cell size is the smaller of the median block extent and √(area / blocks), so that a
+    /// dense set (a spiral of 200 turns, 10⁶ segments) has O(1) blocks per cell. A pair of
+    /// blocks of two chains is examined in the one cell that holds the low corner of the
+    /// intersection of their boxes (closed), and its segments are walked in x order, each
+    /// tested ([`SegmentSet::test_pair`]) against those of the other whose x range overlaps
+    /// its own. Pairs skipped cannot meet: boxes apart, x ranges apart, or one chain (its
+    /// segments that are not consecutive have disjoint x ranges, consecutive ones are
+    /// adjacent). O(n + m log m + pairs of blocks whose boxes overlap) for m blocks.
+    fn blocks_apart_on_grid(
+        &self,
+        chains: &[Chain],
+        ys: &[(f64, f64)],
+        spend: &mut impl FnMut(usize) -> bool,
+    ) -> Option<bool> {
+        // Blocks: (box lo, box hi, chain, block number within the chain).
+        let mut boxes: Vec<(DVec2, DVec2, u32, u32)> = Vec::with_capacity(ys.len());
+        for (c, ch) in chains.iter().enumerate() {
+            let count = (ch.end - ch.start) as usize;
+            for i in 0..count.div_ceil(CHAIN_BLOCK) {
+                let s0 = ch.start as usize + i * CHAIN_BLOCK;
+                let s1 = (s0 + CHAIN_BLOCK).min(ch.end as usize);
+                let (x0, x1) = (self.segs[s0].a.x, self.segs[s1 - 1].b.x);
+                let (y0, y1) = *ys.get(ch.block as usize + i)?;
+                boxes.push((
+                    DVec2::new(x0.min(x1), y0),
+                    DVec2::new(x0.max(x1), y1),
+                    c as u32,
+                    i as u32,
+                ));
+            }
+        }
+        let m = boxes.len();
+        if m < 2 {
+            return Some(true);
+        }
+        u32::try_from(m).ok()?;
+        let (lo, hi) = boxes.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), b| (lo.min(b.0), hi.max(b.1)),
+        );
+        let mut extents: Vec<f64> = boxes.iter().map(|b| (b.1 - b.0).max_element()).collect();
+        let (_, &mut median, _) = extents.select_nth_unstable_by(m / 2, f64::total_cmp);
+        let ext = hi - lo;
+        let by_area = (ext.x.max(median) * ext.y.max(median) / m as f64).sqrt();
+        let h = median
+            .min(by_area)
+            .max(ext.max_element() / MAX_CELLS_PER_AXIS);
+        if !(h.is_finite() && h > 0.0) {
+            return None;
+        }
+        let ny = (ext.y / h) as u64 + 2;
+        let cell = |p: DVec2| {
+            let q = (p - lo) / h;
+            (q.x as u64, q.y as u64)
+        };
+        // Cells a box covers, counted before any is stored (memory guard).
+        let mut covers = 0u64;
+        for b in &boxes {
+            let ((c0, r0), (c1, r1)) = (cell(b.0), cell(b.1));
+            covers = covers.saturating_add((c1 - c0 + 1).saturating_mul(r1 - r0 + 1));
+        }
+        let bound = (MAX_COVER_PER_SEG as u64)
+            .saturating_mul(m as u64)
+            .saturating_add(4096);
+        let max_key = ((ext.x / h) as u64 + 2).saturating_mul(ny);
+        if covers > bound || max_key > u64::from(u32::MAX) {
+            return None;
+        }
+        let mut entries: Vec<u64> = Vec::with_capacity(covers as usize);
+        for (k, b) in boxes.iter().enumerate() {
+            let ((c0, r0), (c1, r1)) = (cell(b.0), cell(b.1));
+            for c in c0..=c1 {
+                for r in r0..=r1 {
+                    entries.push(((c * ny + r) << 32) | k as u64);
+                }
+            }
+        }
+        radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
+        let mut g = 0;
+        while g < entries.len() {
+            let key = entries[g] >> 32;
+            let mut e = g + 1;
+            while e < entries.len() && entries[e] >> 32 == key {
+                e += 1;
+            }
+            for x in g..e {
+                let p = &boxes[entries[x] as u32 as usize];
+                for &y in &entries[x + 1..e] {
+                    let q = &boxes[y as u32 as usize];
+                    if p.2 == q.2 || p.0.cmpgt(q.1).any() || q.0.cmpgt(p.1).any() {
+                        continue;
+                    }
+                    let (c, r) = cell(p.0.max(q.0));
+                    if c * ny + r != key {
+                        continue;
+                    }
+                    let (a, b) = (&chains[p.2 as usize], &chains[q.2 as usize]);
+                    if !spend(1) || !self.blocks_apart(a, p.3, b, q.3, spend) {
+                        return Some(false);
+                    }
+                }
+            }
+            g = e;
+        }
+        Some(true)
+    }
+
+    /// True when no segment of block `i` of chain `a` meets one of block `j` of chain `b`
+    /// (blocks of [`CHAIN_BLOCK`] segments in storage order); false when a pair meets or the
+    /// budget runs out. The segments of each block are taken in x order; each is tested
+    /// against the run of the other's whose x ranges (closed) overlap its own.
+    fn blocks_apart(
+        &self,
+        a: &Chain,
+        i: u32,
+        b: &Chain,
+        j: u32,
+        spend: &mut impl FnMut(usize) -> bool,
+    ) -> bool {
+        // Segment indices of block k of chain c, in x order.
+        let run = |c: &Chain, k: u32| {
+            let s0 = c.start as usize + k as usize * CHAIN_BLOCK;
+            let s1 = (s0 + CHAIN_BLOCK).min(c.end as usize);
+            let rev = c.rev;
+            (0..s1 - s0).map(move |t| if rev { s1 - 1 - t } else { s0 + t })
+        };
+        let xs = |k: usize| {
+            let s = &self.segs[k];
+            (s.a.x.min(s.b.x), s.a.x.max(s.b.x))
+        };
+        let mut held = [0usize; CHAIN_BLOCK];
+        let mut count = 0;
+        for q in run(b, j) {
+            held[count] = q;
+            count += 1;
+        }
+        let others = &held[..count];
+        let mut first = 0;
+        for p in run(a, i) {
+            let (plo, phi) = xs(p);
+            while first < others.len() && xs(others[first]).1 < plo {
+                first += 1;
+            }
+            for &q in &others[first..] {
+                if xs(q).0 > phi {
+                    break;
+                }
+                if !spend(1) || self.test_pair(p, q).is_some() {
+                    return false;
+                }
+            }
         }
         true
     }
@@ -1631,6 +1832,89 @@ mod tests {
         assert!(s.proven_apart());
         assert!(s.contacts().is_empty());
         assert!(naive(&s).is_empty());
+    }
+
+    /// An Archimedean spiral about `c`: `turns` turns `pitch` apart in `per_turn` chords a
+    /// turn, points rounded to 3 decimals as a program writes them.
+    fn spiral(c: DVec2, turns: usize, per_turn: usize, pitch: f64) -> Vec<DVec2> {
+        (0..=turns * per_turn)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / per_turn as f64;
+                let r = pitch * t / std::f64::consts::TAU;
+                ((c + r * DVec2::new(t.cos(), t.sin())) * 1e3).round() / 1e3
+            })
+            .collect()
+    }
+
+    /// A dense spiral (40 turns 0.45 apart, 2,000 chords a turn: its half turns' chains all
+    /// nest) is proven apart by the block grid, without the budget running out; its
+    /// chords are far shorter than the gap between turns (≤ 2π·18/2000 ≈ 0.057 < 0.45), so
+    /// no two non-consecutive ones can meet. A chord across it is found where the grid of
+    /// segments and every pair tested agree.
+    #[test]
+    fn dense_spiral_is_proven_apart_and_a_chord_across_it_is_found() {
+        let c = DVec2::new(50.0, 50.0);
+        let mut s = SegmentSet::new();
+        s.push_polyline(&spiral(c, 40, 2000, 0.45), &[]);
+        let n = s.segs.len();
+        assert!(n > 70_000, "{n}");
+        assert!(s.proven_apart());
+        assert!(s.contacts().is_empty());
+        // A chord from the centre out, off the rounded points' lattice, crosses every turn
+        // once (40; the points rounded near the centre, where chords are 10⁻⁴ long, zigzag
+        // across it a few more times); its start touches the first point.
+        s.push_polyline(&pts(&[(50.0, 50.0), (80.0, 61.3)]), &[]);
+        assert!(!s.proven_apart());
+        let got = s.contacts();
+        let crossings = got.iter().filter(|c| c.proper).count();
+        assert!((40..=44).contains(&crossings), "{crossings}");
+        assert!(got.iter().all(|c| c.j == n));
+        let by_pairs: Vec<_> = (0..n)
+            .filter_map(|i| s.test_pair(i, n))
+            .map(|c| (c.i, c.j))
+            .collect();
+        assert_eq!(got.iter().map(|c| (c.i, c.j)).collect::<Vec<_>>(), by_pairs);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
+        /// Dense sets of a few thousand segments (random walks of short steps packed in a
+        /// small square, several contours, steps a fraction of their spacing): the contacts
+        /// are those of every pair tested exactly, and the sweep proves a set apart only
+        /// when no pair meets.
+        #[test]
+        fn dense_sets_match_every_pair(
+            seed in proptest::prelude::any::<u64>(),
+            contours in 2usize..8,
+            step in proptest::sample::select(vec![0.02, 0.1, 0.5]),
+        ) {
+            let mut state = seed | 1;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let mut s = SegmentSet::new();
+            s.across = Across::Crossings;
+            for _ in 0..contours {
+                let mut p = DVec2::new(10.0 * next(), 10.0 * next());
+                let mut heading = std::f64::consts::TAU * next();
+                let mut line = vec![p];
+                for _ in 0..3000 / contours {
+                    heading += 0.6 * (next() - 0.5);
+                    p += step * DVec2::new(heading.cos(), heading.sin());
+                    line.push((p * 1e3).round() / 1e3);
+                }
+                s.push_polyline(&line, &[]);
+            }
+            let want = naive(&s);
+            let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
+            proptest::prop_assert_eq!(&got, &want);
+            if s.proven_apart() {
+                proptest::prop_assert!(want.is_empty());
+            }
+        }
     }
 
     proptest::proptest! {

@@ -3,7 +3,7 @@
 //! | id | severity | what |
 //! |---|---|---|
 //! | `self-intersection` | error | a cut contour crosses or touches itself (passing twice through one of its vertices without crossing, or tangentially as arc leads at a closed contour's start do, is no touch) |
-//! | `contour-crossing` | error | two cut contours cross (off with `allow_crossings`; contours of one marked pocket may, line cuts (`skinpath:group 0`) may cross anything) |
+//! | `contour-crossing` | error | two cut contours cross, one finding per crossing whatever the passes of each path (listed) (off with `allow_crossings`; contours of one marked pocket may, line cuts (`skinpath:group 0`) may cross anything) |
 //! | `too-many-contacts` | error | the contours meet in more than `MAX_CONTACTS` places; only the first are listed |
 //! | `check-limit` | error | the cut contours flatten to more than `MAX_CONTOUR_SEGMENTS` segments; the contour checks stopped there |
 //! | `gouge` | error | tool centre nearer the design than tool radius − tolerance, or on the wrong side |
@@ -117,29 +117,28 @@ pub fn contour_findings(
     prog: &Program,
     cfg: &CheckConfig,
     design: &[DesignBoundary],
-) -> Vec<Finding> {
+) -> CheckFindings {
     let (set, starts, limit) = contours::contour_segments(&prog.motions, &prog.group_marks, cfg);
-    let mut out: Vec<Finding> = limit.into_iter().collect();
-    out.extend(contours::intersection_findings(
-        &set,
-        &starts,
-        &prog.motions,
-        cfg,
-    ));
+    let mut inter = Capped::new(cfg.max_findings_per_check);
+    if let Some(f) = limit {
+        inter.push(f);
+    }
+    contours::intersection_findings(&set, &starts, &prog.motions, cfg, &mut inter);
     drop(set);
-    out.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
-    out
+    let dropped = inter.dropped().collect();
+    let mut findings = inter.kept;
+    findings.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
+    CheckFindings { findings, dropped }
 }
 
 /// The findings of [`run_all`]: `contour` ([`contour_findings`]) first, then those of
 /// [`MoveChecks`].
-pub fn join(contour: Vec<Finding>, moves: CheckFindings) -> CheckFindings {
-    let mut findings = contour;
+pub fn join(contour: CheckFindings, moves: CheckFindings) -> CheckFindings {
+    let mut findings = contour.findings;
     findings.extend(moves.findings);
-    CheckFindings {
-        findings,
-        dropped: moves.dropped,
-    }
+    let mut dropped = contour.dropped;
+    dropped.extend(moves.dropped);
+    CheckFindings { findings, dropped }
 }
 
 /// The checks of one move at a time (`cfg` in mm): travel limits, rapids, feed and power,
@@ -271,6 +270,111 @@ mod tests {
         let z = check_text(Backend::Builtin, &src, &none, &[]);
         assert_eq!(oob(&z).len(), 1);
         assert_eq!((z.exit_code(), z.errors_in_all()), (1, full.errors()));
+    }
+
+    /// The contour findings of `src` on the in-memory route, the same as the streaming
+    /// route's (checked), and the report's suppressed counts.
+    fn contour_report(src: &str, cfg: &CheckConfig) -> (Vec<Finding>, Vec<(String, usize)>) {
+        let r = check_text(Backend::Builtin, src, cfg, &[]);
+        let opts = crate::sim::interp::Options { load_sub: None };
+        let (streamed, _) = crate::sim::stream::check_stream(
+            Box::new(std::io::Cursor::new(src.as_bytes().to_vec())),
+            cfg,
+            &[],
+            &opts,
+        )
+        .unwrap();
+        assert_eq!(streamed.findings, r.findings);
+        assert_eq!(streamed.suppressed, r.suppressed);
+        let kept = r
+            .findings
+            .iter()
+            .filter(|f| f.id == "contour-crossing" || f.id == "self-intersection")
+            .cloned()
+            .collect();
+        (kept, r.suppressed)
+    }
+
+    /// A square of side `s` at (`x`, `y`), its own contour (laser on, then off).
+    fn square_pass(x: f64, y: f64, s: f64) -> String {
+        format!(
+            "G0 X{x} Y{y}\nM4 S500\nG1 X{} Y{y} F1000\nG1 X{} Y{}\nG1 X{x} Y{}\nG1 X{x} Y{y}\nM5\n",
+            x + s,
+            x + s,
+            y + s,
+            y + s
+        )
+    }
+
+    /// Two squares crossing at two points, (10, 5) and (5, 10), each cut in `passes`
+    /// passes: two findings whatever the passes, each at its crossing and listing the
+    /// passes; on both routes.
+    #[test]
+    fn multi_pass_crossings_are_counted_once() {
+        for (passes, interleaved) in [(1, false), (2, false), (2, true), (5, false)] {
+            let mut src = String::from("G21 G90\n");
+            if interleaved {
+                for _ in 0..passes {
+                    src += &square_pass(0.0, 0.0, 10.0);
+                    src += &square_pass(5.0, 5.0, 10.0);
+                }
+            } else {
+                for _ in 0..passes {
+                    src += &square_pass(0.0, 0.0, 10.0);
+                }
+                for _ in 0..passes {
+                    src += &square_pass(5.0, 5.0, 10.0);
+                }
+            }
+            src += "M2\n";
+            let (found, _) = contour_report(&src, &CheckConfig::default());
+            assert_eq!(found.len(), 2, "{passes} passes: {found:#?}");
+            let mut at: Vec<[f64; 2]> = found.iter().map(|f| [f.at[0][0], f.at[0][1]]).collect();
+            at.sort_by(|a, b| a[0].total_cmp(&b[0]));
+            assert_eq!(at, vec![[5.0, 10.0], [10.0, 5.0]]);
+            let list: Vec<String> = (1..=passes).map(|p| p.to_string()).collect();
+            for f in &found {
+                assert_eq!(f.id, "contour-crossing");
+                if passes > 1 {
+                    let want = format!("in passes {} of contour", list.join(", "));
+                    assert!(f.message.contains(&want), "{}", f.message);
+                } else {
+                    assert!(!f.message.contains("passes"), "{}", f.message);
+                }
+            }
+        }
+    }
+
+    /// One contour around a square 300 times: every pass touches every other along each
+    /// side. With a cap of 7 the report keeps the first 7 findings of the uncapped one and
+    /// counts the rest, on both routes.
+    #[test]
+    fn retraced_contour_findings_are_capped_and_counted() {
+        let mut src = String::from("G21 G90\nG0 X0 Y0\nM4 S500\n");
+        for _ in 0..300 {
+            src += "G1 X4 Y0 F1000\nG1 X4 Y4\nG1 X0 Y4\nG1 X0 Y0\n";
+        }
+        src += "M5\nM2\n";
+        let all = CheckConfig {
+            max_findings_per_check: usize::MAX,
+            ..CheckConfig::default()
+        };
+        let capped = CheckConfig {
+            max_findings_per_check: 7,
+            ..all.clone()
+        };
+        let (full, none) = contour_report(&src, &all);
+        assert!(none.is_empty());
+        // Each move after the first pass lies on its side's first pass: a finding each
+        // (copies of a segment are tested against their first copy, SegmentSet::cell_pairs).
+        assert!(full.len() >= 1196, "{}", full.len());
+        assert!(full.iter().all(|f| f.id == "self-intersection"));
+        let (kept, dropped) = contour_report(&src, &capped);
+        assert_eq!(kept, full[..7].to_vec());
+        assert_eq!(
+            dropped,
+            vec![("self-intersection".to_string(), full.len() - 7)]
+        );
     }
 
     fn gcode(p: &[DVec2]) -> String {
