@@ -156,9 +156,9 @@ pub use corners::Corner;
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load, load_noted};
 pub use model::{
-    Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, Operation,
-    OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
-    VERSION,
+    Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, MountingHoles,
+    Operation, OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs,
+    Units, VERSION,
 };
 pub use neon::{Flex, FlexPreset, Neon, NeonRun};
 pub use select::{HAIRLINE_MM, Selection, Tags, default_operations, normalize_color};

@@ -39,6 +39,7 @@ use crate::machine::{MachineKind, Profile, Tool, ToolKind};
 use crate::skin::dbsc_skin::ReportBounds;
 use crate::skin::re::Interp;
 use crate::spline::BSpline;
+use crate::toolpath::board;
 use crate::toolpath::cut::{Lead, Tabs};
 use crate::toolpath::ops::{self, Hole};
 use crate::toolpath::plan::{AttrPolyline, Geometry, OpSpec, PlanStats, plan};
@@ -905,22 +906,68 @@ fn operation_specs(
                 || ops::backboard(&regions, margin, rho, ctx.tol, eps),
             );
             let channel_outside = !board.contains_samples_of(&channels);
+            regions.extend(channels);
             let board = if channel_outside {
-                regions.extend(channels);
                 ops::backboard(&regions, margin, rho, ctx.tol, eps)
             } else {
                 board
             };
+            // One board around the whole sign: pieces that lie apart are bridged.
+            let bridge = op
+                .bridge_width
+                .unwrap_or(board::BRIDGE_WIDTH_MM * ctx.per_mm);
+            let (board, bridges) = board::bridged(&board, bridge, rho, ctx.tol, eps);
             let general = || ops::profile(&board, ops::ProfileSide::Outside, r, eps);
             let paths = ctx.routed(index, op, &name, &items, general, |its| match its {
                 _ if channel_outside => Err(RouteRefusal::ChannelOutside),
+                _ if !bridges.is_empty() => Err(RouteRefusal::Bridged(bridges.len())),
                 [(_, it)] if (rho - r).abs() <= 1e-12 * (1.0 + r) => {
                     re_backboard(it, margin + r, ctx.tol)
                 }
                 [_] => Err(RouteRefusal::CornerRadius { rho, r }),
                 _ => Err(RouteRefusal::Union(its.len())),
             })?;
-            vec![spec(
+            let mut v = Vec::new();
+            if let Some(m) = &op.mounting_holes {
+                let mounting = board::Mounting {
+                    count: m.count as usize,
+                    diameter: m.diameter,
+                    inset: m.inset.unwrap_or(board::MOUNTING_INSET_MM * ctx.per_mm),
+                    wall: board::MOUNTING_WALL_MM * ctx.per_mm,
+                };
+                let points = board::mounting_points(&board, &regions, mounting, ctx.tol, eps)
+                    .map_err(|e| op_err(ctx, index, op, format!("mounting_holes: {e}")))?;
+                let (mut circles, mut drills) = (Vec::new(), Vec::new());
+                for h in ops::holes(&points, m.diameter, r) {
+                    match h {
+                        Hole::Circle(p) => circles.push(p),
+                        Hole::Drill(p) => drills.push(p),
+                    }
+                }
+                // Cut before the board's outline frees it; no tabs in a hole.
+                let geometries = [
+                    (
+                        format!("{name} mounting drill"),
+                        drills.is_empty(),
+                        Geometry::Points(drills),
+                    ),
+                    (
+                        format!("{name} mounting holes"),
+                        circles.is_empty(),
+                        Geometry::Paths(circles),
+                    ),
+                ];
+                for (label, empty, geometry) in geometries {
+                    if !empty {
+                        let mut s =
+                            spec(ctx, design_index, label, TpKind::Holes, op, geometry, tool);
+                        s.tabs = None;
+                        s.lead = Lead::None;
+                        v.push(s);
+                    }
+                }
+            }
+            v.push(spec(
                 ctx,
                 design_index,
                 name,
@@ -928,7 +975,8 @@ fn operation_specs(
                 op,
                 Geometry::Paths(paths),
                 tool,
-            )]
+            ));
+            v
         }
         OperationKind::Holes => {
             let tool = ctx.tool(&mill);

@@ -112,6 +112,9 @@ pub enum RouteRefusal {
     /// the union of the outline and the channel.
     #[error("a channel reaches beyond the outline and the margin: the backboard follows both")]
     ChannelOutside,
+    /// The board's pieces are joined by bridges: the backboard follows the bridged board.
+    #[error("{0} bridge(s) join the board's pieces: the backboard follows the bridged board")]
+    Bridged(usize),
 }
 
 /// Which route an operation took, and why.
