@@ -1659,8 +1659,9 @@ pub struct Placement {
 /// centres and radii of disks, points and circles; height, stroke width, anchor and letter
 /// spacing of `[[text]]` not yet laid out (a loaded design has its text as strokes); the
 /// corners at which loading split strokes (so that piece ends there stay joints, not stroke
-/// ends that get neon holes). Operation settings (channel width, hole diameter, depths,
-/// margins) are physical sizes of tools and material and stay as written.
+/// ends that get neon holes); the `[neon]` table's `break_at` points. Operation settings
+/// (channel width, hole diameter, depths, margins, bridge width, mounting holes) and the
+/// flex's sizes are physical sizes of tools and material and stay as written.
 pub fn scaled_design(design: &Design, f: f64) -> Design {
     let mut d = design.clone();
     let sc = |v: &mut [f64; 3]| {
@@ -1690,6 +1691,12 @@ pub fn scaled_design(design: &Design, f: f64) -> Design {
         c.at.iter_mut().for_each(|x| *x *= f);
     }
     d.shape.iter_mut().for_each(|s| s.scale(f));
+    // Where runs break is a place in the artwork (the flex's sizes are not).
+    if let Some(points) = d.neon.as_mut().and_then(|n| n.break_at.as_mut()) {
+        for p in points.iter_mut() {
+            p.iter_mut().for_each(|x| *x *= f);
+        }
+    }
     d
 }
 
