@@ -899,19 +899,18 @@ fn operation_specs(
             let mut regions = ctx.item_regions(&items);
             let margin = op.margin.unwrap_or(BACKBOARD_MARGIN_MM * ctx.per_mm);
             let rho = op.min_inner_radius.unwrap_or(r);
-            // The board carries every channel cut into it: a channel wider than its stroke
-            // by more than the margin would otherwise be cut through by the board's own cut.
-            let (channels, board) = rayon::join(
-                || channel_regions(ctx, &items),
-                || ops::backboard(&regions, margin, rho, ctx.tol, eps),
-            );
-            let channel_outside = !board.contains_samples_of(&channels);
-            regions.extend(channels);
-            let board = if channel_outside {
-                ops::backboard(&regions, margin, rho, ctx.tol, eps)
-            } else {
-                board
-            };
+            // The board carries every channel cut into it at the margin: a channel wider
+            // than its stroke (a flex channel with its clearance) is part of what the
+            // margin is measured from.
+            let channels = channel_regions(ctx, &items);
+            let channel_outside = !channels.is_empty()
+                && !Region::union(&regions, ctx.tol)
+                    .offset(ctx.tol, eps)
+                    .contains_samples_of(&channels);
+            if channel_outside {
+                regions.extend(channels);
+            }
+            let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
             // One board around the whole sign: pieces that lie apart are bridged.
             let bridge = op
                 .bridge_width

@@ -762,8 +762,8 @@ pub const ISLAND_FLATTEN_OF_WIDTH: f64 = 1e-2;
 /// where `closed`) swept by a disk of radius width/2; at the design's size, scaled to the
 /// built size, by width·scale/2, since s·(S/s ⊕ D_{w/2}) = S ⊕ D_{s·w/2}. The built
 /// channels hold the scaled design ones, so each hole of theirs lies in one hole H of
-/// the design's; an H (of area at least π(MIN_ISLAND_OF_WIDTH·w·s)²) that holds none is
-/// filled.
+/// the design's; an H that holds none (of area at least π(MIN_ISLAND_OF_WIDTH·w·s)², as
+/// H itself: smaller holes are slivers of the union) is filled.
 fn filled_islands(spines: &[Vec<DVec2>], closed: &[bool], width: f64, scale: f64) -> Vec<DVec2> {
     use crate::toolpath::ops::swept_region;
     use crate::toolpath::region::{Region, flatten_pline};
@@ -782,7 +782,7 @@ fn filled_islands(spines: &[Vec<DVec2>], closed: &[bool], width: f64, scale: f64
     let holes_now: Vec<DVec2> = now
         .contours
         .iter()
-        .filter(|c| c.area() < 0.0)
+        .filter(|c| c.area() < -min_area)
         .filter_map(|c| c.iter_vertexes().next().map(|v| DVec2::new(v.x, v.y)))
         .collect();
     then.contours
@@ -1060,4 +1060,23 @@ pub fn run_hole_points(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ring spine of radius R with channels of width w at scale s: the counter (a disk
+    /// of radius s·(R − w/2) at the design's size, scaled) fills when R ≤ w/2.
+    #[test]
+    fn ring_counter_fills_when_the_ring_is_narrower_than_the_channel() {
+        let ring = |r: f64| -> Vec<DVec2> {
+            (0..720)
+                .map(|k| DVec2::from_angle(std::f64::consts::TAU * k as f64 / 720.0) * r)
+                .collect()
+        };
+        let (w, s) = (10.0, 0.2);
+        assert_eq!(filled_islands(&[ring(4.0)], &[true], w, s).len(), 1);
+        assert!(filled_islands(&[ring(6.0)], &[true], w, s).is_empty());
+    }
 }
