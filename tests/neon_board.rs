@@ -51,10 +51,10 @@ fn sections(gcode: &str) -> Vec<(String, Vec<Option<Cut>>)> {
                 .find(|w| w.starts_with(c))
                 .and_then(|w| w[1..].parse::<f64>().ok())
         };
-        if let Some(g) = word('G') {
-            if [0.0, 1.0, 2.0, 3.0].contains(&g) {
-                mode = g as i32;
-            }
+        if let Some(g) = word('G')
+            && [0.0, 1.0, 2.0, 3.0].contains(&g)
+        {
+            mode = g as i32;
         }
         let (x, y, nz, i, j) = (word('X'), word('Y'), word('Z'), word('I'), word('J'));
         let to = DVec2::new(x.unwrap_or(pos.x), y.unwrap_or(pos.y));
@@ -522,4 +522,31 @@ fn a_ring_counter_fills_below_the_closed_form_scale() {
     // R − w/2 = 15, far above the smallest island counted (radius w/4).
     assert_eq!(merges(0.3), 0);
     assert_eq!(merges(0.2), 1);
+}
+
+/// The new backboard keys are checked and their errors name the key.
+#[test]
+fn backboard_keys_are_validated() {
+    let base = "version = 1\n[[stroke]]\nname = \"s\"\ndisks = [[0, 0, 2], [50, 0, 2]]\n\
+        [[operation]]\n";
+    let err = |op: &str| {
+        skinpath::design::load(&format!("{base}{op}"), "b.toml")
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err("kind = \"backboard\"\nmounting_holes = { count = 0, diameter = 5.0 }\n");
+    assert!(e.contains("mounting_holes.count"), "{e}");
+    let e = err("kind = \"backboard\"\nmounting_holes = { count = 2, diameter = -5.0 }\n");
+    assert!(e.contains("mounting_holes.diameter"), "{e}");
+    let e = err("kind = \"backboard\"\nbridge_width = -1.0\n");
+    assert!(e.contains("bridge_width"), "{e}");
+    let e = err("kind = \"channel\"\nwidth = 3.0\nbridge_width = 5.0\n");
+    assert!(e.contains("does not apply"), "{e}");
+    let ok = skinpath::design::load(
+        &format!(
+            "{base}kind = \"backboard\"\nbridge_width = 0.0\nmounting_holes = {{ count = 2, diameter = 4.0, inset = 6.0 }}\n"
+        ),
+        "b.toml",
+    );
+    assert!(ok.is_ok(), "{ok:?}");
 }

@@ -108,7 +108,10 @@
 //! `air_assist` (lasers: true/false, default the profile's `laser.air_assist`),
 //! `tabs = { count, width, height }`, `lead_in` (≥ 0). Per kind:
 //! profile `side` = "on" | "outside" | "inside"; channel `width` (required); backboard
-//! `margin`, `min_inner_radius`; holes `diameter` (required), `at` = "ends" | "start" |
+//! `margin`, `min_inner_radius`, `bridge_width` (≥ 0, default 10 mm: the board's pieces are
+//! bridged into one, [`crate::toolpath::board`]; 0 leaves them apart), `mounting_holes =
+//! { count, diameter, inset }` (count 1..=100, diameter > 0, inset > 0, default 8 mm);
+//! holes `diameter` (required), `at` = "ends" | "start" |
 //! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),
 //! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
 //! required), `max_depth`; line: only `strokes`/`layers`/`colors`, `passes`, `step_down`,

@@ -811,13 +811,13 @@ fn check_operation(
                 "mounting_holes.diameter",
                 format!("diameter = {} outside (0, {MAX_COORD}]", m.diameter),
             ))
-        } else if let Some(inset) = m.inset.filter(|&v| !len_ok(v)) {
-            Some((
-                "mounting_holes.inset",
-                format!("inset = {inset} outside (0, {MAX_COORD}]"),
-            ))
         } else {
-            None
+            m.inset.filter(|&v| !len_ok(v)).map(|inset| {
+                (
+                    "mounting_holes.inset",
+                    format!("inset = {inset} outside (0, {MAX_COORD}]"),
+                )
+            })
         };
         if let Some((key, msg)) = bad {
             return Err(invalid(file, item, key, msg));
