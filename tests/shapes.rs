@@ -446,8 +446,11 @@ fn backboard_goes_around_shapes() {
 kind = \"backboard\"
 margin = 4.0
 depth = 3.0
+bridge_width = 0.0
 "
     );
+    // `bridge_width = 0` keeps the plates' boards apart (by default they are bridged into
+    // one board, tests/neon_board.rs): this test measures each piece's reach.
     let d = load(&text, "b.toml").unwrap();
     let profile = builtin_profile("grbl-router").unwrap().unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();

@@ -115,7 +115,10 @@
 //! `air_assist` (lasers: true/false, default the profile's `laser.air_assist`),
 //! `tabs = { count, width, height }`, `lead_in` (≥ 0). Per kind:
 //! profile `side` = "on" | "outside" | "inside"; channel `width` (required); backboard
-//! `margin`, `min_inner_radius`; holes `diameter` (required), `at` = "ends" | "start" |
+//! `margin`, `min_inner_radius`, `bridge_width` (≥ 0, default 10 mm: the board's pieces are
+//! bridged into one, [`crate::toolpath::board`]; 0 leaves them apart), `mounting_holes =
+//! { count, diameter, inset }` (count 1..=100, diameter > 0, inset > 0, default 8 mm);
+//! holes `diameter` (required), `at` = "ends" | "start" |
 //! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),
 //! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
 //! required), `max_depth`; line: only `strokes`/`layers`/`colors`, `passes`, `step_down`,
@@ -164,9 +167,9 @@ pub use corners::Corner;
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load, load_noted};
 pub use model::{
-    Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, Operation,
-    OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs, Units,
-    VERSION,
+    Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, MountingHoles,
+    Operation, OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs,
+    Units, VERSION,
 };
 pub use neon::{Flex, FlexPreset, Neon, NeonRun};
 pub use output::{OperationRef, Output};

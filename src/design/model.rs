@@ -417,6 +417,24 @@ pub struct Tabs {
     pub height: f64,
 }
 
+/// Mounting holes through a backboard.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MountingHoles {
+    /// `mounting_holes.count`: number of holes, 1..=[`MAX_TABS`](super::MAX_TABS); up to
+    /// four go to the corners (1: top centre; 2: top corners; 3: top corners and bottom
+    /// centre; 4: all corners), more are spread farthest apart.
+    pub count: u32,
+    /// `mounting_holes.diameter`: hole diameter, design units, in (0,
+    /// [`MAX_COORD`](super::MAX_COORD)].
+    pub diameter: f64,
+    /// `mounting_holes.inset`: distance of each hole's centre from the board's edge,
+    /// design units, in (0, [`MAX_COORD`](super::MAX_COORD)]; default
+    /// [`MOUNTING_INSET_MM`](crate::toolpath::board::MOUNTING_INSET_MM) (8 mm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inset: Option<f64>,
+}
+
 /// An `[[operation]]`: plain data, consumed by the toolpath stage. Which keys apply to which
 /// kind is checked by validation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -494,6 +512,17 @@ pub struct Operation {
     /// tool radius.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_inner_radius: Option<f64>,
+    /// `bridge_width` (backboard only): smallest width of the bridges that join the
+    /// board's pieces (words and letters that lie apart) into one board, design units, ≥ 0
+    /// and at most [`MAX_COORD`](super::MAX_COORD); default
+    /// [`BRIDGE_WIDTH_MM`](crate::toolpath::board::BRIDGE_WIDTH_MM) (10 mm); 0 leaves the
+    /// pieces apart.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bridge_width: Option<f64>,
+    /// `mounting_holes` (backboard only): holes through the board to hang or screw it,
+    /// `{count, diameter, inset}`; unset: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mounting_holes: Option<MountingHoles>,
     // holes
     /// `diameter` (holes only, required): hole diameter in design units, > 0 and at most
     /// [`MAX_COORD`](super::MAX_COORD).
@@ -558,6 +587,8 @@ impl Operation {
             width: None,
             margin: None,
             min_inner_radius: None,
+            bridge_width: None,
+            mounting_holes: None,
             diameter: None,
             at: None,
             pattern: None,

@@ -622,7 +622,7 @@ fn applies(key: &str) -> &'static [OperationKind] {
     match key {
         "side" => &[Profile],
         "width" => &[Channel],
-        "margin" | "min_inner_radius" => &[Backboard],
+        "margin" | "min_inner_radius" | "bridge_width" | "mounting_holes" => &[Backboard],
         "diameter" | "at" => &[Holes],
         "pattern" | "spacing" | "cross_hatch" | "alternate" => &[Fill],
         "angle" => &[Fill, Vcarve],
@@ -646,6 +646,8 @@ fn check_operation(
         ("width", op.width.is_some()),
         ("margin", op.margin.is_some()),
         ("min_inner_radius", op.min_inner_radius.is_some()),
+        ("bridge_width", op.bridge_width.is_some()),
+        ("mounting_holes", op.mounting_holes.is_some()),
         ("diameter", op.diameter.is_some()),
         ("at", op.at.is_some()),
         ("pattern", op.pattern.is_some()),
@@ -729,6 +731,7 @@ fn check_operation(
     positive("width", op.width, false)?;
     positive("margin", op.margin, false)?;
     positive("min_inner_radius", op.min_inner_radius, true)?;
+    positive("bridge_width", op.bridge_width, true)?;
     positive("diameter", op.diameter, false)?;
     positive("spacing", op.spacing, false)?;
     positive("max_depth", op.max_depth, false)?;
@@ -791,6 +794,30 @@ fn check_operation(
             ))
         } else {
             None
+        };
+        if let Some((key, msg)) = bad {
+            return Err(invalid(file, item, key, msg));
+        }
+    }
+    if let Some(m) = &op.mounting_holes {
+        let len_ok = |v: f64| v.is_finite() && v > 0.0 && v <= MAX_COORD;
+        let bad = if !(1..=MAX_TABS).contains(&m.count) {
+            Some((
+                "mounting_holes.count",
+                format!("count = {} outside 1..={MAX_TABS}", m.count),
+            ))
+        } else if !len_ok(m.diameter) {
+            Some((
+                "mounting_holes.diameter",
+                format!("diameter = {} outside (0, {MAX_COORD}]", m.diameter),
+            ))
+        } else {
+            m.inset.filter(|&v| !len_ok(v)).map(|inset| {
+                (
+                    "mounting_holes.inset",
+                    format!("inset = {inset} outside (0, {MAX_COORD}]"),
+                )
+            })
         };
         if let Some((key, msg)) = bad {
             return Err(invalid(file, item, key, msg));

@@ -39,6 +39,7 @@ use crate::machine::{MachineKind, Profile, Tool, ToolKind};
 use crate::skin::dbsc_skin::ReportBounds;
 use crate::skin::re::Interp;
 use crate::spline::BSpline;
+use crate::toolpath::board;
 use crate::toolpath::cut::{Lead, Tabs};
 use crate::toolpath::ops::{self, Hole};
 use crate::toolpath::plan::{AttrPolyline, Geometry, OpSpec, PlanStats, plan};
@@ -898,29 +899,74 @@ fn operation_specs(
             let mut regions = ctx.item_regions(&items);
             let margin = op.margin.unwrap_or(BACKBOARD_MARGIN_MM * ctx.per_mm);
             let rho = op.min_inner_radius.unwrap_or(r);
-            // The board carries every channel cut into it: a channel wider than its stroke
-            // by more than the margin would otherwise be cut through by the board's own cut.
-            let (channels, board) = rayon::join(
-                || channel_regions(ctx, &items),
-                || ops::backboard(&regions, margin, rho, ctx.tol, eps),
-            );
-            let channel_outside = !board.contains_samples_of(&channels);
-            let board = if channel_outside {
+            // The board carries every channel cut into it at the margin: a channel wider
+            // than its stroke (a flex channel with its clearance) is part of what the
+            // margin is measured from.
+            let channels = channel_regions(ctx, &items);
+            let channel_outside = !channels.is_empty()
+                && !Region::union(&regions, ctx.tol)
+                    .offset(ctx.tol, eps)
+                    .contains_samples_of(&channels);
+            if channel_outside {
                 regions.extend(channels);
-                ops::backboard(&regions, margin, rho, ctx.tol, eps)
-            } else {
-                board
-            };
+            }
+            let board = ops::backboard(&regions, margin, rho, ctx.tol, eps);
+            // One board around the whole sign: pieces that lie apart are bridged.
+            let bridge = op
+                .bridge_width
+                .unwrap_or(board::BRIDGE_WIDTH_MM * ctx.per_mm);
+            let (board, bridges) = board::bridged(&board, bridge, rho, ctx.tol, eps);
             let general = || ops::profile(&board, ops::ProfileSide::Outside, r, eps);
             let paths = ctx.routed(index, op, &name, &items, general, |its| match its {
                 _ if channel_outside => Err(RouteRefusal::ChannelOutside),
+                _ if !bridges.is_empty() => Err(RouteRefusal::Bridged(bridges.len())),
                 [(_, it)] if (rho - r).abs() <= 1e-12 * (1.0 + r) => {
                     re_backboard(it, margin + r, ctx.tol)
                 }
                 [_] => Err(RouteRefusal::CornerRadius { rho, r }),
                 _ => Err(RouteRefusal::Union(its.len())),
             })?;
-            vec![spec(
+            let mut v = Vec::new();
+            if let Some(m) = &op.mounting_holes {
+                let mounting = board::Mounting {
+                    count: m.count as usize,
+                    diameter: m.diameter,
+                    inset: m.inset.unwrap_or(board::MOUNTING_INSET_MM * ctx.per_mm),
+                    wall: board::MOUNTING_WALL_MM * ctx.per_mm,
+                };
+                let points = board::mounting_points(&board, &regions, mounting, ctx.tol, eps)
+                    .map_err(|e| op_err(ctx, index, op, format!("mounting_holes: {e}")))?;
+                let (mut circles, mut drills) = (Vec::new(), Vec::new());
+                for h in ops::holes(&points, m.diameter, r) {
+                    match h {
+                        Hole::Circle(p) => circles.push(p),
+                        Hole::Drill(p) => drills.push(p),
+                    }
+                }
+                // Cut before the board's outline frees it; no tabs in a hole.
+                let geometries = [
+                    (
+                        format!("{name} mounting drill"),
+                        drills.is_empty(),
+                        Geometry::Points(drills),
+                    ),
+                    (
+                        format!("{name} mounting holes"),
+                        circles.is_empty(),
+                        Geometry::Paths(circles),
+                    ),
+                ];
+                for (label, empty, geometry) in geometries {
+                    if !empty {
+                        let mut s =
+                            spec(ctx, design_index, label, TpKind::Holes, op, geometry, tool);
+                        s.tabs = None;
+                        s.lead = Lead::None;
+                        v.push(s);
+                    }
+                }
+            }
+            v.push(spec(
                 ctx,
                 design_index,
                 name,
@@ -928,7 +974,8 @@ fn operation_specs(
                 op,
                 Geometry::Paths(paths),
                 tool,
-            )]
+            ));
+            v
         }
         OperationKind::Holes => {
             let tool = ctx.tool(&mill);
@@ -1745,8 +1792,9 @@ pub struct Placement {
 /// centres and radii of disks, points and circles; height, stroke width, anchor and letter
 /// spacing of `[[text]]` not yet laid out (a loaded design has its text as strokes); the
 /// corners at which loading split strokes (so that piece ends there stay joints, not stroke
-/// ends that get neon holes). Operation settings (channel width, hole diameter, depths,
-/// margins) are physical sizes of tools and material and stay as written.
+/// ends that get neon holes); the `[neon]` table's `break_at` points. Operation settings
+/// (channel width, hole diameter, depths, margins, bridge width, mounting holes) and the
+/// flex's sizes are physical sizes of tools and material and stay as written.
 pub fn scaled_design(design: &Design, f: f64) -> Design {
     let mut d = design.clone();
     let sc = |v: &mut [f64; 3]| {
@@ -1776,6 +1824,12 @@ pub fn scaled_design(design: &Design, f: f64) -> Design {
         c.at.iter_mut().for_each(|x| *x *= f);
     }
     d.shape.iter_mut().for_each(|s| s.scale(f));
+    // Where runs break is a place in the artwork (the flex's sizes are not).
+    if let Some(points) = d.neon.as_mut().and_then(|n| n.break_at.as_mut()) {
+        for p in points.iter_mut() {
+            p.iter_mut().for_each(|x| *x *= f);
+        }
+    }
     d
 }
 

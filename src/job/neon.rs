@@ -22,8 +22,10 @@
 //! Warnings ([`NeonBom::judge`]): every stretch of a run whose bend radius is below the
 //! flex's minimum, with its place; with the design scaled (`--fit`/`--scale`: the strokes
 //! shrink, the flex does not), also every pair of runs whose spines came closer than the
-//! channel width (their channels merge) while at the design's own size they were not, and
-//! the note that a bend became too tight by the scaling.
+//! channel width (their channels merge) while at the design's own size they were not, every
+//! island of board the channels went around at the design's size (a letter's counter) that
+//! the scaled channels cut away ([`filled_islands`]), and the note that a bend became too
+//! tight by the scaling. `break_at` points scale with the artwork.
 
 use crate::dbsc::DiskBSpline;
 use crate::design::neon::{CHANNEL_CLEARANCE_MM, Flex, strokes_named};
@@ -548,6 +550,9 @@ pub struct NeonBom {
     /// The runs' spines, flattened (design units), for the merge test of [`NeonBom::judge`].
     #[serde(skip)]
     pub spines: Vec<Vec<DVec2>>,
+    /// Per run and spine point, the index (in the run's `strokes`) of the stroke it is on.
+    #[serde(skip)]
+    pub spine_legs: Vec<Vec<usize>>,
     /// The flex minimum radius and the channel width, design units.
     #[serde(skip)]
     pub limits: (f64, f64),
@@ -681,7 +686,7 @@ pub fn bom(
         });
     }
     let width = channel_width(design, flex);
-    let spines = run_polylines(curves, runs, SPINE_FLATTEN_OF_WIDTH * flex.width);
+    let (spines, spine_legs) = run_polylines(curves, runs, SPINE_FLATTEN_OF_WIDTH * flex.width);
     let total_length_mm = out_runs.iter().map(|r| r.length_mm).sum();
     let total_cut_length_mm = out_runs.iter().map(|r| r.cut_length_mm).sum();
     let mut b = NeonBom {
@@ -699,6 +704,7 @@ pub fn bom(
         warnings: Vec::new(),
         tight,
         spines,
+        spine_legs,
         limits: (flex.min_bend_radius, width),
         mm,
     };
@@ -717,20 +723,79 @@ pub fn channel_width(design: &Design, flex: &Flex) -> f64 {
         .unwrap_or(flex.width + CHANNEL_CLEARANCE_MM / design.units.mm_per_unit())
 }
 
-/// The runs' spines flattened within `tol`, one polyline per run (its legs in order).
-fn run_polylines(curves: &[DiskBSpline], runs: &[Run], tol: f64) -> Vec<Vec<DVec2>> {
+/// The runs' spines flattened within `tol`, one polyline per run (its legs in order), and
+/// per point the index of its leg in the run.
+fn run_polylines(
+    curves: &[DiskBSpline],
+    runs: &[Run],
+    tol: f64,
+) -> (Vec<Vec<DVec2>>, Vec<Vec<usize>>) {
     runs.iter()
         .map(|r| {
-            r.legs
-                .iter()
-                .flat_map(|l| {
-                    let mut p = crate::dbsc::flatten::flatten_spine(&curves[l.stroke], tol);
-                    if l.reversed {
-                        p.reverse();
-                    }
-                    p
-                })
-                .collect()
+            let mut pts = Vec::new();
+            let mut legs = Vec::new();
+            for (k, l) in r.legs.iter().enumerate() {
+                let mut p = crate::dbsc::flatten::flatten_spine(&curves[l.stroke], tol);
+                if l.reversed {
+                    p.reverse();
+                }
+                legs.extend(std::iter::repeat_n(k, p.len()));
+                pts.extend(p);
+            }
+            (pts, legs)
+        })
+        .unzip()
+}
+
+/// Smallest island of board that the counter test reports, as the radius of a disk of
+/// the island's area over the channel width: smaller islands between channels are slivers
+/// the router clears anyway, not a letter's counter.
+pub const MIN_ISLAND_OF_WIDTH: f64 = 0.25;
+
+/// Flattening tolerance of the channel regions of the counter test, as a fraction of the
+/// channel width (65 µm for a 6.5 mm channel): far below an island's size.
+pub const ISLAND_FLATTEN_OF_WIDTH: f64 = 1e-2;
+
+/// The islands of board that the channels enclose at the design's size and fill at the
+/// built size `scale` (a letter's counter closing up): one point inside each (the mean of
+/// its ring's vertices). The channels at the built size are the spines `spines` (closed
+/// where `closed`) swept by a disk of radius width/2; at the design's size, scaled to the
+/// built size, by width·scale/2, since s·(S/s ⊕ D_{w/2}) = S ⊕ D_{s·w/2}. The built
+/// channels hold the scaled design ones, so each hole of theirs lies in one hole H of
+/// the design's; an H that holds none (of area at least π(MIN_ISLAND_OF_WIDTH·w·s)², as
+/// H itself: smaller holes are slivers of the union) is filled.
+fn filled_islands(spines: &[Vec<DVec2>], closed: &[bool], width: f64, scale: f64) -> Vec<DVec2> {
+    use crate::toolpath::ops::swept_region;
+    use crate::toolpath::region::{Region, flatten_pline};
+    use cavalier_contours::polyline::PlineSource;
+    let tol = ISLAND_FLATTEN_OF_WIDTH * width;
+    let channels = |half: f64| {
+        let parts: Vec<Region> = spines
+            .iter()
+            .zip(closed)
+            .map(|(p, &c)| swept_region(p, c, half, tol))
+            .collect();
+        Region::union(&parts, tol)
+    };
+    let (then, now) = (channels(width * scale / 2.0), channels(width / 2.0));
+    let min_area = std::f64::consts::PI * (MIN_ISLAND_OF_WIDTH * width * scale).powi(2);
+    let holes_now: Vec<DVec2> = now
+        .contours
+        .iter()
+        .filter(|c| c.area() < -min_area)
+        .filter_map(|c| c.iter_vertexes().next().map(|v| DVec2::new(v.x, v.y)))
+        .collect();
+    then.contours
+        .iter()
+        .filter(|h| h.area() < -min_area)
+        .filter(|h| {
+            !holes_now.iter().any(|p| {
+                h.winding_number(cavalier_contours::core::math::Vector2::new(p.x, p.y)) != 0
+            })
+        })
+        .map(|h| {
+            let pts = flatten_pline(h, tol);
+            pts.iter().copied().sum::<DVec2>() / pts.len().max(1) as f64
         })
         .collect()
 }
@@ -883,8 +948,43 @@ impl NeonBom {
                     });
                 }
             }
+            // Islands of board inside the channels (a letter's counter) that the scaled
+            // channels fill.
+            let closed: Vec<bool> = self.runs.iter().map(|r| r.closed).collect();
+            for p in filled_islands(&self.spines, &closed, width, scale) {
+                let near = self.nearest_stroke(p);
+                w.push(NeonWarning {
+                    kind: "merge".into(),
+                    message: format!(
+                        "{near}: the island of board at ({:.2}, {:.2}) that its channel \
+                         goes around (a letter's counter) is cut away: the channel width \
+                         {:.2} mm stays while the design was scaled by {scale:.4}",
+                        p.x,
+                        p.y,
+                        width * mm
+                    ),
+                    at: p.to_array(),
+                });
+            }
         }
         self.warnings = w;
+    }
+
+    /// The run and stroke whose spine comes nearest to `p`, as `run N, stroke "S"`.
+    fn nearest_stroke(&self, p: DVec2) -> String {
+        let mut best = (f64::INFINITY, 0, 0);
+        for (k, pts) in self.spines.iter().enumerate() {
+            for (i, q) in pts.iter().enumerate() {
+                let d = q.distance(p);
+                if d < best.0 {
+                    best = (d, k, self.spine_legs[k][i]);
+                }
+            }
+        }
+        match self.runs.get(best.1) {
+            Some(r) => format!("{}, stroke \"{}\"", r.name, r.strokes[best.2]),
+            None => "the sign".into(),
+        }
     }
 
     /// The bill of materials as CSV: a header, one row per run (strokes joined by `;`),
@@ -960,4 +1060,23 @@ pub fn run_hole_points(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ring spine of radius R with channels of width w at scale s: the counter (a disk
+    /// of radius s·(R − w/2) at the design's size, scaled) fills when R ≤ w/2.
+    #[test]
+    fn ring_counter_fills_when_the_ring_is_narrower_than_the_channel() {
+        let ring = |r: f64| -> Vec<DVec2> {
+            (0..720)
+                .map(|k| DVec2::from_angle(std::f64::consts::TAU * k as f64 / 720.0) * r)
+                .collect()
+        };
+        let (w, s) = (10.0, 0.2);
+        assert_eq!(filled_islands(&[ring(4.0)], &[true], w, s).len(), 1);
+        assert!(filled_islands(&[ring(6.0)], &[true], w, s).is_empty());
+    }
 }

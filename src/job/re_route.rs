@@ -108,10 +108,13 @@ pub enum RouteRefusal {
     /// A backboard around several items follows their union.
     #[error("{0} items: the backboard follows their union")]
     Union(usize),
-    /// A channel reaches beyond the item's outline and the margin: the backboard follows
-    /// the union of the outline and the channel.
-    #[error("a channel reaches beyond the outline and the margin: the backboard follows both")]
+    /// A channel reaches beyond the item's outline: the backboard follows the union of the
+    /// outline and the channel, grown by the margin.
+    #[error("a channel reaches beyond the outline: the backboard follows both")]
     ChannelOutside,
+    /// The board's pieces are joined by bridges: the backboard follows the bridged board.
+    #[error("{0} bridge(s) join the board's pieces: the backboard follows the bridged board")]
+    Bridged(usize),
 }
 
 /// Which route an operation took, and why.

@@ -5,6 +5,7 @@
 
 pub mod attrs;
 pub mod biarc;
+pub mod board;
 pub mod cut;
 pub mod line;
 pub mod model;
