@@ -77,6 +77,7 @@ impl Ctx<'_> {
         id: &str,
         fill: &usvg::Fill,
         stroked: bool,
+        translucent: bool,
     ) {
         let rule = fill.rule();
         let t = p.abs_transform();
@@ -176,12 +177,27 @@ impl Ctx<'_> {
         }
         let knockout = color.as_deref() == Some(paint::WHITE)
             || (color.is_some() && color == self.paint.background);
+        if translucent && knockout {
+            self.skip(
+                name,
+                &format!(
+                    "translucent white or background-coloured fill (opacity below {}): \
+                     neither ink nor a knockout",
+                    paint::HIDE_OPACITY
+                ),
+            );
+            return;
+        }
         let region = paint::Region {
             name: self.unique(name),
             layer: self.path_layer.clone(),
             color,
             rings: region,
         };
+        if translucent {
+            self.paint.paint_translucent(region);
+            return;
+        }
         let knocked = knockout.then(|| region.name.clone());
         for gone in self.paint.paint(region, knockout) {
             self.skip(gone, "hidden: later fills cover it entirely");

@@ -478,7 +478,7 @@ impl<'a> Polyline<'a> {
 
     /// Distance from `p` to the polyline, the segment it is nearest to and the parameter
     /// along that segment (for one point: its distance, segment 0, parameter 0).
-    fn nearest(&self, p: DVec2) -> (f64, usize, f64) {
+    pub(super) fn nearest(&self, p: DVec2) -> (f64, usize, f64) {
         let Some(n) = self.tree.nearest_neighbor([p.x, p.y]) else {
             return (
                 self.pts.first().map_or(f64::INFINITY, |&q| p.distance(q)),
