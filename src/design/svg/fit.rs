@@ -51,15 +51,16 @@ fn walk(pts: &[DVec2], closed: bool, i: usize, step: isize, len: f64) -> Option<
     None
 }
 
-/// Mark the cusps of a cleaned subpath as nodes ([`CUSP_ANGLE_DEG`]): every flattened point
+/// Mark the cusps of a cleaned subpath as nodes ([`CUSP_ANGLE_DEG`]), for a subpath whose
+/// fit strays beyond the tolerance without them (whether any was marked is returned): every flattened point
 /// whose turn over the chords [`JITTER_REACH`]·tol long on each side exceeds the angle,
 /// sharpest first, keeping those farther than JITTER_REACH·tol along the path from a node or
 /// cusp already turning that much (one corner per bend). The node's angle is that turn, so
 /// the corner angle of the import decides as for the path's own nodes.
-fn mark_cusps(sp: &mut Subpath, tol: f64) {
+pub(super) fn mark_cusps(sp: &mut Subpath, tol: f64) -> bool {
     let m = sp.pts.len();
     if m < 3 {
-        return;
+        return false;
     }
     let (pts, closed) = (&sp.pts, sp.closed);
     let len = JITTER_REACH * tol;
@@ -87,7 +88,7 @@ fn mark_cusps(sp: &mut Subpath, tol: f64) {
         })
         .collect();
     if cands.is_empty() {
-        return;
+        return false;
     }
     cands.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
     let mut taken: std::collections::BTreeSet<usize> = sp
@@ -109,12 +110,14 @@ fn mark_cusps(sp: &mut Subpath, tol: f64) {
             added.push((i, t));
         }
     }
+    let any = !added.is_empty();
     for (i, t) in added {
         match sp.nodes.binary_search_by(|n| n.0.cmp(&i)) {
             Ok(k) => sp.nodes[k].1 = sp.nodes[k].1.max(t),
             Err(k) => sp.nodes.insert(k, (i, t)),
         }
     }
+    any
 }
 
 /// Clean a subpath within the tolerance `tol` before fitting: merge points closer than
@@ -122,8 +125,7 @@ fn mark_cusps(sp: &mut Subpath, tol: f64) {
 /// whose ends are within `tol` (a path drawn back to its start, as pens and exporters leave
 /// it, is a closed stroke), demote corners that are pen jitter ([`JITTER_FRACTION`]):
 /// the distance of the corner from the chord through the points [`JITTER_REACH`]·tol
-/// before and after it along the path), and mark the cusps inside segments as nodes
-/// ([`mark_cusps`]).
+/// before and after it along the path).
 pub(super) fn clean(sp: &mut Subpath, tol: f64) {
     let merge = MERGE_FRACTION * tol;
     let n = sp.pts.len();
@@ -201,7 +203,6 @@ pub(super) fn clean(sp: &mut Subpath, tol: f64) {
             node.1 = 0.0;
         }
     }
-    mark_cusps(sp, tol);
 }
 
 impl Ctx<'_> {
@@ -297,7 +298,6 @@ impl Ctx<'_> {
             let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
             let rr: Vec<f64> = run.iter().map(|&i| rs[i]).collect();
             let (fit, dev) = self.fit_run(name, &rp, &rr, whole_closed)?;
-            self.max_deviation = self.max_deviation.max(dev);
             worst = worst.max(dev);
             if k > 0 {
                 corners.push(points.len() - 1);

@@ -491,6 +491,7 @@ struct StrokeSrc {
 }
 
 /// One node of a subpath: its index in the flattened polyline and whether it is a corner.
+#[derive(Clone)]
 struct Subpath {
     pts: Vec<DVec2>,
     /// Indices in `pts` of the path's nodes, with the tangent turn there (radians).
@@ -946,12 +947,32 @@ impl Ctx<'_> {
                 Some(ps) => ps.radii(&sp.times, scale * MM_PER_PX, 0.5 * self.opts.tolerance),
                 None => self.radii(&sp.pts, width_mm, widths.as_deref(), scale),
             };
-            let fitted = self
+            let mut fitted = self
                 .fit_subpath(&name, &sp, &radii)
                 .map_err(str::to_string)
                 .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
+            // Beyond the tolerance: try again with the cusps inside segments as corners.
+            if fitted
+                .as_ref()
+                .is_ok_and(|(_, dev)| *dev > self.opts.tolerance)
+            {
+                let mut cusped = sp.clone();
+                if fit::mark_cusps(&mut cusped, self.opts.tolerance) {
+                    let again = self
+                        .fit_subpath(&name, &cusped, &radii)
+                        .map_err(str::to_string)
+                        .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
+                    let better = |a: &(Stroke, f64), b: &(Stroke, f64)| a.1 < b.1;
+                    if let (Ok(a), Ok(b)) = (&again, &fitted)
+                        && better(a, b)
+                    {
+                        fitted = again;
+                    }
+                }
+            }
             match fitted {
                 Ok((mut s, dev)) => {
+                    self.max_deviation = self.max_deviation.max(dev);
                     s.layer = self.path_layer.clone();
                     s.color = color.clone();
                     if dev > self.opts.tolerance {
@@ -1043,9 +1064,10 @@ impl Ctx<'_> {
                 let fitted = self
                     .fit_subpath(&name, &sp, &radii)
                     .map_err(str::to_string)
-                    .and_then(|(t, _)| self.usable(t));
+                    .and_then(|(t, dev)| self.usable(t).map(|t| (t, dev)));
                 match fitted {
-                    Ok(mut t) => {
+                    Ok((mut t, dev)) => {
+                        self.max_deviation = self.max_deviation.max(dev);
                         t.layer = s.layer.clone();
                         t.color = s.color.clone();
                         self.strokes.push(t);
