@@ -48,6 +48,9 @@ const SAMPLE_MM: f64 = 0.5;
 /// Strokes at most this wide are hairlines (the default line/shape threshold).
 const HAIRLINE_MM: f64 = 1.0;
 
+/// A centre segment of a stroke wider than a hairline: (mark index, half width).
+type WideSegment = GeomWithData<RLine<[f64; 2]>, (usize, f64)>;
+
 /// One painted element, in paint order, in millimetres (y up, as the design).
 struct Mark {
     path: BezPath,
@@ -400,7 +403,7 @@ fn fidelity(svg: &Path) {
         // Centre segments of the strokes wider than a hairline, with their half widths: where
         // the disk of a stroke's point overlaps another such stroke, the two are one region
         // of the union the profile cuts around, and the point's nearest cut may lie farther.
-        let wide: RTree<GeomWithData<RLine<[f64; 2]>, (usize, f64)>> = RTree::bulk_load(
+        let wide: RTree<WideSegment> = RTree::bulk_load(
             (drawn.iter().enumerate())
                 .filter_map(|(j, l)| l.half.filter(|h| 2.0 * h > HAIRLINE_MM).map(|h| (j, l, h)))
                 .flat_map(|(j, l, h)| {
