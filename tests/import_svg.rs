@@ -1226,3 +1226,22 @@ fn css_style_sheets_give_the_stroke_width_reason() {
     let radius = keep.points.as_ref().unwrap()[0][2];
     assert!((radius - 0.25).abs() < 1e-6, "{radius}");
 }
+
+#[test]
+fn a_fill_of_many_single_segments_encloses_no_area_whatever_its_count() {
+    // A plotter's line list (vpype's plotter.svg): one path of 2500 one-segment subpaths,
+    // stroked, with SVG's default black fill. The fill has no area: not a shape, and not
+    // refused by the ring-count limit either.
+    let d: String = (0..2500)
+        .map(|k| format!("M {} 10 L {} 20 ", 5 + k % 190, 6 + k % 190))
+        .collect();
+    let body = format!(r##"<path id="lines" d="{d}" stroke="#f00" stroke-width="0.3"/>"##);
+    let imp = import(&page(&body), "p.svg", &ImportOptions::default()).unwrap();
+    assert!(imp.design.shape.is_empty());
+    assert!(imp.skipped.is_empty(), "{:?}", imp.skipped);
+    assert_eq!(imp.design.stroke.len(), 2500);
+    // Unstroked, the same fill is skipped as enclosing no area.
+    let body = format!(r##"<path id="lines" d="{d}"/>"##);
+    let err = import(&page(&body), "p.svg", &ImportOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("encloses no area"), "{err}");
+}
