@@ -1079,3 +1079,169 @@ fn build_from_svg_lists_skipped_elements() {
     assert!(out.exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The x extent of every stroke whose name starts with `base` (spines sampled densely).
+fn spans(d: &Design, base: &str) -> Vec<(f64, f64)> {
+    let mut names: Vec<&str> = d
+        .stroke
+        .iter()
+        .map(|s| s.name.split('#').next().unwrap_or(""))
+        .filter(|n| *n == base || n.starts_with(&format!("{base}~")))
+        .collect();
+    names.dedup();
+    let mut out: Vec<(f64, f64)> = names
+        .iter()
+        .map(|n| {
+            let s = spine(d, n);
+            let lo = s.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+            let hi = s.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max);
+            (lo, hi)
+        })
+        .collect();
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out
+}
+
+#[test]
+fn later_fills_hide_strokes_under_them() {
+    let opts = ImportOptions::default();
+    // A hairline across the page, a white square over its middle (x 40–60), a thick line
+    // under a red square (x 70–80) painted after it, a blue line entirely under a later
+    // green rectangle, and a line drawn after the white square (not hidden).
+    let body = r##"<path id="line" d="M 5 100 H 95" fill="none" stroke="#000" stroke-width="0.3"/>
+        <rect id="ko" x="40" y="90" width="20" height="20" fill="#fff"/>
+        <path id="under" d="M 5 150 H 95" fill="none" stroke="#000" stroke-width="2"/>
+        <rect id="red" x="70" y="140" width="10" height="20" fill="#f00"/>
+        <path id="gone" d="M 120 20 H 130" fill="none" stroke="#00f" stroke-width="0.3"/>
+        <rect id="green" x="110" y="10" width="30" height="20" fill="#0f0"/>
+        <path id="over" d="M 30 105 H 70" fill="none" stroke="#000" stroke-width="0.3"/>"##;
+    let imp = import(&page(body), "p.svg", &opts).unwrap();
+    let tol = opts.tolerance;
+    let near = |got: &[(f64, f64)], want: &[(f64, f64)]| {
+        got.len() == want.len()
+            && got
+                .iter()
+                .zip(want)
+                .all(|(a, b)| (a.0 - b.0).abs() < tol && (a.1 - b.1).abs() < tol)
+    };
+    // The knockout cuts the hairline at x = 40 and x = 60 (the visible runs, within the
+    // tolerance of the drawn line's ends and the square's sides).
+    let line = spans(&imp.design, "line");
+    assert!(near(&line, &[(5.0, 40.0), (60.0, 95.0)]), "{line:?}");
+    let under = spans(&imp.design, "under");
+    assert!(near(&under, &[(5.0, 70.0), (80.0, 95.0)]), "{under:?}");
+    // Drawn after the knockout: whole.
+    let over = spans(&imp.design, "over");
+    assert!(near(&over, &[(30.0, 70.0)]), "{over:?}");
+    let why = |id: &str| {
+        imp.skipped
+            .iter()
+            .find(|s| s.id == id)
+            .map(|s| s.reason.clone())
+            .unwrap_or_default()
+    };
+    assert!(why("gone").contains("hidden"), "{:?}", imp.skipped);
+    assert!(
+        imp.warnings
+            .iter()
+            .any(|w| w.id == "line" && w.reason.contains("20.0 of its 90.0 mm")),
+        "{:?}",
+        imp.warnings
+    );
+    // The radius of the visible runs is the drawn one.
+    let r = imp
+        .design
+        .stroke
+        .iter()
+        .filter(|s| s.name.starts_with("under"))
+        .flat_map(|s| s.points.clone().unwrap_or_default())
+        .map(|p| p[2])
+        .fold(0.0, f64::max);
+    assert!((r - 1.0).abs() < 1e-6, "{r}");
+}
+
+#[test]
+fn transparent_and_faint_paint_is_not_ink_and_translucent_fills_hide_nothing() {
+    let opts = ImportOptions::default();
+    let body = r##"<path id="faint" d="M 5 50 H 95" fill="none" stroke="#000" stroke-opacity="0.05"/>
+        <g opacity="0"><path id="ghost" d="M 5 55 H 95" fill="none" stroke="#000"/></g>
+        <g opacity="0.5"><rect id="dim" x="5" y="5" width="10" height="10" fill="#000" opacity="0.1"/></g>
+        <rect id="clear" x="20" y="5" width="10" height="10" fill="#000" fill-opacity="0"/>
+        <rect id="black" x="40" y="40" width="40" height="40" fill="#000"/>
+        <rect id="glass" x="50" y="50" width="20" height="20" fill="#00f" fill-opacity="0.3"/>
+        <rect id="veil" x="45" y="45" width="5" height="5" fill="#fff" opacity="0.4"/>
+        <path id="seen" d="M 10 150 H 30" fill="none" stroke="#000" stroke-width="0.3"/>
+        <rect id="glass2" x="5" y="140" width="30" height="20" fill="#00f" fill-opacity="0.3"/>"##;
+    let imp = import(&page(body), "p.svg", &opts).unwrap();
+    let why = |id: &str| {
+        imp.skipped
+            .iter()
+            .find(|s| s.id == id)
+            .map(|s| s.reason.clone())
+            .unwrap_or_default()
+    };
+    assert!(why("faint").contains("opacity 0.050"), "{:?}", imp.skipped);
+    assert!(
+        why("ghost").contains("fully transparent"),
+        "{:?}",
+        imp.skipped
+    );
+    // 0.5 × 0.1: below the ink threshold.
+    assert!(why("dim").contains("opacity 0.050"), "{:?}", imp.skipped);
+    assert!(
+        why("clear").contains("fully transparent"),
+        "{:?}",
+        imp.skipped
+    );
+    assert!(why("veil").contains("translucent"), "{:?}", imp.skipped);
+    let names: Vec<&str> = imp.design.shape.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["black", "glass", "glass2"], "{:?}", imp.skipped);
+    // The translucent blue square hides nothing: the black square is whole (1600 mm², one
+    // contour) and so is the stroke under the second one.
+    let black = imp.design.shape.iter().find(|s| s.name == "black").unwrap();
+    assert_eq!(black.contours.len(), 1);
+    assert!(
+        (area(black) - 1600.0).abs() < 1e-6 * 1600.0,
+        "{}",
+        area(black)
+    );
+    let seen = spans(&imp.design, "seen");
+    assert_eq!(seen.len(), 1, "{seen:?}");
+    assert!((seen[0].1 - seen[0].0 - 20.0).abs() < opts.tolerance);
+}
+
+#[test]
+fn css_style_sheets_give_the_stroke_width_reason() {
+    let body = r##"<style>.thin { stroke-width: 0 } #keep { stroke-width: 0.5 }</style>
+        <path id="w0" class="thin" d="M 5 30 H 95" fill="none" stroke="#000"/>
+        <path id="keep" class="thin" d="M 5 20 H 95" fill="none" stroke="#000"/>"##;
+    let imp = import(&page(body), "p.svg", &ImportOptions::default()).unwrap();
+    let r = reasons(&imp);
+    assert_eq!(r.len(), 1, "{r:?}");
+    assert_eq!(r[0].0, "w0");
+    assert!(r[0].1.starts_with("stroke-width 0:"), "{r:?}");
+    // The id rule is more specific than the class rule: 0.5 wide.
+    let keep = &imp.design.stroke[0];
+    assert_eq!(keep.name, "keep");
+    let radius = keep.points.as_ref().unwrap()[0][2];
+    assert!((radius - 0.25).abs() < 1e-6, "{radius}");
+}
+
+#[test]
+fn a_fill_of_many_single_segments_encloses_no_area_whatever_its_count() {
+    // A plotter's line list (vpype's plotter.svg): one path of 2500 one-segment subpaths,
+    // stroked, with SVG's default black fill. The fill has no area: not a shape, and not
+    // refused by the ring-count limit either.
+    let d: String = (0..2500)
+        .map(|k| format!("M {} 10 L {} 20 ", 5 + k % 190, 6 + k % 190))
+        .collect();
+    let body = format!(r##"<path id="lines" d="{d}" stroke="#f00" stroke-width="0.3"/>"##);
+    let imp = import(&page(&body), "p.svg", &ImportOptions::default()).unwrap();
+    assert!(imp.design.shape.is_empty());
+    assert!(imp.skipped.is_empty(), "{:?}", imp.skipped);
+    assert_eq!(imp.design.stroke.len(), 2500);
+    // Unstroked, the same fill is skipped as enclosing no area.
+    let body = format!(r##"<path id="lines" d="{d}"/>"##);
+    let err = import(&page(&body), "p.svg", &ImportOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("encloses no area"), "{err}");
+}

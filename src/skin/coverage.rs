@@ -104,7 +104,11 @@ pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVe
         .iter()
         .map(|(a, b)| 0.5 * (a.c.x - b.c.x).abs() + a.r.max(b.r))
         .fold(0.0, f64::max);
-    let dist = |p: DVec2| -> f64 {
+    // The distance of p, or any value at most `floor` once it is known not to exceed it
+    // (the early break of Taha & Hanbury 2015, "An efficient algorithm for calculating the
+    // exact Hausdorff distance", §3: a point nearer than the largest distance so far cannot
+    // change the maximum, so its scan stops there).
+    let dist = |p: DVec2, floor: f64| -> f64 {
         let start = pairs.partition_point(|q| mid(q) < p.x);
         let mut best = f64::INFINITY;
         for q in &pairs[start..] {
@@ -112,12 +116,18 @@ pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVe
                 break;
             }
             best = best.min(hull_distance(p, &q.0, &q.1));
+            if best <= floor {
+                return best.max(0.0);
+            }
         }
         for q in pairs[..start].iter().rev() {
             if p.x - mid(q) - half > best {
                 break;
             }
             best = best.min(hull_distance(p, &q.0, &q.1));
+            if best <= floor {
+                return best.max(0.0);
+            }
         }
         best.max(0.0)
     };
@@ -133,7 +143,7 @@ pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVe
             };
             for k in 0..pieces {
                 let p = a.lerp(b, k as f64 / pieces as f64);
-                let d = dist(p);
+                let d = dist(p, worst.0);
                 if d > worst.0 {
                     worst = (d, p);
                 }

@@ -65,6 +65,25 @@ fn crossing_budget(rings: &[Vec<DVec2>]) -> Option<String> {
     None
 }
 
+/// Whether every subpath of `data` is at most one straight segment (closed or not): such a
+/// fill encloses no area. Read from the verbs, before any work.
+fn encloses_nothing(data: &usvg::tiny_skia_path::Path) -> bool {
+    use usvg::tiny_skia_path::PathVerb as V;
+    let mut segments = 0usize;
+    for v in data.verbs() {
+        match v {
+            V::Move => segments = 0,
+            V::Line => segments += 1,
+            V::Quad | V::Cubic => return false,
+            V::Close => {}
+        }
+        if segments > 1 {
+            return false;
+        }
+    }
+    true
+}
+
 impl Ctx<'_> {
     /// The fill of `p` as a shape (see the module docs): subpaths closed and flattened within
     /// the tolerance in millimetres, resolved under `rule`, rounded like stroke points.
@@ -77,6 +96,7 @@ impl Ctx<'_> {
         id: &str,
         fill: &usvg::Fill,
         stroked: bool,
+        translucent: bool,
     ) {
         let rule = fill.rule();
         let t = p.abs_transform();
@@ -105,6 +125,14 @@ impl Ctx<'_> {
                  of a contour; simplify the path"
             );
             self.skip(name, &m);
+            return;
+        }
+        if encloses_nothing(data) {
+            // Every subpath is one straight segment (a plotter's line list): the fill has no
+            // area, however many subpaths it has.
+            if !stroked {
+                self.skip(name, "filled shape that encloses no area");
+            }
             return;
         }
         if subpaths > MAX_FILL_RINGS {
@@ -176,12 +204,27 @@ impl Ctx<'_> {
         }
         let knockout = color.as_deref() == Some(paint::WHITE)
             || (color.is_some() && color == self.paint.background);
+        if translucent && knockout {
+            self.skip(
+                name,
+                &format!(
+                    "translucent white or background-coloured fill (opacity below {}): \
+                     neither ink nor a knockout",
+                    paint::HIDE_OPACITY
+                ),
+            );
+            return;
+        }
         let region = paint::Region {
             name: self.unique(name),
             layer: self.path_layer.clone(),
             color,
             rings: region,
         };
+        if translucent {
+            self.paint.paint_translucent(region);
+            return;
+        }
         let knocked = knockout.then(|| region.name.clone());
         for gone in self.paint.paint(region, knockout) {
             self.skip(gone, "hidden: later fills cover it entirely");

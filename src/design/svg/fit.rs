@@ -2,6 +2,7 @@
 //! B-spline through evenly spaced samples until it stays within the tolerance.
 
 use super::*;
+use rstar::primitives::{GeomWithData, Line as RLine};
 
 /// Points of a subpath closer than `tol · MERGE_FRACTION` to the point kept before them are
 /// merged into it (repeated points, zero-length segments, digitiser noise): the cleaned line
@@ -18,12 +19,113 @@ pub(super) const JITTER_FRACTION: f64 = 0.5;
 /// How far along the path (in tolerances) the jitter test looks on each side of a corner.
 pub(super) const JITTER_REACH: f64 = 4.0;
 
+/// A turn sharper than this inside a drawn segment, measured over chords of
+/// [`JITTER_REACH`]·tol on each side of a flattened point, is a corner that the path's nodes
+/// do not show (the cusp of a cubic, the hairpins of a hatch drawn as one curve): a curve
+/// turning that much within 2·JITTER_REACH·tol has a radius of curvature of about the
+/// tolerance's scale, and no spline through evenly spaced samples follows it.
+pub(super) const CUSP_ANGLE_DEG: f64 = 90.0;
+
+/// The point reached walking from `i` along `pts` by `step` (±1) until `len` of arc length
+/// is covered (wrapping when `closed`; an open path's end when it comes first); `None` when
+/// a closed path is shorter than `len`.
+fn walk(pts: &[DVec2], closed: bool, i: usize, step: isize, len: f64) -> Option<usize> {
+    let m = pts.len();
+    let mut j = i;
+    let mut walked = 0.0;
+    for _ in 0..m {
+        let next = j as isize + step;
+        let next = if closed {
+            next.rem_euclid(m as isize - 1) as usize
+        } else if next < 0 || next >= m as isize {
+            return Some(j);
+        } else {
+            next as usize
+        };
+        walked += pts[j].distance(pts[next]);
+        j = next;
+        if walked >= len {
+            return Some(j);
+        }
+    }
+    None
+}
+
+/// Mark the cusps of a cleaned subpath as nodes ([`CUSP_ANGLE_DEG`]), for a subpath whose
+/// fit strays beyond the tolerance without them (whether any was marked is returned): every flattened point
+/// whose turn over the chords [`JITTER_REACH`]·tol long on each side exceeds the angle,
+/// sharpest first, keeping those farther than JITTER_REACH·tol along the path from a node or
+/// cusp already turning that much (one corner per bend). The node's angle is that turn, so
+/// the corner angle of the import decides as for the path's own nodes.
+pub(super) fn mark_cusps(sp: &mut Subpath, tol: f64) -> bool {
+    let m = sp.pts.len();
+    if m < 3 {
+        return false;
+    }
+    let (pts, closed) = (&sp.pts, sp.closed);
+    let len = JITTER_REACH * tol;
+    let limit = CUSP_ANGLE_DEG.to_radians();
+    let mut arc = Vec::with_capacity(m);
+    arc.push(0.0);
+    for w in pts.windows(2) {
+        arc.push(arc.last().copied().unwrap_or(0.0) + w[0].distance(w[1]));
+    }
+    let total = arc[m - 1];
+    let apart = |i: usize, k: usize| {
+        let d = (arc[i] - arc[k]).abs();
+        if closed { d.min(total - d) } else { d }
+    };
+    let last = if closed { m - 1 } else { m };
+    let mut cands: Vec<(usize, f64)> = (0..last)
+        .filter_map(|i| {
+            let a = walk(pts, closed, i, -1, len)?;
+            let b = walk(pts, closed, i, 1, len)?;
+            if a == i || b == i {
+                return None;
+            }
+            let t = turn(pts[i] - pts[a], pts[b] - pts[i]);
+            (t > limit).then_some((i, t))
+        })
+        .collect();
+    if cands.is_empty() {
+        return false;
+    }
+    cands.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let mut taken: std::collections::BTreeSet<usize> = sp
+        .nodes
+        .iter()
+        .filter(|n| n.1 > limit)
+        .map(|n| n.0)
+        .collect();
+    let mut added = Vec::new();
+    for (i, t) in cands {
+        let before = taken.range(..=i).next_back().or(taken.last());
+        let after = taken.range(i..).next().or(taken.first());
+        if [before, after]
+            .into_iter()
+            .flatten()
+            .all(|&k| apart(i, k) > len)
+        {
+            taken.insert(i);
+            added.push((i, t));
+        }
+    }
+    let any = !added.is_empty();
+    for (i, t) in added {
+        match sp.nodes.binary_search_by(|n| n.0.cmp(&i)) {
+            Ok(k) => sp.nodes[k].1 = sp.nodes[k].1.max(t),
+            Err(k) => sp.nodes.insert(k, (i, t)),
+        }
+    }
+    any
+}
+
 /// Clean a subpath within the tolerance `tol` before fitting: merge points closer than
 /// [`MERGE_FRACTION`]·tol to the one before (keeping the last point), close an open subpath
 /// whose ends are within `tol` (a path drawn back to its start, as pens and exporters leave
-/// it, is a closed stroke), and demote corners that are pen jitter ([`JITTER_FRACTION`]):
+/// it, is a closed stroke), demote corners that are pen jitter ([`JITTER_FRACTION`]):
 /// the distance of the corner from the chord through the points [`JITTER_REACH`]·tol
-/// before and after it along the path.
+/// before and after it along the path).
 pub(super) fn clean(sp: &mut Subpath, tol: f64) {
     let merge = MERGE_FRACTION * tol;
     let n = sp.pts.len();
@@ -82,26 +184,7 @@ pub(super) fn clean(sp: &mut Subpath, tol: f64) {
     }
     let pts = &sp.pts;
     let closed = sp.closed;
-    let reach = |i: usize, step: isize| -> Option<usize> {
-        let mut j = i;
-        let mut walked = 0.0;
-        for _ in 0..m {
-            let next = j as isize + step;
-            let next = if closed {
-                next.rem_euclid(m as isize - 1) as usize
-            } else if next < 0 || next >= m as isize {
-                return Some(j);
-            } else {
-                next as usize
-            };
-            walked += pts[j].distance(pts[next]);
-            j = next;
-            if walked >= JITTER_REACH * tol {
-                return Some(j);
-            }
-        }
-        None
-    };
+    let reach = |i: usize, step: isize| walk(pts, closed, i, step, JITTER_REACH * tol);
     for node in sp.nodes.iter_mut() {
         if node.1 == 0.0 {
             continue;
@@ -215,7 +298,6 @@ impl Ctx<'_> {
             let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
             let rr: Vec<f64> = run.iter().map(|&i| rs[i]).collect();
             let (fit, dev) = self.fit_run(name, &rp, &rr, whole_closed)?;
-            self.max_deviation = self.max_deviation.max(dev);
             worst = worst.max(dev);
             if k > 0 {
                 corners.push(points.len() - 1);
@@ -280,6 +362,7 @@ impl Ctx<'_> {
             // usvg keeps f32 coordinates: digits past 1e-6 mm are noise.
             [p.x, p.y, r].map(|v| (v * ROUND).round() / ROUND)
         };
+        let run = Polyline::new(&ring);
         let mut count = if closed { 8 } else { 2 };
         let mut best: Option<(Vec<[f64; 3]>, f64)> = None;
         loop {
@@ -293,7 +376,7 @@ impl Ctx<'_> {
                     .collect()
             };
             // A fit that does not build (a singular interpolation system) is never kept.
-            let dev = self.deviation(name, &samples, &ring, &ring_r, closed);
+            let dev = self.deviation(name, &samples, &run, &ring_r, closed);
             if dev.is_finite() && best.as_ref().is_none_or(|b| dev < b.1) {
                 best = Some((samples, dev));
             }
@@ -307,10 +390,8 @@ impl Ctx<'_> {
         }
     }
 
-    /// Both-ways distance between the interpolant of `samples` and the polyline `ring`
-    /// (infinite when the fit fails).
-    /// How far the stroke through `samples` strays from the run (`ring` with radii
-    /// `ring_r`): the largest distance from its spine to the run and from the run to its
+    /// How far the stroke through `samples` strays from the run (the polyline `run` with
+    /// radii `ring_r`; infinite when no stroke interpolates the samples): the largest distance from its spine to the run and from the run to its
     /// spine, plus the largest radius error at the run's points (the radius at the spine
     /// sample nearest each point against the point's radius). The sum bounds how far the
     /// stroke's disks stray from the drawn ones.
@@ -318,10 +399,11 @@ impl Ctx<'_> {
         &self,
         name: &str,
         samples: &[[f64; 3]],
-        ring: &[DVec2],
+        run: &Polyline,
         ring_r: &[f64],
         closed: bool,
     ) -> f64 {
+        let ring = run.pts;
         let mut st = Stroke::from_disks(name, Vec::new());
         st.disks = None;
         st.closed = closed;
@@ -336,28 +418,35 @@ impl Ctx<'_> {
             .map(|i| lo + (hi - lo) * i as f64 / n as f64)
             .collect();
         let spine: Vec<DVec2> = params.iter().map(|&t| c.center(t)).collect();
-        let a = spine
-            .iter()
-            .map(|&q| dist_polyline(q, ring))
-            .fold(0.0, f64::max);
-        let b = ring
-            .iter()
-            .map(|&q| dist_polyline(q, &spine))
-            .fold(0.0, f64::max);
-        // Radius error both ways: at each spine sample against the run's radius at the
-        // nearest point of the run, and at each run point against the spine sample nearest it.
-        let to_run = spine
+        let curve = Polyline::new(&spine);
+        // From every spine sample: its distance to the run, and its radius against the run's
+        // radius at the nearest point of the run.
+        let (a, to_run) = spine
             .iter()
             .zip(&params)
-            .map(|(&q, &t)| (c.radius(t) - radius_on_polyline(q, ring, ring_r)).abs())
-            .fold(0.0, f64::max);
+            .fold((0.0f64, 0.0f64), |acc, (&q, &t)| {
+                let (d, i, f) = run.nearest(q);
+                let r = match ring_r.get(i + 1) {
+                    Some(&r1) => ring_r[i] + f * (r1 - ring_r[i]),
+                    None => ring_r[0],
+                };
+                (acc.0.max(d), acc.1.max((c.radius(t) - r).abs()))
+            });
+        let b = ring.iter().map(|&q| curve.nearest(q).0).fold(0.0, f64::max);
+        let samples_tree = rstar::RTree::bulk_load(
+            spine
+                .iter()
+                .enumerate()
+                .map(|(i, q)| GeomWithData::new([q.x, q.y], i))
+                .collect(),
+        );
         let to_spine = ring
             .iter()
             .zip(ring_r)
             .map(|(&q, &r)| {
-                let j = (0..spine.len())
-                    .min_by(|&i, &k| q.distance(spine[i]).total_cmp(&q.distance(spine[k])))
-                    .unwrap_or(0);
+                let j = samples_tree
+                    .nearest_neighbor([q.x, q.y])
+                    .map_or(0, |n| n.data);
                 (c.radius(params[j]) - r).abs()
             })
             .fold(0.0, f64::max);
@@ -366,39 +455,40 @@ impl Ctx<'_> {
     }
 }
 
-/// The radius (linear along each segment of `poly`, radii `r` at its points) at the point
-/// of `poly` nearest to `p`.
-fn radius_on_polyline(p: DVec2, poly: &[DVec2], r: &[f64]) -> f64 {
-    if poly.len() == 1 {
-        return r[0];
-    }
-    let mut best = (f64::INFINITY, r[0]);
-    for (i, w) in poly.windows(2).enumerate() {
-        let seg = crate::geom::Line::new(w[0], w[1]);
-        let t = seg.nearest_t(p);
-        let d = seg.eval(t).distance(p);
-        if d < best.0 {
-            best = (d, r[i] + t * (r[i + 1] - r[i]));
-        }
-    }
-    best.1
+/// A polyline with an R-tree of its segments: the nearest point of the polyline to a
+/// query in O(log n) instead of a scan of every segment (the fit measures every spine
+/// sample against the run and every run point against the spine).
+pub(super) struct Polyline<'a> {
+    pts: &'a [DVec2],
+    tree: rstar::RTree<GeomWithData<RLine<[f64; 2]>, usize>>,
 }
 
-fn dist_polyline(p: DVec2, poly: &[DVec2]) -> f64 {
-    if poly.len() == 1 {
-        return p.distance(poly[0]);
+impl<'a> Polyline<'a> {
+    pub(super) fn new(pts: &'a [DVec2]) -> Self {
+        let segs = pts
+            .windows(2)
+            .enumerate()
+            .map(|(i, w)| GeomWithData::new(RLine::new([w[0].x, w[0].y], [w[1].x, w[1].y]), i))
+            .collect();
+        Polyline {
+            pts,
+            tree: rstar::RTree::bulk_load(segs),
+        }
     }
-    poly.windows(2)
-        .map(|w| {
-            let (a, b) = (w[0], w[1]);
-            let d = b - a;
-            let l2 = d.length_squared();
-            let t = if l2 > 0.0 {
-                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            p.distance(a + d * t)
-        })
-        .fold(f64::INFINITY, f64::min)
+
+    /// Distance from `p` to the polyline, the segment it is nearest to and the parameter
+    /// along that segment (for one point: its distance, segment 0, parameter 0).
+    pub(super) fn nearest(&self, p: DVec2) -> (f64, usize, f64) {
+        let Some(n) = self.tree.nearest_neighbor([p.x, p.y]) else {
+            return (
+                self.pts.first().map_or(f64::INFINITY, |&q| p.distance(q)),
+                0,
+                0.0,
+            );
+        };
+        let i = n.data;
+        let seg = crate::geom::Line::new(self.pts[i], self.pts[i + 1]);
+        let t = seg.nearest_t(p);
+        (seg.eval(t).distance(p), i, t)
+    }
 }

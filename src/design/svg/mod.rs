@@ -190,7 +190,10 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         layer: None,
         path_layer: None,
         paint: paint::Paint::default(),
+        sheet: style_rules(&xml),
+        opacity: 1.0,
         strokes: Vec::new(),
+        stroke_src: Vec::new(),
         shapes: Vec::new(),
         skipped: Vec::new(),
         counter: 0,
@@ -219,6 +222,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
         ctx.skip(source_name(&xml, n), &reason);
     }
     ctx.group(tree.root());
+    ctx.hide_strokes();
     ctx.finish_paint();
     // A malformed path that usvg kept was drawn up to the error (as SVG renderers do);
     // one it dropped had nothing before the error.
@@ -308,9 +312,14 @@ fn reason_of(e: &DesignError) -> String {
 }
 
 /// The value of the inherited presentation property `name` on `n`: from its `style`
-/// attribute or the attribute itself, else from the nearest ancestor that sets it (CSS
-/// style sheets are not consulted).
-fn inherited<'a>(n: roxmltree::Node<'a, 'a>, name: &str) -> Option<&'a str> {
+/// attribute, else the last rule of the highest specificity of the style `sheet` that
+/// matches it, else the attribute itself (the CSS cascade of SVG 1.1 §6.4, without
+/// `!important`), else from the nearest ancestor that sets it.
+fn inherited<'a>(
+    n: roxmltree::Node<'a, 'a>,
+    name: &str,
+    sheet: &[simplecss::Rule<'a>],
+) -> Option<&'a str> {
     n.ancestors().filter(|a| a.is_element()).find_map(|a| {
         let styled = a.attribute("style").and_then(|st| {
             st.split(';').find_map(|decl| {
@@ -318,8 +327,62 @@ fn inherited<'a>(n: roxmltree::Node<'a, 'a>, name: &str) -> Option<&'a str> {
                 (k.trim() == name).then_some(v)
             })
         });
-        styled.or_else(|| a.attribute(name))
+        let css = || {
+            sheet
+                .iter()
+                .filter(|r| r.selector.matches(&XmlElement(a)))
+                .filter_map(|r| {
+                    let d = r.declarations.iter().rev().find(|d| d.name == name)?;
+                    Some((r.selector.specificity(), d.value))
+                })
+                .fold(None, |best: Option<([u8; 3], &str)>, (sp, v)| match best {
+                    Some((b, _)) if b > sp => best,
+                    _ => Some((sp, v)),
+                })
+                .map(|(_, v)| v)
+        };
+        styled.or_else(css).or_else(|| a.attribute(name))
     })
+}
+
+/// The rules of every `<style>` element of the document, in document order.
+fn style_rules<'a>(xml: &'a roxmltree::Document<'a>) -> Vec<simplecss::Rule<'a>> {
+    let mut sheet = simplecss::StyleSheet::new();
+    for n in xml.descendants().filter(|n| n.has_tag_name("style")) {
+        for t in n.children().filter_map(|c| c.text()) {
+            sheet.parse_more(t);
+        }
+    }
+    sheet.rules
+}
+
+/// A source element as CSS selectors see it.
+#[derive(Clone, Copy)]
+struct XmlElement<'a>(roxmltree::Node<'a, 'a>);
+
+impl simplecss::Element for XmlElement<'_> {
+    fn parent_element(&self) -> Option<Self> {
+        self.0.parent_element().map(XmlElement)
+    }
+
+    fn prev_sibling_element(&self) -> Option<Self> {
+        self.0.prev_sibling_element().map(XmlElement)
+    }
+
+    fn has_local_name(&self, name: &str) -> bool {
+        self.0.tag_name().name() == name
+    }
+
+    fn attribute_matches(&self, local_name: &str, operator: simplecss::AttributeOperator) -> bool {
+        self.0
+            .attribute(local_name)
+            .is_some_and(|v| operator.matches(v))
+    }
+
+    fn pseudo_class_matches(&self, class: simplecss::PseudoClass) -> bool {
+        matches!(class, simplecss::PseudoClass::FirstChild)
+            && self.0.prev_sibling_element().is_none()
+    }
 }
 
 /// The label of an Inkscape layer (`inkscape:groupmode="layer"`, its `inkscape:label`, else
@@ -406,14 +469,29 @@ struct Ctx<'a> {
     /// The layer of the path being imported.
     path_layer: Option<String>,
     paint: paint::Paint,
+    /// The document's style sheet rules (for the reasons that name a property).
+    sheet: Vec<simplecss::Rule<'a>>,
+    /// Product of the `opacity` of the groups being walked.
+    opacity: f64,
     strokes: Vec<Stroke>,
+    /// Where each stroke came from, parallel to `strokes`: for hiding it under later fills.
+    stroke_src: Vec<StrokeSrc>,
     shapes: Vec<Shape>,
     skipped: Vec<Skipped>,
     counter: usize,
     max_deviation: f64,
 }
 
+/// The cleaned centre line of an imported stroke, its radii and its paint order.
+struct StrokeSrc {
+    seq: usize,
+    pts: Vec<DVec2>,
+    radii: Vec<f64>,
+    closed: bool,
+}
+
 /// One node of a subpath: its index in the flattened polyline and whether it is a corner.
+#[derive(Clone)]
 struct Subpath {
     pts: Vec<DVec2>,
     /// Indices in `pts` of the path's nodes, with the tangent turn there (radians).
@@ -422,6 +500,29 @@ struct Subpath {
     /// Path time of every point (segment index + parameter in the segment, as Inkscape's
     /// Power Stroke counts it); filled only for Power Stroke paths.
     times: Vec<f64>,
+}
+
+impl Subpath {
+    /// An open subpath along the polyline `pts`, a node at every point with the turn there.
+    fn polyline(pts: Vec<DVec2>) -> Self {
+        let n = pts.len();
+        let nodes = (0..n)
+            .map(|i| {
+                let a = if i > 0 && i + 1 < n {
+                    turn(pts[i] - pts[i - 1], pts[i + 1] - pts[i])
+                } else {
+                    0.0
+                };
+                (i, a)
+            })
+            .collect();
+        Subpath {
+            pts,
+            nodes,
+            closed: false,
+            times: Vec::new(),
+        }
+    }
 }
 
 fn turn(a: DVec2, b: DVec2) -> f64 {
@@ -522,6 +623,8 @@ impl Ctx<'_> {
 
     fn group(&mut self, g: &usvg::Group) {
         let outer = self.layer.clone();
+        let outer_opacity = self.opacity;
+        self.opacity *= f64::from(g.opacity().get());
         if let Some(label) = self.element(g.id()).and_then(layer_label) {
             self.layer = Some(label.to_string());
         }
@@ -533,6 +636,7 @@ impl Ctx<'_> {
             }
         }
         self.layer = outer;
+        self.opacity = outer_opacity;
     }
 
     /// The name of a usvg path: its id, or `<path> #k` (k-th path in paint order), after
@@ -585,7 +689,7 @@ impl Ctx<'_> {
             let reason = if p.fill().is_none() && p.stroke().is_none() {
                 let width = self
                     .element(p.id())
-                    .and_then(|n| inherited(n, "stroke-width"));
+                    .and_then(|n| inherited(n, "stroke-width", &self.sheet));
                 match width {
                     Some(w) if w.trim().parse::<f64>().is_ok_and(|v| v <= 0.0) => format!(
                         "stroke-width {}: a stroke of zero or negative width draws nothing, \
@@ -608,21 +712,53 @@ impl Ctx<'_> {
             }
         };
         // A fully transparent fill (fill-opacity 0, or the colour `transparent`) paints
-        // nothing: it is no area to engrave.
-        let fill = p.fill().filter(|f| f.opacity().get() > 0.0);
+        // nothing: it is no area to engrave; nor does one fainter than MIN_INK_OPACITY.
+        let group = self.opacity;
+        let alpha = move |a: usvg::Opacity| f64::from(a.get()) * group;
+        let fill = p
+            .fill()
+            .filter(|f| alpha(f.opacity()) >= paint::MIN_INK_OPACITY);
+        let stroke = p
+            .stroke()
+            .filter(|s| alpha(s.opacity()) >= paint::MIN_INK_OPACITY);
         if power.is_none()
             && let Some(fill) = fill
         {
-            self.fill_shape(p, &id, fill, p.stroke().is_some());
+            let translucent = alpha(fill.opacity()) < paint::HIDE_OPACITY;
+            self.fill_shape(p, &id, fill, stroke.is_some(), translucent);
         }
-        let stroke_width = match (&power, p.stroke()) {
+        let faint = |a: f64, what: &str| {
+            if a <= 0.0 {
+                format!("its {what} is fully transparent")
+            } else {
+                format!(
+                    "its {what} is drawn at opacity {a:.3}, below {} (not ink)",
+                    paint::MIN_INK_OPACITY
+                )
+            }
+        };
+        let stroke_width = match (&power, stroke) {
             (Some(_), _) => 0.0,
             (None, Some(stroke)) => stroke.width().get() as f64,
             (None, None) => {
-                if p.fill().is_none() {
-                    self.skip(id, "neither stroked nor filled");
-                } else if fill.is_none() {
-                    self.skip(id, "its fill is fully transparent and it has no stroke");
+                let no_fill = match p.fill() {
+                    Some(f) if fill.is_none() => Some(faint(alpha(f.opacity()), "fill")),
+                    _ => None,
+                };
+                match (p.stroke(), no_fill) {
+                    (None, None) if p.fill().is_none() => {
+                        self.skip(id, "neither stroked nor filled")
+                    }
+                    (None, Some(f)) => self.skip(id, &format!("{f} and it has no stroke")),
+                    (Some(s), f) => {
+                        let s = faint(alpha(s.opacity()), "stroke");
+                        match f {
+                            Some(f) => self.skip(id, &format!("{f}; {s}")),
+                            None if p.fill().is_none() => self.skip(id, &s),
+                            None => self.skip(format!("{id} (stroke)"), &s),
+                        }
+                    }
+                    (None, None) => {}
                 }
                 return;
             }
@@ -811,12 +947,32 @@ impl Ctx<'_> {
                 Some(ps) => ps.radii(&sp.times, scale * MM_PER_PX, 0.5 * self.opts.tolerance),
                 None => self.radii(&sp.pts, width_mm, widths.as_deref(), scale),
             };
-            let fitted = self
+            let mut fitted = self
                 .fit_subpath(&name, &sp, &radii)
                 .map_err(str::to_string)
                 .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
+            // Beyond the tolerance: try again with the cusps inside segments as corners.
+            if fitted
+                .as_ref()
+                .is_ok_and(|(_, dev)| *dev > self.opts.tolerance)
+            {
+                let mut cusped = sp.clone();
+                if fit::mark_cusps(&mut cusped, self.opts.tolerance) {
+                    let again = self
+                        .fit_subpath(&name, &cusped, &radii)
+                        .map_err(str::to_string)
+                        .and_then(|(s, dev)| self.usable(s).map(|s| (s, dev)));
+                    let better = |a: &(Stroke, f64), b: &(Stroke, f64)| a.1 < b.1;
+                    if let (Ok(a), Ok(b)) = (&again, &fitted)
+                        && better(a, b)
+                    {
+                        fitted = again;
+                    }
+                }
+            }
             match fitted {
                 Ok((mut s, dev)) => {
+                    self.max_deviation = self.max_deviation.max(dev);
                     s.layer = self.path_layer.clone();
                     s.color = color.clone();
                     if dev > self.opts.tolerance {
@@ -830,8 +986,96 @@ impl Ctx<'_> {
                         );
                     }
                     self.strokes.push(s);
+                    self.stroke_src.push(StrokeSrc {
+                        seq: self.paint.seq,
+                        pts: sp.pts,
+                        radii,
+                        closed: sp.closed,
+                    });
                 }
                 Err(reason) => self.skip(name, &reason),
+            }
+        }
+        self.paint.seq += 1;
+    }
+
+    /// Strokes painted before a fill that hides (see [`paint`]) lose the runs of their
+    /// centre line the fill covers: a stroke covered entirely is listed as hidden, one
+    /// covered in part becomes one stroke per visible run (fitted as any subpath, with the
+    /// radii of the nearest point of the drawn line), with a warning; the others are kept
+    /// as they were.
+    fn hide_strokes(&mut self) {
+        let strokes = std::mem::take(&mut self.strokes);
+        let srcs = std::mem::take(&mut self.stroke_src);
+        let tol = self.opts.tolerance;
+        for (s, src) in strokes.into_iter().zip(srcs) {
+            let mut line = src.pts.clone();
+            if src.closed && line.first() != line.last() {
+                line.push(line[0]);
+            }
+            let reach = src.radii.iter().copied().fold(0.0, f64::max);
+            let Some(runs) = self.paint.visible_lines(src.seq, &line, reach) else {
+                self.strokes.push(s);
+                continue;
+            };
+            let length = |l: &[DVec2]| l.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+            let (drawn, seen) = (length(&line), runs.iter().map(|r| length(r)).sum::<f64>());
+            if runs.len() == 1 && (drawn - seen).abs() <= 1e-9 * drawn.max(1.0) {
+                self.strokes.push(s);
+                continue;
+            }
+            let runs: Vec<Vec<DVec2>> = runs.into_iter().filter(|r| length(r) > tol).collect();
+            if runs.is_empty() {
+                self.skip(s.name, "hidden: later fills cover its line entirely");
+                continue;
+            }
+            let drawn_line = fit::Polyline::new(&line);
+            let mut radii_of_line = src.radii.clone();
+            if radii_of_line.len() < line.len() {
+                radii_of_line.push(src.radii[0]);
+            }
+            self.warn(
+                s.name.clone(),
+                format!(
+                    "later fills hide {:.1} of its {:.1} mm: {} visible run(s) kept",
+                    drawn - seen,
+                    drawn,
+                    runs.len()
+                ),
+            );
+            for (k, run) in runs.into_iter().enumerate() {
+                let name = if k == 0 {
+                    s.name.clone()
+                } else {
+                    self.unique(s.name.clone())
+                };
+                let mut sp = Subpath::polyline(run);
+                fit::clean(&mut sp, tol);
+                let radii: Vec<f64> = sp
+                    .pts
+                    .iter()
+                    .map(|&q| {
+                        let (_, i, f) = drawn_line.nearest(q);
+                        let r0 = radii_of_line[i];
+                        let r1 = radii_of_line.get(i + 1).copied().unwrap_or(r0);
+                        r0 + f * (r1 - r0)
+                    })
+                    .collect();
+                let fitted = self
+                    .fit_subpath(&name, &sp, &radii)
+                    .map_err(str::to_string)
+                    .and_then(|(t, dev)| self.usable(t).map(|t| (t, dev)));
+                match fitted {
+                    Ok((mut t, dev)) => {
+                        self.max_deviation = self.max_deviation.max(dev);
+                        t.layer = s.layer.clone();
+                        t.color = s.color.clone();
+                        self.strokes.push(t);
+                    }
+                    Err(reason) => {
+                        self.skip(name, &format!("visible run of a hidden stroke: {reason}"))
+                    }
+                }
             }
         }
     }

@@ -10,6 +10,12 @@
 //!   out and is no ink itself. The background is a first fill that covers the whole page
 //!   (a `<rect>` behind the art, as plotting tools write); it is listed as skipped.
 //!
+//! - a fill drawn with an opacity (`opacity` of it and its groups times `fill-opacity`)
+//!   below [`MIN_INK_OPACITY`] is no ink at all; one below [`HIDE_OPACITY`] is ink that
+//!   hides nothing (what lies under it shows through), so it neither cuts nor knocks out;
+//! - a stroke drawn before a fill that hides is hidden where the fill covers its centre
+//!   line ([`Paint::visible_lines`]): the visible runs of the line are kept, each a stroke.
+//!
 //! Regions are simple rings (outer counter-clockwise, holes clockwise, none crossing), so
 //! the even-odd rule of geo's boolean operations (i_overlay) reads them exactly. Only
 //! regions whose bounding boxes meet are compared (an R-tree of the boxes), so a drawing of
@@ -23,6 +29,14 @@ use rstar::{AABB, RTree};
 
 /// White: a fill of this colour is a knockout (the default page background).
 pub(super) const WHITE: &str = "#ffffff";
+
+/// Paint whose opacity (its own times its element's and groups' `opacity`) is below this
+/// is not ink: too faint to be meant for the machine (a construction line, a hidden guide).
+pub(super) const MIN_INK_OPACITY: f64 = 0.1;
+
+/// A fill hides what lies under it (and a white one knocks out) only from this opacity on:
+/// under a fill less than half opaque the earlier art stays the more visible.
+pub(super) const HIDE_OPACITY: f64 = 0.5;
 
 /// One visible region of a fill.
 pub(super) struct Region {
@@ -45,6 +59,13 @@ pub(super) struct Paint {
     boxes: Vec<Option<AABB<[f64; 2]>>>,
     /// The page background's colour, once a first fill covered the page.
     pub(super) background: Option<String>,
+    /// Fills that hide what lies under them, with their paint order (strokes painted
+    /// before one are hidden where it covers them).
+    covers: Vec<(usize, geo::MultiPolygon<f64>)>,
+    /// R-tree of the covers' bounding boxes.
+    cover_tree: RTree<Boxed>,
+    /// Paint order of the next fill or stroke.
+    pub(super) seq: usize,
 }
 
 fn bbox(rings: &[Vec<DVec2>]) -> Option<AABB<[f64; 2]>> {
@@ -76,6 +97,12 @@ impl Paint {
         let Some(b) = bbox(&fill.rings) else {
             return hidden;
         };
+        self.cover_tree.insert(GeomWithData::new(
+            Rectangle::from_corners(b.lower(), b.upper()),
+            self.covers.len(),
+        ));
+        self.covers.push((self.seq, to_geo(&fill.rings)));
+        self.seq += 1;
         let near: Vec<usize> = self
             .tree
             .locate_in_envelope_intersecting(b)
@@ -118,6 +145,46 @@ impl Paint {
         hidden
     }
 
+    /// Paint a translucent fill (opacity below [`HIDE_OPACITY`]): ink of its own that
+    /// hides, cuts and merges with nothing.
+    pub(super) fn paint_translucent(&mut self, fill: Region) {
+        self.seq += 1;
+        self.regions.push(Some(fill));
+        self.boxes.push(None);
+        self.insert(self.regions.len() - 1);
+    }
+
+    /// The runs of the open polyline `line` (a stroke's centre line painted at `seq`) that
+    /// no later hiding fill covers, in order along the line (geo's line clipping, i_overlay,
+    /// even-odd on the fills' simple rings). `None` when no later fill reaches the line's
+    /// box grown by `reach` (the line is kept whole, untouched).
+    pub(super) fn visible_lines(
+        &self,
+        seq: usize,
+        line: &[DVec2],
+        reach: f64,
+    ) -> Option<Vec<Vec<DVec2>>> {
+        let b = bbox(std::slice::from_ref(&line.to_vec()))?;
+        let grow = |v: [f64; 2], d: f64| [v[0] + d, v[1] + d];
+        let b = AABB::from_corners(grow(b.lower(), -reach), grow(b.upper(), reach));
+        let mut over: Vec<usize> = self
+            .cover_tree
+            .locate_in_envelope_intersecting(b)
+            .map(|g| g.data)
+            .filter(|&k| self.covers[k].0 > seq)
+            .collect();
+        over.sort_unstable();
+        if over.is_empty() {
+            return None;
+        }
+        let coords = line.iter().map(|p| geo::Coord { x: p.x, y: p.y }).collect();
+        let mut lines = geo::MultiLineString::new(vec![geo::LineString::new(coords)]);
+        for k in over {
+            lines = self.covers[k].1.clip(&lines, true);
+        }
+        Some(along(line, &lines))
+    }
+
     fn insert(&mut self, i: usize) {
         let Some(b) = self.regions[i].as_ref().and_then(|r| bbox(&r.rings)) else {
             return;
@@ -133,4 +200,48 @@ impl Paint {
     pub(super) fn is_empty(&self) -> bool {
         self.regions.iter().all(Option::is_none)
     }
+}
+
+/// The pieces of `clipped` (parts of the polyline `line`) in order along `line`, each
+/// running forwards, pieces that meet end to start joined: a clipper returns the parts in
+/// any order and direction.
+fn along(line: &[DVec2], clipped: &geo::MultiLineString<f64>) -> Vec<Vec<DVec2>> {
+    let index = super::fit::Polyline::new(line);
+    let mut arc = vec![0.0];
+    for w in line.windows(2) {
+        arc.push(arc.last().copied().unwrap_or(0.0) + w[0].distance(w[1]));
+    }
+    let pos = |q: DVec2| {
+        let (_, i, f) = index.nearest(q);
+        let next = arc.get(i + 1).copied().unwrap_or(arc[i]);
+        arc[i] + f * (next - arc[i])
+    };
+    let mut pieces: Vec<(f64, Vec<DVec2>)> = clipped
+        .iter()
+        .filter_map(|ls| {
+            let mut pts: Vec<DVec2> = ls.coords().map(|c| DVec2::new(c.x, c.y)).collect();
+            let (&first, &last) = (pts.first()?, pts.last()?);
+            let (a, b) = (pos(first), pos(last));
+            if b < a {
+                pts.reverse();
+            }
+            Some((a.min(b), pts))
+        })
+        .collect();
+    pieces.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out: Vec<Vec<DVec2>> = Vec::new();
+    for (_, p) in pieces {
+        match out.last_mut() {
+            Some(last)
+                if last
+                    .last()
+                    .zip(p.first())
+                    .is_some_and(|(a, b)| a.distance(*b) < 1e-9) =>
+            {
+                last.extend_from_slice(&p[1..]);
+            }
+            _ => out.push(p),
+        }
+    }
+    out
 }
