@@ -129,6 +129,11 @@ struct Ctx<'a> {
     routes: Mutex<Vec<(usize, RouteNote)>>,
     /// The flex and its runs, for a design with a `[neon]` table.
     neon: Option<(crate::design::Flex, Vec<super::neon::Run>)>,
+    /// Per outline, the stroke it is a translated copy of and the translation, where its
+    /// outline is that stroke's translated ([`super::outline::cache`]).
+    copy_of: Vec<Option<(usize, DVec2)>>,
+    /// Per outline its region, made once when first asked for.
+    regions: Vec<std::sync::OnceLock<Region>>,
 }
 
 impl Ctx<'_> {
@@ -201,8 +206,16 @@ impl Ctx<'_> {
     fn item_regions(&self, items: &[usize]) -> Vec<Region> {
         items
             .par_iter()
-            .map(|&i| Region::from_paths(&self.outlines[i].contours, self.tol))
+            .map(|&i| self.item_region(i).clone())
             .collect()
+    }
+
+    /// The region of item `i`'s outline, made once: a copy's is its original's, translated.
+    fn item_region(&self, i: usize) -> &Region {
+        self.regions[i].get_or_init(|| match self.copy_of.get(i).copied().flatten() {
+            Some((r, d)) => self.item_region(r).translated(d),
+            None => Region::from_paths(&self.outlines[i].contours, self.tol),
+        })
     }
 
     fn region(&self, items: &[usize]) -> Region {
@@ -493,16 +506,19 @@ fn union_of(regions: &[Region], tol: f64) -> Region {
 }
 
 /// The item each path comes from: the item `items[k]` of the first of `regions` that holds
-/// the path's first point, or of the nearest one (`items` and `regions` pair up).
+/// the path's first point, or of the nearest one (`items` and `regions` pair up). Regions
+/// whose bounding box (arcs included) misses the point are not asked.
 fn attribute(ctx: &Ctx, items: &[usize], regions: &[Region], paths: &[Path]) -> Vec<String> {
+    let boxes: Vec<Option<(DVec2, DVec2)>> = regions.iter().map(Region::bounds).collect();
     paths
-        .iter()
+        .par_iter()
         .map(|p| {
             let q = p.start().unwrap_or_default();
-            let k = regions
-                .iter()
-                .position(|r| r.contains(q))
-                .unwrap_or_else(|| nearest_region(regions, q));
+            let k = (regions.iter().zip(&boxes))
+                .position(|(r, b)| {
+                    b.is_some_and(|(lo, hi)| box_distance(lo, hi, q) == 0.0) && r.contains(q)
+                })
+                .unwrap_or_else(|| nearest_region(regions, &boxes, q));
             items
                 .get(k)
                 .map(|&i| ctx.outlines[i].name.clone())
@@ -511,24 +527,32 @@ fn attribute(ctx: &Ctx, items: &[usize], regions: &[Region], paths: &[Path]) -> 
         .collect()
 }
 
-/// Index of the region whose vertices come nearest to `q`.
-fn nearest_region(regions: &[Region], q: DVec2) -> usize {
+/// Distance from `q` to the box [lo, hi] (0 inside).
+fn box_distance(lo: DVec2, hi: DVec2, q: DVec2) -> f64 {
+    (lo - q).max(q - hi).max(DVec2::ZERO).length()
+}
+
+/// Index of the region whose vertices come nearest to `q` (the first of equals); regions
+/// whose box (`boxes`, holding their vertices) is farther than the best so far are skipped.
+fn nearest_region(regions: &[Region], boxes: &[Option<(DVec2, DVec2)>], q: DVec2) -> usize {
     use cavalier_contours::polyline::PlineSource;
-    regions
-        .iter()
-        .enumerate()
-        .map(|(k, r)| {
-            let d = r
-                .contours
-                .iter()
-                .flat_map(|c| c.iter_vertexes())
-                .map(|v| DVec2::new(v.x, v.y).distance_squared(q))
-                .fold(f64::INFINITY, f64::min);
-            (k, d)
-        })
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(k, _)| k)
-        .unwrap_or(0)
+    let mut best = (0, f64::INFINITY);
+    for (k, (r, b)) in regions.iter().zip(boxes).enumerate() {
+        let Some((lo, hi)) = *b else { continue };
+        if (lo - q).max(q - hi).max(DVec2::ZERO).length_squared() > best.1 {
+            continue;
+        }
+        let d = r
+            .contours
+            .iter()
+            .flat_map(|c| c.iter_vertexes())
+            .map(|v| DVec2::new(v.x, v.y).distance_squared(q))
+            .fold(f64::INFINITY, f64::min);
+        if d < best.1 {
+            best = (k, d);
+        }
+    }
+    best.0
 }
 
 fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
@@ -1490,7 +1514,20 @@ pub fn build_toolpath_with(
             }
         }
     }
+    // Copies share their original's outline only on the skin route (the RE/MPH route
+    // replaced the outlines above).
+    let copy_of = if re_interp(opts.method).is_none() {
+        super::outline::cache::copies(&strokes, opts.tolerance)
+    } else {
+        Vec::new()
+    };
+    let regions = outlines
+        .iter()
+        .map(|_| std::sync::OnceLock::new())
+        .collect();
     let ctx = Ctx {
+        copy_of,
+        regions,
         design,
         profile,
         stroke_index: (design.stroke.iter().enumerate())
