@@ -39,6 +39,7 @@ use crate::machine::{MachineKind, Profile, Tool, ToolKind};
 use crate::skin::dbsc_skin::ReportBounds;
 use crate::skin::re::Interp;
 use crate::spline::BSpline;
+use crate::toolpath::arc_merge::merge_lines;
 use crate::toolpath::cut::{Lead, Tabs};
 use crate::toolpath::ops::{self, Hole};
 use crate::toolpath::plan::{AttrPolyline, Geometry, OpSpec, PlanStats, plan};
@@ -156,6 +157,13 @@ fn op_err(ctx: &Ctx, index: usize, op: &Operation, message: impl Into<String>) -
 }
 
 impl Ctx<'_> {
+    /// A G-code laser whose profile writes arcs (`arcs` other than "none").
+    fn laser_arcs(&self) -> bool {
+        self.laser()
+            && (self.profile.gcode.as_ref())
+                .is_some_and(|g| g.arcs != crate::machine::ArcFormat::None)
+    }
+
     fn laser(&self) -> bool {
         !matches!(self.profile.kind, MachineKind::Router)
     }
@@ -1572,6 +1580,15 @@ pub fn build_toolpath_with(
         .collect();
     for b in built {
         specs.extend(b?);
+    }
+    if ctx.laser_arcs() {
+        // A laser cuts what was flattened (unions of crossing outlines are polygons) as
+        // arcs where its G-code takes them: runs of lines merged within the tolerance.
+        for s in &mut specs {
+            if let Geometry::Paths(paths) = &mut s.geometry {
+                *paths = paths.par_iter().map(|p| merge_lines(p, ctx.tol)).collect();
+            }
+        }
     }
     assign_pockets(&ctx, &mut specs);
     let neon = ctx.neon.as_ref().map(|(flex, runs)| {
