@@ -75,6 +75,13 @@ impl Default for BuildOptions {
     }
 }
 
+/// Flattening tolerance of unions that are merged into arcs afterwards, as a fraction of the
+/// build tolerance ([`crate::toolpath::arc_merge`]): an arc through a flattened arc's
+/// vertices is within the chords' sagitta of them, which must stay below the merge's
+/// tolerance (the build tolerance) for the arc to pass; at half of it every such run
+/// passes.
+const ARC_UNION_FRACTION: f64 = 0.5;
+
 /// Stepover of concentric clearing as a fraction of the tool diameter.
 const STEPOVER: f64 = 0.4;
 /// Default backboard margin in millimetres.
@@ -164,6 +171,17 @@ impl Ctx<'_> {
                 .is_some_and(|g| g.arcs != crate::machine::ArcFormat::None)
     }
 
+    /// Flattening tolerance of the union of several outlines: the build tolerance, or
+    /// [`ARC_UNION_FRACTION`] of it where the lines are merged into arcs afterwards
+    /// ([`Ctx::laser_arcs`]), so that the chords' sagittas leave room for the merge.
+    fn union_tol(&self) -> f64 {
+        if self.laser_arcs() {
+            ARC_UNION_FRACTION * self.tol
+        } else {
+            self.tol
+        }
+    }
+
     fn laser(&self) -> bool {
         !matches!(self.profile.kind, MachineKind::Router)
     }
@@ -227,7 +245,7 @@ impl Ctx<'_> {
     }
 
     fn region(&self, items: &[usize]) -> Region {
-        union_of(&self.item_regions(items), self.tol)
+        union_of(&self.item_regions(items), self.union_tol())
     }
 
     fn tool(&self, want: &[ToolKind]) -> Option<&Tool> {
@@ -459,7 +477,7 @@ fn union_paths_with_sources(
     f: impl Fn(&Region) -> Vec<Path>,
 ) -> (Vec<Path>, Vec<String>) {
     let regions = ctx.item_regions(items);
-    let paths = f(&union_of(&regions, ctx.tol));
+    let paths = f(&union_of(&regions, ctx.union_tol()));
     let sources = attribute(ctx, items, &regions, &paths);
     (paths, sources)
 }

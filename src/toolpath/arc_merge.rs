@@ -17,6 +17,10 @@
 //! straight within `tol` (every vertex within `tol` of the chord v_i v_j, which bounds the
 //! distance from every segment, the distance to a segment being convex) becomes that chord.
 //!
+//! Chords of a flattened arc are within their sagitta of the arc through their ends, so a
+//! polyline merges into arcs only where it was flattened finer than `tol` (the build
+//! flattens unions at half the tolerance before they are merged).
+//!
 //! **Search.** From each vertex the farthest end j is found by galloping and binary search
 //! on j (success is assumed to shrink with j; each end found is certified by its own
 //! bound), each test O(j − i): O(n log n) for a run of n segments. Arcs and cubics of the
@@ -202,7 +206,9 @@ mod tests {
 
     #[test]
     fn a_flattened_circle_becomes_a_few_arcs() {
-        let (r, n) = (10.0, 200);
+        // Chord sagitta r(1 − cos(π/n)) = 3.1e-4, below the tolerance: the bound of an arc
+        // through the vertices is the sagitta (a coarser polyline cannot merge within 1e-3).
+        let (r, n) = (10.0, 400);
         let pts: Vec<DVec2> = (0..n)
             .map(|k| DVec2::from_angle(k as f64 / n as f64 * std::f64::consts::TAU) * r)
             .collect();
@@ -215,14 +221,16 @@ mod tests {
             .filter(|s| matches!(s, PathSeg::Arc(_)))
             .count();
         assert!(arcs >= 2 && m.segs.len() <= 6, "{} segments", m.segs.len());
-        // Chord sagitta of the input: r(1 − cos(π/n)); every arc lies on the circle.
+        // Every arc lies on the circle.
         for s in &m.segs {
             if let PathSeg::Arc(a) = s {
                 assert!((a.radius - r).abs() < 1e-9 && a.center.length() < 1e-9);
             }
         }
         assert!(hausdorff(&p, &m) <= tol + 1e-9);
-        assert!((m.length(1e-9) - std::f64::consts::TAU * r).abs() < 1e-6);
+        // Arcs on the circle and the chords left: between the polygon's length and 2πr.
+        let len = m.length(1e-9);
+        assert!(len >= p.length(1e-9) - 1e-9 && len <= std::f64::consts::TAU * r + 1e-9);
     }
 
     #[test]
@@ -264,7 +272,8 @@ mod tests {
             let p = polyline(&pts, closed);
             let m = merge_lines(&p, tol);
             prop_assert!(m.segs.len() <= p.segs.len());
-            prop_assert_eq!(m.start(), p.start());
+            let (a, b) = (m.start().unwrap_or_default(), p.start().unwrap_or_default());
+            prop_assert!(a.distance(b) < 1e-9 * r);
             let h = hausdorff(&p, &m);
             prop_assert!(h <= tol * (1.0 + 1e-6) + 1e-9 * r, "distance {} > tol {}", h, tol);
             prop_assert!(m.max_gap() < 1e-9 * r);
