@@ -154,3 +154,73 @@ impl ItemOutline {
         o
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dbsc::tangent::tests::dbsc_strategy_in;
+    use crate::geom::Line;
+    use crate::job::design_of_strokes;
+    use crate::job::outline::{OutlineOptions, design_outlines, stroke_outline};
+    use proptest::prelude::*;
+
+    /// Largest distance from a point of `a`'s contours (flattened within `tol`) to the
+    /// polylines of `b`'s, both ways.
+    fn hausdorff(a: &ItemOutline, b: &ItemOutline, tol: f64) -> f64 {
+        let flat = |o: &ItemOutline| -> Vec<Vec<DVec2>> {
+            o.contours.iter().map(|p| p.flatten(tol)).collect()
+        };
+        let one = |x: &[Vec<DVec2>], y: &[Vec<DVec2>]| {
+            x.iter()
+                .flatten()
+                .map(|&q| {
+                    y.iter()
+                        .flat_map(|r| {
+                            (0..r.len()).map(move |i| Line::new(r[i], r[(i + 1) % r.len()]))
+                        })
+                        .map(|l| l.distance(q))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0f64, f64::max)
+        };
+        let (fa, fb) = (flat(a), flat(b));
+        one(&fa, &fb).max(one(&fb, &fa))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+        /// A translated copy in a design is found as a copy, and the outline it gets from its
+        /// original (translated) matches its own skin, computed without the cache, within
+        /// the skin's ε; points it carries move with it.
+        #[test]
+        fn copies_match_their_own_skins(
+            c in dbsc_strategy_in(2..=3, 0..=3, 20.0, 0.5..2.0),
+            dx in -500.0f64..500.0,
+            dy in -500.0f64..500.0,
+        ) {
+            let d = DVec2::new(dx, dy);
+            let moved = c.translated(d);
+            let design = design_of_strokes("copies", &[("a", &c), ("b", &moved)], &[]).unwrap();
+            let opts = OutlineOptions::default();
+            let strokes = design.strokes().unwrap();
+            let copy = copies(&strokes, opts.tolerance);
+            prop_assert!(copy[0].is_none());
+            let (r, shift) = copy[1].expect("the translated stroke is a copy");
+            prop_assert_eq!(r, 0);
+            prop_assert!(shift.distance(d) < 1e-9 * (1.0 + d.length()));
+            let own = stroke_outline(&design, "b", &strokes[1], &opts);
+            let cached = design_outlines(&design, &opts);
+            prop_assume!(own.is_ok() && cached.is_ok());
+            let (own, cached) = (own.unwrap(), cached.unwrap());
+            let b = &cached[1];
+            prop_assert_eq!(&b.name, "b");
+            prop_assert_eq!(b.contours.len(), own.contours.len());
+            prop_assert_eq!(b.circles.len(), own.circles.len());
+            for (x, y) in b.circles.iter().zip(&own.circles) {
+                prop_assert!(x.c.distance(y.c) < 1e-6 && (x.r - y.r).abs() < 1e-6);
+            }
+            let h = hausdorff(b, &own, opts.tolerance);
+            prop_assert!(h <= opts.epsilon, "copy is {} from its own skin", h);
+        }
+    }
+}
