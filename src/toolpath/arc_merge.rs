@@ -53,7 +53,7 @@ fn fit(v: &[DVec2], i: usize, j: usize, tol: f64) -> Option<PathSeg> {
     let r = (p - c).length();
     let ccw = turn > 0.0;
     let arc = Arc::from_center_points(c, p, q, ccw);
-    if !(arc.sweep.abs() < std::f64::consts::PI) {
+    if arc.sweep.is_nan() || arc.sweep.abs() >= std::f64::consts::PI {
         return None;
     }
     for k in i..j {
@@ -140,7 +140,7 @@ fn merge_run(v: &[DVec2], tol: f64, out: &mut Vec<PathSeg>) {
 /// `tol` of the lines it replaces (module docs); other segments are kept. The result is
 /// within `tol` of `path` (Hausdorff distance) and starts and ends where it does.
 pub fn merge_lines(path: &Path, tol: f64) -> Path {
-    if !(tol > 0.0) {
+    if tol.is_nan() || tol <= 0.0 {
         return path.clone();
     }
     let mut out: Vec<PathSeg> = Vec::with_capacity(path.segs.len());
@@ -161,7 +161,7 @@ pub fn merge_lines(path: &Path, tol: f64) -> Path {
             }
             other => {
                 flush(&mut run, &mut out);
-                out.push(other.clone());
+                out.push(*other);
             }
         }
     }
