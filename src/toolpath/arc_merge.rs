@@ -33,6 +33,11 @@ use crate::geom::{Arc, DVec2, Line, Path, PathSeg, cross};
 /// sector's rays.
 const CONTAIN_EPS: f64 = 1e-9;
 
+/// Smallest radius of a merged arc, in tolerances: a circle narrower than that is a
+/// handful of tiny segments (a sharp tip), which stay lines; the G-code writer refuses
+/// arcs whose radius is within its tolerance.
+const MIN_RADIUS_TOLS: f64 = 10.0;
+
 /// Three points whose turn (cross product over the squared chord) is below this are taken
 /// as straight: their circle would be wider than 1e9 chords.
 const STRAIGHT_TURN: f64 = 1e-9;
@@ -51,6 +56,9 @@ fn fit(v: &[DVec2], i: usize, j: usize, tol: f64) -> Option<PathSeg> {
     }
     let c = circumcenter(p, m, q)?;
     let r = (p - c).length();
+    if r <= MIN_RADIUS_TOLS * tol {
+        return None;
+    }
     let ccw = turn > 0.0;
     let arc = Arc::from_center_points(c, p, q, ccw);
     if arc.sweep.is_nan() || arc.sweep.abs() >= std::f64::consts::PI {
@@ -231,6 +239,17 @@ mod tests {
         // Arcs on the circle and the chords left: between the polygon's length and 2πr.
         let len = m.length(1e-9);
         assert!(len >= p.length(1e-9) - 1e-9 && len <= std::f64::consts::TAU * r + 1e-9);
+    }
+
+    #[test]
+    fn tiny_circles_stay_lines() {
+        let pts: Vec<DVec2> = (0..40)
+            .map(|k| DVec2::from_angle(k as f64 / 40.0 * std::f64::consts::TAU) * 0.05)
+            .collect();
+        let p = polyline(&pts, true);
+        let m = merge_lines(&p, 0.01);
+        assert!(m.segs.iter().all(|s| matches!(s, PathSeg::Line(_))));
+        assert!(hausdorff(&p, &m) <= 0.01 + 1e-12);
     }
 
     #[test]
