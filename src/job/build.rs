@@ -39,6 +39,7 @@ use crate::machine::{MachineKind, Profile, Tool, ToolKind};
 use crate::skin::dbsc_skin::ReportBounds;
 use crate::skin::re::Interp;
 use crate::spline::BSpline;
+use crate::toolpath::arc_merge::merge_lines;
 use crate::toolpath::board;
 use crate::toolpath::cut::{Lead, Tabs};
 use crate::toolpath::ops::{self, Hole};
@@ -74,6 +75,15 @@ impl Default for BuildOptions {
         }
     }
 }
+
+/// Flattening tolerance of unions that are merged into arcs afterwards, as a fraction of the
+/// build tolerance ([`crate::toolpath::arc_merge`]). The chords are within this fraction of
+/// the exact outline and the merged arcs within the rest, (1 − fraction)·tol, of the chords,
+/// so the cut stays within the build tolerance. An arc through a flattened arc's vertices is
+/// within the chords' sagitta of them, which must stay below the merge's share for the arc
+/// to pass: at a third for the chords, two thirds for the merge, every such run passes with
+/// room to spare.
+const ARC_UNION_FRACTION: f64 = 1.0 / 3.0;
 
 /// Stepover of concentric clearing as a fraction of the tool diameter.
 const STEPOVER: f64 = 0.4;
@@ -130,6 +140,11 @@ struct Ctx<'a> {
     routes: Mutex<Vec<(usize, RouteNote)>>,
     /// The flex and its runs, for a design with a `[neon]` table.
     neon: Option<(crate::design::Flex, Vec<super::neon::Run>)>,
+    /// Per outline, the stroke it is a translated copy of and the translation, where its
+    /// outline is that stroke's translated ([`super::outline::cache`]).
+    copy_of: Vec<Option<(usize, DVec2)>>,
+    /// Per outline its region, made once when first asked for.
+    regions: Vec<std::sync::OnceLock<Region>>,
 }
 
 impl Ctx<'_> {
@@ -152,6 +167,24 @@ fn op_err(ctx: &Ctx, index: usize, op: &Operation, message: impl Into<String>) -
 }
 
 impl Ctx<'_> {
+    /// A G-code laser whose profile writes arcs (`arcs` other than "none").
+    fn laser_arcs(&self) -> bool {
+        self.laser()
+            && (self.profile.gcode.as_ref())
+                .is_some_and(|g| g.arcs != crate::machine::ArcFormat::None)
+    }
+
+    /// Flattening tolerance of the union of several outlines: the build tolerance, or
+    /// [`ARC_UNION_FRACTION`] of it where the lines are merged into arcs afterwards
+    /// ([`Ctx::laser_arcs`]), so that the chords' sagittas leave room for the merge.
+    fn union_tol(&self) -> f64 {
+        if self.laser_arcs() {
+            ARC_UNION_FRACTION * self.tol
+        } else {
+            self.tol
+        }
+    }
+
     fn laser(&self) -> bool {
         !matches!(self.profile.kind, MachineKind::Router)
     }
@@ -202,12 +235,20 @@ impl Ctx<'_> {
     fn item_regions(&self, items: &[usize]) -> Vec<Region> {
         items
             .par_iter()
-            .map(|&i| Region::from_paths(&self.outlines[i].contours, self.tol))
+            .map(|&i| self.item_region(i).clone())
             .collect()
     }
 
+    /// The region of item `i`'s outline, made once: a copy's is its original's, translated.
+    fn item_region(&self, i: usize) -> &Region {
+        self.regions[i].get_or_init(|| match self.copy_of.get(i).copied().flatten() {
+            Some((r, d)) => self.item_region(r).translated(d),
+            None => Region::from_paths(&self.outlines[i].contours, self.tol),
+        })
+    }
+
     fn region(&self, items: &[usize]) -> Region {
-        union_of(&self.item_regions(items), self.tol)
+        union_of(&self.item_regions(items), self.union_tol())
     }
 
     fn tool(&self, want: &[ToolKind]) -> Option<&Tool> {
@@ -439,7 +480,7 @@ fn union_paths_with_sources(
     f: impl Fn(&Region) -> Vec<Path>,
 ) -> (Vec<Path>, Vec<String>) {
     let regions = ctx.item_regions(items);
-    let paths = f(&union_of(&regions, ctx.tol));
+    let paths = f(&union_of(&regions, ctx.union_tol()));
     let sources = attribute(ctx, items, &regions, &paths);
     (paths, sources)
 }
@@ -494,16 +535,19 @@ fn union_of(regions: &[Region], tol: f64) -> Region {
 }
 
 /// The item each path comes from: the item `items[k]` of the first of `regions` that holds
-/// the path's first point, or of the nearest one (`items` and `regions` pair up).
+/// the path's first point, or of the nearest one (`items` and `regions` pair up). Regions
+/// whose bounding box (arcs included) misses the point are not asked.
 fn attribute(ctx: &Ctx, items: &[usize], regions: &[Region], paths: &[Path]) -> Vec<String> {
+    let boxes: Vec<Option<(DVec2, DVec2)>> = regions.iter().map(Region::bounds).collect();
     paths
-        .iter()
+        .par_iter()
         .map(|p| {
             let q = p.start().unwrap_or_default();
-            let k = regions
-                .iter()
-                .position(|r| r.contains(q))
-                .unwrap_or_else(|| nearest_region(regions, q));
+            let k = (regions.iter().zip(&boxes))
+                .position(|(r, b)| {
+                    b.is_some_and(|(lo, hi)| box_distance(lo, hi, q) == 0.0) && r.contains(q)
+                })
+                .unwrap_or_else(|| nearest_region(regions, &boxes, q));
             items
                 .get(k)
                 .map(|&i| ctx.outlines[i].name.clone())
@@ -512,24 +556,32 @@ fn attribute(ctx: &Ctx, items: &[usize], regions: &[Region], paths: &[Path]) -> 
         .collect()
 }
 
-/// Index of the region whose vertices come nearest to `q`.
-fn nearest_region(regions: &[Region], q: DVec2) -> usize {
+/// Distance from `q` to the box [lo, hi] (0 inside).
+fn box_distance(lo: DVec2, hi: DVec2, q: DVec2) -> f64 {
+    (lo - q).max(q - hi).max(DVec2::ZERO).length()
+}
+
+/// Index of the region whose vertices come nearest to `q` (the first of equals); regions
+/// whose box (`boxes`, holding their vertices) is farther than the best so far are skipped.
+fn nearest_region(regions: &[Region], boxes: &[Option<(DVec2, DVec2)>], q: DVec2) -> usize {
     use cavalier_contours::polyline::PlineSource;
-    regions
-        .iter()
-        .enumerate()
-        .map(|(k, r)| {
-            let d = r
-                .contours
-                .iter()
-                .flat_map(|c| c.iter_vertexes())
-                .map(|v| DVec2::new(v.x, v.y).distance_squared(q))
-                .fold(f64::INFINITY, f64::min);
-            (k, d)
-        })
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(k, _)| k)
-        .unwrap_or(0)
+    let mut best = (0, f64::INFINITY);
+    for (k, (r, b)) in regions.iter().zip(boxes).enumerate() {
+        let Some((lo, hi)) = *b else { continue };
+        if (lo - q).max(q - hi).max(DVec2::ZERO).length_squared() > best.1 {
+            continue;
+        }
+        let d = r
+            .contours
+            .iter()
+            .flat_map(|c| c.iter_vertexes())
+            .map(|v| DVec2::new(v.x, v.y).distance_squared(q))
+            .fold(f64::INFINITY, f64::min);
+        if d < best.1 {
+            best = (k, d);
+        }
+    }
+    best.0
 }
 
 fn spine_of<'a>(ctx: &'a Ctx, item: usize) -> Option<&'a DiskBSpline> {
@@ -1592,7 +1644,20 @@ pub fn build_toolpath_placed(
             }
         }
     }
+    // Copies share their original's outline only on the skin route (the RE/MPH route
+    // replaced the outlines above).
+    let copy_of = if re_interp(opts.method).is_none() {
+        super::outline::cache::copies(&strokes, opts.tolerance)
+    } else {
+        Vec::new()
+    };
+    let regions = outlines
+        .iter()
+        .map(|_| std::sync::OnceLock::new())
+        .collect();
     let ctx = Ctx {
+        copy_of,
+        regions,
         design,
         profile,
         stroke_index: (design.stroke.iter().enumerate())
@@ -1638,6 +1703,19 @@ pub fn build_toolpath_placed(
         .collect();
     for b in built {
         specs.extend(b?);
+    }
+    if ctx.laser_arcs() {
+        // A laser cuts what was flattened (unions of crossing outlines are polygons) as
+        // arcs where its G-code takes them: runs of lines merged within what the union's
+        // flattening left of the tolerance, so that flattening and merge together stay
+        // within it (chords within ARC_UNION_FRACTION·tol of the exact outline, arcs within
+        // (1 − ARC_UNION_FRACTION)·tol of the chords).
+        let merge_tol = (1.0 - ARC_UNION_FRACTION) * ctx.tol;
+        for s in &mut specs {
+            if let Geometry::Paths(paths) = &mut s.geometry {
+                *paths = paths.par_iter().map(|p| merge_lines(p, merge_tol)).collect();
+            }
+        }
     }
     assign_pockets(&ctx, &mut specs);
     let neon = ctx.neon.as_ref().map(|(flex, runs)| {

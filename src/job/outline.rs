@@ -18,6 +18,7 @@ use crate::skin::re::{self, Branch, Interp, Touch};
 use crate::skin::{SkinOptions, outline_circles};
 use crate::toolpath::region::Region;
 
+pub mod cache;
 pub mod repair;
 pub use repair::{SkinFallback, SkinRepair, SkinSplit};
 
@@ -217,7 +218,9 @@ pub fn design_outlines(
 
 /// [`design_outlines`], reporting [`Stage::Skin`] progress after every item. Items are
 /// skinned in parallel (rayon) and collected in file order, the first error in file order,
-/// so the result does not depend on the number of threads.
+/// so the result does not depend on the number of threads. A stroke that is a translated
+/// copy of an earlier one takes that stroke's outline, translated ([`cache`]): each distinct
+/// stroke is skinned once.
 pub fn design_outlines_with(
     design: &Design,
     opts: &OutlineOptions,
@@ -235,12 +238,36 @@ pub fn design_outlines_with(
         report(progress, Stage::Skin, n, total);
         r
     };
-    let strokes = (design.stroke.par_iter().zip(&strokes))
-        .map(|(s, c)| step(stroke_outline(design, &s.name, c, opts)));
+    let copy_of = cache::copies(&strokes, opts.tolerance);
+    // The representatives' outlines (None for copies), then each copy from its
+    // representative; a copy of a stroke that failed is skinned itself (its own error).
+    let own: Vec<Option<Result<ItemOutline, JobError>>> = (design.stroke.par_iter().zip(&strokes))
+        .zip(&copy_of)
+        .map(|((s, c), copy)| {
+            copy.is_none()
+                .then(|| step(stroke_outline(design, &s.name, c, opts)))
+        })
+        .collect();
+    let copies: Vec<Option<Result<ItemOutline, JobError>>> =
+        (design.stroke.par_iter().zip(&strokes))
+            .zip(&copy_of)
+            .map(|((s, c), copy)| {
+                copy.map(|(r, d)| match &own[r] {
+                    Some(Ok(rep)) => step(Ok(rep.translated(d, &s.name))),
+                    _ => step(stroke_outline(design, &s.name, c, opts)),
+                })
+            })
+            .collect();
+    // Exactly one of the two is there for each stroke.
+    let strokes: Vec<Result<ItemOutline, JobError>> = own
+        .into_iter()
+        .zip(copies)
+        .filter_map(|(a, b)| a.or(b))
+        .collect();
     let seqs = (design.circles.par_iter().zip(&sequences))
         .map(|(seq, circles)| step(circles_outline(design, &seq.name, circles, seq.closed)));
-    let all: Vec<Result<ItemOutline, JobError>> = strokes.chain(seqs).collect();
-    let mut all: Vec<ItemOutline> = all.into_iter().collect::<Result<_, _>>()?;
+    let seqs: Vec<Result<ItemOutline, JobError>> = seqs.collect();
+    let mut all: Vec<ItemOutline> = strokes.into_iter().chain(seqs).collect::<Result<_, _>>()?;
     all.extend(super::shapes::shape_outlines(design));
     Ok(all)
 }

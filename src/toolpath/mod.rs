@@ -3,6 +3,7 @@
 //! This stage turns outlines into ordered cuts (profiles, channels, backboards, holes,
 //! fills, V-carving); `emit` turns them into a machine's dialect.
 
+pub mod arc_merge;
 pub mod attrs;
 pub mod biarc;
 pub mod board;

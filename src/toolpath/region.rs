@@ -624,6 +624,14 @@ impl Region {
         })
     }
 
+    /// The bounding box of the contours, arcs included (None without contours).
+    pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
+        self.boxes(0.0)
+            .into_iter()
+            .flatten()
+            .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    }
+
     /// Each contour's bounding box grown by `tol` (None for an empty contour).
     fn boxes(&self, tol: f64) -> Vec<Option<(DVec2, DVec2)>> {
         self.contours
