@@ -24,8 +24,9 @@ fn designs() -> Vec<String> {
     out
 }
 
-/// (circles, segments that missed ε) of one stroke skinned with `push_back`.
-fn skin(c: &skinpath::dbsc::DiskBSpline, push_back: bool) -> (usize, usize) {
+/// (circles, segments that missed ε) of one stroke skinned with `push_back`; `None` when
+/// the stroke cannot be skinned whole (the build splits it: tests/skin_total.rs).
+fn skin(c: &skinpath::dbsc::DiskBSpline, push_back: bool) -> Option<(usize, usize)> {
     let mut o = DbscSkinOptions {
         push_back,
         ..DbscSkinOptions::default()
@@ -34,7 +35,7 @@ fn skin(c: &skinpath::dbsc::DiskBSpline, push_back: bool) -> (usize, usize) {
         Ok(s) => s,
         Err(_) => {
             o.allow_global_overlap = true;
-            skin_dbsc(c, &o).expect("skin")
+            skin_dbsc(c, &o).ok()?
         }
     };
     for r in &s.report {
@@ -51,19 +52,31 @@ fn skin(c: &skinpath::dbsc::DiskBSpline, push_back: bool) -> (usize, usize) {
         .iter()
         .filter(|r| !(r.met_left && r.met_right))
         .count();
-    (s.circles.len(), missed)
+    Some((s.circles.len(), missed))
 }
 
 #[test]
 fn push_back_needs_no_more_circles_on_the_examples() {
     let (mut with, mut without) = ((0, 0), (0, 0));
+    let mut unskinnable = 0;
     for path in designs() {
         let text = std::fs::read_to_string(&path).unwrap();
         let d = skinpath::design::load(&text, &path).unwrap();
         let Ok(strokes) = d.strokes() else { continue };
         for (i, c) in strokes.iter().enumerate() {
-            let a = skin(c, true);
-            let b = skin(c, false);
+            let (a, b) = match (skin(c, true), skin(c, false)) {
+                (Some(a), Some(b)) => (a, b),
+                (None, None) => {
+                    // Smooth script glyphs bending tighter than their width: repaired by
+                    // the build, not a question of push-back.
+                    unskinnable += 1;
+                    continue;
+                }
+                (a, b) => panic!(
+                    "{path} stroke {}: one setting skins it, the other not: {a:?} {b:?}",
+                    i + 1
+                ),
+            };
             if a != b {
                 println!(
                     "{} stroke {}: push-back {} circles ({} missed ε), without {} ({})",
@@ -80,7 +93,8 @@ fn push_back_needs_no_more_circles_on_the_examples() {
         }
     }
     println!(
-        "all strokes: push-back {} circles ({} segments missed ε), without {} ({})",
+        "all strokes: push-back {} circles ({} segments missed ε), without {} ({}); \
+         {unskinnable} strokes skinned in pieces by the build",
         with.0, with.1, without.0, without.1
     );
     push_back_needs_no_more(with.0, without.0);

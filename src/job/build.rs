@@ -1713,7 +1713,10 @@ pub fn build_toolpath_placed(
         let merge_tol = (1.0 - ARC_UNION_FRACTION) * ctx.tol;
         for s in &mut specs {
             if let Geometry::Paths(paths) = &mut s.geometry {
-                *paths = paths.par_iter().map(|p| merge_lines(p, merge_tol)).collect();
+                *paths = paths
+                    .par_iter()
+                    .map(|p| merge_lines(p, merge_tol))
+                    .collect();
             }
         }
     }

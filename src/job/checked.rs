@@ -364,11 +364,18 @@ impl Job<'_> {
         let mut built = build(&design)?;
         if let Some((w, h)) = fit {
             // The outlines scale with the design, offsets and margins do not: a few rounds.
-            for _ in 0..4 {
+            for round in 0..=FIT_ROUNDS {
                 let s = built.toolpath.stats(DVec2::ZERO);
                 let job = DVec2::new(s.bbox_max[0] - s.bbox_min[0], s.bbox_max[1] - s.bbox_min[1]);
                 if job.x <= w && job.y <= h && scale != 1.0 {
                     break;
+                }
+                if round == FIT_ROUNDS {
+                    return Err(JobError::Options(format!(
+                        "--fit {w}x{h}: the job is still {:.4} x {:.4} after {FIT_ROUNDS} \
+                         rounds of scaling; give a slightly larger size",
+                        job.x, job.y
+                    )));
                 }
                 let Some((lo, hi)) = outline_bounds(&built.outlines, o.build.tolerance) else {
                     break;
@@ -394,6 +401,14 @@ impl Job<'_> {
         Ok((design, built, scale))
     }
 }
+
+/// Most rebuilds of `--fit`: each scales the design by the ratio of the room left for the
+/// outlines (the work area minus the parts that keep their size: tool offsets, margins,
+/// leads) to the outlines' size. The job's fixed parts change a little with the scale
+/// (seams and leads move with the order, bridges with the gaps), so the size converges
+/// linearly, by a factor of about 30 a round on a neon board: eight rounds leave it
+/// within the hair the scale is made smaller by.
+const FIT_ROUNDS: usize = 8;
 
 /// Reads a G-code program back and checks it exactly as `skinpath check PROGRAM --machine
 /// SAME` will (same configuration, no allowances: pockets mark their own intended crossings
