@@ -161,11 +161,16 @@ max_depth = 8.0
 power = 50.0
 TOML
 
+# 9. Neon sign in script with an accent and an ampersand, as `text --neon` writes it:
+#    the [neon] table for 6 mm flex, channels along the smooth script strokes, wire holes
+#    where the flex runs end, one bridged backboard; the build prints the bill of materials.
+"$bin" text "Café & Bar" --font script --height 22 --neon --name sign -o $g/neon_script.toml
+
 # --- build, check, preview -------------------------------------------------------------
 
 own_machine() {
   case "$1" in
-    neon_open|router_cafe|vcarve_brush) echo grbl-router ;;
+    neon_open|neon_script|router_cafe|vcarve_brush) echo grbl-router ;;
     landscape) echo svg-laser ;;
     *) echo grbl-laser ;;
   esac

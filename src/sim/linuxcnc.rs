@@ -14,6 +14,7 @@
 //! are not canon commands (rs274's error messages and the offending block it echoes) become
 //! `canon-error` findings.
 
+use super::checks::contours::note_group_marks;
 use super::findings::{Finding, Severity};
 use super::motion::{Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState};
 use crate::geom::{Arc, DVec2};
@@ -312,6 +313,13 @@ pub fn parse_canon(text: &str) -> Program {
                     tool_before: tool_at_block,
                 });
             }
+            // A comment rs274 passes on: the pocket marks `(skinpath:group N)` that let the
+            // cuts of one pocket (and line cuts) cross, as the built-in interpreter reads them.
+            "COMMENT" => {
+                if let Some(text) = comment_text(raw) {
+                    note_group_marks(&[text.to_string()], line, &mut prog.group_marks);
+                }
+            }
             _ => {}
         }
         if line > 0 {
@@ -324,6 +332,14 @@ pub fn parse_canon(text: &str) -> Program {
 }
 
 /// An rs274 output line that no echoed block followed: a message, not an error.
+/// The text of a canon `COMMENT("…")` line (rs274 prints the comment as written, quotes
+/// and all, so the text is what lies between the first `("` and the last `")`).
+fn comment_text(raw: &str) -> Option<&str> {
+    let start = raw.find("COMMENT(\"")? + "COMMENT(\"".len();
+    let end = raw.rfind("\")")?;
+    raw.get(start..end)
+}
+
 fn as_message(f: Finding) -> Finding {
     let mut m = Finding::new("canon-message", Severity::Info, f.message);
     m.lines = f.lines;
@@ -391,6 +407,17 @@ mod tests {
 Radius to end of arc differs from radius to start
 N10 G2 X1 Y1 I5
 ";
+
+    #[test]
+    fn pocket_marks_come_through_comments() {
+        let canon = "    1 N1     COMMENT(\"skinpath:group 3\")\n    2 N2     STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n    3 N3     COMMENT(\"skinpath:group none\")\n    4 N4     COMMENT(\"a (note), with \"quotes\"\")\n";
+        let p = parse_canon(canon);
+        assert_eq!(p.group_marks, vec![(1, Some(3)), (3, None)]);
+        assert_eq!(
+            comment_text(canon.lines().nth(3).unwrap()),
+            Some("a (note), with \"quotes\"")
+        );
+    }
 
     #[test]
     fn sample_canon() {
