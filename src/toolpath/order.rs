@@ -3,18 +3,20 @@
 //! point nearest to the tool) improved by 2-opt moves that respect the precedence.
 //!
 //! Complexity: precedence O(n² + k · m) for n contours of m points (a box test per pair,
-//! containment tests only for the k pairs whose boxes nest); nearest neighbour O(n² · m) in
-//! the worst case (candidates whose box is farther than the best so far are skipped); 2-opt
+//! containment tests only for the k pairs whose boxes nest); nearest neighbour over an
+//! R-tree of the boxes of the paths free to go (those whose inner paths are done), each
+//! step visiting the paths in order of box distance until the box is farther than the best
+//! entry found: O(n log n + n · c · m) for c paths visited a step (a few for a hatch's rows
+//! or a drawing's strokes; all n for paths nested like onion rings around the tool); 2-opt
 //! O(n²) per sweep, at most `MAX_2OPT_SWEEPS` sweeps and at most `MAX_2OPT_WORK` pair
-//! tests in all, so a job of many thousands of contours is ordered by nearest neighbour
-//! alone rather than spending hours on improvement sweeps. Beyond [`MAX_NEAREST_PATHS`]
-//! paths (a fine hatch fill) the paths keep their given order as far as the precedence
-//! allows, each entered at its end or point nearest the tool: O(n log n + n · m) besides
-//! the precedence; a hatch's boustrophedon rows are already such an order. No loop here
-//! refines: each ends after a number of steps fixed by n and these constants.
+//! tests in all, and only up to [`MAX_NEAREST_PATHS`] paths: a fine hatch fill or a large
+//! drawing is ordered by nearest neighbour alone. No loop here refines: each ends after a
+//! number of steps fixed by n and these constants.
 
 use crate::geom::slabs::PolygonWinding;
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use rstar::RTree;
+use rstar::primitives::{GeomWithData, Rectangle};
 
 /// Upper bound on 2-opt improvement sweeps (each O(n²)); improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
@@ -24,8 +26,8 @@ const MAX_2OPT_SWEEPS: usize = 50;
 /// `MAX_2OPT_WORK / (m(m − 1)/2)`; with more than about 20 000 paths 2-opt is skipped.
 const MAX_2OPT_WORK: usize = 200_000_000;
 
-/// Most paths ordered by nearest neighbour (O(n²) box tests); more keep their given order
-/// ([`order_paths`]). A hatch of 5 000 lines is ordered in well under a second.
+/// Most paths whose nearest-neighbour order is improved by 2-opt ([`order_paths`]); more
+/// are ordered by nearest neighbour alone (a 2-opt sweep is O(n²)).
 pub const MAX_NEAREST_PATHS: usize = 5_000;
 
 /// Vertex bounding box of a flattened path (min, max); empty paths give an inverted box.
@@ -204,14 +206,31 @@ fn travel(order: &[Path], home: DVec2) -> f64 {
     sum
 }
 
-/// `paths` in their given order as far as `before` (the precedence) allows: the first
-/// path by index whose predecessors are done comes next (Kahn's topological sort with a
-/// min-heap), entered at its point (closed) or end (open) nearest the tool.
-/// O((n + p) log n + n · m) for p precedence pairs and m segments per path.
-fn given_order(paths: &[Path], before: &[Vec<usize>], home: DVec2, tol: f64) -> Vec<(usize, Path)> {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
+/// A path's box in the R-tree of [`nearest_neighbour`], with the path's index.
+type BoxEntry = GeomWithData<Rectangle<[f64; 2]>, usize>;
+
+/// Relative slack of the R-tree walk's stopping test: its squared box distances are rounded
+/// apart from [`box_distance`], so the walk goes on a hair past the best entry and the test
+/// that decides is `box_distance`'s own.
+const WALK_SLACK: f64 = 1e-9;
+
+/// Nearest neighbour from `home` among the paths whose predecessors (`before`, the
+/// precedence) are all done: the path whose entry ([`entered_near`]) is nearest the tool
+/// comes next, the lower index on a tie. The candidates are the paths free to go, kept in
+/// an R-tree of their `boxes` (which contain the paths): they are visited in order of box
+/// distance until the box is farther than the best entry, which no path in it can beat.
+fn nearest_neighbour(
+    paths: &[Path],
+    before: &[Vec<usize>],
+    boxes: &[(DVec2, DVec2)],
+    home: DVec2,
+    tol: f64,
+) -> Vec<(usize, Path)> {
     let n = paths.len();
+    let entry = |i: usize| {
+        let (lo, hi) = boxes[i];
+        BoxEntry::new(Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]), i)
+    };
     let mut waiting: Vec<usize> = before.iter().map(Vec::len).collect();
     let mut after: Vec<Vec<usize>> = vec![Vec::new(); n];
     for (j, b) in before.iter().enumerate() {
@@ -219,20 +238,41 @@ fn given_order(paths: &[Path], before: &[Vec<usize>], home: DVec2, tol: f64) -> 
             after[k].push(j);
         }
     }
-    let mut ready: BinaryHeap<Reverse<usize>> =
-        (0..n).filter(|&i| waiting[i] == 0).map(Reverse).collect();
+    let mut free = RTree::bulk_load((0..n).filter(|&i| waiting[i] == 0).map(entry).collect());
     let mut order = Vec::with_capacity(n);
     let mut pos = home;
-    while let Some(Reverse(i)) = ready.pop() {
-        let p = entered_near(&paths[i], pos, tol);
-        pos = ends(&p).1;
-        order.push((i, p));
+    while free.size() > 0 {
+        let mut best: Option<(usize, f64, Path)> = None;
+        for (e, d2) in free.nearest_neighbor_iter_with_distance_2([pos.x, pos.y]) {
+            let i = e.data;
+            if let Some(b) = &best {
+                if d2.sqrt() > b.1 * (1.0 + WALK_SLACK) + WALK_SLACK {
+                    break;
+                }
+                // The entry of path i is a point of it (or an end): no nearer than its box.
+                if box_distance(&boxes[i], pos) > b.1 {
+                    continue;
+                }
+            }
+            let cand = entered_near(&paths[i], pos, tol);
+            let d = ends(&cand).0.distance(pos);
+            if best
+                .as_ref()
+                .is_none_or(|b| d < b.1 || (d == b.1 && i < b.0))
+            {
+                best = Some((i, d, cand));
+            }
+        }
+        let Some((i, _, p)) = best else { break };
+        free.remove(&entry(i));
         for &j in &after[i] {
             waiting[j] -= 1;
             if waiting[j] == 0 {
-                ready.push(Reverse(j));
+                free.insert(entry(j));
             }
         }
+        pos = ends(&p).1;
+        order.push((i, p));
     }
     order
 }
@@ -254,8 +294,8 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
         })
         .collect();
     let travel_input = travel(paths, home);
+    let order = nearest_neighbour(paths, &before, &boxes, home, tol);
     if n > MAX_NEAREST_PATHS {
-        let order = given_order(paths, &before, home, tol);
         let travel_ordered = travel(
             &order.iter().map(|(_, p)| p.clone()).collect::<Vec<_>>(),
             home,
@@ -268,36 +308,7 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
             },
         );
     }
-    // Nearest neighbour among the paths whose predecessors are all done.
-    let mut done = vec![false; n];
-    let mut order: Vec<(usize, Path)> = Vec::with_capacity(n);
-    let mut pos = home;
-    for _ in 0..n {
-        let mut best: Option<(usize, f64, Path)> = None;
-        for i in 0..n {
-            if done[i] || before[i].iter().any(|&k| !done[k]) {
-                continue;
-            }
-            // The entry of path i is a point of it (or an end): no nearer than its box.
-            if best
-                .as_ref()
-                .is_some_and(|b| box_distance(&boxes[i], pos) >= b.1)
-            {
-                continue;
-            }
-            let cand = entered_near(&paths[i], pos, tol);
-            let d = ends(&cand).0.distance(pos);
-            if best.as_ref().is_none_or(|b| d < b.1) {
-                best = Some((i, d, cand));
-            }
-        }
-        // Precedence is acyclic (containment is a strict partial order), so some path is
-        // always available; the fallback keeps a malformed input from looping.
-        let Some((i, _, p)) = best else { break };
-        done[i] = true;
-        pos = ends(&p).1;
-        order.push((i, p));
-    }
+    let mut order = order;
     // 2-opt: reverse order[a..=b] when it shortens travel and no precedence pair lies inside.
     let pos_of = |order: &[(usize, Path)]| {
         let mut v = vec![0usize; n];
@@ -416,33 +427,50 @@ mod tests {
             .all(|&p| crate::geom::predicates::inside_even_odd(&poly, p))
     }
 
-    /// Beyond MAX_NEAREST_PATHS the given order is kept where precedence allows: a
-    /// permutation, inner before outer, open lines in their order.
+    /// Beyond MAX_NEAREST_PATHS (nearest neighbour without 2-opt): a permutation, inner
+    /// before outer, and on a hatch given in a scattered order the rows are cut one after
+    /// the other, alternating ends, as a boustrophedon (travel: the row spacing a row).
     #[test]
-    fn many_paths_keep_their_order_but_respect_precedence() {
+    fn many_paths_are_ordered_by_nearest_neighbour_and_respect_precedence() {
         let n = MAX_NEAREST_PATHS + 10;
+        let rows = n - 3;
         let mut paths: Vec<Path> = Vec::with_capacity(n);
-        // Three nested squares, outermost first (the wrong order), then lines.
+        // Three nested squares, outermost first (the wrong order), then the rows of a
+        // hatch, given in a scattered order (every 7th row modulo the count).
         for s in [30.0, 20.0, 10.0] {
             paths.push(square(DVec2::new(-100.0, 0.0), s));
         }
-        for i in 3..n {
-            let y = i as f64 * 0.01;
+        assert!(rows % 7 != 0);
+        for k in 0..rows {
+            let y = ((k * 7) % rows) as f64 * 0.01;
             paths.push(Path::polyline(
                 &[DVec2::new(0.0, y), DVec2::new(5.0, y)],
                 false,
             ));
         }
         let (o, stats) = order_paths(&paths, DVec2::ZERO, 1e-3);
-        // The innermost square is the first path free to go; then its encloser (a lower
-        // index than every line), and so on; then the lines in their order.
-        let seen: Vec<usize> = o.iter().map(|(i, _)| *i).collect();
-        let want: Vec<usize> = [2, 1, 0].into_iter().chain(3..n).collect();
-        assert_eq!(seen, want);
-        // Open lines run alternately: each starts at the end nearer the last one's end.
-        let (a, b) = (&o[3].1, &o[4].1);
-        assert_eq!(ends(a).1.x, ends(b).0.x);
-        assert!(stats.travel_ordered < stats.travel_input);
+        let mut seen: Vec<usize> = o.iter().map(|(i, _)| *i).collect();
+        let at = |i: usize| seen.iter().position(|&k| k == i).unwrap();
+        assert!(at(2) < at(1) && at(1) < at(0));
+        // The rows from y = 0 upwards, each entered at the end where the last one left.
+        let lines: Vec<&Path> = o.iter().filter(|(i, _)| *i >= 3).map(|(_, p)| p).collect();
+        let mut rise = 0.0;
+        for w in lines.windows(2) {
+            let (a, b) = (ends(w[0]), ends(w[1]));
+            assert_eq!(a.1.x, b.0.x);
+            rise += b.0.y - a.1.y;
+        }
+        assert!((rise - (rows - 1) as f64 * 0.01).abs() < 1e-6, "{rise}");
+        // The hatch's travel: its rows' spacing, then to the squares and between them.
+        let hatch: f64 = (rows - 1) as f64 * 0.01;
+        assert!(
+            stats.travel_ordered < hatch + 300.0,
+            "{}",
+            stats.travel_ordered
+        );
+        assert!(stats.travel_ordered < stats.travel_input / 100.0);
+        seen.sort_unstable();
+        assert_eq!(seen, (0..n).collect::<Vec<_>>());
     }
 
     #[test]
