@@ -440,7 +440,7 @@ mod tests {
         for s in [30.0, 20.0, 10.0] {
             paths.push(square(DVec2::new(-100.0, 0.0), s));
         }
-        assert!(rows % 7 != 0);
+        assert!(!rows.is_multiple_of(7));
         for k in 0..rows {
             let y = ((k * 7) % rows) as f64 * 0.01;
             paths.push(Path::polyline(
