@@ -4,40 +4,16 @@
 //! Every run is a child process under a generous kill limit ([`CHILD_LIMIT`]); the tests
 //! assert outcomes (exit status, messages, files), never how long a run took.
 
+mod common;
+
+use common::{CHILD_LIMIT, tmpdir, wait_limited};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-/// A hang guard, not a speed test: the runs here take well under a second to a few
-/// seconds in a debug build; tests run in parallel on shared cores.
-const CHILD_LIMIT: Duration = Duration::from_secs(120);
 
 fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_skinpath")
-}
-
-fn tmpdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("skinpath-limits-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// Waits for `child`, killing it after [`CHILD_LIMIT`] (then the test fails).
-fn wait_limited(mut child: Child, what: &str) -> ExitStatus {
-    let start = Instant::now();
-    loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            return status;
-        }
-        if start.elapsed() > CHILD_LIMIT {
-            child.kill().unwrap();
-            child.wait().unwrap();
-            panic!("{what}: still running after {CHILD_LIMIT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
 }
 
 /// Runs the binary with `args` (stdout and stderr captured through files, so a large

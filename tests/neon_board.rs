@@ -3,25 +3,12 @@
 //! at the margin; bridges are at least the documented width; mounting holes sit at the
 //! stated inset; a shrinking `--fit` warns where a letter's counter fills.
 
+mod common;
+
+use common::{skinpath_in, tmpdir};
 use skinpath::geom::DVec2;
 use skinpath::toolpath::board::{BRIDGE_WIDTH_MM, bridged, pieces};
 use skinpath::toolpath::region::{Region, pline_from_points};
-use std::process::Command;
-
-fn tmpdir(tag: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("skinpath-board-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn skinpath(args: &[&str], dir: &std::path::Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_skinpath"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
 
 /// A cutting move of the G-code, its arcs flattened: the points it passes at depth z.
 #[derive(Debug)]
@@ -172,7 +159,7 @@ const TOOL_R: f64 = 3.175 / 2.0;
 /// Writes "Bar & Grill" with the neon starter's operations (plus `backboard_extra` in the
 /// backboard table) and builds it on `machine`; returns the program text and the stdout.
 fn bar_and_grill(dir: &std::path::Path, machine: &str, backboard_extra: &str) -> (String, String) {
-    let o = skinpath(
+    let o = skinpath_in(
         &[
             "text",
             "Bar & Grill",
@@ -192,7 +179,7 @@ fn bar_and_grill(dir: &std::path::Path, machine: &str, backboard_extra: &str) ->
     );
     std::fs::write(dir.join("bg.toml"), toml).unwrap();
     let ext = "bg.gcode";
-    let o = skinpath(&["build", "bg.toml", "-m", machine, "-o", ext], dir);
+    let o = skinpath_in(&["build", "bg.toml", "-m", machine, "-o", ext], dir);
     let stdout = String::from_utf8_lossy(&o.stdout).to_string();
     assert!(
         o.status.success(),
@@ -201,7 +188,7 @@ fn bar_and_grill(dir: &std::path::Path, machine: &str, backboard_extra: &str) ->
     );
     assert!(stdout.contains("check: 0 errors, 0 warnings"), "{stdout}");
     // The written program checks clean on its own, with no flags.
-    let c = skinpath(&["check", ext, "-m", machine], dir);
+    let c = skinpath_in(&["check", ext, "-m", machine], dir);
     let check = String::from_utf8_lossy(&c.stdout).to_string();
     assert!(
         c.status.success(),
@@ -450,7 +437,7 @@ fn shrinking_fit_warns_where_counters_fill() {
             "--json",
         ];
         args.extend_from_slice(extra);
-        let o = skinpath(&args, &dir);
+        let o = skinpath_in(&args, &dir);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         let w = v["neon"]["warnings"].as_array().unwrap().clone();
@@ -495,7 +482,7 @@ fn a_ring_counter_fills_below_the_closed_form_scale() {
     std::fs::write(dir.join("o.toml"), text).unwrap();
     let merges = |scale: f64| {
         let s = format!("{scale}");
-        let o = skinpath(
+        let o = skinpath_in(
             &[
                 "build",
                 "o.toml",

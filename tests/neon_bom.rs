@@ -3,13 +3,15 @@
 //! run ends and inside the channel, the `[neon]` table's presets and errors, the CLI's
 //! `--json` and `--bom`, and the warnings of a scaled build.
 
+mod common;
+
+use common::{skinpath_in, tmpdir};
 use skinpath::dbsc::DiskBSpline;
 use skinpath::design::{Design, load};
 use skinpath::geom::DVec2;
 use skinpath::job::build::{BuildOptions, build_toolpath};
 use skinpath::job::neon::{bend_radius, runs, spine_length};
 use skinpath::machine::builtin_profile;
-use std::process::Command;
 
 /// Polyline length of the spine with `n` equal parameter steps per knot span.
 fn polyline_length(c: &DiskBSpline, n: usize) -> f64 {
@@ -336,29 +338,13 @@ fn presets_overrides_and_errors_name_the_key() {
     assert!(e.contains("7mm"), "{e}");
 }
 
-/// A fresh folder for one test's files.
-fn tmpdir(tag: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("skinpath-neon-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn skinpath(args: &[&str], dir: &std::path::Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_skinpath"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
-
 const NEON_OPS: &str = "\n[neon]\nflex = \"6mm\"\n\n[[operation]]\nkind = \"channel\"\n\n\
     [[operation]]\nkind = \"holes\"\n\n[[operation]]\nkind = \"backboard\"\nmargin = 6.0\n";
 
 #[test]
 fn script_word_gets_holes_only_at_run_ends_and_a_bom() {
     let dir = tmpdir("script");
-    let o = skinpath(
+    let o = skinpath_in(
         &[
             "text",
             "Open",
@@ -382,7 +368,7 @@ fn script_word_gets_holes_only_at_run_ends_and_a_bom() {
     assert_eq!(holes, ends);
     // Fewer than the 11 stroke ends of before: the letters' joins carry the flex on.
     assert!(holes < 11, "{holes}");
-    let o = skinpath(
+    let o = skinpath_in(
         &[
             "build",
             "open.toml",
@@ -454,7 +440,7 @@ fn bom_without_neon_table_is_refused_before_writing() {
         "version = 1\n[[stroke]]\nname = \"s\"\ndisks = [[0, 0, 2], [30, 9, 2]]\n",
     )
     .unwrap();
-    let o = skinpath(
+    let o = skinpath_in(
         &[
             "build",
             "s.toml",
@@ -495,7 +481,7 @@ fn scaling_down_warns_where_channels_merge_and_bends_tighten() {
             "--json",
         ];
         args.extend_from_slice(extra);
-        let o = skinpath(&args, dir.as_path());
+        let o = skinpath_in(&args, dir.as_path());
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         v["neon"]["warnings"].as_array().unwrap().clone()
@@ -633,7 +619,7 @@ proptest::proptest! {
 
 /// Builds `design` in `dir` on grbl-router and returns (success, stdout + stderr).
 fn build_router(dir: &std::path::Path, design: &str) -> (bool, String) {
-    let o = skinpath(
+    let o = skinpath_in(
         &[
             "build",
             design,
@@ -675,7 +661,7 @@ fn neon_starters_and_script_text_check_clean() {
     for (file, args) in cases {
         let mut args = args.to_vec();
         args.extend(["-o", file]);
-        let o = skinpath(&args, &dir);
+        let o = skinpath_in(&args, &dir);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let text = std::fs::read_to_string(dir.join(file)).unwrap();
         assert!(text.contains("[neon]"), "{file}: {text}");
@@ -689,7 +675,7 @@ fn neon_starters_and_script_text_check_clean() {
     }
     // The issue's reproduction: script text, 6 mm strokes, the gallery sign's operations
     // with explicit sizes (no [neon] table: a hole at every stroke end).
-    let o = skinpath(
+    let o = skinpath_in(
         &[
             "text",
             "Hello World!",

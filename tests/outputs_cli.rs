@@ -5,9 +5,9 @@
 
 mod common;
 
-use common::{skinpath, tmpdir};
+use common::{CHILD_LIMIT, skinpath, tmpdir, wait_limited};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Output, Stdio};
+use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// A neon sign: "OPEN" in the sans font with the gallery sign's channel, holes and
@@ -377,24 +377,6 @@ fn only_builds_the_named_outputs_and_fit_scales_every_output_alike() {
     }
 }
 
-/// A hang guard, not a speed test (see the module docs).
-const CHILD_LIMIT: Duration = Duration::from_secs(120);
-
-fn wait_limited(mut child: Child) -> ExitStatus {
-    let start = Instant::now();
-    loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            return status;
-        }
-        if start.elapsed() > CHILD_LIMIT {
-            child.kill().unwrap();
-            child.wait().unwrap();
-            panic!("still running after {CHILD_LIMIT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
 #[test]
 fn a_signal_during_the_write_leaves_neither_program_nor_temporary_files() {
     // The laser's file is a FIFO no reader opens: the run waits there after the router's
@@ -437,7 +419,7 @@ fn a_signal_during_the_write_leaves_neither_program_nor_temporary_files() {
         .status()
         .unwrap();
     assert!(kill.success());
-    let status = wait_limited(child);
+    let status = wait_limited(child, "skinpath");
     assert_eq!(status.code(), Some(143), "{status:?}");
     assert_eq!(temporaries(), Vec::<String>::new());
     assert_eq!(listing(&d), ["face.fifo.gcode", "sign.toml"]);

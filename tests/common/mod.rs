@@ -5,9 +5,10 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Child, Command, ExitStatus, Output};
 use std::sync::Once;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
 
 /// The crate's root folder.
 pub const ROOT: &str = env!("CARGO_MANIFEST_DIR");
@@ -82,6 +83,35 @@ pub fn skinpath(args: &[&str]) -> Output {
         .current_dir(ROOT)
         .output()
         .expect("run skinpath")
+}
+
+/// Runs the built `skinpath` binary in `dir`.
+pub fn skinpath_in(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_skinpath"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run skinpath")
+}
+
+/// A hang guard for child processes, not a speed test: the runs it guards take well under
+/// a second to a few seconds in a debug build; tests run in parallel on shared cores.
+pub const CHILD_LIMIT: Duration = Duration::from_secs(120);
+
+/// Waits for `child`, killing it after [`CHILD_LIMIT`] (then the test fails, naming `what`).
+pub fn wait_limited(mut child: Child, what: &str) -> ExitStatus {
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if start.elapsed() > CHILD_LIMIT {
+            child.kill().unwrap();
+            child.wait().unwrap();
+            panic!("{what}: still running after {CHILD_LIMIT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
 
 /// The setup a check-corpus program (tests/sim_corpus) carries in its `;` comments: the
