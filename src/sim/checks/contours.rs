@@ -9,17 +9,19 @@
 use super::Capped;
 use super::intersect::{Across, MAX_CONTACTS, SegmentSet};
 use crate::geom::DVec2;
-use crate::sim::config::{CheckConfig, MachineKind};
+use crate::sim::config::{CheckConfig, Dialect, MachineKind};
 use crate::sim::findings::{Finding, Severity};
 use crate::sim::motion::{Motion, MotionKind, Motions};
 
-/// True when the move removes material: a laser feed with the beam on (M3/M4, S > 0), or a
-/// router feed with an end below `cut_z`.
+/// True when the move removes material: a laser feed with the beam on (M3/M4, S > 0; on
+/// Smoothieware, whose laser module fires on every G1/G2/G3 with its S power and never on G0,
+/// any feed with S > 0), or a router feed with an end below `cut_z`.
 pub fn is_cutting(m: &Motion, cfg: &CheckConfig) -> bool {
     if m.kind != MotionKind::Feed {
         return false;
     }
     match cfg.kind {
+        MachineKind::Laser if cfg.dialect == Dialect::Smoothie => m.tool.s > 0.0,
         MachineKind::Laser => m.tool.is_on(),
         MachineKind::Router => m.from.z.min(m.to.z) < cfg.cut_z,
     }

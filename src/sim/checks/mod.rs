@@ -190,6 +190,7 @@ impl<'c> MoveChecks<'c> {
 mod tests {
     use super::*;
     use crate::geom::DVec2;
+    use crate::sim::config::Dialect;
     use crate::sim::{Backend, CheckConfig, check_text};
     use proptest::prelude::*;
 
@@ -304,6 +305,25 @@ mod tests {
             y + s,
             y + s
         )
+    }
+
+    /// Smoothieware's laser module fires on G1 with S and no M3: two crossing squares cut so
+    /// are two crossings on the smoothie dialect (and none where M3 is needed to fire).
+    #[test]
+    fn smoothie_laser_cuts_without_m3() {
+        let mut src = String::from("G21 G90\n");
+        for (x, y) in [(0.0, 0.0), (5.0, 5.0)] {
+            src += &square_pass(x, y, 10.0)
+                .replace("M4 S500\n", "")
+                .replace("F1000", "F1000 S0.5");
+        }
+        src += "M2\n";
+        let smoothie = CheckConfig {
+            dialect: Dialect::Smoothie,
+            ..CheckConfig::default()
+        };
+        assert_eq!(contour_report(&src, &smoothie).0.len(), 2);
+        assert_eq!(contour_report(&src, &CheckConfig::default()).0.len(), 0);
     }
 
     /// Two squares crossing at two points, (10, 5) and (5, 10), each cut in `passes`
