@@ -144,13 +144,6 @@ fn checked(a: &Args) -> Result<u8> {
             let p = load_profile(m)?;
             let r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
             let mut c = check_config(&p, r);
-            c.dialect = match p.dialect {
-                skinpath::machine::Dialect::Grbl => Dialect::Grbl,
-                skinpath::machine::Dialect::Marlin => Dialect::Marlin,
-                skinpath::machine::Dialect::Smoothie => Dialect::Smoothie,
-                skinpath::machine::Dialect::Linuxcnc => Dialect::Linuxcnc,
-                skinpath::machine::Dialect::None => Dialect::Generic,
-            };
             c.tool_table = p
                 .tools
                 .iter()

@@ -37,7 +37,20 @@ pub fn check_config(profile: &Profile, tool_radius: f64) -> CheckConfig {
         // 30-38: "M30 <filename>: Delete SD Card file") and M2 is no Marlin code: its
         // programs end without either.
         program_end_optional: profile.dialect == Dialect::Marlin,
+        dialect: sim_dialect(profile.dialect),
         ..CheckConfig::default()
+    }
+}
+
+/// How the checker reads a program for a profile of `dialect` (a profile without one is read
+/// as the generic RS274NGC superset).
+pub fn sim_dialect(dialect: Dialect) -> crate::sim::Dialect {
+    match dialect {
+        Dialect::Grbl => crate::sim::Dialect::Grbl,
+        Dialect::Marlin => crate::sim::Dialect::Marlin,
+        Dialect::Smoothie => crate::sim::Dialect::Smoothie,
+        Dialect::Linuxcnc => crate::sim::Dialect::Linuxcnc,
+        Dialect::None => crate::sim::Dialect::Generic,
     }
 }
 

@@ -249,7 +249,7 @@ fn legend_rows(scene: &Scene, opts: &SvgOptions, notes: &[String]) -> Vec<Row> {
         }
     }
     let fmt = |v: f64| match scene.kind {
-        MachineKind::Laser => format!("S {v:.0}"),
+        MachineKind::Laser => format!("S {}", crate::emit::svg_page::num(v)),
         MachineKind::Router => format!("{v:.2} mm"),
     };
     for (k, _) in used.iter().enumerate().filter(|(_, u)| **u) {
