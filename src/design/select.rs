@@ -7,7 +7,7 @@
 //! case-insensitively as `#rrggbb`). Circle sequences and the strokes a `[[text]]` lays out
 //! have no layer or colour: only `strokes` (or no selector) selects them.
 
-use super::model::{Design, Operation, OperationKind};
+use super::model::{Design, LineBoundaries, Operation, OperationKind};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Width (mm) at or below which a stroke is a hairline whatever the tool: a line drawn to be
@@ -163,11 +163,16 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
 ///
 /// Lines are grouped by layer and colour; all profiled items are one group (touching items
 /// must be cut around their union, and two profiles of overlapping items would cross).
+/// When the profiled items have more than one colour, a `line` operation with
+/// `boundaries = "inner"` and the same selector follows the profile: the visible
+/// boundaries between differently coloured areas inside the union (a logo's inner star
+/// where gold meets black) are cut once each along the boundary
+/// ([`crate::toolpath::inks`]); the profile cuts the union's outside and holes.
 /// Groups come in order of first appearance; each is one operation selecting exactly its
 /// items: by `layers = [...]` when the group is every item of those layers, else by
 /// `colors = [...]` when it is every item of those colours, else by `strokes = [...]` (no
 /// selector at all when it is every item of the design). No item is
-/// selected twice. Operation settings (depth, power, feed) are left unset: the build's
+/// selected twice, but for the inner boundaries' line beside its profile. Operation settings (depth, power, feed) are left unset: the build's
 /// defaults apply, and a router needs `depth` on profiles. Texts must have been laid out
 /// (a loaded design has).
 pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
@@ -237,9 +242,28 @@ pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
         } else {
             op.strokes = Some(members.iter().map(|(n, _)| n.to_string()).collect());
         }
+        // Where profiled items of several inks meet, the boundaries between them are
+        // cut as lines, once each; the profile cuts the outside of their union.
+        let inner = (key.0 == OperationKind::Profile && several_inks(members)).then(|| {
+            let mut line = op.clone();
+            line.kind = OperationKind::Line;
+            line.boundaries = Some(LineBoundaries::Inner);
+            line
+        });
         out.push(op);
+        out.extend(inner);
     }
     out
+}
+
+/// Whether `members` carry more than one ink (colour, compared case-insensitively; no
+/// colour is one ink of its own).
+fn several_inks(members: &[(&str, Tags<'_>)]) -> bool {
+    let lower = |t: &Tags<'_>| t.color.map(str::to_ascii_lowercase);
+    members.first().is_some_and(|(_, first)| {
+        let first = lower(first);
+        members.iter().any(|(_, t)| lower(t) != first)
+    })
 }
 
 /// The values of `tag` (layers or colours, in order of first appearance) when `members`
@@ -409,7 +433,23 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
         let d = load("").unwrap();
         let ops = default_operations(&d, HAIRLINE_MM);
         let kinds: Vec<&str> = ops.iter().map(|o| o.kind.as_str()).collect();
-        assert_eq!(kinds, ["line", "profile", "line", "line"]);
+        assert_eq!(kinds, ["line", "profile", "line", "line", "line"]);
+        // The profiled items have three inks (red, none, black): their inner boundaries
+        // are a line with the profile's selector, right after it.
+        assert_eq!(ops[2].boundaries, Some(LineBoundaries::Inner));
+        assert_eq!(ops[2].strokes, ops[1].strokes);
+        assert!(
+            ops.iter()
+                .enumerate()
+                .all(|(k, o)| (k == 2) == o.boundaries.is_some())
+        );
+        // The operations load back: a design with them validates.
+        let mut with = d.clone();
+        with.operation = ops.clone();
+        assert!(crate::design::validate(&with).is_ok());
+        let ops: Vec<Operation> = (ops.into_iter().enumerate())
+            .filter_map(|(k, o)| (k != 2).then_some(o))
+            .collect();
         // "thin" and "wide" share layer and colour but not kind: named; "blue" is all of
         // layer "marks"; the profiled items ("wide", "dots", "plate") are one operation.
         assert_eq!(ops[0].strokes, Some(vec!["thin".to_string()]));
@@ -431,15 +471,24 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
         }
         assert_eq!(count.len(), 6);
         assert!(count.values().all(|&c| c == 1), "{count:?}");
-        // The operations load back: a design with them validates.
-        let mut with = d.clone();
-        with.operation = ops.clone();
-        assert!(crate::design::validate(&with).is_ok());
         // A threshold below every stroke's width: everything is profiled, one operation
-        // with no selector.
+        // with no selector, and its inner boundaries (several inks).
         let wide = default_operations(&d, 0.1);
-        assert_eq!(wide.len(), 1);
+        assert_eq!(wide.len(), 2);
         assert!(wide[0].kind == OperationKind::Profile && wide[0].strokes.is_none());
+        assert!(wide[1].kind == OperationKind::Line && wide[1].strokes.is_none());
+        assert_eq!(wide[1].boundaries, Some(LineBoundaries::Inner));
+        // One ink: no boundary line.
+        let mut one = d.clone();
+        for s in &mut one.stroke {
+            s.color = Some("#000000".into());
+        }
+        for s in &mut one.shape {
+            s.color = Some("#000000".into());
+        }
+        one.circles.clear();
+        let ops = default_operations(&one, 0.1);
+        assert_eq!(ops.len(), 1, "{ops:?}");
     }
 
     /// A layer whose items are one kind with several colours is selected by its layer; a

@@ -31,8 +31,8 @@ use super::progress::{ProgressFn, Stage, report};
 use super::re_route::{ReItem, RouteNote, RouteRefusal, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
 use crate::design::{
-    Design, FillPattern, HAIRLINE_MM, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
-    Selection, Tags, default_operations,
+    Design, FillPattern, HAIRLINE_MM, HoleAt, LineBoundaries, Operation, OperationKind,
+    OutlineMethod, ProfileSide, Selection, Tags, default_operations,
 };
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
@@ -640,6 +640,52 @@ fn line_paths(ctx: &Ctx, item: usize) -> Vec<Path> {
         .collect()
 }
 
+/// The inner visible boundaries of `items` ([`crate::toolpath::inks`]), per item that owns
+/// them: the items painted in the order shapes, circle sequences, strokes (each in file
+/// order: an SVG import keeps shapes as their visible areas and strokes on top of them),
+/// items of one `color` as one ink (items without a colour as one more).
+fn inner_boundary_paths(ctx: &Ctx, items: &[usize]) -> Vec<(usize, Vec<Path>)> {
+    use crate::toolpath::inks::{Painted, inner_boundaries};
+    use crate::toolpath::line::polyline_path;
+    let rank = |i: usize| {
+        let name = ctx.outlines[i].name.as_str();
+        if spine_of(ctx, i).is_some() {
+            2
+        } else if ctx.design.circles.iter().any(|c| c.name == name) {
+            1
+        } else {
+            0
+        }
+    };
+    let mut order: Vec<usize> = items.to_vec();
+    order.sort_by_key(|&i| (rank(i), i));
+    let regions = ctx.item_regions(&order);
+    let mut inks: HashMap<Option<String>, usize> = HashMap::new();
+    let painted: Vec<Painted<'_>> = (order.iter().zip(&regions))
+        .map(|(&i, region)| {
+            let name = ctx.outlines[i].name.as_str();
+            let color = (ctx.tags.get(name))
+                .and_then(|t| t.color)
+                .map(str::to_ascii_lowercase);
+            let next = inks.len();
+            let ink = *inks.entry(color).or_insert(next);
+            Painted { region, ink }
+        })
+        .collect();
+    let mut out: Vec<(usize, Vec<Path>)> = Vec::new();
+    for b in inner_boundaries(&painted, ctx.tol) {
+        let item = order[b.item];
+        let Some(path) = polyline_path(&b.points, b.closed) else {
+            continue;
+        };
+        match out.last_mut() {
+            Some((i, paths)) if *i == item => paths.push(path),
+            _ => out.push((item, vec![path])),
+        }
+    }
+    out
+}
+
 /// The swept regions of the design's channel operations along the strokes among `items`
 /// (the strokes a backboard carries), as polygons ([`channel_polygon`]): the board tests
 /// their vertices and unions them with its outlines, which flattens them anyway.
@@ -788,9 +834,12 @@ fn operation_specs(
                     .iter()
                     .find_map(|k| ctx.profile.tools.iter().find(|t| t.kind == *k))
             };
-            // Per selected item its paths (independent fits: in parallel, kept in order).
-            let per_item: Vec<(usize, Vec<Path>)> =
-                items.par_iter().map(|&i| (i, line_paths(ctx, i))).collect();
+            // Per selected item its paths (independent fits: in parallel, kept in order),
+            // or the visible boundaries between the items' inks.
+            let per_item: Vec<(usize, Vec<Path>)> = match op.boundaries {
+                Some(LineBoundaries::Inner) => inner_boundary_paths(ctx, &items),
+                None => items.par_iter().map(|&i| (i, line_paths(ctx, i))).collect(),
+            };
             let mut paths: Vec<Path> = Vec::new();
             let mut sources: Vec<String> = Vec::new();
             // The item of the last path's last piece.
