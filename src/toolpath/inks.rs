@@ -41,6 +41,12 @@ pub const PROBE_FRACTION: f64 = 0.5;
 /// probe from a chord lands on the side of the arc it is meant for.
 pub const FLATTEN_FRACTION: f64 = 0.25;
 
+/// Dropped stretches of a boundary shorter than this fraction of the tolerance between two
+/// kept ones are kept ([`bridge_gaps`]): a reflex corner hides a few δ of its edges from
+/// the probes (δ·cot(θ/2) for an inner turn θ, 2δ at a right angle; 4 tolerances cover turns
+/// down to about 15°).
+pub const BRIDGE_FRACTION: f64 = 4.0;
+
 /// One painted item, in paint order.
 #[derive(Clone, Debug)]
 pub struct Painted<'a> {
@@ -205,10 +211,8 @@ pub fn inner_boundaries(items: &[Painted<'_>], tol: f64) -> Vec<Boundary> {
             if ring.len() < 2 {
                 continue;
             }
-            // Kept pieces along the ring, as (start, end) points; consecutive ones join.
-            let mut runs: Vec<Vec<DVec2>> = Vec::new();
-            let mut open = false;
-            let mut first_kept_at_start = false;
+            // The ring's pieces in order: (start, end, kept).
+            let mut pieces: Vec<(DVec2, DVec2, bool)> = Vec::new();
             for s in 0..ring.len() {
                 let (a, b) = (ring[s], ring[(s + 1) % ring.len()]);
                 if a == b {
@@ -219,37 +223,15 @@ pub fn inner_boundaries(items: &[Painted<'_>], tol: f64) -> Vec<Boundary> {
                 ts.extend(inks.breaks((i, k, s), a, b, delta));
                 ts.push(1.0);
                 for w in ts.windows(2) {
-                    if w[1] - w[0] <= 0.0 {
-                        continue;
+                    if w[1] > w[0] {
+                        let m = a.lerp(b, 0.5 * (w[0] + w[1]));
+                        let keep = inks.owned(i, m, n, delta);
+                        pieces.push((a.lerp(b, w[0]), a.lerp(b, w[1]), keep));
                     }
-                    let m = a.lerp(b, 0.5 * (w[0] + w[1]));
-                    let keep = inks.owned(i, m, n, delta);
-                    let (p0, p1) = (a.lerp(b, w[0]), a.lerp(b, w[1]));
-                    if keep {
-                        if s == 0 && w[0] == 0.0 {
-                            first_kept_at_start = true;
-                        }
-                        match runs.last_mut() {
-                            Some(run) if open => run.push(p1),
-                            _ => runs.push(vec![p0, p1]),
-                        }
-                    }
-                    open = keep;
                 }
             }
-            // A run that reaches the ring's end continues into the one at its start.
-            let mut closed = false;
-            if open && first_kept_at_start {
-                if runs.len() == 1 {
-                    closed = true;
-                    runs[0].pop();
-                } else if let Some(last) = runs.pop() {
-                    let mut joined = last;
-                    joined.extend_from_slice(&runs[0][1..]);
-                    runs[0] = joined;
-                }
-            }
-            for points in runs {
+            bridge_gaps(&mut pieces, BRIDGE_FRACTION * tol);
+            for (points, closed) in runs(&pieces) {
                 let length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
                 if closed || length >= tol {
                     out.push(Boundary {
@@ -260,6 +242,63 @@ pub fn inner_boundaries(items: &[Painted<'_>], tol: f64) -> Vec<Boundary> {
                 }
             }
         }
+    }
+    out
+}
+
+/// Marks kept the dropped stretches of a ring's pieces shorter than `gap` that lie between
+/// kept ones (cyclically): near a reflex corner of an item, the probe off one edge falls
+/// into the item across the other edge, so a few δ on either side of the corner read as
+/// inside; the boundary goes on through the corner.
+fn bridge_gaps(pieces: &mut [(DVec2, DVec2, bool)], gap: f64) {
+    let n = pieces.len();
+    let Some(kept) = pieces.iter().position(|p| p.2) else {
+        return;
+    };
+    // Walk once around from a kept piece, collecting each dropped stretch.
+    let mut k = 0;
+    while k < n {
+        let at = (kept + k) % n;
+        if pieces[at].2 {
+            k += 1;
+            continue;
+        }
+        let mut len = 0.0;
+        let mut m = k;
+        while m < n && !pieces[(kept + m) % n].2 {
+            let (a, b, _) = pieces[(kept + m) % n];
+            len += a.distance(b);
+            m += 1;
+        }
+        // `m < n`: a kept piece follows (the walk started on one, so both sides are kept).
+        if m < n && len < gap {
+            for j in k..m {
+                pieces[(kept + j) % n].2 = true;
+            }
+        }
+        k = m;
+    }
+}
+
+/// The runs of consecutive kept pieces of a ring (cyclically), with whether a run is the
+/// whole ring.
+fn runs(pieces: &[(DVec2, DVec2, bool)]) -> Vec<(Vec<DVec2>, bool)> {
+    if pieces.iter().all(|p| p.2) {
+        return vec![(pieces.iter().map(|p| p.0).collect(), true)];
+    }
+    // Start after a dropped piece, so no run wraps past the start.
+    let start = pieces.iter().position(|p| !p.2).unwrap_or(0) + 1;
+    let mut out: Vec<(Vec<DVec2>, bool)> = Vec::new();
+    let mut open = false;
+    for k in 0..pieces.len() {
+        let (a, b, keep) = pieces[(start + k) % pieces.len()];
+        if keep {
+            match out.last_mut() {
+                Some((run, _)) if open => run.push(b),
+                _ => out.push((vec![a, b], false)),
+            }
+        }
+        open = keep;
     }
     out
 }
@@ -446,5 +485,35 @@ mod tests {
         // (above), so no piece is counted twice.
         let b_runs: f64 = runs.iter().filter(|r| r.item == 2).map(length).sum();
         assert!((b_runs - 40.0).abs() < 1e-9);
+    }
+
+    /// An L (a reflex corner, and a sharp 20° notch) painted on a plate is one closed run
+    /// along its whole boundary: the corners' few δ where the probes read the item on both
+    /// sides are bridged.
+    #[test]
+    fn reflex_corners_do_not_split_the_run() {
+        let plate = region(&[square(-10.0, -10.0, 40.0)]);
+        let notch = 10.0f64.to_radians().tan() * 8.0;
+        let l = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(10.0, 0.0),
+            DVec2::new(10.0, 4.0),
+            DVec2::new(4.0, 4.0),
+            DVec2::new(4.0, 10.0),
+            DVec2::new(2.0 + notch, 10.0),
+            DVec2::new(2.0, 2.0),
+            DVec2::new(2.0 - notch, 10.0),
+            DVec2::new(0.0, 10.0),
+        ];
+        let top = region(&[l.clone()]);
+        let items = [
+            Painted { region: &plate, ink: 0 },
+            Painted { region: &top, ink: 1 },
+        ];
+        let runs = inner_boundaries(&items, TOL);
+        assert_eq!(runs.len(), 1, "{runs:?}");
+        assert!(runs[0].closed);
+        let perimeter: f64 = (0..l.len()).map(|k| l[k].distance(l[(k + 1) % l.len()])).sum();
+        assert!((length(&runs[0]) - perimeter).abs() < 1e-9);
     }
 }
