@@ -507,13 +507,21 @@ mod tests {
         ];
         let top = region(&[l.clone()]);
         let items = [
-            Painted { region: &plate, ink: 0 },
-            Painted { region: &top, ink: 1 },
+            Painted {
+                region: &plate,
+                ink: 0,
+            },
+            Painted {
+                region: &top,
+                ink: 1,
+            },
         ];
         let runs = inner_boundaries(&items, TOL);
         assert_eq!(runs.len(), 1, "{runs:?}");
         assert!(runs[0].closed);
-        let perimeter: f64 = (0..l.len()).map(|k| l[k].distance(l[(k + 1) % l.len()])).sum();
+        let perimeter: f64 = (0..l.len())
+            .map(|k| l[k].distance(l[(k + 1) % l.len()]))
+            .sum();
         assert!((length(&runs[0]) - perimeter).abs() < 1e-9);
     }
 }
