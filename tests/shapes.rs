@@ -352,7 +352,9 @@ fn fill_and_stroke_give_a_stroke_and_a_shape() {
     assert!(imp.skipped.is_empty(), "{:?}", imp.skipped);
     // The whole design builds with the per-item defaults of a drawing: the line (SVG's
     // default width, 1 mm: a hairline) is cut once along its path; the dot's stroke band
-    // and its fill make one region, profiled by one contour (its stroke's outer edge).
+    // and its fill make one region, profiled by one contour (its stroke's outer edge), and
+    // the visible boundary between the black band and the red fill inside it (the band's
+    // inner edge, radius 19) is one closed line cut.
     let d = load(&text, "b.svg").unwrap();
     let profile = builtin_profile("grbl-laser").unwrap().unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();
@@ -360,11 +362,38 @@ fn fill_and_stroke_give_a_stroke_and_a_shape() {
         .map(|o| (o.kind, o.cuts.len()))
         .collect();
     use skinpath::toolpath::OperationKind as Tp;
-    assert_eq!(ops, [(Tp::Line, 1), (Tp::Profile, 1)], "{ops:?}");
-    let line = &built.toolpath.operations[0].cuts[0];
+    assert_eq!(
+        ops,
+        [(Tp::Line, 1), (Tp::Line, 1), (Tp::Profile, 1)],
+        "{ops:?}"
+    );
+    let cut_of = |name: &str| {
+        (built.toolpath.operations.iter())
+            .flat_map(|o| &o.cuts)
+            .find(|c| c.source.as_deref() == Some(name) && c.moves.len() > 1)
+            .unwrap()
+    };
+    let line = cut_of("line");
     let end = line.moves.last().unwrap().to;
     let d = line.start.distance(end);
     assert!((d - 80.0).abs() < 1e-3, "{d}");
+    // The boundary is the stroke's (painted over its fill), a line cut, not the profile.
+    let rim = (built.toolpath.operations.iter())
+        .filter(|o| o.kind == Tp::Line)
+        .flat_map(|o| &o.cuts)
+        .find(|c| c.source.as_deref() == Some("dot"))
+        .unwrap();
+    let centre = glam::DVec3::new(50.0, 50.0, 0.0);
+    for m in &rim.moves {
+        let r = (m.to - centre).truncate().length();
+        // The spine is fitted within the import tolerance (0.05), the skin within ε
+        // (0.01), the cut within the build tolerance (0.01).
+        assert!((r - 19.0).abs() <= 0.07, "{r}");
+    }
+    assert_eq!(
+        rim.moves.last().unwrap().to.truncate(),
+        rim.start.truncate()
+    );
 }
 
 /// Fills that paint nothing are skipped and listed by id: fully transparent, or without

@@ -454,6 +454,9 @@ pub(super) fn print_job(
             worst.name
         )?;
     }
+    for w in &out.built.warnings {
+        writeln!(text, "  warning ({}): {}", w.operation, w.message)?;
+    }
     for r in &out.built.routes {
         writeln!(
             text,

@@ -95,9 +95,13 @@ fn describe(op: &Operation) -> String {
     .into_iter()
     .flatten()
     .collect::<Vec<_>>();
+    let kind = match op.boundaries {
+        Some(_) => format!("{} (boundaries between colours inside)", op.kind.as_str()),
+        None => op.kind.as_str().to_string(),
+    };
     match selects.is_empty() {
-        true => format!("{}: every item", op.kind.as_str()),
-        false => format!("{}: {}", op.kind.as_str(), selects.join(", ")),
+        true => format!("{kind}: every item"),
+        false => format!("{kind}: {}", selects.join(", ")),
     }
 }
 

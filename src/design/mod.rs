@@ -167,9 +167,9 @@ pub use corners::Corner;
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load, load_noted};
 pub use model::{
-    Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, MountingHoles,
-    Operation, OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide, Stroke, Tabs,
-    Units, VERSION,
+    Attributes, CircleSeq, DEFAULT_DEGREE, Design, FillPattern, Fit, HoleAt, LineBoundaries,
+    MountingHoles, Operation, OperationKind, Outline, OutlineMethod, Parametrization, ProfileSide,
+    Stroke, Tabs, Units, VERSION,
 };
 pub use neon::{Flex, FlexPreset, Neon, NeonRun};
 pub use output::{OperationRef, Output};

@@ -565,6 +565,23 @@ pub struct Operation {
     /// re-skinning-cnc eq. 13). Unset: the build's `--method`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub method: Option<OutlineMethod>,
+    // line
+    /// `boundaries` (line only): what the line follows. Unset: each selected item's own
+    /// line (a stroke's spine, a shape's contours, a circle sequence's centres).
+    /// `"inner"`: the visible boundaries between the selected items' differently coloured
+    /// areas inside their union, each cut once (where one ink meets another, or a later
+    /// item lies on an earlier one), and not their outer boundary, which a profile of the
+    /// same items cuts ([`crate::toolpath::inks`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub boundaries: Option<LineBoundaries>,
+}
+
+/// What a `line` operation with `boundaries` follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LineBoundaries {
+    /// The visible boundaries between differently coloured items inside their union.
+    Inner,
 }
 
 impl Operation {
@@ -599,6 +616,7 @@ impl Operation {
             max_depth: None,
             air_assist: None,
             method: None,
+            boundaries: None,
         }
     }
 }

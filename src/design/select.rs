@@ -7,7 +7,7 @@
 //! case-insensitively as `#rrggbb`). Circle sequences and the strokes a `[[text]]` lays out
 //! have no layer or colour: only `strokes` (or no selector) selects them.
 
-use super::model::{Design, Operation, OperationKind};
+use super::model::{Design, LineBoundaries, Operation, OperationKind};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Width (mm) at or below which a stroke is a hairline whatever the tool: a line drawn to be
@@ -163,25 +163,36 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
 ///
 /// Lines are grouped by layer and colour; all profiled items are one group (touching items
 /// must be cut around their union, and two profiles of overlapping items would cross).
+/// When profiled items of different colours may meet (their boxes do), a `line` operation with
+/// `boundaries = "inner"` and the same selector follows the profile: the visible
+/// boundaries between differently coloured areas inside the union (a logo's inner star
+/// where gold meets black) are cut once each along the boundary
+/// ([`crate::toolpath::inks`]); the profile cuts the union's outside and holes.
 /// Groups come in order of first appearance; each is one operation selecting exactly its
 /// items: by `layers = [...]` when the group is every item of those layers, else by
 /// `colors = [...]` when it is every item of those colours, else by `strokes = [...]` (no
 /// selector at all when it is every item of the design). No item is
-/// selected twice. Operation settings (depth, power, feed) are left unset: the build's
+/// selected twice, but for the inner boundaries' line beside its profile. Operation settings (depth, power, feed) are left unset: the build's
 /// defaults apply, and a router needs `depth` on profiles. Texts must have been laid out
 /// (a loaded design has).
 pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
-    // (name, tags, kind) of every item in design order.
+    // (name, tags, kind) of every item in design order, and each item's box.
     let mut items: Vec<(&str, Tags<'_>, OperationKind)> = Vec::new();
+    let mut boxes: HashMap<&str, Box2> = HashMap::new();
     for s in &design.stroke {
         let tags = Tags {
             layer: s.layer.as_deref(),
             color: s.color.as_deref(),
         };
         items.push((&s.name, tags, stroke_default_kind(s, hairline)));
+        boxes.insert(
+            &s.name,
+            disks_box(s.disks.iter().chain(s.points.iter()).flatten()),
+        );
     }
     for c in &design.circles {
         items.push((&c.name, Tags::default(), OperationKind::Profile));
+        boxes.insert(&c.name, disks_box(c.circles.iter()));
     }
     for s in &design.shape {
         let tags = Tags {
@@ -189,6 +200,8 @@ pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
             color: s.color.as_deref(),
         };
         items.push((&s.name, tags, OperationKind::Profile));
+        let corners = s.contours.iter().flatten().map(|p| [p[0], p[1], 0.0]);
+        boxes.insert(&s.name, disks_box(corners.collect::<Vec<_>>().iter()));
     }
     let lower = |c: Option<&str>| c.map(str::to_ascii_lowercase);
     // Groups keyed by (kind, layer, colour), in order of first appearance. Profiled items
@@ -237,9 +250,60 @@ pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
         } else {
             op.strokes = Some(members.iter().map(|(n, _)| n.to_string()).collect());
         }
+        // Where profiled items of several inks meet, the boundaries between them are
+        // cut as lines, once each; the profile cuts the outside of their union.
+        let inner = (key.0 == OperationKind::Profile && inks_meet(members, &boxes)).then(|| {
+            let mut line = op.clone();
+            line.kind = OperationKind::Line;
+            line.boundaries = Some(LineBoundaries::Inner);
+            line
+        });
         out.push(op);
+        out.extend(inner);
     }
     out
+}
+
+/// An axis-aligned box: (min x, min y, max x, max y).
+type Box2 = [f64; 4];
+
+/// The box of disks `[x, y, r]`: it holds a disk B-spline whose control disks they are (the
+/// centre curve lies in the convex hull of the control points, and its radius never exceeds
+/// the largest control radius), a circle sequence, or a polygon (r = 0).
+fn disks_box<'a>(disks: impl Iterator<Item = &'a [f64; 3]>) -> Box2 {
+    disks.fold(
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |b, d| {
+            let r = d[2].abs();
+            [
+                b[0].min(d[0] - r),
+                b[1].min(d[1] - r),
+                b[2].max(d[0] + r),
+                b[3].max(d[1] + r),
+            ]
+        },
+    )
+}
+
+/// Whether two of `members` of different inks (colours, compared case-insensitively; no
+/// colour is one ink of its own) have boxes that meet: only then can a boundary between two
+/// inks lie inside their union. Sweep over the boxes sorted by their left side.
+fn inks_meet(members: &[(&str, Tags<'_>)], boxes: &HashMap<&str, Box2>) -> bool {
+    let mut b: Vec<(Box2, Option<String>)> = members
+        .iter()
+        .filter_map(|(n, t)| Some((*boxes.get(n)?, t.color.map(str::to_ascii_lowercase))))
+        .collect();
+    b.sort_by(|x, y| x.0[0].total_cmp(&y.0[0]));
+    (0..b.len()).any(|i| {
+        (b[i + 1..].iter())
+            .take_while(|o| o.0[0] <= b[i].0[2])
+            .any(|o| o.1 != b[i].1 && o.0[1] <= b[i].0[3] && b[i].0[1] <= o.0[3])
+    })
 }
 
 /// The values of `tag` (layers or colours, in order of first appearance) when `members`
@@ -409,6 +473,8 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
         let d = load("").unwrap();
         let ops = default_operations(&d, HAIRLINE_MM);
         let kinds: Vec<&str> = ops.iter().map(|o| o.kind.as_str()).collect();
+        // The profiled items have three inks (red, none, black) but lie apart: no line
+        // along boundaries between inks.
         assert_eq!(kinds, ["line", "profile", "line", "line"]);
         // "thin" and "wide" share layer and colour but not kind: named; "blue" is all of
         // layer "marks"; the profiled items ("wide", "dots", "plate") are one operation.
@@ -440,6 +506,39 @@ contours = [[[30.0, 20.0], [40.0, 20.0], [40.0, 30.0], [30.0, 30.0]]]
         let wide = default_operations(&d, 0.1);
         assert_eq!(wide.len(), 1);
         assert!(wide[0].kind == OperationKind::Profile && wide[0].strokes.is_none());
+    }
+
+    /// Profiled items of different colours whose boxes meet get a `line` along the
+    /// boundaries between their inks, with the profile's selector, right after it; of one
+    /// colour, none.
+    #[test]
+    fn default_operations_cut_the_boundaries_between_inks_that_meet() {
+        let mut d = load("").unwrap();
+        // "wide" (red) now crosses the black plate.
+        d.stroke[1].disks = Some(vec![[25.0, 25.0, 2.0], [35.0, 25.0, 2.0]]);
+        let ops = default_operations(&d, HAIRLINE_MM);
+        let kinds: Vec<&str> = ops.iter().map(|o| o.kind.as_str()).collect();
+        assert_eq!(kinds, ["line", "profile", "line", "line", "line"]);
+        assert_eq!(ops[2].boundaries, Some(LineBoundaries::Inner));
+        assert_eq!(ops[2].strokes, ops[1].strokes);
+        let marked: Vec<bool> = ops.iter().map(|o| o.boundaries.is_some()).collect();
+        assert_eq!(marked, [false, false, true, false, false]);
+        let mut with = d.clone();
+        with.operation = ops;
+        assert!(crate::design::validate(&with).is_ok());
+        // Written and read back, the key survives.
+        let text = with.to_string_as(Format::Toml).unwrap();
+        assert!(text.contains("boundaries = \"inner\""), "{text}");
+        let back = from_str(&text, Format::Toml, FILE).unwrap();
+        assert_eq!(back.operation[2].boundaries, Some(LineBoundaries::Inner));
+        // The same colour (case aside): no boundary line.
+        d.stroke[1].color = Some("#000000".into());
+        let ops = default_operations(&d, HAIRLINE_MM);
+        assert!(ops.iter().all(|o| o.boundaries.is_none()), "{ops:?}");
+        // `boundaries` is a line's key only.
+        let op = "[[operation]]\nkind = \"profile\"\ndepth = 1.0\nboundaries = \"inner\"\n";
+        let msg = load(op).unwrap_err();
+        assert!(msg.contains("`boundaries` does not apply"), "{msg}");
     }
 
     /// A layer whose items are one kind with several colours is selected by its layer; a

@@ -627,6 +627,7 @@ fn applies(key: &str) -> &'static [OperationKind] {
         "pattern" | "spacing" | "cross_hatch" | "alternate" => &[Fill],
         "angle" => &[Fill, Vcarve],
         "max_depth" => &[Vcarve],
+        "boundaries" => &[Line],
         // Tabs hold a part cut free; the skin route is chosen for outline cuts.
         "tabs" | "method" => &[Profile, Backboard],
         // A line has no waste side to lead in from.
@@ -659,6 +660,7 @@ fn check_operation(
         ("tabs", op.tabs.is_some()),
         ("method", op.method.is_some()),
         ("lead_in", op.lead_in.is_some()),
+        ("boundaries", op.boundaries.is_some()),
     ];
     for (key, present) in set {
         if present && !applies(key).contains(&op.kind) {

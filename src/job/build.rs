@@ -31,8 +31,8 @@ use super::progress::{ProgressFn, Stage, report};
 use super::re_route::{ReItem, RouteNote, RouteRefusal, re_backboard, re_items, re_profile};
 use crate::dbsc::DiskBSpline;
 use crate::design::{
-    Design, FillPattern, HAIRLINE_MM, HoleAt, Operation, OperationKind, OutlineMethod, ProfileSide,
-    Selection, Tags, default_operations,
+    Design, FillPattern, HAIRLINE_MM, HoleAt, LineBoundaries, Operation, OperationKind,
+    OutlineMethod, ProfileSide, Selection, Tags, default_operations,
 };
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
@@ -115,6 +115,20 @@ pub struct BuildResult {
     pub re_skin_seconds: f64,
     /// The neon bill of materials, for a design with a `[neon]` table ([`super::neon`]).
     pub neon: Option<super::neon::NeonBom>,
+    /// What the build could not cut as drawn (features narrower than the tool), in
+    /// operation order.
+    pub warnings: Vec<BuildWarning>,
+}
+
+/// Something the build could not cut as drawn.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct BuildWarning {
+    /// The operation's name in the toolpath (e.g. "profile 1").
+    pub operation: String,
+    /// The item it concerns.
+    pub item: String,
+    /// What happened, in words.
+    pub message: String,
 }
 
 struct Ctx<'a> {
@@ -145,6 +159,8 @@ struct Ctx<'a> {
     copy_of: Vec<Option<(usize, DVec2)>>,
     /// Per outline its region, made once when first asked for.
     regions: Vec<std::sync::OnceLock<Region>>,
+    /// Warnings with the number of the operation that gave them.
+    warnings: Mutex<Vec<(usize, BuildWarning)>>,
 }
 
 impl Ctx<'_> {
@@ -640,6 +656,121 @@ fn line_paths(ctx: &Ctx, item: usize) -> Vec<Path> {
         .collect()
 }
 
+/// The contours of `region` (holes for an outside profile, material for an inside one)
+/// that the tool of radius `r` cannot follow, each with a message: the offset of the
+/// contour left no path inside it (the feature vanished: it is narrower than the tool),
+/// or several (a waist narrower than the tool split it and is not cut). A contour's width
+/// is given as its mean width 2·A/P (area over half the perimeter: the width of a thin
+/// strip, the diameter of a disk). `paths` are the profile's paths: a hole's offsets run
+/// counter-clockwise (region contours reversed), material's clockwise. A lobe lost
+/// while the rest of the contour keeps one path is not caught.
+fn lost_to_the_tool(
+    region: &Region,
+    side: ops::ProfileSide,
+    r: f64,
+    paths: &[Path],
+    tol: f64,
+) -> Vec<(Path, String)> {
+    use cavalier_contours::core::math::Vector2;
+    use cavalier_contours::polyline::PlineSource;
+    let holes = side == ops::ProfileSide::Outside;
+    let starts: Vec<(DVec2, bool)> = paths
+        .iter()
+        .filter_map(|p| {
+            let area = crate::toolpath::region::pline_from_path(p, tol).area();
+            Some((p.start()?, area > 0.0))
+        })
+        .collect();
+    let mut out = Vec::new();
+    for c in &region.contours {
+        let area = c.area();
+        if (area < 0.0) != holes {
+            continue;
+        }
+        let inside = starts
+            .iter()
+            .filter(|(q, ccw)| {
+                // Hole offsets are counter-clockwise once reversed, material's clockwise.
+                *ccw == holes && c.winding_number(Vector2::new(q.x, q.y)) != 0
+            })
+            .count();
+        if inside == 1 {
+            continue;
+        }
+        let width = 2.0 * area.abs() / c.path_length();
+        let what = if holes { "a hole" } else { "a part" };
+        let Some(at) = c.iter_vertexes().next() else {
+            continue;
+        };
+        let message = if inside == 0 {
+            format!(
+                "{what} near ({:.3}, {:.3}), {width:.3} wide on average (2·area/perimeter), is \
+                 narrower than the tool ({:.3}): it is not cut",
+                at.x,
+                at.y,
+                2.0 * r
+            )
+        } else {
+            format!(
+                "{what} near ({:.3}, {:.3}), {width:.3} wide on average, has a waist \
+                 narrower than the tool ({:.3}): the tool cuts {inside} pieces of it and not \
+                 the waist",
+                at.x,
+                at.y,
+                2.0 * r
+            )
+        };
+        out.push((crate::toolpath::region::path_from_pline(c), message));
+    }
+    out
+}
+
+/// The inner visible boundaries of `items` ([`crate::toolpath::inks`]), per item that owns
+/// them: the items painted in the order shapes, circle sequences, strokes (each in file
+/// order: an SVG import keeps shapes as their visible areas and strokes on top of them),
+/// items of one `color` as one ink (items without a colour as one more).
+fn inner_boundary_paths(ctx: &Ctx, items: &[usize]) -> Vec<(usize, Vec<Path>)> {
+    use crate::toolpath::inks::{Painted, inner_boundaries};
+    use crate::toolpath::line::polyline_path;
+    let rank = |i: usize| {
+        let name = ctx.outlines[i].name.as_str();
+        if spine_of(ctx, i).is_some() {
+            2
+        } else if ctx.design.circles.iter().any(|c| c.name == name) {
+            1
+        } else {
+            0
+        }
+    };
+    let mut order: Vec<usize> = items.to_vec();
+    order.sort_by_key(|&i| (rank(i), i));
+    let regions = ctx.item_regions(&order);
+    let mut inks: HashMap<Option<String>, usize> = HashMap::new();
+    let painted: Vec<Painted<'_>> = (order.iter().zip(&regions))
+        .map(|(&i, region)| {
+            let name = ctx.outlines[i].name.as_str();
+            let color = (ctx.tags.get(name))
+                .and_then(|t| t.color)
+                .map(str::to_ascii_lowercase);
+            let next = inks.len();
+            let ink = *inks.entry(color).or_insert(next);
+            Painted { region, ink }
+        })
+        .collect();
+    let mut out: Vec<(usize, Vec<Path>)> = Vec::new();
+    for b in inner_boundaries(&painted, ctx.tol) {
+        let item = order[b.item];
+        let Some(path) = polyline_path(&b.points, b.closed) else {
+            continue;
+        };
+        match out.last_mut() {
+            Some((i, paths)) if *i == item => paths.push(path),
+            _ => out.push((item, vec![path])),
+        }
+    }
+    out
+}
+
 /// The swept regions of the design's channel operations along the strokes among `items`
 /// (the strokes a backboard carries), as polygons ([`channel_polygon`]): the board tests
 /// their vertices and unions them with its outlines, which flattens them anyway.
@@ -788,9 +919,12 @@ fn operation_specs(
                     .iter()
                     .find_map(|k| ctx.profile.tools.iter().find(|t| t.kind == *k))
             };
-            // Per selected item its paths (independent fits: in parallel, kept in order).
-            let per_item: Vec<(usize, Vec<Path>)> =
-                items.par_iter().map(|&i| (i, line_paths(ctx, i))).collect();
+            // Per selected item its paths (independent fits: in parallel, kept in order),
+            // or the visible boundaries between the items' inks.
+            let per_item: Vec<(usize, Vec<Path>)> = match op.boundaries {
+                Some(LineBoundaries::Inner) => inner_boundary_paths(ctx, &items),
+                None => items.par_iter().map(|&i| (i, line_paths(ctx, i))).collect(),
+            };
             let mut paths: Vec<Path> = Vec::new();
             let mut sources: Vec<String> = Vec::new();
             // The item of the last path's last piece.
@@ -840,12 +974,34 @@ fn operation_specs(
                 None => ops::ProfileSide::Outside,
             };
             // Crossing strokes make one outline: profile the union when they overlap.
-            let general = || ops::profile(&ctx.region(&items), side, r, eps);
+            let union = std::sync::OnceLock::new();
+            let region = || union.get_or_init(|| ctx.region(&items));
+            let general = || ops::profile(region(), side, r, eps);
             let paths = ctx.routed(index, op, &name, &items, general, |its| {
                 re_profile(its, side, r, ctx.tol)
             })?;
             let own = ctx.item_regions(&items);
             let sources = attribute(ctx, &items, &own, &paths);
+            if side != ops::ProfileSide::On && r > 0.0 {
+                let lost = lost_to_the_tool(region(), side, r, &paths, ctx.tol);
+                let owners = attribute(
+                    ctx,
+                    &items,
+                    &own,
+                    &lost.iter().map(|l| l.0.clone()).collect::<Vec<_>>(),
+                );
+                let mut w = ctx.warnings.lock().unwrap_or_else(|e| e.into_inner());
+                for ((_, message), item) in lost.into_iter().zip(owners) {
+                    w.push((
+                        index,
+                        BuildWarning {
+                            operation: name.clone(),
+                            item: item.clone(),
+                            message: format!("\"{item}\": {message}"),
+                        },
+                    ));
+                }
+            }
             let mut s = spec(
                 ctx,
                 design_index,
@@ -1672,6 +1828,7 @@ pub fn build_toolpath_placed(
         method: opts.method,
         re,
         routes: Mutex::new(Vec::new()),
+        warnings: Mutex::new(Vec::new()),
         neon: None,
     };
     let mut ctx = ctx;
@@ -1756,6 +1913,11 @@ pub fn build_toolpath_placed(
         re_skin_seconds,
         outlines: ctx.outlines,
         neon,
+        warnings: {
+            let mut w = ctx.warnings.into_inner().unwrap_or_else(|e| e.into_inner());
+            w.sort_by_key(|(i, _)| *i);
+            w.into_iter().map(|(_, w)| w).collect()
+        },
     })
 }
 

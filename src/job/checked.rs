@@ -616,6 +616,9 @@ pub struct Summary {
     /// that still failed built on the union of their disks
     /// ([`crate::job::outline::ItemOutline::repair`]).
     pub skin_repairs: Vec<SkinRepairSummary>,
+    /// What the build could not cut as drawn: features narrower than the tool
+    /// ([`crate::job::build::BuildWarning`]).
+    pub warnings: Vec<crate::job::build::BuildWarning>,
 }
 
 /// What was done to a stroke that could not be skinned as one piece.
@@ -746,6 +749,7 @@ impl JobOutput {
                     })
                 })
                 .collect(),
+            warnings: self.built.warnings.clone(),
         }
     }
 }

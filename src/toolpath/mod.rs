@@ -8,6 +8,7 @@ pub mod attrs;
 pub mod biarc;
 pub mod board;
 pub mod cut;
+pub mod inks;
 pub mod line;
 pub mod model;
 pub mod ops;
