@@ -378,35 +378,6 @@ fn least_squares_parameters_give_the_clamped_uniform_knots() {
     }
 }
 
-/// Numbers of a G-code line's words, comments dropped.
-fn words(line: &str) -> Vec<String> {
-    let code = line.split(';').next().unwrap_or("");
-    let mut out = Vec::new();
-    let mut depth = 0;
-    let mut cur = String::new();
-    for ch in code.chars() {
-        match ch {
-            '(' => depth += 1,
-            ')' => depth -= 1,
-            _ if depth > 0 || ch.is_whitespace() => {}
-            c if c.is_ascii_alphabetic() => {
-                if !cur.is_empty() {
-                    out.push(std::mem::take(&mut cur));
-                }
-                cur.push(c.to_ascii_uppercase());
-            }
-            c => cur.push(c),
-        }
-    }
-    if !cur.is_empty() {
-        out.push(cur);
-    }
-    out
-}
-
-/// Coordinates of a golden G-code may differ by this much (float formatting).
-const GOLDEN_TOL: f64 = 1e-3;
-
 #[test]
 fn script_sign_with_accent_and_ampersand_builds_clean_and_matches_the_golden() {
     // `skinpath text "Café & Bar" --font script --height 22 --neon`, built with default
@@ -451,30 +422,7 @@ fn script_sign_with_accent_and_ampersand_builds_clean_and_matches_the_golden() {
             String::from_utf8_lossy(&c.stdout)
         );
         let got = std::fs::read_to_string(&out).unwrap();
-        let golden = std::path::Path::new(common::ROOT)
-            .join("tests/golden")
-            .join(format!("cafe_script.{machine}.gcode"));
-        if std::env::var("SKINPATH_BLESS").is_ok_and(|v| v == "1") {
-            std::fs::write(&golden, &got).unwrap();
-            continue;
-        }
-        let want = std::fs::read_to_string(&golden).unwrap();
-        let (g, w): (Vec<_>, Vec<_>) = (
-            got.lines().map(words).filter(|v| !v.is_empty()).collect(),
-            want.lines().map(words).filter(|v| !v.is_empty()).collect(),
-        );
-        assert_eq!(g.len(), w.len(), "{machine}: blocks");
-        for (i, (a, b)) in g.iter().zip(&w).enumerate() {
-            assert_eq!(a.len(), b.len(), "{machine}: block {i}");
-            for (x, y) in a.iter().zip(b) {
-                assert_eq!(x[..1], y[..1], "{machine}: block {i}");
-                let (vx, vy): (f64, f64) = (x[1..].parse().unwrap(), y[1..].parse().unwrap());
-                assert!(
-                    (vx - vy).abs() <= GOLDEN_TOL,
-                    "{machine}: block {i}: {x} vs {y}"
-                );
-            }
-        }
+        common::assert_golden(&got, &format!("cafe_script.{machine}.gcode"), machine);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

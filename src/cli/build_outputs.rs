@@ -64,7 +64,7 @@ struct OutputSummary<'a> {
 
 /// A shipped profile by name, or a profile file: a relative path is read from the design
 /// file's folder `design_dir`.
-fn output_profile(spec: &str, design_dir: &Path) -> Result<(Profile, Option<PathBuf>)> {
+pub fn output_profile(spec: &str, design_dir: &Path) -> Result<(Profile, Option<PathBuf>)> {
     if builtin_profile(spec).is_some() {
         return Ok((load_profile(spec)?, None));
     }

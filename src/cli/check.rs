@@ -3,14 +3,17 @@
 //! input is unusable or the backend fails (rs274 not installed, stopped at its limit). With
 //! `--json` every outcome is a JSON report on standard output, those of exit 2 included:
 //! `usable` false, the error as `reason` and as the one finding ([`failure_report`]).
+//! With `--design` whose `[[output]]` tables name machines and no `--machine`, the profile
+//! is that of the output the program is (`--only NAME`, else the output whose file name
+//! is the program's).
 
 use super::build::load_profile;
 use super::io;
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use skinpath::job::check::{check_config, design_boundaries};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 use skinpath::sim::{Backend, CheckConfig, Dialect, files, interp};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 #[derive(clap::Args, Debug)]
@@ -23,6 +26,11 @@ pub struct Args {
     /// Design the program cuts: the tool must keep its radius from the outlines.
     #[arg(long)]
     design: Option<PathBuf>,
+    /// With --design whose `[[output]]` tables name machines: the output the program is
+    /// (its machine is the profile unless --machine is given). Default: the output whose
+    /// file name (`file`, with the design's stem) is the program's.
+    #[arg(long, requires = "design")]
+    only: Option<String>,
     /// With --design: the outlined shapes are parts to cut around (outside), or only the
     /// distance matters (either).
     #[arg(long, value_parser = ["outside", "either"], default_value = "outside")]
@@ -137,11 +145,68 @@ fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
     }
 }
 
+/// The profile of the `[[output]]` of `--design` the program is (module docs of `--only`),
+/// when --machine is not given; `None` for a design without outputs.
+fn output_profile(a: &Args) -> Result<Option<skinpath::machine::Profile>> {
+    let (Some(d), None) = (&a.design, &a.machine) else {
+        return Ok(None);
+    };
+    let dtext = io::read_text(d)?;
+    let file = d.display().to_string();
+    let design = skinpath::design::load(&dtext, &file)?;
+    if design.output.is_empty() {
+        if let Some(n) = &a.only {
+            bail!("{file}: --only {n}: the design has no [[output]] tables");
+        }
+        return Ok(None);
+    }
+    let names: Vec<&str> = design.output.iter().map(|o| o.name.as_str()).collect();
+    let stem = super::build::job_name(d);
+    let ext = io::extension(&a.program);
+    let program = a
+        .program
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned());
+    let found = match &a.only {
+        Some(n) => design
+            .output
+            .iter()
+            .find(|o| &o.name == n)
+            .with_context(|| {
+                format!(
+                    "{file}: --only {n}: no [[output]] of that name; the design's outputs are {}",
+                    names.join(", ")
+                )
+            })?,
+        None => (design.output.iter())
+            .find(|o| Some(o.file_name(&stem, &ext)) == program)
+            .with_context(|| {
+                format!(
+                    "{file}: the design's outputs ({}) name their machines: say which one {} is \
+                     with --only NAME, or give --machine",
+                    names.join(", "),
+                    a.program.display()
+                )
+            })?,
+    };
+    let dir = d
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let (p, _) = super::build_outputs::output_profile(&found.machine, &dir)
+        .with_context(|| format!("{file}: [[output]] \"{}\"", found.name))?;
+    Ok(Some(p))
+}
+
 fn checked(a: &Args) -> Result<u8> {
     let mut timings = Timings::default();
-    let (mut cfg, tool_r) = match &a.machine {
-        Some(m) => {
-            let p = load_profile(m)?;
+    let profile = match &a.machine {
+        Some(m) => Some(load_profile(m)?),
+        None => output_profile(a)?,
+    };
+    let (mut cfg, tool_r) = match profile {
+        Some(p) => {
             let r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
             let mut c = check_config(&p, r);
             c.tool_table = p

@@ -1,6 +1,11 @@
 //! `skinpath preview INPUT -o OUT.svg|OUT.png|OUT.html [--machine NAME]`: a picture or a
 //! player of a design (built in memory for the machine, design placement) or of any G-code
 //! program (read by the simulator). `build --preview` writes the same previews.
+//!
+//! A design with `[[output]]` tables previews each output (`--only NAME[,NAME]`: some of
+//! them) for its own machine with its own operations, as `build` builds it, into
+//! `OUT-STEM.NAME.OUT-EXT` beside OUT, written as a set; `--machine` then previews the whole
+//! design on that machine instead (every operation, as before).
 
 use super::build::load_profile;
 use super::io;
@@ -37,6 +42,10 @@ pub struct Args {
     /// Skin approximation accuracy ε, in design units (designs only).
     #[arg(long)]
     epsilon: Option<f64>,
+    /// Designs with `[[output]]` tables: preview only these outputs (comma-separated
+    /// names), each for its machine; without --machine.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
 }
 
 /// The preview format named by a file's extension.
@@ -82,6 +91,76 @@ fn png_options(a: &Args) -> Result<PngOptions> {
     })
 }
 
+/// One preview per output of `design` (those `--only` names, else all), each for its own
+/// machine with its own operations, `OUT-STEM.NAME.OUT-EXT` beside `--output`, written as
+/// a set (all or none).
+fn outputs(
+    a: &Args,
+    design: &skinpath::design::Design,
+    title: &str,
+    opts: &BuildOptions,
+    png: PngOptions,
+) -> Result<u8> {
+    let file = a.input.display().to_string();
+    if let Some(n) = (a.only.iter()).find(|n| !design.output.iter().any(|o| &o.name == *n)) {
+        let names: Vec<&str> = design.output.iter().map(|o| o.name.as_str()).collect();
+        bail!(
+            "{file}: --only {n}: no [[output]] of that name; the design's outputs are {}",
+            names.join(", ")
+        );
+    }
+    let design_dir = a
+        .input
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let stem = a
+        .output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = io::extension(&a.output);
+    let sized = (format_of(&a.output)? == Format::Png).then_some(png);
+    let (mut paths, mut bytes) = (Vec::new(), Vec::new());
+    let mut lines = String::new();
+    for o in (design.output.iter()).filter(|o| a.only.is_empty() || a.only.contains(&o.name)) {
+        let at = || format!("{file}: [[output]] \"{}\"", o.name);
+        let (profile, profile_file) = super::build_outputs::output_profile(&o.machine, &design_dir)
+            .with_context(|| format!("{}: machine {:?}", at(), o.machine))?;
+        let path = a.output.with_file_name(format!("{stem}.{}.{ext}", o.name));
+        let mut inputs: Vec<&Path> = vec![&a.input];
+        inputs.extend(profile_file.as_deref());
+        io::refuse_overwriting_inputs(&path, &inputs)?;
+        let only = o.operations_of(design);
+        let scene = skinpath::job::preview::scene_of_design_of(
+            &format!("{title} {}", o.name),
+            design,
+            &profile,
+            opts,
+            sized,
+            only.as_deref(),
+        )
+        .with_context(at)?;
+        lines.push_str(&format!(
+            "wrote {} (output {}, machine {}: {} moves, {} contours, {} findings, time {})\n",
+            path.display(),
+            o.name,
+            profile.name,
+            scene.motions.len(),
+            scene.contours.len(),
+            scene.findings.len(),
+            skinpath::emit::preview::svg::hms(scene.total_time)
+        ));
+        bytes.push(render(&path, &scene, png)?);
+        paths.push(path);
+    }
+    let set: Vec<(&Path, Vec<u8>)> = paths.iter().map(PathBuf::as_path).zip(bytes).collect();
+    io::write_set(&set)?;
+    crate::print_stdout(&lines)?;
+    Ok(0)
+}
+
 pub fn run(a: Args) -> Result<u8> {
     let format = format_of(&a.output)?;
     let mut inputs: Vec<&Path> = vec![&a.input];
@@ -109,12 +188,6 @@ pub fn run(a: Args) -> Result<u8> {
         }
         design => {
             let design = design?;
-            let Some(profile) = profile else {
-                bail!(
-                    "{file}: a design previews for a machine; add --machine NAME (see `skinpath \
-                     machines`)"
-                );
-            };
             let mut opts = BuildOptions::default();
             if let Some(t) = a.tolerance {
                 opts.tolerance = t;
@@ -122,6 +195,21 @@ pub fn run(a: Args) -> Result<u8> {
             if let Some(e) = a.epsilon {
                 opts.epsilon = e;
             }
+            if !a.only.is_empty() && design.output.is_empty() {
+                bail!("{file}: --only names outputs, and the design has no [[output]] tables");
+            }
+            if !a.only.is_empty() && profile.is_some() {
+                bail!("{file}: --only previews outputs on their own machines: leave out --machine");
+            }
+            if profile.is_none() && !design.output.is_empty() {
+                return outputs(&a, &design, &title, &opts, png);
+            }
+            let Some(profile) = profile else {
+                bail!(
+                    "{file}: a design previews for a machine; add --machine NAME (see `skinpath \
+                     machines`)"
+                );
+            };
             scene_of_design(&title, &design, &profile, &opts, sized)?
         }
     };

@@ -12,6 +12,8 @@
 //! board_thickness = 12.0    # thickness of the board (holes and backboard go through it)
 //! join_tolerance = 6.0      # stroke ends at most this far apart join into one run; default: width
 //! break_at = [[40.0, 25.0]] # joins within the flex width of these points are not made
+//! round_bends = false       # true: bends tighter than min_bend_radius become arcs of that radius
+//! min_run_length = 20.0     # shorter runs are marks: channel cut, no flex, no holes; default unset
 //!
 //! [[neon.run]]              # an explicit run: these strokes, in this order
 //! name = "underline"        # default "run N"
@@ -127,6 +129,18 @@ pub struct Neon {
     /// `break_at`: points `[x, y]`; a join within the flex width of one is not made.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub break_at: Option<Vec<[f64; 2]>>,
+    /// `round_bends`: before the channel is made, replace every bend of a run tighter than
+    /// `min_bend_radius` by an arc of that radius tangent to the spine before and after it
+    /// (see [`crate::job::neon`]); default false (bends tighter than the flex are warned
+    /// about and cut as drawn).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub round_bends: Option<bool>,
+    /// `min_run_length`: runs shorter than this (design units) are marks, not flex: their
+    /// channel is still cut (a pocket to paint or fill), they get no wire holes and are
+    /// left out of the flex totals (listed as `neon.marks`). Unset: every run is flex, and
+    /// one shorter than the cut unit is warned about.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_run_length: Option<f64>,
     /// `[[neon.run]]`: explicit runs.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub run: Vec<NeonRun>,
@@ -221,6 +235,7 @@ pub fn validate(design: &Design) -> Result<(), DesignError> {
         ("hole_diameter", n.hole_diameter),
         ("channel_depth", n.channel_depth),
         ("board_thickness", n.board_thickness),
+        ("min_run_length", n.min_run_length),
     ];
     for (key, v) in lengths {
         if let Some(v) = v

@@ -1738,6 +1738,16 @@ pub fn build_toolpath_placed(
             opts.tolerance, opts.epsilon
         )));
     }
+    // `[neon] round_bends`: the strokes follow the rounded spines from here on.
+    let rounded = match &design.neon {
+        Some(n) if n.round_bends == Some(true) => Some(super::neon::round_bends(
+            design,
+            &n.flex(design.units),
+            opts.tolerance,
+        )?),
+        _ => None,
+    };
+    let design = rounded.as_ref().map_or(design, |r| &r.design);
     let outline_opts = OutlineOptions {
         epsilon: opts.epsilon,
         tolerance: opts.tolerance,
@@ -1832,9 +1842,12 @@ pub fn build_toolpath_placed(
         neon: None,
     };
     let mut ctx = ctx;
+    let mut marks = Vec::new();
     if let Some(n) = &design.neon {
         let flex = n.flex(design.units);
         let runs = super::neon::runs(design, &ctx.strokes, &flex);
+        let (runs, m) = super::neon::split_marks(design, &ctx.strokes, runs, ctx.tol * 1e-3);
+        marks = m;
         ctx.neon = Some((flex, runs));
     }
     let mut specs = Vec::new();
@@ -1888,7 +1901,12 @@ pub fn build_toolpath_placed(
                 _ => 0,
             })
             .sum();
-        super::neon::bom(design, &ctx.strokes, runs, flex, ctx.tol * 1e-3, holes)
+        let mut b = super::neon::bom(design, &ctx.strokes, runs, flex, ctx.tol * 1e-3, holes);
+        b.set_marks(design, &marks);
+        if let Some(r) = &rounded {
+            b.set_rounding(&r.reports, r.warnings.clone());
+        }
+        b
     });
     let (mut toolpath, stats) = match at {
         Some(at) => plan_placed(

@@ -103,6 +103,54 @@ pub struct DesignInfo {
     /// The `[[shape]]` regions.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub shapes: Vec<super::shapes::ShapeInfo>,
+    /// The `[[output]]` tables: what `build` writes for each.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub outputs: Vec<OutputInfo>,
+}
+
+/// One `[[output]]` of the design, as `build` makes it.
+#[derive(Clone, Debug, Serialize)]
+pub struct OutputInfo {
+    /// The output's name.
+    pub name: String,
+    /// Its machine: a shipped profile name or a profile file.
+    pub machine: String,
+    /// The file name template (`{stem}`, `{name}`, `{ext}`).
+    pub file: String,
+    /// The operations it builds, each as `N kind` or `N kind "name"` (N 1-based, as in
+    /// errors); every operation when it selects none.
+    pub operations: Vec<String>,
+}
+
+/// The outputs of `design` with the operations each builds.
+fn output_infos(design: &Design) -> Vec<OutputInfo> {
+    design
+        .output
+        .iter()
+        .map(|o| {
+            let ops: Vec<usize> = o
+                .operations_of(design)
+                .unwrap_or_else(|| (0..design.operation.len()).collect());
+            OutputInfo {
+                name: o.name.clone(),
+                machine: o.machine.clone(),
+                file: o
+                    .file
+                    .clone()
+                    .unwrap_or_else(|| crate::design::output::DEFAULT_FILE.to_string()),
+                operations: ops
+                    .iter()
+                    .map(|&i| {
+                        let op = &design.operation[i];
+                        match &op.name {
+                            Some(n) => format!("{} {} \"{n}\"", i + 1, op.kind.as_str()),
+                            None => format!("{} {}", i + 1, op.kind.as_str()),
+                        }
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
 }
 
 fn radius_range(c: &DiskBSpline) -> [f64; 2] {
@@ -130,6 +178,7 @@ pub fn inspect(design: &Design, opts: &OutlineOptions) -> Result<DesignInfo, Job
         circles: Vec::new(),
         corners: design.corners.clone(),
         shapes: super::shapes::shape_infos(design),
+        outputs: output_infos(design),
     };
     for (s, c) in design.stroke.iter().zip(&strokes) {
         let spine = flatten_spine(c, opts.tolerance);
@@ -201,6 +250,20 @@ impl std::fmt::Display for DesignInfo {
             "{} ({}), skin epsilon {}",
             self.file, self.units, self.epsilon
         )?;
+        for o in &self.outputs {
+            writeln!(
+                f,
+                "output \"{}\": machine {}, file {}, operations {}",
+                o.name,
+                o.machine,
+                o.file,
+                if o.operations.is_empty() {
+                    "the default ones".to_string()
+                } else {
+                    o.operations.join(", ")
+                }
+            )?;
+        }
         for c in &self.corners {
             writeln!(
                 f,

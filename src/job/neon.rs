@@ -27,6 +27,12 @@
 //! the scaled channels cut away ([`filled_islands`]), and the note that a bend became too
 //! tight by the scaling. `break_at` points scale with the artwork.
 
+mod round;
+pub use round::{
+    ARC_PIECE_DEG, ARC_RADIUS_MARGIN, ROUND_MARGIN, ROUND_SAMPLES, RoundReport, Rounded,
+    round_bends,
+};
+
 use crate::dbsc::DiskBSpline;
 use crate::design::neon::{CHANNEL_CLEARANCE_MM, Flex, strokes_named};
 use crate::design::{Design, HoleAt, OperationKind};
@@ -501,6 +507,24 @@ pub struct RunBom {
     pub min_bend_radius_mm: f64,
     /// Where that bend is.
     pub at: RunPlace,
+    /// With `round_bends`: the bends rounded to the flex's minimum radius.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rounded_bends: Option<usize>,
+    /// With `round_bends`: the largest distance between a rounded stretch and the drawn
+    /// spine, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rounding_deviation_mm: Option<f64>,
+}
+
+/// A run shorter than `[neon] min_run_length`: a mark (channel cut, no flex, no holes).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct MarkBom {
+    /// The run's name.
+    pub name: String,
+    /// Its strokes, in order.
+    pub strokes: Vec<String>,
+    /// Its spine length (with bridged gaps), mm.
+    pub length_mm: f64,
 }
 
 /// A warning of the neon check.
@@ -542,8 +566,15 @@ pub struct NeonBom {
     pub holes: usize,
     /// The scale the design was built at (1 unscaled).
     pub scale: f64,
-    /// Bends below the flex minimum and channels that merge ([`NeonBom::judge`]).
+    /// Runs shorter than `min_run_length`: marks, not flex (not in the totals).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub marks: Vec<MarkBom>,
+    /// Bends below the flex minimum, channels that merge, runs shorter than the cut unit
+    /// and bends `round_bends` could not round ([`NeonBom::judge`]).
     pub warnings: Vec<NeonWarning>,
+    /// The `round` warnings of [`round_bends`] (kept across [`NeonBom::judge`]).
+    #[serde(skip)]
+    pub round_warnings: Vec<NeonWarning>,
     /// Every stretch bent tighter than the flex (design units).
     #[serde(skip)]
     pub tight: Vec<TightBend>,
@@ -683,6 +714,8 @@ pub fn bom(
             bridged_mm: bridged * mm,
             min_bend_radius_mm: min_r * mm,
             at,
+            rounded_bends: None,
+            rounding_deviation_mm: None,
         });
     }
     let width = channel_width(design, flex);
@@ -701,7 +734,9 @@ pub fn bom(
         total_cut_length_mm,
         holes,
         scale: 1.0,
+        marks: Vec::new(),
         warnings: Vec::new(),
+        round_warnings: Vec::new(),
         tight,
         spines,
         spine_legs,
@@ -967,7 +1002,59 @@ impl NeonBom {
                 });
             }
         }
+        // A run shorter than the cut unit: no flex is cut that short.
+        let cut = self.flex.cut_unit_mm;
+        for r in self.runs.iter().filter(|r| r.length_mm < cut) {
+            let start = [r.at.x, r.at.y];
+            w.push(NeonWarning {
+                kind: "short".into(),
+                message: format!(
+                    "{} (strokes {}): {:.2} mm of flex is shorter than the cut unit {:.2} mm; \
+                     set [neon] min_run_length to make such runs marks (channel cut, no \
+                     flex, no wire holes)",
+                    r.name,
+                    r.strokes
+                        .iter()
+                        .map(|s| format!("\"{s}\""))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    r.length_mm,
+                    cut
+                ),
+                at: start,
+            });
+        }
+        w.extend(self.round_warnings.iter().cloned());
         self.warnings = w;
+    }
+
+    /// Records what [`round_bends`] did: per run the bends rounded and the largest
+    /// deviation (design units), and its warnings.
+    pub fn set_rounding(&mut self, reports: &[RoundReport], warnings: Vec<NeonWarning>) {
+        for r in &mut self.runs {
+            let rep = reports.iter().find(|x| x.run == r.name);
+            r.rounded_bends = Some(rep.map_or(0, |x| x.rounded));
+            r.rounding_deviation_mm = Some(rep.map_or(0.0, |x| x.deviation * self.mm));
+        }
+        self.round_warnings = warnings;
+        self.judge(self.scale);
+    }
+
+    /// Adds the marks (runs shorter than `min_run_length`, see [`split_marks`]) with their
+    /// lengths (design units).
+    pub fn set_marks(&mut self, design: &Design, marks: &[(Run, f64)]) {
+        self.marks = marks
+            .iter()
+            .map(|(run, len)| MarkBom {
+                name: run.name.clone(),
+                strokes: run
+                    .legs
+                    .iter()
+                    .map(|l| design.stroke[l.stroke].name.clone())
+                    .collect(),
+                length_mm: len * self.mm,
+            })
+            .collect();
     }
 
     /// The run and stroke whose spine comes nearest to `p`, as `run N, stroke "S"`.
@@ -1024,6 +1111,57 @@ impl NeonBom {
         ));
         out
     }
+}
+
+/// Length of a run (design units): its strokes' spine lengths ([`spine_length`], absolute
+/// tolerance `tol` each) plus the straight gaps bridged between consecutive strokes (and
+/// from the last back to the first of a closed chain), as in [`bom`].
+pub fn run_length(run: &Run, curves: &[DiskBSpline], tol: f64) -> f64 {
+    let n = run.legs.len();
+    let mut len: f64 = run
+        .legs
+        .iter()
+        .map(|l| spine_length(&curves[l.stroke], tol))
+        .sum();
+    for k in 0..n {
+        let next = if k + 1 < n {
+            run.legs[k + 1]
+        } else if run.closed && n > 1 {
+            run.legs[0]
+        } else {
+            continue;
+        };
+        let p = run.legs[k].exit(curves).0;
+        let gap = p.distance(next.entry(curves).0);
+        if gap > COINCIDE_REL * (1.0 + p.length()) {
+            len += gap;
+        }
+    }
+    len
+}
+
+/// The runs split by `[neon] min_run_length` (unset: none is a mark): (flex runs, marks
+/// with their lengths, design units); `tol` is the length tolerance per stroke.
+pub fn split_marks(
+    design: &Design,
+    curves: &[DiskBSpline],
+    runs: Vec<Run>,
+    tol: f64,
+) -> (Vec<Run>, Vec<(Run, f64)>) {
+    let Some(min) = design.neon.as_ref().and_then(|n| n.min_run_length) else {
+        return (runs, Vec::new());
+    };
+    let mut flex = Vec::new();
+    let mut marks = Vec::new();
+    for r in runs {
+        let len = run_length(&r, curves, tol);
+        if len < min {
+            marks.push((r, len));
+        } else {
+            flex.push(r);
+        }
+    }
+    (flex, marks)
 }
 
 /// Where the holes of a holes operation go with a `[neon]` table: at the start and end of

@@ -4,7 +4,7 @@
 //! goes into it (cuts, rapids, start markers and the checker's findings).
 
 use super::JobError;
-use super::build::{BuildOptions, build_toolpath};
+use super::build::{BuildOptions, build_toolpath_placed};
 use super::check::check_config;
 use crate::design::{Design, OperationKind};
 use crate::emit::preview::png::{PngOptions, check_size};
@@ -105,11 +105,24 @@ pub fn scene_of_design(
     opts: &BuildOptions,
     png: Option<PngOptions>,
 ) -> Result<Scene, JobError> {
-    let built = build_toolpath(design, profile, opts)?;
-    let allow_crossings = design
-        .operation
-        .iter()
-        .any(|o| !matches!(o.kind, OperationKind::Profile | OperationKind::Backboard));
+    scene_of_design_of(title, design, profile, opts, png, None)
+}
+
+/// [`scene_of_design`] of the operations `only` (0-based, an `[[output]]`'s: see
+/// [`crate::design::Output::operations_of`]); the others stay design context
+/// ([`crate::job::build::build_toolpath_placed`]). `None`: every operation.
+pub fn scene_of_design_of(
+    title: &str,
+    design: &Design,
+    profile: &Profile,
+    opts: &BuildOptions,
+    png: Option<PngOptions>,
+    only: Option<&[usize]>,
+) -> Result<Scene, JobError> {
+    let built = build_toolpath_placed(design, profile, opts, None, None, only)?;
+    let allow_crossings = (design.operation.iter().enumerate())
+        .filter(|(i, _)| only.is_none_or(|o| o.contains(i)))
+        .any(|(_, o)| !matches!(o.kind, OperationKind::Profile | OperationKind::Backboard));
     let program = if profile.kind == MachineKind::Svg {
         None
     } else {

@@ -156,3 +156,66 @@ pub fn corpus_header(
     }
     (toml::from_str(&toml_cfg).expect("config lines"), design)
 }
+
+/// Coordinates of a golden G-code may differ by this much (float formatting).
+pub const GOLDEN_TOL: f64 = 1e-3;
+
+/// The words of a G-code line (letter + number, upper case), comments dropped.
+pub fn gcode_words(line: &str) -> Vec<String> {
+    let code = line.split(';').next().unwrap_or("");
+    let mut out = Vec::new();
+    let mut depth = 0;
+    let mut cur = String::new();
+    for ch in code.chars() {
+        match ch {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            _ if depth > 0 || ch.is_whitespace() => {}
+            c if c.is_ascii_alphabetic() => {
+                if !cur.is_empty() {
+                    out.push(std::mem::take(&mut cur));
+                }
+                cur.push(c.to_ascii_uppercase());
+            }
+            c => cur.push(c),
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+/// `got` against tests/golden/`name`: the same blocks, words and letters, every number
+/// within [`GOLDEN_TOL`]; `SKINPATH_BLESS=1` rewrites the golden instead. `what` names the
+/// case in failures.
+pub fn assert_golden(got: &str, name: &str, what: &str) {
+    let golden = Path::new(ROOT).join("tests/golden").join(name);
+    if std::env::var("SKINPATH_BLESS").is_ok_and(|v| v == "1") {
+        std::fs::write(&golden, got).unwrap();
+        return;
+    }
+    let want = std::fs::read_to_string(&golden).unwrap();
+    let (g, w): (Vec<_>, Vec<_>) = (
+        got.lines()
+            .map(gcode_words)
+            .filter(|v| !v.is_empty())
+            .collect(),
+        want.lines()
+            .map(gcode_words)
+            .filter(|v| !v.is_empty())
+            .collect(),
+    );
+    assert_eq!(g.len(), w.len(), "{what}: blocks");
+    for (i, (a, b)) in g.iter().zip(&w).enumerate() {
+        assert_eq!(a.len(), b.len(), "{what}: block {i}");
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!(x[..1], y[..1], "{what}: block {i}");
+            let (vx, vy): (f64, f64) = (x[1..].parse().unwrap(), y[1..].parse().unwrap());
+            assert!(
+                (vx - vy).abs() <= GOLDEN_TOL,
+                "{what}: block {i}: {x} vs {y}"
+            );
+        }
+    }
+}
