@@ -117,6 +117,14 @@ const TABLE: &[(&str, &[(Dialect, Expect)])] = &[
         ],
     ),
     (
+        "nested_sub_definition.nc",
+        &[
+            (Dialect::Linuxcnc, Some((Error, "o-word", 3))),
+            (Dialect::Generic, Some((Error, "o-word", 3))),
+            (Dialect::Grbl, Some((Error, "unknown-word", 3))),
+        ],
+    ),
+    (
         "control_clean.nc",
         &[
             (Dialect::Linuxcnc, None),

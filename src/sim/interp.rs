@@ -970,6 +970,21 @@ impl<'a> Interp<'a, '_> {
             .copied()
     }
 
+    /// The label of a subroutine definition (`O… sub`) of source `src` strictly between
+    /// lines `from` and `to`: a nested definition, which LinuxCNC refuses
+    /// (`interp_read.cc` `read_o`, NCE_NESTED_SUBROUTINE_DEFN "Nested
+    /// subroutine definition").
+    fn sub_within(&self, src: usize, from: usize, to: usize) -> Option<&str> {
+        self.olines
+            .iter()
+            .filter(|((s, _), _)| *s == src)
+            .find(|(_, v)| {
+                v.iter()
+                    .any(|p| p.kind == OKind::Sub && p.line > from && p.line < to)
+            })
+            .map(|((_, l), _)| l.as_str())
+    }
+
     fn find_o_back(&self, src: usize, label: &str, before: usize, kind: OKind) -> Option<OPos> {
         self.olines
             .get(&(src, label.to_string()))?
@@ -1188,7 +1203,19 @@ impl<'a> Interp<'a, '_> {
         };
         match o.kind {
             OKind::Sub => match self.find_o(src, label, i, &[OKind::EndSub]) {
-                Some(p) => Flow::Goto(src, p.line + 1),
+                Some(p) => {
+                    if let Some(inner) = self.sub_within(src, i, p.line) {
+                        self.err(
+                            "o-word",
+                            None,
+                            format!(
+                                "O{inner} sub inside the definition of O{label}: LinuxCNC \
+                                 refuses it (\"Nested subroutine definition\")"
+                            ),
+                        );
+                    }
+                    Flow::Goto(src, p.line + 1)
+                }
                 None => missing(self, "endsub"),
             },
             OKind::EndSub | OKind::Return => {
