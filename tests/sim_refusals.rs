@@ -93,6 +93,38 @@ const TABLE: &[(&str, &[(Dialect, Expect)])] = &[
         ],
     ),
     (
+        "probe_without_axes.nc",
+        &[
+            (Dialect::Linuxcnc, Some((Error, "no-axis-words", 3))),
+            (Dialect::Generic, Some((Warning, "cannot-simulate", 3))),
+        ],
+    ),
+    (
+        "axis_in_canned_cycle.nc",
+        &[
+            (Dialect::Linuxcnc, Some((Error, "axis-in-cycle", 5))),
+            (Dialect::Grbl, Some((Error, "unsupported-code", 4))),
+            (Dialect::Generic, Some((Warning, "unsupported-code", 5))),
+        ],
+    ),
+    (
+        "g1_alone_without_feed.nc",
+        &[
+            (Dialect::Linuxcnc, Some((Error, "no-feed-rate", 4))),
+            (Dialect::Grbl, None),
+            (Dialect::Marlin, None),
+            (Dialect::Generic, None),
+        ],
+    ),
+    (
+        "nested_sub_definition.nc",
+        &[
+            (Dialect::Linuxcnc, Some((Error, "o-word", 3))),
+            (Dialect::Generic, Some((Error, "o-word", 3))),
+            (Dialect::Grbl, Some((Error, "unknown-word", 3))),
+        ],
+    ),
+    (
         "control_clean.nc",
         &[
             (Dialect::Linuxcnc, None),

@@ -970,6 +970,21 @@ impl<'a> Interp<'a, '_> {
             .copied()
     }
 
+    /// The label of a subroutine definition (`O… sub`) of source `src` strictly between
+    /// lines `from` and `to`: a nested definition, which LinuxCNC refuses
+    /// (`interp_read.cc` `read_o`, NCE_NESTED_SUBROUTINE_DEFN "Nested
+    /// subroutine definition").
+    fn sub_within(&self, src: usize, from: usize, to: usize) -> Option<&str> {
+        self.olines
+            .iter()
+            .filter(|((s, _), _)| *s == src)
+            .find(|(_, v)| {
+                v.iter()
+                    .any(|p| p.kind == OKind::Sub && p.line > from && p.line < to)
+            })
+            .map(|((_, l), _)| l.as_str())
+    }
+
     fn find_o_back(&self, src: usize, label: &str, before: usize, kind: OKind) -> Option<OPos> {
         self.olines
             .get(&(src, label.to_string()))?
@@ -1188,7 +1203,19 @@ impl<'a> Interp<'a, '_> {
         };
         match o.kind {
             OKind::Sub => match self.find_o(src, label, i, &[OKind::EndSub]) {
-                Some(p) => Flow::Goto(src, p.line + 1),
+                Some(p) => {
+                    if let Some(inner) = self.sub_within(src, i, p.line) {
+                        self.err(
+                            "o-word",
+                            None,
+                            format!(
+                                "O{inner} sub inside the definition of O{label}: LinuxCNC \
+                                 refuses it (\"Nested subroutine definition\")"
+                            ),
+                        );
+                    }
+                    Flow::Goto(src, p.line + 1)
+                }
                 None => missing(self, "endsub"),
             },
             OKind::EndSub | OKind::Return => {
@@ -1924,6 +1951,9 @@ impl<'a> Interp<'a, '_> {
         if let Some(c) = nonmodal {
             self.nonmodal(c, &mut b);
         }
+        if self.cfg.dialect == Dialect::Linuxcnc && self.linuxcnc_refuses_motion(&b, g(G_MOTION)) {
+            return false;
+        }
         if let Some(m) = g(G_MOTION) {
             self.st.mode = match m {
                 0 => Mode::Rapid,
@@ -2020,6 +2050,72 @@ impl<'a> Interp<'a, '_> {
             }
             _ => false,
         }
+    }
+
+    /// LinuxCNC's refusals of a block's motion words, checked before the motion (an error,
+    /// true when the block is refused; LinuxCNC stops there). `motion` is the block's own
+    /// group-1 code (tenths). From `interp_internal.cc` `enhance_block`, `interp_check.cc`
+    /// `check_other_codes` and `interp_convert.cc` `convert_straight`:
+    /// - a motion code other than G0–G3, G5.2, G6.2, G70–G72 with no axis word:
+    ///   NCE_ALL_AXES_MISSING_WITH_MOTION_CODE;
+    /// - an A, B or C word in a canned-cycle block (`is_a_cycle`: G73, G74, G81–G89):
+    ///   NCE_CANNOT_PUT_AN_A_IN_CANNED_CYCLE (and the B, C versions);
+    /// - G1 with no axis word while no feed rate is set (feed per minute or per revolution):
+    ///   LinuxCNC still runs `convert_straight`, NCE_CANNOT_DO_G1_WITH_ZERO_FEED_RATE.
+    fn linuxcnc_refuses_motion(&mut self, b: &Block, motion: Option<i64>) -> bool {
+        let has_axis = b.has_axis();
+        if let Some(m) = motion
+            && !has_axis
+            && !matches!(m, 0 | 10 | 20 | 30 | 52 | 62 | 700 | 710..=712 | 720..=722 | 800)
+        {
+            self.err(
+                "no-axis-words",
+                None,
+                format!(
+                    "G{} with no axis word: LinuxCNC refuses it (\"All axes missing with motion \
+                     code\")",
+                    fmt_code(m)
+                ),
+            );
+            return true;
+        }
+        let cycle = match (motion, self.st.mode) {
+            (Some(m), _) => Some(m),
+            (None, Mode::Cycle(m)) if has_axis => Some(m),
+            _ => None,
+        }
+        .filter(|&m| matches!(m, 730 | 740 | 810..=890));
+        if let Some(c) = cycle
+            && let Some(axis) = ['A', 'B', 'C'].into_iter().find(|&a| b.val(a).is_some())
+        {
+            self.err(
+                "axis-in-cycle",
+                Some(b.col(axis)),
+                format!(
+                    "{axis} word in a G{} canned cycle: LinuxCNC refuses it (\"Cannot put {} {} \
+                     in canned cycle\")",
+                    fmt_code(c),
+                    if axis == 'A' { "an" } else { "a" },
+                    axis.to_ascii_lowercase()
+                ),
+            );
+            return true;
+        }
+        if motion == Some(10)
+            && !has_axis
+            && self.st.feed_mode != FeedMode::InverseTime
+            && self.st.feed <= 0.0
+        {
+            self.err(
+                "no-feed-rate",
+                None,
+                "G1 with no axis word while no feed rate is set: LinuxCNC still refuses it \
+                 (\"Cannot do g1 with zero feed rate\")"
+                    .into(),
+            );
+            return true;
+        }
+        false
     }
 
     fn unused_words(&mut self, b: &Block) {
@@ -2341,6 +2437,14 @@ impl<'a> Interp<'a, '_> {
             _ => return false,
         };
         if l.words.is_empty() {
+            return false;
+        }
+        // A G1 with no axis word and no feed rate: the general route reports LinuxCNC's refusal.
+        if g && kind == MotionKind::Feed
+            && feed.is_none()
+            && self.st.feed <= 0.0
+            && xyz.iter().all(Option::is_none)
+        {
             return false;
         }
         // As exec, collect and execute do it, in their order.

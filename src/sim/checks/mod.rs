@@ -19,7 +19,7 @@
 //! Interpreter diagnostics (`gcode-syntax`, `bad-checksum`, `unknown-word`, `unknown-code`,
 //! `unsupported-code`, `invalid-arc`, `invalid-value`, `modal-conflict`, `duplicate-word`,
 //! `no-motion-mode`, `after-program-end`, `canon-error`, `no-feed-rate`,
-//! `percent-without-start`: per dialect, see README.md "What each controller refuses") join
+//! `percent-without-start`, `no-axis-words`, `axis-in-cycle`: per dialect, see README.md "What each controller refuses") join
 //! the same list.
 
 pub mod contours;
