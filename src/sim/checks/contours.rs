@@ -369,6 +369,8 @@ pub(crate) struct ContactFolder<'p> {
     by_lines: WordMap<(bool, usize, usize), usize>,
     by_path: WordMap<[(u32, u32); 2], usize>,
     found: Vec<Folded>,
+    /// Findings in `found` of contours touching themselves, of two contours crossing.
+    counts: [usize; 2],
 }
 
 impl<'p> ContactFolder<'p> {
@@ -389,7 +391,19 @@ impl<'p> ContactFolder<'p> {
             by_lines: Default::default(),
             by_path: Default::default(),
             found: Vec::new(),
+            counts: [0; 2],
         }
+    }
+
+    /// True when some path is cut more than once: its findings list the passes met,
+    /// which the whole search must see.
+    pub fn lists_passes(&self) -> bool {
+        self.repeated.iter().any(|&r| r)
+    }
+
+    /// Findings so far: of contours touching themselves, of two contours crossing.
+    pub fn counts(&self) -> [usize; 2] {
+        self.counts
     }
 
     /// The path (first contour) and pass number of contour `c`.
@@ -418,6 +432,7 @@ impl<'p> ContactFolder<'p> {
         let k = match (earlier, self.by_lines.get(&lines)) {
             (Some(k), _) | (None, Some(&k)) => k,
             (None, None) => {
+                self.counts[usize::from(s.contour != t.contour)] += 1;
                 self.found.push(Folded {
                     contours: [s.contour, t.contour],
                     proper,
@@ -457,9 +472,9 @@ impl<'p> ContactFolder<'p> {
     pub fn finish(self, out: &mut Capped) {
         for f in self.found {
             let id = if f.contours[0] == f.contours[1] {
-                "self-intersection"
+                SELF_INTERSECTION
             } else {
-                "contour-crossing"
+                CONTOUR_CROSSING
             };
             out.push_with(id, || {
                 let mut g = contact_finding(f.contours, f.proper, f.lines, f.at);
@@ -504,26 +519,45 @@ pub(crate) fn intersection_findings(
     out: &mut Capped,
 ) {
     let line_of = |src: u32| motions.get(src as usize).map(|m| m.line).unwrap_or(0);
-    let (contacts, capped) = set.contacts_capped();
+    let passes = pass_numbers(&path_keys(set));
+    let mut folder = ContactFolder::new(&passes, cfg);
+    // The search may stop once the report is full: every id that can still be found has
+    // more findings than the cap, and no finding lists passes that later contacts would
+    // add to.
+    let cap = cfg.max_findings_per_check.max(1);
+    let crossings = !cfg.allow_crossings && set.contours.len() > 1;
+    let may_stop = !folder.lists_passes();
+    let (capped, stopped) = set.contacts_in_order(|batch| {
+        for c in batch {
+            let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
+                continue;
+            };
+            let side = |g: &super::Seg| Side {
+                contour: g.contour,
+                index: g.index,
+                line: line_of(g.source),
+            };
+            let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
+            folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
+        }
+        let [own, across] = folder.counts();
+        !(may_stop && own > cap && (!crossings || across > cap))
+    });
     if capped {
         out.push(too_many_contacts());
     }
-    let passes = pass_numbers(&path_keys(set));
-    let mut folder = ContactFolder::new(&passes, cfg);
-    for c in contacts {
-        let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
-            continue;
-        };
-        let side = |g: &super::Seg| Side {
-            contour: g.contour,
-            index: g.index,
-            line: line_of(g.source),
-        };
-        let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
-        folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
-    }
     folder.finish(out);
+    if stopped {
+        out.at_least(SELF_INTERSECTION);
+        out.at_least(CONTOUR_CROSSING);
+    }
 }
+
+/// Id of the findings of a contour touching itself.
+const SELF_INTERSECTION: &str = "self-intersection";
+
+/// Id of the findings of two contours crossing.
+const CONTOUR_CROSSING: &str = "contour-crossing";
 
 /// The [`PathKey`] of every contour of `set`, in order.
 fn path_keys(set: &SegmentSet) -> Vec<PathKey> {
