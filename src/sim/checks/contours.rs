@@ -103,8 +103,6 @@ pub fn for_each_cut_contour(
     cfg: &CheckConfig,
     mut f: impl FnMut(&SimContour),
 ) -> Option<usize> {
-    // A contour begun and not yet handed to `f` has its first point: `cur` is open while
-    // it holds points.
     let mut cur = SimContour {
         points: Vec::new(),
         sources: Vec::new(),
@@ -112,11 +110,58 @@ pub fn for_each_cut_contour(
         session: 0,
         group: None,
     };
-    let mut close = |cur: &mut SimContour| {
-        if !cur.points.is_empty() {
-            f(cur);
+    for_each_cut_point(motions, marks, cfg, |e| match e {
+        CutPoint::Start {
+            point,
+            z,
+            session,
+            group,
+        } => {
+            cur.points.push(point);
+            (cur.z, cur.session, cur.group) = (z, session, group);
+        }
+        CutPoint::Next { point, source } => {
+            cur.points.push(point);
+            cur.sources.push(source);
+        }
+        CutPoint::End => {
+            f(&cur);
             cur.points.clear();
             cur.sources.clear();
+        }
+    })
+}
+
+/// The points of the contours of [`for_each_cut_contour`], in order, as
+/// [`for_each_cut_point`] hands them out.
+enum CutPoint {
+    /// A contour starts at `point`, cut at height `z` in tool session `session` under
+    /// pocket mark `group`.
+    Start {
+        point: DVec2,
+        z: f64,
+        session: u32,
+        group: Option<u32>,
+    },
+    /// The contour's next point, the end of a segment of motion `source`.
+    Next { point: DVec2, source: u32 },
+    /// The contour ends.
+    End,
+}
+
+/// [`for_each_cut_contour`] point by point: no buffer holds a contour (a spiral of a
+/// million moves is one contour). Same stop and return value.
+fn for_each_cut_point(
+    motions: &Motions,
+    marks: &[(usize, Option<u32>)],
+    cfg: &CheckConfig,
+    mut f: impl FnMut(CutPoint),
+) -> Option<usize> {
+    // The open contour's tool session and pocket mark, while one is open.
+    let mut open: Option<(u32, Option<u32>)> = None;
+    let close = |open: &mut Option<(u32, Option<u32>)>, f: &mut dyn FnMut(CutPoint)| {
+        if open.take().is_some() {
+            f(CutPoint::End);
         }
     };
     // Segments handed out so far (one per line, the chords of arcs).
@@ -127,39 +172,46 @@ pub fn for_each_cut_contour(
             continue;
         }
         if !(is_cutting(&m, cfg) && planar) {
-            close(&mut cur);
+            close(&mut open, &mut f);
             continue;
         }
         let group = group_at(marks, m.line);
-        if cur.session != m.tool.session || cur.group != group {
-            close(&mut cur);
+        if open.is_some_and(|o| o != (m.tool.session, group)) {
+            close(&mut open, &mut f);
         }
-        if cur.points.is_empty() {
-            cur.points.push(m.from.truncate());
-            cur.z = m.from.z;
-            cur.session = m.tool.session;
-            cur.group = group;
+        if open.is_none() {
+            open = Some((m.tool.session, group));
+            f(CutPoint::Start {
+                point: m.from.truncate(),
+                z: m.from.z,
+                session: m.tool.session,
+                group,
+            });
         }
         let chords = m
             .arc
             .map_or(1, |a| a.chords_for_tolerance(cfg.flatten_tolerance));
         total += chords;
         if total > MAX_CONTOUR_SEGMENTS {
-            close(&mut cur);
+            close(&mut open, &mut f);
             return Some(k);
         }
         if m.arc.is_none() {
             // A line flattens to its two ends: no point list to build.
-            cur.points.push(m.to.truncate());
-            cur.sources.push(k as u32);
+            f(CutPoint::Next {
+                point: m.to.truncate(),
+                source: k as u32,
+            });
         } else {
             for p in m.flatten_xy(cfg.flatten_tolerance).into_iter().skip(1) {
-                cur.points.push(p);
-                cur.sources.push(k as u32);
+                f(CutPoint::Next {
+                    point: p,
+                    source: k as u32,
+                });
             }
         }
     }
-    close(&mut cur);
+    close(&mut open, &mut f);
     None
 }
 
@@ -202,21 +254,35 @@ pub fn contour_segments(
     let mut set = new_set(cfg);
     // At most one segment per straight move: arcs may need more (the vector grows then).
     set.segs.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
-    let mut starts = Vec::new();
-    let stop = for_each_cut_contour(motions, marks, cfg, |c| {
-        set.push_polyline_in(&c.points, &c.sources, c.group);
-        starts.push(start_of(c));
+    let mut starts: Vec<ContourStart> = Vec::new();
+    let mut open = None;
+    let stop = for_each_cut_point(motions, marks, cfg, |e| match e {
+        CutPoint::Start {
+            point, z, group, ..
+        } => {
+            open = Some(set.begin_polyline(point, group));
+            starts.push(ContourStart {
+                point,
+                source: None,
+                z,
+            });
+        }
+        CutPoint::Next { point, source } => {
+            if let Some(s) = starts.last_mut() {
+                s.source.get_or_insert(source);
+            }
+            if let Some(o) = open.as_mut() {
+                set.polyline_to(o, point, source);
+            }
+        }
+        CutPoint::End => {
+            if let Some(o) = open.take() {
+                set.end_polyline(o);
+            }
+        }
     });
     let limit = stop.map(|k| check_limit(motions.get(k).map_or(0, |m| m.line)));
     (set, starts, limit)
-}
-
-fn start_of(c: &SimContour) -> ContourStart {
-    ContourStart {
-        point: c.points.first().copied().unwrap_or_default(),
-        source: c.sources.first().copied(),
-        z: c.z,
-    }
 }
 
 /// The empty segment set of the intersection check under `cfg`.

@@ -146,6 +146,17 @@ pub struct SegmentSet {
     links: Option<Vec<Link>>,
 }
 
+/// A polyline being added to a [`SegmentSet`] point by point
+/// ([`SegmentSet::begin_polyline`]).
+#[derive(Clone, Copy, Debug)]
+pub struct OpenPolyline {
+    contour: u32,
+    count: u32,
+    first: DVec2,
+    prev: DVec2,
+    pocket: Option<u32>,
+}
+
 /// What a segment of a tile knows of its neighbours in its contour.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Link {
@@ -243,33 +254,55 @@ impl SegmentSet {
         sources: &[u32],
         pocket: Option<u32>,
     ) -> u32 {
-        let contour = self.contours.len() as u32;
-        let mut count = 0u32;
-        let mut first: Option<DVec2> = None;
-        let mut prev: Option<DVec2> = None;
-        for (k, &p) in points.iter().enumerate() {
-            if let Some(q) = prev {
-                if q != p {
-                    let source = sources.get(k - 1).or(sources.last()).copied().unwrap_or(0);
-                    self.segs.push(Seg {
-                        a: q,
-                        b: p,
-                        contour,
-                        index: count,
-                        source,
-                        pocket,
-                    });
-                    count += 1;
-                    prev = Some(p);
-                }
-            } else {
-                first = Some(p);
-                prev = Some(p);
-            }
+        let Some(&first) = points.first() else {
+            self.contours.push((0, false));
+            return self.contours.len() as u32 - 1;
+        };
+        let mut open = self.begin_polyline(first, pocket);
+        for (k, &p) in points.iter().enumerate().skip(1) {
+            let source = sources.get(k - 1).or(sources.last()).copied().unwrap_or(0);
+            self.polyline_to(&mut open, p, source);
         }
-        let closed = count >= 2 && first.is_some() && first == prev;
-        self.contours.push((count, closed));
-        contour
+        self.end_polyline(open)
+    }
+
+    /// Starts a polyline at `first`, added point by point ([`SegmentSet::polyline_to`],
+    /// then [`SegmentSet::end_polyline`]) as [`SegmentSet::push_polyline_in`] adds it
+    /// whole: for callers that do not hold its points. No other polyline may be added
+    /// before it ends.
+    pub fn begin_polyline(&self, first: DVec2, pocket: Option<u32>) -> OpenPolyline {
+        OpenPolyline {
+            contour: self.contours.len() as u32,
+            count: 0,
+            first,
+            prev: first,
+            pocket,
+        }
+    }
+
+    /// Extends `open` to `p` with a segment tagged `source` (none when `p` repeats the
+    /// point before).
+    pub fn polyline_to(&mut self, open: &mut OpenPolyline, p: DVec2, source: u32) {
+        if open.prev != p {
+            self.segs.push(Seg {
+                a: open.prev,
+                b: p,
+                contour: open.contour,
+                index: open.count,
+                source,
+                pocket: open.pocket,
+            });
+            open.count += 1;
+            open.prev = p;
+        }
+    }
+
+    /// Ends `open` (closed when it has two segments or more and ends where it began);
+    /// returns its contour number.
+    pub fn end_polyline(&mut self, open: OpenPolyline) -> u32 {
+        let closed = open.count >= 2 && open.first == open.prev;
+        self.contours.push((open.count, closed));
+        open.contour
     }
 
     /// True when segments `s` and `t` of one contour are consecutive (they share an end
