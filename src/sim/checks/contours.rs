@@ -588,12 +588,14 @@ pub(crate) fn intersection_findings(
     let passes = pass_numbers(&path_keys(set));
     let mut folder = ContactFolder::new(&passes, cfg);
     // The search may stop once the report is full: every id that can still be found has
-    // more findings than the cap, and no finding lists passes that later contacts would
-    // add to.
+    // more findings than the cap, no finding lists passes that later contacts would add
+    // to, and enough contacts were found that the rest are worth not looking for.
     let cap = cfg.max_findings_per_check.max(1);
     let crossings = !cfg.allow_crossings && set.contours.len() > 1;
     let may_stop = !folder.lists_passes();
+    let mut seen = 0usize;
     let (capped, stopped) = set.contacts_in_order(|batch| {
+        seen += batch.len();
         for c in batch {
             let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
                 continue;
@@ -607,7 +609,8 @@ pub(crate) fn intersection_findings(
             folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
         }
         let [own, across] = folder.counts();
-        !(may_stop && own > cap && (!crossings || across > cap))
+        let full = own > cap && (!crossings || across > cap);
+        !(may_stop && full && seen >= STOP_AFTER_CONTACTS)
     });
     if capped {
         out.push(too_many_contacts());
@@ -618,6 +621,11 @@ pub(crate) fn intersection_findings(
         out.at_least(CONTOUR_CROSSING);
     }
 }
+
+/// Contacts the intersection check finds before it may stop its search early: the counts
+/// of findings stay exact where contacts are few (finding them all costs little), and a
+/// contour retraced 200 times (199,000 touches) stops after its first window of segments.
+const STOP_AFTER_CONTACTS: usize = 8192;
 
 /// Id of the findings of a contour touching itself.
 const SELF_INTERSECTION: &str = "self-intersection";

@@ -424,7 +424,11 @@ mod tests {
         for _ in 0..70 {
             for i in 1..=1000 {
                 let t = std::f64::consts::TAU * f64::from(i % 1000) / 1000.0;
-                src += &format!("G1 X{:.3} Y{:.3}\n", 10.0 + 4.0 * t.cos(), 10.0 + 4.0 * t.sin());
+                src += &format!(
+                    "G1 X{:.3} Y{:.3}\n",
+                    10.0 + 4.0 * t.cos(),
+                    10.0 + 4.0 * t.sin()
+                );
             }
         }
         src += "M5\nM2\n";
@@ -451,7 +455,10 @@ mod tests {
         assert_eq!(r.suppressed_at_least, vec!["self-intersection".to_string()]);
         let text = r.to_string();
         assert!(text.contains(&format!("... at least {more} more [self-intersection]")));
-        assert!(text.contains(&format!("at least {} errors", cap + more)), "{text}");
+        assert!(
+            text.contains(&format!("at least {} errors", cap + more)),
+            "{text}"
+        );
         let json = serde_json::to_value(&r).unwrap_or_default();
         assert_eq!(json["suppressed_at_least"][0], "self-intersection");
     }
