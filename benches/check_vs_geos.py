@@ -87,7 +87,8 @@ def best_of(k, fn):
 
 
 def bench(a, polys, path):
-    """Times `check` of the program of `polys` written to `path` against its peers."""
+    """Times `check` of the program of `polys` written to `path` against its peers; returns
+    the row of the ratios table (None for a peer not run)."""
     write_program(polys, path)
     size = os.path.getsize(path)
     segs = sum(len(p) - 1 for p in polys)
@@ -104,11 +105,13 @@ def bench(a, polys, path):
         f"{size / 2**20 / ours_cpu:.1f} MiB/s of CPU time"
     )
 
+    row = {"wall": ours, "cpu": ours_cpu, "geos": None, "geos_cpu": None}
     try:
         import shapely
 
         geom = shapely.MultiLineString(polys)
         geos, geos_cpu = best_of(a.repeat, lambda: shapely.is_simple(geom))
+        row["geos"], row["geos_cpu"] = geos, geos_cpu
         print(
             f"GEOS is_simple (points in memory): wall {geos:.3f} s, CPU {geos_cpu:.3f} s; "
             f"skinpath/GEOS wall {ours / geos:.2f}, CPU {ours_cpu / geos_cpu:.2f}"
@@ -133,6 +136,22 @@ def bench(a, polys, path):
         )
     else:
         print("LinuxCNC rs274: not installed here (linuxcnc-uspace): skipped")
+    return row
+
+
+def table(rows):
+    """The README's ratios table (best of the runs, seconds) from the rows of `bench`."""
+    print("\n| program | check wall | check CPU | GEOS wall | GEOS CPU | wall ratio | CPU ratio |")
+    print("|---|---|---|---|---|---|---|")
+    for name, r in rows:
+        if r["geos"] is None:
+            print(f"| {name} | {r['wall']:.3f} | {r['cpu']:.3f} | – | – | – | – |")
+            continue
+        print(
+            f"| {name} | {r['wall']:.3f} | {r['cpu']:.3f} | {r['geos']:.3f} | "
+            f"{r['geos_cpu']:.3f} | {r['wall'] / r['geos']:.1f}× | "
+            f"{r['cpu'] / r['geos_cpu']:.1f}× |"
+        )
 
 
 def main():
@@ -144,10 +163,12 @@ def main():
     a = ap.parse_args()
 
     tmp = tempfile.mkdtemp(prefix="skinpath-bench-")
+    rows = []
     for name, polys in (("circles", circles(a.segments)), ("spiral", spiral(a.segments))):
         print(f"== {name}")
         path = os.path.join(a.keep or tmp, f"{name}.gcode")
-        bench(a, polys, path)
+        rows.append((name, bench(a, polys, path)))
+    table(rows)
     if not a.keep:
         shutil.rmtree(tmp, ignore_errors=True)
     return 0

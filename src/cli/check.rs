@@ -319,8 +319,7 @@ fn checked(a: &Args) -> Result<u8> {
     let (found, stats, [checks, estimate]) = skinpath::sim::checks_and_stats(&prog, &cfg, &bounds);
     (timings.checks, timings.estimate) = (checks, estimate);
     let clock = Instant::now();
-    let mut report =
-        skinpath::sim::assemble_with(&prog, &cfg, found.findings, stats, &found.dropped);
+    let mut report = skinpath::sim::assemble_found(&prog, &cfg, found, stats);
     report.backend = backend.name();
     if report.usable {
         report.findings.splice(0..0, decode_findings);

@@ -178,7 +178,25 @@ pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
 /// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
 pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
     let (found, stats, _) = checks_and_stats(prog, cfg, design);
-    assemble_with(prog, cfg, found.findings, stats, &found.dropped)
+    assemble_found(prog, cfg, found, stats)
+}
+
+/// [`assemble_with`] of what [`checks_and_stats`] found, the counts it gives as lower
+/// bounds marked in [`Report::suppressed_at_least`].
+pub fn assemble_found(
+    prog: &Program,
+    cfg: &CheckConfig,
+    found: checks::CheckFindings,
+    stats: Stats,
+) -> Report {
+    let mut r = assemble_with(prog, cfg, found.findings, stats, &found.dropped);
+    r.suppressed_at_least = found
+        .at_least
+        .iter()
+        .filter(|id| r.suppressed.iter().any(|s| s.0 == **id))
+        .map(|id| id.to_string())
+        .collect();
+    r
 }
 
 /// The findings of [`check`] before capping (interpreter diagnostics, then every check's,
@@ -308,6 +326,7 @@ pub fn assemble_with(
         reason,
         findings,
         suppressed,
+        suppressed_at_least: Vec::new(),
         stats,
     }
 }

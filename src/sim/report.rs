@@ -34,6 +34,11 @@ pub struct Report {
     pub findings: Vec<Finding>,
     /// Findings left out per check id after `max_findings_per_check`.
     pub suppressed: Vec<(String, usize)>,
+    /// Ids of `suppressed` whose count is a lower bound: the search stopped once the
+    /// report was full (the intersection check on large sets), so at least that many more
+    /// exist. Omitted from the JSON when empty.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub suppressed_at_least: Vec<String>,
     /// Totals over the program.
     pub stats: Stats,
 }
@@ -82,6 +87,16 @@ impl Report {
         self.count(s) + left_out
     }
 
+    /// True when the count of findings of severity `s` is a lower bound (an id of that
+    /// severity is in `suppressed_at_least`).
+    fn lower_bound(&self, s: Severity) -> bool {
+        self.suppressed_at_least.iter().any(|id| {
+            self.findings
+                .iter()
+                .any(|f| f.id == id.as_str() && f.severity == s)
+        })
+    }
+
     /// Exit status for the CLI: 0 clean (warnings allowed), 1 at least one error finding,
     /// 2 unusable input.
     pub fn exit_code(&self) -> i32 {
@@ -110,7 +125,12 @@ impl fmt::Display for Report {
             writeln!(f, "{x}")?;
         }
         for (id, n) in &self.suppressed {
-            writeln!(f, "... {n} more [{id}] findings not shown")?;
+            let least = if self.suppressed_at_least.contains(id) {
+                "at least "
+            } else {
+                ""
+            };
+            writeln!(f, "... {least}{n} more [{id}] findings not shown")?;
         }
         let s = &self.stats;
         writeln!(
@@ -138,18 +158,29 @@ impl fmt::Display for Report {
                 lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
             )?;
         }
-        let total = |all: usize, shown: usize, what: &str| {
+        let total = |all: usize, shown: usize, what: &str, s: Severity| {
+            let least = if self.lower_bound(s) { "at least " } else { "" };
             if all == shown {
                 format!("{all} {what}")
             } else {
-                format!("{all} {what} ({shown} shown)")
+                format!("{least}{all} {what} ({shown} shown)")
             }
         };
         write!(
             f,
             "{}, {} ({} backend)",
-            total(self.errors_in_all(), self.errors(), "errors"),
-            total(self.warnings_in_all(), self.warnings(), "warnings"),
+            total(
+                self.errors_in_all(),
+                self.errors(),
+                "errors",
+                Severity::Error
+            ),
+            total(
+                self.warnings_in_all(),
+                self.warnings(),
+                "warnings",
+                Severity::Warning
+            ),
             self.backend
         )
     }

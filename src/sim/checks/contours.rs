@@ -105,8 +105,6 @@ pub fn for_each_cut_contour(
     cfg: &CheckConfig,
     mut f: impl FnMut(&SimContour),
 ) -> Option<usize> {
-    // A contour begun and not yet handed to `f` has its first point: `cur` is open while
-    // it holds points.
     let mut cur = SimContour {
         points: Vec::new(),
         sources: Vec::new(),
@@ -114,11 +112,58 @@ pub fn for_each_cut_contour(
         session: 0,
         group: None,
     };
-    let mut close = |cur: &mut SimContour| {
-        if !cur.points.is_empty() {
-            f(cur);
+    for_each_cut_point(motions, marks, cfg, |e| match e {
+        CutPoint::Start {
+            point,
+            z,
+            session,
+            group,
+        } => {
+            cur.points.push(point);
+            (cur.z, cur.session, cur.group) = (z, session, group);
+        }
+        CutPoint::Next { point, source } => {
+            cur.points.push(point);
+            cur.sources.push(source);
+        }
+        CutPoint::End => {
+            f(&cur);
             cur.points.clear();
             cur.sources.clear();
+        }
+    })
+}
+
+/// The points of the contours of [`for_each_cut_contour`], in order, as
+/// [`for_each_cut_point`] hands them out.
+enum CutPoint {
+    /// A contour starts at `point`, cut at height `z` in tool session `session` under
+    /// pocket mark `group`.
+    Start {
+        point: DVec2,
+        z: f64,
+        session: u32,
+        group: Option<u32>,
+    },
+    /// The contour's next point, the end of a segment of motion `source`.
+    Next { point: DVec2, source: u32 },
+    /// The contour ends.
+    End,
+}
+
+/// [`for_each_cut_contour`] point by point: no buffer holds a contour (a spiral of a
+/// million moves is one contour). Same stop and return value.
+fn for_each_cut_point(
+    motions: &Motions,
+    marks: &[(usize, Option<u32>)],
+    cfg: &CheckConfig,
+    mut f: impl FnMut(CutPoint),
+) -> Option<usize> {
+    // The open contour's tool session and pocket mark, while one is open.
+    let mut open: Option<(u32, Option<u32>)> = None;
+    let close = |open: &mut Option<(u32, Option<u32>)>, f: &mut dyn FnMut(CutPoint)| {
+        if open.take().is_some() {
+            f(CutPoint::End);
         }
     };
     // Segments handed out so far (one per line, the chords of arcs).
@@ -129,39 +174,46 @@ pub fn for_each_cut_contour(
             continue;
         }
         if !(is_cutting(&m, cfg) && planar) {
-            close(&mut cur);
+            close(&mut open, &mut f);
             continue;
         }
         let group = group_at(marks, m.line);
-        if cur.session != m.tool.session || cur.group != group {
-            close(&mut cur);
+        if open.is_some_and(|o| o != (m.tool.session, group)) {
+            close(&mut open, &mut f);
         }
-        if cur.points.is_empty() {
-            cur.points.push(m.from.truncate());
-            cur.z = m.from.z;
-            cur.session = m.tool.session;
-            cur.group = group;
+        if open.is_none() {
+            open = Some((m.tool.session, group));
+            f(CutPoint::Start {
+                point: m.from.truncate(),
+                z: m.from.z,
+                session: m.tool.session,
+                group,
+            });
         }
         let chords = m
             .arc
             .map_or(1, |a| a.chords_for_tolerance(cfg.flatten_tolerance));
         total += chords;
         if total > MAX_CONTOUR_SEGMENTS {
-            close(&mut cur);
+            close(&mut open, &mut f);
             return Some(k);
         }
         if m.arc.is_none() {
             // A line flattens to its two ends: no point list to build.
-            cur.points.push(m.to.truncate());
-            cur.sources.push(k as u32);
+            f(CutPoint::Next {
+                point: m.to.truncate(),
+                source: k as u32,
+            });
         } else {
             for p in m.flatten_xy(cfg.flatten_tolerance).into_iter().skip(1) {
-                cur.points.push(p);
-                cur.sources.push(k as u32);
+                f(CutPoint::Next {
+                    point: p,
+                    source: k as u32,
+                });
             }
         }
     }
-    close(&mut cur);
+    close(&mut open, &mut f);
     None
 }
 
@@ -204,21 +256,35 @@ pub fn contour_segments(
     let mut set = new_set(cfg);
     // At most one segment per straight move: arcs may need more (the vector grows then).
     set.segs.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
-    let mut starts = Vec::new();
-    let stop = for_each_cut_contour(motions, marks, cfg, |c| {
-        set.push_polyline_in(&c.points, &c.sources, c.group);
-        starts.push(start_of(c));
+    let mut starts: Vec<ContourStart> = Vec::new();
+    let mut open = None;
+    let stop = for_each_cut_point(motions, marks, cfg, |e| match e {
+        CutPoint::Start {
+            point, z, group, ..
+        } => {
+            open = Some(set.begin_polyline(point, group));
+            starts.push(ContourStart {
+                point,
+                source: None,
+                z,
+            });
+        }
+        CutPoint::Next { point, source } => {
+            if let Some(s) = starts.last_mut() {
+                s.source.get_or_insert(source);
+            }
+            if let Some(o) = open.as_mut() {
+                set.polyline_to(o, point, source);
+            }
+        }
+        CutPoint::End => {
+            if let Some(o) = open.take() {
+                set.end_polyline(o);
+            }
+        }
     });
     let limit = stop.map(|k| check_limit(motions.get(k).map_or(0, |m| m.line)));
     (set, starts, limit)
-}
-
-fn start_of(c: &SimContour) -> ContourStart {
-    ContourStart {
-        point: c.points.first().copied().unwrap_or_default(),
-        source: c.sources.first().copied(),
-        z: c.z,
-    }
 }
 
 /// The empty segment set of the intersection check under `cfg`.
@@ -371,6 +437,8 @@ pub(crate) struct ContactFolder<'p> {
     by_lines: WordMap<(bool, usize, usize), usize>,
     by_path: WordMap<[(u32, u32); 2], usize>,
     found: Vec<Folded>,
+    /// Findings in `found` of contours touching themselves, of two contours crossing.
+    counts: [usize; 2],
 }
 
 impl<'p> ContactFolder<'p> {
@@ -391,7 +459,19 @@ impl<'p> ContactFolder<'p> {
             by_lines: Default::default(),
             by_path: Default::default(),
             found: Vec::new(),
+            counts: [0; 2],
         }
+    }
+
+    /// True when some path is cut more than once: its findings list the passes met,
+    /// which the whole search must see.
+    pub fn lists_passes(&self) -> bool {
+        self.repeated.iter().any(|&r| r)
+    }
+
+    /// Findings so far: of contours touching themselves, of two contours crossing.
+    pub fn counts(&self) -> [usize; 2] {
+        self.counts
     }
 
     /// The path (first contour) and pass number of contour `c`.
@@ -420,6 +500,7 @@ impl<'p> ContactFolder<'p> {
         let k = match (earlier, self.by_lines.get(&lines)) {
             (Some(k), _) | (None, Some(&k)) => k,
             (None, None) => {
+                self.counts[usize::from(s.contour != t.contour)] += 1;
                 self.found.push(Folded {
                     contours: [s.contour, t.contour],
                     proper,
@@ -459,9 +540,9 @@ impl<'p> ContactFolder<'p> {
     pub fn finish(self, out: &mut Capped) {
         for f in self.found {
             let id = if f.contours[0] == f.contours[1] {
-                "self-intersection"
+                SELF_INTERSECTION
             } else {
-                "contour-crossing"
+                CONTOUR_CROSSING
             };
             out.push_with(id, || {
                 let mut g = contact_finding(f.contours, f.proper, f.lines, f.at);
@@ -506,26 +587,53 @@ pub(crate) fn intersection_findings(
     out: &mut Capped,
 ) {
     let line_of = |src: u32| motions.get(src as usize).map(|m| m.line).unwrap_or(0);
-    let (contacts, capped) = set.contacts_capped();
+    let passes = pass_numbers(&path_keys(set));
+    let mut folder = ContactFolder::new(&passes, cfg);
+    // The search may stop once the report is full: every id that can still be found has
+    // more findings than the cap, no finding lists passes that later contacts would add
+    // to, and enough contacts were found that the rest are worth not looking for.
+    let cap = cfg.max_findings_per_check.max(1);
+    let crossings = !cfg.allow_crossings && set.contours.len() > 1;
+    let may_stop = !folder.lists_passes();
+    let mut seen = 0usize;
+    let (capped, stopped) = set.contacts_in_order(|batch| {
+        seen += batch.len();
+        for c in batch {
+            let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
+                continue;
+            };
+            let side = |g: &super::Seg| Side {
+                contour: g.contour,
+                index: g.index,
+                line: line_of(g.source),
+            };
+            let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
+            folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
+        }
+        let [own, across] = folder.counts();
+        let full = own > cap && (!crossings || across > cap);
+        !(may_stop && full && seen >= STOP_AFTER_CONTACTS)
+    });
     if capped {
         out.push(too_many_contacts());
     }
-    let passes = pass_numbers(&path_keys(set));
-    let mut folder = ContactFolder::new(&passes, cfg);
-    for c in contacts {
-        let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
-            continue;
-        };
-        let side = |g: &super::Seg| Side {
-            contour: g.contour,
-            index: g.index,
-            line: line_of(g.source),
-        };
-        let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
-        folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
-    }
     folder.finish(out);
+    if stopped {
+        out.at_least(SELF_INTERSECTION);
+        out.at_least(CONTOUR_CROSSING);
+    }
 }
+
+/// Contacts the intersection check finds before it may stop its search early: the counts
+/// of findings stay exact where contacts are few (finding them all costs little), and a
+/// contour retraced 200 times (199,000 touches) stops after its first window of segments.
+const STOP_AFTER_CONTACTS: usize = 8192;
+
+/// Id of the findings of a contour touching itself.
+const SELF_INTERSECTION: &str = "self-intersection";
+
+/// Id of the findings of two contours crossing.
+const CONTOUR_CROSSING: &str = "contour-crossing";
 
 /// The [`PathKey`] of every contour of `set`, in order.
 fn path_keys(set: &SegmentSet) -> Vec<PathKey> {

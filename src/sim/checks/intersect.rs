@@ -44,6 +44,19 @@ const LONG_SEGMENT: f64 = 64.0;
 /// it the single grid is cheap whatever the lengths.
 const SPLIT_MIN: usize = 1024;
 
+/// Fewest segments [`SegmentSet::contacts_in_order`] searches in rounds: below it the
+/// whole search costs a few milliseconds, and the count of findings past the report's cap
+/// stays exact.
+pub const ROUNDS_MIN: usize = 1 << 16;
+
+/// Segments in the first window of [`SegmentSet::contacts_in_order`].
+const FIRST_ROUND: usize = 64;
+
+/// Growth of the windows of [`SegmentSet::contacts_in_order`] from one round to the next:
+/// a set that never stops is searched in log₈(n / [`FIRST_ROUND`]) + 1 rounds, each
+/// skipping in O(1) the cells without a pair in its window.
+const ROUND_GROWTH: usize = 8;
+
 /// Steps per segment [`SegmentSet::proven_apart`] may take before it leaves the decision to
 /// the grid.
 const CHAIN_BUDGET: usize = 16;
@@ -66,6 +79,12 @@ struct Chain {
     /// Index of its first block in the y ranges of [`SegmentSet::proven_apart`].
     block: u32,
 }
+
+/// How many times over the chains' boxes may cover the set's box before
+/// [`SegmentSet::proven_apart`] skips the short try of its sweep: disjoint contours cover
+/// it less than once (the benches' circles 0.8 times), the spiral's nested half turns
+/// about a hundred times.
+const NESTED_COVER: f64 = 8.0;
 
 /// Segments per block of a chain in [`SegmentSet::chains_apart`].
 const CHAIN_BLOCK: usize = 8;
@@ -125,6 +144,17 @@ pub struct SegmentSet {
     /// A tile of a larger set ([`SegmentSet::tile`]): each segment's neighbours, since its
     /// contour is not held whole.
     links: Option<Vec<Link>>,
+}
+
+/// A polyline being added to a [`SegmentSet`] point by point
+/// ([`SegmentSet::begin_polyline`]).
+#[derive(Clone, Copy, Debug)]
+pub struct OpenPolyline {
+    contour: u32,
+    count: u32,
+    first: DVec2,
+    prev: DVec2,
+    pocket: Option<u32>,
 }
 
 /// What a segment of a tile knows of its neighbours in its contour.
@@ -224,33 +254,55 @@ impl SegmentSet {
         sources: &[u32],
         pocket: Option<u32>,
     ) -> u32 {
-        let contour = self.contours.len() as u32;
-        let mut count = 0u32;
-        let mut first: Option<DVec2> = None;
-        let mut prev: Option<DVec2> = None;
-        for (k, &p) in points.iter().enumerate() {
-            if let Some(q) = prev {
-                if q != p {
-                    let source = sources.get(k - 1).or(sources.last()).copied().unwrap_or(0);
-                    self.segs.push(Seg {
-                        a: q,
-                        b: p,
-                        contour,
-                        index: count,
-                        source,
-                        pocket,
-                    });
-                    count += 1;
-                    prev = Some(p);
-                }
-            } else {
-                first = Some(p);
-                prev = Some(p);
-            }
+        let Some(&first) = points.first() else {
+            self.contours.push((0, false));
+            return self.contours.len() as u32 - 1;
+        };
+        let mut open = self.begin_polyline(first, pocket);
+        for (k, &p) in points.iter().enumerate().skip(1) {
+            let source = sources.get(k - 1).or(sources.last()).copied().unwrap_or(0);
+            self.polyline_to(&mut open, p, source);
         }
-        let closed = count >= 2 && first.is_some() && first == prev;
-        self.contours.push((count, closed));
-        contour
+        self.end_polyline(open)
+    }
+
+    /// Starts a polyline at `first`, added point by point ([`SegmentSet::polyline_to`],
+    /// then [`SegmentSet::end_polyline`]) as [`SegmentSet::push_polyline_in`] adds it
+    /// whole: for callers that do not hold its points. No other polyline may be added
+    /// before it ends.
+    pub fn begin_polyline(&self, first: DVec2, pocket: Option<u32>) -> OpenPolyline {
+        OpenPolyline {
+            contour: self.contours.len() as u32,
+            count: 0,
+            first,
+            prev: first,
+            pocket,
+        }
+    }
+
+    /// Extends `open` to `p` with a segment tagged `source` (none when `p` repeats the
+    /// point before).
+    pub fn polyline_to(&mut self, open: &mut OpenPolyline, p: DVec2, source: u32) {
+        if open.prev != p {
+            self.segs.push(Seg {
+                a: open.prev,
+                b: p,
+                contour: open.contour,
+                index: open.count,
+                source,
+                pocket: open.pocket,
+            });
+            open.count += 1;
+            open.prev = p;
+        }
+    }
+
+    /// Ends `open` (closed when it has two segments or more and ends where it began);
+    /// returns its contour number.
+    pub fn end_polyline(&mut self, open: OpenPolyline) -> u32 {
+        let closed = open.count >= 2 && open.first == open.prev;
+        self.contours.push((open.count, closed));
+        open.contour
     }
 
     /// True when segments `s` and `t` of one contour are consecutive (they share an end
@@ -392,6 +444,88 @@ impl SegmentSet {
         out.sort_by_key(|c| (c.i, c.j));
         out.dedup_by(|p, q| p.i == q.i && p.j == q.j);
         (out, capped)
+    }
+
+    /// [`SegmentSet::contacts_capped`] handed to `take` in batches, in order: each batch
+    /// sorted by (i, j) and deduplicated, its contacts' lower indices i in a window of
+    /// segments after the previous batch's, so that the batches in turn are the contacts of
+    /// `contacts_capped` (up to where [`MAX_CONTACTS`] stops it, which here counts from the
+    /// first batch). `take` returns false to stop the search there: the contacts after
+    /// its batch are then not looked for. Returns (capped at [`MAX_CONTACTS`], stopped by
+    /// `take` with segments left to search).
+    ///
+    /// Sets of fewer than [`ROUNDS_MIN`] segments, sets proven apart, and sets whose grid
+    /// is not the single packed one ([`SegmentSet::round_entries`]) are searched whole, in
+    /// one batch. Otherwise the grid's entries are built once and searched in rounds of
+    /// windows [`FIRST_ROUND`] segments long, each [`ROUND_GROWTH`] times the one before:
+    /// a retraced contour's contacts all have their lower segment in its first pass, and
+    /// a report full after the first window is found at the cost of that window's cells.
+    pub fn contacts_in_order(&self, mut take: impl FnMut(&[Contact]) -> bool) -> (bool, bool) {
+        let n = self.segs.len();
+        let whole = |take: &mut dyn FnMut(&[Contact]) -> bool| {
+            let (c, capped) = self.contacts_capped();
+            take(&c);
+            (capped, false)
+        };
+        if n < ROUNDS_MIN {
+            return whole(&mut take);
+        }
+        let mut overlaps = self.adjacent_overlaps();
+        overlaps.sort_by_key(|c| (c.i, c.j));
+        if self.proven_apart_with_copies() {
+            take(&overlaps);
+            return (false, false);
+        }
+        let Some(entries) = self.round_entries() else {
+            return whole(&mut take);
+        };
+        let (mut lo, mut size, mut total) = (0usize, FIRST_ROUND, 0usize);
+        while lo < n {
+            let hi = lo.saturating_add(size).min(n);
+            let window = lo..hi;
+            let mut batch: Vec<Contact> = overlaps
+                .iter()
+                .filter(|c| window.contains(&c.i))
+                .copied()
+                .collect();
+            let found = self.window_cell_contacts(
+                entries.len(),
+                |i| (entries[i] >> 32, entries[i] as u32),
+                &window,
+                MAX_CONTACTS - total,
+            );
+            total += found.len();
+            batch.extend(found);
+            batch.sort_by_key(|c| (c.i, c.j));
+            batch.dedup_by(|p, q| p.i == q.i && p.j == q.j);
+            let capped = total >= MAX_CONTACTS;
+            if !take(&batch) {
+                return (capped, hi < n && !capped);
+            }
+            if capped {
+                return (true, false);
+            }
+            lo = hi;
+            size = size.saturating_mul(ROUND_GROWTH);
+        }
+        (false, false)
+    }
+
+    /// The packed (cell, segment) entries of the single grid [`SegmentSet::cell_contacts`]
+    /// searches for [`SegmentSet::grid_only_contacts`], sorted by cell; None where that
+    /// search takes another route (no grid, long segments apart, keys or indices beyond 32
+    /// bits).
+    fn round_entries(&self) -> Option<Vec<u64>> {
+        let n = self.segs.len();
+        let (lo, hi, total) = self.extent(self.segs.iter());
+        let grid = Grid::new(lo, hi, total, n)?;
+        if n >= SPLIT_MIN && grid.h > LONG_SEGMENT * self.median_length() {
+            let all: Vec<u32> = (0..n as u32).collect();
+            if self.long_segments(&all).is_some() {
+                return None;
+            }
+        }
+        self.packed_entries(&grid, &(0..u64::MAX))
     }
 
     /// Consecutive segments ab, bc where c lies on the ray from b through a: the path
@@ -840,8 +974,18 @@ impl SegmentSet {
         // A short try of the sweep over chains, which decides sparse sets (circles apart,
         // each chain near a few others) for less than the grid costs; then the grid; then
         // the sweep in full where the grid cannot be built.
+        // Chains nested by the dozen (a spiral's half turns) make the try spend its budget
+        // and decide nothing: their boxes then cover the set's box many times over, and
+        // the grid goes first. Both routes are exact, so the answer is the same.
+        let (lo, hi) = chains.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), c| (lo.min(c.lo), hi.max(c.hi)),
+        );
+        let covered: f64 = chains.iter().map(|c| (c.hi - c.lo).element_product()).sum();
+        let box_area = (hi - lo).element_product();
+        let nested = box_area > 0.0 && covered > NESTED_COVER * box_area;
         let trial = SWEEP_TRIAL.saturating_mul(n).saturating_add(4096);
-        if let Some(apart) = self.chains_sweep(&chains, &blocks, trial) {
+        if !nested && let Some(apart) = self.chains_sweep(&chains, &blocks, trial) {
             return apart;
         }
         let full = CHAIN_BUDGET.saturating_mul(n).saturating_add(4096);
@@ -1177,6 +1321,21 @@ impl SegmentSet {
     /// the i-th: [`SegmentSet::cell_pairs`] on each cell of two or more, until
     /// [`MAX_CONTACTS`].
     fn sorted_cell_contacts(&self, n: usize, entry: impl Fn(usize) -> (u64, u32)) -> Vec<Contact> {
+        self.window_cell_contacts(n, entry, &(0..usize::MAX), MAX_CONTACTS)
+    }
+
+    /// [`SegmentSet::sorted_cell_contacts`] of the pairs whose lower segment index is in
+    /// `window`, until `limit` contacts: the same pairs tested as on the whole set (each
+    /// cell's pairs are chosen from all its segments), those outside the window skipped.
+    /// A cell's segments come in increasing index, so a cell whose first segment is at or
+    /// past the window's end, or whose last is before its start, has no pair in it.
+    fn window_cell_contacts(
+        &self,
+        n: usize,
+        entry: impl Fn(usize) -> (u64, u32),
+        window: &std::ops::Range<usize>,
+        limit: usize,
+    ) -> Vec<Contact> {
         let mut out = Vec::new();
         let mut ids: Vec<u32> = Vec::new();
         let mut g = 0;
@@ -1186,11 +1345,13 @@ impl SegmentSet {
             while e < n && entry(e).0 == key {
                 e += 1;
             }
-            if e - g >= 2 {
+            let first = entry(g).1 as usize;
+            let last = entry(e - 1).1 as usize;
+            if e - g >= 2 && first < window.end && last >= window.start {
                 ids.clear();
                 ids.extend((g..e).map(|i| entry(i).1));
-                self.cell_pairs(&ids, &mut out);
-                if out.len() >= MAX_CONTACTS {
+                self.cell_pairs(&ids, window, limit, &mut out);
+                if out.len() >= limit {
                     break;
                 }
             }
@@ -1209,6 +1370,14 @@ impl SegmentSet {
         grid: &Grid,
         keys: &std::ops::Range<u64>,
     ) -> Option<Vec<Contact>> {
+        let entries = self.packed_entries(grid, keys)?;
+        Some(self.sorted_cell_contacts(entries.len(), |i| (entries[i] >> 32, entries[i] as u32)))
+    }
+
+    /// The (cell, segment) entries of the cells of `grid` with keys in `keys`, packed and
+    /// sorted as [`SegmentSet::packed_cell_contacts`] takes them; None when the set has 2³²
+    /// segments or more or a key needs more than 32 bits.
+    fn packed_entries(&self, grid: &Grid, keys: &std::ops::Range<u64>) -> Option<Vec<u64>> {
         u32::try_from(self.segs.len()).ok()?;
         let mut entries: Vec<u64> = Vec::with_capacity(2 * self.segs.len());
         let mut max_key = 0u64;
@@ -1224,7 +1393,7 @@ impl SegmentSet {
             }
         }
         radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
-        Some(self.sorted_cell_contacts(entries.len(), |i| (entries[i] >> 32, entries[i] as u32)))
+        Some(entries)
     }
 
     /// Tests the segment pairs of one grid cell. Exact copies of a segment (same end points,
@@ -1234,10 +1403,17 @@ impl SegmentSet {
     /// holding k copies of a segment thus gives O(k) tests and contacts instead of O(k²)
     /// (2,000 coincident contours stay linear); contacts a copy would add are repeats of
     /// its first copy's at the same place.
-    /// Stops adding at [`MAX_CONTACTS`].
-    fn cell_pairs(&self, cell: &[u32], out: &mut Vec<Contact>) {
+    /// Only pairs whose lower index is in `window` are tested, until `limit` contacts.
+    fn cell_pairs(
+        &self,
+        cell: &[u32],
+        window: &std::ops::Range<usize>,
+        limit: usize,
+        out: &mut Vec<Contact>,
+    ) {
         let mut test = |i: u32, j: u32| {
-            if out.len() < MAX_CONTACTS
+            if out.len() < limit
+                && window.contains(&(i.min(j) as usize))
                 && let Some(c) = self.test_pair(i as usize, j as usize)
             {
                 out.push(c);
@@ -1874,6 +2050,49 @@ mod tests {
             .map(|c| (c.i, c.j))
             .collect();
         assert_eq!(got.iter().map(|c| (c.i, c.j)).collect::<Vec<_>>(), by_pairs);
+    }
+
+    /// One contour around a 10,000-gon seven times, passes 1, 3, 5 turned half a step
+    /// (their chords cross the others' near every vertex): above ROUNDS_MIN, so searched
+    /// in rounds. The batches in turn are the whole search's contacts, and a search stopped
+    /// after its first batch says so and handed out a prefix of them.
+    #[test]
+    fn rounds_hand_out_the_whole_search_in_order() {
+        let k = 10_000;
+        let mut p = Vec::new();
+        for pass in 0..7 {
+            let turn = if pass % 2 == 1 { 0.5 } else { 0.0 };
+            for i in 0..k {
+                let t = std::f64::consts::TAU * (i as f64 + turn) / k as f64;
+                p.push(DVec2::new(10.0 + 4.0 * t.cos(), 10.0 + 4.0 * t.sin()));
+            }
+        }
+        p.push(p[0]);
+        let mut s = SegmentSet::new();
+        s.push_polyline(&p, &[]);
+        assert!(s.segs.len() >= ROUNDS_MIN);
+        let (want, capped) = s.contacts_capped();
+        assert!(!capped);
+        let mut got = Vec::new();
+        let mut batches = 0;
+        let (capped, stopped) = s.contacts_in_order(|b| {
+            batches += 1;
+            got.extend_from_slice(b);
+            true
+        });
+        assert!(!capped && !stopped);
+        assert!(batches >= 4, "{batches}");
+        // Contacts with their lower segment in every pass but the last.
+        assert!(want.iter().any(|c| c.i >= 5 * k), "{}", want.len());
+        assert_eq!(got, want);
+        let mut first = Vec::new();
+        let (capped, stopped) = s.contacts_in_order(|b| {
+            first.extend_from_slice(b);
+            false
+        });
+        assert!(!capped && stopped);
+        assert!(!first.is_empty() && first.len() < want.len());
+        assert_eq!(first[..], want[..first.len()]);
     }
 
     proptest::proptest! {

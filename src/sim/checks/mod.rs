@@ -43,6 +43,8 @@ pub(crate) struct Capped {
     pub(crate) kept: Vec<Finding>,
     /// Per id: findings kept, findings left out.
     counts: Vec<(&'static str, usize, usize)>,
+    /// Ids whose search stopped early: their count left out is a lower bound.
+    lower: Vec<&'static str>,
 }
 
 impl Capped {
@@ -52,6 +54,7 @@ impl Capped {
             cap: cap.max(1),
             kept: Vec::new(),
             counts: Vec::new(),
+            lower: Vec::new(),
         }
     }
 
@@ -87,6 +90,22 @@ impl Capped {
     pub(crate) fn dropped(&self) -> impl Iterator<Item = (&'static str, usize)> + '_ {
         self.counts.iter().filter(|c| c.2 > 0).map(|c| (c.0, c.2))
     }
+
+    /// Marks `id` as searched only in part: the findings left out of it are at least the
+    /// ones counted.
+    pub(crate) fn at_least(&mut self, id: &'static str) {
+        if !self.lower.contains(&id) {
+            self.lower.push(id);
+        }
+    }
+
+    /// The ids marked by [`Capped::at_least`] with findings left out.
+    pub(crate) fn lower_bounds(&self) -> Vec<&'static str> {
+        self.dropped()
+            .map(|d| d.0)
+            .filter(|id| self.lower.contains(id))
+            .collect()
+    }
 }
 
 /// What [`run_all`] found: the findings built, and per id how many more were found but not
@@ -98,6 +117,9 @@ pub struct CheckFindings {
     pub findings: Vec<Finding>,
     /// Per id, findings counted but not built.
     pub dropped: Vec<(&'static str, usize)>,
+    /// Ids of `dropped` whose search stopped once the report was full: more findings than
+    /// counted may exist ([`SegmentSet::contacts_in_order`]).
+    pub at_least: Vec<&'static str>,
 }
 
 /// Runs every check (`cfg` in mm, see [`CheckConfig::in_mm`]); findings in program order
@@ -126,9 +148,14 @@ pub fn contour_findings(
     contours::intersection_findings(&set, &starts, &prog.motions, cfg, &mut inter);
     drop(set);
     let dropped = inter.dropped().collect();
+    let at_least = inter.lower_bounds();
     let mut findings = inter.kept;
     findings.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
-    CheckFindings { findings, dropped }
+    CheckFindings {
+        findings,
+        dropped,
+        at_least,
+    }
 }
 
 /// The findings of [`run_all`]: `contour` ([`contour_findings`]) first, then those of
@@ -138,7 +165,13 @@ pub fn join(contour: CheckFindings, moves: CheckFindings) -> CheckFindings {
     findings.extend(moves.findings);
     let mut dropped = contour.dropped;
     dropped.extend(moves.dropped);
-    CheckFindings { findings, dropped }
+    let mut at_least = contour.at_least;
+    at_least.extend(moves.at_least);
+    CheckFindings {
+        findings,
+        dropped,
+        at_least,
+    }
 }
 
 /// The checks of one move at a time (`cfg` in mm): travel limits, rapids, feed and power,
@@ -182,7 +215,11 @@ impl<'c> MoveChecks<'c> {
         findings.extend(self.rapids);
         findings.extend(self.feeds);
         findings.extend(machine::program_end(prog, self.cfg));
-        CheckFindings { findings, dropped }
+        CheckFindings {
+            findings,
+            dropped,
+            at_least: Vec::new(),
+        }
     }
 }
 
@@ -395,6 +432,55 @@ mod tests {
             dropped,
             vec![("self-intersection".to_string(), full.len() - 7)]
         );
+    }
+
+    /// One contour around a 1000-gon 70 times (70,000 segments, searched in rounds): with
+    /// the report's cap the search stops once it is full, shows the first findings of the
+    /// whole search and gives the rest as a lower bound, marked in the report (text and
+    /// JSON); without a cap it is the whole search.
+    #[test]
+    fn long_retrace_stops_once_the_report_is_full() {
+        let mut src = String::from("G21 G90\nG0 X14 Y10\nM4 S500 F1000\n");
+        for _ in 0..70 {
+            for i in 1..=1000 {
+                let t = std::f64::consts::TAU * f64::from(i % 1000) / 1000.0;
+                src += &format!(
+                    "G1 X{:.3} Y{:.3}\n",
+                    10.0 + 4.0 * t.cos(),
+                    10.0 + 4.0 * t.sin()
+                );
+            }
+        }
+        src += "M5\nM2\n";
+        let all = CheckConfig {
+            max_findings_per_check: usize::MAX,
+            ..CheckConfig::default()
+        };
+        let full = check_text(Backend::Builtin, &src, &all, &[]);
+        assert!(full.suppressed_at_least.is_empty());
+        let full: Vec<Finding> = (full.findings.into_iter())
+            .filter(|f| f.id == "self-intersection")
+            .collect();
+        assert!(full.len() > 60_000, "{}", full.len());
+        let cfg = CheckConfig::default();
+        let cap = cfg.max_findings_per_check;
+        let r = check_text(Backend::Builtin, &src, &cfg, &[]);
+        let kept: Vec<&Finding> = (r.findings.iter())
+            .filter(|f| f.id == "self-intersection")
+            .collect();
+        assert_eq!(kept, full[..cap].iter().collect::<Vec<_>>());
+        let more = r.suppressed.iter().find(|s| s.0 == "self-intersection");
+        let more = more.map_or(0, |s| s.1);
+        assert!(more >= 1 && more < full.len() - cap, "{more}");
+        assert_eq!(r.suppressed_at_least, vec!["self-intersection".to_string()]);
+        let text = r.to_string();
+        assert!(text.contains(&format!("... at least {more} more [self-intersection]")));
+        assert!(
+            text.contains(&format!("at least {} errors", cap + more)),
+            "{text}"
+        );
+        let json = serde_json::to_value(&r).unwrap_or_default();
+        assert_eq!(json["suppressed_at_least"][0], "self-intersection");
     }
 
     fn gcode(p: &[DVec2]) -> String {
