@@ -384,3 +384,40 @@ fn ten_thousand_crossing_lines_build_and_check_clean() {
     let (errors, report) = check_errors(&out, "grbl-laser");
     assert_eq!(errors, 0, "{}", &report[..report.len().min(2000)]);
 }
+
+/// A hairline of a generated drawing (random polyline with a zero-length piece and turns
+/// back, smoothed into cubics) whose spine sets off backwards and turns round within
+/// 0.01 mm: its line cut used to hold an arc of radius 7·10⁻⁴ mm, and the emitter refused
+/// the build ("arc radius … is not positive"). It builds on a laser and a router, the
+/// program holds no arc as small as the build tolerance (I/J offsets read back), and it
+/// checks clean with the same profile and no flags.
+#[test]
+fn hairlines_turning_round_build_without_tiny_arcs() {
+    const SVG: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" width="170mm" height="120mm" viewBox="0 0 170 120"><path id="p7" d="M 73.957,98.302 C 73.957,98.302 73.957,98.300 73.957,98.302 C 73.956,98.304 72.242,98.673 73.954,98.314 C 75.666,97.955 82.885,96.430 84.229,96.146 C 85.573,95.863 84.194,96.707 82.018,96.613 C 79.843,96.518 72.984,95.752 71.177,95.580 C 69.370,95.408 71.383,97.516 71.177,95.580 C 70.971,93.644 70.147,85.901 69.941,83.965" fill="none" stroke="#000" stroke-width="0.2"/></svg>"##;
+    let dir = tmpdir("line-turn");
+    let svg = dir.join("turn.svg");
+    std::fs::write(&svg, SVG).unwrap();
+    for machine in ["grbl-laser", "grbl-router"] {
+        let out = dir.join(format!("turn.{machine}.gcode"));
+        let o = build(&svg, machine, &out, &[]);
+        expect_ok(&o, &format!("build turn.svg on {machine}"));
+        let text = std::fs::read_to_string(&out).unwrap();
+        // Radius of every arc from its I and J words (the centre offset from its start).
+        let mut smallest = f64::INFINITY;
+        for line in text
+            .lines()
+            .filter(|l| l.starts_with("G2") || l.starts_with("G3"))
+        {
+            let word = |c: char| {
+                (line.split_whitespace())
+                    .find_map(|w| w.strip_prefix(c).and_then(|v| v.parse::<f64>().ok()))
+            };
+            if let (Some(i), Some(j)) = (word('I'), word('J')) {
+                smallest = smallest.min(i.hypot(j));
+            }
+        }
+        assert!(smallest > 0.01, "{machine}: an arc of radius {smallest}");
+        let (errors, report) = check_errors(&out, machine);
+        assert_eq!(errors, 0, "{machine}: {report}");
+    }
+}

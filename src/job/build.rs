@@ -210,10 +210,29 @@ impl Ctx<'_> {
     fn selected(&self, op: &Operation) -> Vec<usize> {
         let sel = Selection::of(op);
         (0..self.outlines.len())
-            .filter(|&i| {
-                let name = self.outlines[i].name.as_str();
-                let tags = self.tags.get(name).copied().unwrap_or_default();
-                sel.selects(name, tags)
+            .filter(|&i| self.selects(&sel, &self.outlines[i].name))
+            .collect()
+    }
+
+    /// Whether `sel` selects the item named `name` (by its name, layer or colour).
+    fn selects(&self, sel: &Selection, name: &str) -> bool {
+        let tags = self.tags.get(name).copied().unwrap_or_default();
+        sel.selects(name, tags)
+    }
+
+    /// Per stroke of the design, whether `ops` cut it only along its spine: some operation
+    /// selects it and every one that does is a `line` ([`line_paths`]). Such a stroke needs
+    /// no skin ([`super::outline::spine_only_outline`]).
+    fn spine_only(&self, ops: &[Operation]) -> Vec<bool> {
+        let sels: Vec<(OperationKind, Selection)> =
+            ops.iter().map(|op| (op.kind, Selection::of(op))).collect();
+        (self.design.stroke.iter())
+            .map(|s| {
+                let mut kinds = (sels.iter())
+                    .filter(|(_, sel)| self.selects(sel, &s.name))
+                    .map(|(k, _)| *k)
+                    .peekable();
+                kinds.peek().is_some() && kinds.all(|k| k == OperationKind::Line)
             })
             .collect()
     }
@@ -1755,7 +1774,6 @@ pub fn build_toolpath_placed(
         report: ReportBounds::Decided,
         ..OutlineOptions::default()
     };
-    let mut outlines = design_outlines_with(design, &outline_opts, progress)?;
     let strokes = design.strokes()?;
     let mut methods = vec![opts.method];
     for (i, op) in design
@@ -1784,11 +1802,46 @@ pub fn build_toolpath_placed(
                 .into(),
         ));
     }
+    let mut ctx = Ctx {
+        copy_of: Vec::new(),
+        regions: Vec::new(),
+        design,
+        profile,
+        stroke_index: (design.stroke.iter().enumerate())
+            .map(|(k, s)| (s.name.as_str(), k))
+            .collect(),
+        tags: design.tags(),
+        strokes,
+        outlines: Vec::new(),
+        tol: opts.tolerance,
+        per_mm: 1.0 / design.units.mm_per_unit(),
+        k: profile.units.mm_per_unit() / design.units.mm_per_unit(),
+        method: opts.method,
+        re: Vec::new(),
+        routes: Mutex::new(Vec::new()),
+        warnings: Mutex::new(Vec::new()),
+        neon: None,
+    };
+    // Strokes that only `line` operations cut are not skinned (on the skin route: the
+    // RE/MPH route makes every item's exact skin).
+    let spine_only = if methods.iter().any(|&m| re_interp(m).is_some()) {
+        Vec::new()
+    } else if design.operation.is_empty() {
+        ctx.spine_only(&ctx.default_ops())
+    } else {
+        let built: Vec<Operation> = (design.operation.iter().enumerate())
+            .filter(|(i, _)| wanted(i))
+            .map(|(_, op)| op.clone())
+            .collect();
+        ctx.spine_only(&built)
+    };
+    let strokes = &ctx.strokes;
+    let mut outlines = design_outlines_with(design, &outline_opts, progress, &spine_only)?;
     let mut re = Vec::new();
     let clock = std::time::Instant::now();
     for interp in methods.iter().filter_map(|&m| re_interp(m)) {
         if !re.iter().any(|(i, _)| *i == interp) {
-            let items = re_items(design, &strokes, &outlines, interp, &outline_opts);
+            let items = re_items(design, strokes, &outlines, interp, &outline_opts);
             re.push((interp, items));
         }
     }
@@ -1811,37 +1864,23 @@ pub fn build_toolpath_placed(
         }
     }
     // Copies share their original's outline only on the skin route (the RE/MPH route
-    // replaced the outlines above).
+    // replaced the outlines above), and only where both were skinned.
+    let marked = |k: usize| spine_only.get(k).copied().unwrap_or(false);
     let copy_of = if re_interp(opts.method).is_none() {
-        super::outline::cache::copies(&strokes, opts.tolerance)
+        (super::outline::cache::copies(strokes, opts.tolerance).into_iter())
+            .enumerate()
+            .map(|(k, copy)| copy.filter(|&(r, _)| !marked(k) && !marked(r)))
+            .collect()
     } else {
         Vec::new()
     };
-    let regions = outlines
+    ctx.regions = outlines
         .iter()
         .map(|_| std::sync::OnceLock::new())
         .collect();
-    let ctx = Ctx {
-        copy_of,
-        regions,
-        design,
-        profile,
-        stroke_index: (design.stroke.iter().enumerate())
-            .map(|(k, s)| (s.name.as_str(), k))
-            .collect(),
-        tags: design.tags(),
-        strokes,
-        outlines,
-        tol: opts.tolerance,
-        per_mm: 1.0 / design.units.mm_per_unit(),
-        k: profile.units.mm_per_unit() / design.units.mm_per_unit(),
-        method: opts.method,
-        re,
-        routes: Mutex::new(Vec::new()),
-        warnings: Mutex::new(Vec::new()),
-        neon: None,
-    };
-    let mut ctx = ctx;
+    ctx.copy_of = copy_of;
+    ctx.outlines = outlines;
+    ctx.re = re;
     let mut marks = Vec::new();
     if let Some(n) = &design.neon {
         let flex = n.flex(design.units);
@@ -2094,7 +2133,8 @@ pub fn scaled_design(design: &Design, f: f64) -> Design {
     d
 }
 
-/// Bounding box (min, max) of the outlines of a build, in design units.
+/// Bounding box (min, max) of the outlines of a build (with the box of the disks of a
+/// stroke cut only along its spine, [`ItemOutline::spine_box`]), in design units.
 pub fn outline_bounds(outlines: &[ItemOutline], tol: f64) -> Option<(DVec2, DVec2)> {
     let mut lo = DVec2::splat(f64::INFINITY);
     let mut hi = DVec2::splat(f64::NEG_INFINITY);
@@ -2103,6 +2143,10 @@ pub fn outline_bounds(outlines: &[ItemOutline], tol: f64) -> Option<(DVec2, DVec
             lo = lo.min(q);
             hi = hi.max(q);
         }
+    }
+    for (a, b) in outlines.iter().filter_map(|o| o.spine_box) {
+        lo = lo.min(a);
+        hi = hi.max(b);
     }
     (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
 }
@@ -2192,6 +2236,7 @@ pub fn place_job(
             for p in &mut o.contours {
                 *p = p.translated(offset);
             }
+            o.spine_box = o.spine_box.map(|(lo, hi)| (lo + offset, hi + offset));
         }
     }
     Ok(Placement {

@@ -4,7 +4,7 @@
 
 use super::JobError;
 use super::progress::{ProgressFn, Stage, report};
-use crate::dbsc::flatten::flatten;
+use crate::dbsc::flatten::{flatten, flatten_disks};
 use crate::dbsc::{DiskBSpline, LoopReport, Side, find_loops};
 use crate::design::{Design, OutlineMethod};
 use crate::emit::outline::{
@@ -82,6 +82,10 @@ pub struct ItemOutline {
     /// built on the union of their disks, and the outline's deviation from the disks
     /// ([`repair`]). `None` for a stroke skinned as it is.
     pub repair: Option<SkinRepair>,
+    /// A stroke that a build cuts only along its spine (every operation selecting it is a
+    /// `line`) is not skinned ([`spine_only_outline`]): `contours` is then empty and this is
+    /// the box (min, max) of its disks, for the job's bounds. `None` for every outline made.
+    pub spine_box: Option<(DVec2, DVec2)>,
 }
 
 /// Parameter tolerance of loop detection: roots of τ± located to 1e-10 of the parameter.
@@ -151,6 +155,7 @@ pub fn stroke_outline(
                         self_overlap,
                         disk_union: None,
                         repair: None,
+                        spine_box: None,
                     });
                 }
                 Some(u) => repair::Failure0::Missed(u),
@@ -174,7 +179,36 @@ pub fn stroke_outline(
         self_overlap: r.self_overlap,
         disk_union,
         repair: Some(r.repair),
+        spine_box: None,
     })
+}
+
+/// The outline of a stroke that a build cuts only along its spine (`line` operations):
+/// no skin, no contours, only the box of its disks ([`ItemOutline::spine_box`]) for the
+/// job's bounds. The box is that of the disks sampled by [`flatten_disks`] (centre and
+/// radius within `tol` of the linear interpolation between samples), so it lies within
+/// 2·`tol` of the exact box min/max over t of q(t) ∓ r(t).
+pub fn spine_only_outline(name: &str, c: &DiskBSpline, tol: f64) -> ItemOutline {
+    let (lo, hi) = flatten_disks(c, tol).iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), (_, d)| {
+            (
+                lo.min(d.c - DVec2::splat(d.r)),
+                hi.max(d.c + DVec2::splat(d.r)),
+            )
+        },
+    );
+    ItemOutline {
+        name: name.to_string(),
+        contours: Vec::new(),
+        circles: Vec::new(),
+        loops: None,
+        segments: Vec::new(),
+        self_overlap: false,
+        disk_union: None,
+        repair: None,
+        spine_box: (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi)),
+    }
 }
 
 /// How far a disk of a stroke may reach outside its skin outline before the outline is
@@ -205,6 +239,7 @@ pub fn circles_outline(
         self_overlap: false,
         disk_union: None,
         repair: None,
+        spine_box: None,
     })
 }
 
@@ -213,18 +248,22 @@ pub fn design_outlines(
     design: &Design,
     opts: &OutlineOptions,
 ) -> Result<Vec<ItemOutline>, JobError> {
-    design_outlines_with(design, opts, None)
+    design_outlines_with(design, opts, None, &[])
 }
 
 /// [`design_outlines`], reporting [`Stage::Skin`] progress after every item. Items are
 /// skinned in parallel (rayon) and collected in file order, the first error in file order,
 /// so the result does not depend on the number of threads. A stroke that is a translated
 /// copy of an earlier one takes that stroke's outline, translated ([`cache`]): each distinct
-/// stroke is skinned once.
+/// stroke is skinned once. A stroke marked in `spine_only` (per stroke, in file order;
+/// missing entries are false) is cut only along its spine and gets
+/// [`spine_only_outline`] instead of a skin; a copy takes its original's outline only when
+/// neither is marked.
 pub fn design_outlines_with(
     design: &Design,
     opts: &OutlineOptions,
     progress: Option<ProgressFn<'_>>,
+    spine_only: &[bool],
 ) -> Result<Vec<ItemOutline>, JobError> {
     use rayon::prelude::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
@@ -238,23 +277,33 @@ pub fn design_outlines_with(
         report(progress, Stage::Skin, n, total);
         r
     };
-    let copy_of = cache::copies(&strokes, opts.tolerance);
+    let marked = |k: usize| spine_only.get(k).copied().unwrap_or(false);
+    let outline_of = |k: usize, name: &str, c: &DiskBSpline| {
+        if marked(k) {
+            Ok(spine_only_outline(name, c, opts.tolerance))
+        } else {
+            stroke_outline(design, name, c, opts)
+        }
+    };
+    let copy_of: Vec<Option<(usize, DVec2)>> = cache::copies(&strokes, opts.tolerance)
+        .into_iter()
+        .enumerate()
+        .map(|(k, copy)| copy.filter(|&(r, _)| !marked(k) && !marked(r)))
+        .collect();
     // The representatives' outlines (None for copies), then each copy from its
     // representative; a copy of a stroke that failed is skinned itself (its own error).
-    let own: Vec<Option<Result<ItemOutline, JobError>>> = (design.stroke.par_iter().zip(&strokes))
-        .zip(&copy_of)
-        .map(|((s, c), copy)| {
-            copy.is_none()
-                .then(|| step(stroke_outline(design, &s.name, c, opts)))
-        })
-        .collect();
-    let copies: Vec<Option<Result<ItemOutline, JobError>>> =
-        (design.stroke.par_iter().zip(&strokes))
+    let own: Vec<Option<Result<ItemOutline, JobError>>> =
+        (design.stroke.par_iter().zip(&strokes).enumerate())
             .zip(&copy_of)
-            .map(|((s, c), copy)| {
+            .map(|((k, (s, c)), copy)| copy.is_none().then(|| step(outline_of(k, &s.name, c))))
+            .collect();
+    let copies: Vec<Option<Result<ItemOutline, JobError>>> =
+        (design.stroke.par_iter().zip(&strokes).enumerate())
+            .zip(&copy_of)
+            .map(|((k, (s, c)), copy)| {
                 copy.map(|(r, d)| match &own[r] {
                     Some(Ok(rep)) => step(Ok(rep.translated(d, &s.name))),
-                    _ => step(stroke_outline(design, &s.name, c, opts)),
+                    _ => step(outline_of(k, &s.name, c)),
                 })
             })
             .collect();

@@ -30,6 +30,7 @@ pub fn shape_outline(shape: &Shape) -> ItemOutline {
         self_overlap: false,
         disk_union: None,
         repair: None,
+        spine_box: None,
     }
 }
 

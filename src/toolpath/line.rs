@@ -4,13 +4,24 @@
 //! A stroke's line is its spine q(t) = Σ Nᵢ,ₚ(t) pᵢ: up to degree 3 its knot spans are
 //! cubic Béziers ([`crate::dbsc::spine::spine_cubics`]) fitted by biarcs within the
 //! tolerance ([`super::biarc::fit_cubic`], the fit every other cut uses); above degree 3 it
-//! is flattened within the tolerance ([`crate::dbsc::flatten::flatten_spine`]). An open
-//! spine stays open, a closed stroke's spine is a closed cut.
+//! is flattened within the tolerance ([`crate::dbsc::flatten::flatten_spine`]). In a line
+//! cut, a span whose fit needs an arc no larger than [`MIN_ARC_RADIUS_TOLS`] tolerances
+//! (where the spine turns round within the tolerance: a pen that sets off backwards) is
+//! flattened within the tolerance instead. An open spine stays open, a closed stroke's
+//! spine is a closed cut.
 
+use super::biarc::fit_cubic;
 use super::region::{path_from_pline, pline_from_path};
 use crate::dbsc::DiskBSpline;
-use crate::geom::{DVec2, Path};
+use crate::geom::{CubicBez, DVec2, Line, Path, PathSeg};
 use cavalier_contours::polyline::Polyline;
+
+/// Smallest radius of an arc in a line cut, in tolerances. Near a cusp the biarc fit
+/// halves the span until its arcs are as small as the tolerance or smaller (radius 3·10⁻⁴
+/// mm at 0.01 mm); such an arc lies within its radius of its chord, so it carries no shape
+/// the tolerance can tell, and the emitters refuse arcs whose radius is within their own
+/// tolerance (0.1·tol, [`crate::emit::geometry::validate`]).
+pub const MIN_ARC_RADIUS_TOLS: f64 = 1.0;
 
 /// The spine of `c` as a polyline with arcs (bulges), within `tol` of q(t); `None` above
 /// degree 3 (its spans are no cubics).
@@ -19,9 +30,38 @@ pub fn spine_pline(c: &DiskBSpline, tol: f64) -> Option<Polyline<f64>> {
     Some(pline_from_path(&cubics, tol))
 }
 
-/// The spine of `c` as lines and arcs within `tol` (module docs), open or closed as `c` is.
+/// [`spine_pline`] for a line cut: every arc has a radius above
+/// [`MIN_ARC_RADIUS_TOLS`]·`tol` ([`span_segments`]).
+fn line_pline(c: &DiskBSpline, tol: f64) -> Option<Polyline<f64>> {
+    let cubics = crate::dbsc::spine::spine_cubics(c)?;
+    let segs = (cubics.segs.iter())
+        .flat_map(|s| match s {
+            PathSeg::Cubic(b) => span_segments(b, tol),
+            other => vec![*other],
+        })
+        .collect();
+    Some(pline_from_path(&Path::new(segs, cubics.closed), tol))
+}
+
+/// One cubic span of a spine as lines and arcs within `tol`: its biarc fit ([`fit_cubic`]),
+/// or, where that fit has an arc of radius at most [`MIN_ARC_RADIUS_TOLS`]·`tol`, the span
+/// flattened within `tol` ([`CubicBez::flatten`]) as lines.
+fn span_segments(b: &CubicBez, tol: f64) -> Vec<PathSeg> {
+    let fit = fit_cubic(b, tol);
+    let tiny = |s: &PathSeg| matches!(s, PathSeg::Arc(a) if a.radius <= MIN_ARC_RADIUS_TOLS * tol);
+    if !fit.iter().any(tiny) {
+        return fit;
+    }
+    (b.flatten(tol).windows(2))
+        .filter(|w| w[0] != w[1])
+        .map(|w| PathSeg::Line(Line::new(w[0], w[1])))
+        .collect()
+}
+
+/// The spine of `c` as lines and arcs within `tol` (module docs), open or closed as `c` is,
+/// no arc of radius [`MIN_ARC_RADIUS_TOLS`]·`tol` or less: the path of a line cut.
 pub fn spine_path(c: &DiskBSpline, tol: f64) -> Path {
-    match spine_pline(c, tol) {
+    match line_pline(c, tol) {
         Some(pl) => path_from_pline(&pl),
         None => Path::polyline(&crate::dbsc::flatten::flatten_spine(c, tol), c.is_closed()),
     }
@@ -135,6 +175,50 @@ mod tests {
                 (len - arclen).abs() <= 1e-3 * arclen,
                 "degree {degree}: path {len} vs spine {arclen}"
             );
+        }
+    }
+
+    /// A span whose first control point lies behind its start (the pen sets off backwards
+    /// and turns round within 0.01 mm: a span of a real hairline drawing, relative to its
+    /// start): the plain biarc fit turns there on a half circle of radius 7·10⁻⁴, which the
+    /// emitter refused ("arc radius … is not positive"); the line cut has no arc as small
+    /// as the tolerance, stays within the tolerance of the spine (dense samples, golden
+    /// section) and ends on the spine's ends. The same at ten times the size and tolerance.
+    #[test]
+    fn spines_turning_round_get_no_arcs_below_the_tolerance() {
+        let span = [
+            (0.0, 0.0),
+            (-0.008_468_426_601, -0.002_222_333_610),
+            (0.034_333_007_360, 0.005_870_514_453),
+            (0.065_126_046_023, 0.012_025_866_128),
+        ];
+        for k in [1.0, 10.0] {
+            let tol = 0.01 * k;
+            let pts: Vec<(f64, f64)> = span.iter().map(|&(x, y)| (k * x, k * y)).collect();
+            let c = curve(3, false, &pts);
+            let radius = |s: &PathSeg| match s {
+                PathSeg::Arc(a) => a.radius,
+                _ => f64::INFINITY,
+            };
+            let cubics = crate::dbsc::spine::spine_cubics(&c).unwrap();
+            let plain = (cubics.segs.iter())
+                .flat_map(|s| match s {
+                    PathSeg::Cubic(b) => fit_cubic(b, tol),
+                    other => vec![*other],
+                })
+                .map(|s| radius(&s))
+                .fold(f64::INFINITY, f64::min);
+            assert!(plain <= 0.1 * tol, "plain fit: smallest arc {plain}");
+            let p = spine_path(&c, tol);
+            let smallest = p.segs.iter().map(radius).fold(f64::INFINITY, f64::min);
+            assert!(smallest > tol, "smallest arc {smallest}");
+            for q in p.flatten(tol * 0.01) {
+                let d = distance_to_spine(&c, q);
+                assert!(d <= tol * (1.0 + 1e-6), "{q} is {d} from the spine");
+            }
+            let (lo, hi) = c.domain();
+            assert!(p.start().unwrap().distance(c.center(lo)) <= 1e-9);
+            assert!(p.end().unwrap().distance(c.center(hi)) <= 1e-9);
         }
     }
 

@@ -114,13 +114,14 @@ pub fn copies(strokes: &[DiskBSpline], tolerance: f64) -> Vec<Option<(usize, DVe
 }
 
 impl ItemOutline {
-    /// This outline moved by `d` and named `name`: every point it holds (contours, circles,
-    /// loop cusps, where the skin missed, where a repair split or fell back) moves; curve
-    /// parameters, error bounds and distances do not.
+    /// This outline moved by `d` and named `name`: every point it holds (contours, spine
+    /// box, circles, loop cusps, where the skin missed, where a repair split or fell back)
+    /// moves; curve parameters, error bounds and distances do not.
     pub fn translated(&self, d: DVec2, name: &str) -> ItemOutline {
         let mut o = self.clone();
         o.name = name.to_string();
         o.contours = self.contours.iter().map(|p| p.translated(d)).collect();
+        o.spine_box = self.spine_box.map(|(lo, hi)| (lo + d, hi + d));
         for c in &mut o.circles {
             c.c += d;
         }
