@@ -15,8 +15,8 @@
 
 use crate::geom::slabs::PolygonWinding;
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
-use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{AABB, RTree};
 
 /// Upper bound on 2-opt improvement sweeps (each O(n²)); improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
@@ -25,6 +25,11 @@ const MAX_2OPT_SWEEPS: usize = 50;
 /// tests m(m − 1)/2 pairs, so the number of sweeps is also limited to
 /// `MAX_2OPT_WORK / (m(m − 1)/2)`; with more than about 20 000 paths 2-opt is skipped.
 const MAX_2OPT_WORK: usize = 200_000_000;
+
+/// Longest block of consecutive paths a 2-opt move reverses: a sweep tests at most this
+/// many pairs per path, O(n) per sweep instead of O(n²). Jobs of up to this many paths
+/// see every pair as before.
+pub const MAX_2OPT_BLOCK: usize = 1_000;
 
 /// Most paths whose nearest-neighbour order is improved by 2-opt ([`order_paths`]); more
 /// are ordered by nearest neighbour alone (a 2-opt sweep is O(n²)).
@@ -52,34 +57,42 @@ pub struct OrderStats {
     pub travel_ordered: f64,
 }
 
-/// `before[j]` lists the paths that must come before path j: those inside closed path j.
-/// A path whose vertices all lie inside polygon j also lies inside j's vertex box, so
-/// pairs whose boxes do not nest are skipped without changing the result; the vertices of
-/// the others are tested through a slab index of polygon j ([`PolygonWinding`], the exact
-/// even-odd test in O(1 + k) per vertex).
+/// `before[j]` lists the paths that must come before path j: those inside closed path j,
+/// in increasing order. A path whose vertices all lie inside polygon j also lies inside j's
+/// vertex box, so only the paths whose boxes lie in j's box are tested (found through an
+/// R-tree of the boxes); their vertices are tested through a slab index of polygon j
+/// ([`PolygonWinding`], the exact even-odd test in O(1 + k) per vertex).
 pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
     let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
     let boxes: Vec<(DVec2, DVec2)> = polys.iter().map(|p| vertex_box(p)).collect();
-    let nests = |i: usize, j: usize| {
-        let (a, b) = (&boxes[i], &boxes[j]);
-        a.0.x >= b.0.x && a.0.y >= b.0.y && a.1.x <= b.1.x && a.1.y <= b.1.y
-    };
+    let rect = |(lo, hi): (DVec2, DVec2)| Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]);
+    // The boxes of the non-empty paths; the paths whose boxes lie in box j (edges included)
+    // are the candidates inside path j.
+    let tree: RTree<BoxEntry> = RTree::bulk_load(
+        (0..paths.len())
+            .filter(|&i| !polys[i].is_empty())
+            .map(|i| BoxEntry::new(rect(boxes[i]), i))
+            .collect(),
+    );
     (0..paths.len())
         .map(|j| {
             if !paths[j].closed || polys[j].len() < 3 {
                 return Vec::new();
             }
-            // Built at the first candidate that nests: most closed paths hold none.
-            let mut index: Option<PolygonWinding<'_>> = None;
-            (0..paths.len())
-                .filter(|&i| {
-                    if i == j || polys[i].is_empty() || !nests(i, j) {
-                        return false;
-                    }
-                    let w = index.get_or_insert_with(|| PolygonWinding::new(&polys[j]));
-                    polys[i].iter().all(|&p| w.inside_even_odd(p))
-                })
-                .collect()
+            let envelope =
+                AABB::from_corners([boxes[j].0.x, boxes[j].0.y], [boxes[j].1.x, boxes[j].1.y]);
+            let mut inner: Vec<usize> = tree
+                .locate_in_envelope(envelope)
+                .map(|e| e.data)
+                .filter(|&i| i != j)
+                .collect();
+            if inner.is_empty() {
+                return inner;
+            }
+            inner.sort_unstable();
+            let w = PolygonWinding::new(&polys[j]);
+            inner.retain(|&i| polys[i].iter().all(|&p| w.inside_even_odd(p)));
+            inner
         })
         .collect()
 }
@@ -309,15 +322,17 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
         );
     }
     let mut order = order;
-    // 2-opt: reverse order[a..=b] when it shortens travel and no precedence pair lies inside.
-    let pos_of = |order: &[(usize, Path)]| {
-        let mut v = vec![0usize; n];
-        for (k, (i, _)) in order.iter().enumerate() {
-            v[*i] = k;
-        }
-        v
-    };
-    let pairs_per_sweep = (order.len() * order.len().saturating_sub(1) / 2).max(1);
+    // 2-opt: reverse order[a..=b] (at most MAX_2OPT_BLOCK paths) when it shortens travel and
+    // no precedence pair lies inside. `p` is the position of each path in `order`.
+    let mut p = vec![0usize; n];
+    for (k, (i, _)) in order.iter().enumerate() {
+        p[*i] = k;
+    }
+    let m = order.len();
+    let pairs_per_sweep = (0..m)
+        .map(|a| MAX_2OPT_BLOCK.min(m - a) - 1)
+        .sum::<usize>()
+        .max(1);
     let sweeps = MAX_2OPT_SWEEPS.min(MAX_2OPT_WORK / pairs_per_sweep);
     // Start, end and closedness of each path in `order`, kept in step with it: the pair
     // tests read these instead of each path's segments.
@@ -332,7 +347,6 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
     // open paths, its start for closed ones) and left at its first path's reversed end.
     let rev_start = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { s } else { e };
     let rev_end = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { e } else { s };
-    let m = order.len();
     // Travel from each path's end to the next path's start (0 after the last), kept in step
     // with `at`: the part of a pair's old travel that does not depend on the block's start.
     let gap_at = |at: &[(DVec2, DVec2, bool)], b: usize| {
@@ -348,7 +362,7 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
         for a in 0..m {
             let prev_end = if a == 0 { home } else { at[a - 1].1 };
             let mut head = prev_end.distance(at[a].0);
-            for b in a + 1..m {
+            for b in a + 1..m.min(a + MAX_2OPT_BLOCK) {
                 let old = head + gap[b];
                 // new = enter + leave with leave ≥ 0, so new + 1e-12 ≥ enter + 1e-12 in
                 // floating point as well: a block that cannot be entered cheaply enough is
@@ -360,13 +374,15 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
                 let next_start = (b + 1 < m).then(|| at[b + 1].0);
                 let new = enter + next_start.map_or(0.0, |s| rev_end(&at[a]).distance(s));
                 if new + 1e-12 < old {
-                    let p = pos_of(&order);
                     let blocked = order[a..=b]
                         .iter()
                         .any(|(j, _)| before[*j].iter().any(|&k| p[k] >= a && p[k] <= b));
                     if !blocked {
                         order[a..=b].reverse();
                         at[a..=b].reverse();
+                        for (k, (i, _)) in order.iter().enumerate().take(b + 1).skip(a) {
+                            p[*i] = k;
+                        }
                         for (item, cached) in order[a..=b].iter_mut().zip(&mut at[a..=b]) {
                             if !item.1.closed {
                                 item.1 = item.1.reversed();
