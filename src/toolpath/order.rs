@@ -2,15 +2,17 @@
 //! travel by nearest neighbour (with the entry point of each closed contour chosen as its
 //! point nearest to the tool) improved by 2-opt moves that respect the precedence.
 //!
-//! Complexity: precedence O(n² + k · m) for n contours of m points (a box test per pair,
-//! containment tests only for the k pairs whose boxes nest); nearest neighbour over an
+//! Complexity: precedence O(n log n + k · m) for n contours of m points (an R-tree of the
+//! boxes finds the k pairs whose boxes nest; only those get containment tests); nearest
+//! neighbour over an
 //! R-tree of the boxes of the paths free to go (those whose inner paths are done), each
 //! step visiting the paths in order of box distance until the box is farther than the best
 //! entry found: O(n log n + n · c · m) for c paths visited a step (a few for a hatch's rows
 //! or a drawing's strokes; all n for paths nested like onion rings around the tool); 2-opt
-//! O(n²) per sweep, at most `MAX_2OPT_SWEEPS` sweeps and at most `MAX_2OPT_WORK` pair
-//! tests in all, and only up to [`MAX_NEAREST_PATHS`] paths: a fine hatch fill or a large
-//! drawing is ordered by nearest neighbour alone. No loop here refines: each ends after a
+//! over blocks of at most [`MAX_2OPT_BLOCK`] paths, O(n · MAX_2OPT_BLOCK) per sweep (O(n²)
+//! up to that many paths), at most `MAX_2OPT_SWEEPS` sweeps and at most `MAX_2OPT_WORK`
+//! pair tests in all, and only up to [`MAX_NEAREST_PATHS`] paths: a fine hatch fill or a
+//! large drawing is ordered by nearest neighbour alone. No loop here refines: each ends after a
 //! number of steps fixed by n and these constants.
 
 use crate::geom::slabs::PolygonWinding;
@@ -18,12 +20,13 @@ use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
-/// Upper bound on 2-opt improvement sweeps (each O(n²)); improvement stalls far earlier.
+/// Upper bound on 2-opt improvement sweeps; improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
 
 /// Upper bound on 2-opt pair tests over all sweeps (≈ 1 s of work): a sweep over m paths
-/// tests m(m − 1)/2 pairs, so the number of sweeps is also limited to
-/// `MAX_2OPT_WORK / (m(m − 1)/2)`; with more than about 20 000 paths 2-opt is skipped.
+/// tests Σₐ (min(B, m − a) − 1) pairs for blocks of at most B = [`MAX_2OPT_BLOCK`] paths
+/// (m(m − 1)/2 up to B paths), so the number of sweeps is also limited to
+/// `MAX_2OPT_WORK` divided by that.
 const MAX_2OPT_WORK: usize = 200_000_000;
 
 /// Longest block of consecutive paths a 2-opt move reverses: a sweep tests at most this
@@ -507,8 +510,78 @@ mod tests {
         assert_eq!(r.max_gap(), 0.0);
     }
 
+    /// More paths than MAX_2OPT_BLOCK: 2-opt over blocks keeps a permutation whose travel
+    /// is at most the nearest neighbour's (each move shortens it), with the stats' travel
+    /// that of the order returned.
+    #[test]
+    fn block_2opt_never_lengthens_the_nearest_neighbour_travel() {
+        let n = MAX_2OPT_BLOCK + 300;
+        // Short rows on a jittered grid, given in a scattered order.
+        let paths: Vec<Path> = (0..n)
+            .map(|k| {
+                let q = (k * 37) % n;
+                let (x, y) = ((q % 40) as f64 * 3.0, (q / 40) as f64 * 2.0);
+                let dx = ((k * 7919) % 13) as f64 * 0.05;
+                Path::polyline(
+                    &[DVec2::new(x + dx, y), DVec2::new(x + dx + 1.0, y + 0.3)],
+                    false,
+                )
+            })
+            .collect();
+        let boxes: Vec<(DVec2, DVec2)> =
+            paths.iter().map(|p| vertex_box(&p.flatten(1e-3))).collect();
+        let before = vec![Vec::new(); n];
+        let nn = nearest_neighbour(&paths, &before, &boxes, DVec2::ZERO, 1e-3);
+        let nn_travel = travel(
+            &nn.iter().map(|(_, p)| p.clone()).collect::<Vec<_>>(),
+            DVec2::ZERO,
+        );
+        let (o, stats) = order_paths(&paths, DVec2::ZERO, 1e-3);
+        let mut idx: Vec<usize> = o.iter().map(|(i, _)| *i).collect();
+        idx.sort_unstable();
+        assert_eq!(idx, (0..n).collect::<Vec<_>>());
+        assert!(
+            stats.travel_ordered <= nn_travel + 1e-9,
+            "{} > {nn_travel}",
+            stats.travel_ordered
+        );
+        let o: Vec<Path> = o.into_iter().map(|(_, p)| p).collect();
+        assert!((stats.travel_ordered - travel(&o, DVec2::ZERO)).abs() < 1e-9);
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The precedence found through the R-tree is every pair a brute-force test of all
+        /// pairs finds (vertices inside by the plain even-odd rule), in increasing order:
+        /// squares of random sizes (equal ones too) and open lines.
+        #[test]
+        fn precedence_is_every_nested_pair(
+            items in proptest::collection::vec(
+                (0.0f64..60.0, 0.0f64..60.0, prop_oneof![Just(4.0), 0.5f64..30.0], 0u8..4),
+                1..40,
+            )
+        ) {
+            let paths: Vec<Path> = items
+                .iter()
+                .map(|&(x, y, s, kind)| {
+                    let c = DVec2::new(x, y);
+                    if kind == 0 {
+                        Path::polyline(&[c, c + DVec2::new(s * 0.3, s * 0.1)], false)
+                    } else {
+                        square(c, s)
+                    }
+                })
+                .collect();
+            let got = precedence(&paths, 1e-3);
+            for (j, pj) in paths.iter().enumerate() {
+                let want: Vec<usize> = (0..paths.len())
+                    .filter(|&i| i != j && pj.closed && contains(pj, &paths[i]))
+                    .collect();
+                prop_assert_eq!(&got[j], &want, "path {}", j);
+            }
+        }
+
         #[test]
         fn ordering_is_a_permutation_respecting_precedence(
             centers in proptest::collection::vec((0.0f64..200.0, 0.0f64..200.0), 1..25)

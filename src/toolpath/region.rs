@@ -979,6 +979,69 @@ mod tests {
         assert!((s.area() - 36.0).abs() < 1e-9);
     }
 
+    /// Nesting found through the box R-tree is the nesting cavalier's own winding number
+    /// gives asked of every other contour: circles (two half-turn arcs, or one arc of more
+    /// than a half turn and a short one) and squares, nested up to four deep and apart,
+    /// given in either orientation.
+    #[test]
+    fn nesting_through_boxes_is_the_nesting_of_all_pairs() {
+        use cavalier_contours::polyline::PlineSourceMut;
+        let circle = |x: f64, y: f64, r: f64, major: bool| {
+            let mut pl = Polyline::new_closed();
+            if major {
+                // 300° then 60°: bulges tan(75°) and tan(15°).
+                let a = 300f64.to_radians();
+                pl.add(x + r, y, (a / 4.0).tan());
+                pl.add(
+                    x + r * a.cos(),
+                    y + r * a.sin(),
+                    ((2.0 * PI - a) / 4.0).tan(),
+                );
+            } else {
+                pl.add(x + r, y, 1.0);
+                pl.add(x - r, y, 1.0);
+            }
+            pl
+        };
+        // Cells 7 apart with up to three nested contours each, all in one big square.
+        let mut contours = vec![square(-10.0, -10.0, 80.0)];
+        for k in 0..40 {
+            let (x, y) = ((k % 8) as f64 * 7.0, (k / 8) as f64 * 7.0);
+            let mut cell = vec![circle(x, y, 3.0, k % 2 == 0)];
+            match k % 3 {
+                0 => cell.push(square(x - 1.0, y - 1.0, 2.0)),
+                1 => {
+                    cell.push(circle(x + 0.2, y, 1.5, false));
+                    cell.push(square(x - 0.5, y - 0.2, 0.4));
+                }
+                _ => {}
+            }
+            for (m, mut c) in cell.into_iter().enumerate() {
+                if (k + m) % 3 == 0 {
+                    c.invert_direction_mut();
+                }
+                contours.push(c);
+            }
+        }
+        let want: Vec<bool> = contours
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let v = c.iter_vertexes().next().expect("a vertex");
+                let p = cavalier_contours::core::math::Vector2::new(v.x, v.y);
+                let depth = (0..contours.len())
+                    .filter(|&j| j != i && contours[j].winding_number(p) != 0)
+                    .count();
+                depth % 2 == 0
+            })
+            .collect();
+        let r = Region::from_contours(contours);
+        let got: Vec<bool> = r.contours.iter().map(|c| c.area() > 0.0).collect();
+        assert_eq!(got, want);
+        assert!(want.iter().any(|&w| !w) && want.iter().filter(|&&w| w).count() > 1);
+        assert!(r.well_nested());
+    }
+
     #[test]
     fn nesting_orients_holes_clockwise() {
         // Given both clockwise, the inner one becomes a hole.
