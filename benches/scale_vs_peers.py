@@ -7,11 +7,15 @@ whole process (wall and CPU time, median of --runs) with its peak memory (max RS
 - drawings: an SVG of N hairline paths (random cubic strokes, 0.1 mm wide, 38 x 38 cm
   page), `skinpath build D.svg --machine grbl-laser` (import, line cuts, ordering, check)
   beside `vpype read D.svg linemerge linesort gwrite` (vpype-gcode's `gcode` profile);
-- text: N characters of sans text at 5 mm (16 lines for 489), `skinpath build T.toml
-  --machine grbl-laser --fit 380x380` (skin, union, arcs, ordering, check) beside
-  `vpype text` of the same characters (Hershey "futural", centre lines only: no outline,
-  no union) linemerge linesort gwrite;
-- hatch: the hairpin of examples/loop.toml filled at 0.1, 0.05 and 0.02 mm
+- text: N characters of sans text at 5 mm (lines of about 30 characters, 16 lines for
+  489), `skinpath build T.toml --machine BIG.toml` (skin, union, arcs, ordering, check) on
+  grbl-laser with a 2 x 2 m work area (written next to the inputs), without `--fit`: the
+  glyphs keep their size, so doubling the characters doubles the same work (`--fit` would
+  shrink the glyphs of a longer text and build twice), beside `vpype text` of the same
+  characters (Hershey "futural", centre lines only: no outline, no union) linemerge
+  linesort gwrite;
+- hatch: the hairpin of examples/loop.toml filled at 0.04, 0.02 and 0.01 mm (doubling the
+  rows)
   (`skinpath build --machine grbl-laser`) beside a plain scanline hatch of the same
   polygon in shapely (GEOS `intersection` of the lines with the polygon; the polygon is
   skinpath's outline of the hairpin, read from `skinpath outline -o out.json`).
@@ -112,6 +116,8 @@ print(len(getattr(cut, "geoms", [cut])))
 
 def row(name, work, ours, peer):
     def cell(t):
+        if isinstance(t, str):
+            return t
         return "failed" if t is None else f"{t[0]:.3f} / {t[1]:.3f} / {t[2]:.0f}"
 
     return f"| {name} | {work} | {cell(ours)} | {cell(peer)} |"
@@ -133,8 +139,8 @@ def main():
     ap.add_argument("--python", default=sys.executable, help="a Python with shapely")
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--paths", default="2500,5000,10000")
-    ap.add_argument("--chars", default="244,489,978,1956")
-    ap.add_argument("--spacings", default="0.1,0.05,0.02")
+    ap.add_argument("--chars", default="489,978,1956")
+    ap.add_argument("--spacings", default="0.04,0.02,0.01")
     ap.add_argument("--loop", default="examples/loop.toml")
     a = ap.parse_args()
     sp = os.path.abspath(a.skinpath)
@@ -152,6 +158,12 @@ def main():
         series.append((n, ours))
     notes += ratios("paths", series)
 
+    big = os.path.join(tmp, "grbl-laser-big.toml")
+    machines = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "machines")
+    with open(os.path.join(machines, "grbl-laser.toml")) as f:
+        profile = f.read().replace("[0.0, 400.0]", "[0.0, 2000.0]")
+    with open(big, "w") as f:
+        f.write(profile.replace('name = "grbl-laser"', 'name = "grbl-laser-big"'))
     series = []
     for n in map(int, a.chars.split(",")):
         body = text(n, max(1, round(16 * n / 489)))
@@ -159,11 +171,16 @@ def main():
         with open(toml, "w") as f:
             f.write('version = 1\nunits = "mm"\n\n[[text]]\nname = "t"\n')
             f.write(f'text = """{body}"""\nheight = 5.0\nwidth = 0.5\n')
-        ours = timed([sp, "build", toml, "--machine", "grbl-laser", "--fit", "380x380", "-o", os.path.join(tmp, "t.gcode")], a.runs)
+        ours = timed([sp, "build", toml, "--machine", big, "-o", os.path.join(tmp, "t.gcode")], a.runs)
         peer = timed([a.vpype, "text", "-s", "7mm", body.replace("\n", " "), "pagesize", "380mmx380mm", "linemerge", "linesort", "gwrite", "-p", "gcode", os.path.join(tmp, "vt.gcode")], a.runs)
         lines.append(row("text (vpype text)", f"{n} chars", ours, peer))
         series.append((n, ours))
     notes += ratios("chars", series)
+    # The issue's own case: 489 characters fitted to 380 x 380 mm on grbl-laser (two builds).
+    toml = os.path.join(tmp, "t489.toml")
+    if os.path.exists(toml):
+        fit = timed([sp, "build", toml, "--machine", "grbl-laser", "--fit", "380x380", "-o", os.path.join(tmp, "t.gcode")], a.runs)
+        lines.append(row("text, `--fit 380x380` on grbl-laser", "489 chars", fit, "(no peer run)"))
 
     outline = os.path.join(tmp, "loop.json")
     subprocess.run([sp, "outline", a.loop, "-o", outline], check=True, stderr=subprocess.DEVNULL)

@@ -2,29 +2,37 @@
 //! travel by nearest neighbour (with the entry point of each closed contour chosen as its
 //! point nearest to the tool) improved by 2-opt moves that respect the precedence.
 //!
-//! Complexity: precedence O(n² + k · m) for n contours of m points (a box test per pair,
-//! containment tests only for the k pairs whose boxes nest); nearest neighbour over an
+//! Complexity: precedence O(n log n + k · m) for n contours of m points (an R-tree of the
+//! boxes finds the k pairs whose boxes nest; only those get containment tests); nearest
+//! neighbour over an
 //! R-tree of the boxes of the paths free to go (those whose inner paths are done), each
 //! step visiting the paths in order of box distance until the box is farther than the best
 //! entry found: O(n log n + n · c · m) for c paths visited a step (a few for a hatch's rows
 //! or a drawing's strokes; all n for paths nested like onion rings around the tool); 2-opt
-//! O(n²) per sweep, at most `MAX_2OPT_SWEEPS` sweeps and at most `MAX_2OPT_WORK` pair
-//! tests in all, and only up to [`MAX_NEAREST_PATHS`] paths: a fine hatch fill or a large
-//! drawing is ordered by nearest neighbour alone. No loop here refines: each ends after a
+//! over blocks of at most [`MAX_2OPT_BLOCK`] paths, O(n · MAX_2OPT_BLOCK) per sweep (O(n²)
+//! up to that many paths), at most `MAX_2OPT_SWEEPS` sweeps and at most `MAX_2OPT_WORK`
+//! pair tests in all, and only up to [`MAX_NEAREST_PATHS`] paths: a fine hatch fill or a
+//! large drawing is ordered by nearest neighbour alone. No loop here refines: each ends after a
 //! number of steps fixed by n and these constants.
 
 use crate::geom::slabs::PolygonWinding;
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
-use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{AABB, RTree};
 
-/// Upper bound on 2-opt improvement sweeps (each O(n²)); improvement stalls far earlier.
+/// Upper bound on 2-opt improvement sweeps; improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
 
 /// Upper bound on 2-opt pair tests over all sweeps (≈ 1 s of work): a sweep over m paths
-/// tests m(m − 1)/2 pairs, so the number of sweeps is also limited to
-/// `MAX_2OPT_WORK / (m(m − 1)/2)`; with more than about 20 000 paths 2-opt is skipped.
+/// tests Σₐ (min(B, m − a) − 1) pairs for blocks of at most B = [`MAX_2OPT_BLOCK`] paths
+/// (m(m − 1)/2 up to B paths), so the number of sweeps is also limited to
+/// `MAX_2OPT_WORK` divided by that.
 const MAX_2OPT_WORK: usize = 200_000_000;
+
+/// Longest block of consecutive paths a 2-opt move reverses: a sweep tests at most this
+/// many pairs per path, O(n) per sweep instead of O(n²). Jobs of up to this many paths
+/// see every pair as before.
+pub const MAX_2OPT_BLOCK: usize = 1_000;
 
 /// Most paths whose nearest-neighbour order is improved by 2-opt ([`order_paths`]); more
 /// are ordered by nearest neighbour alone (a 2-opt sweep is O(n²)).
@@ -52,34 +60,42 @@ pub struct OrderStats {
     pub travel_ordered: f64,
 }
 
-/// `before[j]` lists the paths that must come before path j: those inside closed path j.
-/// A path whose vertices all lie inside polygon j also lies inside j's vertex box, so
-/// pairs whose boxes do not nest are skipped without changing the result; the vertices of
-/// the others are tested through a slab index of polygon j ([`PolygonWinding`], the exact
-/// even-odd test in O(1 + k) per vertex).
+/// `before[j]` lists the paths that must come before path j: those inside closed path j,
+/// in increasing order. A path whose vertices all lie inside polygon j also lies inside j's
+/// vertex box, so only the paths whose boxes lie in j's box are tested (found through an
+/// R-tree of the boxes); their vertices are tested through a slab index of polygon j
+/// ([`PolygonWinding`], the exact even-odd test in O(1 + k) per vertex).
 pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
     let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
     let boxes: Vec<(DVec2, DVec2)> = polys.iter().map(|p| vertex_box(p)).collect();
-    let nests = |i: usize, j: usize| {
-        let (a, b) = (&boxes[i], &boxes[j]);
-        a.0.x >= b.0.x && a.0.y >= b.0.y && a.1.x <= b.1.x && a.1.y <= b.1.y
-    };
+    let rect = |(lo, hi): (DVec2, DVec2)| Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]);
+    // The boxes of the non-empty paths; the paths whose boxes lie in box j (edges included)
+    // are the candidates inside path j.
+    let tree: RTree<BoxEntry> = RTree::bulk_load(
+        (0..paths.len())
+            .filter(|&i| !polys[i].is_empty())
+            .map(|i| BoxEntry::new(rect(boxes[i]), i))
+            .collect(),
+    );
     (0..paths.len())
         .map(|j| {
             if !paths[j].closed || polys[j].len() < 3 {
                 return Vec::new();
             }
-            // Built at the first candidate that nests: most closed paths hold none.
-            let mut index: Option<PolygonWinding<'_>> = None;
-            (0..paths.len())
-                .filter(|&i| {
-                    if i == j || polys[i].is_empty() || !nests(i, j) {
-                        return false;
-                    }
-                    let w = index.get_or_insert_with(|| PolygonWinding::new(&polys[j]));
-                    polys[i].iter().all(|&p| w.inside_even_odd(p))
-                })
-                .collect()
+            let envelope =
+                AABB::from_corners([boxes[j].0.x, boxes[j].0.y], [boxes[j].1.x, boxes[j].1.y]);
+            let mut inner: Vec<usize> = tree
+                .locate_in_envelope(envelope)
+                .map(|e| e.data)
+                .filter(|&i| i != j)
+                .collect();
+            if inner.is_empty() {
+                return inner;
+            }
+            inner.sort_unstable();
+            let w = PolygonWinding::new(&polys[j]);
+            inner.retain(|&i| polys[i].iter().all(|&p| w.inside_even_odd(p)));
+            inner
         })
         .collect()
 }
@@ -309,15 +325,17 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
         );
     }
     let mut order = order;
-    // 2-opt: reverse order[a..=b] when it shortens travel and no precedence pair lies inside.
-    let pos_of = |order: &[(usize, Path)]| {
-        let mut v = vec![0usize; n];
-        for (k, (i, _)) in order.iter().enumerate() {
-            v[*i] = k;
-        }
-        v
-    };
-    let pairs_per_sweep = (order.len() * order.len().saturating_sub(1) / 2).max(1);
+    // 2-opt: reverse order[a..=b] (at most MAX_2OPT_BLOCK paths) when it shortens travel and
+    // no precedence pair lies inside. `p` is the position of each path in `order`.
+    let mut p = vec![0usize; n];
+    for (k, (i, _)) in order.iter().enumerate() {
+        p[*i] = k;
+    }
+    let m = order.len();
+    let pairs_per_sweep = (0..m)
+        .map(|a| MAX_2OPT_BLOCK.min(m - a) - 1)
+        .sum::<usize>()
+        .max(1);
     let sweeps = MAX_2OPT_SWEEPS.min(MAX_2OPT_WORK / pairs_per_sweep);
     // Start, end and closedness of each path in `order`, kept in step with it: the pair
     // tests read these instead of each path's segments.
@@ -332,7 +350,6 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
     // open paths, its start for closed ones) and left at its first path's reversed end.
     let rev_start = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { s } else { e };
     let rev_end = |&(s, e, closed): &(DVec2, DVec2, bool)| if closed { e } else { s };
-    let m = order.len();
     // Travel from each path's end to the next path's start (0 after the last), kept in step
     // with `at`: the part of a pair's old travel that does not depend on the block's start.
     let gap_at = |at: &[(DVec2, DVec2, bool)], b: usize| {
@@ -348,7 +365,7 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
         for a in 0..m {
             let prev_end = if a == 0 { home } else { at[a - 1].1 };
             let mut head = prev_end.distance(at[a].0);
-            for b in a + 1..m {
+            for b in a + 1..m.min(a + MAX_2OPT_BLOCK) {
                 let old = head + gap[b];
                 // new = enter + leave with leave ≥ 0, so new + 1e-12 ≥ enter + 1e-12 in
                 // floating point as well: a block that cannot be entered cheaply enough is
@@ -360,13 +377,15 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
                 let next_start = (b + 1 < m).then(|| at[b + 1].0);
                 let new = enter + next_start.map_or(0.0, |s| rev_end(&at[a]).distance(s));
                 if new + 1e-12 < old {
-                    let p = pos_of(&order);
                     let blocked = order[a..=b]
                         .iter()
                         .any(|(j, _)| before[*j].iter().any(|&k| p[k] >= a && p[k] <= b));
                     if !blocked {
                         order[a..=b].reverse();
                         at[a..=b].reverse();
+                        for (k, (i, _)) in order.iter().enumerate().take(b + 1).skip(a) {
+                            p[*i] = k;
+                        }
                         for (item, cached) in order[a..=b].iter_mut().zip(&mut at[a..=b]) {
                             if !item.1.closed {
                                 item.1 = item.1.reversed();
@@ -491,8 +510,78 @@ mod tests {
         assert_eq!(r.max_gap(), 0.0);
     }
 
+    /// More paths than MAX_2OPT_BLOCK: 2-opt over blocks keeps a permutation whose travel
+    /// is at most the nearest neighbour's (each move shortens it), with the stats' travel
+    /// that of the order returned.
+    #[test]
+    fn block_2opt_never_lengthens_the_nearest_neighbour_travel() {
+        let n = MAX_2OPT_BLOCK + 300;
+        // Short rows on a jittered grid, given in a scattered order.
+        let paths: Vec<Path> = (0..n)
+            .map(|k| {
+                let q = (k * 37) % n;
+                let (x, y) = ((q % 40) as f64 * 3.0, (q / 40) as f64 * 2.0);
+                let dx = ((k * 7919) % 13) as f64 * 0.05;
+                Path::polyline(
+                    &[DVec2::new(x + dx, y), DVec2::new(x + dx + 1.0, y + 0.3)],
+                    false,
+                )
+            })
+            .collect();
+        let boxes: Vec<(DVec2, DVec2)> =
+            paths.iter().map(|p| vertex_box(&p.flatten(1e-3))).collect();
+        let before = vec![Vec::new(); n];
+        let nn = nearest_neighbour(&paths, &before, &boxes, DVec2::ZERO, 1e-3);
+        let nn_travel = travel(
+            &nn.iter().map(|(_, p)| p.clone()).collect::<Vec<_>>(),
+            DVec2::ZERO,
+        );
+        let (o, stats) = order_paths(&paths, DVec2::ZERO, 1e-3);
+        let mut idx: Vec<usize> = o.iter().map(|(i, _)| *i).collect();
+        idx.sort_unstable();
+        assert_eq!(idx, (0..n).collect::<Vec<_>>());
+        assert!(
+            stats.travel_ordered <= nn_travel + 1e-9,
+            "{} > {nn_travel}",
+            stats.travel_ordered
+        );
+        let o: Vec<Path> = o.into_iter().map(|(_, p)| p).collect();
+        assert!((stats.travel_ordered - travel(&o, DVec2::ZERO)).abs() < 1e-9);
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The precedence found through the R-tree is every pair a brute-force test of all
+        /// pairs finds (vertices inside by the plain even-odd rule), in increasing order:
+        /// squares of random sizes (equal ones too) and open lines.
+        #[test]
+        fn precedence_is_every_nested_pair(
+            items in proptest::collection::vec(
+                (0.0f64..60.0, 0.0f64..60.0, prop_oneof![Just(4.0), 0.5f64..30.0], 0u8..4),
+                1..40,
+            )
+        ) {
+            let paths: Vec<Path> = items
+                .iter()
+                .map(|&(x, y, s, kind)| {
+                    let c = DVec2::new(x, y);
+                    if kind == 0 {
+                        Path::polyline(&[c, c + DVec2::new(s * 0.3, s * 0.1)], false)
+                    } else {
+                        square(c, s)
+                    }
+                })
+                .collect();
+            let got = precedence(&paths, 1e-3);
+            for (j, pj) in paths.iter().enumerate() {
+                let want: Vec<usize> = (0..paths.len())
+                    .filter(|&i| i != j && pj.closed && contains(pj, &paths[i]))
+                    .collect();
+                prop_assert_eq!(&got[j], &want, "path {}", j);
+            }
+        }
+
         #[test]
         fn ordering_is_a_permutation_respecting_precedence(
             centers in proptest::collection::vec((0.0f64..200.0, 0.0f64..200.0), 1..25)

@@ -18,6 +18,8 @@ use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
 use crate::skin::intersect::{path_self_intersections, paths_intersections};
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
 use cavalier_contours::shape_algorithms::{Shape, ShapeOffsetOptions};
+use rstar::RTree;
+use rstar::primitives::{GeomWithData, Rectangle};
 
 /// Closed contours of a region: counter-clockwise material, clockwise holes.
 #[derive(Clone, Debug, Default)]
@@ -407,21 +409,61 @@ pub(crate) fn degenerate(pl: &Polyline<f64>, eps: f64) -> bool {
 }
 
 /// Winding numbers of contours about many points, one [`WindingIndex`] per contour (a
-/// point outside a contour's height range costs one comparison). The numbers are
-/// cavalier's `winding_number`. No box prefilter: cavalier's extents miss the extremes of
-/// arcs sweeping more than a half turn.
-struct Windings(Vec<WindingIndex>);
+/// point outside a contour's height range costs one comparison), and an R-tree of the
+/// contours' boxes ([`WindingIndex::bounds`], arcs' extremes included: cavalier's extents
+/// miss those of arcs sweeping more than a half turn), outside which a contour winds 0
+/// times: a point is asked of the contours whose box holds it, O(log n + c) for c such
+/// contours instead of O(n).
+struct Windings {
+    each: Vec<WindingIndex>,
+    /// Boxes of the contours with finite boxes (none for a contour without segments).
+    tree: RTree<GeomWithData<Rectangle<[f64; 2]>, usize>>,
+    /// Contours whose box is not finite: asked about every point.
+    everywhere: Vec<usize>,
+}
 
 impl Windings {
     fn new(contours: &[Polyline<f64>]) -> Windings {
-        Windings(contours.iter().map(WindingIndex::new).collect())
+        let each: Vec<WindingIndex> = contours.iter().map(WindingIndex::new).collect();
+        let mut boxes = Vec::new();
+        let mut everywhere = Vec::new();
+        for (k, w) in each.iter().enumerate() {
+            match w.bounds() {
+                Some((lo, hi)) if lo.iter().chain(&hi).all(|c| c.is_finite()) => {
+                    boxes.push(GeomWithData::new(Rectangle::from_corners(lo, hi), k));
+                }
+                Some(_) => everywhere.push(k),
+                None => {}
+            }
+        }
+        Windings {
+            each,
+            tree: RTree::bulk_load(boxes),
+            everywhere,
+        }
+    }
+
+    /// The contours that may wind about (x, y) (every other winds 0 times), in no order.
+    fn around(&self, x: f64, y: f64) -> impl Iterator<Item = usize> + '_ {
+        self.tree
+            .locate_all_at_point([x, y])
+            .map(|e| e.data)
+            .chain(self.everywhere.iter().copied())
     }
 
     /// The winding number of contour `k` about (x, y).
     fn of(&self, k: usize, x: f64, y: f64) -> i32 {
-        self.0.get(k).map_or(0, |w| {
+        self.each.get(k).map_or(0, |w| {
             w.winding(cavalier_contours::core::math::Vector2::new(x, y))
         })
+    }
+
+    /// The total winding number of the contours other than `skip` about (x, y).
+    fn total(&self, x: f64, y: f64, skip: Option<usize>) -> i32 {
+        self.around(x, y)
+            .filter(|&k| Some(k) != skip)
+            .map(|k| self.of(k, x, y))
+            .sum()
     }
 }
 
@@ -444,7 +486,8 @@ impl Region {
                 let Some(v) = c.iter_vertexes().next() else {
                     return 0;
                 };
-                (0..contours.len())
+                windings
+                    .around(v.x, v.y)
                     .filter(|&j| j != i && windings.of(j, v.x, v.y) != 0)
                     .count()
             })
@@ -664,11 +707,7 @@ impl Region {
     /// O(1 + k) per point for the k segments in its slab, instead of O(V·W).
     fn winds_every_sample(&self, others: &[Region], ok: impl Fn(i32) -> bool) -> bool {
         let windings = Windings::new(&self.contours);
-        let passes = |x: f64, y: f64| {
-            ok((0..self.contours.len())
-                .map(|k| windings.of(k, x, y))
-                .sum::<i32>())
-        };
+        let passes = |x: f64, y: f64| ok(windings.total(x, y, None));
         others
             .iter()
             .flat_map(|o| &o.contours)
@@ -688,10 +727,7 @@ impl Region {
             let Some(v) = c.iter_vertexes().next() else {
                 return true;
             };
-            let others: i32 = (0..self.contours.len())
-                .filter(|&j| j != i)
-                .map(|j| windings.of(j, v.x, v.y))
-                .sum();
+            let others = windings.total(v.x, v.y, Some(i));
             others == if c.area() > 0.0 { 0 } else { 1 }
         })
     }
@@ -941,6 +977,69 @@ mod tests {
         // Inward: (a − 2d)².
         let s = r.offset(-2.0, 1e-6);
         assert!((s.area() - 36.0).abs() < 1e-9);
+    }
+
+    /// Nesting found through the box R-tree is the nesting cavalier's own winding number
+    /// gives asked of every other contour: circles (two half-turn arcs, or one arc of more
+    /// than a half turn and a short one) and squares, nested up to four deep and apart,
+    /// given in either orientation.
+    #[test]
+    fn nesting_through_boxes_is_the_nesting_of_all_pairs() {
+        use cavalier_contours::polyline::PlineSourceMut;
+        let circle = |x: f64, y: f64, r: f64, major: bool| {
+            let mut pl = Polyline::new_closed();
+            if major {
+                // 300° then 60°: bulges tan(75°) and tan(15°).
+                let a = 300f64.to_radians();
+                pl.add(x + r, y, (a / 4.0).tan());
+                pl.add(
+                    x + r * a.cos(),
+                    y + r * a.sin(),
+                    ((2.0 * PI - a) / 4.0).tan(),
+                );
+            } else {
+                pl.add(x + r, y, 1.0);
+                pl.add(x - r, y, 1.0);
+            }
+            pl
+        };
+        // Cells 7 apart with up to three nested contours each, all in one big square.
+        let mut contours = vec![square(-10.0, -10.0, 80.0)];
+        for k in 0..40 {
+            let (x, y) = ((k % 8) as f64 * 7.0, (k / 8) as f64 * 7.0);
+            let mut cell = vec![circle(x, y, 3.0, k % 2 == 0)];
+            match k % 3 {
+                0 => cell.push(square(x - 1.0, y - 1.0, 2.0)),
+                1 => {
+                    cell.push(circle(x + 0.2, y, 1.5, false));
+                    cell.push(square(x - 0.5, y - 0.2, 0.4));
+                }
+                _ => {}
+            }
+            for (m, mut c) in cell.into_iter().enumerate() {
+                if (k + m) % 3 == 0 {
+                    c.invert_direction_mut();
+                }
+                contours.push(c);
+            }
+        }
+        let want: Vec<bool> = contours
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let v = c.iter_vertexes().next().expect("a vertex");
+                let p = cavalier_contours::core::math::Vector2::new(v.x, v.y);
+                let depth = (0..contours.len())
+                    .filter(|&j| j != i && contours[j].winding_number(p) != 0)
+                    .count();
+                depth % 2 == 0
+            })
+            .collect();
+        let r = Region::from_contours(contours);
+        let got: Vec<bool> = r.contours.iter().map(|c| c.area() > 0.0).collect();
+        assert_eq!(got, want);
+        assert!(want.iter().any(|&w| !w) && want.iter().filter(|&&w| w).count() > 1);
+        assert!(r.well_nested());
     }
 
     #[test]

@@ -129,6 +129,21 @@ fn arc_height_range(v1: PlineVertex<f64>, v2: PlineVertex<f64>) -> (f64, f64, f6
     (lo, hi, if r.is_finite() { r } else { 0.0 })
 }
 
+/// The lowest and highest x of the arc `v1`→`v2`: [`arc_height_range`] of the arc turned a
+/// quarter turn counter-clockwise, (x, y) ↦ (−y, x), which is exact in floating point and
+/// keeps the sense (and so the bulge) of the arc; its heights are the original x.
+fn arc_width_range(v1: PlineVertex<f64>, v2: PlineVertex<f64>) -> (f64, f64, f64) {
+    let turn = |v: PlineVertex<f64>| PlineVertex::new(-v.y, v.x, v.bulge);
+    arc_height_range(turn(v1), turn(v2))
+}
+
+/// The range `lo..=hi` (with the arc's radius `r`, 0 for a line) widened by
+/// [`RANGE_WIDENING`]·(hi − lo + r + |lo| + |hi|).
+fn widened((lo, hi, r): (f64, f64, f64)) -> (f64, f64) {
+    let w = RANGE_WIDENING * (hi - lo + r + lo.abs() + hi.abs());
+    (lo - w, hi + w)
+}
+
 /// The segments of one closed polyline listed by horizontal slab (see the module docs).
 #[derive(Clone, Debug)]
 pub struct WindingIndex {
@@ -136,6 +151,9 @@ pub struct WindingIndex {
     segs: Vec<(PlineVertex<f64>, PlineVertex<f64>)>,
     /// Segment numbers by slab of their widened height ranges.
     slabs: Slabs,
+    /// The box of the segments' widened x and height ranges (arcs' extremes included):
+    /// lowest corner, highest corner; None without segments.
+    bounds: Option<([f64; 2], [f64; 2])>,
 }
 
 impl WindingIndex {
@@ -150,19 +168,58 @@ impl WindingIndex {
         let ranges: Vec<(f64, f64)> = segs
             .iter()
             .map(|&(v1, v2)| {
-                let (lo, hi, r) = if v1.bulge_is_zero() {
+                widened(if v1.bulge_is_zero() {
                     (v1.y.min(v2.y), v1.y.max(v2.y), 0.0)
                 } else {
                     arc_height_range(v1, v2)
-                };
-                let w = RANGE_WIDENING * (hi - lo + r + lo.abs() + hi.abs());
-                (lo - w, hi + w)
+                })
             })
             .collect();
+        let widths = segs.iter().map(|&(v1, v2)| {
+            widened(if v1.bulge_is_zero() {
+                (v1.x.min(v2.x), v1.x.max(v2.x), 0.0)
+            } else {
+                arc_width_range(v1, v2)
+            })
+        });
+        let finite = segs
+            .iter()
+            .all(|(v, _)| v.x.is_finite() && v.y.is_finite() && v.bulge.is_finite());
+        let bounds = widths
+            .zip(&ranges)
+            .fold(None, |acc, ((x0, x1), &(y0, y1))| {
+                let (lo, hi) = acc.unwrap_or(([x0, y0], [x1, y1]));
+                Some((
+                    [lo[0].min(x0), lo[1].min(y0)],
+                    [hi[0].max(x1), hi[1].max(y1)],
+                ))
+            });
+        // Non-finite coordinates: no box is claimed.
+        let bounds = bounds.map(|b| {
+            if finite && b.0.iter().chain(&b.1).all(|c| c.is_finite()) {
+                b
+            } else {
+                ([f64::NEG_INFINITY; 2], [f64::INFINITY; 2])
+            }
+        });
         WindingIndex {
             segs,
             slabs: Slabs::new(&ranges, MAX_ENTRIES_PER_SEGMENT),
+            bounds,
         }
+    }
+
+    /// A box outside which the polyline winds 0 times about every point (None: it winds 0
+    /// times about every point; an infinite box when a coordinate is not finite): the
+    /// segments' x and height ranges, arcs' extremes included, each widened by
+    /// [`RANGE_WIDENING`]. Below or above it no term is non-zero (the slabs); left or right
+    /// of it every term has its value for a point at infinity on that side: the chord tests
+    /// `is_left` have a true cross product of at least the widening times the chord's
+    /// height, far above their rounding, and a point beyond the arc's own extent is outside
+    /// its circular segment; those values sum to 0 since a closed polyline crosses every
+    /// height upward as often as downward.
+    pub fn bounds(&self) -> Option<([f64; 2], [f64; 2])> {
+        self.bounds
     }
 
     /// The winding number of the polyline about `p`: the value cavalier_contours'
@@ -327,6 +384,66 @@ mod tests {
             let w = WindingIndex::new(&pl);
             for p in probes(&pl) {
                 prop_assert_eq!(w.winding(p), pl.winding_number(p), "at {:?}", p);
+            }
+        }
+
+        /// Points just outside the box of `bounds` (a hair beyond each side, and at the
+        /// heights and widths of every vertex and arc midpoint): cavalier winds 0 times
+        /// about each. The box holds every vertex and every point sampled along the arcs.
+        #[test]
+        fn bounds_hold_every_winding(
+            pts in prop::collection::vec((-10i32..10, -10i32..10), 3..24),
+            bulges in prop::collection::vec(prop_oneof![Just(0.0), -1.9f64..1.9], 1..6),
+            scale in prop_oneof![Just(1.0), 1e-3f64..1e3],
+            shift in (-1e3f64..1e3, -1e3f64..1e3),
+        ) {
+            let pts: Vec<(f64, f64)> = pts
+                .iter()
+                .map(|&(x, y)| (x as f64 * scale + shift.0, y as f64 * scale + shift.1))
+                .collect();
+            let pl = pline(&pts, &bulges);
+            let (lo, hi) = WindingIndex::new(&pl).bounds().expect("a closed polyline");
+            let inside = |p: Vector2<f64>| {
+                lo[0] <= p.x && p.x <= hi[0] && lo[1] <= p.y && p.y <= hi[1]
+            };
+            // Along every arc (cavalier's own arc points), and the vertices.
+            for (v1, v2) in pl.iter_segments() {
+                prop_assert!(inside(v1.pos()));
+                if !v1.bulge_is_zero() {
+                    let (_, c) = cavalier_contours::polyline::seg_arc_radius_and_center(v1, v2);
+                    let a0 = (v1.y - c.y).atan2(v1.x - c.x);
+                    let sweep = 4.0 * v1.bulge.atan();
+                    let r = (v1.pos() - c).length();
+                    for i in 0..=200 {
+                        let a = a0 + sweep * i as f64 / 200.0;
+                        let q = Vector2::new(c.x + r * a.cos(), c.y + r * a.sin());
+                        // A sample may round a few ulps of r beyond the exact extreme.
+                        let slack = 1e-12 * (r + q.x.abs() + q.y.abs());
+                        prop_assert!(
+                            lo[0] <= q.x + slack && q.x - slack <= hi[0]
+                                && lo[1] <= q.y + slack && q.y - slack <= hi[1],
+                            "arc point {:?} outside {:?}..{:?}", q, lo, hi
+                        );
+                    }
+                }
+            }
+            let mut heights: Vec<f64> = pl.iter_vertexes().map(|v| v.y).collect();
+            let mut widths: Vec<f64> = pl.iter_vertexes().map(|v| v.x).collect();
+            heights.extend([lo[1], hi[1], 0.5 * (lo[1] + hi[1])]);
+            widths.extend([lo[0], hi[0], 0.5 * (lo[0] + hi[0])]);
+            let beyond = |a: f64, up: bool| {
+                let step = 1e-12 * (1.0 + a.abs());
+                if up { a + step } else { a - step }
+            };
+            for &y in &heights {
+                for q in [Vector2::new(beyond(lo[0], false), y), Vector2::new(beyond(hi[0], true), y)] {
+                    prop_assert_eq!(pl.winding_number(q), 0, "at {:?}", q);
+                }
+            }
+            for &x in &widths {
+                for q in [Vector2::new(x, beyond(lo[1], false)), Vector2::new(x, beyond(hi[1], true))] {
+                    prop_assert_eq!(pl.winding_number(q), 0, "at {:?}", q);
+                }
             }
         }
     }
