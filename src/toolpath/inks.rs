@@ -69,6 +69,9 @@ pub struct Boundary {
 
 type Boxed = GeomWithData<Rectangle<[f64; 2]>, usize>;
 
+/// A segment's box with its (item, contour, index of its first point).
+type BoxedSegment = GeomWithData<Rectangle<[f64; 2]>, (usize, usize, usize)>;
+
 fn rect(lo: DVec2, hi: DVec2) -> Rectangle<[f64; 2]> {
     Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y])
 }
@@ -81,7 +84,7 @@ struct Inks<'a> {
     /// Per item, per contour: its winding index.
     windings: Vec<Vec<WindingIndex>>,
     /// Every segment (item, contour, index of its first point) by its box.
-    segments: RTree<GeomWithData<Rectangle<[f64; 2]>, (usize, usize, usize)>>,
+    segments: RTree<BoxedSegment>,
     /// Every item by its box.
     boxes: RTree<Boxed>,
 }
@@ -415,7 +418,7 @@ mod tests {
             .is_empty()
         );
         let plate = region(&[square(0.0, 0.0, 10.0)]);
-        let top = region(&[disk.clone()]);
+        let top = region(std::slice::from_ref(&disk));
         let items = [
             Painted {
                 region: &plate,
@@ -505,7 +508,7 @@ mod tests {
             DVec2::new(2.0 - notch, 10.0),
             DVec2::new(0.0, 10.0),
         ];
-        let top = region(&[l.clone()]);
+        let top = region(std::slice::from_ref(&l));
         let items = [
             Painted {
                 region: &plate,
