@@ -537,3 +537,78 @@ fn backboard_keys_are_validated() {
     );
     assert!(ok.is_ok(), "{ok:?}");
 }
+
+/// Signed circumradii along a closed ring resampled every `h` (arc length): positive where
+/// the ring turns with its orientation (a convex corner of the region it bounds).
+fn signed_circumradii(ring: &[DVec2], h: f64) -> Vec<(f64, DVec2)> {
+    let mut even = vec![ring[0]];
+    let mut left = h;
+    for w in ring.windows(2) {
+        let (mut a, b) = (w[0], w[1]);
+        while a.distance(b) >= left {
+            a += (b - a).normalize() * left;
+            even.push(a);
+            left = h;
+        }
+        left -= a.distance(b);
+    }
+    let area: f64 = ring.windows(2).map(|w| w[0].perp_dot(w[1])).sum::<f64>();
+    let n = even.len();
+    (0..n)
+        .map(|k| {
+            let (a, b, c) = (even[(k + n - 1) % n], even[k], even[(k + 1) % n]);
+            let cr = (b - a).perp_dot(c - b);
+            let r = if cr == 0.0 {
+                f64::INFINITY
+            } else {
+                a.distance(b) * b.distance(c) * c.distance(a) / (2.0 * cr.abs())
+            };
+            (if (cr > 0.0) == (area > 0.0) { r } else { -r }, b)
+        })
+        .collect()
+}
+
+/// `corner_radius = 15`: every convex turn of the board's tool path (outside the board by
+/// the tool radius) has radius ≥ 15 + r, measured by circumcircles of the path read back
+/// from the G-code, while without it the margin's corners (5 + r) are tighter; the board
+/// stays one ring around every channel at the margin; concave corners are the tool's (its
+/// path's concave turns are cut by a tool of radius r, so the board's are ≥ r).
+#[test]
+fn corner_radius_rounds_the_board_s_convex_corners() {
+    let rc = 15.0;
+    let dir = tmpdir("corner");
+    let ring_of = |extra: &str| {
+        let (gcode, _) = bar_and_grill(&dir, "grbl-router", extra);
+        let secs = sections(&gcode);
+        let board: Vec<_> = secs
+            .iter()
+            .filter(|(n, _)| n.ends_with("backboard"))
+            .collect();
+        let rings = deepest_rings(&board[0].1);
+        assert_eq!(rings.len(), 1, "one piece");
+        let channel: Vec<DVec2> = secs
+            .iter()
+            .filter(|(n, _)| n.contains("channel"))
+            .flat_map(|(_, c)| c.iter().flatten().flat_map(|c| c.points.clone()))
+            .collect();
+        (rings[0].clone(), channel)
+    };
+    let convex_min = |ring: &[DVec2]| {
+        signed_circumradii(ring, 2.0)
+            .into_iter()
+            .filter(|(r, _)| *r > 0.0)
+            .map(|(r, _)| r)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (plain, _) = ring_of("");
+    let before = convex_min(&plain);
+    assert!(before < rc, "the margin's corners: {before}");
+    let (ring, channel) = ring_of(&format!("corner_radius = {rc}"));
+    let after = convex_min(&ring);
+    assert!(after >= (rc + TOOL_R) * 0.98, "{after}");
+    for p in &channel {
+        assert_ne!(winding(&ring, *p), 0, "channel point {p} outside the board");
+        assert!(distance_to_ring(&ring, *p) >= 5.0 + 2.0 * TOOL_R - 0.05);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -118,7 +118,7 @@ fn a_v_corner_is_rounded_to_the_flex_minimum() {
     // Radius of curvature by circumcircles: never below R (within the resampling's error),
     // and R on the arc.
     let rho = min_circumradius(&pts, 0.05);
-    assert!(rho >= R * (1.0 - 1e-3) && rho <= R * 1.01, "{rho}");
+    assert!((R * (1.0 - 1e-3)..=R * 1.01).contains(&rho), "{rho}");
     // Endpoints unchanged, the legs unchanged beyond the tangency, the corner gone.
     assert!(pts[0].distance(original[0]) <= 1e-9);
     assert!(pts[pts.len() - 1].distance(original[2]) <= 1e-9);
@@ -150,7 +150,7 @@ fn a_v_corner_is_rounded_to_the_flex_minimum() {
         bom.runs[0].length_mm
     );
     let rmin = bom.runs[0].min_bend_radius_mm;
-    assert!(rmin >= R && rmin <= R * 1.001, "{rmin}");
+    assert!((R..=R * 1.001).contains(&rmin), "{rmin}");
     assert_eq!(bom.runs[0].rounded_bends, Some(1));
     assert!(bom.warnings.is_empty(), "{:?}", bom.warnings);
 }
@@ -173,7 +173,7 @@ fn a_one_millimetre_hairpin_is_rounded_to_the_flex_minimum() {
         r.reports[0].deviation
     );
     let rho = min_circumradius(&pts, 0.05);
-    assert!(rho >= R * (1.0 - 1e-3) && rho <= R * 1.01, "{rho}");
+    assert!((R * (1.0 - 1e-3)..=R * 1.01).contains(&rho), "{rho}");
     assert!(pts[0].distance(DVec2::new(-10.0, 50.0)) <= 1e-9);
     assert!(pts[pts.len() - 1].distance(DVec2::new(10.0, 50.0)) <= 1e-9);
     for k in 0..=200 {

@@ -117,7 +117,9 @@
 //! profile `side` = "on" | "outside" | "inside"; channel `width` (required); backboard
 //! `margin`, `min_inner_radius`, `bridge_width` (≥ 0, default 10 mm: the board's pieces are
 //! bridged into one, [`crate::toolpath::board`]; 0 leaves them apart), `mounting_holes =
-//! { count, diameter, inset }` (count 1..=100, diameter > 0, inset > 0, default 8 mm);
+//! { count, diameter, inset }` (count 1..=100, diameter > 0, inset > 0, default 8 mm),
+//! `corner_radius` (≥ 0: the board's convex corners at least this round,
+//! [`crate::toolpath::board::rounded`]);
 //! holes `diameter` (required), `at` = "ends" | "start" |
 //! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),
 //! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
@@ -135,7 +137,8 @@
 //!
 //! Neon. `[neon]` describes the LED flex a sign is made for (presets `flex = "6mm"` and
 //! `"8mm"`, each key overriding; `[[neon.run]]` tables with `strokes = [...]` make explicit
-//! runs, `break_at = [[x, y], ...]` breaks joins). With it, channel, holes and backboard
+//! runs, `break_at = [[x, y], ...]` breaks joins, `round_bends = true` rounds bends tighter
+//! than `min_bend_radius` to that radius, `min_run_length` makes shorter runs marks). With it, channel, holes and backboard
 //! operations take the flex's sizes for the keys they leave unset, holes go where flex runs
 //! end, and `build` reports the bill of materials ([`crate::job::neon`]). Errors name the
 //! key: `file: [neon] cut_unit: -1 must be positive and at most 10000000`. See [`neon`].

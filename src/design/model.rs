@@ -523,6 +523,13 @@ pub struct Operation {
     /// `{count, diameter, inset}`; unset: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mounting_holes: Option<MountingHoles>,
+    /// `corner_radius` (backboard only): smallest radius of the board's convex corners,
+    /// design units, ≥ 0 and at most [`MAX_COORD`](super::MAX_COORD); unset or 0: the
+    /// corners the margin gives (arcs of the margin's radius). Where a corner this round
+    /// does not fit within the margin, the board grows there (never into the margin);
+    /// see [`crate::toolpath::board::rounded`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corner_radius: Option<f64>,
     // holes
     /// `diameter` (holes only, required): hole diameter in design units, > 0 and at most
     /// [`MAX_COORD`](super::MAX_COORD).
@@ -606,6 +613,7 @@ impl Operation {
             min_inner_radius: None,
             bridge_width: None,
             mounting_holes: None,
+            corner_radius: None,
             diameter: None,
             at: None,
             pattern: None,

@@ -622,7 +622,9 @@ fn applies(key: &str) -> &'static [OperationKind] {
     match key {
         "side" => &[Profile],
         "width" => &[Channel],
-        "margin" | "min_inner_radius" | "bridge_width" | "mounting_holes" => &[Backboard],
+        "margin" | "min_inner_radius" | "bridge_width" | "mounting_holes" | "corner_radius" => {
+            &[Backboard]
+        }
         "diameter" | "at" => &[Holes],
         "pattern" | "spacing" | "cross_hatch" | "alternate" => &[Fill],
         "angle" => &[Fill, Vcarve],
@@ -649,6 +651,7 @@ fn check_operation(
         ("min_inner_radius", op.min_inner_radius.is_some()),
         ("bridge_width", op.bridge_width.is_some()),
         ("mounting_holes", op.mounting_holes.is_some()),
+        ("corner_radius", op.corner_radius.is_some()),
         ("diameter", op.diameter.is_some()),
         ("at", op.at.is_some()),
         ("pattern", op.pattern.is_some()),
@@ -734,6 +737,7 @@ fn check_operation(
     positive("margin", op.margin, false)?;
     positive("min_inner_radius", op.min_inner_radius, true)?;
     positive("bridge_width", op.bridge_width, true)?;
+    positive("corner_radius", op.corner_radius, true)?;
     positive("diameter", op.diameter, false)?;
     positive("spacing", op.spacing, false)?;
     positive("max_depth", op.max_depth, false)?;

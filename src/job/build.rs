@@ -1143,10 +1143,13 @@ fn operation_specs(
                 .bridge_width
                 .unwrap_or(board::BRIDGE_WIDTH_MM * ctx.per_mm);
             let (board, bridges) = board::bridged(&board, bridge, rho, ctx.tol, eps);
+            let corner = op.corner_radius.unwrap_or(0.0);
+            let (board, _) = board::rounded(&board, corner, rho, ctx.tol, eps);
             let general = || ops::profile(&board, ops::ProfileSide::Outside, r, eps);
             let paths = ctx.routed(index, op, &name, &items, general, |its| match its {
                 _ if channel_outside => Err(RouteRefusal::ChannelOutside),
                 _ if !bridges.is_empty() => Err(RouteRefusal::Bridged(bridges.len())),
+                _ if corner > 0.0 => Err(RouteRefusal::Rounded(corner)),
                 [(_, it)] if (rho - r).abs() <= 1e-12 * (1.0 + r) => {
                     re_backboard(it, margin + r, ctx.tol)
                 }

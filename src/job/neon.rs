@@ -25,7 +25,12 @@
 //! channel width (their channels merge) while at the design's own size they were not, every
 //! island of board the channels went around at the design's size (a letter's counter) that
 //! the scaled channels cut away ([`filled_islands`]), and the note that a bend became too
-//! tight by the scaling. `break_at` points scale with the artwork.
+//! tight by the scaling, every run shorter than the cut unit (`short`), and every bend
+//! `round_bends` could not round (`round`). `break_at` points scale with the artwork.
+//!
+//! `[neon] round_bends = true` rounds the tight bends before the channel is made
+//! ([`round_bends`], module `round`); `min_run_length` makes shorter runs marks
+//! ([`split_marks`]): channelled, no flex, no holes, listed in [`NeonBom::marks`].
 
 mod round;
 pub use round::{

@@ -115,6 +115,10 @@ pub enum RouteRefusal {
     /// The board's pieces are joined by bridges: the backboard follows the bridged board.
     #[error("{0} bridge(s) join the board's pieces: the backboard follows the bridged board")]
     Bridged(usize),
+    /// The board's convex corners are rounded to `corner_radius`: the backboard follows the
+    /// rounded board.
+    #[error("corner_radius {0}: the backboard follows the board with its corners rounded")]
+    Rounded(f64),
 }
 
 /// Which route an operation took, and why.

@@ -1,6 +1,7 @@
 //! One backboard around a whole sign: the pieces of a backboard region (one per word or
 //! letter when they lie apart) joined by straight bridges ([`bridged`]), and mounting holes
-//! at a fixed inset from the board's edge ([`mounting_points`]).
+//! at a fixed inset from the board's edge ([`mounting_points`]), and convex corners rounded
+//! to a radius ([`rounded`]).
 //!
 //! Bridges follow a minimum spanning tree of the pieces (Kruskal, shortest gaps first;
 //! Cormen et al., *Introduction to Algorithms*, 3rd ed., §23.2), each along the shortest
@@ -26,6 +27,47 @@ pub const MOUNTING_INSET_MM: f64 = 8.0;
 /// Smallest wall of board, in millimetres, left between a mounting hole and any channel
 /// or item outline.
 pub const MOUNTING_WALL_MM: f64 = 2.0;
+
+/// Bisection steps of [`rounded`]'s growth: the board grows at most rc/2⁶ more than it
+/// must.
+pub const ROUND_GROWTH_STEPS: usize = 6;
+
+/// The board with every convex corner of radius at least `rc` and every concave one at
+/// least `rho`, holding `board` (so every channel keeps its margin):
+/// B′ = ((B ⊕ D_g) ∘ D_rc) • D_rho, the opening (X ⊖ D_rc) ⊕ D_rc (Serra 1982, *Image
+/// Analysis and Mathematical Morphology*, ch. II: an opened set is the union of the disks of
+/// radius rc inside it, so its convex corners are arcs of radius ≥ rc) of the board grown by
+/// the least g ∈ [0, rc] (bisection, [`ROUND_GROWTH_STEPS`]) for which it still holds the
+/// board shrunk by `tol`, then closed by `rho`. g = rc always holds: (B ⊕ D_rc) ∘ D_rc =
+/// (B • D_rc) ⊕ D_rc ⊇ B. Where the margin's own corners are at least rc round, g = 0 and
+/// the board is unchanged within `tol`. Returns the board and g.
+pub fn rounded(board: &Region, rc: f64, rho: f64, tol: f64, eps: f64) -> (Region, f64) {
+    if rc <= 0.0 || board.contours.is_empty() {
+        return (board.clone(), 0.0);
+    }
+    let must = board.offset(-tol, eps);
+    let open = |g: f64| {
+        let r = board.offset(g, eps).offset(-rc, eps).offset(rc, eps);
+        r.holds(&must).then_some(r)
+    };
+    let (mut lo, mut hi) = (0.0, rc);
+    let mut best = match open(0.0) {
+        Some(r) => return (ops::backboard(&[r], 0.0, rho, tol, eps), 0.0),
+        None => None,
+    };
+    for _ in 0..ROUND_GROWTH_STEPS {
+        let mid = 0.5 * (lo + hi);
+        match open(mid) {
+            Some(r) => {
+                hi = mid;
+                best = Some(r);
+            }
+            None => lo = mid,
+        }
+    }
+    let r = best.unwrap_or_else(|| (board.offset(rc, eps).offset(-rc, eps)).offset(rc, eps));
+    (ops::backboard(&[r], 0.0, rho, tol, eps), hi)
+}
 
 /// The outer contours of `board` that no other contour of it encloses: its pieces.
 pub fn pieces(board: &Region) -> Vec<&Polyline<f64>> {
