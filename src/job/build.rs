@@ -747,7 +747,8 @@ fn lost_to_the_tool(
 /// The inner visible boundaries of `items` ([`crate::toolpath::inks`]), per item that owns
 /// them: the items painted in the order shapes, circle sequences, strokes (each in file
 /// order: an SVG import keeps shapes as their visible areas and strokes on top of them),
-/// items of one `color` as one ink (items without a colour as one more).
+/// items of one `color` as one ink (items without a colour as one more); open runs shorter
+/// than a hairline ([`Ctx::hairline`]) are left out.
 fn inner_boundary_paths(ctx: &Ctx, items: &[usize]) -> Vec<(usize, Vec<Path>)> {
     use crate::toolpath::inks::{Painted, inner_boundaries};
     use crate::toolpath::line::polyline_path;
@@ -776,8 +777,15 @@ fn inner_boundary_paths(ctx: &Ctx, items: &[usize]) -> Vec<(usize, Vec<Path>)> {
             Painted { region, ink }
         })
         .collect();
+    // An open run shorter than a hairline (where a hatch line ends on an outline) is a dot
+    // under the cut's own width: not a boundary anyone sees.
+    let shortest = ctx.hairline();
     let mut out: Vec<(usize, Vec<Path>)> = Vec::new();
     for b in inner_boundaries(&painted, ctx.tol) {
+        let length: f64 = b.points.windows(2).map(|w| w[0].distance(w[1])).sum();
+        if !b.closed && length < shortest {
+            continue;
+        }
         let item = order[b.item];
         let Some(path) = polyline_path(&b.points, b.closed) else {
             continue;
