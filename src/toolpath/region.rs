@@ -980,23 +980,20 @@ mod tests {
     }
 
     /// Nesting found through the box R-tree is the nesting cavalier's own winding number
-    /// gives asked of every other contour: circles (two half-turn arcs, or one arc of more
-    /// than a half turn and a short one) and squares, nested up to four deep and apart,
-    /// given in either orientation.
+    /// gives asked of every other contour: circles (two half-turn arcs, or three arcs of a
+    /// third of a turn whose vertices miss the circle's extremes) and squares, nested up to
+    /// four deep and apart, given in either orientation.
     #[test]
     fn nesting_through_boxes_is_the_nesting_of_all_pairs() {
         use cavalier_contours::polyline::PlineSourceMut;
-        let circle = |x: f64, y: f64, r: f64, major: bool| {
+        let circle = |x: f64, y: f64, r: f64, thirds: bool| {
             let mut pl = Polyline::new_closed();
-            if major {
-                // 300° then 60°: bulges tan(75°) and tan(15°).
-                let a = 300f64.to_radians();
-                pl.add(x + r, y, (a / 4.0).tan());
-                pl.add(
-                    x + r * a.cos(),
-                    y + r * a.sin(),
-                    ((2.0 * PI - a) / 4.0).tan(),
-                );
+            if thirds {
+                // Three arcs of 120° (bulge tan 30°), none through the circle's top.
+                for k in 0..3 {
+                    let a = 2.0 * PI * k as f64 / 3.0 + 0.3;
+                    pl.add(x + r * a.cos(), y + r * a.sin(), (PI / 6.0).tan());
+                }
             } else {
                 pl.add(x + r, y, 1.0);
                 pl.add(x - r, y, 1.0);
