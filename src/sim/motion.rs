@@ -36,12 +36,15 @@ impl ToolState {
         self.spindle != Spindle::Off && self.s > 0.0
     }
 
-    /// Sets the spindle mode and S, counting an off → on switch.
+    /// Sets the spindle mode and S, counting an off → on switch: by M3/M4, or by S rising
+    /// from 0 (a laser that fires on S alone, as Smoothieware's, is switched off and on by
+    /// `S0` … `S>0` between two passes).
     pub fn switch(&mut self, spindle: Spindle, s: f64) {
         let was_on = self.is_on();
+        let s_rises = self.s <= 0.0 && s > 0.0;
         self.spindle = spindle;
         self.s = s;
-        if self.is_on() && !was_on {
+        if self.is_on() && !was_on || s_rises {
             self.session = self.session.wrapping_add(1);
         }
     }
