@@ -86,3 +86,49 @@ fn json_report_when_the_input_is_unusable() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `check --design` (a program built with `--place design`): the tool keeps its radius from
+/// the design's parts only. A neon sign's
+/// channels and holes cut into their strokes by design and are no gouges (thousands were
+/// reported); the ring's outside profile keeps the ring a part, so claiming a tool larger
+/// than the one that cut it finds the gouges it would make.
+#[test]
+fn design_gouges_are_judged_on_the_parts_only() {
+    let d = tmpdir("check-design-parts");
+    for (design, claimed_radius, gouges) in [
+        ("examples/gallery/neon_open.toml", None, false),
+        ("examples/ring_o.toml", None, false),
+        ("examples/ring_o.toml", Some("4"), true),
+    ] {
+        let src = format!("{}/{design}", common::ROOT);
+        let prog = d.join("p.gcode").to_string_lossy().into_owned();
+        // In the design's coordinates, which the check compares with.
+        let b = skinpath(&[
+            "build",
+            &src,
+            "--machine",
+            "grbl-router",
+            "--place",
+            "design",
+            "-o",
+            &prog,
+        ]);
+        assert!(
+            b.status.success(),
+            "{design}: {}",
+            String::from_utf8_lossy(&b.stderr)
+        );
+        let mut args = vec!["check", &prog, "--machine", "grbl-router", "--design", &src];
+        if let Some(r) = claimed_radius {
+            args.extend(["--tool-radius", r]);
+        }
+        let c = skinpath(&args);
+        let out = String::from_utf8_lossy(&c.stdout);
+        assert_eq!(
+            out.contains("[gouge]"),
+            gouges,
+            "{design} {claimed_radius:?}: {out}"
+        );
+        assert_eq!(c.status.success(), !gouges, "{design}: {out}");
+    }
+}

@@ -10,7 +10,8 @@
 use super::build::load_profile;
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::job::check::{check_config, design_boundaries};
+use skinpath::design::HAIRLINE_MM;
+use skinpath::job::check::{check_config, design_boundaries, operations_of, part_outlines};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 use skinpath::sim::{Backend, CheckConfig, Dialect, files, interp};
 use std::path::{Path, PathBuf};
@@ -238,8 +239,15 @@ fn checked(a: &Args) -> Result<u8> {
             let dtext = io::read_text(d)?;
             let design = skinpath::design::load(&dtext, &d.display().to_string())?;
             let outlines = design_outlines(&design, &OutlineOptions::default())?;
+            // Only the parts are kept off: items the design cuts into (channels, lines,
+            // pockets, …) are not (the tool radius and HAIRLINE_MM are in mm).
+            let per_mm = 1.0 / design.units.mm_per_unit();
+            let hairline = (2.0 * cfg.tool_radius * cfg.units.to_mm()).max(HAIRLINE_MM) * per_mm;
+            let ops = operations_of(&design, hairline);
+            let laser = cfg.kind == skinpath::sim::MachineKind::Laser;
+            let parts = part_outlines(&design, &ops, &outlines, laser);
             design_boundaries(
-                &outlines,
+                &parts,
                 a.keep == "outside",
                 cfg.flatten_tolerance.max(1e-3),
                 design.units.mm_per_unit(),

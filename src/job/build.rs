@@ -250,13 +250,7 @@ impl Ctx<'_> {
     /// profiled); any other design is one profile around the union of everything. Router
     /// profiles are [`DEFAULT_PROFILE_DEPTH_MM`] deep.
     fn default_ops(&self) -> Vec<Operation> {
-        let d = self.design;
-        let drawing = d.is_tagged() || d.file.to_ascii_lowercase().ends_with(".svg");
-        let mut ops = if drawing {
-            default_operations(d, self.hairline())
-        } else {
-            vec![Operation::new(OperationKind::Profile)]
-        };
+        let mut ops = super::check::operations_of(self.design, self.hairline());
         for op in &mut ops {
             if !self.laser() && op.kind == OperationKind::Profile {
                 op.depth = Some(DEFAULT_PROFILE_DEPTH_MM * self.per_mm);

@@ -3,6 +3,9 @@
 //! [`CheckConfig`].
 
 use super::outline::ItemOutline;
+use crate::design::{
+    Design, Operation, OperationKind, ProfileSide, Selection, Tags, default_operations,
+};
 use crate::geom::path::polygon_area;
 use crate::machine::{Dialect, MachineKind, Profile};
 use crate::sim::{CheckConfig, DesignBoundary, KeepSide};
@@ -52,6 +55,59 @@ pub fn sim_dialect(dialect: Dialect) -> crate::sim::Dialect {
         Dialect::Linuxcnc => crate::sim::Dialect::Linuxcnc,
         Dialect::None => crate::sim::Dialect::Generic,
     }
+}
+
+/// The operations a build of `design` cuts: its own, or for a design without any the ones
+/// `build` chooses — a drawing (an .svg, or items with `layer` or `color`) item by item
+/// ([`default_operations`]: strokes no wider than `hairline`, design units, as lines), any
+/// other design one profile around the union of everything. Settings are left unset.
+pub fn operations_of(design: &Design, hairline: f64) -> Vec<Operation> {
+    if !design.operation.is_empty() {
+        return design.operation.clone();
+    }
+    let drawing = design.is_tagged() || design.file.to_ascii_lowercase().ends_with(".svg");
+    if drawing {
+        default_operations(design, hairline)
+    } else {
+        vec![Operation::new(OperationKind::Profile)]
+    }
+}
+
+/// The outlines of the parts among `outlines`: the items that no operation of `ops` cuts
+/// into. An item selected by a channel, fill, line, V-carve, holes or a profile on or inside
+/// its outline is cut into by design, so a gouge check must not keep the tool off it; items
+/// cut around (outside profiles — a router's default side — and backboards) or not
+/// selected at all are parts. `laser` makes a profile without `side` run on the outline,
+/// as the build does.
+pub fn part_outlines(
+    design: &Design,
+    ops: &[Operation],
+    outlines: &[ItemOutline],
+    laser: bool,
+) -> Vec<ItemOutline> {
+    let cuts_into = |op: &Operation| match op.kind {
+        OperationKind::Profile => match op.side {
+            Some(ProfileSide::Outside) => false,
+            Some(ProfileSide::On | ProfileSide::Inside) => true,
+            None => laser,
+        },
+        OperationKind::Backboard => false,
+        _ => true,
+    };
+    let into: Vec<Selection<'_>> = ops
+        .iter()
+        .filter(|op| cuts_into(op))
+        .map(Selection::of)
+        .collect();
+    let tags = design.tags();
+    outlines
+        .iter()
+        .filter(|o| {
+            let t: Tags<'_> = tags.get(o.name.as_str()).copied().unwrap_or_default();
+            !into.iter().any(|s| s.selects(&o.name, t))
+        })
+        .cloned()
+        .collect()
 }
 
 /// The outlines as boundaries for the gouge check, flattened within `tol`. With
