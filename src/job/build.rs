@@ -32,7 +32,7 @@ use super::re_route::{ReItem, RouteNote, RouteRefusal, re_backboard, re_items, r
 use crate::dbsc::DiskBSpline;
 use crate::design::{
     Design, FillPattern, HAIRLINE_MM, HoleAt, LineBoundaries, Operation, OperationKind,
-    OutlineMethod, ProfileSide, Selection, Tags, default_operations,
+    OutlineMethod, ProfileSide, Selection, Tags,
 };
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
@@ -245,10 +245,9 @@ impl Ctx<'_> {
         (2.0 * self.radius(tool)).max(HAIRLINE_MM * self.per_mm)
     }
 
-    /// The operations of a design without any: a drawing (an .svg, or items with `layer` or
-    /// `color`) is cut item by item ([`default_operations`]: hairlines as lines, the rest
-    /// profiled); any other design is one profile around the union of everything. Router
-    /// profiles are [`DEFAULT_PROFILE_DEPTH_MM`] deep.
+    /// The operations of a design without any ([`super::check::operations_of`]: a drawing
+    /// item by item, hairlines as lines; any other design one profile around the union of
+    /// everything). Router profiles are [`DEFAULT_PROFILE_DEPTH_MM`] deep.
     fn default_ops(&self) -> Vec<Operation> {
         let mut ops = super::check::operations_of(self.design, self.hairline());
         for op in &mut ops {
