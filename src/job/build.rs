@@ -772,13 +772,8 @@ fn inner_boundary_paths(ctx: &Ctx, items: &[usize]) -> Vec<(usize, Vec<Path>)> {
         .collect();
     // An open run shorter than a hairline (where a hatch line ends on an outline) is a dot
     // under the cut's own width: not a boundary anyone sees.
-    let shortest = ctx.hairline();
     let mut out: Vec<(usize, Vec<Path>)> = Vec::new();
-    for b in inner_boundaries(&painted, ctx.tol) {
-        let length: f64 = b.points.windows(2).map(|w| w[0].distance(w[1])).sum();
-        if !b.closed && length < shortest {
-            continue;
-        }
+    for b in inner_boundaries(&painted, ctx.tol, ctx.hairline()) {
         let item = order[b.item];
         let Some(path) = polyline_path(&b.points, b.closed) else {
             continue;

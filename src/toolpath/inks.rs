@@ -20,7 +20,8 @@
 //! segment can change only where some boundary crosses one of its two probe lines (the
 //! segment moved by ±δ·n), so those crossings split it into pieces that are each decided
 //! by their midpoint: no feature is missed, whatever its size. Consecutive kept pieces join
-//! into runs; runs shorter than the tolerance (corners where three items meet) are dropped.
+//! into runs; open runs shorter than the tolerance (corners where three items meet), or a
+//! longer minimum the caller gives, are dropped.
 //!
 //! Cost: each segment asks an R-tree of the segments for those within δ of it, and each
 //! probe the items whose boxes hold it, each through a winding index of its contours
@@ -204,8 +205,10 @@ fn crossing(p: DVec2, q: DVec2, c: DVec2, e: DVec2) -> Option<f64> {
 
 /// The inner visible boundaries of `items` (in paint order), each once, within `tol`
 /// (module docs): runs along the items' contours, each owned by the item whose contour it
-/// follows.
-pub fn inner_boundaries(items: &[Painted<'_>], tol: f64) -> Vec<Boundary> {
+/// follows. Open runs shorter than `min_open` (at least `tol`: corners where three items
+/// meet) are left out; closed runs are always kept.
+pub fn inner_boundaries(items: &[Painted<'_>], tol: f64, min_open: f64) -> Vec<Boundary> {
+    let min_open = min_open.max(tol);
     let delta = tol * PROBE_FRACTION;
     let inks = Inks::new(items, tol);
     let mut out = Vec::new();
@@ -236,7 +239,7 @@ pub fn inner_boundaries(items: &[Painted<'_>], tol: f64) -> Vec<Boundary> {
             bridge_gaps(&mut pieces, BRIDGE_FRACTION * tol);
             for (points, closed) in runs(&pieces) {
                 let length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
-                if closed || length >= tol {
+                if closed || length >= min_open {
                     out.push(Boundary {
                         item: i,
                         points: simplify(points),
@@ -354,12 +357,17 @@ mod tests {
             .collect()
     }
 
-    fn length(b: &Boundary) -> f64 {
-        let mut l: f64 = b.points.windows(2).map(|w| w[0].distance(w[1])).sum();
-        if b.closed {
-            l += b.points[b.points.len() - 1].distance(b.points[0]);
+    /// Length of the polyline `points`, closed back to its first point where `closed`.
+    fn polyline_length(points: &[DVec2], closed: bool) -> f64 {
+        let mut l: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
+        if let (true, Some(first), Some(last)) = (closed, points.first(), points.last()) {
+            l += last.distance(*first);
         }
         l
+    }
+
+    fn length(b: &Boundary) -> f64 {
+        polyline_length(&b.points, b.closed)
     }
 
     /// Distance from `p` to the segment a→b.
@@ -381,7 +389,7 @@ mod tests {
             Painted { region: &a, ink: 0 },
             Painted { region: &b, ink: 1 },
         ];
-        let runs = inner_boundaries(&items, TOL);
+        let runs = inner_boundaries(&items, TOL, TOL);
         assert_eq!(runs.len(), 1, "{runs:?}");
         let r = &runs[0];
         assert_eq!(r.item, 1);
@@ -395,7 +403,7 @@ mod tests {
             Painted { region: &a, ink: 3 },
             Painted { region: &b, ink: 3 },
         ];
-        assert!(inner_boundaries(&same, TOL).is_empty());
+        assert!(inner_boundaries(&same, TOL, TOL).is_empty());
     }
 
     /// A white knockout is a hole of the black square: its boundary is the union's, cut by
@@ -413,6 +421,7 @@ mod tests {
                     region: &with_hole,
                     ink: 0
                 }],
+                TOL,
                 TOL
             )
             .is_empty()
@@ -429,12 +438,10 @@ mod tests {
                 ink: 1,
             },
         ];
-        let runs = inner_boundaries(&items, TOL);
+        let runs = inner_boundaries(&items, TOL, TOL);
         assert_eq!(runs.len(), 1, "{runs:?}");
         assert!(runs[0].closed && runs[0].item == 1);
-        let perimeter: f64 = (0..disk.len())
-            .map(|k| disk[k].distance(disk[(k + 1) % disk.len()]))
-            .sum();
+        let perimeter = polyline_length(&disk, true);
         assert!((length(&runs[0]) - perimeter).abs() < 1e-9);
         // The disk cut out of the plate first (as the import's paint model writes it): the
         // plate's hole and the disk's edge coincide; still one run, the disk's.
@@ -448,7 +455,7 @@ mod tests {
                 ink: 1,
             },
         ];
-        let runs = inner_boundaries(&items, TOL);
+        let runs = inner_boundaries(&items, TOL, TOL);
         assert_eq!(runs.len(), 1, "{runs:?}");
         assert!(runs[0].closed && runs[0].item == 1);
         assert!((length(&runs[0]) - perimeter).abs() < 1e-9);
@@ -470,7 +477,7 @@ mod tests {
             Painted { region: &a, ink: 1 },
             Painted { region: &b, ink: 2 },
         ];
-        let runs = inner_boundaries(&items, TOL);
+        let runs = inner_boundaries(&items, TOL, TOL);
         let total: f64 = runs.iter().map(length).sum();
         // b: its whole perimeter 40; a: its perimeter 40 minus the 2·5 under b.
         assert!((total - 70.0).abs() < 1e-9, "{total} {runs:?}");
@@ -519,12 +526,10 @@ mod tests {
                 ink: 1,
             },
         ];
-        let runs = inner_boundaries(&items, TOL);
+        let runs = inner_boundaries(&items, TOL, TOL);
         assert_eq!(runs.len(), 1, "{runs:?}");
         assert!(runs[0].closed);
-        let perimeter: f64 = (0..l.len())
-            .map(|k| l[k].distance(l[(k + 1) % l.len()]))
-            .sum();
+        let perimeter = polyline_length(&l, true);
         assert!((length(&runs[0]) - perimeter).abs() < 1e-9);
     }
 }
