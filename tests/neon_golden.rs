@@ -7,40 +7,15 @@
 
 mod common;
 
-use common::{assert_golden, skinpath, tmpdir};
-
 #[test]
 fn sans_sign_with_accents_and_ampersand_builds_clean_and_matches_the_golden() {
-    let dir = tmpdir("neon-golden-sans");
-    let design = dir.join("creme.toml");
-    let d = design.to_str().unwrap();
-    let t = skinpath(&[
-        "text",
+    let built = common::neon_text_matches_golden(
         "Cr\u{e8}me & Br\u{fb}l\u{e9}e",
-        "--font",
         "sans",
-        "--height",
         "18",
-        "--neon",
-        "-o",
-        d,
-    ]);
-    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-    for machine in ["grbl-router", "grbl-laser"] {
-        let out = dir.join(format!("creme-{machine}.gcode"));
-        let o = out.to_str().unwrap();
-        let b = skinpath(&["build", d, "--machine", machine, "-o", o, "--json"]);
-        assert!(
-            b.status.success(),
-            "{machine}: {}",
-            String::from_utf8_lossy(&b.stderr)
-        );
-        let summary: serde_json::Value = serde_json::from_slice(&b.stdout).unwrap();
-        assert_eq!(
-            summary["findings"].as_array().map(Vec::len),
-            Some(0),
-            "{machine}"
-        );
+        "creme_sans",
+    );
+    for (machine, summary) in built {
         let neon = &summary["neon"];
         let runs = neon["runs"].as_array().unwrap();
         let ends: u64 = runs
@@ -66,14 +41,5 @@ fn sans_sign_with_accents_and_ampersand_builds_clean_and_matches_the_golden() {
                 "{machine}: {mark} in {short:?}"
             );
         }
-        let c = skinpath(&["check", o, "--machine", machine]);
-        assert!(
-            c.status.success(),
-            "{machine}: {}",
-            String::from_utf8_lossy(&c.stdout)
-        );
-        let got = std::fs::read_to_string(&out).unwrap();
-        assert_golden(&got, &format!("creme_sans.{machine}.gcode"), machine);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

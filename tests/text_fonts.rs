@@ -4,7 +4,6 @@
 
 mod common;
 
-use common::{skinpath, tmpdir};
 use skinpath::design::Design;
 use skinpath::design::text::{Font, Glyph, Text, latin1, smooth};
 use skinpath::geom::DVec2;
@@ -383,46 +382,9 @@ fn script_sign_with_accent_and_ampersand_builds_clean_and_matches_the_golden() {
     // `skinpath text "Café & Bar" --font script --height 22 --neon`, built with default
     // flags on the router and the laser: exit 0, no findings, checked clean by `check`
     // with the same profile, the program equal to the golden (SKINPATH_BLESS=1 rewrites).
-    let dir = tmpdir("fonts-golden");
-    let design = dir.join("cafe.toml");
-    let d = design.to_str().unwrap();
-    let t = skinpath(&[
-        "text",
-        "Caf\u{e9} & Bar",
-        "--font",
-        "script",
-        "--height",
-        "22",
-        "--neon",
-        "-o",
-        d,
-    ]);
-    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
-    for machine in ["grbl-router", "grbl-laser"] {
-        let out = dir.join(format!("cafe-{machine}.gcode"));
-        let o = out.to_str().unwrap();
-        let b = skinpath(&["build", d, "--machine", machine, "-o", o, "--json"]);
-        assert!(
-            b.status.success(),
-            "{machine}: {}",
-            String::from_utf8_lossy(&b.stderr)
-        );
-        let summary: serde_json::Value = serde_json::from_slice(&b.stdout).unwrap();
-        assert_eq!(
-            summary["findings"].as_array().map(Vec::len),
-            Some(0),
-            "{machine}"
-        );
+    let built = common::neon_text_matches_golden("Caf\u{e9} & Bar", "script", "22", "cafe_script");
+    for (machine, summary) in built {
         let runs = summary["neon"]["runs"].as_array().unwrap();
-        assert!(!runs.is_empty());
-        let c = skinpath(&["check", o, "--machine", machine]);
-        assert!(
-            c.status.success(),
-            "{machine}: {}",
-            String::from_utf8_lossy(&c.stdout)
-        );
-        let got = std::fs::read_to_string(&out).unwrap();
-        common::assert_golden(&got, &format!("cafe_script.{machine}.gcode"), machine);
+        assert!(!runs.is_empty(), "{machine}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

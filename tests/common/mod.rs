@@ -186,6 +186,54 @@ pub fn gcode_words(line: &str) -> Vec<String> {
     out
 }
 
+/// A neon sign of `text` in `font` at `height` mm (`skinpath text … --neon`), built with
+/// default flags on grbl-router and grbl-laser: each build exits 0 with no findings, checks
+/// clean with its profile, and its program equals tests/golden/`golden`.MACHINE.gcode
+/// ([`assert_golden`]). Returns each machine with its `build --json` summary for the
+/// caller's own assertions.
+pub fn neon_text_matches_golden(
+    text: &str,
+    font: &str,
+    height: &str,
+    golden: &str,
+) -> Vec<(&'static str, serde_json::Value)> {
+    let dir = tmpdir(&format!("neon-golden-{golden}"));
+    let design = dir.join(format!("{golden}.toml"));
+    let d = design.to_str().unwrap();
+    let t = skinpath(&[
+        "text", text, "--font", font, "--height", height, "--neon", "-o", d,
+    ]);
+    assert!(t.status.success(), "{}", String::from_utf8_lossy(&t.stderr));
+    let mut out = Vec::new();
+    for machine in ["grbl-router", "grbl-laser"] {
+        let program = dir.join(format!("{golden}-{machine}.gcode"));
+        let o = program.to_str().unwrap();
+        let b = skinpath(&["build", d, "--machine", machine, "-o", o, "--json"]);
+        assert!(
+            b.status.success(),
+            "{machine}: {}",
+            String::from_utf8_lossy(&b.stderr)
+        );
+        let summary: serde_json::Value = serde_json::from_slice(&b.stdout).unwrap();
+        assert_eq!(
+            summary["findings"].as_array().map(Vec::len),
+            Some(0),
+            "{machine}"
+        );
+        let c = skinpath(&["check", o, "--machine", machine]);
+        assert!(
+            c.status.success(),
+            "{machine}: {}",
+            String::from_utf8_lossy(&c.stdout)
+        );
+        let got = std::fs::read_to_string(&program).unwrap();
+        assert_golden(&got, &format!("{golden}.{machine}.gcode"), machine);
+        out.push((machine, summary));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    out
+}
+
 /// `got` against tests/golden/`name`: the same blocks, words and letters, every number
 /// within [`GOLDEN_TOL`]; `SKINPATH_BLESS=1` rewrites the golden instead. `what` names the
 /// case in failures.
