@@ -60,6 +60,7 @@ pub mod emit;
 pub mod geom;
 pub mod job;
 pub mod machine;
+mod par;
 pub mod sim;
 pub mod skin;
 pub mod spline;
@@ -69,9 +70,13 @@ pub mod units;
 // Dependencies of the `skinpath` binary only (argument parsing, error chains, progress
 // bars, signal handling): the library does not use them, and `unused_crate_dependencies`
 // would otherwise name them.
+#[cfg(feature = "cli")]
 use anyhow as _;
+#[cfg(feature = "cli")]
 use clap as _;
+#[cfg(feature = "cli")]
 use indicatif as _;
+#[cfg(feature = "cli")]
 use signal_hook as _;
 
 pub use dbsc::DiskBSpline;

@@ -36,6 +36,7 @@ use crate::design::{
 };
 use crate::geom::{DVec2, Path};
 use crate::machine::{MachineKind, Profile, Tool, ToolKind};
+use crate::par::prelude::*;
 use crate::skin::dbsc_skin::ReportBounds;
 use crate::skin::re::Interp;
 use crate::spline::BSpline;
@@ -49,7 +50,6 @@ use crate::toolpath::region::Region;
 use crate::toolpath::swept::swept_arc_region;
 use crate::toolpath::{OperationKind as TpKind, Toolpath};
 use glam::DVec3;
-use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::Mutex;
 

@@ -265,7 +265,7 @@ pub fn design_outlines_with(
     progress: Option<ProgressFn<'_>>,
     spine_only: &[bool],
 ) -> Result<Vec<ItemOutline>, JobError> {
-    use rayon::prelude::*;
+    use crate::par::prelude::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
     let strokes = design.strokes()?;
     let sequences = design.circle_sequences();

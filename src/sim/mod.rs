@@ -217,7 +217,7 @@ pub fn checks_and_stats(
         return (checks::CheckFindings::default(), Stats::default(), [0.0; 2]);
     }
     let mm = cfg.in_mm();
-    let ((contour, t_contours), ((moves, stats), t_moves)) = rayon::join(
+    let ((contour, t_contours), ((moves, stats), t_moves)) = crate::par::join(
         || timed(|| checks::contour_findings(prog, &mm, design)),
         || {
             timed(|| {

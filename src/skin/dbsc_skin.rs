@@ -35,7 +35,7 @@ use super::touching::triplet_touching;
 use super::{AdmissibilityOptions, SkinError, Skins, TouchingPoints, check_admissible};
 use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, SpanPoly, find_loops};
 use crate::geom::{Circle, CubicBez, DVec2, Path};
-use rayon::prelude::*;
+use crate::par::prelude::*;
 use std::cell::RefCell;
 
 /// Options of [`skin_dbsc`].
@@ -1033,7 +1033,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     };
     // The envelope loops (phase 3 and the report use them) beside phases 1 and 2, which
     // do not: a loop error still comes first, as when they were found before.
-    let (loops, phases) = rayon::join(|| find_loops(c, opts.loop_tol), || st.phases_one_two());
+    let (loops, phases) = crate::par::join(|| find_loops(c, opts.loop_tol), || st.phases_one_two());
     let loops = loops?;
     phases?;
     st.loops = loops.loops.clone();
@@ -1051,7 +1051,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     };
     // The state moves to the other closure by a unique borrow (its caches are not Sync).
     let state = &mut st;
-    let (crossing, err) = rayon::join(
+    let (crossing, err) = crate::par::join(
         || {
             (!opts.allow_global_overlap)
                 .then(|| first_crossing(&o.contours, opts.intersect_tol))
@@ -1231,6 +1231,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "parallel")]
     fn parallel_skinning_equals_serial() {
         let pool = |n: usize| {
             rayon::ThreadPoolBuilder::new()

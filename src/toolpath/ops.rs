@@ -233,9 +233,9 @@ pub fn concentric(
     for k in 0..max_rings {
         // The ring, its opening and the test for the last ring are independent offsets of
         // the region: computed side by side (rayon; the same regions as in turn).
-        let ((plain, opening), last) = rayon::join(
+        let ((plain, opening), last) = crate::par::join(
             || {
-                rayon::join(
+                crate::par::join(
                     || region.offset(-d, eps),
                     || (k > 0).then(|| region.offset(-(d + delta), eps).offset(delta, eps)),
                 )

@@ -103,7 +103,7 @@ pub fn representatives(keys: &[StrokeKey]) -> Vec<usize> {
 /// d ([`stroke_key`] with lengths on the grid of [`KEY_GRID_FRACTION`]·`tolerance`), `None`
 /// for the first stroke of each key. O(n) expected.
 pub fn copies(strokes: &[DiskBSpline], tolerance: f64) -> Vec<Option<(usize, DVec2)>> {
-    use rayon::prelude::*;
+    use crate::par::prelude::*;
     let grid = KEY_GRID_FRACTION * tolerance;
     let (keys, origins): (Vec<_>, Vec<_>) = strokes.par_iter().map(|c| stroke_key(c, grid)).unzip();
     representatives(&keys)
