@@ -19,6 +19,7 @@ pub enum MachineKind {
 /// accelerations in units/s²); [`CheckConfig::in_mm`] converts to the mm the checks use.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct CheckConfig {
     /// Units of every length, feed and acceleration in this configuration.
     pub units: Units,
@@ -103,6 +104,7 @@ pub enum Dialect {
 
 impl Dialect {
     /// Name as given to `--dialect`.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Dialect::Generic => "generic",
@@ -114,6 +116,7 @@ impl Dialect {
     }
 
     /// Parses a `--dialect` name.
+    #[must_use]
     pub fn from_name(s: &str) -> Option<Dialect> {
         [
             Dialect::Generic,
@@ -130,6 +133,7 @@ impl Dialect {
 /// One tool of the tool table (LinuxCNC `.tbl` line `T1 P1 Z0.5 D3.175`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct ToolEntry {
     /// Tool number (T).
     pub number: u32,
@@ -139,6 +143,18 @@ pub struct ToolEntry {
     pub x: f64,
     /// Tool diameter (cutter compensation and the gouge check).
     pub diameter: f64,
+}
+
+impl ToolEntry {
+    /// Tool `number` of `diameter` (no length or x offset).
+    #[must_use]
+    pub fn new(number: u32, diameter: f64) -> Self {
+        ToolEntry {
+            number,
+            diameter,
+            ..ToolEntry::default()
+        }
+    }
 }
 
 /// Reads a LinuxCNC tool table: one tool per line, `T<n> P<pocket> X.. Z.. D..` words in
@@ -218,6 +234,7 @@ impl Default for CheckConfig {
 
 impl CheckConfig {
     /// A copy with every length, feed and acceleration in millimetres.
+    #[must_use]
     pub fn in_mm(&self) -> CheckConfig {
         let k = self.units.to_mm();
         let s3 = |a: [f64; 3]| a.map(|v| v * k);

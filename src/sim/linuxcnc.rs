@@ -27,6 +27,7 @@ use std::f64::consts::TAU;
 /// with `-n 0` repeats "File ended with no percent sign or program end" forever on a file
 /// that has neither. `%` lines and blank lines are left alone; line numbers stay those of
 /// `src` because they travel in the N words.
+#[must_use]
 pub fn number_lines(src: &str) -> String {
     let mut out = String::with_capacity(src.len() + src.len() / 4 + 4);
     let first = src.lines().map(str::trim).find(|l| !l.is_empty());
@@ -123,6 +124,7 @@ fn parse_line(l: &str) -> Option<Canon<'_>> {
 /// Parses rs274 canon output into a [`Program`] (mm). Units follow USE_LENGTH_UNITS;
 /// arcs are taken in the XY plane only (others give a finding); `rotation` in ARC_FEED
 /// adds |rotation| − 1 full turns.
+#[must_use]
 pub fn parse_canon(text: &str) -> Program {
     let mut prog = Program::default();
     let mut k = 1.0;

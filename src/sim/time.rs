@@ -20,6 +20,7 @@ const COS_STRAIGHT: f64 = 0.999999;
 
 /// Estimated seconds, split by kind of move.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct TimeEstimate {
     /// Whole program, seconds.
     pub total: f64,

@@ -144,9 +144,21 @@ impl<F: Fn(&str) -> Result<Option<String>, String>> LoadSub for CheckedLoader<F>
 }
 
 /// Options beyond [`CheckConfig`]: where called subroutine files come from.
+#[derive(Default)]
+#[non_exhaustive]
 pub struct Options<'a> {
     /// Loader of called subroutine files (`o<name> call` of a sub not in the program); None: such calls are errors.
     pub load_sub: Option<SubLoader<'a>>,
+}
+
+impl<'a> Options<'a> {
+    /// Called subroutine files come from `loader`.
+    #[must_use]
+    pub fn with_loader(loader: SubLoader<'a>) -> Self {
+        Options {
+            load_sub: Some(loader),
+        }
+    }
 }
 
 /// One O-word statement found by the pre-scan.
@@ -299,6 +311,8 @@ impl State {
 
 /// Interprets G-code text with the default configuration (generic dialect) and IJ radius
 /// tolerance `arc_radius_tol` (mm).
+#[allow(dead_code)] // the benches' entry (`crate::internals`) and the tests'
+#[must_use]
 pub fn interpret(src: &str, arc_radius_tol: f64) -> Program {
     let cfg = CheckConfig {
         arc_radius_tolerance: arc_radius_tol,
@@ -371,6 +385,7 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
 
 /// Interprets G-code text. `cfg` must be in mm ([`CheckConfig::in_mm`]): its dialect, tool
 /// table, loop budget and IJ radius tolerance apply.
+#[must_use]
 pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Program {
     let mut it = new_interp(cfg, opts);
     it.add_source("program".into(), Cow::Borrowed(src));

@@ -23,7 +23,7 @@ mod tests;
 
 use cursor::*;
 use expr::*;
-pub use expr::{BinOp, Expr, Func, ParamRef, ParamSource, param_index};
+pub use expr::{BinOp, Expr, ParamRef, ParamSource, param_index};
 use fast::*;
 
 /// Two values compare equal (EQ/NE) when they differ by less than this: LinuxCNC's

@@ -146,6 +146,7 @@ impl SegmentSet {
 
     /// Adds a polyline; `sources[k]` tags the segment from `points[k]` to `points[k+1]`.
     /// Repeated points are skipped. Returns the contour number.
+    #[allow(dead_code)] // used by the benches (`crate::internals`) and the tests
     pub fn push_polyline(&mut self, points: &[DVec2], sources: &[u32]) -> u32 {
         self.push_polyline_in(points, sources, None)
     }
@@ -154,6 +155,7 @@ impl SegmentSet {
     /// other contours of that pocket: contacts between two contours of one pocket never
     /// count, whatever [`SegmentSet::across`] says (they may cross: rings and a deeper wire
     /// hole of one channel).
+    #[allow(dead_code)] // used by the benches (`crate::internals`) and the tests
     pub fn push_polyline_in(
         &mut self,
         points: &[DVec2],
@@ -213,6 +215,7 @@ impl SegmentSet {
 
     /// All contacts: non-adjacent pairs that share any point (proper or not), and adjacent
     /// pairs that fold back onto each other (collinear overlap beyond the shared end).
+    #[allow(dead_code)] // used by the benches (`crate::internals`) and the tests
     pub fn contacts(&self) -> Vec<Contact> {
         self.contacts_capped().0
     }
