@@ -21,6 +21,10 @@ use crate::geom::{Arc, DVec2};
 use glam::DVec3;
 use std::f64::consts::TAU;
 
+/// Most extra full turns an arc's rotation count adds (a guard against a hostile count: an
+/// arc of 10⁶ turns is already far beyond any program).
+const MAX_EXTRA_TURNS: f64 = 1e6;
+
 /// Prepares `src` for rs274: prefixes each non-empty line with `N<line number> ` (after a
 /// leading `/`), replacing an existing leading N word, and brackets the program in `%`
 /// lines (added before the first line and after the last when missing): rs274 in batch mode
@@ -382,7 +386,7 @@ fn canon_arc(center: DVec2, p0: DVec2, p1: DVec2, rotation: f64) -> Arc {
     } else {
         sweep -= TAU;
     }
-    let extra = (rotation.abs().round() - 1.0).clamp(0.0, 1e6);
+    let extra = (rotation.abs().round() - 1.0).clamp(0.0, MAX_EXTRA_TURNS);
     sweep += sweep.signum() * extra * TAU;
     Arc::new(center, p0.distance(center), a0, sweep)
 }

@@ -409,7 +409,7 @@ mod tests {
 
     #[test]
     fn coincident_contours_are_checked_in_linear_time() {
-        // Issue #18: 2,000 coincident square contours (about 200 KB of G-code).
+        // 2,000 coincident square contours (about 200 KB of G-code).
         let mut src = String::from("G21 G90 F1000 S500\n");
         for _ in 0..2000 {
             src += "G0 X10.000 Y10.000\nM4\nG1 X20.000 Y10.000\nG1 X20.000 Y20.000\n\

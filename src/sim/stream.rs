@@ -1,4 +1,4 @@
-//! The streaming route of `check` (issue #18): a program of any size is checked in bounded
+//! The streaming route of `check`: a program of any size is checked in bounded
 //! memory, with the same report as [`super::check_text`].
 //!
 //! - The file is read line by line ([`interp::interpret_stream`]): a pre-scan records the

@@ -54,9 +54,13 @@ const ANGULAR_EPSILON: f64 = 5e-7;
 /// GRBL's 0.1 %): an error needs both the absolute and this relative difference.
 const RADIUS_RELATIVE_TOLERANCE: f64 = 1e-3;
 
-/// LinuxCNC's absolute IJ radius tolerance (`CENTER_ARC_RADIUS_TOLERANCE_MM` = 0.02 mm,
-/// 0.002 inch); differences beyond 100 times it are errors regardless of the radius.
+/// LinuxCNC's absolute IJ radius tolerance in mm programs (`CENTER_ARC_RADIUS_TOLERANCE_MM`
+/// = 0.02 mm); differences beyond 100 times it are errors regardless of the radius.
 const LINUXCNC_RADIUS_TOLERANCE_MM: f64 = 0.02;
+
+/// LinuxCNC's absolute IJ radius tolerance in inch programs
+/// (`CENTER_ARC_RADIUS_TOLERANCE_INCH` = 0.002 inch).
+const LINUXCNC_RADIUS_TOLERANCE_INCH: f64 = 0.002;
 
 /// Largest angle (radians) of one chord when an arc outside the XY plane is split: the
 /// chord length deficit per chord is θ²/24 < 1e-5 relative, well inside the 1e-4 budget

@@ -128,13 +128,21 @@ impl Block {
 pub(super) fn tenths(v: f64) -> Option<i64> {
     let x = v * 10.0;
     // round(x) lies in [0, 10⁹) exactly when x lies in (−0.5, 10⁹ − 0.5).
-    if !(x > -0.5 && x < 1e9 - 0.5) {
+    if !(x > -0.5 && x < TENTHS_LIMIT - 0.5) {
         return None;
     }
     let r = x as i64;
     let t = if x - r as f64 >= 0.5 { r + 1 } else { r };
-    ((x - t as f64).abs() < 1e-6).then_some(t)
+    ((x - t as f64).abs() < TENTHS_SLACK).then_some(t)
 }
+
+/// Codes are below this many tenths (10⁹), so that a [`Block`] stores them in an `i32`.
+const TENTHS_LIMIT: f64 = 1e9;
+
+/// A code is a whole number of tenths when ten times its value is within this of an integer:
+/// far above the rounding of a decimal code read as `f64` (`G90.1` · 10 is off by an ulp),
+/// far below the next tenth.
+const TENTHS_SLACK: f64 = 1e-6;
 
 pub(super) fn fmt_code(tenths: i64) -> String {
     if tenths % 10 == 0 {

@@ -514,7 +514,7 @@ impl Interp<'_, '_> {
         match self.cfg.dialect {
             Dialect::Generic | Dialect::Linuxcnc => {
                 let lc = if self.st.units == Units::Inch {
-                    0.002 * 25.4
+                    LINUXCNC_RADIUS_TOLERANCE_INCH * Units::Inch.to_mm()
                 } else {
                     LINUXCNC_RADIUS_TOLERANCE_MM
                 };

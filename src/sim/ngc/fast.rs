@@ -34,8 +34,7 @@ pub(super) const POW10: [f64; 23] = [
 /// The words go into `words` in place of the ones it holds (the previous line's), which
 /// is then cut to this line's: each field is written where it stays, where a pushed word
 /// would be built on the stack and copied, and that copy's wide load has to wait for the
-/// narrow stores of the value just computed (a store-forwarding stall, measured as 40 % of
-/// this function's time).
+/// narrow stores of the value just computed (a store-forwarding stall).
 pub(super) fn parse_plain(
     raw: &[u8],
     syn: Syntax,

@@ -26,14 +26,14 @@ use split::*;
 const MAX_COVER_PER_SEG: f64 = 4.0;
 
 /// Most contacts the grid collects (memory guard): a program that crosses itself
-/// everywhere, such as a random scribble of n segments, has O(n²) contacts (a 30 000-line
-/// one needed 23 GB and 88 s to list them all). Beyond this many the grid stops and
+/// everywhere, such as a random scribble of n segments, has O(n²) contacts, a list no memory
+/// holds for a few ten thousand lines. Beyond this many the grid stops and
 /// [`SegmentSet::contacts_capped`] says so; 2²⁰ contacts take about 40 MB.
 pub const MAX_CONTACTS: usize = 1 << 20;
 
-/// Fewest segments [`SegmentSet::contacts_in_order`] searches in rounds: below it the
-/// whole search costs a few milliseconds, and the count of findings past the report's cap
-/// stays exact.
+/// Fewest segments [`SegmentSet::contacts_in_order`] searches in rounds: below it one
+/// search over all segments is cheap, and the count of findings past the report's cap stays
+/// exact.
 pub const ROUNDS_MIN: usize = 1 << 16;
 
 /// Segments in the first window of [`SegmentSet::contacts_in_order`].
