@@ -516,8 +516,8 @@ pub struct Program {
     pub uncertain_from: Option<usize>,
     /// Why nothing usable could be read (empty file, binary data), when that is the case.
     pub unusable: Option<String>,
-    /// Pocket marks `(skinpath:group N)` by line (see
-    /// [`crate::sim::checks::contours::note_group_marks`]), in line order.
+    /// Pocket marks `(skinpath:group N)` by line, in line order: the mark in force from that
+    /// line on (None after `(skinpath:group none)`).
     pub group_marks: Vec<(usize, Option<u32>)>,
 }
 

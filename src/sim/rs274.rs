@@ -117,7 +117,7 @@ pub enum Rs274Error {
          raise --rs274-timeout if the program is just long)", .0.as_secs_f64()
     )]
     Timeout(Duration),
-    /// rs274 was still running after [`WALL_BACKSTOP_FACTOR`] times
+    /// rs274 was still running after 30 times (`WALL_BACKSTOP_FACTOR`)
     /// [`Rs274Options::timeout`] of wall time without reaching its processor-time limit.
     #[error(
         "rs274 was still running after {:.1} s of wall time without using its processor \

@@ -121,7 +121,7 @@ pub struct CheckFindings {
     /// Per id, findings counted but not built.
     pub dropped: Vec<(&'static str, usize)>,
     /// Ids of `dropped` whose search stopped once the report was full: more findings than
-    /// counted may exist ([`SegmentSet::contacts_in_order`]).
+    /// counted may exist (the contact search stops early).
     pub at_least: Vec<&'static str>,
 }
 

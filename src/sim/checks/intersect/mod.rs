@@ -64,7 +64,7 @@ pub struct Seg {
 
 /// The pocket mark of line cuts (`(skinpath:group 0)`; pockets are numbered from 1): cuts
 /// along a drawing's lines, whose contacts with any contour, their own included, never
-/// count ([`SegmentSet::test_pair`]).
+/// count (the intersection check's pair test skips them).
 pub const LINE_GROUP: u32 = 0;
 
 /// Which contacts between segments of two different contours [`SegmentSet::test_pair`]
