@@ -115,6 +115,19 @@ impl Dialect {
         }
     }
 
+    /// The feed (mm/min) the firmware runs a feed move at while no F word has set one:
+    /// Marlin's and Smoothieware's defaults ([`MARLIN_DEFAULT_FEED_MM_MIN`],
+    /// [`SMOOTHIE_DEFAULT_FEED_MM_MIN`]); None for the dialects that refuse such a move
+    /// (LinuxCNC, GRBL) or leave it untimed (generic).
+    #[must_use]
+    pub fn default_feed(self) -> Option<f64> {
+        match self {
+            Dialect::Marlin => Some(MARLIN_DEFAULT_FEED_MM_MIN),
+            Dialect::Smoothie => Some(SMOOTHIE_DEFAULT_FEED_MM_MIN),
+            Dialect::Generic | Dialect::Linuxcnc | Dialect::Grbl => None,
+        }
+    }
+
     /// Parses a `--dialect` name.
     #[must_use]
     pub fn from_name(s: &str) -> Option<Dialect> {
@@ -129,6 +142,14 @@ impl Dialect {
         .find(|d| d.name() == s)
     }
 }
+
+/// Marlin's feed rate before any F word (mm/min): `feedrate_mm_s = MMM_TO_MMS(1500.0f)` in
+/// Marlin/src/module/motion.cpp.
+pub const MARLIN_DEFAULT_FEED_MM_MIN: f64 = 1500.0;
+
+/// Smoothieware's feed rate before any F word (mm/min): `default_feed_rate`, compiled-in
+/// default 100 (Robot.cpp `by_default(100.0F)`) when the config file does not set it.
+pub const SMOOTHIE_DEFAULT_FEED_MM_MIN: f64 = 100.0;
 
 /// One tool of the tool table (LinuxCNC `.tbl` line `T1 P1 Z0.5 D3.175`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

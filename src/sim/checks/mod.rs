@@ -279,6 +279,9 @@ mod tests {
         assert_eq!(oob(&r), oob(&full)[..7].to_vec());
         assert_eq!(r.suppressed, vec![("out-of-bounds".to_string(), 1992)]);
         let opts = crate::sim::interp::Options { load_sub: None };
+        let _running = crate::sim::stream::TEST_LOCK
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
         let (streamed, _) = crate::sim::stream::check_stream(
             Box::new(std::io::Cursor::new(src.clone().into_bytes())),
             &capped,
@@ -308,6 +311,9 @@ mod tests {
     fn contour_report(src: &str, cfg: &CheckConfig) -> (Vec<Finding>, Vec<(String, usize)>) {
         let r = check_text(Backend::Builtin, src, cfg, &[]);
         let opts = crate::sim::interp::Options { load_sub: None };
+        let _running = crate::sim::stream::TEST_LOCK
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
         let (streamed, _) = crate::sim::stream::check_stream(
             Box::new(std::io::Cursor::new(src.as_bytes().to_vec())),
             cfg,

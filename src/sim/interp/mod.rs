@@ -79,14 +79,6 @@ const PECK_CLEARANCE_MM: f64 = 0.254;
 /// non-finite centres are `invalid-arc` errors.
 const MAX_ARC_RADIUS_MM: f64 = 1e7;
 
-/// Marlin's feed rate before any F word (mm/min): `feedrate_mm_s = MMM_TO_MMS(1500.0f)` in
-/// Marlin/src/module/motion.cpp.
-pub const MARLIN_DEFAULT_FEED_MM_MIN: f64 = 1500.0;
-
-/// Smoothieware's feed rate before any F word (mm/min): `default_feed_rate`, compiled-in
-/// default 100 (Robot.cpp `by_default(100.0F)`) when the config file does not set it.
-pub const SMOOTHIE_DEFAULT_FEED_MM_MIN: f64 = 100.0;
-
 /// Numbered parameters holding stored positions (LinuxCNC manual, "Numbered parameters").
 const P_G28: usize = 5161;
 const P_G30: usize = 5181;

@@ -241,11 +241,7 @@ impl Interp<'_, '_> {
 
     /// The firmware's feed rate (mm/min) before any F word, for dialects that have one.
     pub(super) fn firmware_feed(&self) -> Option<f64> {
-        match self.cfg.dialect {
-            Dialect::Marlin => Some(MARLIN_DEFAULT_FEED_MM_MIN),
-            Dialect::Smoothie => Some(SMOOTHIE_DEFAULT_FEED_MM_MIN),
-            _ => None,
-        }
+        self.cfg.dialect.default_feed()
     }
 
     /// A feed move `m` while no feed rate is set (no F yet, or F0): LinuxCNC and GRBL refuse

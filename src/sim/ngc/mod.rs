@@ -20,6 +20,8 @@ mod expr;
 mod fast;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_expr;
 
 use cursor::*;
 use expr::*;

@@ -37,6 +37,14 @@ use glam::DVec3;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
 
+#[cfg(test)]
+mod tests;
+
+/// Held by the unit tests while a streamed check runs: its temporary files carry this
+/// process's id, so a test that counts them must not overlap another streamed check.
+#[cfg(test)]
+pub(crate) static TEST_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Inputs larger than this (bytes) take the streaming route in the CLI (`skinpath check`);
 /// smaller ones are read into memory, which is faster.
 pub const STREAM_ABOVE_BYTES: u64 = 64 << 20;
