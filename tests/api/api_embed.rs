@@ -2,6 +2,7 @@
 //! examples/embed.rs and the crate-level doc test, strokes made in code, progress reports,
 //! scaling of text, and the typed refusal of an unchecked program.
 
+use crate::support::ROOT;
 use skinpath::geom::DVec2;
 use skinpath::job::build::scaled_design;
 use skinpath::{
@@ -9,8 +10,6 @@ use skinpath::{
     design_of_strokes,
 };
 use std::sync::Mutex;
-
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 fn wave() -> DiskBSpline {
     let disks: Vec<Circle> = [

@@ -10,10 +10,10 @@
 use crate::support;
 
 use ::gcode::{Code, Value};
-use support::{ROOT, skinpath, tmpdir};
 use glam::DVec2;
 use skinpath::dbsc::DiskBSpline;
 use skinpath::spline::BSpline;
+use support::{ROOT, skinpath, tmpdir};
 
 /// Cox–de Boor recursion N_{i,p}(t) on `knots` (right end: the last non-zero span).
 fn basis(knots: &[f64], i: usize, p: usize, t: f64) -> f64 {

@@ -3,12 +3,12 @@
 
 use crate::support;
 
-use support::emit::*;
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
 use skinpath::emit::{DxfOptions, dxf};
 use skinpath::geom::Arc;
 use skinpath::toolpath::Toolpath;
+use support::emit::*;
 
 fn load(text: &str) -> ::dxf::Drawing {
     ::dxf::Drawing::load(&mut text.as_bytes()).unwrap_or_else(|e| panic!("{e}\n{text}"))

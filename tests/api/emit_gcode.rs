@@ -7,7 +7,6 @@
 use crate::support;
 
 use ::gcode::{Code, Value};
-use support::emit::*;
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
 use skinpath::emit::{EmitError, GcodeOptions, gcode};
@@ -15,6 +14,7 @@ use skinpath::machine::{
     ArcFormat, MachineKind, Profile, RapidOff, Units, builtin_profile, builtin_profiles,
 };
 use skinpath::toolpath::{MoveKind, Toolpath};
+use support::emit::*;
 
 /// What the interpreter saw.
 #[derive(Debug, Default)]

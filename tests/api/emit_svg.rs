@@ -4,13 +4,13 @@
 
 use crate::support;
 
-use support::emit::*;
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
 use skinpath::emit::laser_svg::color_of;
 use skinpath::emit::{LaserSvgOptions, Page, laser_svg};
 use skinpath::machine::{Profile, builtin_profile};
 use skinpath::toolpath::Toolpath;
+use support::emit::*;
 
 fn profile(name: &str) -> Profile {
     builtin_profile(name).unwrap().unwrap()

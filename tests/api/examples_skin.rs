@@ -3,16 +3,10 @@
 //! (examples/loop.toml) the side without the envelope loop meets ε everywhere while the
 //! report names the looping segments.
 
+use crate::support::example;
 use skinpath::dbsc::Side;
-use skinpath::design::Design;
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 use skinpath::skin::intersect::{path_self_intersections, paths_intersections};
-
-fn load(name: &str) -> Design {
-    let path = format!("{}/examples/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap();
-    skinpath::design::load(&text, &path).unwrap()
-}
 
 const EPS: f64 = 0.01;
 
@@ -36,7 +30,7 @@ fn every_example_outline_is_free_of_crossings() {
         "circles",
         "gclef",
     ] {
-        let d = load(name);
+        let d = example(name);
         for item in design_outlines(&d, &opts()).unwrap() {
             // A stroke that crosses itself (the G-clef) is outlined by the union of its
             // region: line contours that may meet at needle-sharp corners, which the curve
@@ -94,7 +88,7 @@ fn assert_union_contours_do_not_cross(contours: &[skinpath::geom::Path]) {
 #[test]
 fn loop_free_examples_meet_epsilon_everywhere() {
     for name in ["brush", "ring_o", "snake", "neon_word", "calligraphy"] {
-        let d = load(name);
+        let d = example(name);
         for item in design_outlines(&d, &opts()).unwrap() {
             let loops = item.loops.as_ref().map(|l| l.loops.len()).unwrap_or(0);
             assert_eq!(loops, 0, "{name}/{} has envelope loops", item.name);
@@ -116,7 +110,7 @@ fn loop_free_examples_meet_epsilon_everywhere() {
 
 #[test]
 fn hairpin_loop_side_is_named_and_the_other_side_meets_epsilon() {
-    let d = load("loop");
+    let d = example("loop");
     let items = design_outlines(&d, &opts()).unwrap();
     let item = &items[0];
     let report = item.loops.as_ref().unwrap();

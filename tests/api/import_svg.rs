@@ -2,6 +2,7 @@
 //! (both ways, against the SVG centre line computed here with kurbo), corners, y flip,
 //! skipped elements and errors.
 
+use crate::support::rng::Rng;
 use glam::DVec2;
 use kurbo::{CubicBez, ParamCurve, Point};
 use skinpath::design::svg::{ImportOptions, MM_PER_PX, import};
@@ -559,16 +560,11 @@ fn oversized_paths_and_fills_are_refused_by_count() {
     );
 }
 
-/// A polygon through `n` pseudo-random points of the page (xorshift, fixed seed): its
+/// A polygon through `n` pseudo-random points of the page (the tests' generator, fixed seed): its
 /// edges cross each other about n²/10 times.
 fn random_polygon(n: usize) -> String {
-    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        (x >> 11) as f64 / (1u64 << 53) as f64 * 200.0
-    };
+    let mut rng = Rng::new(0x9E37_79B9_7F4A_7C15);
+    let mut next = || rng.range(0.0, 200.0);
     (0..n)
         .map(|_| format!("{:.3},{:.3} ", next(), next()))
         .collect()

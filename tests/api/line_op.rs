@@ -9,9 +9,10 @@
 use crate::support;
 
 use ::gcode::{Code, Value};
-use support::{skinpath, tmpdir};
 use glam::{DVec2, DVec3};
 use std::path::Path;
+use support::rng::Rng;
+use support::{skinpath, tmpdir};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -344,14 +345,8 @@ fn crossing_lines_check_clean_crossing_profiles_do_not() {
 fn ten_thousand_crossing_lines_build_and_check_clean() {
     let dir = tmpdir("line-many");
     let mut text = String::from("version = 1\n");
-    // A fixed linear congruential generator (Knuth's MMIX constants).
-    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
+    let mut next = || rng.unit();
     for i in 0..10_000 {
         let (x, y) = (5.0 + 190.0 * next(), 5.0 + 140.0 * next());
         let a = std::f64::consts::TAU * next();

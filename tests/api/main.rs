@@ -1,4 +1,6 @@
-//! Library-level tests: design loading and SVG import, skins, outlines, toolpaths, emitters, previews and text, each checked against independent computation (most through the public API, a few through the built binary where the result is a file).
+//! Library-level tests: design loading and SVG import, skins, outlines, toolpaths,
+//! emitters, previews and text, each checked against independent computation (most through
+//! the public API, a few through the built binary where the result is a file).
 //!
 //! One test binary; each module was once a file of its own under tests/.
 

@@ -5,8 +5,8 @@
 
 use crate::support;
 
-use support::{skinpath, tmpdir};
 use std::path::Path;
+use support::{skinpath, tmpdir};
 
 /// The shift of the moved design, as in the issue.
 const MOVE: [f64; 2] = [10000.0, -5000.0];

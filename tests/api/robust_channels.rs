@@ -6,14 +6,13 @@
 //! `skinpath check PROGRAM --machine SAME` runs it with no flags, or be refused with a
 //! message naming the design file.
 
+use crate::support::ROOT;
 use skinpath::design::{Design, load};
 use skinpath::emit::{GcodeOptions, gcode};
 use skinpath::job::build::{BuildOptions, Place, build_toolpath, place_job};
 use skinpath::job::check::check_config;
 use skinpath::machine::{Units, builtin_profile};
 use skinpath::sim::{Backend, Severity, check_text};
-
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// The design rotated by `angle` about the origin and then moved by `d`.
 fn moved(design: &Design, angle: f64, d: [f64; 2]) -> Design {
@@ -247,7 +246,7 @@ depth = 6.0
 }
 
 /// Seed 0x5EED0011 case 95: stroke s2's skin was a bridge 23 mm short of its hairpin bend;
-/// its outline is now the union of its disks (tests/skin_coverage.rs).
+/// its outline is now the union of its disks (tests/api/skin_coverage.rs).
 #[test]
 fn random_c95_hairpin_skin_missed_the_bend() {
     random_case("random_c95");

@@ -479,7 +479,7 @@ bridge_width = 0.0
 "
     );
     // `bridge_width = 0` keeps the plates' boards apart (by default they are bridged into
-    // one board, tests/neon_board.rs): this test measures each piece's reach.
+    // one board, tests/neon/neon_board.rs): this test measures each piece's reach.
     let d = load(&text, "b.toml").unwrap();
     let profile = builtin_profile("grbl-router").unwrap().unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();

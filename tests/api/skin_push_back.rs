@@ -2,11 +2,10 @@
 //! paragraph after eq. 25): on every stroke of the examples and the gallery, both settings
 //! give skins that meet ε or report where they stopped, and push-back needs no more circles
 //! in all (the paper's reason for it). Prints the counts. Push-back is off by default: see
-//! [`DbscSkinOptions::push_back`] and tests/robust_channels.rs (case 145).
+//! [`DbscSkinOptions::push_back`] and tests/api/robust_channels.rs (case 145).
 
+use crate::support::ROOT;
 use skinpath::skin::dbsc_skin::{DbscSkinOptions, skin_dbsc};
-
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 fn designs() -> Vec<String> {
     let mut out = Vec::new();
@@ -25,7 +24,7 @@ fn designs() -> Vec<String> {
 }
 
 /// (circles, segments that missed ε) of one stroke skinned with `push_back`; `None` when
-/// the stroke cannot be skinned whole (the build splits it: tests/skin_total.rs).
+/// the stroke cannot be skinned whole (the build splits it: tests/api/skin_total.rs).
 fn skin(c: &skinpath::dbsc::DiskBSpline, push_back: bool) -> Option<(usize, usize)> {
     let mut o = DbscSkinOptions {
         push_back,

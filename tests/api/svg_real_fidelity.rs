@@ -23,13 +23,13 @@
 
 use crate::support;
 
-use support::{skinpath, tmpdir};
 use glam::DVec2;
 use kurbo::{BezPath, PathEl, Point, Shape};
 use rstar::PointDistance;
 use rstar::RTree;
 use rstar::primitives::{GeomWithData, Line as RLine};
 use std::path::{Path, PathBuf};
+use support::{skinpath, tmpdir};
 
 /// Allowance on top of half a stroke's width and the tool radius (the 0.3 mm).
 const SLACK_MM: f64 = 0.3;

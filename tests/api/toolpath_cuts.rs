@@ -263,7 +263,7 @@ fn vcarve_op(angle: f64, max_depth: f64) -> Operation {
 
 #[test]
 fn attributes_reach_the_vcarve_moves() {
-    let mut d = design("brush");
+    let mut d = support::example("brush");
     let strokes = d.strokes().unwrap();
     let c = &strokes[0];
     let knots = c.curve().knots().to_vec();
@@ -322,7 +322,7 @@ fn attributes_reach_the_vcarve_moves() {
         }
     }
     // Without attributes the V-carve falls back to the operation's power and feed.
-    let mut plain = design("brush");
+    let mut plain = support::example("brush");
     plain.stroke[0].attributes = Default::default();
     plain.operation = vec![vcarve_op(60.0, cap)];
     let prof = builtin_profile("grbl-laser").unwrap().unwrap();

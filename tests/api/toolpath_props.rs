@@ -143,7 +143,7 @@ fn hatch_lines_lie_inside_and_alternate() {
 #[test]
 fn cross_hatch_adds_the_perpendicular_set() {
     let laser = builtin_profile("grbl-laser").unwrap().unwrap();
-    let mut d = design("brush");
+    let mut d = support::example("brush");
     d.operation
         .retain(|o| o.kind == skinpath::design::OperationKind::Fill);
     d.operation[0].spacing = Some(1.0);
@@ -245,7 +245,7 @@ fn concentric_rings_never_cross_and_nest() {
 #[test]
 fn vcarve_depth_follows_the_radius_below_the_cap() {
     let router = builtin_profile("grbl-router").unwrap().unwrap();
-    let d = design("calligraphy");
+    let d = support::example("calligraphy");
     let strokes = d.strokes().unwrap();
     let op = d
         .operation
@@ -293,7 +293,7 @@ fn vcarve_depth_follows_the_radius_below_the_cap() {
 /// Builds an example with a router (falls back to the laser when the design's operations
 /// have no depths).
 fn build_example(name: &str) -> skinpath::job::build::BuildResult {
-    let d = design(name);
+    let d = support::example(name);
     let router = builtin_profile("grbl-router").unwrap().unwrap();
     let laser = builtin_profile("grbl-laser").unwrap().unwrap();
     build_toolpath(&d, &router, &BuildOptions::default())

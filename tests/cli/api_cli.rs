@@ -4,12 +4,8 @@
 
 use crate::support;
 
-use support::{ROOT, skinpath, tmpdir};
 use std::process::{Command, Stdio};
-
-fn example(name: &str) -> String {
-    format!("{ROOT}/examples/{name}.toml")
-}
+use support::{ROOT, example_path, skinpath, tmpdir};
 
 #[test]
 fn build_timings_are_a_json_object_of_stages() {
@@ -17,7 +13,7 @@ fn build_timings_are_a_json_object_of_stages() {
     let out = d.join("w.gcode");
     let o = skinpath(&[
         "build",
-        &example("neon_word"),
+        &example_path("neon_word"),
         "--machine",
         "grbl-router",
         "-o",
@@ -37,7 +33,7 @@ fn build_timings_are_a_json_object_of_stages() {
     // Without --timings the summary has no timings (the JSON stays as it was).
     let o = skinpath(&[
         "build",
-        &example("neon_word"),
+        &example_path("neon_word"),
         "--machine",
         "grbl-router",
         "-o",
@@ -68,7 +64,7 @@ fn timings_tables_go_to_stderr() {
         ],
         vec!["outline", "-o", svg.to_str().unwrap(), "--timings"],
     ];
-    let design = example("snake");
+    let design = example_path("snake");
     for mut args in runs {
         args.insert(1, &design);
         let o = skinpath(&args);
@@ -97,10 +93,10 @@ fn a_closed_stdout_is_a_quiet_success() {
     let d = tmpdir("api-pipe");
     let out = d.join("w.gcode");
     let runs: [Vec<String>; 4] = [
-        vec!["inspect".into(), example("neon_word"), "--json".into()],
+        vec!["inspect".into(), example_path("neon_word"), "--json".into()],
         vec![
             "build".into(),
-            example("neon_word"),
+            example_path("neon_word"),
             "--machine".into(),
             "grbl-router".into(),
             "-o".into(),

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use crate::support;
-use support::{EXAMPLES, ROOT, skinpath, tmpdir};
+use support::{EXAMPLES, ROOT, example_path, skinpath, tmpdir};
 
 /// Golden comparison tolerance for coordinates (mm or inch), per the task.
 const GOLDEN_TOL: f64 = 1e-3;
@@ -20,12 +20,6 @@ const SVG_SIZE_TOL: f64 = 5e-4;
 
 // ---------------------------------------------------------------------------------------
 // helpers
-
-fn example(name: &str) -> PathBuf {
-    Path::new(ROOT)
-        .join("examples")
-        .join(format!("{name}.toml"))
-}
 
 fn code(o: &Output) -> i32 {
     o.status.code().unwrap_or(-1)
@@ -282,9 +276,8 @@ fn readme_first_command() {
 
 fn outline_json(name: &str, dir: &Path, extra: &[&str]) -> Json {
     let out = dir.join(format!("{name}.json"));
-    let mut args = vec!["outline", "", "-o", s(&out)];
-    let ex = example(name);
-    args[1] = s(&ex);
+    let ex = example_path(name);
+    let mut args = vec!["outline", &ex, "-o", s(&out)];
     args.extend_from_slice(extra);
     let o = skinpath(&args);
     expect_ok(&o, &format!("outline {name} json"));
@@ -297,7 +290,7 @@ fn outline_every_example_svg_and_json() {
     for name in EXAMPLES {
         // SVG drawing in mm.
         let svg = d.join(format!("{name}.svg"));
-        let o = skinpath(&["outline", s(&example(name)), "-o", s(&svg)]);
+        let o = skinpath(&["outline", &example_path(name), "-o", s(&svg)]);
         expect_ok(&o, &format!("outline {name} svg"));
         let text = std::fs::read_to_string(&svg).unwrap();
         let doc = roxmltree::Document::parse(&text).unwrap();
@@ -311,7 +304,7 @@ fn outline_every_example_svg_and_json() {
         let j = outline_json(name, &d, &[]);
         assert_eq!(j["units"].as_str(), Some("mm"), "{name}");
         let design: toml::Value =
-            toml::from_str(&std::fs::read_to_string(example(name)).unwrap()).unwrap();
+            toml::from_str(&std::fs::read_to_string(example_path(name)).unwrap()).unwrap();
         let n_circle_seqs = design
             .get("circles")
             .and_then(|c| c.as_array())
@@ -442,7 +435,8 @@ fn loop_outline_is_loop_free_where_envelope_loops() {
 // 3. inspect
 
 fn control_radii(name: &str) -> Vec<(String, Vec<f64>)> {
-    let v: toml::Value = toml::from_str(&std::fs::read_to_string(example(name)).unwrap()).unwrap();
+    let v: toml::Value =
+        toml::from_str(&std::fs::read_to_string(example_path(name)).unwrap()).unwrap();
     v.get("stroke")
         .and_then(|s| s.as_array())
         .map(|a| {
@@ -473,7 +467,7 @@ fn control_radii(name: &str) -> Vec<(String, Vec<f64>)> {
 #[test]
 fn inspect_reports_loops_and_consistent_numbers() {
     for name in ["loop", "brush", "ring_o", "snake"] {
-        let o = skinpath(&["inspect", s(&example(name)), "--json"]);
+        let o = skinpath(&["inspect", &example_path(name), "--json"]);
         expect_ok(&o, &format!("inspect {name} --json"));
         let j: Json = serde_json::from_slice(&o.stdout).unwrap();
         let radii = control_radii(name);
@@ -512,7 +506,7 @@ fn inspect_reports_loops_and_consistent_numbers() {
             }
         }
         // Text form says the same.
-        let o = skinpath(&["inspect", s(&example(name))]);
+        let o = skinpath(&["inspect", &example_path(name)]);
         expect_ok(&o, &format!("inspect {name}"));
         let text = String::from_utf8_lossy(&o.stdout);
         let loop_lines = text
@@ -766,7 +760,7 @@ fn replay(text: &str, p: &Profile) -> Sim {
 fn build(name: &str, machine: &str, out: &Path) -> Output {
     skinpath(&[
         "build",
-        s(&example(name)),
+        &example_path(name),
         "--machine",
         machine,
         "-o",
@@ -854,7 +848,7 @@ fn place_lower_left_with_arcs() {
         let out = d.join(format!("{name}.gcode"));
         let o = skinpath(&[
             "build",
-            s(&example(name)),
+            &example_path(name),
             "--machine",
             machine,
             "-o",
@@ -1143,7 +1137,7 @@ fn svg_colours(machine: &str, name: &str) {
         }
     }
     let design: toml::Value =
-        toml::from_str(&std::fs::read_to_string(example(name)).unwrap()).unwrap();
+        toml::from_str(&std::fs::read_to_string(example_path(name)).unwrap()).unwrap();
     let n_ops = design
         .get("operation")
         .and_then(|o| o.as_array())
@@ -1272,7 +1266,7 @@ fn design_errors_name_file_stroke_and_index() {
 fn output_equal_to_input_is_refused() {
     let d = tmpdir("samefile");
     let design = d.join("ring.toml");
-    std::fs::copy(example("ring_o"), &design).unwrap();
+    std::fs::copy(example_path("ring_o"), &design).unwrap();
     let before = std::fs::read(&design).unwrap();
     // Same file through a different spelling of the path.
     let alias = d.join(".").join("ring.toml");
@@ -1316,7 +1310,7 @@ fn output_equal_to_input_is_refused() {
     assert!(!Path::new(ROOT).join("x.gcode").exists());
     // A JSON design named like the output format.
     let jdesign = d.join("ring.json");
-    let o = skinpath(&["outline", s(&example("ring_o")), "-o", s(&jdesign)]);
+    let o = skinpath(&["outline", &example_path("ring_o"), "-o", s(&jdesign)]);
     expect_ok(&o, "outline json");
     let jbefore = std::fs::read(&jdesign).unwrap();
     let o = skinpath(&["outline", s(&jdesign), "-o", s(&jdesign)]);
@@ -1331,7 +1325,7 @@ fn failing_runs_leave_no_file_and_keep_old_outputs() {
     let out = d.join("x.gcode");
     let o = skinpath(&[
         "build",
-        s(&example("ring_o")),
+        &example_path("ring_o"),
         "--machine",
         "no-such-machine",
         "-o",
@@ -1350,7 +1344,7 @@ fn failing_runs_leave_no_file_and_keep_old_outputs() {
     assert_eq!(std::fs::read(&out).unwrap(), old);
     let o = skinpath(&[
         "build",
-        s(&example("snake")),
+        &example_path("snake"),
         "--machine",
         "marlin-laser",
         "-o",
@@ -1555,7 +1549,7 @@ fn build_without_output_writes_the_design_name_here() {
     ] {
         let o = Command::new(env!("CARGO_BIN_EXE_skinpath"))
             .current_dir(&dir)
-            .args(["build", s(&example("neon_word")), "--machine", machine])
+            .args(["build", &example_path("neon_word"), "--machine", machine])
             .output()
             .unwrap();
         expect_ok(&o, machine);

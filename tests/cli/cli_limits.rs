@@ -6,11 +6,11 @@
 
 use crate::support;
 
-use support::{CHILD_LIMIT, tmpdir, wait_limited};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+use support::{CHILD_LIMIT, tmpdir, wait_limited};
 
 fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_skinpath")

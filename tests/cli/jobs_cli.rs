@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use crate::support;
-use support::{EXAMPLES, ROOT, skinpath, tmpdir};
+use support::{EXAMPLES, ROOT, example_path, skinpath, tmpdir};
 
 const GCODE_PROFILES: [&str; 5] = [
     "grbl-laser",
@@ -60,10 +60,6 @@ fn text(o: &Output) -> String {
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     )
-}
-
-fn example(name: &str) -> String {
-    format!("{ROOT}/examples/{name}.toml")
 }
 
 fn data(name: &str) -> String {
@@ -216,7 +212,7 @@ fn arc_leads_on_a_closed_contour_build_and_check() {
 /// at the middle of a side.
 #[test]
 fn leads_on_outlines_starting_at_a_corner_build_and_check() {
-    let design = std::fs::read_to_string(example("gallery/starter"))
+    let design = std::fs::read_to_string(example_path("gallery/starter"))
         .unwrap()
         .replace("power = 80", "power = 80\nlead_in = 2.0");
     assert!(design.contains("lead_in = 2.0"));
@@ -310,7 +306,7 @@ fn every_example_on_every_profile_with_default_flags() {
                 .map(|(_, _, why)| *why);
             match expected {
                 None => {
-                    build_clean(&example(name), m, &[], name);
+                    build_clean(&example_path(name), m, &[], name);
                     built += 1;
                 }
                 Some(why) => {
@@ -318,7 +314,7 @@ fn every_example_on_every_profile_with_default_flags() {
                     let out = d.join(format!("x.{}", ext(m)));
                     let o = skinpath(&[
                         "build",
-                        &example(name),
+                        &example_path(name),
                         "--machine",
                         m,
                         "-o",
@@ -345,7 +341,7 @@ fn the_too_big_ones_fit_with_the_option_the_message_names() {
         let out = d.join("x.gcode");
         let o = skinpath(&[
             "build",
-            &example(name),
+            &example_path(name),
             "--machine",
             m,
             "-o",
@@ -358,7 +354,7 @@ fn the_too_big_ones_fit_with_the_option_the_message_names() {
             .nth(1)
             .unwrap_or_else(|| panic!("{name} on {m}: {err}"));
         build_clean(
-            &example(name),
+            &example_path(name),
             m,
             &["--fit", fit],
             &format!("{name} --fit {fit}"),
@@ -393,7 +389,7 @@ fn bounds(j: &Json) -> [f64; 4] {
 
 #[test]
 fn placement_lower_left_center_design_scale_and_fit() {
-    let ring = example("ring_o");
+    let ring = example_path("ring_o");
     // Default: the job's lower-left corner at the work origin (plus two units of the last
     // decimal, 0.002 mm), and the run says where it went.
     let d = tmpdir("place");
@@ -456,7 +452,7 @@ fn placement_lower_left_center_design_scale_and_fit() {
     let out2 = d2.join("n.gcode");
     let o = skinpath(&[
         "build",
-        &example("neon_word"),
+        &example_path("neon_word"),
         "--machine",
         "grbl-router",
         "-o",
@@ -478,7 +474,7 @@ fn placement_lower_left_center_design_scale_and_fit() {
 
 #[test]
 fn marlin_ends_without_m30_and_check_accepts_it() {
-    let out = build_clean(&example("loop"), "marlin-laser", &[], "loop on marlin");
+    let out = build_clean(&example_path("loop"), "marlin-laser", &[], "loop on marlin");
     let g = std::fs::read_to_string(&out).unwrap();
     let codes: Vec<&str> = g
         .lines()
@@ -505,7 +501,7 @@ fn marlin_ends_without_m30_and_check_accepts_it() {
 #[test]
 fn grbl_laser_writes_s0_before_every_rapid_and_states_laser_mode() {
     let out = build_clean(
-        &example("neon_word"),
+        &example_path("neon_word"),
         "grbl-laser",
         &[],
         "neon on grbl-laser",
@@ -547,7 +543,12 @@ fn grbl_laser_writes_s0_before_every_rapid_and_states_laser_mode() {
 #[test]
 fn laser_default_power_comes_from_the_profile() {
     // ring_o's operations set no power: grbl-laser's default_power is 20 % of S1000.
-    let out = build_clean(&example("ring_o"), "grbl-laser", &[], "ring on grbl-laser");
+    let out = build_clean(
+        &example_path("ring_o"),
+        "grbl-laser",
+        &[],
+        "ring on grbl-laser",
+    );
     let g = std::fs::read_to_string(&out).unwrap();
     let s: Vec<f64> = g
         .split_whitespace()
@@ -563,7 +564,7 @@ fn laser_default_power_comes_from_the_profile() {
 fn air_assist_per_operation() {
     let d = tmpdir("air");
     let design = d.join("air.toml");
-    let ring = std::fs::read_to_string(example("ring_o")).unwrap();
+    let ring = std::fs::read_to_string(example_path("ring_o")).unwrap();
     let base: String = ring
         .lines()
         .take_while(|l| !l.starts_with("[[operation]]"))
@@ -591,7 +592,7 @@ fn air_assist_per_operation() {
 
 #[test]
 fn pocket_marks_let_only_marked_pockets_cross() {
-    let out = build_clean(&example("neon_word"), "grbl-router", &[], "neon");
+    let out = build_clean(&example_path("neon_word"), "grbl-router", &[], "neon");
     let g = std::fs::read_to_string(&out).unwrap();
     assert!(g.contains("(skinpath:group 1)"));
     // Without the marks the same moves are judged strictly: crossings are errors.
@@ -668,7 +669,7 @@ fn outputs_are_written_as_a_set() {
     let prev = d.join("p.svg");
     let o = skinpath(&[
         "build",
-        &example("gclef"),
+        &example_path("gclef"),
         "--machine",
         "grbl-router",
         "-o",
@@ -799,7 +800,7 @@ fn router_profile_without_a_fitting_tool_says_so() {
 fn linuxcnc_and_smoothie_programs_follow_their_firmware() {
     // LinuxCNC: spindle off, then M2, with the tool at safe Z (the profile's 0.2 in).
     let out = build_clean(
-        &example("ring_o"),
+        &example_path("ring_o"),
         "linuxcnc-router",
         &[],
         "ring on linuxcnc",
@@ -814,7 +815,7 @@ fn linuxcnc_and_smoothie_programs_follow_their_firmware() {
     assert_eq!(&codes[n - 2..], &["M5", "M2"], "{:?}", &codes[n - 4..]);
     // Smoothie fires only on G1/G2/G3: rapids carry no S and the program needs no S0.
     let out = build_clean(
-        &example("circles"),
+        &example_path("circles"),
         "smoothie-laser",
         &[],
         "circles on smoothie",

@@ -1,4 +1,5 @@
-//! Tests of the `skinpath` binary: verbs, flags, exit codes, messages, files written and the limits of a run (every run is a child process).
+//! Tests of the `skinpath` binary: verbs, flags, exit codes, messages, files written and
+//! the limits of a run (every run is a child process).
 //!
 //! One test binary; each module was once a file of its own under tests/.
 

@@ -5,67 +5,23 @@
 
 use crate::support;
 
-use support::{CHILD_LIMIT, skinpath, tmpdir, wait_limited};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
+use support::{CHILD_LIMIT, OPEN_SIGN_OUTPUTS, OpenSignCuts, skinpath, tmpdir, wait_limited};
 
-/// A neon sign: "OPEN" in the sans font with the gallery sign's channel, holes and
-/// backboard (routed), a second backboard named "face" (the laser-cut acrylic face), and
-/// `outputs` appended.
+/// The "OPEN" sign ([`support::open_sign`]) with its routed operations' widths and depths
+/// set, and `outputs` appended.
 fn sign(outputs: &str) -> String {
-    format!(
-        r#"version = 1
-units = "mm"
-
-[[text]]
-name = "open"
-text = "OPEN"
-font = "sans"
-height = 40.0
-width = 6.0
-at = [8.0, 13.0]
-
-[neon]
-flex = "6mm"
-
-[[operation]]
-name = "channels"
-kind = "channel"
-width = 6.5
-depth = 10.0
-
-[[operation]]
-kind = "holes"
-diameter = 4.0
-depth = 12.0
-
-[[operation]]
-name = "board"
-kind = "backboard"
-margin = 6.0
-depth = 12.0
-
-[[operation]]
-name = "face"
-kind = "backboard"
-margin = 6.0
-power = 90.0
-{outputs}"#
-    )
+    let cuts = OpenSignCuts {
+        channel_width: 6.5,
+        channel_depth: 10.0,
+        hole_diameter: 4.0,
+        hole_depth: 12.0,
+        board_depth: 12.0,
+    };
+    support::open_sign(Some(&cuts), outputs)
 }
-
-const TWO: &str = r#"
-[[output]]
-name = "router"
-machine = "grbl-router"
-operations = ["channels", "holes", "board"]
-
-[[output]]
-name = "laser"
-machine = "grbl-laser"
-operations = ["face"]
-"#;
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
@@ -120,7 +76,7 @@ fn cut_lengths(summary: &serde_json::Value) -> Vec<(String, f64)> {
 #[test]
 fn two_outputs_write_both_programs_and_each_checks_clean_with_its_profile() {
     let d = tmpdir("outputs-two");
-    let design = write(&d, "sign.toml", &sign(TWO));
+    let design = write(&d, "sign.toml", &sign(OPEN_SIGN_OUTPUTS));
     let o = skinpath(&["build", s(&design), "-o", s(&d.join("sign.nc")), "--json"]);
     let j = json(&o);
     let router = d.join("sign.router.gcode");
@@ -198,7 +154,8 @@ name = "router"
 machine = "grbl-router"
 operations = ["channels", "raw"]
 "#;
-    let bad_profile = TWO.replace("machine = \"grbl-laser\"", "machine = \"no-such-laser\"");
+    let bad_profile =
+        OPEN_SIGN_OUTPUTS.replace("machine = \"grbl-laser\"", "machine = \"no-such-laser\"");
     let cases: [(&str, &str, &[&str]); 2] = [
         (
             bad_op,
@@ -245,15 +202,15 @@ operations = ["channels", "raw"]
 #[test]
 fn output_files_and_command_line_are_checked_before_anything_is_built() {
     let d = tmpdir("outputs-refused");
-    let same_file = TWO.replace(
+    let same_file = OPEN_SIGN_OUTPUTS.replace(
         "operations = [\"face\"]",
         "operations = [\"face\"]\nfile = \"{stem}.router.{ext}\"",
     );
-    let unknown_ext = TWO.replace(
+    let unknown_ext = OPEN_SIGN_OUTPUTS.replace(
         "operations = [\"face\"]",
         "operations = [\"face\"]\nfile = \"{stem}.{name}.txt\"",
     );
-    let two = write(&d, "two.toml", &sign(TWO));
+    let two = write(&d, "two.toml", &sign(OPEN_SIGN_OUTPUTS));
     let plain = write(&d, "plain.toml", &sign(""));
     let cases: Vec<(Vec<String>, Vec<&str>)> = vec![
         (
@@ -318,7 +275,7 @@ fn output_files_and_command_line_are_checked_before_anything_is_built() {
 #[test]
 fn only_builds_the_named_outputs_and_fit_scales_every_output_alike() {
     let d = tmpdir("outputs-only");
-    let design = write(&d, "sign.toml", &sign(TWO));
+    let design = write(&d, "sign.toml", &sign(OPEN_SIGN_OUTPUTS));
     let j = json(&skinpath(&[
         "build",
         s(&design),
@@ -382,7 +339,7 @@ fn a_signal_during_the_write_leaves_neither_program_nor_temporary_files() {
     // The laser's file is a FIFO no reader opens: the run waits there after the router's
     // program went to its temporary file, and SIGTERM ends it with nothing written.
     let d = tmpdir("outputs-signal");
-    let outputs = TWO.replace(
+    let outputs = OPEN_SIGN_OUTPUTS.replace(
         "operations = [\"face\"]",
         "operations = [\"face\"]\nfile = \"face.fifo.gcode\"",
     );
@@ -467,7 +424,8 @@ fn a_profile_file_is_read_from_the_design_folder() {
     std::fs::create_dir_all(&sub).unwrap();
     let shipped = Path::new(support::ROOT).join("machines/grbl-laser.toml");
     std::fs::copy(&shipped, sub.join("my-laser.toml")).unwrap();
-    let outputs = TWO.replace("machine = \"grbl-laser\"", "machine = \"my-laser.toml\"");
+    let outputs =
+        OPEN_SIGN_OUTPUTS.replace("machine = \"grbl-laser\"", "machine = \"my-laser.toml\"");
     write(&sub, "sign.toml", &sign(&outputs));
     // Run from the folder above: the relative profile path is the design's, not the cwd's.
     let o = Command::new(env!("CARGO_BIN_EXE_skinpath"))

@@ -1,5 +1,5 @@
 //! Fuzz target: the design parser and validation (TOML and JSON), and the curves built from
-//! every design that loads. See tests/fuzz_common for the mutator and the env variables.
+//! every design that loads. See tests/support/fuzz.rs for the mutator and the env variables.
 
 use crate::support;
 use support::fuzz::{cases, corpus, fuzz};

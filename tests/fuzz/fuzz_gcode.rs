@@ -1,11 +1,11 @@
 //! Fuzz target: the G-code interpreter and checker through their public API
-//! (`sim::check_text`), seeded with the simulator corpus. See tests/fuzz_common.
+//! (`sim::check_text`), seeded with the simulator corpus. See tests/support/fuzz.rs.
 
 use crate::support;
-use support::fuzz::{cases, corpus, fuzz};
 use skinpath::job::check::check_config;
 use skinpath::machine::builtin_profile;
 use skinpath::sim::{Backend, check_text};
+use support::fuzz::{cases, corpus, fuzz};
 
 #[test]
 fn fuzz_gcode_checker() {

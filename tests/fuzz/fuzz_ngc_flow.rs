@@ -1,5 +1,5 @@
 //! Fuzz target: RS274NGC control flow (issue #40) through `sim::check_text`. Programs are
-//! built from a fixed seed (tests/fuzz_common's xorshift generator): deep nesting of
+//! built from a fixed seed (tests/support/fuzz.rs with the generator of tests/support/rng.rs): deep nesting of
 //! `while`/`do`/`repeat`/`if`, subroutine calls and recursion, huge counts (repeat and
 //! canned-cycle L, pecks, arc turns P), deeply nested and very long expressions; then
 //! mutated as the other targets' seeds are. Every program must end with a report (a panic
@@ -7,8 +7,8 @@
 //! report must hold finite totals and at most the cap of findings per id.
 
 use crate::support;
-use support::fuzz::{Rng, cases, fuzz, seed};
 use skinpath::sim::{Backend, CheckConfig, Report, check_text};
+use support::fuzz::{Rng, cases, fuzz, seed};
 
 /// A loop budget small enough for hundreds of cases in a debug build; the counting is the
 /// same as under the default budget.

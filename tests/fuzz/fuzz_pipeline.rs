@@ -1,9 +1,8 @@
 //! Fuzz target: random valid designs through outline → build → G-code → check, by the
 //! library API. Errors are allowed (they must name the file); panics are crashes. See
-//! tests/fuzz_common for the generator and the env variables.
+//! tests/support/fuzz.rs for the generator and the env variables.
 
 use crate::support;
-use support::fuzz::{Rng, Stats, cases, run_one, seed};
 use skinpath::design::{CircleSeq, Design, Operation, OperationKind, Stroke, Units, validate};
 use skinpath::emit::{GcodeOptions, gcode};
 use skinpath::job::build::{BuildOptions, build_toolpath};
@@ -11,6 +10,7 @@ use skinpath::job::check::check_config;
 use skinpath::job::outline::{OutlineOptions, outline_document};
 use skinpath::machine::builtin_profile;
 use skinpath::sim::{Backend, check_text};
+use support::fuzz::{Rng, Stats, cases, run_one, seed};
 
 fn random_design(rng: &mut Rng) -> Design {
     let mut strokes = Vec::new();

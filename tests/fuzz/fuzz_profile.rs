@@ -1,8 +1,8 @@
-//! Fuzz target: the machine profile parser and validation. See tests/fuzz_common.
+//! Fuzz target: the machine profile parser and validation. See tests/support/fuzz.rs.
 
 use crate::support;
-use support::fuzz::{cases, corpus, fuzz};
 use skinpath::machine::Profile;
+use support::fuzz::{cases, corpus, fuzz};
 
 #[test]
 fn fuzz_machine_profiles() {

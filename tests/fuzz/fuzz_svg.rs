@@ -3,11 +3,11 @@
 //! design that validates, builds its curves and writes itself back as TOML, or is refused
 //! with a message that starts with the file's name; a panic is a crash. Seeds: the SVGs
 //! shipped in examples/gallery and tests/golden and a few small drawings with the features
-//! that are hard to get right. See tests/fuzz_common for the mutator and the env variables.
+//! that are hard to get right. See tests/support/fuzz.rs for the mutator and the env variables.
 
 use crate::support;
-use support::fuzz::{Rng, Stats, cases, corpus, fuzz, run_one, seed};
 use skinpath::design::svg::{ImportOptions, import};
+use support::fuzz::{Rng, Stats, cases, corpus, fuzz, run_one, seed};
 
 /// Small drawings: nested transforms and `use`, units and a scaled viewBox, arcs, a filled
 /// ring with a hole (evenodd), a Power-Stroke-like widths attribute, degenerate numbers.

@@ -10,9 +10,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use crate::support;
-use support::EXAMPLES;
-
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+use support::{EXAMPLES, ROOT, example};
 
 /// Generous, a hang guard and not a speed test: the campaign called "no answer in 30 s" a
 /// hang. The slowest case (the degree-1 stroke) takes about 4 s in a debug build on an idle
@@ -79,18 +77,12 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
     p.to_str().unwrap().to_string()
 }
 
-fn load_example(name: &str) -> skinpath::design::Design {
-    let path = format!("{ROOT}/examples/{name}.toml");
-    let text = std::fs::read_to_string(&path).unwrap();
-    skinpath::design::load(&text, &path).unwrap()
-}
-
 #[test]
 fn examples_stay_well_inside_the_work_budget() {
     let opts = DbscSkinOptions::default();
     let mut most = 0;
     for name in EXAMPLES {
-        let d = load_example(name);
+        let d = example(name);
         for (i, c) in d.strokes().unwrap().iter().enumerate() {
             let mut o = opts;
             let s = match skin_dbsc(c, &o) {

@@ -20,19 +20,14 @@ use skinpath::sim::{Backend, Severity, check_text};
 use std::collections::BTreeMap;
 
 use crate::support;
-use support::EXAMPLES;
+use support::rng::Rng;
+use support::{EXAMPLES, example};
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 /// Random builds per profile in CI.
 const CI_CASES: usize = 6;
 
 fn profile(name: &str) -> Profile {
     builtin_profile(name).unwrap().unwrap()
-}
-
-fn example(name: &str) -> Design {
-    let path = format!("{ROOT}/examples/{name}.toml");
-    load(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
 }
 
 /// Per operation (machine order): name, number of cuts, cut length; and the xy bounds.
@@ -197,28 +192,6 @@ fn translation_and_scale_invariance_on_every_example() {
     }
 }
 
-/// SplitMix64 (Steele, Lea, Flood 2014): a tiny, fixed, portable random stream.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [lo, hi).
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
-
 /// A random design: 1–4 strokes of 4–7 points with sharp bends (turns up to 170°), some
 /// started near or across another stroke, radii 1–5 mm; a channel of random width, holes
 /// at the ends and a backboard with random margin, corner radius and tabs.
@@ -339,7 +312,7 @@ fn random_designs_build_clean_or_fail_clearly() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(0x5EED_0011);
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut tally: BTreeMap<String, usize> = BTreeMap::new();
     let mut check_failures = Vec::new();
     for case in 0..cases {

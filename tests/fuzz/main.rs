@@ -1,4 +1,6 @@
-//! Hostile and random input: the seeded mutation fuzzers (support::fuzz), random designs, hostile previews and programs, and the hardening limits (hangs are guarded by running the CLI as a child).
+//! Hostile and random input: the seeded mutation fuzzers (support::fuzz), random designs,
+//! hostile previews and programs, and the hardening limits (hangs are guarded by running
+//! the CLI as a child).
 //!
 //! One test binary; each module was once a file of its own under tests/.
 

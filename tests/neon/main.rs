@@ -1,4 +1,5 @@
-//! Neon signs: boards, bill of materials, golden programs, layered signs and rounded channels.
+//! Neon signs: boards, bill of materials, golden programs, layered signs and rounded
+//! channels.
 //!
 //! One test binary; each module was once a file of its own under tests/.
 

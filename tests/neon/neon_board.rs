@@ -5,10 +5,10 @@
 
 use crate::support;
 
-use support::{skinpath_in, tmpdir};
 use skinpath::geom::DVec2;
 use skinpath::toolpath::board::{BRIDGE_WIDTH_MM, bridged, pieces};
 use skinpath::toolpath::region::{Region, pline_from_points};
+use support::{skinpath_in, tmpdir};
 
 /// A cutting move of the G-code, its arcs flattened: the points it passes at depth z.
 #[derive(Debug)]

@@ -5,13 +5,13 @@
 
 use crate::support;
 
-use support::{skinpath_in, tmpdir};
 use skinpath::dbsc::DiskBSpline;
 use skinpath::design::{Design, load};
 use skinpath::geom::DVec2;
 use skinpath::job::build::{BuildOptions, build_toolpath};
 use skinpath::job::neon::{bend_radius, runs, spine_length};
 use skinpath::machine::builtin_profile;
+use support::{skinpath_in, tmpdir};
 
 /// Polyline length of the spine with `n` equal parameter steps per knot span.
 fn polyline_length(c: &DiskBSpline, n: usize) -> f64 {

@@ -5,51 +5,7 @@
 
 use crate::support;
 
-use support::{skinpath_in, tmpdir};
-
-/// "OPEN" with a routed channel board and a laser-cut face (two outputs).
-const SIGN: &str = r#"version = 1
-units = "mm"
-
-[[text]]
-name = "open"
-text = "OPEN"
-font = "sans"
-height = 40.0
-width = 6.0
-at = [8.0, 13.0]
-
-[neon]
-flex = "6mm"
-
-[[operation]]
-name = "channels"
-kind = "channel"
-
-[[operation]]
-kind = "holes"
-
-[[operation]]
-name = "board"
-kind = "backboard"
-margin = 6.0
-
-[[operation]]
-name = "face"
-kind = "backboard"
-margin = 6.0
-power = 90.0
-
-[[output]]
-name = "router"
-machine = "grbl-router"
-operations = ["channels", "holes", "board"]
-
-[[output]]
-name = "laser"
-machine = "grbl-laser"
-operations = ["face"]
-"#;
+use support::{OPEN_SIGN_OUTPUTS, open_sign, skinpath_in, tmpdir};
 
 fn stdout(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
@@ -81,7 +37,7 @@ fn figures(line: &str) -> (String, String) {
 #[test]
 fn preview_inspect_and_check_follow_the_outputs() {
     let dir = tmpdir("neon-layers");
-    std::fs::write(dir.join("sign.toml"), SIGN).unwrap();
+    std::fs::write(dir.join("sign.toml"), open_sign(None, OPEN_SIGN_OUTPUTS)).unwrap();
     let run = |args: &[&str]| skinpath_in(args, &dir);
     // One preview per output, each the preview of the program `build` writes for it.
     let p = run(&["preview", "sign.toml", "-o", "p.svg"]);

@@ -6,13 +6,13 @@
 
 use crate::support;
 
-use support::{skinpath_in, tmpdir};
 use skinpath::dbsc::DiskBSpline;
 use skinpath::design::{Design, load};
 use skinpath::geom::DVec2;
 use skinpath::job::build::{BuildOptions, build_toolpath};
 use skinpath::job::neon::round_bends;
 use skinpath::machine::builtin_profile;
+use support::{skinpath_in, tmpdir};
 
 /// Flex minimum radius of the tests (mm).
 const R: f64 = 5.0;

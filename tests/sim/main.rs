@@ -1,4 +1,6 @@
-//! The checker and RS274 interpreter: the G-code corpus, expressions, streaming input, refusals, the RS274 back end and the memory budget of a check (measured in a child process).
+//! The checker and RS274 interpreter: the G-code corpus, expressions, streaming input,
+//! refusals, the RS274 back end and the memory budget of a check (measured in a child
+//! process).
 //!
 //! One test binary; each module was once a file of its own under tests/.
 

@@ -8,7 +8,7 @@
 //! - `#[ignore]` (minutes): a 200 MB program (10M segments) in [`LARGE_BUDGET_MB`] and a
 //!   1 GB program (50M segments) in [`HUGE_BUDGET_MB`], both on the streaming route
 //!   ([`skinpath::sim::stream`], taken above 64 MiB). Run with
-//!   `cargo test --release --test sim_memory -- --ignored`.
+//!   `cargo test --release --test sim -- --ignored sim_memory::`.
 
 use crate::support;
 

@@ -1,7 +1,7 @@
 //! A small seeded mutation fuzzer for the stable toolchain (cargo-fuzz needs nightly).
 //!
 //! Each target takes a seed corpus (the shipped examples, profiles and G-code corpus),
-//! mutates it with a deterministic xorshift generator and feeds every mutant to the public
+//! mutates it with the tests' seeded generator ([`super::rng::Rng`]) and feeds every mutant to the public
 //! API under `catch_unwind`: a panic is a crash, reported with the input written to a file
 //! for a regression test. CI runs a small bounded number of cases; set
 //! `SKINPATH_FUZZ_CASES=N` for longer local runs and `SKINPATH_FUZZ_SEED=S` for other
@@ -13,33 +13,7 @@ use std::time::{Duration, Instant};
 
 use super::ROOT;
 
-/// xorshift64* (Vigna 2016): small, fast, deterministic.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-    }
-    pub fn next(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// Uniform in 0..n (n > 0).
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn pick<'a, T>(&mut self, v: &'a [T]) -> &'a T {
-        &v[self.below(v.len())]
-    }
-}
+pub use super::rng::Rng;
 
 /// Cases per target: `SKINPATH_FUZZ_CASES` or `default`.
 pub fn cases(default: usize) -> usize {

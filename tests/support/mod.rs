@@ -1,11 +1,16 @@
-//! What several integration tests share: the list of shipped examples (examples/*.toml,
-//! kept in step with the folder by `cli::every_example_is_listed`), a fresh temporary
-//! directory, a run of the built binary and the header of a check-corpus program. Each
-//! test crate uses only part of it.
+//! What the test binaries (tests/{api,cli,fuzz,neon,sim}) share, each including this
+//! module with `#[path = "../support/mod.rs"] mod support;`: the shipped examples
+//! (examples/*.toml, kept in step with the folder by `cli::every_example_is_listed`), a
+//! fresh temporary directory, a run of the built binary, the header of a check-corpus
+//! program, golden G-code comparison, the "OPEN" neon sign fixture, and the submodules
+//! [`emit`] (hand-built toolpaths), [`fuzz`] (the mutation fuzzer), [`rng`] (the one seeded
+//! random-number generator) and [`toolpath`] (region and cut helpers). Each binary uses only
+//! part of it.
 #![allow(dead_code)]
 
 pub mod emit;
 pub mod fuzz;
+pub mod rng;
 pub mod toolpath;
 
 use std::path::{Path, PathBuf};
@@ -66,6 +71,18 @@ fn sweep_ended_processes() {
             }
         }
     });
+}
+
+/// The path of the shipped example examples/`name`.toml.
+pub fn example_path(name: &str) -> String {
+    format!("{ROOT}/examples/{name}.toml")
+}
+
+/// The shipped example examples/`name`.toml, loaded.
+pub fn example(name: &str) -> skinpath::design::Design {
+    let path = example_path(name);
+    let text = std::fs::read_to_string(&path).unwrap();
+    skinpath::design::load(&text, &path).unwrap()
 }
 
 /// A fresh, empty directory unique to this process and call (the folders of ended test
@@ -270,4 +287,83 @@ pub fn assert_golden(got: &str, name: &str, what: &str) {
             );
         }
     }
+}
+
+/// Widths, diameters and depths (mm) the routed operations of [`open_sign`] may set
+/// instead of the design format's defaults.
+pub struct OpenSignCuts {
+    pub channel_width: f64,
+    pub channel_depth: f64,
+    pub hole_diameter: f64,
+    pub hole_depth: f64,
+    pub board_depth: f64,
+}
+
+/// The two outputs of the "OPEN" sign: the routed channels, holes and board on grbl-router,
+/// the laser-cut face on grbl-laser (append to [`open_sign`]).
+pub const OPEN_SIGN_OUTPUTS: &str = r#"
+[[output]]
+name = "router"
+machine = "grbl-router"
+operations = ["channels", "holes", "board"]
+
+[[output]]
+name = "laser"
+machine = "grbl-laser"
+operations = ["face"]
+"#;
+
+/// A neon sign: "OPEN" in the sans font with the gallery sign's channel, holes and
+/// backboard (routed), a second backboard named "face" (the laser-cut acrylic face), the
+/// routed operations at `cuts` (or the format's defaults), and `outputs` appended
+/// ([`OPEN_SIGN_OUTPUTS`], a variant of it, or nothing).
+pub fn open_sign(cuts: Option<&OpenSignCuts>, outputs: &str) -> String {
+    let (channel, holes, board) = match cuts {
+        Some(c) => (
+            format!(
+                "width = {:?}\ndepth = {:?}\n",
+                c.channel_width, c.channel_depth
+            ),
+            format!(
+                "diameter = {:?}\ndepth = {:?}\n",
+                c.hole_diameter, c.hole_depth
+            ),
+            format!("depth = {:?}\n", c.board_depth),
+        ),
+        None => Default::default(),
+    };
+    format!(
+        r#"version = 1
+units = "mm"
+
+[[text]]
+name = "open"
+text = "OPEN"
+font = "sans"
+height = 40.0
+width = 6.0
+at = [8.0, 13.0]
+
+[neon]
+flex = "6mm"
+
+[[operation]]
+name = "channels"
+kind = "channel"
+{channel}
+[[operation]]
+kind = "holes"
+{holes}
+[[operation]]
+name = "board"
+kind = "backboard"
+margin = 6.0
+{board}
+[[operation]]
+name = "face"
+kind = "backboard"
+margin = 6.0
+power = 90.0
+{outputs}"#
+    )
 }

@@ -4,7 +4,6 @@
 
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
 use glam::{DVec2, DVec3};
-use skinpath::design::Design;
 use skinpath::geom::{Arc, Line};
 use skinpath::job::outline::{ItemOutline, OutlineOptions, design_outlines};
 use skinpath::toolpath::region::Region;
@@ -13,15 +12,9 @@ use skinpath::toolpath::{Cut, MoveKind};
 /// The examples every property is rerun on.
 pub const EXAMPLES: [&str; 5] = ["brush", "ring_o", "neon_word", "calligraphy", "circles"];
 
-pub fn design(name: &str) -> Design {
-    let file = format!("{}/examples/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&file).unwrap();
-    skinpath::design::load(&text, &file).unwrap()
-}
-
 /// Outlines of an example at the default build tolerances.
 pub fn outlines(name: &str) -> Vec<ItemOutline> {
-    design_outlines(&design(name), &OutlineOptions::default()).unwrap()
+    design_outlines(&super::example(name), &OutlineOptions::default()).unwrap()
 }
 
 /// Regions of every item of an example, biarc-fitted within `tol`.
