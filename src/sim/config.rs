@@ -116,9 +116,8 @@ impl Dialect {
     }
 
     /// The feed (mm/min) the firmware runs a feed move at while no F word has set one:
-    /// Marlin's and Smoothieware's defaults ([`MARLIN_DEFAULT_FEED_MM_MIN`],
-    /// [`SMOOTHIE_DEFAULT_FEED_MM_MIN`]); None for the dialects that refuse such a move
-    /// (LinuxCNC, GRBL) or leave it untimed (generic).
+    /// Marlin's 1500 (motion.cpp) and Smoothieware's compiled-in 100 (Robot.cpp); None for
+    /// the dialects that refuse such a move (LinuxCNC, GRBL) or leave it untimed (generic).
     #[must_use]
     pub fn default_feed(self) -> Option<f64> {
         match self {
