@@ -13,7 +13,7 @@ use anyhow::{Context, Result, bail};
 use skinpath::design::HAIRLINE_MM;
 use skinpath::job::check::{check_config, design_boundaries, operations_of, part_outlines};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
-use skinpath::sim::{Backend, CheckConfig, Dialect, files, interp};
+use skinpath::sim::{Backend, CheckConfig, CheckedLoader, Dialect, InterpOptions};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -120,7 +120,7 @@ pub fn run(a: Args) -> Result<u8> {
 /// one finding, whose id tells a backend stopped at its limit ([`BACKEND_LIMIT`]) from one
 /// that failed ([`BACKEND_ERROR`]) and from unusable input ([`INPUT_ERROR`]).
 fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
-    use skinpath::sim::rs274::Rs274Error;
+    use skinpath::sim::Rs274Error;
     let id = match e.downcast_ref::<Rs274Error>() {
         Some(Rs274Error::Timeout(_) | Rs274Error::OutputTooLarge(_) | Rs274Error::Stalled(_)) => {
             BACKEND_LIMIT
@@ -129,21 +129,20 @@ fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
         None => INPUT_ERROR,
     };
     let message = super::chain(e);
-    skinpath::sim::Report {
-        backend: if a.backend == "linuxcnc" {
-            Backend::LinuxCnc.name()
-        } else {
-            Backend::Builtin.name()
-        },
-        usable: false,
-        reason: Some(message.clone()),
-        findings: vec![skinpath::sim::Finding::new(
-            id,
-            skinpath::sim::Severity::Error,
-            message,
-        )],
-        ..Default::default()
-    }
+    let mut report = skinpath::sim::Report::default();
+    report.backend = if a.backend == "linuxcnc" {
+        Backend::LinuxCnc.name()
+    } else {
+        Backend::Builtin.name()
+    };
+    report.usable = false;
+    report.reason = Some(message.clone());
+    report.findings = vec![skinpath::sim::Finding::new(
+        id,
+        skinpath::sim::Severity::Error,
+        message,
+    )];
+    report
 }
 
 /// The profile of the `[[output]]` of `--design` the program is (module docs of `--only`),
@@ -214,11 +213,7 @@ fn checked(a: &Args) -> Result<u8> {
                 .tools
                 .iter()
                 .enumerate()
-                .map(|(i, t)| skinpath::sim::ToolEntry {
-                    number: i as u32 + 1,
-                    diameter: 2.0 * t.radius(),
-                    ..Default::default()
-                })
+                .map(|(i, t)| skinpath::sim::ToolEntry::new(i as u32 + 1, 2.0 * t.radius()))
                 .collect();
             (c, r)
         }
@@ -229,7 +224,7 @@ fn checked(a: &Args) -> Result<u8> {
     }
     if let Some(t) = &a.tool_table {
         let ttext = io::read_text(t)?;
-        cfg.tool_table = skinpath::sim::config::parse_tool_table(&ttext)
+        cfg.tool_table = skinpath::sim::parse_tool_table(&ttext)
             .map_err(|e| anyhow::anyhow!("{}: {e}", t.display()))?;
     }
     cfg.tool_radius = a.tool_radius.unwrap_or(tool_r);
@@ -261,16 +256,14 @@ fn checked(a: &Args) -> Result<u8> {
         .map(|p| vec![p.to_path_buf()])
         .unwrap_or_default();
     dirs.extend(a.sub_path.iter().cloned());
-    let loader = interp::CheckedLoader(|name: &str| find_sub(&dirs, name));
-    let opts = interp::Options {
-        load_sub: Some(&loader),
-    };
+    let loader = CheckedLoader(|name: &str| find_sub(&dirs, name));
+    let opts = InterpOptions::with_loader(&loader);
     // Only a regular file is read (a FIFO would hang, /dev/zero never ends).
-    let size = files::regular_file_size(&a.program)
+    let size = skinpath::sim::regular_file_size(&a.program)
         .with_context(|| format!("cannot read {}", a.program.display()))?;
     let stream = cfg
         .stream
-        .unwrap_or(size > skinpath::sim::stream::STREAM_ABOVE_BYTES)
+        .unwrap_or(size > skinpath::sim::STREAM_ABOVE_BYTES)
         && a.backend == "builtin";
     if stream {
         // Streaming route: reading, interpreting and the per-move checks overlap (all in
@@ -278,9 +271,8 @@ fn checked(a: &Args) -> Result<u8> {
         let clock = Instant::now();
         let file = std::fs::File::open(&a.program)
             .with_context(|| format!("cannot read {}", a.program.display()))?;
-        let (mut report, utf8) =
-            skinpath::sim::stream::check_stream(Box::new(file), &cfg, &bounds, &opts)
-                .with_context(|| format!("cannot check {}", a.program.display()))?;
+        let (mut report, utf8) = skinpath::sim::check_stream(Box::new(file), &cfg, &bounds, &opts)
+            .with_context(|| format!("cannot check {}", a.program.display()))?;
         timings.interpret = clock.elapsed().as_secs_f64();
         report.backend = Backend::Builtin.name();
         if report.usable {
@@ -289,26 +281,22 @@ fn checked(a: &Args) -> Result<u8> {
         return write_report(a, &report, &mut timings, Instant::now());
     }
     let clock = Instant::now();
-    let bytes = files::read_regular(
-        &a.program,
-        skinpath::sim::stream::STREAM_ABOVE_BYTES.max(size),
-    )
-    .with_context(|| format!("cannot read {}", a.program.display()))?;
+    let bytes =
+        skinpath::sim::read_regular(&a.program, skinpath::sim::STREAM_ABOVE_BYTES.max(size))
+            .with_context(|| format!("cannot read {}", a.program.display()))?;
     let (text, decode_findings) = skinpath::sim::decode(&bytes);
     timings.read = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let linuxcnc = a.backend == "linuxcnc" && !text.trim().is_empty();
     let rs274_out = if linuxcnc {
         let timeout = Duration::from_secs_f64(a.rs274_timeout.clamp(0.1, 3600.0));
-        let opts = skinpath::sim::rs274::Rs274Options {
-            timeout,
-            sub_dirs: dirs.clone(),
-            tool_table: a.tool_table.clone(),
-            ..Default::default()
-        };
+        let mut opts = skinpath::sim::Rs274Options::default();
+        opts.timeout = timeout;
+        opts.sub_dirs = dirs.clone();
+        opts.tool_table = a.tool_table.clone();
         // Line-numbered, so rs274's findings carry the file's line numbers.
-        let numbered = skinpath::sim::linuxcnc::number_lines(&text);
-        skinpath::sim::rs274::run(&numbered, &opts)?.combined()
+        let numbered = skinpath::sim::number_lines(&text);
+        skinpath::sim::run_rs274(&numbered, &opts)?.combined()
     } else {
         String::new()
     };
@@ -371,7 +359,7 @@ fn write_report(
 
 /// `NAME.ngc` (any case of the name) in the first folder of `dirs` that holds it: its text,
 /// or why it cannot be read (not a regular file, larger than
-/// [`files::MAX_SUB_FILE_BYTES`]).
+/// [`skinpath::sim::MAX_SUB_FILE_BYTES`]).
 fn find_sub(dirs: &[PathBuf], name: &str) -> Result<Option<String>, String> {
     for d in dirs {
         for cand in [
@@ -379,9 +367,9 @@ fn find_sub(dirs: &[PathBuf], name: &str) -> Result<Option<String>, String> {
             format!("{}.ngc", name.to_uppercase()),
         ] {
             let p = d.join(cand);
-            match files::read_regular(&p, files::MAX_SUB_FILE_BYTES) {
+            match skinpath::sim::read_regular(&p, skinpath::sim::MAX_SUB_FILE_BYTES) {
                 Ok(b) => return Ok(Some(String::from_utf8_lossy(&b).into_owned())),
-                Err(files::FileError::Io { source, .. })
+                Err(skinpath::sim::FileError::Io { source, .. })
                     if source.kind() == std::io::ErrorKind::NotFound => {}
                 Err(e) => return Err(e.to_string()),
             }

@@ -55,9 +55,9 @@ fn dir_of(path: &Path) -> PathBuf {
 }
 
 /// Removes the temporary files of killed runs ([`TMP_PREFIX`]) from `dir`
-/// ([`skinpath::sim::temp::remove_left_behind`]).
+/// ([`skinpath::sim::remove_left_behind`]).
 pub fn remove_stale_temporaries(dir: &Path) {
-    skinpath::sim::temp::remove_left_behind(dir, TMP_PREFIX);
+    skinpath::sim::remove_left_behind(dir, TMP_PREFIX);
 }
 
 /// Writes `bytes` to a temporary file beside `path`, flushed and synced; returns its path.

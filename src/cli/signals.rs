@@ -5,8 +5,8 @@
 //! interrupted write its `.skinpath-tmp-PID-NAME` beside the target, until the next run.
 //!
 //! The temporary files of every writer carry this process's id after their prefix, so the
-//! handler removes them by name: the streaming check's ([`skinpath::sim::stream::TEMP_PREFIX`])
-//! and the LinuxCNC runner's ([`skinpath::sim::rs274::TMP_PREFIX`]) in the system's
+//! handler removes them by name: the library's ([`skinpath::sim::TEMP_PREFIXES`], the
+//! streaming check's and the LinuxCNC runner's) in the system's
 //! temporary folder, and the output writer's ([`super::io::TMP_PREFIX`]) in the folders
 //! registered with [`watch_folder`] before a temporary file is made there.
 
@@ -52,11 +52,9 @@ pub fn install() {
 fn remove_own_temporaries() {
     let pid = std::process::id();
     let tmp = std::env::temp_dir();
-    remove_named(
-        &tmp,
-        &format!("{}{pid}-", skinpath::sim::stream::TEMP_PREFIX),
-    );
-    remove_named(&tmp, &format!("{}{pid}-", skinpath::sim::rs274::TMP_PREFIX));
+    for prefix in skinpath::sim::TEMP_PREFIXES {
+        remove_named(&tmp, &format!("{prefix}{pid}-"));
+    }
     let folders = FOLDERS.lock().map(|f| f.clone()).unwrap_or_default();
     for dir in folders {
         remove_named(&dir, &format!("{}{pid}-", super::io::TMP_PREFIX));

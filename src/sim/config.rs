@@ -19,6 +19,7 @@ pub enum MachineKind {
 /// accelerations in units/s²); [`CheckConfig::in_mm`] converts to the mm the checks use.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct CheckConfig {
     /// Units of every length, feed and acceleration in this configuration.
     pub units: Units,
@@ -103,6 +104,7 @@ pub enum Dialect {
 
 impl Dialect {
     /// Name as given to `--dialect`.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Dialect::Generic => "generic",
@@ -113,7 +115,20 @@ impl Dialect {
         }
     }
 
+    /// The feed (mm/min) the firmware runs a feed move at while no F word has set one:
+    /// Marlin's 1500 (motion.cpp) and Smoothieware's compiled-in 100 (Robot.cpp); None for
+    /// the dialects that refuse such a move (LinuxCNC, GRBL) or leave it untimed (generic).
+    #[must_use]
+    pub fn default_feed(self) -> Option<f64> {
+        match self {
+            Dialect::Marlin => Some(MARLIN_DEFAULT_FEED_MM_MIN),
+            Dialect::Smoothie => Some(SMOOTHIE_DEFAULT_FEED_MM_MIN),
+            Dialect::Generic | Dialect::Linuxcnc | Dialect::Grbl => None,
+        }
+    }
+
     /// Parses a `--dialect` name.
+    #[must_use]
     pub fn from_name(s: &str) -> Option<Dialect> {
         [
             Dialect::Generic,
@@ -127,9 +142,18 @@ impl Dialect {
     }
 }
 
+/// Marlin's feed rate before any F word (mm/min): `feedrate_mm_s = MMM_TO_MMS(1500.0f)` in
+/// Marlin/src/module/motion.cpp.
+pub const MARLIN_DEFAULT_FEED_MM_MIN: f64 = 1500.0;
+
+/// Smoothieware's feed rate before any F word (mm/min): `default_feed_rate`, compiled-in
+/// default 100 (Robot.cpp `by_default(100.0F)`) when the config file does not set it.
+pub const SMOOTHIE_DEFAULT_FEED_MM_MIN: f64 = 100.0;
+
 /// One tool of the tool table (LinuxCNC `.tbl` line `T1 P1 Z0.5 D3.175`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct ToolEntry {
     /// Tool number (T).
     pub number: u32,
@@ -139,6 +163,18 @@ pub struct ToolEntry {
     pub x: f64,
     /// Tool diameter (cutter compensation and the gouge check).
     pub diameter: f64,
+}
+
+impl ToolEntry {
+    /// Tool `number` of `diameter` (no length or x offset).
+    #[must_use]
+    pub fn new(number: u32, diameter: f64) -> Self {
+        ToolEntry {
+            number,
+            diameter,
+            ..ToolEntry::default()
+        }
+    }
 }
 
 /// Reads a LinuxCNC tool table: one tool per line, `T<n> P<pocket> X.. Z.. D..` words in
@@ -218,6 +254,7 @@ impl Default for CheckConfig {
 
 impl CheckConfig {
     /// A copy with every length, feed and acceleration in millimetres.
+    #[must_use]
     pub fn in_mm(&self) -> CheckConfig {
         let k = self.units.to_mm();
         let s3 = |a: [f64; 3]| a.map(|v| v * k);

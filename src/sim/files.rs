@@ -15,6 +15,7 @@ pub const MAX_SUB_FILE_BYTES: u64 = super::stream::STREAM_ABOVE_BYTES;
 
 /// Why a path cannot be read as a program or subroutine file.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FileError {
     /// The path names something other than a regular file.
     #[error("{path}: {kind}, not a regular file")]

@@ -30,6 +30,7 @@ impl fmt::Display for Severity {
 /// One named finding: a stable kebab-case `id` (e.g. `self-intersection`), where (source
 /// lines, 1-based; column when known) and the machine coordinates (mm) involved.
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct Finding {
     /// Kebab-case identifier of the check or diagnostic (`self-intersection`, `gcode-syntax`, ...).
     pub id: &'static str,
@@ -49,6 +50,7 @@ pub struct Finding {
 
 impl Finding {
     /// A finding without lines, column or points.
+    #[must_use]
     pub fn new(id: &'static str, severity: Severity, message: impl Into<String>) -> Self {
         Finding {
             id,
@@ -61,24 +63,28 @@ impl Finding {
     }
 
     /// Adds a source line.
+    #[must_use]
     pub fn line(mut self, line: usize) -> Self {
         self.lines.push(line);
         self
     }
 
     /// Adds source lines.
+    #[must_use]
     pub fn lines(mut self, lines: impl IntoIterator<Item = usize>) -> Self {
         self.lines.extend(lines);
         self
     }
 
     /// Sets the column.
+    #[must_use]
     pub fn column(mut self, column: usize) -> Self {
         self.column = Some(column);
         self
     }
 
     /// Adds a point (mm).
+    #[must_use]
     pub fn at(mut self, p: [f64; 3]) -> Self {
         self.at.push(p);
         self

@@ -21,12 +21,17 @@ use crate::geom::{Arc, DVec2};
 use glam::DVec3;
 use std::f64::consts::TAU;
 
+/// Most extra full turns an arc's rotation count adds (a guard against a hostile count: an
+/// arc of 10⁶ turns is already far beyond any program).
+const MAX_EXTRA_TURNS: f64 = 1e6;
+
 /// Prepares `src` for rs274: prefixes each non-empty line with `N<line number> ` (after a
 /// leading `/`), replacing an existing leading N word, and brackets the program in `%`
 /// lines (added before the first line and after the last when missing): rs274 in batch mode
 /// with `-n 0` repeats "File ended with no percent sign or program end" forever on a file
 /// that has neither. `%` lines and blank lines are left alone; line numbers stay those of
 /// `src` because they travel in the N words.
+#[must_use]
 pub fn number_lines(src: &str) -> String {
     let mut out = String::with_capacity(src.len() + src.len() / 4 + 4);
     let first = src.lines().map(str::trim).find(|l| !l.is_empty());
@@ -123,6 +128,7 @@ fn parse_line(l: &str) -> Option<Canon<'_>> {
 /// Parses rs274 canon output into a [`Program`] (mm). Units follow USE_LENGTH_UNITS;
 /// arcs are taken in the XY plane only (others give a finding); `rotation` in ARC_FEED
 /// adds |rotation| − 1 full turns.
+#[must_use]
 pub fn parse_canon(text: &str) -> Program {
     let mut prog = Program::default();
     let mut k = 1.0;
@@ -380,7 +386,7 @@ fn canon_arc(center: DVec2, p0: DVec2, p1: DVec2, rotation: f64) -> Arc {
     } else {
         sweep -= TAU;
     }
-    let extra = (rotation.abs().round() - 1.0).clamp(0.0, 1e6);
+    let extra = (rotation.abs().round() - 1.0).clamp(0.0, MAX_EXTRA_TURNS);
     sweep += sweep.signum() * extra * TAU;
     Arc::new(center, p0.distance(center), a0, sweep)
 }

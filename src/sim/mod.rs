@@ -6,12 +6,12 @@
 //! ```
 //!
 //! [`check`] runs everything on a [`Program`]; [`check_text`] reads G-code (builtin
-//! backend) or rs274 canon output (LinuxCNC backend) first. [`stream::check_stream`] gives
-//! the same report in bounded memory, reading the program line by line and checking each
-//! move as it is read (the CLI's route for programs above
-//! [`stream::STREAM_ABOVE_BYTES`]). The library never starts
-//! processes: for [`Backend::LinuxCnc`] the CLI runs `rs274 -n 0 -g` on
-//! [`linuxcnc::number_lines`]`(src)` and passes its standard output here.
+//! backend) or rs274 canon output (LinuxCNC backend) first. [`check_stream`] gives the same
+//! report in bounded memory, reading the program line by line and checking each move as it
+//! is read (the CLI's route for programs above [`STREAM_ABOVE_BYTES`]). For
+//! [`Backend::LinuxCnc`], [`run_rs274`] runs LinuxCNC's `rs274 -n 0 -g` on
+//! [`number_lines`]`(src)` (the one place the library starts a process) and [`load`] reads
+//! its standard output.
 //!
 //! Laser rapids: GRBL in laser mode ($32=1) never fires the beam on G0, so G0 with M3/M4 and
 //! S > 0 is harmless there and reported as a warning (`laser-on-rapid`); with
@@ -20,33 +20,49 @@
 //! Exit status for the CLI: [`Report::exit_code`] (0 clean, 1 error findings, 2 unusable
 //! input).
 //!
-//! Module layering (imports only go down): [`findings`] (leaf) ← [`motion`] ← [`config`] ←
-//! [`time`] ← [`report`]; the interpreter, the checks and [`check`] sit on top. The CLI times
-//! the stages separately through [`load_with`], [`checks_and_stats`] and [`assemble`].
+//! Module layering (imports only go down): findings (leaf) ← motion ← config ← time ←
+//! report; the interpreter (`interp`, `ngc`), the checks and [`check`] sit on top. The CLI
+//! times the stages separately through [`load_with`], [`checks_and_stats`] and
+//! [`assemble_found`].
+//!
+//! The public front is what this module re-exports; its submodules are internal.
 
-pub mod checks;
-pub mod config;
-pub mod files;
-pub mod findings;
-pub mod interp;
-pub mod lexer;
-pub mod linuxcnc;
-pub mod motion;
-pub mod ngc;
+pub(crate) mod checks;
+pub(crate) mod config;
+pub(crate) mod files;
+pub(crate) mod findings;
+pub(crate) mod interp;
+pub(crate) mod linuxcnc;
+pub(crate) mod motion;
+pub(crate) mod ngc;
 mod parse_ahead;
-pub mod report;
-pub mod rs274;
-pub mod stream;
-pub mod temp;
-pub mod time;
-pub mod timeline;
+pub(crate) mod report;
+pub(crate) mod rs274;
+pub(crate) mod stream;
+pub(crate) mod temp;
+pub(crate) mod time;
+pub(crate) mod timeline;
 
-pub use checks::{DesignBoundary, KeepSide};
-pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry};
+pub use checks::{CheckFindings, DesignBoundary, KeepSide};
+pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry, parse_tool_table};
+pub use files::{FileError, MAX_SUB_FILE_BYTES, read_regular, regular_file_size};
 pub use findings::{Finding, Severity};
-pub use motion::{Event, Motion, MotionKind, Motions, Program, Spindle, ToolState, Units};
+pub use interp::{CheckedLoader, LoadSub, Options as InterpOptions, ReadSeek, SubLoader};
+pub use linuxcnc::{number_lines, parse_canon};
+pub use motion::{
+    Event, Motion, MotionKind, Motions, Program, ProgramEnd, Spindle, ToolState, Units,
+};
 pub use report::{Report, Stats};
+pub use rs274::{Rs274Error, Rs274Options, Rs274Output, run as run_rs274};
+pub use stream::{STREAM_ABOVE_BYTES, check_stream};
+pub use temp::remove_left_behind;
 pub use time::TimeEstimate;
+
+/// Prefixes of the temporary files and folders the library makes in the system's temporary
+/// folder (the streaming check's segment files, the LinuxCNC runner's working folder), each
+/// followed by the making process's id and `-`: a signal handler removes its own by name,
+/// [`remove_left_behind`] those of runs that were killed.
+pub const TEMP_PREFIXES: [&str; 2] = [stream::TEMP_PREFIX, rs274::TMP_PREFIX];
 
 use glam::DVec3;
 
@@ -54,15 +70,16 @@ use glam::DVec3;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Backend {
-    /// [`interp::interpret`] on the G-code text.
+    /// The built-in RS274NGC interpreter on the G-code text.
     #[default]
     Builtin,
-    /// [`linuxcnc::parse_canon`] on the output of `rs274 -n 0 -g`.
+    /// [`parse_canon`] on the output of `rs274 -n 0 -g` ([`run_rs274`]).
     LinuxCnc,
 }
 
 impl Backend {
     /// The backend's name as the CLI spells it (`builtin`, `linuxcnc`).
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Backend::Builtin => "builtin",
@@ -72,16 +89,18 @@ impl Backend {
 }
 
 /// Reads `text` with `backend` (G-code for Builtin, rs274 canon output for LinuxCnc).
+#[must_use]
 pub fn load(backend: Backend, text: &str, cfg: &CheckConfig) -> Program {
-    load_with(backend, text, cfg, &interp::Options { load_sub: None })
+    load_with(backend, text, cfg, &InterpOptions::default())
 }
 
 /// [`load`] with interpreter options (the subroutine file loader).
+#[must_use]
 pub fn load_with(
     backend: Backend,
     text: &str,
     cfg: &CheckConfig,
-    opts: &interp::Options<'_>,
+    opts: &InterpOptions<'_>,
 ) -> Program {
     let mut prog = match backend {
         Backend::Builtin => interp::interpret_with(text, &cfg.in_mm(), opts),
@@ -102,28 +121,24 @@ pub fn load_with(
 }
 
 /// Reads and checks `text`; see [`load`] and [`check`].
+#[must_use]
 pub fn check_text(
     backend: Backend,
     text: &str,
     cfg: &CheckConfig,
     design: &[DesignBoundary],
 ) -> Report {
-    check_text_with(
-        backend,
-        text,
-        cfg,
-        design,
-        &interp::Options { load_sub: None },
-    )
+    check_text_with(backend, text, cfg, design, &InterpOptions::default())
 }
 
 /// [`check_text`] with interpreter options.
+#[must_use]
 pub fn check_text_with(
     backend: Backend,
     text: &str,
     cfg: &CheckConfig,
     design: &[DesignBoundary],
-    opts: &interp::Options<'_>,
+    opts: &InterpOptions<'_>,
 ) -> Report {
     let prog = load_with(backend, text, cfg, opts);
     let mut r = check(&prog, cfg, design);
@@ -133,6 +148,7 @@ pub fn check_text_with(
 
 /// Decodes a file's bytes as G-code text: a UTF-8 byte-order mark is skipped and invalid
 /// UTF-8 is replaced (U+FFFD) with one warning naming the first lines where it occurs.
+#[must_use]
 pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Finding>) {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     match std::str::from_utf8(bytes) {
@@ -156,6 +172,7 @@ pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Vec<Finding>) {
 
 /// The `invalid-utf8` warning: `total` lines held bytes that are not UTF-8, the first of
 /// them (1-based, at most 10) in `lines`.
+#[must_use]
 pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
     let more = if total > lines.len() {
         format!(" and {} more", total - lines.len())
@@ -176,6 +193,7 @@ pub fn utf8_warning(lines: Vec<usize>, total: usize) -> Finding {
 /// Runs every check and the time estimate on `prog`. `cfg` may be in inch; `design` is in
 /// mm. Interpreter diagnostics come first, then the checks' findings, each check capped at
 /// `cfg.max_findings_per_check` (the rest counted in `suppressed`).
+#[must_use]
 pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Report {
     let (found, stats, _) = checks_and_stats(prog, cfg, design);
     assemble_found(prog, cfg, found, stats)
@@ -183,10 +201,11 @@ pub fn check(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> Re
 
 /// [`assemble_with`] of what [`checks_and_stats`] found, the counts it gives as lower
 /// bounds marked in [`Report::suppressed_at_least`].
+#[must_use]
 pub fn assemble_found(
     prog: &Program,
     cfg: &CheckConfig,
-    found: checks::CheckFindings,
+    found: CheckFindings,
     stats: Stats,
 ) -> Report {
     let mut r = assemble_with(prog, cfg, found.findings, stats, &found.dropped);
@@ -200,21 +219,21 @@ pub fn assemble_found(
 }
 
 /// The findings of [`check`] before capping (interpreter diagnostics, then every check's,
-/// with the findings counted but not built, [`checks::CheckFindings`]) and the [`stats`],
+/// with the findings counted but not built, [`CheckFindings`]) and the [`stats`],
 /// both empty when the program is unusable; also the wall seconds of the two sides below.
 /// `cfg` may be in inch; `design` is in mm.
 ///
 /// Two workers share the work in about equal parts: one runs the checks on the cut
-/// contours ([`checks::contour_findings`]), the other the per-move checks
-/// ([`checks::MoveChecks`]) in the time estimate's pass over the moves. The findings are
-/// those of [`checks::run_all`], in its order.
+/// contours, the other the per-move checks in the time estimate's pass over the moves. The findings are
+/// those of every check in its order: the contour checks', then the per-move checks'.
+#[must_use]
 pub fn checks_and_stats(
     prog: &Program,
     cfg: &CheckConfig,
     design: &[DesignBoundary],
-) -> (checks::CheckFindings, Stats, [f64; 2]) {
+) -> (CheckFindings, Stats, [f64; 2]) {
     if prog.unusable.is_some() {
-        return (checks::CheckFindings::default(), Stats::default(), [0.0; 2]);
+        return (CheckFindings::default(), Stats::default(), [0.0; 2]);
     }
     let mm = cfg.in_mm();
     let ((contour, t_contours), ((moves, stats), t_moves)) = crate::par::join(
@@ -246,12 +265,14 @@ fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
 
 /// The report of [`check`] from the findings and the [`stats`] of [`checks_and_stats`]:
 /// usability, and each check capped at `cfg.max_findings_per_check`.
+#[must_use]
 pub fn assemble(prog: &Program, cfg: &CheckConfig, all: Vec<Finding>, stats: Stats) -> Report {
     assemble_with(prog, cfg, all, stats, &[])
 }
 
 /// [`assemble`] of findings already capped: `dropped` counts, per id, findings left out of
 /// `all` that came after the ones kept (the streaming route keeps at most the cap per id).
+#[must_use]
 pub fn assemble_with(
     prog: &Program,
     cfg: &CheckConfig,
@@ -332,6 +353,7 @@ pub fn assemble_with(
 }
 
 /// Move count, cut and rapid lengths (helical lengths for arcs), bounds, time.
+#[must_use]
 pub fn stats(prog: &Program, cfg: &CheckConfig) -> Stats {
     stats_each(prog, cfg, |_| {})
 }
@@ -362,55 +384,4 @@ fn stats_each(prog: &Program, cfg: &CheckConfig, mut f: impl FnMut(&Motion)) -> 
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(256))]
-        #[test]
-        fn never_panics_on_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
-            let text = String::from_utf8_lossy(&bytes);
-            let r = check_text(Backend::Builtin, &text, &CheckConfig::default(), &[]);
-            prop_assert!(r.exit_code() <= 2);
-            let c = check_text(Backend::LinuxCnc, &text, &CheckConfig::default(), &[]);
-            prop_assert!(c.exit_code() <= 2);
-        }
-
-        #[test]
-        fn never_panics_on_gcode_like(text in "([GMXYZIJKRFSPN]{1,2}[-+]?[0-9]{0,3}(\\.[0-9]{0,3})?[ ;()*%/\n]?){0,60}") {
-            let r = check_text(Backend::Builtin, &text, &CheckConfig::default(), &[]);
-            prop_assert!(r.exit_code() <= 2);
-            let _ = r.to_string();
-        }
-    }
-
-    #[test]
-    fn coincident_contours_are_checked_in_linear_time() {
-        // Issue #18: 2,000 coincident square contours (about 200 KB of G-code).
-        let mut src = String::from("G21 G90 F1000 S500\n");
-        for _ in 0..2000 {
-            src += "G0 X10.000 Y10.000\nM4\nG1 X20.000 Y10.000\nG1 X20.000 Y20.000\n\
-                    G1 X10.000 Y20.000\nG1 X10.000 Y10.000\nM5\n";
-        }
-        src += "M2\n";
-        assert!(src.len() > 180_000);
-        let r = check_text(Backend::Builtin, &src, &CheckConfig::default(), &[]);
-        // One rapid to the start, then four cuts per square (the later rapids have length 0).
-        assert_eq!(r.stats.motions, 1 + 2000 * 4);
-        // Coincident contours do not cross: nothing to report, and no blow-up on the way.
-        assert_eq!(r.errors(), 0, "{r}");
-    }
-
-    #[test]
-    fn unusable_inputs() {
-        let cfg = CheckConfig::default();
-        assert_eq!(check_text(Backend::Builtin, "", &cfg, &[]).exit_code(), 2);
-        assert_eq!(
-            check_text(Backend::Builtin, "\0\u{1}binary\0", &cfg, &[]).exit_code(),
-            2
-        );
-        let ok = check_text(Backend::Builtin, "G0 X1\nM2\n", &cfg, &[]);
-        assert_eq!(ok.exit_code(), 0, "{ok}");
-    }
-}
+mod tests;

@@ -90,6 +90,7 @@ pub struct Motion {
 
 impl Motion {
     /// Length of the xy projection (arc length for arcs).
+    #[must_use]
     pub fn xy_length(&self) -> f64 {
         match &self.arc {
             Some(a) => a.length(),
@@ -98,6 +99,7 @@ impl Motion {
     }
 
     /// Length in space: helical arc length √((rθ)² + Δz²) for arcs, chord otherwise.
+    #[must_use]
     pub fn length(&self) -> f64 {
         match &self.arc {
             Some(a) => a.length().hypot(self.to.z - self.from.z),
@@ -107,6 +109,7 @@ impl Motion {
 
     /// The xy path as points with sagitta ≤ `tol` (start and end included): the chord
     /// flattening of [`Arc::flatten`] for arcs, the two end points for lines.
+    #[must_use]
     pub fn flatten_xy(&self, tol: f64) -> Vec<DVec2> {
         match &self.arc {
             Some(a) => {
@@ -126,6 +129,7 @@ impl Motion {
     }
 
     /// Points in space along the move with xy sagitta ≤ `tol`, z linear in arc length.
+    #[must_use]
     pub fn flatten_3d(&self, tol: f64) -> Vec<DVec3> {
         match &self.arc {
             Some(_) => {
@@ -142,6 +146,7 @@ impl Motion {
 
     /// Axis-aligned bounds (min, max) of the move, arcs included exactly (the arc's
     /// axis extremes at angles 0, π/2, π, 3π/2 when swept).
+    #[must_use]
     pub fn bounds(&self) -> (DVec3, DVec3) {
         let mut lo = self.from.min(self.to);
         let mut hi = self.from.max(self.to);
@@ -305,6 +310,7 @@ impl Motions {
     }
 
     /// The move at `i` (built from the tables).
+    #[must_use]
     pub fn get(&self, i: usize) -> Option<Motion> {
         let r = self.recs.get(i)?;
         let prev = i
@@ -315,16 +321,19 @@ impl Motions {
     }
 
     /// The first move.
+    #[must_use]
     pub fn first(&self) -> Option<Motion> {
         self.get(0)
     }
 
     /// The last move.
+    #[must_use]
     pub fn last(&self) -> Option<Motion> {
         self.len().checked_sub(1).and_then(|i| self.get(i))
     }
 
     /// The moves in order.
+    #[must_use]
     pub fn iter(&self) -> Iter<'_> {
         Iter {
             list: self,
@@ -335,6 +344,7 @@ impl Motions {
     }
 
     /// Every move as a [`Motion`] (160 bytes each).
+    #[must_use]
     pub fn to_vec(&self) -> Vec<Motion> {
         self.iter().collect()
     }
@@ -478,6 +488,7 @@ pub use crate::units::Units;
 
 /// Everything a backend extracts from a program.
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct Program {
     /// The moves, in program order.
     pub motions: Motions,
@@ -505,8 +516,8 @@ pub struct Program {
     pub uncertain_from: Option<usize>,
     /// Why nothing usable could be read (empty file, binary data), when that is the case.
     pub unusable: Option<String>,
-    /// Pocket marks `(skinpath:group N)` by line (see
-    /// [`crate::sim::checks::contours::note_group_marks`]), in line order.
+    /// Pocket marks `(skinpath:group N)` by line, in line order: the mark in force from that
+    /// line on (None after `(skinpath:group none)`).
     pub group_marks: Vec<(usize, Option<u32>)>,
 }
 

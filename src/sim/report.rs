@@ -7,6 +7,7 @@ use std::fmt;
 
 /// Totals over the program (mm, seconds).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct Stats {
     /// Number of moves (dwells not counted).
     pub motions: usize,
@@ -22,6 +23,7 @@ pub struct Stats {
 
 /// The result of checking one program.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct Report {
     /// Which backend read the program ("builtin" or "linuxcnc").
     pub backend: &'static str,
@@ -45,11 +47,13 @@ pub struct Report {
 
 impl Report {
     /// Number of error findings shown.
+    #[must_use]
     pub fn errors(&self) -> usize {
         self.count(Severity::Error)
     }
 
     /// Number of warning findings shown.
+    #[must_use]
     pub fn warnings(&self) -> usize {
         self.count(Severity::Warning)
     }
@@ -59,11 +63,13 @@ impl Report {
     }
 
     /// Number of error findings, those left out by `max_findings_per_check` included.
+    #[must_use]
     pub fn errors_in_all(&self) -> usize {
         self.count_in_all(Severity::Error)
     }
 
     /// Number of warning findings, those left out by `max_findings_per_check` included.
+    #[must_use]
     pub fn warnings_in_all(&self) -> usize {
         self.count_in_all(Severity::Warning)
     }
@@ -99,6 +105,7 @@ impl Report {
 
     /// Exit status for the CLI: 0 clean (warnings allowed), 1 at least one error finding,
     /// 2 unusable input.
+    #[must_use]
     pub fn exit_code(&self) -> i32 {
         if !self.usable {
             2

@@ -39,6 +39,7 @@ const USER_HZ: f64 = 100.0;
 
 /// How to run rs274.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Rs274Options {
     /// rs274 is killed when it has used this much processor time (user + system; the wall
     /// clock where `/proc` cannot be read): a runaway `while` loop never ends.
@@ -70,6 +71,7 @@ impl Default for Rs274Options {
 
 /// What rs274 wrote.
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct Rs274Output {
     /// Canonical machining commands, one per line.
     pub stdout: String,
@@ -80,6 +82,7 @@ pub struct Rs274Output {
 impl Rs274Output {
     /// Standard output, a newline, then standard error: the text
     /// [`super::linuxcnc::parse_canon`] reads (errors after the moves they stopped).
+    #[must_use]
     pub fn combined(&self) -> String {
         let mut s = String::with_capacity(self.stdout.len() + self.stderr.len() + 1);
         s.push_str(&self.stdout);
@@ -91,6 +94,7 @@ impl Rs274Output {
 
 /// Why rs274 gave no reading.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Rs274Error {
     /// The program could not be started (not installed, or not executable).
     #[error("cannot run rs274 (install the Debian package linuxcnc-uspace): {0}")]
@@ -113,7 +117,7 @@ pub enum Rs274Error {
          raise --rs274-timeout if the program is just long)", .0.as_secs_f64()
     )]
     Timeout(Duration),
-    /// rs274 was still running after [`WALL_BACKSTOP_FACTOR`] times
+    /// rs274 was still running after 30 times (`WALL_BACKSTOP_FACTOR`)
     /// [`Rs274Options::timeout`] of wall time without reaching its processor-time limit.
     #[error(
         "rs274 was still running after {:.1} s of wall time without using its processor \

@@ -27,8 +27,9 @@ pub fn left_behind(pid: u32, path: &Path) -> bool {
 }
 
 /// Removes the files and folders of `dir` named `prefix` + `PID` (optionally followed by
-/// `-…`) that killed runs left behind ([`left_behind`]). Errors are ignored: an entry
-/// another run still uses is kept.
+/// `-…`) that killed runs left behind: on Linux, entries whose process no longer runs (no
+/// `/proc/PID`); elsewhere, entries older than an hour. This process's own are kept, and
+/// errors are ignored: an entry another run still uses is kept.
 pub fn remove_left_behind(dir: &Path, prefix: &str) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;

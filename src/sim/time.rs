@@ -15,11 +15,16 @@ use super::motion::{Motion, MotionKind, Motions};
 use glam::DVec3;
 use serde::Serialize;
 
+/// Smallest chord tolerance (mm) arcs are flattened with for the estimate: a zero or negative
+/// configured `arc_tolerance` would otherwise bound no chord count.
+pub(crate) const MIN_ARC_TOLERANCE_MM: f64 = 1e-9;
+
 /// Cosine bounds beyond which a junction counts as straight or a full reversal (GRBL).
 const COS_STRAIGHT: f64 = 0.999999;
 
 /// Estimated seconds, split by kind of move.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[non_exhaustive]
 pub struct TimeEstimate {
     /// Whole program, seconds.
     pub total: f64,
@@ -144,7 +149,7 @@ fn for_blocks(m: &Motion, lim: &AxisLimits, cfg: &CheckConfig, mut f: impl FnMut
         }
         return;
     }
-    let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
+    let pts = m.flatten_3d(cfg.arc_tolerance.max(MIN_ARC_TOLERANCE_MM));
     for w in pts.windows(2) {
         if let Some(b) = Block::of_chord(w[1] - w[0], m.feed, is_rapid, lim) {
             f(b, is_rapid);

@@ -10,7 +10,7 @@
 
 use super::config::CheckConfig;
 use super::motion::{MotionKind, Motions};
-use super::time::{AxisLimits, Block, block_time, plan, untimed};
+use super::time::{AxisLimits, Block, MIN_ARC_TOLERANCE_MM, block_time, plan, untimed};
 use glam::DVec3;
 
 /// One planner block (a chord of a motion) or a dwell, with its place in time.
@@ -141,7 +141,7 @@ pub fn timeline(motions: &Motions, cfg: &CheckConfig) -> Timeline {
             }
             MotionKind::Rapid | MotionKind::Feed => {
                 let rapid = m.kind == MotionKind::Rapid;
-                let pts = m.flatten_3d(cfg.arc_tolerance.max(1e-9));
+                let pts = m.flatten_3d(cfg.arc_tolerance.max(MIN_ARC_TOLERANCE_MM));
                 for w in pts.windows(2) {
                     segs.push(Segment {
                         motion: mi,

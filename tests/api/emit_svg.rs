@@ -304,10 +304,8 @@ fn preview_has_cuts_rapids_and_start_markers() {
     use skinpath::emit::preview::{Scene, SvgOptions, scene_svg};
     use skinpath::sim::{CheckConfig, MachineKind};
     let tp = job(&[-1.0, -2.0], 0.5);
-    let cfg = CheckConfig {
-        kind: MachineKind::Router,
-        ..CheckConfig::default()
-    };
+    let mut cfg = CheckConfig::default();
+    cfg.kind = MachineKind::Router;
     let scene = Scene::from_toolpath("t", &tp, 1.0, &cfg, None);
     let out = scene_svg(&scene, &SvgOptions::default());
     let doc = roxmltree::Document::parse(&out).unwrap();

@@ -248,10 +248,8 @@ G0 Z5\nM5\nM2\n";
 #[test]
 fn player_plays_where_the_simulator_says() {
     let Some(d) = Driver::start() else { return };
-    let cfg = CheckConfig {
-        kind: sim::MachineKind::Router,
-        ..CheckConfig::default()
-    };
+    let mut cfg = CheckConfig::default();
+    cfg.kind = sim::MachineKind::Router;
     let s = scene(PROGRAM, &cfg, true);
     assert!(s.findings.iter().any(|f| f.id == "self-intersection"));
     let dir = tmp_dir("router");

@@ -115,10 +115,8 @@ fn sound(r: &Report, cap: usize) -> bool {
 
 #[test]
 fn fuzz_ngc_control_flow() {
-    let cfg = CheckConfig {
-        max_loop_iterations: BUDGET,
-        ..CheckConfig::default()
-    };
+    let mut cfg = CheckConfig::default();
+    cfg.max_loop_iterations = BUDGET;
     let mut rng = Rng::new(seed("ngc-flow-programs"));
     // Nesting from flat to 60 levels (beyond LinuxCNC's own limits).
     let seeds: Vec<(String, String)> = (0..40)

@@ -213,19 +213,19 @@ fn concurrent_runs_each_read_the_whole_program() {
         return;
     }
     let src = "G21 G90\nG0 X10 Y0\nG1 X20 F100\nG1 Y5\nM2\n";
-    let numbered = skinpath::sim::linuxcnc::number_lines(src);
+    let numbered = skinpath::sim::number_lines(src);
     for _ in 0..5 {
         let runs: Vec<_> = (0..8)
             .map(|_| {
                 let text = numbered.clone();
                 std::thread::spawn(move || {
-                    skinpath::sim::rs274::run(&text, &Default::default()).map(|o| o.stdout)
+                    skinpath::sim::run_rs274(&text, &Default::default()).map(|o| o.stdout)
                 })
             })
             .collect();
         for r in runs {
             let out = r.join().expect("thread").expect("rs274 run");
-            let prog = skinpath::sim::linuxcnc::parse_canon(&out);
+            let prog = skinpath::sim::parse_canon(&out);
             assert_eq!(prog.motions.len(), 3, "{out}");
         }
     }

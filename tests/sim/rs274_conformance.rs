@@ -6,8 +6,10 @@
 //! listed in [`MACHINE_DEPENDENT`] with the reason. Skipped (with a message) when rs274 or
 //! the samples are missing. Runs rs274 once at a time; each run is killed after 5 s.
 
-use skinpath::sim::rs274::{Rs274Error, Rs274Options};
-use skinpath::sim::{self, Backend, CheckConfig, Dialect, Severity, ToolEntry, interp};
+use skinpath::sim::{
+    self, Backend, CheckConfig, Dialect, InterpOptions, Rs274Error, Rs274Options, Severity,
+    ToolEntry,
+};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
@@ -125,13 +127,11 @@ fn samples() -> Vec<PathBuf> {
 /// sample's file name (rs274 treats a file that only defines the subroutine of its own name
 /// as a call of it); the sample's folder supplies called subroutines.
 fn rs274(path: &Path, text: &str, dir: &Path) -> Option<String> {
-    let opts = Rs274Options {
-        timeout: Duration::from_secs(5),
-        sub_dirs: vec![dir.to_path_buf()],
-        program_name: path.file_name()?.to_string_lossy().into_owned(),
-        ..Default::default()
-    };
-    match sim::rs274::run(&sim::linuxcnc::number_lines(text), &opts) {
+    let mut opts = Rs274Options::default();
+    opts.timeout = Duration::from_secs(5);
+    opts.sub_dirs = vec![dir.to_path_buf()];
+    opts.program_name = path.file_name()?.to_string_lossy().into_owned();
+    match sim::run_rs274(&sim::number_lines(text), &opts) {
         Ok(out) => Some(out.combined()),
         Err(Rs274Error::Timeout(_) | Rs274Error::OutputTooLarge(_)) => None,
         Err(e) => panic!("rs274 on {}: {e}", path.display()),
@@ -143,10 +143,10 @@ fn rs274(path: &Path, text: &str, dir: &Path) -> Option<String> {
 fn rs274_tools() -> Vec<ToolEntry> {
     [(1, 12.9794), (2, 2.54), (3, 32.3342)]
         .into_iter()
-        .map(|(number, z)| ToolEntry {
-            number,
-            z,
-            ..Default::default()
+        .map(|(number, z)| {
+            let mut tool = ToolEntry::new(number, 0.0);
+            tool.z = z;
+            tool
         })
         .collect()
 }
@@ -173,12 +173,10 @@ fn compare(path: &Path) -> Outcome {
             lc_ok: false,
         };
     };
-    let cfg = CheckConfig {
-        dialect: Dialect::Linuxcnc,
-        tool_table: rs274_tools(),
-        max_loop_iterations: 200_000,
-        ..CheckConfig::default()
-    };
+    let mut cfg = CheckConfig::default();
+    cfg.dialect = Dialect::Linuxcnc;
+    cfg.tool_table = rs274_tools();
+    cfg.max_loop_iterations = 200_000;
     let lc = sim::load(Backend::LinuxCnc, &canon, &cfg);
     if std::env::var("SKINPATH_CONFORMANCE_DUMP").is_ok() {
         eprintln!("{canon}");
@@ -202,9 +200,7 @@ fn compare(path: &Path) -> Outcome {
         Backend::Builtin,
         &text,
         &cfg,
-        &interp::Options {
-            load_sub: Some(&load),
-        },
+        &InterpOptions::with_loader(&load),
     );
     let our_errors: Vec<String> = ours
         .diagnostics

@@ -189,14 +189,12 @@ corpus_case! {
 /// LinuxCNC's stand-alone interpreter's canon output (standard output only) on a numbered
 /// copy of `src`, or None when rs274 is not installed.
 fn run_rs274(src: &str, name: &str) -> Option<String> {
-    let opts = sim::rs274::Rs274Options {
-        timeout: std::time::Duration::from_secs(20),
-        program_name: format!("{name}.ngc"),
-        ..Default::default()
-    };
-    match sim::rs274::run(&sim::linuxcnc::number_lines(src), &opts) {
+    let mut opts = sim::Rs274Options::default();
+    opts.timeout = std::time::Duration::from_secs(20);
+    opts.program_name = format!("{name}.ngc");
+    match sim::run_rs274(&sim::number_lines(src), &opts) {
         Ok(out) => Some(out.stdout),
-        Err(sim::rs274::Rs274Error::NotRunnable(_)) => None,
+        Err(sim::Rs274Error::NotRunnable(_)) => None,
         Err(e) => panic!("rs274 on {name}: {e}"),
     }
 }

@@ -7,7 +7,7 @@
 //! - always on: a 20 MB program (1M segments, the in-memory route) in [`SMALL_BUDGET_MB`];
 //! - `#[ignore]` (minutes): a 200 MB program (10M segments) in [`LARGE_BUDGET_MB`] and a
 //!   1 GB program (50M segments) in [`HUGE_BUDGET_MB`], both on the streaming route
-//!   ([`skinpath::sim::stream`], taken above 64 MiB). Run with
+//!   ([`skinpath::sim::check_stream`], taken above 64 MiB). Run with
 //!   `cargo test --release --test sim -- --ignored sim_memory::`.
 
 use crate::support;

@@ -144,10 +144,8 @@ fn source(file: &str) -> String {
 }
 
 fn run(src: &str, dialect: Dialect) -> sim::Report {
-    let cfg = CheckConfig {
-        dialect,
-        ..CheckConfig::default()
-    };
+    let mut cfg = CheckConfig::default();
+    cfg.dialect = dialect;
     let prog = sim::load(Backend::Builtin, src, &cfg);
     sim::check(&prog, &cfg, &[])
 }
@@ -190,10 +188,8 @@ fn every_refusal_gets_its_finding_per_dialect() {
 
 /// Total length of the feed moves of `src` (mm), from its motions.
 fn feed_length(src: &str, dialect: Dialect) -> (f64, usize) {
-    let cfg = CheckConfig {
-        dialect,
-        ..CheckConfig::default()
-    };
+    let mut cfg = CheckConfig::default();
+    cfg.dialect = dialect;
     let p = sim::load(Backend::Builtin, src, &cfg);
     let feeds: Vec<_> = p
         .motions
@@ -215,8 +211,18 @@ fn the_estimate_never_invents_a_feed() {
     // Marlin and Smoothieware run the move at their default feed: at least L / v, and
     // (trapezoid with acceleration a) at most L / v + v / a.
     for (d, v) in [
-        (Dialect::Marlin, sim::interp::MARLIN_DEFAULT_FEED_MM_MIN),
-        (Dialect::Smoothie, sim::interp::SMOOTHIE_DEFAULT_FEED_MM_MIN),
+        (
+            Dialect::Marlin,
+            Dialect::Marlin
+                .default_feed()
+                .expect("Marlin's default feed"),
+        ),
+        (
+            Dialect::Smoothie,
+            Dialect::Smoothie
+                .default_feed()
+                .expect("Smoothieware's default feed"),
+        ),
     ] {
         let r = run(&src, d);
         let (len, n) = feed_length(&src, d);
@@ -244,19 +250,17 @@ fn rs274_refuses_the_linuxcnc_errors_too() {
             .iter()
             .any(|(d, e)| *d == Dialect::Linuxcnc && matches!(e, Some((Error, _, _))));
         let src = source(file);
-        let opts = sim::rs274::Rs274Options {
-            timeout: std::time::Duration::from_secs(60),
-            ..Default::default()
-        };
-        let out = match sim::rs274::run(&sim::linuxcnc::number_lines(&src), &opts) {
+        let mut opts = sim::Rs274Options::default();
+        opts.timeout = std::time::Duration::from_secs(60);
+        let out = match sim::run_rs274(&sim::number_lines(&src), &opts) {
             Ok(out) => out,
-            Err(sim::rs274::Rs274Error::NotRunnable(e)) => {
+            Err(sim::Rs274Error::NotRunnable(e)) => {
                 eprintln!("rs274 is not installed ({e}): cross-check skipped");
                 return;
             }
             Err(e) => panic!("rs274 on {file}: {e}"),
         };
-        let p = sim::linuxcnc::parse_canon(&out.combined());
+        let p = sim::parse_canon(&out.combined());
         let errors = p.diagnostics.iter().any(|f| f.severity == Error);
         assert_eq!(errors, refused, "{file}: rs274 said\n{}", out.stderr);
     }

@@ -365,8 +365,8 @@ pub(crate) fn pass_numbers(keys: &[PathKey]) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// A multiplicative hasher for the small integer keys of [`ContactFolder`] (SipHash,
-/// the standard one, took a tenth of a retraced program's check): each word is mixed in by
+/// A multiplicative hasher for the small integer keys of [`ContactFolder`] (SipHash, the
+/// standard one, is slow for keys hashed once per contact): each word is mixed in by
 /// h = (rotl(h, 5) ⊕ w) · K with K = ⌊2⁶⁴/φ⌋ (Fibonacci hashing, Knuth TAOCP vol. 3
 /// §6.4), as rustc's FxHasher does. Keys come from the program, not from an adversary
 /// who would gain anything by colliding them.
@@ -426,7 +426,7 @@ struct Folded {
 
 /// Turns the contacts of the intersection check (taken in segment-pair order) into its
 /// findings, on both routes: one per pair of source lines as before, and one per crossing
-/// of two paths whatever the number of passes each is cut in (issue #42): a contact whose
+/// of two paths whatever the number of passes each is cut in: a contact whose
 /// segments repeat, at the same positions of the same paths ([`pass_numbers`]), those of
 /// an earlier contact joins that contact's finding, which lists the passes.
 pub(crate) struct ContactFolder<'p> {

@@ -27,6 +27,7 @@ pub enum KeepSide {
 /// A design boundary (mm, machine coordinates): a polyline, closed when `keep` is not
 /// `Either` (the last point joins the first).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct DesignBoundary {
     /// The polyline (mm).
     pub points: Vec<[f64; 2]>,
@@ -36,6 +37,7 @@ pub struct DesignBoundary {
 
 impl DesignBoundary {
     /// A boundary from `points` (mm) with the side to keep.
+    #[must_use]
     pub fn new(points: &[DVec2], keep: KeepSide) -> Self {
         DesignBoundary {
             points: points.iter().map(|p| [p.x, p.y]).collect(),

@@ -4,27 +4,12 @@
 use super::contours::is_cutting;
 use crate::sim::config::{CheckConfig, Dialect, MachineKind};
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::{Motion, MotionKind, Motions, Program};
+use crate::sim::motion::{Motion, MotionKind, Program};
 
 /// Slack on the travel limits relative to the coordinates, so that a move ending exactly on a
 /// limit after unit conversion (25.4 · x) is not flagged.
 fn limit_slack(v: f64) -> f64 {
     crate::geom::tol::scaled(v)
-}
-
-/// Moves (rapids included) that leave the work area [work_min, work_max]; arcs by their
-/// exact bounds.
-pub fn out_of_bounds(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
-    let limits = Limits::new(cfg);
-    motions
-        .iter()
-        .filter_map(|m| limits.motion(&m, cfg))
-        .collect()
-}
-
-/// [`out_of_bounds`] of one move.
-pub fn out_of_bounds_move(m: &Motion, cfg: &CheckConfig) -> Option<Finding> {
-    Limits::new(cfg).motion(m, cfg)
 }
 
 /// The travel limits of a configuration with their slack ([`limit_slack`]), computed once
@@ -44,7 +29,8 @@ impl Limits {
         }
     }
 
-    /// [`out_of_bounds_move`] with these limits (those of `cfg`).
+    /// The `out-of-bounds` finding of a move (rapids included) that leaves the work area
+    /// [work_min, work_max] of `cfg` (arcs by their exact bounds), with these limits.
     pub fn motion(&self, m: &Motion, cfg: &CheckConfig) -> Option<Finding> {
         if !self.leaves(m) {
             return None;
@@ -109,16 +95,7 @@ fn out_of_bounds_finding(
 
 /// Laser: G0 with M3/M4 and S > 0 (a warning in GRBL laser mode, where G0 never fires, an
 /// error elsewhere). Router: a rapid that moves in xy below `safe_z`, or that ends below
-/// `cut_z` (a rapid plunge into the stock).
-pub fn rapids(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
-    let mut out = Vec::new();
-    for m in motions.iter().filter(|m| m.kind == MotionKind::Rapid) {
-        rapid_move(&m, cfg, &mut out);
-    }
-    out
-}
-
-/// [`rapids`] of one move (nothing unless it is a rapid).
+/// `cut_z` (a rapid plunge into the stock). Nothing unless `m` is a rapid.
 pub fn rapid_move(m: &Motion, cfg: &CheckConfig, out: &mut Vec<Finding>) {
     if m.kind != MotionKind::Rapid {
         return;
@@ -185,18 +162,8 @@ pub fn rapid_move(m: &Motion, cfg: &CheckConfig, out: &mut Vec<Finding>) {
 }
 
 /// Cutting moves whose feed or S is outside the configured ranges, one finding per run of
-/// consecutive offending moves with the same value.
-pub fn feed_and_power(motions: &Motions, cfg: &CheckConfig) -> Vec<Finding> {
-    let mut out = Vec::new();
-    let mut st = FeedPower::default();
-    for m in motions {
-        st.motion(&m, cfg, &mut out);
-    }
-    out
-}
-
-/// The state of [`feed_and_power`] between moves (the value of the current run of
-/// offending moves).
+/// consecutive offending moves with the same value: the state between moves (the value of
+/// the current run of offending moves).
 #[derive(Clone, Debug, Default)]
 pub struct FeedPower {
     last_feed: Option<f64>,

@@ -22,14 +22,16 @@
 //! `percent-without-start`, `no-axis-words`, `axis-in-cycle`: per dialect, see README.md "What each controller refuses") join
 //! the same list.
 
-pub mod contours;
-pub mod gouge;
-pub mod intersect;
-pub mod machine;
+pub(crate) mod contours;
+pub(crate) mod gouge;
+pub(crate) mod intersect;
+pub(crate) mod machine;
 
 pub use contours::{SimContour, cut_contours, is_cutting};
 pub use gouge::{DesignBoundary, KeepSide};
-pub use intersect::{Across, Contact, Seg, SegmentSet};
+pub use intersect::Seg;
+#[allow(unused_imports)] // the benches' path, through `crate::internals`
+pub use intersect::{Across, SegmentSet};
 
 use super::config::CheckConfig;
 use super::findings::Finding;
@@ -108,33 +110,23 @@ impl Capped {
     }
 }
 
-/// What [`run_all`] found: the findings built, and per id how many more were found but not
+/// What the checks found: the findings built, and per id how many more were found but not
 /// built because the id had reached `max_findings_per_check` (they come after the ones
 /// built; [`crate::sim::assemble_with`] counts them as suppressed).
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct CheckFindings {
     /// The findings, in the order of the checks.
     pub findings: Vec<Finding>,
     /// Per id, findings counted but not built.
     pub dropped: Vec<(&'static str, usize)>,
     /// Ids of `dropped` whose search stopped once the report was full: more findings than
-    /// counted may exist ([`SegmentSet::contacts_in_order`]).
+    /// counted may exist (the contact search stops early).
     pub at_least: Vec<&'static str>,
 }
 
-/// Runs every check (`cfg` in mm, see [`CheckConfig::in_mm`]); findings in program order
-/// within each check. Out-of-bounds moves beyond `cfg.max_findings_per_check` are counted
-/// without building their findings.
-pub fn run_all(prog: &Program, cfg: &CheckConfig, design: &[DesignBoundary]) -> CheckFindings {
-    let mut moves = MoveChecks::new(cfg);
-    for m in &prog.motions {
-        moves.motion(&m);
-    }
-    join(contour_findings(prog, cfg, design), moves.finish(prog))
-}
-
 /// The checks on the cut contours (`cfg` in mm): self-intersections and crossings, then
-/// gouges. With [`MoveChecks`] on the same program, every check of [`run_all`].
+/// gouges. With [`MoveChecks`] on the same program, every check.
 pub fn contour_findings(
     prog: &Program,
     cfg: &CheckConfig,
@@ -158,7 +150,7 @@ pub fn contour_findings(
     }
 }
 
-/// The findings of [`run_all`]: `contour` ([`contour_findings`]) first, then those of
+/// The findings of every check: `contour` ([`contour_findings`]) first, then those of
 /// [`MoveChecks`].
 pub fn join(contour: CheckFindings, moves: CheckFindings) -> CheckFindings {
     let mut findings = contour.findings;
@@ -207,7 +199,7 @@ impl<'c> MoveChecks<'c> {
         self.feed_power.motion(m, cfg, &mut self.feeds);
     }
 
-    /// The findings of `out_of_bounds`, `rapids` and `feed_and_power` one after the other,
+    /// The travel-limit, rapid and feed-and-power findings one after the other,
     /// then the program end's; out-of-bounds findings beyond the cap counted, not built.
     pub fn finish(self, prog: &Program) -> CheckFindings {
         let dropped = self.bounds.dropped().collect();
@@ -225,6 +217,7 @@ impl<'c> MoveChecks<'c> {
 
 #[cfg(test)]
 mod tests {
+    use super::intersect::{Across, SegmentSet};
     use super::*;
     use crate::geom::DVec2;
     use crate::sim::config::Dialect;
@@ -286,6 +279,9 @@ mod tests {
         assert_eq!(oob(&r), oob(&full)[..7].to_vec());
         assert_eq!(r.suppressed, vec![("out-of-bounds".to_string(), 1992)]);
         let opts = crate::sim::interp::Options { load_sub: None };
+        let _running = crate::sim::stream::TEST_LOCK
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
         let (streamed, _) = crate::sim::stream::check_stream(
             Box::new(std::io::Cursor::new(src.clone().into_bytes())),
             &capped,
@@ -315,6 +311,9 @@ mod tests {
     fn contour_report(src: &str, cfg: &CheckConfig) -> (Vec<Finding>, Vec<(String, usize)>) {
         let r = check_text(Backend::Builtin, src, cfg, &[]);
         let opts = crate::sim::interp::Options { load_sub: None };
+        let _running = crate::sim::stream::TEST_LOCK
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
         let (streamed, _) = crate::sim::stream::check_stream(
             Box::new(std::io::Cursor::new(src.as_bytes().to_vec())),
             cfg,

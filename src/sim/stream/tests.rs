@@ -1,24 +1,59 @@
-//! The streaming route of `check` ([`skinpath::sim::stream`]) gives the report of the
-//! in-memory route, finding for finding and bit for bit in the statistics: on every program
-//! of the sim corpus and the golden G-code files (under each config and design the corpus
-//! gives), and on generated programs with the cases that stress it (retraced and coincident
-//! contours, crossings across tiles, arcs, dwells, pocket marks, loops, findings beyond the
-//! cap, odd bytes). Each streamed check runs with the default tiles and with tiny ones, so
-//! that the contact test is split over many tiles.
+//! The streaming route of `check` gives the report of the in-memory route, finding for
+//! finding and bit for bit in the statistics: on every program of the sim corpus and the
+//! golden G-code files (under each config and design the corpus gives), and on generated
+//! programs with the cases that stress it (retraced and coincident contours, crossings
+//! across tiles, arcs, dwells, pocket marks, loops, findings beyond the cap, odd bytes).
+//! Each streamed check runs with the default tiles and with tiny ones, so that the contact
+//! test is split over many tiles.
 
-use crate::support;
-
-use skinpath::sim::{
-    self, Backend, CheckConfig, DesignBoundary, KeepSide, MachineKind, interp, stream,
+use super::check_stream_tiled;
+use crate::sim::{
+    self, Backend, CheckConfig, DesignBoundary, InterpOptions, KeepSide, MachineKind,
 };
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
+
+/// The config and design boundaries a corpus program names in its header comments:
+/// `; config KEY = VALUE` lines (TOML of a [`CheckConfig`]) and `; design SIDE x,y x,y …`
+/// lines (a boundary kept `outside`, `inside` or either side).
+fn corpus_header(src: &str) -> (CheckConfig, Vec<DesignBoundary>) {
+    let mut toml_cfg = String::new();
+    let mut design = Vec::new();
+    for line in src.lines() {
+        let Some(d) = line.trim().strip_prefix(';') else {
+            continue;
+        };
+        let d = d.trim();
+        if let Some(t) = d.strip_prefix("config ") {
+            toml_cfg.push_str(t);
+            toml_cfg.push('\n');
+        } else if let Some(t) = d.strip_prefix("design ") {
+            let (side, pts) = t.split_once(' ').expect("design side");
+            let keep = match side {
+                "outside" => KeepSide::Outside,
+                "inside" => KeepSide::Inside,
+                _ => KeepSide::Either,
+            };
+            let v: Vec<f64> = pts
+                .split([' ', ','])
+                .filter(|t| !t.is_empty())
+                .map(|t| t.parse().unwrap_or_else(|_| panic!("bad number {t:?}")))
+                .collect();
+            let p: Vec<_> = v
+                .chunks(2)
+                .map(|q| crate::geom::DVec2::new(q[0], q[1]))
+                .collect();
+            design.push(DesignBoundary::new(&p, keep));
+        }
+    }
+    (toml::from_str(&toml_cfg).expect("config lines"), design)
+}
 
 /// The report of the in-memory route as the CLI builds it (decode, check, the UTF-8
 /// warning first), as JSON.
 fn in_memory(bytes: &[u8], cfg: &CheckConfig, design: &[DesignBoundary]) -> String {
     let (text, decode) = sim::decode(bytes);
-    let opts = interp::Options { load_sub: None };
+    let opts = InterpOptions::default();
     let mut r = sim::check_text_with(Backend::Builtin, &text, cfg, design, &opts);
     if r.usable {
         r.findings.splice(0..0, decode);
@@ -26,11 +61,8 @@ fn in_memory(bytes: &[u8], cfg: &CheckConfig, design: &[DesignBoundary]) -> Stri
     serde_json::to_string_pretty(&r).expect("json")
 }
 
-/// Held while a streamed check runs (its temporary files share this process's name).
-static RUNNING: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
 fn streamed(bytes: &[u8], cfg: &CheckConfig, design: &[DesignBoundary], tiles: u64) -> String {
-    let _running = RUNNING.lock().unwrap_or_else(|e| e.into_inner());
+    let _running = super::TEST_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     streamed_unlocked(bytes, cfg, design, tiles)
 }
 
@@ -40,10 +72,10 @@ fn streamed_unlocked(
     design: &[DesignBoundary],
     tiles: u64,
 ) -> String {
-    let opts = interp::Options { load_sub: None };
+    let opts = InterpOptions::default();
     let input = Box::new(Cursor::new(bytes.to_vec()));
     let (mut r, utf8) =
-        stream::check_stream_tiled(input, cfg, design, &opts, tiles).expect("streamed check");
+        check_stream_tiled(input, cfg, design, &opts, tiles).expect("streamed check");
     if r.usable {
         r.findings.splice(0..0, utf8);
     }
@@ -87,7 +119,7 @@ fn corpus_and_golden_programs_agree() {
     assert!(corpus.len() >= 14);
     for p in &corpus {
         let bytes = std::fs::read(p).expect("read");
-        let (cfg, design) = support::corpus_header(&String::from_utf8_lossy(&bytes));
+        let (cfg, design) = corpus_header(&String::from_utf8_lossy(&bytes));
         same_on_both_routes(&p.display().to_string(), &bytes, &cfg, &design);
         // Also as a router and with crossings allowed: other checks fire.
         let router = CheckConfig {
@@ -196,7 +228,7 @@ fn generated_programs_agree() {
     }
     // Inch units, crossings allowed, a design with gouges, a cap of 3 findings.
     let inch = CheckConfig {
-        units: skinpath::sim::Units::Inch,
+        units: sim::Units::Inch,
         work_max: [10.0, 10.0, 1.0],
         allow_crossings: true,
         tool_radius: 0.05,
@@ -205,10 +237,10 @@ fn generated_programs_agree() {
     };
     let design = vec![DesignBoundary::new(
         &[
-            skinpath::geom::DVec2::new(11.0, 11.0),
-            skinpath::geom::DVec2::new(14.0, 11.0),
-            skinpath::geom::DVec2::new(14.0, 14.0),
-            skinpath::geom::DVec2::new(11.0, 14.0),
+            crate::geom::DVec2::new(11.0, 11.0),
+            crate::geom::DVec2::new(14.0, 11.0),
+            crate::geom::DVec2::new(14.0, 14.0),
+            crate::geom::DVec2::new(11.0, 14.0),
         ],
         KeepSide::Outside,
     )];
@@ -251,7 +283,7 @@ fn temporary_files_are_removed() {
             })
             .unwrap_or(0)
     };
-    let _running = RUNNING.lock().unwrap_or_else(|e| e.into_inner());
+    let _running = super::TEST_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let r = streamed_unlocked(src.as_bytes(), &CheckConfig::default(), &[], 1);
     assert!(r.contains("self-intersection"), "{r}");
     assert_eq!(count(), 0);

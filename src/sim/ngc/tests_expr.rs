@@ -3,9 +3,9 @@
 //! (`**` > `* / MOD` > `+ -` > relational > logical, all left-associative). Deterministic:
 //! proptest with a fixed seed.
 
+use crate::sim::ngc::{self, ParamSource, Syntax};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
-use skinpath::sim::ngc::{self, ParamSource, Syntax};
 
 #[derive(Clone, Debug)]
 enum Tok {

@@ -1,4 +1,4 @@
-//! The streaming route of `check` (issue #18): a program of any size is checked in bounded
+//! The streaming route of `check`: a program of any size is checked in bounded
 //! memory, with the same report as [`super::check_text`].
 //!
 //! - The file is read line by line ([`interp::interpret_stream`]): a pre-scan records the
@@ -36,6 +36,14 @@ use crate::geom::predicates::orient2d;
 use glam::DVec3;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
+
+#[cfg(test)]
+mod tests;
+
+/// Held by the unit tests while a streamed check runs: its temporary files carry this
+/// process's id, so a test that counts them must not overlap another streamed check.
+#[cfg(test)]
+pub(crate) static TEST_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// Inputs larger than this (bytes) take the streaming route in the CLI (`skinpath check`);
 /// smaller ones are read into memory, which is faster.

@@ -1,0 +1,445 @@
+//! Reading the program: sources (the main text, called files, a stream read line by line
+//! with seek checkpoints), the pre-scan of O-word lines, and the loop that runs line by line.
+
+use super::*;
+
+pub(super) struct Source<'a> {
+    pub(super) name: String,
+    pub(super) body: Body<'a>,
+}
+
+pub(super) enum Body<'a> {
+    /// The whole text, with the byte offset of each line start.
+    Mem {
+        text: Cow<'a, str>,
+        starts: Vec<usize>,
+    },
+    /// A program read line by line from a seekable stream ([`interpret_stream`]).
+    Stream(Box<LineStream<'a>>),
+}
+
+impl<'a> Source<'a> {
+    pub(super) fn new(name: String, text: Cow<'a, str>) -> Self {
+        let mut starts = vec![0];
+        starts.extend(memchr_lines(text.as_bytes()));
+        Source {
+            name,
+            body: Body::Mem { text, starts },
+        }
+    }
+    pub(super) fn len(&self) -> usize {
+        match &self.body {
+            Body::Mem { starts, .. } => starts.len(),
+            Body::Stream(s) => s.len,
+        }
+    }
+    pub(super) fn line(&mut self, i: usize) -> &str {
+        match &mut self.body {
+            Body::Mem { text, starts } => {
+                let a = starts[i];
+                let b = starts.get(i + 1).map_or(text.len(), |&e| e - 1);
+                let l = &text[a..b.max(a)];
+                l.strip_suffix('\r').unwrap_or(l)
+            }
+            Body::Stream(s) => s.line(i),
+        }
+    }
+}
+
+/// Where [`interpret_stream`] hands each move, with the pocket marks read so far (see
+/// [`Program::group_marks`]).
+pub type MotionSink<'s> = &'s mut dyn FnMut(Motion, &[(usize, Option<u32>)]);
+
+/// Both [`std::io::Read`] and [`std::io::Seek`].
+pub trait ReadSeek: std::io::Read + std::io::Seek {}
+impl<T: std::io::Read + std::io::Seek> ReadSeek for T {}
+
+/// Lines of a program read on demand: forward reading is sequential; a jump back (loops,
+/// subroutine returns) seeks to the nearest recorded line start before the target (every
+/// O-word line, its successor, and every [`CHECKPOINT_EVERY`]th line) and reads on from there.
+pub(super) struct LineStream<'a> {
+    pub(super) reader: std::io::BufReader<Box<dyn ReadSeek + 'a>>,
+    /// (line index, byte offset of its start), sorted by line.
+    pub(super) checkpoints: Vec<(usize, u64)>,
+    /// Number of lines (as [`Source::new`] counts them).
+    pub(super) len: usize,
+    /// Index of the line in `buf` (`usize::MAX`: none yet).
+    pub(super) cur: usize,
+    pub(super) buf: String,
+    pub(super) raw: Vec<u8>,
+    /// The first read error, if any.
+    pub(super) error: Option<String>,
+}
+
+/// Distance in lines between the recorded line starts of a [`LineStream`].
+pub(super) const CHECKPOINT_EVERY: usize = 4096;
+
+impl LineStream<'_> {
+    pub(super) fn read_next(&mut self) {
+        use std::io::BufRead;
+        self.raw.clear();
+        if let Err(e) = self.reader.read_until(b'\n', &mut self.raw) {
+            self.error.get_or_insert_with(|| e.to_string());
+        }
+        if self.raw.last() == Some(&b'\n') {
+            self.raw.pop();
+        }
+        if self.raw.last() == Some(&b'\r') {
+            self.raw.pop();
+        }
+        self.buf.clear();
+        self.buf.push_str(&String::from_utf8_lossy(&self.raw));
+        self.cur = self.cur.wrapping_add(1);
+    }
+
+    pub(super) fn line(&mut self, i: usize) -> &str {
+        if i >= self.len {
+            return "";
+        }
+        let ahead = self.cur != usize::MAX && i >= self.cur && i - self.cur <= CHECKPOINT_EVERY;
+        if !ahead {
+            let k = self.checkpoints.partition_point(|&(l, _)| l <= i);
+            let (l, off) = self
+                .checkpoints
+                .get(k.wrapping_sub(1))
+                .copied()
+                .unwrap_or((0, 0));
+            if let Err(e) = std::io::Seek::seek(&mut self.reader, std::io::SeekFrom::Start(off)) {
+                self.error.get_or_insert_with(|| e.to_string());
+            }
+            self.cur = l.wrapping_sub(1);
+        }
+        while self.cur != i && self.error.is_none() {
+            self.read_next();
+        }
+        if self.cur != i {
+            return "";
+        }
+        &self.buf
+    }
+}
+
+/// What one pass over a streamed program finds before it is interpreted
+/// ([`interpret_stream`]).
+#[derive(Clone, Debug, Default)]
+pub struct Scan {
+    /// Length in bytes (the byte-order mark excluded).
+    pub bytes: u64,
+    /// Every character is white space.
+    pub blank: bool,
+    /// A NUL byte occurs.
+    pub nul: bool,
+    /// The `invalid-utf8` warning of [`crate::sim::decode`], when it applies.
+    pub utf8_warning: Option<Finding>,
+    /// Number of lines (one more than the number of line feeds).
+    pub lines: usize,
+    /// Line starts recorded for seeking.
+    pub(super) checkpoints: Vec<(usize, u64)>,
+    /// Lines with an O-word: (line index, statement).
+    pub(super) owords: Vec<(usize, ngc::OStmt)>,
+}
+
+/// Reads `input` once: line count, blank/NUL/UTF-8 facts, O-word lines (parsed with the
+/// dialect's syntax) and seek points.
+pub(super) fn scan(input: &mut dyn ReadSeek, syn: Syntax) -> std::io::Result<Scan> {
+    use std::io::{BufRead, SeekFrom};
+    std::io::Seek::seek(input, SeekFrom::Start(0))?;
+    let mut r = std::io::BufReader::with_capacity(1 << 16, &mut *input);
+    let mut sc = Scan {
+        blank: true,
+        ..Scan::default()
+    };
+    let mut off: u64 = 0;
+    if r.fill_buf()?.starts_with(b"\xEF\xBB\xBF") {
+        r.consume(3);
+        off = 3;
+    }
+    let base = off;
+    let (mut bad_lines, mut bad_total) = (Vec::new(), 0usize);
+    let mut raw = Vec::new();
+    let mut i = 0usize;
+    loop {
+        raw.clear();
+        let n = r.read_until(b'\n', &mut raw)?;
+        if i.is_multiple_of(CHECKPOINT_EVERY) || sc.owords.last().is_some_and(|o| o.0 + 1 == i) {
+            sc.checkpoints.push((i, off));
+        }
+        off += n as u64;
+        let body = raw.strip_suffix(b"\n").unwrap_or(&raw);
+        if memchr::memchr(0, body).is_some() {
+            sc.nul = true;
+        }
+        let text = match std::str::from_utf8(body) {
+            Ok(t) => Cow::Borrowed(t),
+            Err(_) => {
+                bad_total += 1;
+                if bad_lines.len() < 10 {
+                    bad_lines.push(i + 1);
+                }
+                String::from_utf8_lossy(body)
+            }
+        };
+        if sc.blank && !text.trim().is_empty() {
+            sc.blank = false;
+        }
+        if syn.ngc && memchr::memchr2(b'o', b'O', body).is_some() {
+            let l = text.strip_suffix('\r').unwrap_or(&text);
+            if let Some(o) = ngc::parse_line(l, syn).oword {
+                if sc.checkpoints.last().is_none_or(|c| c.0 != i) {
+                    sc.checkpoints.push((i, off - n as u64));
+                }
+                sc.owords.push((i, o));
+            }
+        }
+        i += 1;
+        if raw.last() != Some(&b'\n') {
+            break;
+        }
+    }
+    sc.lines = i;
+    sc.bytes = off - base;
+    if bad_total > 0 {
+        sc.utf8_warning = Some(crate::sim::utf8_warning(bad_lines, bad_total));
+    }
+    Ok(sc)
+}
+
+pub(super) fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
+    memchr::memchr_iter(b'\n', b).map(|i| i + 1)
+}
+
+/// Indexes of the lines of `s` holding an `o` or `O` (the only ones that can hold an O-word),
+/// in order, each once.
+pub(super) fn lines_with_o(text: &str, starts: &[usize]) -> Vec<usize> {
+    let mut out: Vec<usize> = Vec::new();
+    for at in memchr::memchr2_iter(b'o', b'O', text.as_bytes()) {
+        let line = starts.partition_point(|&st| st <= at).saturating_sub(1);
+        if out.last() != Some(&line) {
+            out.push(line);
+        }
+    }
+    out
+}
+
+impl<'a> Interp<'a, '_> {
+    pub(super) fn add_source(&mut self, name: String, text: Cow<'a, str>) -> usize {
+        let mut s = Source::new(name, text);
+        let owords: Vec<(usize, ngc::OStmt)> = if self.syn.ngc {
+            let lines = match &s.body {
+                Body::Mem { text, starts } => lines_with_o(text, starts),
+                Body::Stream(_) => Vec::new(),
+            };
+            lines
+                .into_iter()
+                .filter_map(|i| ngc::parse_line(s.line(i), self.syn).oword.map(|o| (i, o)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        self.push_source(s, owords)
+    }
+
+    /// Registers a source and its O-word statements (line index, statement) in line order.
+    pub(super) fn push_source(&mut self, s: Source<'a>, owords: Vec<(usize, ngc::OStmt)>) -> usize {
+        let id = self.sources.len();
+        self.high_water.push(0);
+        if self.syn.ngc {
+            let mut per: HashMap<String, Vec<OPos>> = HashMap::new();
+            for (i, o) in owords {
+                {
+                    let v = per.entry(o.label.clone()).or_default();
+                    let do_while = o.kind == OKind::While && {
+                        // A while closes a do when the latest open do/while of the label is a do.
+                        let mut open: Vec<OKind> = Vec::new();
+                        for p in v.iter() {
+                            match p.kind {
+                                OKind::Do => open.push(OKind::Do),
+                                OKind::While if !p.do_while => open.push(OKind::While),
+                                OKind::While | OKind::EndWhile => {
+                                    open.pop();
+                                }
+                                _ => {}
+                            }
+                        }
+                        open.last() == Some(&OKind::Do)
+                    };
+                    if o.kind == OKind::Sub {
+                        self.subs.entry(o.label.clone()).or_insert((id, i));
+                    }
+                    v.push(OPos {
+                        line: i,
+                        kind: o.kind,
+                        do_while,
+                    });
+                }
+            }
+            for (k, v) in per {
+                self.olines.insert((id, k), v);
+            }
+        }
+        self.sources.push(s);
+        id
+    }
+
+    /// Runs the program from its first line; `ahead` parses the main program's lines on
+    /// another thread ([`ParseAhead`]).
+    pub(super) fn run(
+        &mut self,
+        mut sink: Option<MotionSink<'_>>,
+        mut ahead: Option<&mut ParseAhead>,
+    ) {
+        let mut drain = |it: &mut Self| {
+            if let Some(f) = sink.as_mut() {
+                for m in it.pending.drain(..) {
+                    f(m, &it.prog.group_marks);
+                }
+            }
+        };
+        let (mut src, mut i) = (0usize, 0usize);
+        let mut started = false;
+        let mut percent_open = false;
+        let mut scratch = Line::default();
+        while !self.stop {
+            drain(self);
+            if i >= self.sources[src].len() {
+                if src != 0 {
+                    self.err(
+                        "o-word",
+                        None,
+                        format!(
+                            "subroutine file {} ended without endsub",
+                            self.sources[src].name
+                        ),
+                    );
+                }
+                break;
+            }
+            self.src = src;
+            self.line = i + 1;
+            if src == 0 {
+                self.prog.lines = i + 1;
+            }
+            // Lines of the main program read for the first time come from the worker when
+            // there is one, parsed or marked blank (whitespace only).
+            let fresh = src == 0 && i >= self.high_water[src];
+            let early = match ahead.as_deref_mut() {
+                Some(a) if fresh => a.get(i),
+                _ => None,
+            };
+            let cached: Option<std::rc::Rc<Line>>;
+            let parsed: &Line = match early {
+                Some(Ahead::Blank) => {
+                    i += 1;
+                    continue;
+                }
+                Some(Ahead::Line(l)) => {
+                    self.high_water[src] = i + 1;
+                    l
+                }
+                None => {
+                    let text = self.sources[src].line(i);
+                    if text.trim().is_empty() {
+                        i += 1;
+                        continue;
+                    }
+                    // Lines met again (loop bodies, subroutines) are parsed once and
+                    // cached; lines read for the first time are parsed into one reused
+                    // buffer and not kept (bounded memory and no allocation per line on
+                    // long programs).
+                    cached = if i < self.high_water[src] {
+                        Some(match self.cache.get(&(src, i)) {
+                            Some(l) => l.clone(),
+                            None => {
+                                let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
+                                self.cache.insert((src, i), l.clone());
+                                l
+                            }
+                        })
+                    } else {
+                        self.high_water[src] = i + 1;
+                        ngc::parse_line_into(text, self.syn, &mut scratch);
+                        None
+                    };
+                    cached.as_deref().unwrap_or(&scratch)
+                }
+            };
+            if parsed.percent && src == 0 {
+                if !started {
+                    started = true;
+                    percent_open = true;
+                    i += 1;
+                    continue;
+                }
+                // The closing tape mark ends the program. Without an opening one it is a
+                // warning: LinuxCNC's rs274 reads it as the end (the cross-check in
+                // tests/sim_refusals.rs runs it), other readers may refuse the file.
+                if !percent_open && matches!(self.cfg.dialect, Dialect::Linuxcnc | Dialect::Generic)
+                {
+                    self.warn(
+                        "percent-without-start",
+                        None,
+                        "`%` ends a program that did not start with one (LinuxCNC stops there; \
+                         other readers may refuse a lone tape mark)"
+                            .to_string(),
+                    );
+                }
+                if self.prog.end.is_none() {
+                    self.prog.end = Some(ProgramEnd {
+                        line: i + 1,
+                        tool_before: self.st.tool,
+                    });
+                }
+                self.after_end(src, i + 1);
+                break;
+            }
+            if !(parsed.words.is_empty() && parsed.assigns.is_empty() && parsed.oword.is_none()) {
+                started = true;
+            }
+            let jumped = std::mem::take(&mut self.jumped);
+            match self.exec(parsed, src, i, jumped) {
+                Flow::Next => i += 1,
+                Flow::Goto(s, l) => {
+                    src = s;
+                    i = l;
+                }
+                Flow::End => {
+                    if !self.stop {
+                        self.after_end(src, i + 1);
+                    }
+                    break;
+                }
+            }
+        }
+        drain(self);
+    }
+
+    /// Reports (once) that non-blank lines follow the end and are ignored.
+    pub(super) fn after_end(&mut self, src: usize, from: usize) {
+        if src != 0 {
+            return;
+        }
+        let s = &mut self.sources[0];
+        let syn = self.syn;
+        if let Some(l) = (from..s.len()).find(|&l| {
+            let t = s.line(l).trim();
+            if t.is_empty() || t == "%" {
+                return false;
+            }
+            let p = ngc::parse_line(t, syn);
+            !(p.words.is_empty()
+                && p.assigns.is_empty()
+                && p.oword.is_none()
+                && p.errors.is_empty())
+        }) {
+            let end = self.line;
+            self.prog.diagnostics.push(
+                Finding::new(
+                    "after-program-end",
+                    Severity::Warning,
+                    format!("lines after the program end on line {end} are not interpreted"),
+                )
+                .line(l + 1),
+            );
+        }
+    }
+}
