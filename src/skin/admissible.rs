@@ -12,7 +12,7 @@
 //!
 //! Closed sequences are cyclic: every circle is an inner circle with two neighbours.
 
-use super::intersect::SeqBvh;
+use crate::geom::intersect::SeqBvh;
 use crate::geom::{Circle, DVec2, cross};
 use std::f64::consts::PI;
 

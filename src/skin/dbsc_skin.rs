@@ -28,12 +28,12 @@ use super::hausdorff::{
     EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
     skin_envelope_bounds, skin_envelope_within,
 };
-use super::intersect::path_self_intersections;
-use super::intersect::paths_intersections;
 use super::outline::outline_from_skins;
 use super::touching::triplet_touching;
 use super::{AdmissibilityOptions, SkinError, Skins, TouchingPoints, check_admissible};
 use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, SpanPoly, find_loops};
+use crate::geom::intersect::path_self_intersections;
+use crate::geom::intersect::paths_intersections;
 use crate::geom::{Circle, CubicBez, DVec2, Path};
 use crate::par::prelude::*;
 use std::cell::RefCell;

@@ -6,7 +6,6 @@ pub(crate) mod bits_hash;
 pub mod coverage;
 pub mod dbsc_skin;
 pub mod hausdorff;
-pub mod intersect;
 pub mod mat_offset;
 pub mod outline;
 pub mod re;

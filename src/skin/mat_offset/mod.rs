@@ -783,12 +783,12 @@ pub(crate) mod tests {
                     .unwrap()
                     .to_cubic_paths(1e-6 * scale)
                     .unwrap()[0];
-                let hits = crate::skin::intersect::path_self_intersections(path, 1e-9 * scale);
+                let hits = crate::geom::intersect::path_self_intersections(path, 1e-9 * scale);
                 assert!(hits.is_empty(), "{interp:?}: {hits:?}");
                 let off = inner_offset(&skin, 0.6 * scale, 1e-12).unwrap();
                 for p in off.to_cubic_paths(1e-6 * scale).unwrap() {
                     assert!(
-                        crate::skin::intersect::path_self_intersections(&p, 1e-9 * scale)
+                        crate::geom::intersect::path_self_intersections(&p, 1e-9 * scale)
                             .is_empty()
                     );
                 }
