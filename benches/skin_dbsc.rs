@@ -78,7 +78,7 @@ fn strokes() -> Vec<(&'static str, DiskBSpline)> {
 
 fn bench(c: &mut Criterion) {
     let opts = DbscSkinOptions {
-        eps: 0.01,
+        epsilon: 0.01,
         ..DbscSkinOptions::default()
     };
     let mut g = c.benchmark_group("skin_dbsc_eps_0.01mm");

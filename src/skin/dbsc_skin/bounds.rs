@@ -135,8 +135,8 @@ impl State<'_> {
             self.n_segments()
         ];
         let sides = self.skin_sides();
-        let gap = self.opts.gap_fraction * self.opts.eps;
-        let (c, eps) = (self.c, self.opts.eps);
+        let gap = self.opts.gap_fraction * self.opts.epsilon;
+        let (c, eps) = (self.c, self.opts.epsilon);
         let spans = &self.spans;
         let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| {
             let env = EnvelopeSegment::with_spans(c, spans, side, t0, t1)?;
@@ -174,7 +174,7 @@ impl State<'_> {
                         if budget.left == 0 {
                             return Err(DbscSkinError::WorkBudget {
                                 budget: self.opts.max_work,
-                                eps: self.opts.eps,
+                                epsilon: self.opts.epsilon,
                             });
                         }
                         let mut w = Work::new(budget.left.min(MAX_BOUND_WORK));

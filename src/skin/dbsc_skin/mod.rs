@@ -38,8 +38,11 @@ use state::{Mark, State, crossed, first_crossing};
 /// Options of [`skin_dbsc`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DbscSkinOptions {
-    /// ε of kruppa-2023 Sec. 4.2 (model units).
-    pub eps: f64,
+    /// ε of kruppa-2023 Sec. 4.2: the largest Hausdorff distance (eqs. 20–21) allowed between
+    /// a skin arc and its envelope arc (model units). Named as in
+    /// [`BuildOptions::epsilon`](crate::job::BuildOptions::epsilon).
+    #[doc(alias = "eps")]
+    pub epsilon: f64,
     /// Hausdorff bounds are refined to a gap of `gap_fraction · ε`.
     pub gap_fraction: f64,
     /// Parameter tolerance of loop detection (kruppa-2023 Sec. 3).
@@ -74,7 +77,7 @@ pub struct DbscSkinOptions {
 impl Default for DbscSkinOptions {
     fn default() -> Self {
         DbscSkinOptions {
-            eps: crate::geom::tol::SKIN_EPSILON,
+            epsilon: crate::geom::tol::SKIN_EPSILON,
             gap_fraction: 0.1,
             loop_tol: 1e-10,
             // 1/64: c* within 1.6 % of the span end, i.e. almost a repeated knot circle.
@@ -240,14 +243,14 @@ pub enum DbscSkinError {
     /// The Hausdorff refinement ran out of [`DbscSkinOptions::max_work`].
     #[error(
         "skinning needed more than {budget} Hausdorff refinement steps (the stroke is too \
-         fine for ε = {eps}: its size, or a kink or near-degenerate spot of its envelope, needs \
+         fine for ε = {epsilon}: its size, or a kink or near-degenerate spot of its envelope, needs \
          more work than allowed); raise ε (--epsilon) or smooth the stroke"
     )]
     WorkBudget {
         /// The budget that ran out, in refinement steps.
         budget: usize,
-        /// The ε asked for.
-        eps: f64,
+        /// The ε asked for ([`DbscSkinOptions::epsilon`]).
+        epsilon: f64,
     },
     /// Skinning a circle sequence failed.
     #[error(transparent)]
@@ -285,8 +288,8 @@ fn adm_opts() -> AdmissibilityOptions {
 /// docs). The outline never self-intersects: phases 1–2 keep the circle sequence admissible
 /// and phase 3 keeps an insertion only when the outline stays free of intersections.
 pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, DbscSkinError> {
-    if !(opts.eps > 0.0 && opts.eps.is_finite()) {
-        return Err(DbscSkinError::Options("eps must be positive and finite"));
+    if !(opts.epsilon > 0.0 && opts.epsilon.is_finite()) {
+        return Err(DbscSkinError::Options("epsilon must be positive and finite"));
     }
     if !(opts.gap_fraction > 0.0 && opts.gap_fraction < 1.0) {
         return Err(DbscSkinError::Options("gap_fraction must be in (0, 1)"));
@@ -455,9 +458,9 @@ mod tests {
         ]
     }
 
-    fn opts(eps: f64) -> DbscSkinOptions {
+    fn opts(epsilon: f64) -> DbscSkinOptions {
         DbscSkinOptions {
-            eps,
+            epsilon,
             ..DbscSkinOptions::default()
         }
     }

@@ -152,7 +152,7 @@ impl State<'_> {
     }
 
     pub(super) fn met(&self, h: &HausdorffBounds) -> bool {
-        h.upper <= self.opts.eps
+        h.upper <= self.opts.epsilon
     }
 
     /// Initialisation (eq. 19: the knot circles must be admissible), then phase 1 (paired

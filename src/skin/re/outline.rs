@@ -278,7 +278,7 @@ pub fn stroke_re_input(
     epsilon: f64,
 ) -> Result<(Vec<Circle>, Vec<Touch>, bool), ReOutlineError> {
     let mut skin_opts = DbscSkinOptions {
-        eps: epsilon,
+        epsilon,
         // Only the circles are used.
         report: ReportBounds::Decided,
         ..DbscSkinOptions::default()
