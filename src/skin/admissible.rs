@@ -322,8 +322,8 @@ fn arc_in_disk(c: &Circle, d: &Circle) -> ArcIn {
 }
 
 /// True when the angle interval [lo, hi] (lo < hi, a sub-interval of [0, 2π) or a wrapped
-/// full range) is covered by `ivs` (each (mid, half)) up to gaps of `eps` radians.
-fn covered(lo: f64, hi: f64, ivs: &[(f64, f64)], eps: f64) -> bool {
+/// full range) is covered by `ivs` (each (mid, half)) up to gaps of `gap_tol` radians.
+fn covered(lo: f64, hi: f64, ivs: &[(f64, f64)], gap_tol: f64) -> bool {
     let len = hi - lo;
     let mut segs: Vec<(f64, f64)> = Vec::with_capacity(ivs.len() * 2);
     for &(mid, half) in ivs {
@@ -340,15 +340,15 @@ fn covered(lo: f64, hi: f64, ivs: &[(f64, f64)], eps: f64) -> bool {
     segs.sort_by(|x, y| x.0.total_cmp(&y.0));
     let mut reach = 0.0;
     for (s, e) in segs {
-        if s > reach + eps {
+        if s > reach + gap_tol {
             break;
         }
         reach = f64::max(reach, e);
-        if reach >= len - eps {
+        if reach >= len - gap_tol {
             return true;
         }
     }
-    reach >= len - eps
+    reach >= len - gap_tol
 }
 
 /// Condition 1 for disk `i` with overlapping neighbours `nbrs`: `Some(covering disks)` when

@@ -40,7 +40,7 @@ use state::{Mark, State, crossed, first_crossing};
 pub struct DbscSkinOptions {
     /// ε of kruppa-2023 Sec. 4.2: the largest Hausdorff distance (eqs. 20–21) allowed between
     /// a skin arc and its envelope arc (model units). Named as in
-    /// [`BuildOptions::epsilon`](crate::job::BuildOptions::epsilon).
+    /// [`BuildOptions::epsilon`](crate::BuildOptions::epsilon).
     #[doc(alias = "eps")]
     pub epsilon: f64,
     /// Hausdorff bounds are refined to a gap of `gap_fraction · ε`.
@@ -79,14 +79,14 @@ impl Default for DbscSkinOptions {
         DbscSkinOptions {
             epsilon: crate::geom::tol::SKIN_EPSILON,
             gap_fraction: 0.1,
-            loop_tol: 1e-10,
+            loop_tol: DEFAULT_LOOP_TOL,
             // 1/64: c* within 1.6 % of the span end, i.e. almost a repeated knot circle.
             min_weight: 1.0 / 64.0,
             push_back: false,
             max_circles: 20_000,
             max_work: DEFAULT_MAX_WORK,
             two_sided: true,
-            intersect_tol: 1e-9,
+            intersect_tol: DEFAULT_INTERSECT_TOL,
             report: ReportBounds::Tight,
             allow_global_overlap: false,
         }
@@ -109,6 +109,14 @@ pub enum ReportBounds {
     /// the numbers (toolpaths, the circles of the RE route).
     Decided,
 }
+
+/// Default of [`DbscSkinOptions::loop_tol`]: the parameter tolerance of envelope-loop
+/// detection (kruppa-2023 Sec. 3), in units of the curve's parameter.
+pub const DEFAULT_LOOP_TOL: f64 = 1e-10;
+
+/// Default of [`DbscSkinOptions::intersect_tol`]: the distance (model units) within which
+/// two outline curves count as intersecting ([`crate::geom::intersect`]).
+pub const DEFAULT_INTERSECT_TOL: f64 = 1e-9;
 
 /// Default of [`DbscSkinOptions::max_work`]: one million refinement steps. The examples'
 /// strokes need at most about 11 000 at ε = 0.01 mm (loop.toml; the G-clef 8 800; measured
@@ -289,7 +297,9 @@ fn adm_opts() -> AdmissibilityOptions {
 /// and phase 3 keeps an insertion only when the outline stays free of intersections.
 pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, DbscSkinError> {
     if !(opts.epsilon > 0.0 && opts.epsilon.is_finite()) {
-        return Err(DbscSkinError::Options("epsilon must be positive and finite"));
+        return Err(DbscSkinError::Options(
+            "epsilon must be positive and finite",
+        ));
     }
     if !(opts.gap_fraction > 0.0 && opts.gap_fraction < 1.0) {
         return Err(DbscSkinError::Options("gap_fraction must be in (0, 1)"));

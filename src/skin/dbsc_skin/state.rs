@@ -14,6 +14,10 @@ use crate::skin::touching::triplet_touching;
 use crate::skin::{SkinError, Skins, TouchingPoints, check_admissible};
 use std::cell::RefCell;
 
+/// Relative tolerance of the radical centre of phase 3 (kruppa-2023 Sec. 4.3): centres
+/// collinear within it have none ([`Circle::radical_centre`]).
+const RADICAL_CENTRE_REL: f64 = 1e-14;
+
 /// Refinement state of a segment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Mark {
@@ -326,7 +330,7 @@ impl State<'_> {
         let Some((a, b)) = self.side_neighbours(side, u0, u1) else {
             return false;
         };
-        if a.radical_centre(m, &b, 1e-14)
+        if a.radical_centre(m, &b, RADICAL_CENTRE_REL)
             .is_none_or(|s| m.power(s) >= 0.0)
         {
             return false;

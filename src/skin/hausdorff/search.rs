@@ -7,6 +7,10 @@ use crate::geom::{DVec2, Line};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+/// A foot-point step shorter than this fraction of the parameter interval has converged
+/// (it moves the point by about that fraction of the curve).
+const FOOT_CONVERGED: f64 = 1e-9;
+
 /// A node: parameter interval with a key for the heap.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Node {
@@ -351,8 +355,7 @@ pub(super) fn foot_point(
         }
         let dd = d.length_squared();
         let next = (t + (x - p).dot(d) / dd).clamp(lo, hi);
-        // A step this small moves the point by ~1e-9 of the curve: converged.
-        if !(dd > 0.0 && next.is_finite()) || (next - t).abs() <= 1e-9 * (hi - lo) {
+        if !(dd > 0.0 && next.is_finite()) || (next - t).abs() <= FOOT_CONVERGED * (hi - lo) {
             return Some(best);
         }
         t = next;

@@ -24,6 +24,10 @@ use layers::{Chain, Layer, move_points};
 pub use legend::hms;
 use legend::legend_rows;
 
+/// Least sagitta tolerance (page mm) of the arcs the preview flattens: a tenth of the cut
+/// line's width, but not below this, so a huge page does not flatten finer than visible.
+const MIN_FLATTEN_TOL: f64 = 1e-4;
+
 /// Options of [`scene_svg`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct SvgOptions {
@@ -262,7 +266,7 @@ pub fn scene_drawing(
     let sz = layout.sizes;
     let frame = Frame::new(lo, hi, 1.0, DVec2::ZERO);
     let mut page = Drawing::new(layout.width, layout.drawing_height);
-    let flat_tol = (0.1 * sz.cut).max(1e-4);
+    let flat_tol = (0.1 * sz.cut).max(MIN_FLATTEN_TOL);
     let mut rapids = Layer::new("rapids", RAPID_BUDGET, *detail);
     let mut cuts = Layer::new("cut paths", CUT_BUDGET, *detail);
     let mut marks = Layer::new("start markers and arrows", MARK_BUDGET, *detail);
