@@ -101,6 +101,15 @@ pub enum EmitError {
         /// Why its value is refused.
         reason: String,
     },
+    /// An output this build of skinpath leaves out: the Cargo feature that provides it was
+    /// not enabled.
+    #[error("{output} needs skinpath built with the `{feature}` feature")]
+    FeatureDisabled {
+        /// The output asked for ("PNG preview").
+        output: &'static str,
+        /// The Cargo feature that provides it.
+        feature: &'static str,
+    },
     /// A template that failed to render (names the template).
     #[error("profile {profile:?}, {key}: {reason}")]
     Template {
