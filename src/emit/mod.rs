@@ -5,18 +5,25 @@
 //! power in 0..1, arcs whose start and end lie on one circle) and returns the file's text; the
 //! caller writes it (atomically).
 
-pub mod dxf;
-pub mod gcode;
-pub mod geometry;
-pub mod laser_svg;
-pub mod outline;
-pub mod preview;
-pub mod svg_page;
+pub(crate) mod dxf;
+pub(crate) mod gcode;
+pub(crate) mod geometry;
+pub(crate) mod laser_svg;
+pub(crate) mod outline;
+pub(crate) mod preview;
+pub(crate) mod svg_page;
 
 pub use dxf::{DxfOptions, dxf};
 pub use gcode::{GROUP_MARK, GcodeOptions, LineOrigin, gcode, gcode_with_origins};
 pub use geometry::{CutContour, Seg};
 pub use laser_svg::{LaserSvgOptions, Page, laser_svg};
+pub use outline::{
+    CircleRole, ContourRole, Marker, MarkerKind, OutlineContour, OutlineDoc, RefCircle,
+    StrokeOutline,
+};
+pub use preview::{
+    ColorScale, HtmlOptions, PngOptions, Scene, SvgOptions, hms, player_html, scene_png, scene_svg,
+};
 pub use svg_page::SvgPage;
 
 use std::fmt;

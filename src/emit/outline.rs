@@ -16,7 +16,6 @@
 use super::preview::draw::{Frame, SvgPage, num};
 use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
-use std::fmt::Write as _;
 
 /// What a drawn contour is; serialised as the outline JSON's `role` strings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -280,18 +279,6 @@ impl OutlineDoc {
         }
         page.finish()
     }
-}
-
-/// SVG path data for a polyline at full f64 precision.
-pub fn path_d(points: &[[f64; 2]], closed: bool) -> String {
-    let mut d = String::new();
-    for (i, p) in points.iter().enumerate() {
-        let _ = write!(d, "{}{} {} ", if i == 0 { "M" } else { "L" }, p[0], p[1]);
-    }
-    if closed {
-        d.push('Z');
-    }
-    d.trim_end().to_string()
 }
 
 #[cfg(test)]

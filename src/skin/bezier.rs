@@ -151,6 +151,7 @@ pub fn skin_circles(
 /// Distance from `p` to the convex hull of the control points of `c` (0 inside): the hull
 /// of four points is covered by the four triangles of three of them, and outside it the
 /// nearest hull point lies on one of the six segments between them.
+#[cfg(test)]
 fn hull_distance(c: &CubicBez, p: DVec2) -> f64 {
     let q = c.points();
     let tri = |a: DVec2, b: DVec2, d: DVec2| {
@@ -180,6 +181,7 @@ fn hull_distance(c: &CubicBez, p: DVec2) -> f64 {
 /// convex hull of a subdivided piece bounds its distance from below, points on it from
 /// above; pieces that cannot beat the best point by more than `tol` are dropped).
 /// A value ≤ 0 means the curve stays outside the open disk.
+#[cfg(test)]
 pub fn max_disk_penetration(c: &CubicBez, k: &Circle, tol: f64) -> f64 {
     /// Subdivision depth limit: 2⁻⁴⁰ of the curve's size is below any useful tolerance.
     const MAX_DEPTH: u32 = 40;

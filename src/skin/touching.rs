@@ -31,6 +31,7 @@ const PARALLEL_REL: f64 = 1e-14;
 
 /// Homogeneous vectors (axes, lines) shorter than this (absolute, or relative to the line's
 /// length) are degenerate: the construction has no solution.
+#[cfg(test)]
 const DEGENERATE: f64 = 1e-12;
 
 /// The left and right touching points on one circle; left is on the left of the direction
@@ -316,6 +317,7 @@ pub fn touching_points(
 /// homogeneous (similitude centres of equal radii lie at infinity). `None` when the line is
 /// undefined (collinear centres: radical centre and pole coincide at infinity, or the
 /// three similitude centres coincide) or misses `m`.
+#[cfg(test)]
 pub fn gergonne_points(a: &Circle, m: &Circle, b: &Circle) -> Option<[DVec2; 2]> {
     type V3 = [f64; 3];
     let x3 = |p: V3, q: V3| -> V3 {

@@ -14,11 +14,11 @@
 //! the checker's ([`crate::sim::checks::cut_contours`]), so "one drawn path per contour" means
 //! the same thing to the preview and to the findings.
 
-pub mod draw;
-pub mod glyphs;
-pub mod html;
-pub mod png;
-pub mod svg;
+pub(crate) mod draw;
+pub(crate) mod glyphs;
+pub(crate) mod html;
+pub(crate) mod png;
+pub(crate) mod svg;
 
 use crate::sim::checks::{SimContour, cut_contours, is_cutting};
 use crate::sim::timeline::{Timeline, timeline};
@@ -31,7 +31,7 @@ use std::collections::HashMap;
 
 pub use html::{HtmlOptions, player_html};
 pub use png::{PngOptions, scene_png};
-pub use svg::{SvgOptions, scene_svg};
+pub use svg::{SvgOptions, hms, scene_svg};
 
 /// What the simulator's findings say when it stopped reading the program at one of its
 /// limits (loop iterations, subroutine depth, ...): the moves after that point are missing.

@@ -16,7 +16,7 @@ use crate::skin::hausdorff::{
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(super) enum Mode {
-    /// Whether each side meets ε ([`hausdorff_within_work`], quick rejection without the
+    /// Whether each side meets ε ([`skin_envelope_within`], quick rejection without the
     /// upper bound of failing sides, which a pass never reads).
     Decide,
     /// The final report of [`ReportBounds::Decided`]: `Decide`'s bounds, with the quick

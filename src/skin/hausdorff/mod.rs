@@ -135,18 +135,7 @@ impl HausdorffBounds {
     }
 }
 
-/// Bounds lower ≤ D_H(X, Y) ≤ upper of the Hausdorff distance (kruppa-2023 eq. 21) of two
-/// bounded curves, refined until upper − lower ≤ `gap` (or a node cap is reached: the bounds
-/// stay valid, the gap may be wider).
-pub fn hausdorff_curves(
-    x: &dyn BoundedCurve,
-    y: &dyn BoundedCurve,
-    gap: f64,
-) -> Result<HausdorffBounds, HausdorffError> {
-    bounds_impl(x, y, gap, None, &mut Work::new(MAX_BOUND_WORK))
-}
-
-/// How [`hausdorff_within_work`] may show D_H > ε.
+/// How a bound against ε ([`hausdorff_within`]) may show D_H > ε.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Rejection {
     /// By a point-distance search at the sample of either curve whose near point is
@@ -235,33 +224,13 @@ pub fn hausdorff_skin_envelope(
     t_b: f64,
     gap: f64,
 ) -> Result<HausdorffBounds, HausdorffError> {
-    hausdorff_skin_envelope_work(
-        skin,
-        curve,
-        side,
-        t_a,
-        t_b,
-        gap,
-        &mut Work::new(MAX_BOUND_WORK),
-    )
-}
-
-/// [`hausdorff_skin_envelope`] spending at most `work.left` refinement steps (the bounds
-/// stay valid when the budget runs out, only their gap may exceed `gap`).
-pub fn hausdorff_skin_envelope_work(
-    skin: &CubicBez,
-    curve: &DiskBSpline,
-    side: Side,
-    t_a: f64,
-    t_b: f64,
-    gap: f64,
-    work: &mut Work,
-) -> Result<HausdorffBounds, HausdorffError> {
     let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
-    skin_envelope_bounds(skin, &env, gap, work)
+    skin_envelope_bounds(skin, &env, gap, &mut Work::new(MAX_BOUND_WORK))
 }
 
-/// [`hausdorff_skin_envelope_work`] against an envelope segment already made.
+/// [`hausdorff_skin_envelope`] against an envelope segment already made, spending at most
+/// `work.left` refinement steps (the bounds stay valid when the budget runs out, only their
+/// gap may exceed `gap`).
 pub(crate) fn skin_envelope_bounds(
     skin: &CubicBez,
     env: &EnvelopeSegment,
@@ -282,34 +251,19 @@ pub fn hausdorff_within(
     eps: f64,
     gap: f64,
 ) -> Result<HausdorffBounds, HausdorffError> {
-    hausdorff_within_work(
+    let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
+    skin_envelope_within(
         skin,
-        curve,
-        side,
-        (t_a, t_b),
+        &env,
         (eps, Rejection::Quick),
         gap,
         &mut Work::new(MAX_BOUND_WORK),
     )
 }
 
-/// [`hausdorff_within`] on the span `(t_a, t_b)` with ε and the way to show D_H > ε,
-/// spending at most `work.left` refinement steps (the bounds stay valid when the budget
-/// runs out, only their gap may exceed `gap`).
-pub fn hausdorff_within_work(
-    skin: &CubicBez,
-    curve: &DiskBSpline,
-    side: Side,
-    (t_a, t_b): (f64, f64),
-    (eps, rejection): (f64, Rejection),
-    gap: f64,
-    work: &mut Work,
-) -> Result<HausdorffBounds, HausdorffError> {
-    let env = EnvelopeSegment::new(curve, side, t_a, t_b)?;
-    skin_envelope_within(skin, &env, (eps, rejection), gap, work)
-}
-
-/// [`hausdorff_within_work`] against an envelope segment already made.
+/// [`hausdorff_within`] against an envelope segment already made, with the way to show
+/// D_H > ε, spending at most `work.left` refinement steps (the bounds stay valid when the
+/// budget runs out, only their gap may exceed `gap`).
 pub(crate) fn skin_envelope_within(
     skin: &CubicBez,
     env: &EnvelopeSegment,
@@ -329,6 +283,17 @@ mod tests {
     use proptest::prelude::*;
 
     use crate::dbsc::test_util::{open, s_stroke};
+
+    /// Bounds lower ≤ D_H(X, Y) ≤ upper of the Hausdorff distance (kruppa-2023 eq. 21) of two
+    /// bounded curves, refined until upper − lower ≤ `gap` (or a node cap is reached: the bounds
+    /// stay valid, the gap may be wider).
+    pub fn hausdorff_curves(
+        x: &dyn BoundedCurve,
+        y: &dyn BoundedCurve,
+        gap: f64,
+    ) -> Result<HausdorffBounds, HausdorffError> {
+        bounds_impl(x, y, gap, None, &mut Work::new(MAX_BOUND_WORK))
+    }
 
     /// An envelope segment borrowing the curve's spans is the segment `new` makes: the
     /// same pieces, points, tangents and second-derivative bounds, on intervals inside one

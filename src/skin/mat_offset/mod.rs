@@ -87,8 +87,9 @@ mod flatten;
 #[cfg(test)]
 mod global_tests;
 mod trim;
-pub use arcs::MergedArcs;
-pub use trim::region_distance;
+
+#[cfg(test)]
+use trim::region_distance;
 
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -27,6 +27,7 @@ pub fn cyclographic(c: &Circle) -> DVec3 {
 
 /// Minkowski squared norm ‖n∇‖² − n_z² of a vector of R^{2,1}: positive for space-like.
 #[inline]
+#[cfg(test)]
 pub fn minkowski_sq(n: DVec3) -> f64 {
     n.x * n.x + n.y * n.y - n.z * n.z
 }

@@ -49,6 +49,7 @@ pub fn light_like_factor(c: &ReCurve) -> Poly {
 
 /// The polynomial Λ(t) = ‖y′‖² ‖x′‖² − (f′‖x′‖² + f x′·x″)², which has the sign of
 /// ‖y′‖² − r′² (r′ = (f′‖x′‖² + f x′·x″)/‖x′‖): its roots are the light-like points.
+#[cfg(test)]
 pub fn light_like_poly(c: &ReCurve) -> Poly {
     let (yx, yy) = c.dy_polys();
     let (x1, y1) = c.dx_polys();

@@ -9,18 +9,18 @@
 //! its envelopes are rational. [`detect`] finds envelope intersections (Theorem 1,
 //! Corollary 1), [`eliminate`] removes them by tuning uᵢ or raising f to a quartic.
 
-pub mod cyclographic;
-pub mod detect;
-pub mod eliminate;
-pub mod mph;
-pub mod outline;
-pub mod poly;
-pub mod re_curve;
-pub mod skin;
-pub mod tangents;
+pub(crate) mod cyclographic;
+pub(crate) mod detect;
+pub(crate) mod eliminate;
+pub(crate) mod mph;
+pub(crate) mod outline;
+pub(crate) mod poly;
+pub(crate) mod re_curve;
+pub(crate) mod skin;
+pub(crate) mod tangents;
 
-pub use re_curve::{Branch, Frame, Interp, ReCurve};
-pub use skin::{ReSkin, Segment};
+pub use re_curve::{Branch, Interp, ReCurve};
+pub use skin::ReSkin;
 pub use tangents::Touch;
 
 use thiserror::Error;

@@ -189,6 +189,7 @@ pub fn mul_add_into(a: &[f64], b: &[f64], out: &mut [f64]) {
 
 /// Value of a Bernstein polynomial at local parameter `s` (de Casteljau,
 /// [`bernstein::eval`]).
+#[cfg(test)]
 pub fn bern_eval(b: &[f64], s: f64) -> f64 {
     bernstein::eval(b, s)
 }

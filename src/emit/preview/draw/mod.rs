@@ -40,11 +40,6 @@ impl Frame {
     pub fn map(&self, p: DVec2) -> DVec2 {
         self.offset + DVec2::new(p.x - self.lo.x, self.hi.y - p.y) * self.scale
     }
-
-    /// Page size of the framed world box.
-    pub fn size(&self) -> DVec2 {
-        (self.hi - self.lo) * self.scale
-    }
 }
 
 /// An sRGB colour.
@@ -409,7 +404,6 @@ mod tests {
         );
         assert_eq!(f.map(DVec2::new(10.0, 60.0)), DVec2::new(1.0, 1.0));
         assert_eq!(f.map(DVec2::new(30.0, 20.0)), DVec2::new(41.0, 81.0));
-        assert_eq!(f.size(), DVec2::new(40.0, 80.0));
         assert_eq!(num(-0.0001), "0");
         assert_eq!(num(2.5), "2.5");
         assert_eq!(num(3.0), "3");
