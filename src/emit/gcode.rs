@@ -39,6 +39,7 @@ pub const R_MAX_SWEEP: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
 /// Options of [`gcode`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct GcodeOptions {
     /// Job name, for the header comment and the `{job}` placeholder.
     pub job: String,

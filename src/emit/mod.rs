@@ -58,6 +58,7 @@ impl fmt::Display for Location {
 
 /// Why a toolpath could not be written.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum EmitError {
     /// A move the writer cannot express faithfully.
     #[error("{at}: {reason}")]

@@ -51,6 +51,7 @@ impl std::fmt::Display for Condition {
 
 /// Errors of the skinning module. Circle indices are 0-based positions in the input slice.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SkinError {
     /// Too few circles to skin: an open sequence needs 2, a closed one 3 ([`check_count`]).
     #[error("{kind} sequence needs at least {need} circles, got {got}")]
@@ -100,6 +101,7 @@ pub enum SkinError {
 
 /// Options of [`check_admissible`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct AdmissibilityOptions {
     /// Also require re-skinning-cnc Def. 1 cond. 2 (far disks disjoint).
     pub strict_disjoint: bool,

@@ -21,6 +21,7 @@ use crate::geom::{Circle, DVec2, Line};
 
 /// The deepest-reaching disk sample of [`uncovered`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Uncovered {
     /// How far the disk reaches outside the region (design units; ≤ 0 when it lies inside).
     pub depth: f64,

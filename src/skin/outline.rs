@@ -15,6 +15,7 @@ use crate::geom::{Arc, Circle, Path, PathSeg};
 
 /// Outline contours with the skins they were built from.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Outline {
     /// Open input: `[outline]`; closed input: `[outer, inner]`. Outer contours are
     /// counter-clockwise, inner ones clockwise.

@@ -37,6 +37,7 @@ const DEGENERATE: f64 = 1e-12;
 /// The left and right touching points on one circle; left is on the left of the direction
 /// of travel (increasing index).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct TouchingPoints {
     /// Touching point on the left of the direction of travel (on the left skin).
     pub left: DVec2,
@@ -230,6 +231,7 @@ fn apollonius_pair(
 /// the left of both directions a→m and m→b (largest sum of the two cross products).
 /// `None` when the triplet has no real Apollonius pair (inadmissible, kruppa-2023 Def. 4.1
 /// cond. 3) or is degenerate. `rel_tol` bounds a negative discriminant treated as zero.
+#[must_use]
 pub fn triplet_touching(
     a: &Circle,
     m: &Circle,

@@ -42,6 +42,7 @@ pub const COLOR_STEPS: usize = 5;
 
 /// Everything a preview shows, in machine millimetres.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Scene {
     /// Laser (cut colour by power) or router (by depth).
     pub kind: MachineKind,

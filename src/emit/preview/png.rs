@@ -16,6 +16,7 @@ pub const MAX_SIDE: u32 = 16384;
 
 /// Size of the raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum PngOptions {
     /// Width in pixels; the height follows the page's aspect ratio.
     Width(u32),

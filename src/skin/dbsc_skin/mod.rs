@@ -37,6 +37,7 @@ use state::{Mark, State, crossed, first_crossing};
 
 /// Options of [`skin_dbsc`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct DbscSkinOptions {
     /// ε of kruppa-2023 Sec. 4.2: the largest Hausdorff distance (eqs. 20–21) allowed between
     /// a skin arc and its envelope arc (model units). Named as in
@@ -98,6 +99,7 @@ impl Default for DbscSkinOptions {
 /// the skin is the same; the `met` flags can differ only for sides whose distance lies
 /// within the gap of ε.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum ReportBounds {
     /// Refined until upper − lower ≤ `gap_fraction · ε`: one more Hausdorff bound per
     /// segment side after refinement (about 40 % of the bound work on a 10-disk stroke).
@@ -158,6 +160,7 @@ impl CircleUse {
 
 /// Report of one segment [t0, t1] between consecutive circles.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SegmentReport {
     /// DBSC parameter of the circle starting the segment.
     pub t0: f64,
@@ -183,6 +186,7 @@ pub struct SegmentReport {
 
 /// Result of [`skin_dbsc`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct DbscSkin {
     /// Whether the DBSC is closed: the circle sequence is cyclic and the last segment ends at the
     /// domain end.
@@ -215,6 +219,7 @@ pub struct DbscSkin {
 
 /// Errors of [`skin_dbsc`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum DbscSkinError {
     /// The knot circles (eq. 19) are not an admissible sequence (Def. 4.1), so the stroke cannot be
     /// skinned as it is (kruppa-2023 Fig. 13).

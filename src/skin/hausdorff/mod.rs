@@ -94,6 +94,7 @@ fn or_inf(x: f64) -> f64 {
 
 /// Errors of the Hausdorff bounds.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum HausdorffError {
     /// The requested gap between the bounds is not positive and finite.
     #[error("gap {0} must be positive and finite")]
@@ -121,6 +122,7 @@ pub enum HausdorffError {
 
 /// Guaranteed bounds lower ≤ D_H ≤ upper.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct HausdorffBounds {
     /// Lower bound of the Hausdorff distance (model units).
     pub lower: f64,

@@ -25,6 +25,7 @@ use thiserror::Error;
 
 /// Errors of MAT offsetting; each names the segment (circle pair) involved.
 #[derive(Clone, Debug, Error, PartialEq)]
+#[non_exhaustive]
 pub enum MatOffsetError {
     /// The offset distance δ is not finite and positive.
     #[error("offset distance {0} must be finite and positive")]

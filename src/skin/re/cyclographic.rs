@@ -35,6 +35,7 @@ pub fn minkowski_sq(n: DVec3) -> f64 {
 /// Touching points q± of the envelope with the circle p for the tangent direction t
 /// (re-skinning-cnc eq. 2): q± = p∇ − p_z (t_z t∇ ± t∇⊥ √(‖t∇‖² − t_z²)) / ‖t∇‖².
 /// `q⁺` is on the left of the travel direction t∇. `None` unless t is space-like.
+#[must_use]
 pub fn touching_points(p: DVec3, t: DVec3) -> Option<(DVec2, DVec2)> {
     let tp = proj(t);
     let l = tp.length_squared();

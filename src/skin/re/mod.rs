@@ -27,6 +27,7 @@ use thiserror::Error;
 
 /// Errors of RE/MPH skin construction; each names the circle or the circle pair.
 #[derive(Clone, Debug, Error, PartialEq)]
+#[non_exhaustive]
 pub enum ReError {
     /// Fewer than 2 circles (the count is given).
     #[error("an RE skin needs at least 2 circles, got {0}")]

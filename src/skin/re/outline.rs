@@ -14,6 +14,7 @@ use crate::skin::re::{Branch, Interp, ReSkin, Touch};
 
 /// Why an RE/MPH outline (or its offsets) could not be built.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReOutlineError {
     /// No touching points for the circle sequence (Kunkli–Hoffmann construction).
     #[error(transparent)]
@@ -55,6 +56,7 @@ const RE_PARAM_TOL: f64 = 1e-12;
 
 /// An RE/MPH outline of a circle sequence, flattened, with what was found on the way.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct ReOutline {
     /// The skin after elimination.
     pub skin: ReSkin,

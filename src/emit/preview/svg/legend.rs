@@ -7,6 +7,7 @@ use super::{Rgb, SvgOptions};
 use crate::sim::{MachineKind, Severity};
 
 /// Seconds as `h:mm:ss` or `m:ss.s`.
+#[must_use]
 pub fn hms(t: f64) -> String {
     let t = if t.is_finite() { t.max(0.0) } else { 0.0 };
     let h = (t / 3600.0).floor();

@@ -30,6 +30,7 @@ const MIN_FLATTEN_TOL: f64 = 1e-4;
 
 /// Options of [`scene_svg`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SvgOptions {
     /// Draw the legend below the drawing.
     pub legend: bool,
@@ -249,6 +250,7 @@ impl Detail {
 }
 
 /// The preview SVG of `scene`.
+#[must_use]
 pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     let layout = Layout::of(scene, opts);
     scene_drawing(scene, opts, &layout, &Detail::svg(&layout)).to_svg()
