@@ -14,8 +14,7 @@
 //!   weight) and try again ([`DbscSkinOptions::push_back`], the paragraph after eq. 25;
 //!   off by default); otherwise mark the segment STOPPED. Segments within ε are FINISHED.
 //!   Repeat until every segment is FINISHED or STOPPED. Push-back changes none of the
-//!   examples' skins; on 150 random sharp strokes it saves 17 of 3,978 circles
-//!   (tests/skin_push_back.rs).
+//!   examples' skins and saves few circles on random sharp strokes.
 //! * Phase 2: the same with plain midpoint insertion u* and no pair check.
 //! * Phase 3 (Sec. 4.3): where both sides miss ε, insert c* at the midpoint when the radical
 //!   centre of (c_i, c*, c_{i+1}) lies inside c*, on the side whose touching point on c* is
@@ -52,9 +51,8 @@ pub struct DbscSkinOptions {
     pub min_weight: f64,
     /// Phase 1 may push the previous insertion back towards its segment start when the
     /// next insertion is not admissible otherwise (kruppa-2023 Sec. 4.2, the paragraph after
-    /// eq. 25). Off by default: it saves 0.4 % of the circles on random sharp strokes and
-    /// changes no example, but on one random design of the issue-11 campaign (seed
-    /// 0x5EED0011, case 145) the sequence it leaves cannot be skinned in phase 3.
+    /// eq. 25). Off by default: it saves few circles and changes no example, but the sequence
+    /// it leaves can be one that phase 3 cannot skin.
     pub push_back: bool,
     /// Upper limit of circles, a guard against runaway refinement.
     pub max_circles: usize,
@@ -503,8 +501,8 @@ mod tests {
     /// The parallel Hausdorff bounds give the serial result: one thread against four, with
     /// a budget large enough for every bound and one so small that the serial replay must
     /// recompute bounds cut short by the shared budget (and finally runs out).
-    /// Two contours that cross each other but not themselves are named as a pair (the
-    /// message used to say "contour 0 intersects itself at its segment 0").
+    /// Two contours that cross each other but not themselves are named as a pair, not as
+    /// one contour intersecting itself.
     #[test]
     fn first_crossing_names_both_contours() {
         let square = |x: f64| {

@@ -1,4 +1,4 @@
-//! Merged arc output of MAT offsets (issue #16 item 5): the exact offset curves
+//! Merged arc output of MAT offsets: the exact offset curves
 //! x±d = y + (r + d) m± (re-skinning-cnc eq. 13, trimmed as in [`super::inner_offset`] and
 //! [`super::outer_offset`]) as few G1-joined circular arcs as the greedy search finds, each
 //! with a deviation from the exact curve bounded by the tolerance.
