@@ -209,7 +209,7 @@ impl OutlineDoc {
     /// unit; inch designs are drawn at 25.4 mm per unit), y pointing up as in the design.
     /// Outline solid, envelope dashed (solid when it is the only boundary), spine thin,
     /// reference circles faint, markers as red rings with a tooltip. Drawn with the
-    /// preview's drawing layer ([`crate::emit::preview::draw`]), so it rasterises the same way.
+    /// preview's drawing layer, so it rasterises the same way.
     pub fn to_svg(&self) -> String {
         let (lo, hi) = self.bounds().unwrap_or((DVec2::ZERO, DVec2::ONE));
         let margin = 0.05 * (hi - lo).max_element().max(1.0);

@@ -53,7 +53,7 @@ impl std::fmt::Display for Condition {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SkinError {
-    /// Too few circles to skin: an open sequence needs 2, a closed one 3 ([`check_count`]).
+    /// Too few circles to skin: an open sequence needs 2, a closed one 3.
     #[error("{kind} sequence needs at least {need} circles, got {got}")]
     TooFewCircles {
         /// `"open"` or `"closed"`.
@@ -63,7 +63,7 @@ pub enum SkinError {
         /// Number of circles given.
         got: usize,
     },
-    /// A circle with a non-finite centre or radius, or a radius ≤ 0 ([`validate_circles`]).
+    /// A circle with a non-finite centre or radius, or a radius ≤ 0.
     #[error("circle {index}: centre and radius must be finite with radius > 0")]
     InvalidCircle {
         /// Position of the circle in the input.

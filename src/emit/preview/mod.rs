@@ -301,7 +301,7 @@ impl Scene {
     }
 
     /// The finding saying the simulator stopped reading the program at a limit (see
-    /// [`STOPPED`]), when it did: the scene holds the moves before that point only.
+    /// `STOPPED`), when it did: the scene holds the moves before that point only.
     pub fn stopped(&self) -> Option<&Finding> {
         self.findings.iter().find(|f| f.message.contains(STOPPED))
     }

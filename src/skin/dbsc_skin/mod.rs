@@ -56,9 +56,8 @@ pub struct DbscSkinOptions {
     pub push_back: bool,
     /// Upper limit of circles, a guard against runaway refinement.
     pub max_circles: usize,
-    /// Budget of Hausdorff refinement steps (branch-and-bound nodes, see
-    /// [`super::hausdorff::MAX_BOUND_WORK`]) for the whole skinning of one stroke. Running
-    /// out is [`DbscSkinError::WorkBudget`], never a hang.
+    /// Budget of Hausdorff refinement steps (branch-and-bound nodes) for the whole skinning
+    /// of one stroke. Running out is [`DbscSkinError::WorkBudget`], never a hang.
     pub max_work: usize,
     /// Run phase 3 (two-sided skinning).
     pub two_sided: bool,
@@ -115,13 +114,13 @@ pub enum ReportBounds {
 pub const DEFAULT_LOOP_TOL: f64 = 1e-10;
 
 /// Default of [`DbscSkinOptions::intersect_tol`]: the distance (model units) within which
-/// two outline curves count as intersecting ([`crate::geom::intersect`]).
+/// two outline curves count as intersecting ([`crate::geom::path_self_intersections`]).
 pub const DEFAULT_INTERSECT_TOL: f64 = 1e-9;
 
 /// Default of [`DbscSkinOptions::max_work`]: one million refinement steps. The examples'
 /// strokes need at most about 11 000 at ε = 0.01 mm (loop.toml; the G-clef 8 800; measured
 /// by the test `examples_stay_well_inside_the_work_budget`), since most bounds are settled
-/// by the matching-bound search of [`super::hausdorff`] before any point-distance search.
+/// by the matching-bound search of the Hausdorff bounds before any point-distance search.
 pub const DEFAULT_MAX_WORK: usize = 1_000_000;
 
 /// Phase of kruppa-2023 Sec. 4 that ended refinement of a segment.

@@ -34,7 +34,7 @@ pub enum MatOffsetError {
     #[error("tolerance {0} must be finite and positive")]
     BadTolerance(f64),
     /// f is not positive on a segment, so r = f‖x′‖ ≤ 0 somewhere: the envelopes cross and must be
-    /// eliminated first ([`crate::skin::re::eliminate`]).
+    /// eliminated first (the elimination of the RE route).
     #[error("segment {segment}: f ≤ 0 at t = {t} (r ≤ 0: the envelopes cross; eliminate first)")]
     NonPositiveRadius {
         /// Index of the segment (circle pair) in the skin.
