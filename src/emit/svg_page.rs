@@ -147,7 +147,7 @@ impl SvgPage {
         self.push(t);
     }
 
-    /// Path data of page points, each number in its shortest round-trip form.
+    /// Path data of page points, each number to 3 decimals (1 µm on a page in mm).
     pub fn path_data(pts: &[DVec2], closed: bool) -> String {
         let mut d = String::with_capacity(pts.len() * 16);
         for (i, p) in pts.iter().enumerate() {
