@@ -22,7 +22,8 @@ pub use outline::{
     StrokeOutline,
 };
 pub use preview::{
-    ColorScale, HtmlOptions, PngOptions, Scene, SvgOptions, hms, player_html, scene_png, scene_svg,
+    ColorScale, HtmlOptions, PngOptions, ProgramInput, Scene, SvgOptions, hms, player_html,
+    scene_png, scene_svg,
 };
 pub use svg_page::SvgPage;
 
