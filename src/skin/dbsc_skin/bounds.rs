@@ -14,6 +14,7 @@ use crate::skin::hausdorff::{
     skin_envelope_bounds, skin_envelope_within,
 };
 
+/// What the error bounds of a pass are for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(super) enum Mode {
     /// Whether each side meets ε ([`skin_envelope_within`], quick rejection without the

@@ -53,8 +53,6 @@ pub(super) struct State<'a> {
     pub(super) admissible: RefCell<BitsSet<Vec<u64>>>,
 }
 
-/// What the error bounds of a pass are for.
-
 impl State<'_> {
     pub(super) fn circles_of(&self, ps: &[f64]) -> Vec<Circle> {
         let mut memo = self.circles.borrow_mut();

@@ -325,6 +325,8 @@ pub fn trim_outer(
             // Where consecutive pieces join end to start: not a crossing. The pieces are
             // tangent there, so Newton's method creeps towards the joint only linearly:
             // any point within NEAR_JOINT_REL of an end shared by both pieces is the joint.
+            // Two comparisons, not a range test: a NaN parameter is at no end.
+            #[allow(clippy::manual_range_contains)]
             let at_end = |x: f64| x < END_PARAM || x > 1.0 - END_PARAM;
             if at_end(s) && at_end(t) {
                 continue;
