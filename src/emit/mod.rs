@@ -22,8 +22,9 @@ pub use outline::{
     StrokeOutline,
 };
 pub use preview::{
-    ColorScale, HtmlOptions, PngOptions, ProgramInput, Scene, SvgOptions, hms, player_html,
-    scene_png, scene_svg,
+    COLOR_STEPS, CUT_BUDGET, ColorScale, FINDING_BUDGET, HtmlOptions, LayerBudget, MARK_BUDGET,
+    PngOptions, ProgramInput, RAPID_BUDGET, Scene, SvgOptions, hms, player_html, scene_png,
+    scene_svg, view_box,
 };
 pub use svg_page::SvgPage;
 

@@ -19,13 +19,13 @@ pub(crate) mod touching;
 
 pub use admissible::{AdmissibilityOptions, Condition, SkinError, check_admissible};
 pub use bezier::{SkinOptions, Skins, bezier_skins, skin_circles, skin_segment};
-pub use coverage::Uncovered;
+pub use coverage::{Uncovered, uncovered};
 pub use dbsc_skin::{
     CircleUse, DEFAULT_INTERSECT_TOL, DEFAULT_LOOP_TOL, DEFAULT_MAX_WORK, DbscSkin, DbscSkinError,
     DbscSkinOptions, Phase, ReportBounds, SegmentReport, check_knot_circles, skin_dbsc,
 };
 pub use hausdorff::{HausdorffBounds, HausdorffError, hausdorff_skin_envelope, hausdorff_within};
-pub use mat_offset::MatOffsetError;
+pub use mat_offset::{MatOffsetError, region_distance};
 pub use outline::{Outline, outline_circles};
 pub use re::outline::{ReOutline, ReOutlineError};
 pub use re::{Branch, Interp, ReError, ReSkin, Touch};

@@ -31,7 +31,10 @@ use std::collections::HashMap;
 
 pub use html::{HtmlOptions, player_html};
 pub use png::{PngOptions, scene_png};
-pub use svg::{SvgOptions, hms, scene_svg};
+pub use svg::{
+    CUT_BUDGET, FINDING_BUDGET, LayerBudget, MARK_BUDGET, RAPID_BUDGET, SvgOptions, hms, scene_svg,
+    view_box,
+};
 
 /// What the simulator's findings say when it stopped reading the program at one of its
 /// limits (loop iterations, subroutine depth, ...): the moves after that point are missing.

@@ -89,8 +89,7 @@ mod flatten;
 mod global_tests;
 mod trim;
 
-#[cfg(test)]
-use trim::region_distance;
+pub use trim::region_distance;
 
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -19,7 +19,7 @@ use glam::DVec2;
 mod layers;
 mod legend;
 
-pub use layers::{CUT_BUDGET, FINDING_BUDGET, MARK_BUDGET, RAPID_BUDGET};
+pub use layers::{CUT_BUDGET, FINDING_BUDGET, LayerBudget, MARK_BUDGET, RAPID_BUDGET};
 use layers::{Chain, Layer, move_points};
 pub use legend::hms;
 use legend::legend_rows;
@@ -558,7 +558,7 @@ pub fn scene_drawing(
 
 #[cfg(test)]
 mod tests {
-    use super::layers::{LayerBudget, simplify};
+    use super::layers::simplify;
     use super::*;
     use proptest::prelude::*;
 
