@@ -116,20 +116,6 @@ impl Style {
         }
     }
 
-    /// This style with what it leaves unset taken from `parent`.
-    pub fn over(&self, parent: &Style) -> Style {
-        Style {
-            fill: self.fill.or(parent.fill),
-            fill_opacity: self.fill_opacity.or(parent.fill_opacity),
-            stroke: self.stroke.or(parent.stroke),
-            stroke_width: self.stroke_width.or(parent.stroke_width),
-            stroke_opacity: self.stroke_opacity.or(parent.stroke_opacity),
-            dash: self.dash.or(parent.dash),
-            round_caps: self.round_caps || parent.round_caps,
-            round_joins: self.round_joins || parent.round_joins,
-        }
-    }
-
     /// The SVG presentation attributes of what is set.
     fn attrs(&self) -> Vec<(&'static str, String)> {
         let paint = |p: Paint| match p {
@@ -407,24 +393,5 @@ mod tests {
         assert_eq!(num(-0.0001), "0");
         assert_eq!(num(2.5), "2.5");
         assert_eq!(num(3.0), "3");
-    }
-
-    #[test]
-    fn styles_inherit_what_they_leave_unset() {
-        let parent = Style {
-            dash: Some([1.0, 2.0]),
-            ..Style::stroked(Rgb(1, 2, 3), 0.5).round()
-        };
-        let child = Style {
-            stroke: Some(Paint::Color(Rgb(9, 9, 9))),
-            ..Style::default()
-        };
-        let s = child.over(&parent);
-        assert_eq!(s.stroke, Some(Paint::Color(Rgb(9, 9, 9))));
-        assert_eq!(s.stroke_width, Some(0.5));
-        assert_eq!(s.dash, Some([1.0, 2.0]));
-        assert!(s.round_caps && s.round_joins);
-        assert_eq!(s.fill, Some(Paint::None));
-        assert_eq!(Rgb(0x0a, 0xb0, 0xff).hex(), "#0ab0ff");
     }
 }

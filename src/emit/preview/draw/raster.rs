@@ -17,6 +17,22 @@ const HALO_WIDTH: f64 = 2.6;
 /// what 10⁵/64 short paths do (same pixels: the pieces share their end points).
 const PIECE_POINTS: usize = 64;
 
+impl Style {
+    /// This style with what it leaves unset taken from `parent`.
+    pub fn over(&self, parent: &Style) -> Style {
+        Style {
+            fill: self.fill.or(parent.fill),
+            fill_opacity: self.fill_opacity.or(parent.fill_opacity),
+            stroke: self.stroke.or(parent.stroke),
+            stroke_width: self.stroke_width.or(parent.stroke_width),
+            stroke_opacity: self.stroke_opacity.or(parent.stroke_opacity),
+            dash: self.dash.or(parent.dash),
+            round_caps: self.round_caps || parent.round_caps,
+            round_joins: self.round_joins || parent.round_joins,
+        }
+    }
+}
+
 impl Drawing {
     /// The drawing rasterised by tiny-skia on a white `w` × `h` pixmap (the page scaled to
     /// fill it). Text is set with a system font through usvg/resvg when one is installed
@@ -350,5 +366,24 @@ mod tests {
         for x in 6..95 {
             assert_eq!(pixel(&p, x, 5), [0, 0, 0], "x = {x}");
         }
+    }
+
+    #[test]
+    fn styles_inherit_what_they_leave_unset() {
+        let parent = Style {
+            dash: Some([1.0, 2.0]),
+            ..Style::stroked(Rgb(1, 2, 3), 0.5).round()
+        };
+        let child = Style {
+            stroke: Some(Paint::Color(Rgb(9, 9, 9))),
+            ..Style::default()
+        };
+        let s = child.over(&parent);
+        assert_eq!(s.stroke, Some(Paint::Color(Rgb(9, 9, 9))));
+        assert_eq!(s.stroke_width, Some(0.5));
+        assert_eq!(s.dash, Some([1.0, 2.0]));
+        assert!(s.round_caps && s.round_joins);
+        assert_eq!(s.fill, Some(Paint::None));
+        assert_eq!(Rgb(0x0a, 0xb0, 0xff).hex(), "#0ab0ff");
     }
 }
