@@ -77,10 +77,8 @@ fn strokes() -> Vec<(&'static str, DiskBSpline)> {
 }
 
 fn bench(c: &mut Criterion) {
-    let opts = DbscSkinOptions {
-        eps: 0.01,
-        ..DbscSkinOptions::default()
-    };
+    let mut opts = DbscSkinOptions::default();
+    opts.epsilon = 0.01;
     let mut g = c.benchmark_group("skin_dbsc_eps_0.01mm");
     g.sample_size(10);
     for (name, s) in strokes() {
@@ -128,10 +126,8 @@ fn bench(c: &mut Criterion) {
     let same =
         serial.install(|| skin_dbsc(&ten, &opts)) == parallel.install(|| skin_dbsc(&ten, &opts));
     println!("ten_disks: serial and parallel results equal: {same}");
-    let decided = DbscSkinOptions {
-        report: ReportBounds::Decided,
-        ..opts
-    };
+    let mut decided = opts;
+    decided.report = ReportBounds::Decided;
     let median = |p: &rayon::ThreadPool, o: &DbscSkinOptions| {
         let mut ts: Vec<f64> = (0..15)
             .map(|_| {

@@ -11,7 +11,7 @@ use super::build::load_profile;
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::ErrorKind;
-use skinpath::emit::preview::{
+use skinpath::emit::{
     HtmlOptions, PngOptions, Scene, SvgOptions, player_html, scene_png, scene_svg,
 };
 use skinpath::job::build::BuildOptions;
@@ -150,7 +150,7 @@ fn outputs(
             scene.motions.len(),
             scene.contours.len(),
             scene.findings.len(),
-            skinpath::emit::preview::svg::hms(scene.total_time)
+            skinpath::emit::hms(scene.total_time)
         ));
         bytes.push(render(&path, &scene, png)?);
         paths.push(path);
@@ -227,7 +227,7 @@ pub fn run(a: Args) -> Result<u8> {
         scene.motions.len(),
         scene.contours.len(),
         scene.findings.len(),
-        skinpath::emit::preview::svg::hms(scene.total_time)
+        skinpath::emit::hms(scene.total_time)
     ))?;
     Ok(0)
 }

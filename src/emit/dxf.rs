@@ -13,6 +13,7 @@ use std::fmt::Write;
 
 /// Options of [`dxf`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct DxfOptions {
     /// Layer colours (mapped to the nearest AutoCAD colour index); white/black otherwise.
     pub colors: Option<OperationColors>,

@@ -23,6 +23,15 @@ use glam::{DVec2, DVec3};
 use std::cell::RefCell;
 use std::rc::Rc;
 
+/// Largest xy length (machine units) of a downward router move that is still a plunge (fed
+/// at the plunge feed): round-off of a vertical move.
+const PLUNGE_XY: f64 = 1e-12;
+
+/// Smallest share |dᵢ|/‖d‖ of a move along an axis for that axis's maximum feed to limit the
+/// move's feed (limit = maxᵢ / share); a smaller share is round-off of a move along the
+/// other axes.
+const AXIS_SHARE_MIN: f64 = 1e-12;
+
 /// Largest sweep of one `R`-format arc: 120°. The centre recomputed from `R` gets
 /// ill-conditioned as the sweep nears 180° (the chord nears the diameter) and `R` cannot
 /// express a full circle, so longer arcs are split into equal pieces.
@@ -30,6 +39,7 @@ pub const R_MAX_SWEEP: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
 /// Options of [`gcode`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct GcodeOptions {
     /// Job name, for the header comment and the `{job}` placeholder.
     pub job: String,
@@ -455,7 +465,7 @@ impl Writer<'_> {
                     let mut feed = m.feed * self.scale;
                     if let Tool::Router(r) = self.tool {
                         let d = to - pos;
-                        if d.z < 0.0 && d.truncate().length() <= 1e-12 {
+                        if d.z < 0.0 && d.truncate().length() <= PLUNGE_XY {
                             feed = feed.min(r.plunge_feed);
                         }
                     }
@@ -757,7 +767,7 @@ impl Writer<'_> {
         let mut limit = feed;
         for (c, max) in [(d.x, m.x), (d.y, m.y), (d.z, m.z)] {
             let share = c.abs() / len;
-            if share > 1e-12 && max > 0.0 {
+            if share > AXIS_SHARE_MIN && max > 0.0 {
                 limit = limit.min(max / share);
             }
         }

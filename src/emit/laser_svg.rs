@@ -34,6 +34,7 @@ pub enum Page {
 
 /// Options of [`laser_svg`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct LaserSvgOptions {
     /// The page the drawing sits on.
     pub page: Page,

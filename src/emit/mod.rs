@@ -5,18 +5,27 @@
 //! power in 0..1, arcs whose start and end lie on one circle) and returns the file's text; the
 //! caller writes it (atomically).
 
-pub mod dxf;
-pub mod gcode;
-pub mod geometry;
-pub mod laser_svg;
-pub mod outline;
-pub mod preview;
-pub mod svg_page;
+pub(crate) mod dxf;
+pub(crate) mod gcode;
+pub(crate) mod geometry;
+pub(crate) mod laser_svg;
+pub(crate) mod outline;
+pub(crate) mod preview;
+pub(crate) mod svg_page;
 
 pub use dxf::{DxfOptions, dxf};
 pub use gcode::{GROUP_MARK, GcodeOptions, LineOrigin, gcode, gcode_with_origins};
 pub use geometry::{CutContour, Seg};
 pub use laser_svg::{LaserSvgOptions, Page, laser_svg};
+pub use outline::{
+    CircleRole, ContourRole, Marker, MarkerKind, OutlineContour, OutlineDoc, RefCircle,
+    StrokeOutline,
+};
+pub use preview::{
+    COLOR_STEPS, CUT_BUDGET, ColorScale, FINDING_BUDGET, HtmlOptions, LayerBudget, MARK_BUDGET,
+    PngOptions, ProgramInput, RAPID_BUDGET, Scene, SvgOptions, hms, player_html, scene_png,
+    scene_svg, view_box,
+};
 pub use svg_page::SvgPage;
 
 use std::fmt;
@@ -51,6 +60,7 @@ impl fmt::Display for Location {
 
 /// Why a toolpath could not be written.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum EmitError {
     /// A move the writer cannot express faithfully.
     #[error("{at}: {reason}")]
@@ -100,6 +110,15 @@ pub enum EmitError {
         name: &'static str,
         /// Why its value is refused.
         reason: String,
+    },
+    /// An output this build of skinpath leaves out: the Cargo feature that provides it was
+    /// not enabled.
+    #[error("{output} needs skinpath built with the `{feature}` feature")]
+    FeatureDisabled {
+        /// The output asked for ("PNG preview").
+        output: &'static str,
+        /// The Cargo feature that provides it.
+        feature: &'static str,
     },
     /// A template that failed to render (names the template).
     #[error("profile {profile:?}, {key}: {reason}")]

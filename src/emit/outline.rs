@@ -16,7 +16,6 @@
 use super::preview::draw::{Frame, SvgPage, num};
 use crate::geom::DVec2;
 use serde::{Deserialize, Serialize};
-use std::fmt::Write as _;
 
 /// What a drawn contour is; serialised as the outline JSON's `role` strings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -210,7 +209,7 @@ impl OutlineDoc {
     /// unit; inch designs are drawn at 25.4 mm per unit), y pointing up as in the design.
     /// Outline solid, envelope dashed (solid when it is the only boundary), spine thin,
     /// reference circles faint, markers as red rings with a tooltip. Drawn with the
-    /// preview's drawing layer ([`crate::emit::preview::draw`]), so it rasterises the same way.
+    /// preview's drawing layer, so it rasterises the same way.
     pub fn to_svg(&self) -> String {
         let (lo, hi) = self.bounds().unwrap_or((DVec2::ZERO, DVec2::ONE));
         let margin = 0.05 * (hi - lo).max_element().max(1.0);
@@ -280,18 +279,6 @@ impl OutlineDoc {
         }
         page.finish()
     }
-}
-
-/// SVG path data for a polyline at full f64 precision.
-pub fn path_d(points: &[[f64; 2]], closed: bool) -> String {
-    let mut d = String::new();
-    for (i, p) in points.iter().enumerate() {
-        let _ = write!(d, "{}{} {} ", if i == 0 { "M" } else { "L" }, p[0], p[1]);
-    }
-    if closed {
-        d.push('Z');
-    }
-    d.trim_end().to_string()
 }
 
 #[cfg(test)]

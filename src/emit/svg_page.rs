@@ -147,7 +147,7 @@ impl SvgPage {
         self.push(t);
     }
 
-    /// Path data of page points at [`num`] precision.
+    /// Path data of page points, each number to 3 decimals (1 µm on a page in mm).
     pub fn path_data(pts: &[DVec2], closed: bool) -> String {
         let mut d = String::with_capacity(pts.len() * 16);
         for (i, p) in pts.iter().enumerate() {
@@ -245,7 +245,7 @@ impl SvgPage {
     }
 
     /// Text set in the viewer's sans-serif font (rasterised only where a system font is
-    /// installed; see [`super::preview::png`]). `at` is the baseline start.
+    /// installed; see [`super::scene_png`]). `at` is the baseline start.
     pub fn text(&mut self, class: &str, at: DVec2, size: f64, color: &str, s: &str) {
         let mut e = element(
             "text",

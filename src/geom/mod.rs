@@ -9,6 +9,8 @@ pub mod bernstein;
 pub mod circle;
 pub mod cubic;
 pub mod hull;
+pub(crate) mod intersect;
+pub(crate) mod interval;
 pub mod line;
 pub mod path;
 pub mod predicates;
@@ -21,6 +23,10 @@ pub use arc::Arc;
 pub use circle::Circle;
 pub use cubic::CubicBez;
 pub use glam::DVec2;
+pub use intersect::{
+    Hit, PathHit, cubic_intersections, cubic_self_intersections, path_self_intersections,
+    paths_intersections,
+};
 pub use line::Line;
 pub use path::{Path, PathSeg};
 

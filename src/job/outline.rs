@@ -135,7 +135,7 @@ pub fn stroke_outline(
 ) -> Result<ItemOutline, JobError> {
     let loops = find_loops(c, LOOP_PARAM_TOL).map_err(|e| item_err(design, "stroke", name, e))?;
     let skin_opts = DbscSkinOptions {
-        eps: opts.epsilon,
+        epsilon: opts.epsilon,
         report: opts.report,
         ..DbscSkinOptions::default()
     };

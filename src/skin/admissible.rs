@@ -12,7 +12,7 @@
 //!
 //! Closed sequences are cyclic: every circle is an inner circle with two neighbours.
 
-use super::intersect::SeqBvh;
+use crate::geom::intersect::SeqBvh;
 use crate::geom::{Circle, DVec2, cross};
 use std::f64::consts::PI;
 
@@ -51,8 +51,9 @@ impl std::fmt::Display for Condition {
 
 /// Errors of the skinning module. Circle indices are 0-based positions in the input slice.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SkinError {
-    /// Too few circles to skin: an open sequence needs 2, a closed one 3 ([`check_count`]).
+    /// Too few circles to skin: an open sequence needs 2, a closed one 3.
     #[error("{kind} sequence needs at least {need} circles, got {got}")]
     TooFewCircles {
         /// `"open"` or `"closed"`.
@@ -62,7 +63,7 @@ pub enum SkinError {
         /// Number of circles given.
         got: usize,
     },
-    /// A circle with a non-finite centre or radius, or a radius ≤ 0 ([`validate_circles`]).
+    /// A circle with a non-finite centre or radius, or a radius ≤ 0.
     #[error("circle {index}: centre and radius must be finite with radius > 0")]
     InvalidCircle {
         /// Position of the circle in the input.
@@ -100,6 +101,7 @@ pub enum SkinError {
 
 /// Options of [`check_admissible`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct AdmissibilityOptions {
     /// Also require re-skinning-cnc Def. 1 cond. 2 (far disks disjoint).
     pub strict_disjoint: bool,
@@ -322,8 +324,8 @@ fn arc_in_disk(c: &Circle, d: &Circle) -> ArcIn {
 }
 
 /// True when the angle interval [lo, hi] (lo < hi, a sub-interval of [0, 2π) or a wrapped
-/// full range) is covered by `ivs` (each (mid, half)) up to gaps of `eps` radians.
-fn covered(lo: f64, hi: f64, ivs: &[(f64, f64)], eps: f64) -> bool {
+/// full range) is covered by `ivs` (each (mid, half)) up to gaps of `gap_tol` radians.
+fn covered(lo: f64, hi: f64, ivs: &[(f64, f64)], gap_tol: f64) -> bool {
     let len = hi - lo;
     let mut segs: Vec<(f64, f64)> = Vec::with_capacity(ivs.len() * 2);
     for &(mid, half) in ivs {
@@ -340,15 +342,15 @@ fn covered(lo: f64, hi: f64, ivs: &[(f64, f64)], eps: f64) -> bool {
     segs.sort_by(|x, y| x.0.total_cmp(&y.0));
     let mut reach = 0.0;
     for (s, e) in segs {
-        if s > reach + eps {
+        if s > reach + gap_tol {
             break;
         }
         reach = f64::max(reach, e);
-        if reach >= len - eps {
+        if reach >= len - gap_tol {
             return true;
         }
     }
-    reach >= len - eps
+    reach >= len - gap_tol
 }
 
 /// Condition 1 for disk `i` with overlapping neighbours `nbrs`: `Some(covering disks)` when

@@ -16,6 +16,7 @@ use crate::geom::{Circle, CubicBez, DVec2, Path, PathSeg, perp};
 /// The two skins of a circle sequence: segment i joins circle i to circle i + 1 (and, closed,
 /// the last circle to the first).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Skins {
     /// Left skin: segment i is the cubic Hermite arc from the left touching point of circle i to
     /// that of circle i + 1.
@@ -44,6 +45,7 @@ impl Skins {
 
 /// Options of [`skin_circles`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SkinOptions {
     /// Admissibility conditions to enforce and the relative tolerance used throughout.
     pub admissibility: AdmissibilityOptions,
@@ -84,6 +86,7 @@ pub fn tangent_length(a: &Circle, b: &Circle, w: DVec2) -> f64 {
 
 /// The skin arc on `side` from touching point `w0` on `c0` to `w1` on `c1`
 /// (re-skinning-cnc eqs. 11–12 with the Hermite–Bézier form of [`CubicBez::hermite`]).
+#[must_use]
 pub fn skin_segment(c0: &Circle, w0: DVec2, c1: &Circle, w1: DVec2, side: Side) -> CubicBez {
     let v0 = tangent_length(c0, c1, w0) * skin_tangent(c0, w0, side);
     let v1 = tangent_length(c0, c1, w1) * skin_tangent(c1, w1, side);
@@ -151,6 +154,7 @@ pub fn skin_circles(
 /// Distance from `p` to the convex hull of the control points of `c` (0 inside): the hull
 /// of four points is covered by the four triangles of three of them, and outside it the
 /// nearest hull point lies on one of the six segments between them.
+#[cfg(test)]
 fn hull_distance(c: &CubicBez, p: DVec2) -> f64 {
     let q = c.points();
     let tri = |a: DVec2, b: DVec2, d: DVec2| {
@@ -180,6 +184,7 @@ fn hull_distance(c: &CubicBez, p: DVec2) -> f64 {
 /// convex hull of a subdivided piece bounds its distance from below, points on it from
 /// above; pieces that cannot beat the best point by more than `tol` are dropped).
 /// A value ≤ 0 means the curve stays outside the open disk.
+#[cfg(test)]
 pub fn max_disk_penetration(c: &CubicBez, k: &Circle, tol: f64) -> f64 {
     /// Subdivision depth limit: 2⁻⁴⁰ of the curve's size is below any useful tolerance.
     const MAX_DEPTH: u32 = 40;

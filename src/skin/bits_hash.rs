@@ -5,8 +5,7 @@ use std::collections::{HashMap, HashSet};
 /// Hasher of keys made of float bit patterns (the bound cache keys of the skinning, curve
 /// parameters, parameter intervals), mixed a word at a time by rotate, xor and an odd
 /// multiplier (the FxHash scheme). The keys are our own numbers, not an adversary's, so
-/// the DoS resistance of the standard SipHash (2.5 % of a 10-disk skinning) buys nothing
-/// here; the maps are only looked up, never iterated, so the hasher cannot change a
+/// the DoS resistance (and cost) of the standard SipHash buys nothing here; the maps are only looked up, never iterated, so the hasher cannot change a
 /// result.
 #[derive(Clone, Copy, Default)]
 pub struct KeyHasher(u64);

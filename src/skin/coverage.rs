@@ -19,8 +19,10 @@
 use crate::geom::predicates::winding_number;
 use crate::geom::{Circle, DVec2, Line};
 
-/// The deepest-reaching disk sample of [`uncovered`].
+/// The deepest-reaching disk sample outside a skin's region: where the skin leaves a disk
+/// uncovered.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Uncovered {
     /// How far the disk reaches outside the region (design units; ≤ 0 when it lies inside).
     pub depth: f64,

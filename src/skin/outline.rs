@@ -15,6 +15,7 @@ use crate::geom::{Arc, Circle, Path, PathSeg};
 
 /// Outline contours with the skins they were built from.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Outline {
     /// Open input: `[outline]`; closed input: `[outer, inner]`. Outer contours are
     /// counter-clockwise, inner ones clockwise.
@@ -80,9 +81,9 @@ pub fn outline_from_skins(circles: &[Circle], skins: Skins) -> Outline {
 mod tests {
     use super::*;
     use crate::geom::DVec2;
+    use crate::geom::intersect::{path_self_intersections, paths_intersections};
     use crate::skin::admissible::AdmissibilityOptions;
     use crate::skin::bezier::max_disk_penetration;
-    use crate::skin::intersect::{path_self_intersections, paths_intersections};
     use proptest::prelude::*;
 
     fn c(x: f64, y: f64, r: f64) -> Circle {

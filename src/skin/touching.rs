@@ -25,9 +25,19 @@
 use super::admissible::{SkinError, check_count, validate_circles};
 use crate::geom::{Circle, DVec2, cross, perp};
 
+/// Two directions are parallel when the largest 2×2 minor of their pair is at most this
+/// fraction of the product of their lengths.
+const PARALLEL_REL: f64 = 1e-14;
+
+/// Homogeneous vectors (axes, lines) shorter than this (absolute, or relative to the line's
+/// length) are degenerate: the construction has no solution.
+#[cfg(test)]
+const DEGENERATE: f64 = 1e-12;
+
 /// The left and right touching points on one circle; left is on the left of the direction
 /// of travel (increasing index).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct TouchingPoints {
     /// Touching point on the left of the direction of travel (on the left skin).
     pub left: DVec2,
@@ -134,7 +144,7 @@ fn null_space(m1: &V4, m2: &V4) -> Option<[V4; 2]> {
     .into_iter()
     .map(|(pij, k, l)| (pij.abs(), k, l))
     .fold((0.0, 0, 0), |best, c| if c.0 > best.0 { c } else { best });
-    let parallel = 1e-14 * (dot4(m1, m1) * dot4(m2, m2)).sqrt();
+    let parallel = PARALLEL_REL * (dot4(m1, m1) * dot4(m2, m2)).sqrt();
     if big.partial_cmp(&parallel) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
@@ -221,6 +231,7 @@ fn apollonius_pair(
 /// the left of both directions a→m and m→b (largest sum of the two cross products).
 /// `None` when the triplet has no real Apollonius pair (inadmissible, kruppa-2023 Def. 4.1
 /// cond. 3) or is degenerate. `rel_tol` bounds a negative discriminant treated as zero.
+#[must_use]
 pub fn triplet_touching(
     a: &Circle,
     m: &Circle,
@@ -308,6 +319,7 @@ pub fn touching_points(
 /// homogeneous (similitude centres of equal radii lie at infinity). `None` when the line is
 /// undefined (collinear centres: radical centre and pole coincide at infinity, or the
 /// three similitude centres coincide) or misses `m`.
+#[cfg(test)]
 pub fn gergonne_points(a: &Circle, m: &Circle, b: &Circle) -> Option<[DVec2; 2]> {
     type V3 = [f64; 3];
     let x3 = |p: V3, q: V3| -> V3 {
@@ -329,7 +341,7 @@ pub fn gergonne_points(a: &Circle, m: &Circle, b: &Circle) -> Option<[DVec2; 2]>
         [v.x, v.y, rq - rp]
     };
     let axis = x3(sim(da, ra, DVec2::ZERO, r0), sim(DVec2::ZERO, r0, db, rb));
-    if n3(axis) < 1e-12 {
+    if n3(axis) < DEGENERATE {
         return None;
     }
     // Pole of the line (A, B, C) w.r.t. x² + y² = r0²: (A r0², B r0², −C).
@@ -345,7 +357,7 @@ pub fn gergonne_points(a: &Circle, m: &Circle, b: &Circle) -> Option<[DVec2; 2]>
     let centre = x3(rad(da, ra), rad(db, rb));
     let line = x3(centre, pole);
     let nl = DVec2::new(line[0], line[1]).length();
-    if nl <= 1e-12 * n3(line) || n3(centre) == 0.0 {
+    if nl <= DEGENERATE * n3(line) || n3(centre) == 0.0 {
         return None;
     }
     let normal = DVec2::new(line[0], line[1]) / nl;

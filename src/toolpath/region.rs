@@ -14,8 +14,8 @@
 
 use super::biarc::fit_cubic;
 use super::winding::WindingIndex;
+use crate::geom::intersect::{path_self_intersections, paths_intersections};
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
-use crate::skin::intersect::{path_self_intersections, paths_intersections};
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
 use cavalier_contours::shape_algorithms::{Shape, ShapeOffsetOptions};
 use rstar::RTree;

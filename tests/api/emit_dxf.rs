@@ -62,7 +62,7 @@ fn check(tp: &Toolpath) {
     );
     let layers: Vec<String> = d.layers().map(|l| l.name.clone()).collect();
     for (i, op) in tp.operations.iter().enumerate() {
-        let want = skinpath::emit::dxf::layer_name(i, &op.name);
+        let want = layer_name(i, &op.name);
         assert!(layers.contains(&want), "{want} not in {layers:?}");
     }
     let polys = polylines(&d);
@@ -76,7 +76,7 @@ fn check(tp: &Toolpath) {
             .enumerate()
             .flat_map(|(oi, op)| op.cuts.iter().map(move |c| (oi, op, c))),
     ) {
-        assert_eq!(*layer, skinpath::emit::dxf::layer_name(oi, &op.name));
+        assert_eq!(*layer, layer_name(oi, &op.name));
         let end = c.moves.last().unwrap().to.truncate();
         assert_eq!(*closed, end.distance(c.start.truncate()) < 1e-9);
         assert!((vs[0].0 - c.start.truncate()).length() < 1e-12);
@@ -201,4 +201,22 @@ proptest! {
         };
         check(&tp);
     }
+}
+
+/// The layer the DXF writer names for operation `index` called `name`: `OP{index}_` and the
+/// name with every character other than ASCII letters, digits, `-` and `_` replaced by `_`,
+/// at most 40 of them.
+fn layer_name(index: usize, name: &str) -> String {
+    let clean: String = name
+        .chars()
+        .take(40)
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("OP{index}_{clean}")
 }

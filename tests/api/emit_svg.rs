@@ -6,7 +6,6 @@ use crate::support;
 
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
-use skinpath::emit::laser_svg::color_of;
 use skinpath::emit::{LaserSvgOptions, Page, laser_svg};
 use skinpath::machine::{Profile, builtin_profile};
 use skinpath::toolpath::Toolpath;
@@ -225,14 +224,11 @@ fn laser_svg_default_and_lightburn() {
     for name in ["svg-laser", "svg-laser-lightburn"] {
         let p = profile(name);
         check_laser_svg(&tp, &p, &LaserSvgOptions::default());
-        check_laser_svg(
-            &tp,
-            &p,
-            &LaserSvgOptions {
-                page: Page::WorkArea,
-                ..Default::default()
-            },
-        );
+        check_laser_svg(&tp, &p, &{
+            let mut o = LaserSvgOptions::default();
+            o.page = Page::WorkArea;
+            o
+        });
     }
 }
 
@@ -240,14 +236,11 @@ fn laser_svg_default_and_lightburn() {
 fn page_size_is_the_bounds_plus_margin() {
     let tp = job(&[0.0], 1.0);
     let p = profile("svg-laser");
-    let out = laser_svg(
-        &tp,
-        &p,
-        &LaserSvgOptions {
-            page: Page::Bounds { margin: 2.5 },
-            ..Default::default()
-        },
-    )
+    let out = laser_svg(&tp, &p, &{
+        let mut o = LaserSvgOptions::default();
+        o.page = Page::Bounds { margin: 2.5 };
+        o
+    })
     .unwrap();
     let doc = roxmltree::Document::parse(&out).unwrap();
     let root = doc.root_element();
@@ -301,7 +294,7 @@ fn scaled_and_rotated_jobs_keep_their_length() {
 /// cuts as long as the toolpath's cutting moves (up to the scene's flattening).
 #[test]
 fn preview_has_cuts_rapids_and_start_markers() {
-    use skinpath::emit::preview::{Scene, SvgOptions, scene_svg};
+    use skinpath::emit::{Scene, SvgOptions, scene_svg};
     use skinpath::sim::{CheckConfig, MachineKind};
     let tp = job(&[-1.0, -2.0], 0.5);
     let mut cfg = CheckConfig::default();
@@ -376,5 +369,22 @@ proptest! {
             )],
         };
         check_laser_svg(&tp, &profile("svg-laser"), &LaserSvgOptions::default());
+    }
+}
+
+/// The stroke colour the laser SVG gives an operation kind: its own colour from the
+/// profile, a line cut in the profile colour.
+fn color_of(
+    c: &skinpath::machine::OperationColors,
+    kind: skinpath::toolpath::OperationKind,
+) -> &str {
+    use skinpath::toolpath::OperationKind as K;
+    match kind {
+        K::Profile | K::Line => &c.profile,
+        K::Channel => &c.channel,
+        K::Backboard => &c.backboard,
+        K::Holes => &c.holes,
+        K::Fill => &c.fill,
+        K::VCarve => &c.vcarve,
     }
 }

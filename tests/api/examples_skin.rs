@@ -5,8 +5,8 @@
 
 use crate::support::example;
 use skinpath::dbsc::Side;
+use skinpath::geom::{path_self_intersections, paths_intersections};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
-use skinpath::skin::intersect::{path_self_intersections, paths_intersections};
 
 const EPS: f64 = 0.01;
 

@@ -5,7 +5,7 @@
 
 use base64::Engine as _;
 use serde_json::{Value, json};
-use skinpath::emit::preview::{HtmlOptions, ProgramInput, Scene, player_html};
+use skinpath::emit::{HtmlOptions, ProgramInput, Scene, player_html};
 use skinpath::sim::{self, Backend, CheckConfig};
 use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};

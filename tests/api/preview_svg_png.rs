@@ -2,8 +2,8 @@
 //! planted finding, and read pixels of the PNG drawn from the same drawing.
 
 use glam::DVec2;
-use skinpath::emit::preview::svg::view_box;
-use skinpath::emit::preview::{PngOptions, ProgramInput, Scene, SvgOptions, scene_png, scene_svg};
+use skinpath::emit::view_box;
+use skinpath::emit::{PngOptions, ProgramInput, Scene, SvgOptions, scene_png, scene_svg};
 use skinpath::sim::{self, Backend, CheckConfig};
 
 fn scene(text: &str, cfg: &CheckConfig) -> Scene {
@@ -248,7 +248,7 @@ fn laser_svg_hairlines_are_visible_in_the_png() {
         &scene_png(&s, &SvgOptions::default(), PngOptions::Width(1600)).expect("rasterises"),
     );
     let scale = s.color_scale();
-    let colors: Vec<[u8; 3]> = (0..skinpath::emit::preview::COLOR_STEPS)
+    let colors: Vec<[u8; 3]> = (0..skinpath::emit::COLOR_STEPS)
         .map(|k| hex(&scale.color(k)))
         .collect();
     let on_cut = img

@@ -18,8 +18,8 @@ use skinpath::job::check::check_config;
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 use skinpath::job::re_route::re_items;
 use skinpath::machine::builtin_profile;
-use skinpath::skin::mat_offset::region_distance;
-use skinpath::skin::re::Interp;
+use skinpath::skin::Interp;
+use skinpath::skin::region_distance;
 use skinpath::toolpath::ops::{self, ProfileSide};
 use skinpath::toolpath::re_route::mat_profile;
 use skinpath::toolpath::region::Region;
@@ -115,11 +115,13 @@ proptest! {
         let g = skinpath::emit::gcode(
             &built.toolpath,
             &profile,
-            &skinpath::emit::GcodeOptions {
-                job: "random".into(),
-                input_units: skinpath::machine::Units::Mm,
-                tolerance: TOL * 0.1,
-                check_work_area: true,
+            &{
+                let mut o = skinpath::emit::GcodeOptions::default();
+                o.job = "random".into();
+                o.input_units = skinpath::machine::Units::Mm;
+                o.tolerance = TOL * 0.1;
+                o.check_work_area = true;
+                o
             },
         )
         .unwrap();

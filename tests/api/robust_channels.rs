@@ -46,16 +46,14 @@ fn build_and_check(design: &Design, machine: &str) -> Result<Option<String>, Str
     if let Err(e) = place_job(&mut built, &p, 1.0, Place::LowerLeft, 0.0, 2e-3, 1.0) {
         return Ok(Some(e.to_string()));
     }
-    let g = gcode(
-        &built.toolpath,
-        &p,
-        &GcodeOptions {
-            job: "robust".into(),
-            input_units: Units::Mm,
-            tolerance: opts.tolerance * 0.1,
-            check_work_area: true,
-        },
-    )
+    let g = gcode(&built.toolpath, &p, &{
+        let mut o = GcodeOptions::default();
+        o.job = "robust".into();
+        o.input_units = Units::Mm;
+        o.tolerance = opts.tolerance * 0.1;
+        o.check_work_area = true;
+        o
+    })
     .map_err(|e| e.to_string())?;
     let tool_r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
     let report = check_text(Backend::Builtin, &g, &check_config(&p, tool_r), &[]);

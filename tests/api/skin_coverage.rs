@@ -11,7 +11,7 @@ use skinpath::geom::{Circle, DVec2};
 use skinpath::job::build::{BuildOptions, build_toolpath};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 use skinpath::machine::builtin_profile;
-use skinpath::skin::coverage::uncovered;
+use skinpath::skin::uncovered;
 
 use crate::support;
 use support::{EXAMPLES, ROOT};

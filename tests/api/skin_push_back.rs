@@ -5,7 +5,7 @@
 //! [`DbscSkinOptions::push_back`] and tests/api/robust_channels.rs (case 145).
 
 use crate::support::ROOT;
-use skinpath::skin::dbsc_skin::{DbscSkinOptions, skin_dbsc};
+use skinpath::skin::{DbscSkinOptions, skin_dbsc};
 
 fn designs() -> Vec<String> {
     let mut out = Vec::new();
@@ -26,10 +26,8 @@ fn designs() -> Vec<String> {
 /// (circles, segments that missed ε) of one stroke skinned with `push_back`; `None` when
 /// the stroke cannot be skinned whole (the build splits it: tests/api/skin_total.rs).
 fn skin(c: &skinpath::dbsc::DiskBSpline, push_back: bool) -> Option<(usize, usize)> {
-    let mut o = DbscSkinOptions {
-        push_back,
-        ..DbscSkinOptions::default()
-    };
+    let mut o = DbscSkinOptions::default();
+    o.push_back = push_back;
     let s = match skin_dbsc(c, &o) {
         Ok(s) => s,
         Err(_) => {
@@ -136,11 +134,9 @@ fn push_back_needs_no_more_circles_on_random_sharp_strokes() {
             .collect();
         let c = DiskBSpline::open(3, &disks, None).unwrap();
         let run = |push_back| {
-            let o = DbscSkinOptions {
-                push_back,
-                allow_global_overlap: true,
-                ..DbscSkinOptions::default()
-            };
+            let mut o = DbscSkinOptions::default();
+            o.push_back = push_back;
+            o.allow_global_overlap = true;
             skin_dbsc(&c, &o).ok().map(|s| s.circles.len())
         };
         if let (Some(a), Some(b)) = (run(true), run(false)) {

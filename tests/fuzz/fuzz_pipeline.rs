@@ -101,11 +101,13 @@ fn pipeline(d: &Design, machine: &str) -> bool {
             return false;
         }
     };
-    let opts = GcodeOptions {
-        job: "fuzz".into(),
-        input_units: skinpath::machine::Units::Mm,
-        tolerance: BuildOptions::default().tolerance * 0.1,
-        check_work_area: false,
+    let opts = {
+        let mut o = GcodeOptions::default();
+        o.job = "fuzz".into();
+        o.input_units = skinpath::machine::Units::Mm;
+        o.tolerance = BuildOptions::default().tolerance * 0.1;
+        o.check_work_area = false;
+        o
     };
     let Ok(g) = gcode(&built.toolpath, &profile, &opts) else {
         return false;

@@ -3,7 +3,7 @@
 //! binary) under a generous time limit: the test asserts the outcome (a clear error or a
 //! correct result), the limit only turns a regression into a failure instead of a stuck CI.
 
-use skinpath::skin::dbsc_skin::{DEFAULT_MAX_WORK, DbscSkinOptions, skin_dbsc};
+use skinpath::skin::{DEFAULT_MAX_WORK, DbscSkinOptions, skin_dbsc};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

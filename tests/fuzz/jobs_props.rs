@@ -260,16 +260,14 @@ fn random_build(text: &str, p: &Profile) -> Result<(), String> {
     let opts = BuildOptions::default();
     let mut built = build_toolpath(&design, p, &opts).map_err(|e| e.to_string())?;
     place_job(&mut built, p, 1.0, Place::LowerLeft, 0.0, 2e-3, 1.0).map_err(|e| e.to_string())?;
-    let g = gcode(
-        &built.toolpath,
-        p,
-        &GcodeOptions {
-            job: "random".into(),
-            input_units: Units::Mm,
-            tolerance: opts.tolerance * 0.1,
-            check_work_area: true,
-        },
-    )
+    let g = gcode(&built.toolpath, p, &{
+        let mut o = GcodeOptions::default();
+        o.job = "random".into();
+        o.input_units = Units::Mm;
+        o.tolerance = opts.tolerance * 0.1;
+        o.check_work_area = true;
+        o
+    })
     .map_err(|e| e.to_string())?;
     let tool_r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
     let report = check_text(Backend::Builtin, &g, &check_config(p, tool_r), &[]);

@@ -5,7 +5,7 @@
 //! into a failure instead of a stuck run) and asserts on the outcome: exit code, image size,
 //! what the drawing holds and what it says.
 
-use skinpath::emit::preview::svg::{CUT_BUDGET, FINDING_BUDGET, MARK_BUDGET, RAPID_BUDGET};
+use skinpath::emit::{CUT_BUDGET, FINDING_BUDGET, MARK_BUDGET, RAPID_BUDGET};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

@@ -27,6 +27,7 @@ pub const STYLE_DWELL: u8 = 2;
 
 /// Options of [`player_html`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct HtmlOptions {
     /// Embed the program text so the page shows the current line's text (not only its
     /// number) when the text is at most this many bytes.

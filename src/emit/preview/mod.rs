@@ -14,11 +14,11 @@
 //! the checker's ([`crate::sim::checks::cut_contours`]), so "one drawn path per contour" means
 //! the same thing to the preview and to the findings.
 
-pub mod draw;
-pub mod glyphs;
-pub mod html;
-pub mod png;
-pub mod svg;
+pub(crate) mod draw;
+pub(crate) mod glyphs;
+pub(crate) mod html;
+pub(crate) mod png;
+pub(crate) mod svg;
 
 use crate::sim::checks::{SimContour, cut_contours, is_cutting};
 use crate::sim::timeline::{Timeline, timeline};
@@ -31,7 +31,10 @@ use std::collections::HashMap;
 
 pub use html::{HtmlOptions, player_html};
 pub use png::{PngOptions, scene_png};
-pub use svg::{SvgOptions, scene_svg};
+pub use svg::{
+    CUT_BUDGET, FINDING_BUDGET, LayerBudget, MARK_BUDGET, RAPID_BUDGET, SvgOptions, hms, scene_svg,
+    view_box,
+};
 
 /// What the simulator's findings say when it stopped reading the program at one of its
 /// limits (loop iterations, subroutine depth, ...): the moves after that point are missing.
@@ -42,6 +45,7 @@ pub const COLOR_STEPS: usize = 5;
 
 /// Everything a preview shows, in machine millimetres.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Scene {
     /// Laser (cut colour by power) or router (by depth).
     pub kind: MachineKind,
@@ -300,7 +304,7 @@ impl Scene {
     }
 
     /// The finding saying the simulator stopped reading the program at a limit (see
-    /// [`STOPPED`]), when it did: the scene holds the moves before that point only.
+    /// `STOPPED`), when it did: the scene holds the moves before that point only.
     pub fn stopped(&self) -> Option<&Finding> {
         self.findings.iter().find(|f| f.message.contains(STOPPED))
     }

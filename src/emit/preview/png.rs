@@ -1,7 +1,8 @@
 //! The preview as PNG: the drawing of [`super::svg::scene_drawing`] rasterised directly by
 //! tiny-skia ([`Drawing::to_pixmap`]), so the SVG and the PNG show the same picture. The
 //! image size is checked from the drawing's layout before anything is drawn, and the drawing
-//! is detailed to the image's pixel.
+//! is detailed to the image's pixel. Rasterising needs the `png` feature; without it
+//! [`scene_png`] checks the size and returns [`EmitError::FeatureDisabled`].
 
 use super::Scene;
 use super::draw::Drawing;
@@ -15,6 +16,7 @@ pub const MAX_SIDE: u32 = 16384;
 
 /// Size of the raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum PngOptions {
     /// Width in pixels; the height follows the page's aspect ratio.
     Width(u32),
@@ -98,6 +100,7 @@ pub fn scene_png(scene: &Scene, opts: &SvgOptions, size: PngOptions) -> Result<V
 }
 
 /// PNG bytes of `drawing` at `scale` pixels per page millimetre.
+#[cfg(feature = "png")]
 pub fn rasterize(drawing: &Drawing, scale: f64) -> Result<Vec<u8>, EmitError> {
     let (w, h) = image_size(drawing.width, drawing.height, scale, false)?;
     let pixmap = drawing
@@ -109,5 +112,16 @@ pub fn rasterize(drawing: &Drawing, scale: f64) -> Result<Vec<u8>, EmitError> {
     pixmap.encode_png().map_err(|e| EmitError::InvalidOption {
         name: "png",
         reason: format!("PNG encoding failed: {e}"),
+    })
+}
+
+/// Without the `png` feature there is no rasteriser: the size is still checked, then
+/// [`EmitError::FeatureDisabled`].
+#[cfg(not(feature = "png"))]
+pub fn rasterize(drawing: &Drawing, scale: f64) -> Result<Vec<u8>, EmitError> {
+    image_size(drawing.width, drawing.height, scale, false)?;
+    Err(EmitError::FeatureDisabled {
+        output: "PNG preview",
+        feature: "png",
     })
 }

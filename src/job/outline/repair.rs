@@ -575,7 +575,7 @@ mod tests {
         assert_eq!(failing_place(&e, r), Some(0.5));
         let w = DbscSkinError::WorkBudget {
             budget: 10,
-            eps: 0.01,
+            epsilon: 0.01,
         };
         assert_eq!(failing_place(&w, r), None);
         // A place at the piece's end falls back to its middle.

@@ -1,4 +1,4 @@
-//! Merged arc output of MAT offsets (issue #16 item 5): the exact offset curves
+//! Merged arc output of MAT offsets: the exact offset curves
 //! x±d = y + (r + d) m± (re-skinning-cnc eq. 13, trimmed as in [`super::inner_offset`] and
 //! [`super::outer_offset`]) as few G1-joined circular arcs as the greedy search finds, each
 //! with a deviation from the exact curve bounded by the tolerance.
@@ -72,6 +72,22 @@ use super::{MatOffset, MatOffsetError, Piece};
 use crate::geom::hull::{arc_hull_bound, segment_hull_bound};
 use crate::geom::{Arc, DVec2, Line, Path, PathSeg, cross, perp};
 use crate::skin::re::Branch;
+
+/// Below this |2(t₀·t₁ − 1)| the biarc's quadratic in d degenerates (parallel unit tangents)
+/// and its linear root is taken.
+const PARALLEL_TANGENTS: f64 = 1e-12;
+
+/// Two arcs lie on one circle when centres and radii agree within this fraction of the
+/// radius (their union is one arc).
+const SAME_CIRCLE_REL: f64 = 1e-12;
+
+/// Margin (radians) added to the doubled turning angle before it is compared with π/4, so
+/// round-off does not decide the comparison.
+const ANGLE_MARGIN: f64 = 1e-12;
+
+/// Two nodes meet at a joint when their points agree within this fraction of the distance
+/// from the origin (plus one model unit).
+const G1_JOINT_REL: f64 = 1e-9;
 
 /// Equal parameter parts of every piece before the adaptive sampling.
 const MIN_PARTS: usize = 4;
@@ -289,7 +305,7 @@ fn biarc_near(nodes: &[Node], i: usize, j: usize, tol: f64) -> Option<Biarc> {
     let vt = v.dot(t0 + t1);
     let qa = 2.0 * (t0.dot(t1) - 1.0);
     // ‖v‖² − 2d v·(t0 + t1) + 2d²(t0·t1 − 1) = 0: the positive root.
-    let d = if qa.abs() < 1e-12 {
+    let d = if qa.abs() < PARALLEL_TANGENTS {
         vv / (2.0 * vt)
     } else {
         (vt - (vt * vt - qa * vv).max(0.0).sqrt()) / qa
@@ -391,8 +407,8 @@ fn nodes_within(
 fn push_merged(out: &mut Vec<PathSeg>, sh: &Shape) {
     let seg = sh.seg();
     if let (Some(PathSeg::Arc(prev)), PathSeg::Arc(a)) = (out.last(), &seg) {
-        let same = prev.center.distance(a.center) <= 1e-12 * (1.0 + a.radius)
-            && (prev.radius - a.radius).abs() <= 1e-12 * a.radius
+        let same = prev.center.distance(a.center) <= SAME_CIRCLE_REL * (1.0 + a.radius)
+            && (prev.radius - a.radius).abs() <= SAME_CIRCLE_REL * a.radius
             && prev.sweep * a.sweep > 0.0
             && (prev.sweep + a.sweep).abs() < std::f64::consts::PI;
         if same {
@@ -479,7 +495,7 @@ fn flat_hull(a: &Node, m: &Node, b: &Node, budget: f64) -> Option<Hull> {
         }
         psi = psi.max(cross(u, d).atan2(u.dot(d)).abs());
     }
-    let psi = 2.0 * psi + 1e-12;
+    let psi = 2.0 * psi + ANGLE_MARGIN;
     if psi >= std::f64::consts::FRAC_PI_4 {
         return None;
     }
@@ -511,7 +527,7 @@ enum Elem {
 }
 
 fn g1(a: &Node, b: &Node) -> bool {
-    let close = a.p.distance(b.p) <= 1e-9 * (1.0 + a.p.length());
+    let close = a.p.distance(b.p) <= G1_JOINT_REL * (1.0 + a.p.length());
     match (a.d, b.d) {
         (Some(x), Some(y)) => close && x.dot(y) > 0.0 && cross(x, y).abs() <= G1_ANGLE,
         _ => false,

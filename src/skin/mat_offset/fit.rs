@@ -6,6 +6,10 @@ use super::{MatOffset, MatOffsetError, Piece, check_tolerance};
 use crate::geom::{Arc, CubicBez, DVec2, Line, Path, PathSeg};
 use crate::skin::re::Branch;
 
+/// Three points are collinear (a line, not an arc) when |(p₀ − p_m) × (p₁ − p_m)| is at most
+/// this fraction of the chord²: a sagitta far below any tolerance.
+const COLLINEAR_REL: f64 = 1e-12;
+
 /// Samples at which a fitted piece is compared with the exact curve (interior points
 /// k/CHECK_SAMPLES): the tolerance is verified there, not proved between them.
 const CHECK_SAMPLES: usize = 16;
@@ -25,8 +29,7 @@ fn arc3(p0: DVec2, pm: DVec2, p1: DVec2) -> PathSeg {
     let b = p1 - pm;
     let cr = crate::geom::cross(a, b);
     let chord = (p1 - p0).length();
-    // Collinear within 1e-12 of the chord² (sagitta ≪ any tolerance): a line.
-    if cr.abs() <= 1e-12 * chord * chord {
+    if cr.abs() <= COLLINEAR_REL * chord * chord {
         return PathSeg::Line(Line::new(p0, p1));
     }
     // Centre: intersection of the perpendicular bisectors of p0pm and pmp1.

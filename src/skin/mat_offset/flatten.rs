@@ -4,6 +4,10 @@
 use super::{MatOffset, Piece};
 use crate::geom::{DVec2, Line};
 
+/// Consecutive points closer than this fraction of their distance from the origin (plus one
+/// model unit) are one point.
+const DUPLICATE_REL: f64 = 1e-12;
+
 /// Every exact piece is first cut into this many equal parameter parts before the chord
 /// test, so that a piece whose probes happen to lie on its chord is still refined.
 const FLATTEN_MIN_PARTS: usize = 4;
@@ -72,12 +76,12 @@ impl MatOffset {
                     p_prev = p;
                 }
             }
-            pts.dedup_by(|a, b| a.distance(*b) <= 1e-12 * (1.0 + b.length()));
+            pts.dedup_by(|a, b| a.distance(*b) <= DUPLICATE_REL * (1.0 + b.length()));
             while pts.len() > 1
                 && pts
                     .first()
                     .zip(pts.last())
-                    .is_some_and(|(a, b)| a.distance(*b) <= 1e-12 * (1.0 + b.length()))
+                    .is_some_and(|(a, b)| a.distance(*b) <= DUPLICATE_REL * (1.0 + b.length()))
             {
                 pts.pop();
             }

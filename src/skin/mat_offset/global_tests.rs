@@ -106,7 +106,7 @@ fn wreath_hole_side_at_large_delta_is_at_delta() {
         // The exact contours close and do not cross themselves.
         for p in off.to_cubic_paths(1e-5).unwrap() {
             assert!(p.max_gap() < 1e-7, "gap {}", p.max_gap());
-            let hits = crate::skin::intersect::path_self_intersections(&p, 1e-9);
+            let hits = crate::geom::intersect::path_self_intersections(&p, 1e-9);
             assert!(hits.is_empty(), "δ = {delta}: {hits:?}");
         }
     }

@@ -25,6 +25,7 @@ use thiserror::Error;
 
 /// Errors of MAT offsetting; each names the segment (circle pair) involved.
 #[derive(Clone, Debug, Error, PartialEq)]
+#[non_exhaustive]
 pub enum MatOffsetError {
     /// The offset distance δ is not finite and positive.
     #[error("offset distance {0} must be finite and positive")]
@@ -33,7 +34,7 @@ pub enum MatOffsetError {
     #[error("tolerance {0} must be finite and positive")]
     BadTolerance(f64),
     /// f is not positive on a segment, so r = f‖x′‖ ≤ 0 somewhere: the envelopes cross and must be
-    /// eliminated first ([`crate::skin::re::eliminate`]).
+    /// eliminated first (the elimination of the RE route).
     #[error("segment {segment}: f ≤ 0 at t = {t} (r ≤ 0: the envelopes cross; eliminate first)")]
     NonPositiveRadius {
         /// Index of the segment (circle pair) in the skin.
@@ -87,7 +88,7 @@ mod flatten;
 #[cfg(test)]
 mod global_tests;
 mod trim;
-pub use arcs::MergedArcs;
+
 pub use trim::region_distance;
 
 /// A point where the inner offset is trimmed: r(t) = δ, x⁺δ(t) = x⁻δ(t) = y(t).
@@ -783,12 +784,12 @@ pub(crate) mod tests {
                     .unwrap()
                     .to_cubic_paths(1e-6 * scale)
                     .unwrap()[0];
-                let hits = crate::skin::intersect::path_self_intersections(path, 1e-9 * scale);
+                let hits = crate::geom::intersect::path_self_intersections(path, 1e-9 * scale);
                 assert!(hits.is_empty(), "{interp:?}: {hits:?}");
                 let off = inner_offset(&skin, 0.6 * scale, 1e-12).unwrap();
                 for p in off.to_cubic_paths(1e-6 * scale).unwrap() {
                     assert!(
-                        crate::skin::intersect::path_self_intersections(&p, 1e-9 * scale)
+                        crate::geom::intersect::path_self_intersections(&p, 1e-9 * scale)
                             .is_empty()
                     );
                 }

@@ -46,6 +46,17 @@ const TANGENT_SIN: f64 = 1e-3;
 /// union only by the square of their size, so the test must be this tight.
 const KEEP_REL: f64 = 1e-11;
 
+/// Parameter steps (on [0, 1]) below this end the golden-section and Newton iterations: the
+/// resolution of f64 near 1.
+const PARAM_RESOLUTION: f64 = 1e-15;
+
+/// Two roots closer than this in the parameter are one.
+const SAME_PARAM: f64 = 1e-12;
+
+/// A crossing within this parameter distance of a piece's end is at its joint; splits
+/// closer than this are one.
+const END_PARAM: f64 = 1e-9;
+
 /// Signed distance from `p` to the region of `skin` (the union of its MAT disks, end circles
 /// included), exact up to the root finding: min over the segments of
 /// min_t (‖p − y(t)‖ − r(t)), bracketed on DIST_SAMPLES samples per segment and refined by
@@ -92,7 +103,7 @@ pub fn region_distance(skin: &ReSkin, p: DVec2) -> Option<f64> {
                     d = a + phi * (b - a);
                     gd = g(d)?;
                 }
-                if b - a < 1e-15 {
+                if b - a < PARAM_RESOLUTION {
                     break;
                 }
             }
@@ -176,7 +187,7 @@ fn seed_params(p: &Piece, extra: &[(Branch, f64)]) -> Vec<f64> {
         }
     }
     v.sort_by(f64::total_cmp);
-    v.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    v.dedup_by(|a, b| (*a - *b).abs() < SAME_PARAM);
     v
 }
 
@@ -215,7 +226,7 @@ fn refine(
         let du = crate::geom::cross(da, -r) / det;
         s = (s + ds).clamp(0.0, 1.0);
         u = (u + du).clamp(0.0, 1.0);
-        if ds.abs().max(du.abs()) < 1e-15 {
+        if ds.abs().max(du.abs()) < PARAM_RESOLUTION {
             break;
         }
     }
@@ -288,7 +299,6 @@ pub fn trim_outer(
     let mut splits: Vec<Vec<f64>> = vec![Vec::new(); pieces.len()];
     let mut crossings = 0;
     let mut loops = Vec::new();
-    let end_eps = 1e-9;
     let near = NEAR_JOINT_REL * sc;
     for i in 0..segs.len() {
         for j in i + 1..segs.len() {
@@ -315,7 +325,9 @@ pub fn trim_outer(
             // Where consecutive pieces join end to start: not a crossing. The pieces are
             // tangent there, so Newton's method creeps towards the joint only linearly:
             // any point within NEAR_JOINT_REL of an end shared by both pieces is the joint.
-            let at_end = |x: f64| x < end_eps || x > 1.0 - end_eps;
+            // Two comparisons, not a range test: a NaN parameter is at no end.
+            #[allow(clippy::manual_range_contains)]
+            let at_end = |x: f64| x < END_PARAM || x > 1.0 - END_PARAM;
             if at_end(s) && at_end(t) {
                 continue;
             }
@@ -337,7 +349,7 @@ pub fn trim_outer(
             if near_joint && sin < TANGENT_SIN {
                 continue;
             }
-            if a.piece == b.piece && (s - t).abs() < end_eps {
+            if a.piece == b.piece && (s - t).abs() < END_PARAM {
                 continue;
             }
             splits[a.piece].push(s);
@@ -378,10 +390,10 @@ pub fn trim_outer(
         ss.push(0.0);
         ss.push(1.0);
         ss.sort_by(f64::total_cmp);
-        ss.dedup_by(|x, y| (*x - *y).abs() < end_eps);
+        ss.dedup_by(|x, y| (*x - *y).abs() < END_PARAM);
         for w in ss.windows(2) {
             let (s0, s1) = (w[0], w[1]);
-            if s1 - s0 < end_eps {
+            if s1 - s0 < END_PARAM {
                 continue;
             }
             let q = sub_piece(p, s0, s1);

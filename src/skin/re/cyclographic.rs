@@ -27,6 +27,7 @@ pub fn cyclographic(c: &Circle) -> DVec3 {
 
 /// Minkowski squared norm ‖n∇‖² − n_z² of a vector of R^{2,1}: positive for space-like.
 #[inline]
+#[cfg(test)]
 pub fn minkowski_sq(n: DVec3) -> f64 {
     n.x * n.x + n.y * n.y - n.z * n.z
 }
@@ -34,6 +35,7 @@ pub fn minkowski_sq(n: DVec3) -> f64 {
 /// Touching points q± of the envelope with the circle p for the tangent direction t
 /// (re-skinning-cnc eq. 2): q± = p∇ − p_z (t_z t∇ ± t∇⊥ √(‖t∇‖² − t_z²)) / ‖t∇‖².
 /// `q⁺` is on the left of the travel direction t∇. `None` unless t is space-like.
+#[must_use]
 pub fn touching_points(p: DVec3, t: DVec3) -> Option<(DVec2, DVec2)> {
     let tp = proj(t);
     let l = tp.length_squared();

@@ -7,6 +7,10 @@ use super::re_curve::ReCurve;
 use super::skin::ReSkin;
 use crate::geom::DVec2;
 
+/// Floor of the scale of x″ in [`singular_points`], so a straight curve (x″ = 0) gets a
+/// positive (tiny) threshold instead of zero.
+const MIN_SCALE: f64 = 1e-300;
+
 /// Which case of Corollary 1 an intersection comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum IntersectionKind {
@@ -45,6 +49,7 @@ pub fn light_like_factor(c: &ReCurve) -> Poly {
 
 /// The polynomial Λ(t) = ‖y′‖² ‖x′‖² − (f′‖x′‖² + f x′·x″)², which has the sign of
 /// ‖y′‖² − r′² (r′ = (f′‖x′‖² + f x′·x″)/‖x′‖): its roots are the light-like points.
+#[cfg(test)]
 pub fn light_like_poly(c: &ReCurve) -> Poly {
     let (yx, yy) = c.dy_polys();
     let (x1, y1) = c.dx_polys();
@@ -71,7 +76,11 @@ pub fn f_roots(f: &Poly, tol: f64) -> Vec<f64> {
 /// and vice versa (a polynomial x′ vanishes only where both components do).
 pub fn singular_points(c: &ReCurve, tol: f64) -> Vec<f64> {
     let (x1, y1) = c.dx_polys();
-    let scale = x1.deriv().norm_inf().max(y1.deriv().norm_inf()).max(1e-300);
+    let scale = x1
+        .deriv()
+        .norm_inf()
+        .max(y1.deriv().norm_inf())
+        .max(MIN_SCALE);
     let mut out = Vec::new();
     let (a, b) = if x1.norm_inf() >= y1.norm_inf() {
         (x1, y1)

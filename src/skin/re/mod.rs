@@ -9,24 +9,25 @@
 //! its envelopes are rational. [`detect`] finds envelope intersections (Theorem 1,
 //! Corollary 1), [`eliminate`] removes them by tuning uᵢ or raising f to a quartic.
 
-pub mod cyclographic;
-pub mod detect;
-pub mod eliminate;
-pub mod mph;
-pub mod outline;
-pub mod poly;
-pub mod re_curve;
-pub mod skin;
-pub mod tangents;
+pub(crate) mod cyclographic;
+pub(crate) mod detect;
+pub(crate) mod eliminate;
+pub(crate) mod mph;
+pub(crate) mod outline;
+pub(crate) mod poly;
+pub(crate) mod re_curve;
+pub(crate) mod skin;
+pub(crate) mod tangents;
 
-pub use re_curve::{Branch, Frame, Interp, ReCurve};
-pub use skin::{ReSkin, Segment};
+pub use re_curve::{Branch, Interp, ReCurve};
+pub use skin::ReSkin;
 pub use tangents::Touch;
 
 use thiserror::Error;
 
 /// Errors of RE/MPH skin construction; each names the circle or the circle pair.
 #[derive(Clone, Debug, Error, PartialEq)]
+#[non_exhaustive]
 pub enum ReError {
     /// Fewer than 2 circles (the count is given).
     #[error("an RE skin needs at least 2 circles, got {0}")]

@@ -82,6 +82,7 @@ impl PhQuintic {
 
     /// The interpolant of least bending energy ∫ κ² ds (Farouki's selection rule).
     /// `None` when every candidate has a singular point (zero hodograph).
+    #[cfg(test)]
     pub fn hermite(p0: DVec2, d0: DVec2, p1: DVec2, d1: DVec2) -> Option<PhQuintic> {
         PhQuintic::hermite_ranked(p0, d0, p1, d1).into_iter().next()
     }

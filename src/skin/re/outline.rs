@@ -14,6 +14,7 @@ use crate::skin::re::{Branch, Interp, ReSkin, Touch};
 
 /// Why an RE/MPH outline (or its offsets) could not be built.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReOutlineError {
     /// No touching points for the circle sequence (Kunkli–Hoffmann construction).
     #[error(transparent)]
@@ -55,6 +56,7 @@ const RE_PARAM_TOL: f64 = 1e-12;
 
 /// An RE/MPH outline of a circle sequence, flattened, with what was found on the way.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct ReOutline {
     /// The skin after elimination.
     pub skin: ReSkin,
@@ -278,7 +280,7 @@ pub fn stroke_re_input(
     epsilon: f64,
 ) -> Result<(Vec<Circle>, Vec<Touch>, bool), ReOutlineError> {
     let mut skin_opts = DbscSkinOptions {
-        eps: epsilon,
+        epsilon,
         // Only the circles are used.
         report: ReportBounds::Decided,
         ..DbscSkinOptions::default()

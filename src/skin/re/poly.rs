@@ -130,7 +130,7 @@ impl Poly {
     /// of the polynomial's values).
     pub fn roots_01(&self, tol: f64, zero_tol: f64) -> Vec<f64> {
         let mut roots = Roots {
-            tol: tol.max(1e-15),
+            tol: tol.max(MIN_ROOT_TOL),
             zero_tol,
             out: Vec::new(),
         };
@@ -152,6 +152,9 @@ impl Poly {
 }
 
 pub use crate::geom::bernstein::{Positivity, binom};
+
+/// Least root tolerance of [`Poly::roots_01`] on [0, 1]: about the resolution of f64 there.
+const MIN_ROOT_TOL: f64 = 1e-15;
 
 /// Adds the product of the power-basis coefficients `a` and `b` into `out` (at least
 /// `a.len() + b.len() − 1` long): `out[i + j] += a[i]·b[j]`, i then j ascending, so each
@@ -186,6 +189,7 @@ pub fn mul_add_into(a: &[f64], b: &[f64], out: &mut [f64]) {
 
 /// Value of a Bernstein polynomial at local parameter `s` (de Casteljau,
 /// [`bernstein::eval`]).
+#[cfg(test)]
 pub fn bern_eval(b: &[f64], s: f64) -> f64 {
     bernstein::eval(b, s)
 }
@@ -264,9 +268,9 @@ pub fn prove_positive(p: &Poly, max_depth: u32) -> Positivity {
 /// Real roots in [0, 1] of the cubic a₀ + a₁t + a₂t² + a₃t³ in closed form (Cardano /
 /// trigonometric form; re-mph-skinning-flexible Sec. 4.1: "the formula of Cardano"),
 /// falling back to the quadratic or linear formula when the leading coefficients vanish
-/// relative to `eps` × the largest coefficient. Ascending; roots within `eps` outside
+/// relative to `rel_tol` × the largest coefficient. Ascending; roots within `rel_tol` outside
 /// [0, 1] are clamped in.
-pub fn cubic_roots_01(p: &Poly, eps: f64) -> Vec<f64> {
+pub fn cubic_roots_01(p: &Poly, rel_tol: f64) -> Vec<f64> {
     let a = |k: usize| p.c.get(k).copied().unwrap_or(0.0);
     let scale = p.norm_inf();
     if scale == 0.0 {
@@ -274,9 +278,9 @@ pub fn cubic_roots_01(p: &Poly, eps: f64) -> Vec<f64> {
     }
     let (a0, a1, a2, a3) = (a(0), a(1), a(2), a(3));
     let mut roots = Vec::new();
-    if a3.abs() <= eps * scale {
-        if a2.abs() <= eps * scale {
-            if a1.abs() > eps * scale {
+    if a3.abs() <= rel_tol * scale {
+        if a2.abs() <= rel_tol * scale {
+            if a1.abs() > rel_tol * scale {
                 roots.push(-a0 / a1);
             }
         } else {
@@ -324,11 +328,11 @@ pub fn cubic_roots_01(p: &Poly, eps: f64) -> Vec<f64> {
     }
     let mut out: Vec<f64> = roots
         .into_iter()
-        .filter(|r| r.is_finite() && *r >= -eps && *r <= 1.0 + eps)
+        .filter(|r| r.is_finite() && *r >= -rel_tol && *r <= 1.0 + rel_tol)
         .map(|r| r.clamp(0.0, 1.0))
         .collect();
     out.sort_by(f64::total_cmp);
-    out.dedup_by(|x, y| (*x - *y).abs() <= eps);
+    out.dedup_by(|x, y| (*x - *y).abs() <= rel_tol);
     out
 }
 

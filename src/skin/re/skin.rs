@@ -38,7 +38,7 @@ pub struct ReSkin {
     pub touches: Vec<Touch>,
     /// Tangent vectors tᵢ ∈ R^{2,1} (eqs. 7–10 or mph eq. 11).
     pub tangents: Vec<DVec3>,
-    /// One segment per consecutive circle pair ([`pairs`]).
+    /// One segment per consecutive circle pair.
     pub segments: Vec<Segment>,
     /// Whether the last circle is joined to the first.
     pub closed: bool,

@@ -41,6 +41,7 @@ impl Touch {
 /// printed: t = [r²/γ (W⁺_y − W⁻_y), r²/γ (W⁻_x − W⁺_x), −r] with γ of eq. 9.
 /// Its planar part ends at Sᵢ of eqs. 7–8 (inverse of the chord midpoint Iᵢ). Returns
 /// `None` when γ = 0 (chord through the centre: the tangent is horizontal).
+#[cfg(test)]
 pub fn tangent_eq10(c: &Circle, wp: DVec2, wm: DVec2) -> Option<DVec3> {
     let p = c.c;
     let gamma = p.x * (wm.y - wp.y) + p.y * (wp.x - wm.x) + wp.y * wm.x - wp.x * wm.y;

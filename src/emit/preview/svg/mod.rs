@@ -11,13 +11,26 @@
 //! a fixed number of elements, points and, for a raster, pixels of ink; a layer that reaches
 //! its budget stops there and the legend says how much was drawn.
 
+use super::Scene;
 use super::draw::{Drawing, Frame, Paint, Rgb, Style};
-use super::{COLOR_STEPS, Scene};
-use crate::sim::{MachineKind, MotionKind, Severity};
+use crate::sim::{MotionKind, Severity};
 use glam::DVec2;
+
+mod layers;
+mod legend;
+
+pub use layers::{CUT_BUDGET, FINDING_BUDGET, LayerBudget, MARK_BUDGET, RAPID_BUDGET};
+use layers::{Chain, Layer, move_points};
+pub use legend::hms;
+use legend::legend_rows;
+
+/// Least sagitta tolerance (page mm) of the arcs the preview flattens: a tenth of the cut
+/// line's width, but not below this, so a huge page does not flatten finer than visible.
+const MIN_FLATTEN_TOL: f64 = 1e-4;
 
 /// Options of [`scene_svg`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct SvgOptions {
     /// Draw the legend below the drawing.
     pub legend: bool,
@@ -72,57 +85,6 @@ const LISTED_OPERATIONS: usize = 24;
 /// Largest raster side the SVG's detail is meant for, pixels: geometry closer than the
 /// page's larger side over this merges (the largest PNG, [`super::png::MAX_SIDE`]).
 pub const SVG_DETAIL_SIDE: f64 = 16384.0;
-
-/// What one layer of the drawing may hold.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LayerBudget {
-    /// Drawn elements (paths, circles).
-    pub elements: usize,
-    /// Polyline points over all its paths.
-    pub points: usize,
-    /// Raster ink: the area its strokes cover, counted as (length + width) · width per path,
-    /// in pixels² (rasterising costs about this many pixel writes; ignored for SVG).
-    pub ink: f64,
-}
-
-/// Cut contours and ramps: a million points, 10⁵ paths, 4·10⁷ px² of ink (about 15 times a
-/// 1600 × 1600 image covered; tiny-skia strokes some 10⁷ px² a second).
-pub const CUT_BUDGET: LayerBudget = LayerBudget {
-    elements: 100_000,
-    points: 1_000_000,
-    ink: 4.0e7,
-};
-/// Rapids and travels.
-pub const RAPID_BUDGET: LayerBudget = LayerBudget {
-    elements: 50_000,
-    points: 500_000,
-    ink: 2.0e7,
-};
-/// Start markers, order numbers and direction arrows.
-pub const MARK_BUDGET: LayerBudget = LayerBudget {
-    elements: 20_000,
-    points: 100_000,
-    ink: 1.0e7,
-};
-/// Finding rings and numbers.
-pub const FINDING_BUDGET: LayerBudget = LayerBudget {
-    elements: 20_000,
-    points: 100_000,
-    ink: 1.0e7,
-};
-
-/// Seconds as `h:mm:ss` or `m:ss.s`.
-pub fn hms(t: f64) -> String {
-    let t = if t.is_finite() { t.max(0.0) } else { 0.0 };
-    let h = (t / 3600.0).floor();
-    let m = ((t - 3600.0 * h) / 60.0).floor();
-    let s = t - 3600.0 * h - 60.0 * m;
-    if h > 0.0 {
-        format!("{h}:{m:02}:{:02}", s.floor())
-    } else {
-        format!("{m}:{s:04.1}")
-    }
-}
 
 /// The region the drawing shows (world mm): the moves and findings, and the work area when
 /// it is not much larger than the job.
@@ -189,176 +151,6 @@ impl Sizes {
             font: FONT * s,
         }
     }
-}
-
-/// Text lines of the legend with optional swatch colour and dash flag.
-struct Row {
-    swatch: Option<(Rgb, bool)>,
-    text: String,
-    class: &'static str,
-}
-
-/// The legend's rows; `notes` (what the drawing left out) follow the title.
-fn legend_rows(scene: &Scene, opts: &SvgOptions, notes: &[String]) -> Vec<Row> {
-    let mut rows = Vec::new();
-    let text = |s: String, class| Row {
-        swatch: None,
-        text: s,
-        class,
-    };
-    let cut_moves = (0..scene.motions.len())
-        .filter(|&i| scene.is_cut(i))
-        .count();
-    rows.push(text(
-        format!(
-            "{}: {} moves ({} cutting), {} contours, time {} (with acceleration)",
-            scene.title,
-            scene.motions.len(),
-            cut_moves,
-            scene.contours.len(),
-            hms(scene.total_time)
-        ),
-        "title",
-    ));
-    if let Some(f) = scene.stopped() {
-        rows.push(text(
-            format!(
-                "reading stopped at a limit{} [{}]: the moves after it are not shown",
-                f.lines
-                    .first()
-                    .map(|l| format!(" on line {l}"))
-                    .unwrap_or_default(),
-                f.id
-            ),
-            "limit",
-        ));
-    }
-    for n in notes {
-        rows.push(text(n.clone(), "limit"));
-    }
-    let scale = scene.color_scale();
-    let what = match scene.kind {
-        MachineKind::Laser => "cut colour: laser power S",
-        MachineKind::Router => "cut colour: depth below z 0 (mm)",
-    };
-    rows.push(text(what.to_string(), "scale"));
-    let mut used = [false; COLOR_STEPS];
-    for m in scene.motions.iter() {
-        if crate::sim::checks::is_cutting(&m, &scene.cfg) {
-            used[scale.step(scene.value_of(&m))] = true;
-        }
-    }
-    let fmt = |v: f64| match scene.kind {
-        MachineKind::Laser => format!("S {}", crate::emit::svg_page::num(v)),
-        MachineKind::Router => format!("{v:.2} mm"),
-    };
-    for (k, _) in used.iter().enumerate().filter(|(_, u)| **u) {
-        let (a, b) = scale.range(k);
-        let label = if scale.hi > scale.lo {
-            format!("{} to {}", fmt(a), fmt(b))
-        } else {
-            fmt(scale.hi)
-        };
-        rows.push(Row {
-            swatch: Some((scale.rgb(k), false)),
-            text: label,
-            class: "scale",
-        });
-    }
-    rows.push(Row {
-        swatch: Some((RAPID_COLOR, true)),
-        text: "rapids and travels".into(),
-        class: "key",
-    });
-    rows.push(Row {
-        swatch: Some((START_COLOR, false)),
-        text: "cut starts, numbered in cutting order; arrows show the direction".into(),
-        class: "key",
-    });
-    let mut per_op = vec![0usize; scene.operations.len()];
-    for c in &scene.contours {
-        if let Some(n) = per_op.get_mut(scene.contour_op(c)) {
-            *n += 1;
-        }
-    }
-    for (i, name) in scene.operations.iter().enumerate().take(LISTED_OPERATIONS) {
-        rows.push(text(
-            format!("operation {}: {name}, {} contours", i + 1, per_op[i]),
-            "op",
-        ));
-    }
-    if scene.operations.len() > LISTED_OPERATIONS {
-        let rest = &per_op[LISTED_OPERATIONS..];
-        rows.push(text(
-            format!(
-                "operations {} to {}: {} contours",
-                LISTED_OPERATIONS + 1,
-                scene.operations.len(),
-                rest.iter().sum::<usize>()
-            ),
-            "op",
-        ));
-    }
-    if !scene.checked {
-        rows.push(text(
-            "checker: not run (no G-code for this machine)".into(),
-            "findings",
-        ));
-    } else if scene.findings.is_empty() {
-        rows.push(text("checker: no findings".into(), "findings"));
-    } else {
-        rows.push(Row {
-            swatch: Some((FINDING_COLOR, false)),
-            text: format!(
-                "checker: {} findings (ringed and numbered)",
-                scene.findings.len()
-            ),
-            class: "findings",
-        });
-        if scene.findings.len() <= opts.max_listed_findings {
-            for (i, f) in scene.findings.iter().enumerate() {
-                rows.push(text(format!("{}. {f}", i + 1), "finding-text"));
-            }
-        } else {
-            // Many findings: one row per kind with its count and first lines.
-            let mut kinds: Vec<(&str, Severity, Vec<usize>, usize)> = Vec::new();
-            for f in &scene.findings {
-                match kinds.iter_mut().find(|k| k.0 == f.id) {
-                    Some(k) => {
-                        k.3 += 1;
-                        k.2.extend(f.lines.iter().take(1));
-                    }
-                    None => kinds.push((
-                        f.id,
-                        f.severity,
-                        f.lines.iter().take(1).copied().collect(),
-                        1,
-                    )),
-                }
-            }
-            for (id, sev, lines, count) in kinds {
-                let shown: Vec<String> = lines
-                    .iter()
-                    .take(FINDING_LINES)
-                    .map(|l| l.to_string())
-                    .collect();
-                let more = if lines.len() > FINDING_LINES {
-                    ", ..."
-                } else {
-                    ""
-                };
-                rows.push(text(
-                    format!("{sev} [{id}] x{count}: lines {}{more}", shown.join(", ")),
-                    "finding-text",
-                ));
-            }
-            rows.push(text(
-                "(skinpath check lists every finding)".to_string(),
-                "finding-text",
-            ));
-        }
-    }
-    rows
 }
 
 /// The point at half the length of a polyline and the unit direction there.
@@ -457,251 +249,8 @@ impl Detail {
     }
 }
 
-/// What a layer of the drawing has drawn against its [`LayerBudget`]; the first elements
-/// in drawing order are drawn, the layer stops at the first that would exceed a budget.
-struct Layer {
-    name: &'static str,
-    budget: LayerBudget,
-    detail: Detail,
-    elements: usize,
-    points: usize,
-    ink: f64,
-    full: bool,
-    /// Elements left out once the budget was reached.
-    left_out: usize,
-    /// Whether the last element drawn was cut short at the budget.
-    truncated: bool,
-    /// The last dot (a path shorter than a pixel) drawn and its colour: the next one of
-    /// that colour within a pixel of it merges into it.
-    last_dot: Option<(DVec2, Rgb)>,
-}
-
-impl Layer {
-    fn new(name: &'static str, budget: LayerBudget, detail: Detail) -> Layer {
-        Layer {
-            name,
-            budget,
-            detail,
-            elements: 0,
-            points: 0,
-            ink: 0.0,
-            full: false,
-            left_out: 0,
-            truncated: false,
-            last_dot: None,
-        }
-    }
-
-    /// Whether an element of `points` points, `length` long and `width` wide (page mm)
-    /// fits; counts it when it does, and as left out when it does not.
-    fn admit(&mut self, points: usize, length: f64, width: f64) -> bool {
-        let ink = if self.detail.raster {
-            (length + width) * width / (self.detail.pixel * self.detail.pixel)
-        } else {
-            0.0
-        };
-        if !self.full
-            && (self.elements + 1 > self.budget.elements
-                || self.points + points > self.budget.points
-                || self.ink + ink > self.budget.ink)
-        {
-            self.full = true;
-        }
-        if self.full {
-            self.left_out += 1;
-            return false;
-        }
-        self.elements += 1;
-        self.points += points;
-        self.ink += ink;
-        true
-    }
-
-    /// Admits a polyline of page points stroked `width` wide in `color`, simplified to the
-    /// pixel. A polyline shorter than a pixel is a dot: dropped when `dots` is false
-    /// (rapids), merged into the previous dot when that has its colour and lies within a
-    /// pixel. None when nothing is drawn.
-    fn polyline(
-        &mut self,
-        pts: &[DVec2],
-        width: f64,
-        color: Rgb,
-        dots: bool,
-    ) -> Option<Vec<DVec2>> {
-        let pts = simplify(pts, self.detail.pixel);
-        let first = *pts.first()?;
-        let length: f64 = pts.windows(2).map(|w| w[0].distance(w[1])).sum();
-        if pts.len() <= 2 && length < self.detail.pixel {
-            let merges = self
-                .last_dot
-                .is_some_and(|(d, c)| c == color && d.distance(first) < self.detail.pixel);
-            if !dots || merges || !self.admit(2, 0.0, width) {
-                return None;
-            }
-            self.last_dot = Some((first, color));
-            return Some(if pts.len() == 2 {
-                pts
-            } else {
-                vec![first, first]
-            });
-        }
-        self.fit(pts, width)
-    }
-
-    /// Admits a polyline stroked `width` wide, or as much of its start as the budget holds
-    /// (then the layer is full).
-    fn fit(&mut self, mut pts: Vec<DVec2>, width: f64) -> Option<Vec<DVec2>> {
-        if !self.full && self.elements + 1 > self.budget.elements {
-            self.full = true;
-        }
-        if self.full {
-            self.left_out += 1;
-            return None;
-        }
-        // Ink per page mm of length (the width term is the round caps).
-        let per_mm = if self.detail.raster {
-            width / (self.detail.pixel * self.detail.pixel)
-        } else {
-            0.0
-        };
-        let mut ink = self.ink + width * per_mm;
-        let mut taken = 1;
-        for (i, w) in pts.windows(2).enumerate() {
-            let more = w[0].distance(w[1]) * per_mm;
-            if self.points + i + 2 > self.budget.points || ink + more > self.budget.ink {
-                break;
-            }
-            ink += more;
-            taken = i + 2;
-        }
-        if taken < pts.len() {
-            self.full = true;
-            if taken < 2 {
-                self.left_out += 1;
-                return None;
-            }
-            self.truncated = true;
-            pts.truncate(taken);
-        }
-        self.elements += 1;
-        self.points += taken;
-        self.ink = ink;
-        Some(pts)
-    }
-
-    /// The legend's note when the layer left something out.
-    fn note(&self) -> Option<String> {
-        (self.left_out > 0 || self.truncated).then(|| {
-            format!(
-                "preview limit: {} of {} {} drawn{} (the first in program order)",
-                self.elements,
-                self.elements + self.left_out,
-                self.name,
-                if self.truncated {
-                    ", the last in part"
-                } else {
-                    ""
-                }
-            )
-        })
-    }
-}
-
-/// A path of connected travels being collected: its points simplified to the pixel as they
-/// come (see [`simplify`]), at most `cap` of them (then it is drawn and a new one starts).
-struct Chain {
-    pixel: f64,
-    cap: usize,
-    pts: Vec<DVec2>,
-    /// The last point added (kept or not): the path's end.
-    end: Option<DVec2>,
-}
-
-impl Chain {
-    fn new(pixel: f64, cap: usize) -> Chain {
-        Chain {
-            pixel,
-            cap: cap.max(2),
-            pts: Vec::new(),
-            end: None,
-        }
-    }
-
-    /// Adds a travel through page points `pts`; one that does not start where the path
-    /// ends starts a new path.
-    fn extend(&mut self, pts: &[DVec2], page: &mut Drawing, layer: &mut Layer, width: f64) {
-        let Some(&first) = pts.first() else {
-            return;
-        };
-        if self.end != Some(first) {
-            self.flush(page, layer, width);
-            self.pts.push(first);
-        }
-        for &p in &pts[1..] {
-            if self.pts.last().is_some_and(|l| l.distance(p) >= self.pixel) {
-                if self.pts.len() + 1 >= self.cap {
-                    self.end = Some(p);
-                    self.flush(page, layer, width);
-                }
-                self.pts.push(p);
-            }
-            self.end = Some(p);
-        }
-    }
-
-    /// Draws the path collected (when the layer admits it) and starts an empty one.
-    fn flush(&mut self, page: &mut Drawing, layer: &mut Layer, width: f64) {
-        let mut pts = std::mem::take(&mut self.pts);
-        if let Some(end) = self.end.take()
-            && pts.last() != Some(&end)
-        {
-            pts.push(end);
-        }
-        if pts.len() >= 2
-            && let Some(pts) = layer.polyline(&pts, width, RAPID_COLOR, false)
-        {
-            page.polyline("rapid", pts, false, Style::default(), None);
-        }
-    }
-}
-
-/// `pts` without the points closer than `tol` to the last point kept (the last point
-/// always stays): every point left out lies within `tol` of a kept one, so the drawing
-/// moves by less than `tol` (radial-distance simplification).
-pub fn simplify(pts: &[DVec2], tol: f64) -> Vec<DVec2> {
-    let Some((&first, rest)) = pts.split_first() else {
-        return Vec::new();
-    };
-    let mut out = vec![first];
-    let mut last = first;
-    for &p in rest {
-        if p.distance(last) >= tol {
-            out.push(p);
-            last = p;
-        }
-    }
-    if let Some(&end) = pts.last()
-        && last != end
-    {
-        out.push(end);
-    }
-    out
-}
-
-/// The xy points of a move with sagitta ≤ `tol`. An arc of more than one turn covers its
-/// circle once: the later turns retrace it.
-fn move_points(m: &crate::sim::Motion, tol: f64) -> Vec<DVec2> {
-    match m.arc {
-        Some(a) if a.sweep.abs() > std::f64::consts::TAU => crate::geom::Arc {
-            sweep: std::f64::consts::TAU.copysign(a.sweep),
-            ..a
-        }
-        .flatten(tol),
-        _ => m.flatten_xy(tol),
-    }
-}
-
 /// The preview SVG of `scene`.
+#[must_use]
 pub fn scene_svg(scene: &Scene, opts: &SvgOptions) -> String {
     let layout = Layout::of(scene, opts);
     scene_drawing(scene, opts, &layout, &Detail::svg(&layout)).to_svg()
@@ -719,7 +268,7 @@ pub fn scene_drawing(
     let sz = layout.sizes;
     let frame = Frame::new(lo, hi, 1.0, DVec2::ZERO);
     let mut page = Drawing::new(layout.width, layout.drawing_height);
-    let flat_tol = (0.1 * sz.cut).max(1e-4);
+    let flat_tol = (0.1 * sz.cut).max(MIN_FLATTEN_TOL);
     let mut rapids = Layer::new("rapids", RAPID_BUDGET, *detail);
     let mut cuts = Layer::new("cut paths", CUT_BUDGET, *detail);
     let mut marks = Layer::new("start markers and arrows", MARK_BUDGET, *detail);
@@ -1009,6 +558,7 @@ pub fn scene_drawing(
 
 #[cfg(test)]
 mod tests {
+    use super::layers::simplify;
     use super::*;
     use proptest::prelude::*;
 

@@ -579,10 +579,8 @@ const BVH_LEAF: usize = 8;
 /// consecutive boxes, then pairs of blocks, up to one root. Consecutive circles of a stroke
 /// and consecutive segments of a connected path are spatially close, so the nodes stay
 /// tight and a query costs O(log n + hits) whatever the shape's aspect ratio. (An R-tree
-/// bulk-loaded with rstar's OMT splitting degrades on long thin strokes: the query cost per
-/// circle grew from 2 µs at n = 10³ to 9 µs at n = 10⁵ on the wavy benchmark stroke; a
-/// uniform hash grid was flat up to 10⁴ but 2–4× slower than this hierarchy, whose query
-/// cost went from 0.07 µs at n = 10² to 0.17 µs at n = 10⁵.)
+/// bulk-loaded with rstar's OMT splitting degrades on long thin strokes, whose boxes it
+/// groups poorly; a uniform hash grid suits evenly spread items, not a stroke's chain.)
 pub(crate) struct SeqBvh {
     boxes: Vec<BBox>,
     /// `levels[0]` covers leaf blocks; node j of level k covers nodes 2j, 2j+1 of k − 1.
