@@ -245,3 +245,11 @@ fn along(line: &[DVec2], clipped: &geo::MultiLineString<f64>) -> Vec<Vec<DVec2>>
     }
     out
 }
+
+/// A solid paint as `#rrggbb` (lower case); `None` for gradients and patterns.
+pub(super) fn paint_color(p: &usvg::Paint) -> Option<String> {
+    match p {
+        usvg::Paint::Color(c) => Some(format!("#{:02x}{:02x}{:02x}", c.red, c.green, c.blue)),
+        _ => None,
+    }
+}
