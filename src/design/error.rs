@@ -185,6 +185,13 @@ pub enum ErrorKind {
     Build(String),
     /// Serialising the design failed.
     Serialize(String),
+    /// The file needs a part of skinpath this build leaves out (a Cargo feature that is off).
+    FeatureOff {
+        /// What the file needs, in words (`"SVG import"`).
+        what: &'static str,
+        /// The Cargo feature that provides it (`"svg-import"`).
+        feature: &'static str,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -227,6 +234,10 @@ impl fmt::Display for ErrorKind {
             ErrorKind::Invalid(m) => write!(f, "{m}"),
             ErrorKind::Build(m) => write!(f, "{m}"),
             ErrorKind::Serialize(m) => write!(f, "cannot write design: {m}"),
+            ErrorKind::FeatureOff { what, feature } => write!(
+                f,
+                "{what} is not built into this skinpath (build it with the `{feature}` feature)"
+            ),
         }
     }
 }

@@ -30,16 +30,26 @@ impl Format {
 }
 
 /// Parse and validate a design, choosing the format by `file_name`'s extension; an `.svg`
-/// file is imported ([`super::svg::load_svg`]).
+/// file is imported (`load_svg`, with the `svg-import` feature; without it an `.svg` file is
+/// an [`ErrorKind::FeatureOff`] error).
 pub fn load(text: &str, file_name: &str) -> Result<Design, DesignError> {
     load_noted(text, file_name).map(|(d, _)| d)
 }
 
 /// [`load`], with the lines an SVG import has to say (skipped elements and warnings, see
-/// [`super::svg::load_svg_noted`]); none for design files.
+/// `load_svg_noted`); none for design files.
 pub fn load_noted(text: &str, file_name: &str) -> Result<(Design, Vec<String>), DesignError> {
     if file_name.to_ascii_lowercase().ends_with(".svg") {
+        #[cfg(feature = "svg-import")]
         return super::svg::load_svg_noted(text, file_name);
+        #[cfg(not(feature = "svg-import"))]
+        return Err(DesignError::file(
+            file_name,
+            ErrorKind::FeatureOff {
+                what: "SVG import",
+                feature: "svg-import",
+            },
+        ));
     }
     let format = Format::from_file_name(file_name)
         .ok_or_else(|| DesignError::file(file_name, ErrorKind::UnknownFormat))?;

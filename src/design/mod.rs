@@ -161,6 +161,7 @@ pub mod neon;
 pub mod output;
 pub mod select;
 pub mod shape;
+#[cfg(feature = "svg-import")]
 pub mod svg;
 pub mod text;
 mod validate;
