@@ -5,6 +5,7 @@ use std::fmt;
 
 /// The top-level item of a design an error is about.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Item {
     /// `[[stroke]]` number `index` (0-based) with its `name`. After loading has expanded
     /// texts and split strokes at corners, `index` counts the expanded list.
@@ -69,6 +70,7 @@ impl fmt::Display for Item {
 
 /// The part of an item an error is about.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Part {
     /// Control disk `i` of a stroke's `disks`.
     Disk(usize),
@@ -115,6 +117,7 @@ impl fmt::Display for Part {
 
 /// What went wrong.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum ErrorKind {
     /// Syntax error, wrong type or unknown key, at a 1-based line and column when known.
     Parse {
@@ -244,6 +247,7 @@ impl fmt::Display for ErrorKind {
 
 /// Where and what: the content of a [`DesignError`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ErrorInfo {
     /// The file name given to the loader.
     pub file: String,
@@ -258,6 +262,7 @@ pub struct ErrorInfo {
 /// An error of a design file: `file: item, part: what` (boxed to keep `Result`s small;
 /// the fields of [`ErrorInfo`] are reachable through `Deref`).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub struct DesignError(pub Box<ErrorInfo>);
 
 impl std::ops::Deref for DesignError {

@@ -30,7 +30,7 @@ impl Format {
 }
 
 /// Parse and validate a design, choosing the format by `file_name`'s extension; an `.svg`
-/// file is imported (`load_svg`, with the `svg-import` feature; without it an `.svg` file is
+/// file is imported (with the `svg-import` feature; without it an `.svg` file is
 /// an [`ErrorKind::FeatureOff`] error).
 pub fn load(text: &str, file_name: &str) -> Result<Design, DesignError> {
     load_noted(text, file_name).map(|(d, _)| d)

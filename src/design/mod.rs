@@ -153,21 +153,21 @@
 //! or `file:12:5: unknown field ...` for syntax errors; indices are 0-based.
 
 mod build;
-pub mod corners;
+pub(crate) mod corners;
 mod error;
 mod load;
 mod model;
-pub mod neon;
-pub mod output;
-pub mod select;
-pub mod shape;
+pub(crate) mod neon;
+pub(crate) mod output;
+pub(crate) mod select;
+pub(crate) mod shape;
 #[cfg(feature = "svg-import")]
-pub mod svg;
-pub mod text;
+pub(crate) mod svg;
+pub(crate) mod text;
 mod validate;
 
 pub use build::attribute_curve;
-pub use corners::Corner;
+pub use corners::{CORNER_ANGLE_DEG, Corner};
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load, load_noted};
 pub use model::{
@@ -179,7 +179,15 @@ pub use neon::{Flex, FlexPreset, Neon, NeonRun};
 pub use output::{OperationRef, Output};
 pub use select::{HAIRLINE_MM, Selection, Tags, default_operations, normalize_color};
 pub use shape::{FillRule, Shape};
-pub use text::Text;
+#[cfg(feature = "svg-import")]
+pub use svg::{
+    DEFAULT_TOLERANCE as DEFAULT_IMPORT_TOLERANCE, ImportOptions, Imported, MM_PER_PX, Skipped,
+    import,
+};
+pub use text::{
+    Align, DEFAULT_LINE_SPACING, Font, Kerning, MAX_TEXT_CHARS, MIN_HEIGHT, Text, TextProblem,
+    layout_problem,
+};
 pub use validate::{
     MAX_COORD, MAX_DEGREE, MAX_FEED, MAX_ITEMS, MAX_PASSES, MAX_TABS, MIN_RADIUS, NEAR_FRACTION,
     validate,

@@ -46,9 +46,9 @@ use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
 
 #[path = "fonts/latin1.rs"]
-pub mod latin1;
+pub(crate) mod latin1;
 #[path = "fonts/smooth.rs"]
-pub mod smooth;
+pub(crate) mod smooth;
 
 /// Default distance between baselines, in multiples of the cap height: the Hershey fonts'
 /// cap line to descender line is 28 units for a 21-unit cap height, plus a gap.
@@ -72,6 +72,7 @@ const MISSING_SHOWN: usize = 8;
 /// What is wrong with a `[[text]]` element ([`Text::problem`]): the key it concerns and the
 /// problem, without the file or element (which the caller knows).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct TextProblem {
     /// The design-file key: `text`, `height`, `width`, `at`, `letter_spacing`,
     /// `line_spacing`.

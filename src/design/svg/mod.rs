@@ -72,7 +72,7 @@ mod power;
 mod segment;
 mod source;
 mod walk;
-pub mod xml;
+pub(crate) mod xml;
 
 use paint::paint_color;
 use segment::{flatten_segment, longest_subpath, segment_point, segment_time, tangents, turn};
@@ -98,6 +98,7 @@ const ROUND: f64 = 1e6;
 
 /// Options of [`import`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ImportOptions {
     /// Largest distance between a stroke's spine and the SVG centre line, mm.
     pub tolerance: f64,
@@ -114,8 +115,26 @@ impl Default for ImportOptions {
     }
 }
 
+impl ImportOptions {
+    /// These options with the fitting tolerance `tolerance` (mm).
+    #[must_use]
+    pub fn with_tolerance(self, tolerance: f64) -> Self {
+        ImportOptions { tolerance, ..self }
+    }
+
+    /// These options with the corner angle `degrees`.
+    #[must_use]
+    pub fn with_corner_angle(self, degrees: f64) -> Self {
+        ImportOptions {
+            corner_angle: degrees,
+            ..self
+        }
+    }
+}
+
 /// An element that was not imported.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Skipped {
     /// The element's id, or `<tag> #k` (k-th such element in document order) without one.
     pub id: String,
@@ -125,6 +144,7 @@ pub struct Skipped {
 
 /// The result of [`import`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Imported {
     /// The design: one stroke per stroked subpath (with `corners`), not yet expanded, and
     /// one shape per filled path.
@@ -258,12 +278,7 @@ pub fn import(text: &str, file: &str, opts: &ImportOptions) -> Result<Imported, 
 }
 
 /// Load an SVG file as a design (import with default options, then the usual expansion
-/// and validation).
-pub fn load_svg(text: &str, file: &str) -> Result<Design, DesignError> {
-    load_svg_noted(text, file).map(|(d, _)| d)
-}
-
-/// [`load_svg`], with what the import left out or caught: one line per skipped element
+/// and validation), with what the import left out or caught: one line per skipped element
 /// (`skipped ID: reason`) and per warning (`warning: ID: reason`), for the caller to show.
 pub fn load_svg_noted(text: &str, file: &str) -> Result<(Design, Vec<String>), DesignError> {
     let imported = import(text, file, &ImportOptions::default())?;
