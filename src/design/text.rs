@@ -56,10 +56,8 @@ pub const DEFAULT_LINE_SPACING: f64 = 1.6;
 
 /// Largest number of characters of a `[[text]]` element, line breaks included, and of
 /// all the text of one design together: each visible character becomes a few strokes that
-/// are skinned, offset and checked, and the build's cost grows faster than the length
-/// (December 2026, 2 cores, `build --machine grbl-laser --fit 380x380` of 5 mm sans text:
-/// 1,000 characters 5.5 s, 2,000 12.7 s, 5,000 73 s); a longer text belongs in several
-/// jobs.
+/// are skinned, offset and checked, and the build's cost grows faster than the length; a
+/// longer text belongs in several jobs.
 pub const MAX_TEXT_CHARS: usize = 2_000;
 
 /// Smallest cap height, design units: 21 × [`MIN_RADIUS`], so that one unit of the 21-unit

@@ -6,7 +6,7 @@
 //! Ranges (every violation is an error naming the file and the dotted key; there are no
 //! silent clamps): work-area bounds within ±1e7 mm; `max_feed` and `acceleration` per axis
 //! in (0, 1e7] (z may be 0); tool `diameter` and beam `kerf` within 0.001..=1000 mm
-//! ([`profile::TOOL_SIZE_MM`], converted to the profile's units); V-bit `angle` in (0, 180)
+//! ([`TOOL_SIZE_MM`], converted to the profile's units); V-bit `angle` in (0, 180)
 //! and `tip_diameter` in \[0, diameter); `power` 0 ≤ min ≤ max, max > 0; dwells
 //! 0..=600 s; `gcode.decimals` 0..=6; `gcode.path_tolerance` 0..=1e7 mm; `router.safe_z` in
 //! (0, work_area.z max], `clearance_z` in [0, safe_z], `plunge_feed` in (0, max_feed.z];
@@ -28,7 +28,7 @@ pub(crate) use number::{pow10, push_number};
 pub use profile::{
     ArcFormat, Axes, GcodeSettings, LaserMode, LaserSettings, MachineKind, OperationColors,
     PowerRange, Profile, ProfileError, ProfileErrorKind, Range, RapidOff, RouterSettings,
-    SvgSettings, Tool, ToolKind, Units, WorkArea,
+    SvgSettings, TOOL_SIZE_MM, Tool, ToolKind, Units, WorkArea,
 };
 
 /// The shipped profiles' file names and texts (embedded, so the binary works from anywhere).

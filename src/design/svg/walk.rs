@@ -4,6 +4,18 @@
 
 use super::*;
 
+/// Distance (mm) from a subpath's last point to its start below which `Z` adds no closing
+/// segment (the path is already back at its start).
+const CLOSE_GAP: f64 = 1e-9;
+
+/// Accuracy of the nearest-point search that gives a flattened point its path time, as a
+/// fraction of the tolerance (Power Stroke widths are looked up by path time).
+const TIME_ACCURACY: f64 = 1e-9;
+
+/// Relative difference between the drawn and the visible length of a stroke below which
+/// no later fill hides any of it (the stroke is kept as fitted).
+const SEEN_WHOLE: f64 = 1e-9;
+
 impl Ctx<'_> {
     pub(super) fn to_mm(&self, p: DVec2) -> DVec2 {
         DVec2::new(p.x * MM_PER_PX, (self.page_height - p.y) * MM_PER_PX)
@@ -222,7 +234,7 @@ impl Ctx<'_> {
                     if let Some((s, start, tin)) = cur.as_mut() {
                         let last = *s.pts.last().unwrap_or(start);
                         let mut tin = *tin;
-                        if last.distance(*start) > 1e-9 {
+                        if last.distance(*start) > CLOSE_GAP {
                             segment += 1;
                             let (a, b) = tangents(&[last, *start]);
                             let k = s.pts.len() - 1;
@@ -276,7 +288,12 @@ impl Ctx<'_> {
                 // inside the segment, so the widths are sampled where they turn.
                 let mut timed: Vec<(f64, DVec2)> = s.pts[from..]
                     .iter()
-                    .map(|&q| (index as f64 + segment_time(&full, q, 1e-9 * tol), q))
+                    .map(|&q| {
+                        (
+                            index as f64 + segment_time(&full, q, TIME_ACCURACY * tol),
+                            q,
+                        )
+                    })
                     .collect();
                 for &(t, _) in &ps.points {
                     let f = t - index as f64;
@@ -408,7 +425,7 @@ impl Ctx<'_> {
             };
             let length = |l: &[DVec2]| l.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
             let (drawn, seen) = (length(&line), runs.iter().map(|r| length(r)).sum::<f64>());
-            if runs.len() == 1 && (drawn - seen).abs() <= 1e-9 * drawn.max(1.0) {
+            if runs.len() == 1 && (drawn - seen).abs() <= SEEN_WHOLE * drawn.max(1.0) {
                 self.strokes.push(s);
                 continue;
             }
