@@ -219,7 +219,7 @@ const CORNER_MATCH: f64 = 1e-9;
 
 impl Design {
     /// Whether `p` is one of the corners at which loading split a stroke (|p − c| ≤
-    /// [`CORNER_MATCH`]·(1 + |c|)): piece ends there are joints, not stroke ends.
+    /// `CORNER_MATCH`·(1 + |c|)): piece ends there are joints, not stroke ends.
     pub fn is_corner(&self, p: DVec2) -> bool {
         self.corners.iter().any(|c| {
             let q = DVec2::new(c.at[0], c.at[1]);

@@ -70,7 +70,7 @@ pub struct Design {
     /// The `[[circles]]` tables: circle sequences skinned directly.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub circles: Vec<CircleSeq>,
-    /// The `[[shape]]` tables: closed regions (see [`crate::design::shape`]).
+    /// The `[[shape]]` tables: closed regions (see [`Shape`](crate::design::Shape)).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub shape: Vec<super::shape::Shape>,
     /// The `[[text]]` tables: single-stroke text, laid out into strokes when loaded
@@ -80,11 +80,11 @@ pub struct Design {
     /// The `[[operation]]` tables: toolpath operations (plain data for the toolpath stage).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operation: Vec<Operation>,
-    /// The `[neon]` table: the LED-neon flex (see [`crate::design::neon`]).
+    /// The `[neon]` table: the LED-neon flex (see [`Neon`](crate::design::Neon)).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub neon: Option<super::neon::Neon>,
     /// The `[[output]]` tables: the layers of a job, each a program of some of the
-    /// operations for its own machine (see [`crate::design::output`]). Empty: one program
+    /// operations for its own machine (see [`Output`](crate::design::Output)). Empty: one program
     /// of every operation for the machine the build is given.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub output: Vec<super::output::Output>,

@@ -157,7 +157,7 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
 /// and edit them (`import` writes them into the design; `build` uses them for a drawing
 /// without operations):
 /// - strokes of width at most `hairline` (design units; see [`HAIRLINE_MM`] and
-///   [`stroke_default_kind`]) → `line` along the spine, cut once;
+///   `stroke_default_kind`) → `line` along the spine, cut once;
 /// - wider strokes, shapes (outer boundaries and holes) and circle sequences → `profile`
 ///   (touching items are cut around their union, as every profile does).
 ///

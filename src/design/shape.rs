@@ -298,7 +298,7 @@ impl Shape {
     }
 
     /// The shape's region as simple rings, outer counter-clockwise and holes clockwise
-    /// ([`resolve_rings`] under the shape's fill rule).
+    /// (`resolve_rings` under the shape's fill rule).
     pub fn region(&self) -> Vec<Vec<DVec2>> {
         resolve_rings(&self.rings(), self.fill_rule.unwrap_or_default())
     }

@@ -178,7 +178,7 @@ impl Font {
     }
 
     /// The glyph of `c`, if the font has it: printable ASCII, and the Latin-1 letters and
-    /// signs of [`latin1`] (composed from the ASCII glyphs).
+    /// signs of `latin1` (composed from the ASCII glyphs).
     pub fn glyph(self, c: char) -> Option<&'static Glyph> {
         let i = Self::glyph_index(c)?;
         if i < 96 {
@@ -188,7 +188,7 @@ impl Font {
         }
     }
 
-    /// The smooth spines of the glyph of `c` ([`smooth`], within [`smooth::FIT_TOLERANCE`]
+    /// The smooth spines of the glyph of `c` (`smooth`, within `smooth::FIT_TOLERANCE`
     /// of its polylines; grid units), fitted once per glyph.
     pub fn spines(self, c: char) -> Option<&'static [smooth::Spine]> {
         const GLYPHS: usize = 192;
@@ -289,7 +289,7 @@ pub struct Text {
     /// mean all of its strokes.
     pub name: String,
     /// `text` (required): the characters to set, lines split at `\n`; printable ASCII
-    /// (space to `~`) and the Latin-1 letters and signs of [`latin1`] only, with at least
+    /// (space to `~`) and the Latin-1 letters and signs of `latin1` only, with at least
     /// one visible character; at most
     /// [`MAX_TEXT_CHARS`] characters (line breaks included), in one element and in all the
     /// texts of a design together.
@@ -327,7 +327,7 @@ pub struct Text {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kerning {
-    /// Optical kerning from the glyphs' strokes ([`pair_kern`]); the script font is not
+    /// Optical kerning from the glyphs' strokes (`pair_kern`); the script font is not
     /// kerned (its letters join at the advance).
     #[default]
     Auto,
@@ -418,7 +418,7 @@ pub fn pair_kern(a: &Glyph, b: &Glyph, gap: f64) -> f64 {
 
 impl Font {
     /// The font's stem gap (grid units): the nearest distance between two "n"s at their
-    /// advance, the target of [`pair_kern`].
+    /// advance, the target of `pair_kern`.
     pub fn stem_gap(self) -> f64 {
         match self.glyph('n') {
             Some(n) => polylines_distance(
@@ -670,7 +670,7 @@ impl Text {
             .collect()
     }
 
-    /// The laid-out smooth spines ([`smooth`]): for every character its glyph's spines in
+    /// The laid-out smooth spines (`smooth`): for every character its glyph's spines in
     /// design coordinates (y up), as [`Text::layout`] places the polylines.
     pub fn layout_spines(&self) -> Vec<(usize, char, Vec<smooth::Spine>)> {
         self.placements()
@@ -690,7 +690,7 @@ impl Text {
 
     /// The laid-out spines as point lists in the shape of [`Text::layout`]: their control
     /// polygons when `control` (whose hull holds each curve), else points along the
-    /// curves ([`smooth::Spine::samples`]).
+    /// curves (`smooth::Spine::samples`).
     pub fn spine_layout(&self, control: bool) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
         self.layout_spines()
             .into_iter()

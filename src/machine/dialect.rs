@@ -31,7 +31,7 @@ pub const MAX_COMMENT_CHARS: usize = 60;
 impl Dialect {
     /// `text` as a comment line this controller accepts: only ASCII letters, digits, spaces
     /// and `- _ . , : = / + # *` survive (GRBL treats `!`, `?`, `~` as real-time commands even
-    /// inside comments, and parentheses cannot nest), and at most [`MAX_COMMENT_CHARS`].
+    /// inside comments, and parentheses cannot nest), and at most `MAX_COMMENT_CHARS`.
     pub fn comment(self, text: &str) -> String {
         let clean = sanitize_comment(text);
         match self {

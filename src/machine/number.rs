@@ -7,7 +7,7 @@
 ///
 /// The digits are those of the exact binary value of `v` rounded to `decimals` places, as
 /// `format!("{:.*}", decimals, v)` gives them, but computed in integer arithmetic where that
-/// is provably the same ([`rounded_scaled`]); otherwise (ties, huge values, many decimals)
+/// is provably the same (`rounded_scaled`); otherwise (ties, huge values, many decimals)
 /// by `format!`.
 pub fn format_number(v: f64, decimals: u32) -> String {
     let mut s = String::new();

@@ -182,7 +182,7 @@ pub struct LaserSettings {
     #[serde(default)]
     pub pierce_dwell: f64,
     /// Power in percent of `power.max` for operations that set no `power`
-    /// (default [`DEFAULT_LASER_POWER`]): a design without power settings must not burn
+    /// (default `DEFAULT_LASER_POWER`): a design without power settings must not burn
     /// at full power.
     #[serde(default)]
     pub default_power: Option<f64>,
