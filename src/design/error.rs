@@ -274,6 +274,7 @@ impl std::ops::Deref for DesignError {
 
 impl DesignError {
     /// An error about the whole file.
+    #[must_use]
     pub fn file(file: &str, kind: ErrorKind) -> Self {
         DesignError(Box::new(ErrorInfo {
             file: file.to_string(),
@@ -284,6 +285,7 @@ impl DesignError {
     }
 
     /// An error about one item (and optionally one of its parts).
+    #[must_use]
     pub fn at(file: &str, item: Item, part: Option<Part>, kind: ErrorKind) -> Self {
         DesignError(Box::new(ErrorInfo {
             file: file.to_string(),

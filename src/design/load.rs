@@ -16,6 +16,7 @@ pub enum Format {
 
 impl Format {
     /// The format for a file name's extension (`.toml` or `.json`, any case).
+    #[must_use]
     pub fn from_file_name(file_name: &str) -> Option<Format> {
         let ext = std::path::Path::new(file_name)
             .extension()?
@@ -72,6 +73,7 @@ pub fn from_str(text: &str, format: Format, file_name: &str) -> Result<Design, D
 }
 
 /// 1-based (line, column) of byte offset `pos` in `text`; the column counts characters.
+#[must_use]
 pub fn line_col(text: &str, pos: usize) -> (usize, usize) {
     let mut pos = pos.min(text.len());
     while !text.is_char_boundary(pos) {
@@ -160,6 +162,7 @@ fn parse_json(text: &str, file_name: &str) -> Result<Design, DesignError> {
 impl Design {
     /// A design of format [`VERSION`](super::VERSION) in millimetres with no item or
     /// operation, named `file` (for designs built in code: a text, an import).
+    #[must_use]
     pub fn empty(file: &str) -> Design {
         Design {
             version: super::VERSION,

@@ -203,6 +203,7 @@ pub struct Stroke {
 
 impl Stroke {
     /// A stroke with control disks and default settings (degree 3, open, uniform knots).
+    #[must_use]
     pub fn from_disks(name: &str, disks: Vec<[f64; 3]>) -> Self {
         Stroke {
             name: name.to_string(),
@@ -225,6 +226,7 @@ impl Stroke {
     /// number of control disks when a stroke without `knots` has fewer than `degree + 1` of
     /// them (two disks give a line, three a parabola; a closed stroke needs three). A
     /// `knots` list fixes the degree: then `degree + 1` disks are required.
+    #[must_use]
     pub fn effective_degree(&self) -> usize {
         let n = self.control_disk_count();
         if self.knots.is_some() || n < 2 {
@@ -237,6 +239,7 @@ impl Stroke {
     /// The number of control disks the stroke's curve has: `disks.len()`, `points.len()`
     /// for an interpolation, `control_disks` for an approximation. Attribute channels
     /// have this many values.
+    #[must_use]
     pub fn control_disk_count(&self) -> usize {
         match (&self.disks, &self.points) {
             (Some(d), _) => d.len(),
@@ -593,6 +596,7 @@ pub enum LineBoundaries {
 
 impl Operation {
     /// An operation of `kind` with every parameter unset.
+    #[must_use]
     pub fn new(kind: OperationKind) -> Self {
         Operation {
             kind,

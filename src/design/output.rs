@@ -145,6 +145,7 @@ impl Output {
 
     /// The output's file name: its `file` template (or `DEFAULT_FILE`) with `{stem}`,
     /// `{name}` and `{ext}` replaced.
+    #[must_use]
     pub fn file_name(&self, stem: &str, ext: &str) -> String {
         self.file
             .as_deref()

@@ -443,6 +443,7 @@ fn char_tag(c: char) -> String {
 
 impl Text {
     /// A text element with default font, anchor, alignment and spacing.
+    #[must_use]
     pub fn new(name: &str, text: &str, height: f64, width: f64) -> Self {
         Text {
             name: name.to_string(),
@@ -513,6 +514,7 @@ impl Text {
     /// `width` within 2·[`MIN_RADIUS`]..=[`MAX_COORD`], `at` within ±[`MAX_COORD`],
     /// `letter_spacing` finite within ±[`MAX_COORD`], `line_spacing` in (0, [`MAX_COORD`]].
     /// `skinpath text` shows the same problems under its option names.
+    #[must_use]
     pub fn problem(&self) -> Option<TextProblem> {
         let bad = |key: &'static str, message: String| Some(TextProblem { key, message });
         let chars = self.text.chars().count();
@@ -611,6 +613,7 @@ impl Text {
     }
 
     /// Width of one line of text (advances plus letter spacing), design units.
+    #[must_use]
     pub fn line_width(&self, line: &str) -> f64 {
         self.advances(line).iter().sum()
     }
@@ -657,6 +660,7 @@ impl Text {
 
     /// The laid-out polylines: for every character (index into the text, char) its
     /// glyph's pen-down polylines in design coordinates (y up).
+    #[must_use]
     pub fn layout(&self) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
         self.placements()
             .into_iter()
@@ -691,6 +695,7 @@ impl Text {
     /// The laid-out spines as point lists in the shape of [`Text::layout`]: their control
     /// polygons when `control` (whose hull holds each curve), else points along the
     /// curves (`smooth::Spine::samples`).
+    #[must_use]
     pub fn spine_layout(&self, control: bool) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
         self.layout_spines()
             .into_iter()

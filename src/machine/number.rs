@@ -9,6 +9,7 @@
 /// `format!("{:.*}", decimals, v)` gives them, but computed in integer arithmetic where that
 /// is provably the same (`rounded_scaled`); otherwise (ties, huge values, many decimals)
 /// by `format!`.
+#[must_use]
 pub fn format_number(v: f64, decimals: u32) -> String {
     let mut s = String::new();
     push_number(&mut s, v, decimals);
@@ -109,6 +110,7 @@ fn push_digits_of_scaled(out: &mut String, negative: bool, n: u64, decimals: u32
 /// [`format_number`] by the standard formatter alone, `format!("{:.*}")` (exact decimal
 /// expansion of the binary value, ties to even), then trimmed: its fallback, and the
 /// reference its integer route is tested and benchmarked against.
+#[must_use]
 pub fn format_number_std(v: f64, decimals: u32) -> String {
     let mut s = format!("{:.*}", decimals as usize, v);
     if s.contains('.') {

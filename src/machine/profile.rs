@@ -53,6 +53,7 @@ impl Range {
         self.1
     }
     /// True when `v` lies in the range, with slack `tol`.
+    #[must_use]
     pub fn contains(&self, v: f64, tol: f64) -> bool {
         v >= self.0 - tol && v <= self.1 + tol
     }
@@ -131,6 +132,7 @@ pub struct Tool {
 
 impl Tool {
     /// Compensation radius: half the kerf for a beam, half the diameter otherwise.
+    #[must_use]
     pub fn radius(&self) -> f64 {
         match self.kind {
             ToolKind::Beam => 0.5 * self.kerf,
@@ -212,6 +214,7 @@ fn default_air_off() -> String {
 
 impl LaserSettings {
     /// Power in percent for operations that set none.
+    #[must_use]
     pub fn default_power(&self) -> f64 {
         self.default_power.unwrap_or(DEFAULT_LASER_POWER)
     }
