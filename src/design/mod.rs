@@ -184,6 +184,7 @@ pub use svg::{
     DEFAULT_TOLERANCE as DEFAULT_IMPORT_TOLERANCE, ImportOptions, Imported, MM_PER_PX, Skipped,
     import,
 };
+pub use text::smooth::FIT_TOLERANCE as TEXT_FIT_TOLERANCE;
 pub use text::{
     Align, DEFAULT_LINE_SPACING, Font, Kerning, MAX_TEXT_CHARS, MIN_HEIGHT, Text, TextProblem,
     layout_problem,

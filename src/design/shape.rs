@@ -438,3 +438,7 @@ impl Shape {
         Ok(())
     }
 }
+
+#[cfg(test)]
+#[path = "shape_tests.rs"]
+mod tests;

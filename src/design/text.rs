@@ -45,6 +45,9 @@ use crate::geom::{DVec2, Line};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
 
+#[cfg(test)]
+#[path = "fonts/tests.rs"]
+mod font_tests;
 #[path = "fonts/latin1.rs"]
 pub(crate) mod latin1;
 #[path = "fonts/smooth.rs"]
