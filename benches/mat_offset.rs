@@ -350,7 +350,7 @@ fn routes_on_examples() {
         let Ok(design) = skinpath::design::load(&text, &path) else {
             continue;
         };
-        let Some(Ok(profile)) = skinpath::machine::builtin_profile(machine) else {
+        let Ok(profile) = skinpath::machine::builtin_profile(machine) else {
             continue;
         };
         for method in [OutlineMethod::Skin, OutlineMethod::Re, OutlineMethod::Mph] {

@@ -24,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     .collect();
     let wave = DiskBSpline::open(3, &disks, None)?;
     let design = design_of_strokes("wave", &[("wave", &wave)], &[])?;
-    let profile = builtin_profile("grbl-router").ok_or("no grbl-router profile")??;
+    let profile = builtin_profile("grbl-router")?;
 
     // Progress of the long stages, on stderr.
     let progress = |p: skinpath::Progress| {

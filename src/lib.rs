@@ -33,7 +33,7 @@
 //!     .collect();
 //! let wave = DiskBSpline::open(3, &disks, None)?;
 //! let design = design_of_strokes("wave", &[("wave", &wave)], &[])?;
-//! let profile = builtin_profile("grbl-router").ok_or("no such profile")??;
+//! let profile = builtin_profile("grbl-router")?;
 //!
 //! let out = Job { design: &design, profile: &profile, options: JobOptions::default() }.run()?;
 //! let report = out.report.as_ref().ok_or("G-code is always checked")?;

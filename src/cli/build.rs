@@ -87,8 +87,9 @@ pub struct Args {
 
 /// A shipped profile by name, or a user's profile file.
 pub fn load_profile(spec: &str) -> Result<Profile> {
-    if let Some(p) = builtin_profile(spec) {
-        return Ok(p?);
+    match builtin_profile(spec) {
+        Err(e) if e.is_unknown_builtin() => {}
+        p => return Ok(p?),
     }
     let path = Path::new(spec);
     if path.exists() {

@@ -65,7 +65,7 @@ struct OutputSummary<'a> {
 /// A shipped profile by name, or a profile file: a relative path is read from the design
 /// file's folder `design_dir`.
 pub fn output_profile(spec: &str, design_dir: &Path) -> Result<(Profile, Option<PathBuf>)> {
-    if builtin_profile(spec).is_some() {
+    if !builtin_profile(spec).is_err_and(|e| e.is_unknown_builtin()) {
         return Ok((load_profile(spec)?, None));
     }
     let path = design_dir.join(spec);

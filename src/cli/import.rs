@@ -4,8 +4,8 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::design::svg::{ImportOptions, import};
 use skinpath::design::{Format, HAIRLINE_MM, Operation, OperationKind, default_operations};
+use skinpath::design::{ImportOptions, import};
 use skinpath::job::build::DEFAULT_PROFILE_DEPTH_MM;
 use std::path::PathBuf;
 
@@ -17,10 +17,10 @@ pub struct Args {
     #[arg(short, long)]
     output: PathBuf,
     /// Largest distance between a stroke's spine and the SVG centre line, mm.
-    #[arg(long, default_value_t = skinpath::design::svg::DEFAULT_TOLERANCE)]
+    #[arg(long, default_value_t = skinpath::design::DEFAULT_IMPORT_TOLERANCE)]
     tolerance: f64,
     /// Turning angle in degrees above which a path node is kept as a corner.
-    #[arg(long, default_value_t = skinpath::design::corners::CORNER_ANGLE_DEG)]
+    #[arg(long, default_value_t = skinpath::design::CORNER_ANGLE_DEG)]
     corner_angle: f64,
 }
 
@@ -36,10 +36,9 @@ pub fn run(a: Args) -> Result<u8> {
     }
     io::refuse_overwriting_inputs(&a.output, &[&a.svg])?;
     let text = io::read_text(&a.svg)?;
-    let opts = ImportOptions {
-        tolerance: a.tolerance,
-        corner_angle: a.corner_angle,
-    };
+    let opts = ImportOptions::default()
+        .with_tolerance(a.tolerance)
+        .with_corner_angle(a.corner_angle);
     let imported = import(&text, &a.svg.display().to_string(), &opts)?;
     for s in &imported.skipped {
         eprintln!("skipped {}: {}", s.id, s.reason);

@@ -3,8 +3,10 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::design::text::{Align, Font, Kerning, Text, layout_problem};
-use skinpath::design::{Design, FlexPreset, Format, MAX_COORD, Neon, Operation, Units};
+use skinpath::design::{
+    Align, Design, FlexPreset, Font, Format, Kerning, MAX_COORD, Neon, Operation, Text, Units,
+    layout_problem,
+};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]

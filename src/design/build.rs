@@ -102,6 +102,7 @@ impl Parametrization {
 
 impl CircleSeq {
     /// The circles in order.
+    #[must_use]
     pub fn to_circles(&self) -> Vec<Circle> {
         circles(&self.circles)
     }
@@ -118,6 +119,7 @@ impl Design {
     }
 
     /// Every `[[circles]]` sequence as circles, in file order.
+    #[must_use]
     pub fn circle_sequences(&self) -> Vec<Vec<Circle>> {
         self.circles.iter().map(CircleSeq::to_circles).collect()
     }

@@ -213,13 +213,17 @@ fn split_stroke(file: &str, index: usize, s: &Stroke) -> Result<Vec<Stroke>, Des
     Ok(out)
 }
 
+/// Relative distance within which a point is a recorded corner: piece ends are the corner
+/// points evaluated again, so only rounding separates them.
+const CORNER_MATCH: f64 = 1e-9;
+
 impl Design {
-    /// Whether `p` is one of the corners at which loading split a stroke (within 1e-9 of
-    /// the design's extent): piece ends there are joints, not stroke ends.
+    /// Whether `p` is one of the corners at which loading split a stroke (|p − c| ≤
+    /// `CORNER_MATCH`·(1 + |c|)): piece ends there are joints, not stroke ends.
     pub fn is_corner(&self, p: DVec2) -> bool {
         self.corners.iter().any(|c| {
             let q = DVec2::new(c.at[0], c.at[1]);
-            q.distance(p) <= 1e-9 * (1.0 + q.length())
+            q.distance(p) <= CORNER_MATCH * (1.0 + q.length())
         })
     }
 

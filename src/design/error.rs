@@ -5,6 +5,7 @@ use std::fmt;
 
 /// The top-level item of a design an error is about.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Item {
     /// `[[stroke]]` number `index` (0-based) with its `name`. After loading has expanded
     /// texts and split strokes at corners, `index` counts the expanded list.
@@ -69,6 +70,7 @@ impl fmt::Display for Item {
 
 /// The part of an item an error is about.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Part {
     /// Control disk `i` of a stroke's `disks`.
     Disk(usize),
@@ -115,6 +117,7 @@ impl fmt::Display for Part {
 
 /// What went wrong.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum ErrorKind {
     /// Syntax error, wrong type or unknown key, at a 1-based line and column when known.
     Parse {
@@ -185,6 +188,13 @@ pub enum ErrorKind {
     Build(String),
     /// Serialising the design failed.
     Serialize(String),
+    /// The file needs a part of skinpath this build leaves out (a Cargo feature that is off).
+    FeatureOff {
+        /// What the file needs, in words (`"SVG import"`).
+        what: &'static str,
+        /// The Cargo feature that provides it (`"svg-import"`).
+        feature: &'static str,
+    },
 }
 
 impl fmt::Display for ErrorKind {
@@ -227,12 +237,17 @@ impl fmt::Display for ErrorKind {
             ErrorKind::Invalid(m) => write!(f, "{m}"),
             ErrorKind::Build(m) => write!(f, "{m}"),
             ErrorKind::Serialize(m) => write!(f, "cannot write design: {m}"),
+            ErrorKind::FeatureOff { what, feature } => write!(
+                f,
+                "{what} is not built into this skinpath (build it with the `{feature}` feature)"
+            ),
         }
     }
 }
 
 /// Where and what: the content of a [`DesignError`].
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ErrorInfo {
     /// The file name given to the loader.
     pub file: String,
@@ -247,6 +262,7 @@ pub struct ErrorInfo {
 /// An error of a design file: `file: item, part: what` (boxed to keep `Result`s small;
 /// the fields of [`ErrorInfo`] are reachable through `Deref`).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub struct DesignError(pub Box<ErrorInfo>);
 
 impl std::ops::Deref for DesignError {
@@ -258,6 +274,7 @@ impl std::ops::Deref for DesignError {
 
 impl DesignError {
     /// An error about the whole file.
+    #[must_use]
     pub fn file(file: &str, kind: ErrorKind) -> Self {
         DesignError(Box::new(ErrorInfo {
             file: file.to_string(),
@@ -268,6 +285,7 @@ impl DesignError {
     }
 
     /// An error about one item (and optionally one of its parts).
+    #[must_use]
     pub fn at(file: &str, item: Item, part: Option<Part>, kind: ErrorKind) -> Self {
         DesignError(Box::new(ErrorInfo {
             file: file.to_string(),

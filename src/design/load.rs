@@ -16,6 +16,7 @@ pub enum Format {
 
 impl Format {
     /// The format for a file name's extension (`.toml` or `.json`, any case).
+    #[must_use]
     pub fn from_file_name(file_name: &str) -> Option<Format> {
         let ext = std::path::Path::new(file_name)
             .extension()?
@@ -30,16 +31,26 @@ impl Format {
 }
 
 /// Parse and validate a design, choosing the format by `file_name`'s extension; an `.svg`
-/// file is imported ([`super::svg::load_svg`]).
+/// file is imported (with the `svg-import` feature; without it an `.svg` file is
+/// an [`ErrorKind::FeatureOff`] error).
 pub fn load(text: &str, file_name: &str) -> Result<Design, DesignError> {
     load_noted(text, file_name).map(|(d, _)| d)
 }
 
 /// [`load`], with the lines an SVG import has to say (skipped elements and warnings, see
-/// [`super::svg::load_svg_noted`]); none for design files.
+/// `load_svg_noted`); none for design files.
 pub fn load_noted(text: &str, file_name: &str) -> Result<(Design, Vec<String>), DesignError> {
     if file_name.to_ascii_lowercase().ends_with(".svg") {
+        #[cfg(feature = "svg-import")]
         return super::svg::load_svg_noted(text, file_name);
+        #[cfg(not(feature = "svg-import"))]
+        return Err(DesignError::file(
+            file_name,
+            ErrorKind::FeatureOff {
+                what: "SVG import",
+                feature: "svg-import",
+            },
+        ));
     }
     let format = Format::from_file_name(file_name)
         .ok_or_else(|| DesignError::file(file_name, ErrorKind::UnknownFormat))?;
@@ -62,6 +73,7 @@ pub fn from_str(text: &str, format: Format, file_name: &str) -> Result<Design, D
 }
 
 /// 1-based (line, column) of byte offset `pos` in `text`; the column counts characters.
+#[must_use]
 pub fn line_col(text: &str, pos: usize) -> (usize, usize) {
     let mut pos = pos.min(text.len());
     while !text.is_char_boundary(pos) {
@@ -150,6 +162,7 @@ fn parse_json(text: &str, file_name: &str) -> Result<Design, DesignError> {
 impl Design {
     /// A design of format [`VERSION`](super::VERSION) in millimetres with no item or
     /// operation, named `file` (for designs built in code: a text, an import).
+    #[must_use]
     pub fn empty(file: &str) -> Design {
         Design {
             version: super::VERSION,

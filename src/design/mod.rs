@@ -94,7 +94,7 @@
 //! contours may cross each other but not themselves, each has at least 3 points and a
 //! non-zero area. Profile, fill and backboard operations cut a shape's region joined with
 //! the stroke outlines they select; channel, holes and V-carve follow spines and skip
-//! shapes. Names are unique among strokes, circle sequences and shapes. See [`shape`].
+//! shapes. Names are unique among strokes, circle sequences and shapes. See [`Shape`].
 //!
 //! Values. Every disk, point and circle is exactly `[x, y, r]` (a list of another length is
 //! a parse error with line:column). All numbers finite, |x|, |y|, r ≤ 1e7 design units
@@ -116,10 +116,10 @@
 //! `tabs = { count, width, height }`, `lead_in` (≥ 0). Per kind:
 //! profile `side` = "on" | "outside" | "inside"; channel `width` (required); backboard
 //! `margin`, `min_inner_radius`, `bridge_width` (≥ 0, default 10 mm: the board's pieces are
-//! bridged into one, [`crate::toolpath::board`]; 0 leaves them apart), `mounting_holes =
+//! bridged into one, `toolpath::board`; 0 leaves them apart), `mounting_holes =
 //! { count, diameter, inset }` (count 1..=100, diameter > 0, inset > 0, default 8 mm),
 //! `corner_radius` (≥ 0: the board's convex corners at least this round,
-//! [`crate::toolpath::board::rounded`]);
+//! `toolpath::board::rounded`);
 //! holes `diameter` (required), `at` = "ends" | "start" |
 //! "end"; fill `pattern` = "hatch" | "concentric", `angle` (degrees), `spacing` (required),
 //! `cross_hatch`, `alternate`; vcarve `angle` (the bit's included angle, 0 < angle < 180,
@@ -131,7 +131,7 @@
 //! Layers and colours. Strokes and shapes may carry `layer = "..."` (any label) and
 //! `color = "#rrggbb"` (six hexadecimal digits, any case; loading writes lower case).
 //! Operations select by them with `layers = [...]` and `colors = [...]` beside `strokes`:
-//! an item is selected when any given selector names it ([`select`]). Each list is
+//! an item is selected when any given selector names it ([`Selection`]). Each list is
 //! non-empty; a layer or colour that no stroke or shape has is an error that lists the
 //! design's layers (colours).
 //!
@@ -140,8 +140,8 @@
 //! runs, `break_at = [[x, y], ...]` breaks joins, `round_bends = true` rounds bends tighter
 //! than `min_bend_radius` to that radius, `min_run_length` makes shorter runs marks). With it, channel, holes and backboard
 //! operations take the flex's sizes for the keys they leave unset, holes go where flex runs
-//! end, and `build` reports the bill of materials ([`crate::job::neon`]). Errors name the
-//! key: `file: [neon] cut_unit: -1 must be positive and at most 10000000`. See [`neon`].
+//! end, and `build` reports the bill of materials (`job::neon`). Errors name the
+//! key: `file: [neon] cut_unit: -1 must be positive and at most 10000000`. See [`Neon`].
 //!
 //! Geometry: [`Design::strokes`] gives every stroke as a
 //! [`DiskBSpline`](crate::dbsc::DiskBSpline) (points strokes through
@@ -153,20 +153,21 @@
 //! or `file:12:5: unknown field ...` for syntax errors; indices are 0-based.
 
 mod build;
-pub mod corners;
+pub(crate) mod corners;
 mod error;
 mod load;
 mod model;
-pub mod neon;
-pub mod output;
-pub mod select;
-pub mod shape;
-pub mod svg;
-pub mod text;
+pub(crate) mod neon;
+pub(crate) mod output;
+pub(crate) mod select;
+pub(crate) mod shape;
+#[cfg(feature = "svg-import")]
+pub(crate) mod svg;
+pub(crate) mod text;
 mod validate;
 
 pub use build::attribute_curve;
-pub use corners::Corner;
+pub use corners::{CORNER_ANGLE_DEG, Corner};
 pub use error::{DesignError, ErrorInfo, ErrorKind, Item, Part};
 pub use load::{Format, from_str, line_col, load, load_noted};
 pub use model::{
@@ -178,7 +179,16 @@ pub use neon::{Flex, FlexPreset, Neon, NeonRun};
 pub use output::{OperationRef, Output};
 pub use select::{HAIRLINE_MM, Selection, Tags, default_operations, normalize_color};
 pub use shape::{FillRule, Shape};
-pub use text::Text;
+#[cfg(feature = "svg-import")]
+pub use svg::{
+    DEFAULT_TOLERANCE as DEFAULT_IMPORT_TOLERANCE, ImportOptions, Imported, MM_PER_PX, Skipped,
+    import,
+};
+pub use text::smooth::FIT_TOLERANCE as TEXT_FIT_TOLERANCE;
+pub use text::{
+    Align, DEFAULT_LINE_SPACING, Font, Kerning, MAX_TEXT_CHARS, MIN_HEIGHT, Text, TextProblem,
+    layout_problem,
+};
 pub use validate::{
     MAX_COORD, MAX_DEGREE, MAX_FEED, MAX_ITEMS, MAX_PASSES, MAX_TABS, MIN_RADIUS, NEAR_FRACTION,
     validate,

@@ -70,7 +70,7 @@ pub struct Design {
     /// The `[[circles]]` tables: circle sequences skinned directly.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub circles: Vec<CircleSeq>,
-    /// The `[[shape]]` tables: closed regions (see [`crate::design::shape`]).
+    /// The `[[shape]]` tables: closed regions (see [`Shape`](crate::design::Shape)).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub shape: Vec<super::shape::Shape>,
     /// The `[[text]]` tables: single-stroke text, laid out into strokes when loaded
@@ -80,11 +80,11 @@ pub struct Design {
     /// The `[[operation]]` tables: toolpath operations (plain data for the toolpath stage).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operation: Vec<Operation>,
-    /// The `[neon]` table: the LED-neon flex (see [`crate::design::neon`]).
+    /// The `[neon]` table: the LED-neon flex (see [`Neon`](crate::design::Neon)).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub neon: Option<super::neon::Neon>,
     /// The `[[output]]` tables: the layers of a job, each a program of some of the
-    /// operations for its own machine (see [`crate::design::output`]). Empty: one program
+    /// operations for its own machine (see [`Output`](crate::design::Output)). Empty: one program
     /// of every operation for the machine the build is given.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub output: Vec<super::output::Output>,
@@ -203,6 +203,7 @@ pub struct Stroke {
 
 impl Stroke {
     /// A stroke with control disks and default settings (degree 3, open, uniform knots).
+    #[must_use]
     pub fn from_disks(name: &str, disks: Vec<[f64; 3]>) -> Self {
         Stroke {
             name: name.to_string(),
@@ -225,6 +226,7 @@ impl Stroke {
     /// number of control disks when a stroke without `knots` has fewer than `degree + 1` of
     /// them (two disks give a line, three a parabola; a closed stroke needs three). A
     /// `knots` list fixes the degree: then `degree + 1` disks are required.
+    #[must_use]
     pub fn effective_degree(&self) -> usize {
         let n = self.control_disk_count();
         if self.knots.is_some() || n < 2 {
@@ -237,6 +239,7 @@ impl Stroke {
     /// The number of control disks the stroke's curve has: `disks.len()`, `points.len()`
     /// for an interpolation, `control_disks` for an approximation. Attribute channels
     /// have this many values.
+    #[must_use]
     pub fn control_disk_count(&self) -> usize {
         match (&self.disks, &self.points) {
             (Some(d), _) => d.len(),
@@ -593,6 +596,7 @@ pub enum LineBoundaries {
 
 impl Operation {
     /// An operation of `kind` with every parameter unset.
+    #[must_use]
     pub fn new(kind: OperationKind) -> Self {
         Operation {
             kind,

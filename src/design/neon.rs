@@ -76,6 +76,7 @@ pub enum FlexPreset {
 
 impl FlexPreset {
     /// The preset's sizes in millimetres (see the module docs' table).
+    #[must_use]
     pub fn sizes_mm(self) -> Flex {
         let (width, height, min_bend_radius, cut_unit, hole_diameter, channel_depth, board) =
             match self {
@@ -182,6 +183,7 @@ pub struct Flex {
 impl Neon {
     /// The flex in design units of `units`: the preset (converted from mm) with every key
     /// that is set put over it.
+    #[must_use]
     pub fn flex(&self, units: Units) -> Flex {
         let per_mm = 1.0 / units.mm_per_unit();
         let p = self.flex.unwrap_or_default().sizes_mm();

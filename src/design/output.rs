@@ -73,7 +73,7 @@ impl std::fmt::Display for OperationRef {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
-    /// `name` (required): ASCII letters, digits, `-` and `_`, at most [`MAX_NAME_LEN`]
+    /// `name` (required): ASCII letters, digits, `-` and `_`, at most `MAX_NAME_LEN`
     /// bytes; unique among outputs.
     pub name: String,
     /// `machine` (required): a shipped profile's name or the path of a profile file
@@ -89,7 +89,7 @@ pub struct Output {
     /// any case).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub colors: Option<Vec<String>>,
-    /// `file`: the file name template; unset: [`DEFAULT_FILE`].
+    /// `file`: the file name template; unset: `DEFAULT_FILE`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
 }
@@ -143,8 +143,9 @@ impl Output {
         Some((0..take.len()).filter(|&i| take[i]).collect())
     }
 
-    /// The output's file name: its `file` template (or [`DEFAULT_FILE`]) with `{stem}`,
+    /// The output's file name: its `file` template (or `DEFAULT_FILE`) with `{stem}`,
     /// `{name}` and `{ext}` replaced.
+    #[must_use]
     pub fn file_name(&self, stem: &str, ext: &str) -> String {
         self.file
             .as_deref()

@@ -25,6 +25,7 @@ pub const HAIRLINE_SLACK: f64 = 1e-6;
 
 /// `#rrggbb` in lower case, or `None` when `s` is not `#` and six hexadecimal digits (any
 /// case).
+#[must_use]
 pub fn normalize_color(s: &str) -> Option<String> {
     let hex = s.strip_prefix('#')?;
     (hex.len() == 6 && hex.bytes().all(|b| b.is_ascii_hexdigit()))
@@ -157,7 +158,7 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
 /// and edit them (`import` writes them into the design; `build` uses them for a drawing
 /// without operations):
 /// - strokes of width at most `hairline` (design units; see [`HAIRLINE_MM`] and
-///   [`stroke_default_kind`]) → `line` along the spine, cut once;
+///   `stroke_default_kind`) → `line` along the spine, cut once;
 /// - wider strokes, shapes (outer boundaries and holes) and circle sequences → `profile`
 ///   (touching items are cut around their union, as every profile does).
 ///
@@ -175,6 +176,7 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
 /// selected twice, but for the inner boundaries' line beside its profile. Operation settings (depth, power, feed) are left unset: the build's
 /// defaults apply, and a router needs `depth` on profiles. Texts must have been laid out
 /// (a loaded design has).
+#[must_use]
 pub fn default_operations(design: &Design, hairline: f64) -> Vec<Operation> {
     // (name, tags, kind) of every item in design order, and each item's box.
     let mut items: Vec<(&str, Tags<'_>, OperationKind)> = Vec::new();

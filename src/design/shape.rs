@@ -293,12 +293,14 @@ pub(crate) fn rings_of(mp: &geo::MultiPolygon<f64>) -> Vec<Vec<DVec2>> {
 
 impl Shape {
     /// The contours as point rings (a closing point equal to the first dropped).
+    #[must_use]
     pub fn rings(&self) -> Vec<Vec<DVec2>> {
         self.contours.iter().map(|r| open_ring(r)).collect()
     }
 
     /// The shape's region as simple rings, outer counter-clockwise and holes clockwise
-    /// ([`resolve_rings`] under the shape's fill rule).
+    /// (`resolve_rings` under the shape's fill rule).
+    #[must_use]
     pub fn region(&self) -> Vec<Vec<DVec2>> {
         resolve_rings(&self.rings(), self.fill_rule.unwrap_or_default())
     }
@@ -436,3 +438,7 @@ impl Shape {
         Ok(())
     }
 }
+
+#[cfg(test)]
+#[path = "shape_tests.rs"]
+mod tests;

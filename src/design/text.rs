@@ -45,10 +45,13 @@ use crate::geom::{DVec2, Line};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
 
+#[cfg(test)]
+#[path = "fonts/tests.rs"]
+mod font_tests;
 #[path = "fonts/latin1.rs"]
-pub mod latin1;
+pub(crate) mod latin1;
 #[path = "fonts/smooth.rs"]
-pub mod smooth;
+pub(crate) mod smooth;
 
 /// Default distance between baselines, in multiples of the cap height: the Hershey fonts'
 /// cap line to descender line is 28 units for a 21-unit cap height, plus a gap.
@@ -56,10 +59,8 @@ pub const DEFAULT_LINE_SPACING: f64 = 1.6;
 
 /// Largest number of characters of a `[[text]]` element, line breaks included, and of
 /// all the text of one design together: each visible character becomes a few strokes that
-/// are skinned, offset and checked, and the build's cost grows faster than the length
-/// (December 2026, 2 cores, `build --machine grbl-laser --fit 380x380` of 5 mm sans text:
-/// 1,000 characters 5.5 s, 2,000 12.7 s, 5,000 73 s); a longer text belongs in several
-/// jobs.
+/// are skinned, offset and checked, and the build's cost grows faster than the length; a
+/// longer text belongs in several jobs.
 pub const MAX_TEXT_CHARS: usize = 2_000;
 
 /// Smallest cap height, design units: 21 × [`MIN_RADIUS`], so that one unit of the 21-unit
@@ -72,6 +73,7 @@ const MISSING_SHOWN: usize = 8;
 /// What is wrong with a `[[text]]` element ([`Text::problem`]): the key it concerns and the
 /// problem, without the file or element (which the caller knows).
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct TextProblem {
     /// The design-file key: `text`, `height`, `width`, `at`, `letter_spacing`,
     /// `line_spacing`.
@@ -179,7 +181,7 @@ impl Font {
     }
 
     /// The glyph of `c`, if the font has it: printable ASCII, and the Latin-1 letters and
-    /// signs of [`latin1`] (composed from the ASCII glyphs).
+    /// signs of `latin1` (composed from the ASCII glyphs).
     pub fn glyph(self, c: char) -> Option<&'static Glyph> {
         let i = Self::glyph_index(c)?;
         if i < 96 {
@@ -189,7 +191,7 @@ impl Font {
         }
     }
 
-    /// The smooth spines of the glyph of `c` ([`smooth`], within [`smooth::FIT_TOLERANCE`]
+    /// The smooth spines of the glyph of `c` (`smooth`, within `smooth::FIT_TOLERANCE`
     /// of its polylines; grid units), fitted once per glyph.
     pub fn spines(self, c: char) -> Option<&'static [smooth::Spine]> {
         const GLYPHS: usize = 192;
@@ -290,7 +292,7 @@ pub struct Text {
     /// mean all of its strokes.
     pub name: String,
     /// `text` (required): the characters to set, lines split at `\n`; printable ASCII
-    /// (space to `~`) and the Latin-1 letters and signs of [`latin1`] only, with at least
+    /// (space to `~`) and the Latin-1 letters and signs of `latin1` only, with at least
     /// one visible character; at most
     /// [`MAX_TEXT_CHARS`] characters (line breaks included), in one element and in all the
     /// texts of a design together.
@@ -328,7 +330,7 @@ pub struct Text {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kerning {
-    /// Optical kerning from the glyphs' strokes ([`pair_kern`]); the script font is not
+    /// Optical kerning from the glyphs' strokes (`pair_kern`); the script font is not
     /// kerned (its letters join at the advance).
     #[default]
     Auto,
@@ -419,7 +421,7 @@ pub fn pair_kern(a: &Glyph, b: &Glyph, gap: f64) -> f64 {
 
 impl Font {
     /// The font's stem gap (grid units): the nearest distance between two "n"s at their
-    /// advance, the target of [`pair_kern`].
+    /// advance, the target of `pair_kern`.
     pub fn stem_gap(self) -> f64 {
         match self.glyph('n') {
             Some(n) => polylines_distance(
@@ -444,6 +446,7 @@ fn char_tag(c: char) -> String {
 
 impl Text {
     /// A text element with default font, anchor, alignment and spacing.
+    #[must_use]
     pub fn new(name: &str, text: &str, height: f64, width: f64) -> Self {
         Text {
             name: name.to_string(),
@@ -514,6 +517,7 @@ impl Text {
     /// `width` within 2·[`MIN_RADIUS`]..=[`MAX_COORD`], `at` within ±[`MAX_COORD`],
     /// `letter_spacing` finite within ±[`MAX_COORD`], `line_spacing` in (0, [`MAX_COORD`]].
     /// `skinpath text` shows the same problems under its option names.
+    #[must_use]
     pub fn problem(&self) -> Option<TextProblem> {
         let bad = |key: &'static str, message: String| Some(TextProblem { key, message });
         let chars = self.text.chars().count();
@@ -612,6 +616,7 @@ impl Text {
     }
 
     /// Width of one line of text (advances plus letter spacing), design units.
+    #[must_use]
     pub fn line_width(&self, line: &str) -> f64 {
         self.advances(line).iter().sum()
     }
@@ -658,6 +663,7 @@ impl Text {
 
     /// The laid-out polylines: for every character (index into the text, char) its
     /// glyph's pen-down polylines in design coordinates (y up).
+    #[must_use]
     pub fn layout(&self) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
         self.placements()
             .into_iter()
@@ -671,7 +677,7 @@ impl Text {
             .collect()
     }
 
-    /// The laid-out smooth spines ([`smooth`]): for every character its glyph's spines in
+    /// The laid-out smooth spines (`smooth`): for every character its glyph's spines in
     /// design coordinates (y up), as [`Text::layout`] places the polylines.
     pub fn layout_spines(&self) -> Vec<(usize, char, Vec<smooth::Spine>)> {
         self.placements()
@@ -691,7 +697,8 @@ impl Text {
 
     /// The laid-out spines as point lists in the shape of [`Text::layout`]: their control
     /// polygons when `control` (whose hull holds each curve), else points along the
-    /// curves ([`smooth::Spine::samples`]).
+    /// curves (`smooth::Spine::samples`).
+    #[must_use]
     pub fn spine_layout(&self, control: bool) -> Vec<(usize, char, Vec<Vec<DVec2>>)> {
         self.layout_spines()
             .into_iter()

@@ -31,7 +31,8 @@ pub const MAX_COMMENT_CHARS: usize = 60;
 impl Dialect {
     /// `text` as a comment line this controller accepts: only ASCII letters, digits, spaces
     /// and `- _ . , : = / + # *` survive (GRBL treats `!`, `?`, `~` as real-time commands even
-    /// inside comments, and parentheses cannot nest), and at most [`MAX_COMMENT_CHARS`].
+    /// inside comments, and parentheses cannot nest), and at most `MAX_COMMENT_CHARS`.
+    #[must_use]
     pub fn comment(self, text: &str) -> String {
         let clean = sanitize_comment(text);
         match self {
@@ -41,6 +42,7 @@ impl Dialect {
     }
 
     /// A dwell of `seconds` (G4), in the unit this controller expects for `P`.
+    #[must_use]
     pub fn dwell(self, seconds: f64) -> String {
         match self {
             Dialect::Marlin | Dialect::Smoothie => {

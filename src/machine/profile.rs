@@ -53,6 +53,7 @@ impl Range {
         self.1
     }
     /// True when `v` lies in the range, with slack `tol`.
+    #[must_use]
     pub fn contains(&self, v: f64, tol: f64) -> bool {
         v >= self.0 - tol && v <= self.1 + tol
     }
@@ -131,6 +132,7 @@ pub struct Tool {
 
 impl Tool {
     /// Compensation radius: half the kerf for a beam, half the diameter otherwise.
+    #[must_use]
     pub fn radius(&self) -> f64 {
         match self.kind {
             ToolKind::Beam => 0.5 * self.kerf,
@@ -182,7 +184,7 @@ pub struct LaserSettings {
     #[serde(default)]
     pub pierce_dwell: f64,
     /// Power in percent of `power.max` for operations that set no `power`
-    /// (default [`DEFAULT_LASER_POWER`]): a design without power settings must not burn
+    /// (default `DEFAULT_LASER_POWER`): a design without power settings must not burn
     /// at full power.
     #[serde(default)]
     pub default_power: Option<f64>,
@@ -212,6 +214,7 @@ fn default_air_off() -> String {
 
 impl LaserSettings {
     /// Power in percent for operations that set none.
+    #[must_use]
     pub fn default_power(&self) -> f64 {
         self.default_power.unwrap_or(DEFAULT_LASER_POWER)
     }
@@ -331,6 +334,7 @@ pub struct Profile {
 
 /// A profile that failed to load: the file, the key (dotted path) and what is wrong.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub struct ProfileError {
     /// The profile file (or built-in name).
     pub file: String,
@@ -340,6 +344,57 @@ pub struct ProfileError {
     pub line: Option<usize>,
     /// What is wrong.
     pub message: String,
+    /// Which kind of failure.
+    pub kind: ProfileErrorKind,
+}
+
+/// The kind of a [`ProfileError`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ProfileErrorKind {
+    /// The text does not parse, or a value is missing or out of range.
+    Invalid,
+    /// [`builtin_profile`](super::builtin_profile) was asked for a name no shipped profile has.
+    UnknownBuiltin {
+        /// The name asked for.
+        name: String,
+    },
+}
+
+impl ProfileError {
+    /// An error about the text of the profile `file`.
+    fn invalid(file: &str, key: String, line: Option<usize>, message: String) -> Self {
+        ProfileError {
+            file: file.to_string(),
+            key,
+            line,
+            message,
+            kind: ProfileErrorKind::Invalid,
+        }
+    }
+
+    /// No shipped profile is called `name`: the message lists the shipped ones.
+    pub(crate) fn unknown_builtin(name: &str) -> Self {
+        let shipped: Vec<&str> = super::builtin_names().collect();
+        ProfileError {
+            file: name.to_string(),
+            key: String::new(),
+            line: None,
+            message: format!(
+                "no built-in machine profile of this name (built-in: {})",
+                shipped.join(", ")
+            ),
+            kind: ProfileErrorKind::UnknownBuiltin {
+                name: name.to_string(),
+            },
+        }
+    }
+
+    /// Whether the error is a name no shipped profile has (rather than a faulty profile).
+    #[must_use]
+    pub fn is_unknown_builtin(&self) -> bool {
+        matches!(self.kind, ProfileErrorKind::UnknownBuiltin { .. })
+    }
 }
 
 impl fmt::Display for ProfileError {
@@ -370,19 +425,11 @@ impl Profile {
             } else {
                 key
             };
-            ProfileError {
-                file: file_name.to_string(),
-                key,
-                line,
-                message: e.message().trim().to_string(),
-            }
+            ProfileError::invalid(file_name, key, line, e.message().trim().to_string())
         })?;
-        profile.validate().map_err(|(key, message)| ProfileError {
-            file: file_name.to_string(),
-            key,
-            line: None,
-            message,
-        })?;
+        profile
+            .validate()
+            .map_err(|(key, message)| ProfileError::invalid(file_name, key, None, message))?;
         Ok(profile)
     }
 

@@ -6,7 +6,7 @@ fn builtin_profiles_load_and_are_named_after_their_files() {
     assert_eq!(profiles.len(), BUILTIN_SOURCES.len());
     for (p, (file, _)) in profiles.iter().zip(BUILTIN_SOURCES.iter()) {
         assert_eq!(format!("{}.toml", p.name), *file);
-        assert!(builtin_profile(&p.name).unwrap().is_ok());
+        assert_eq!(builtin_profile(&p.name).as_ref(), Ok(p));
         match p.kind {
             MachineKind::Laser | MachineKind::Router => {
                 let g = p.gcode.as_ref().unwrap();
@@ -16,7 +16,26 @@ fn builtin_profiles_load_and_are_named_after_their_files() {
             MachineKind::Svg => assert!(p.svg.is_some()),
         }
     }
-    assert!(builtin_profile("no-such-machine").is_none());
+    let e = builtin_profile("no-such-machine").unwrap_err();
+    assert_eq!(
+        e.kind,
+        ProfileErrorKind::UnknownBuiltin {
+            name: "no-such-machine".to_string()
+        }
+    );
+    assert!(e.is_unknown_builtin());
+    // The message names the name asked for and every shipped profile.
+    let shown = e.to_string();
+    assert!(shown.starts_with("no-such-machine: "), "{shown}");
+    for (file, _) in BUILTIN_SOURCES {
+        assert!(shown.contains(file.trim_end_matches(".toml")), "{shown}");
+    }
+    // A faulty profile text is not an unknown name.
+    assert!(
+        !Profile::from_toml("version = 1", "x.toml")
+            .unwrap_err()
+            .is_unknown_builtin()
+    );
     // At least one inch profile and one R-format profile ship.
     assert!(profiles.iter().any(|p| p.units == Units::Inch));
     assert!(

@@ -29,7 +29,7 @@ fn wave() -> DiskBSpline {
 fn a_stroke_made_in_code_builds_checked_gcode_for_grbl_router() {
     let wave = wave();
     let design = design_of_strokes("wave", &[("wave", &wave)], &[]).unwrap();
-    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let profile = builtin_profile("grbl-router").unwrap();
     let seen = Mutex::new(Vec::new());
     let progress = |p: skinpath::Progress| seen.lock().unwrap().push(p);
     let out = Job {
@@ -154,7 +154,7 @@ fn scaling_scales_text_and_keeps_its_corners_joints() {
     assert_eq!(scaled.text[0].width, 2.0 * w);
     // Neon holes go at the letters' stroke ends only, not at the corners between pieces:
     // as many at half size as at full size.
-    let profile = builtin_profile("grbl-laser").unwrap().unwrap();
+    let profile = builtin_profile("grbl-laser").unwrap();
     let holes = |scale: Scale| {
         let out = Job {
             design: &design,
@@ -187,7 +187,7 @@ fn scaling_scales_text_and_keeps_its_corners_joints() {
 fn an_svg_profile_cannot_write_gcode_and_bad_options_are_typed() {
     let wave = wave();
     let design = design_of_strokes("wave", &[("wave", &wave)], &[]).unwrap();
-    let svg = builtin_profile("svg-laser").unwrap().unwrap();
+    let svg = builtin_profile("svg-laser").unwrap();
     let job = |profile, options| {
         Job {
             design: &design,
@@ -209,7 +209,7 @@ fn an_svg_profile_cannot_write_gcode_and_bad_options_are_typed() {
     .unwrap();
     assert!(ok.program.starts_with("<?xml") || ok.program.contains("<svg"));
     assert!(ok.report.is_none());
-    let router = builtin_profile("grbl-router").unwrap().unwrap();
+    let router = builtin_profile("grbl-router").unwrap();
     for bad in [
         Scale::By(0.0),
         Scale::Fit {
@@ -256,7 +256,7 @@ fn a_parallel_build_equals_a_serial_one() {
         "{text}\n[[operation]]\nkind = \"profile\"\nside = \"outside\"\ndepth = 1.0\nmethod = \"re\"\n"
     );
     let design = skinpath::design::load(&text, &path).unwrap();
-    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let profile = builtin_profile("grbl-router").unwrap();
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

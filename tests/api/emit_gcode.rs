@@ -434,7 +434,7 @@ fn r_arcs_are_split_and_recomputed_centres_match() {
 
 #[test]
 fn inch_router_program() {
-    let p = builtin_profile("linuxcnc-router").unwrap().unwrap();
+    let p = builtin_profile("linuxcnc-router").unwrap();
     let tp = job(&[-1.0, -2.0], 0.5);
     let out = gcode(&tp, &p, &GcodeOptions::default()).unwrap();
     assert!(out.contains("G20") && !out.contains("G21"));
@@ -475,7 +475,7 @@ fn no_negative_zero_and_decimals_respected() {
 
 #[test]
 fn marlin_turns_the_laser_off_before_every_travel() {
-    let p = builtin_profile("marlin-laser").unwrap().unwrap();
+    let p = builtin_profile("marlin-laser").unwrap();
     let out = gcode(&job(&[0.0], 1.0), &p, &GcodeOptions::default()).unwrap();
     let lines: Vec<&str> = out.lines().collect();
     let mut on = false;
@@ -524,7 +524,7 @@ fn m3_mode_sets_s0_before_each_rapid() {
 
 #[test]
 fn dwells_and_rapids_inside_a_cut() {
-    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    let p = builtin_profile("grbl-router").unwrap();
     let mut tp = job(&[-1.0], 0.5);
     let c = &mut tp.operations[2].cuts[0];
     c.moves.insert(

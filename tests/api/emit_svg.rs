@@ -12,7 +12,7 @@ use skinpath::toolpath::Toolpath;
 use support::emit::*;
 
 fn profile(name: &str) -> Profile {
-    builtin_profile(name).unwrap().unwrap()
+    builtin_profile(name).unwrap()
 }
 
 /// Parses "12.5mm" → 12.5.

@@ -5,8 +5,8 @@
 use crate::support::rng::Rng;
 use glam::DVec2;
 use kurbo::{CubicBez, ParamCurve, Point};
-use skinpath::design::svg::{ImportOptions, MM_PER_PX, import};
 use skinpath::design::{Design, load};
+use skinpath::design::{ImportOptions, MM_PER_PX, import};
 
 fn svg(attrs: &str, body: &str) -> String {
     format!(
@@ -136,10 +136,7 @@ fn fitted_spine_within_tolerance_of_the_svg_centre_line() {
         })
         .collect();
     for tol in [0.2, 0.05, 0.01] {
-        let opts = ImportOptions {
-            tolerance: tol,
-            ..ImportOptions::default()
-        };
+        let opts = ImportOptions::default().with_tolerance(tol);
         let mut d = import(&text, "fit.svg", &opts).unwrap().design;
         d.expand().unwrap();
         let h = hausdorff(&spine(&d, "s"), &truth);
@@ -489,7 +486,7 @@ fn page(body: &str) -> String {
     )
 }
 
-fn reasons(imp: &skinpath::design::svg::Imported) -> Vec<(String, String)> {
+fn reasons(imp: &skinpath::design::Imported) -> Vec<(String, String)> {
     imp.skipped
         .iter()
         .map(|s| (s.id.clone(), s.reason.clone()))
@@ -587,11 +584,7 @@ fn a_fill_crossing_itself_too_often_is_skipped_and_a_modest_one_resolved() {
     let star = r#"<polygon id="p" points="100,10 153,172 15,72 185,72 47,172" fill="black"/>"#;
     let imp = import(&page(star), "p.svg", &ImportOptions::default()).unwrap();
     let shape = &imp.design.shape[0];
-    let area: f64 = shape
-        .rings()
-        .iter()
-        .map(|r| skinpath::design::shape::ring_area(r))
-        .sum();
+    let area: f64 = shape.rings().iter().map(|r| shoelace(r)).sum();
     // Nonzero fills the whole pentagram, centre included: its area counted independently
     // on a 1000 × 1000 grid of cell centres by the winding number (Sunday's rule).
     let p = [
@@ -857,10 +850,7 @@ fn pen_jitter_is_not_a_corner_and_real_corners_stay() {
     // Then a real 90° corner and 20 mm up.
     d.push_str(" L70 80");
     let body = format!(r#"<path id="j" d="{d}" stroke="black" stroke-width="1" fill="none"/>"#);
-    let opts = ImportOptions {
-        corner_angle: 5.0,
-        ..ImportOptions::default()
-    };
+    let opts = ImportOptions::default().with_corner_angle(5.0);
     let imp = import(&page(&body), "j.svg", &opts).unwrap();
     let s = &imp.design.stroke[0];
     // One corner: the right angle at (70, 100); the jitter turns (above the 5° corner
@@ -879,10 +869,7 @@ fn pen_jitter_is_not_a_corner_and_real_corners_stay() {
 // ---- Issue 39 item 2 (SVG side): layers, colours and the paint model.
 
 fn area(s: &skinpath::design::Shape) -> f64 {
-    s.rings()
-        .iter()
-        .map(|r| skinpath::design::shape::ring_area(r))
-        .sum()
+    s.rings().iter().map(|r| shoelace(r)).sum()
 }
 
 #[test]
@@ -1023,14 +1010,14 @@ fn real_drawings_keep_their_visible_art() {
     let hole = |s: &skinpath::design::Shape| {
         s.rings()
             .iter()
-            .map(|r| skinpath::design::shape::ring_area(r))
+            .map(|r| shoelace(r))
             .filter(|&a| a < 0.0)
             .sum::<f64>()
     };
     let outer = |s: &skinpath::design::Shape| {
         s.rings()
             .iter()
-            .map(|r| skinpath::design::shape::ring_area(r))
+            .map(|r| shoelace(r))
             .filter(|&a| a > 0.0)
             .sum::<f64>()
     };
@@ -1240,4 +1227,12 @@ fn a_fill_of_many_single_segments_encloses_no_area_whatever_its_count() {
     let body = format!(r##"<path id="lines" d="{d}"/>"##);
     let err = import(&page(&body), "p.svg", &ImportOptions::default()).unwrap_err();
     assert!(err.to_string().contains("encloses no area"), "{err}");
+}
+
+/// Signed area of a closed ring (shoelace formula).
+fn shoelace(r: &[skinpath::geom::DVec2]) -> f64 {
+    (0..r.len())
+        .map(|i| r[i].perp_dot(r[(i + 1) % r.len()]))
+        .sum::<f64>()
+        / 2.0
 }

@@ -225,9 +225,7 @@ fn laser_svg_hairlines_are_visible_in_the_png() {
     ))
     .expect("example");
     let design = skinpath::design::load(&text, "circles.toml").expect("design");
-    let profile = skinpath::machine::builtin_profile("svg-laser")
-        .expect("shipped")
-        .expect("valid");
+    let profile = skinpath::machine::builtin_profile("svg-laser").expect("shipped and valid");
     let built = skinpath::job::build::build_toolpath(
         &design,
         &profile,

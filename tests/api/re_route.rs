@@ -87,7 +87,7 @@ proptest! {
     fn re_route_is_at_delta_and_checks_clean(cs in sequence(), ph in any::<bool>()) {
         let method = if ph { "mph" } else { "re" };
         let design = design_of(&cs, method);
-        let profile = builtin_profile("grbl-router").unwrap().unwrap();
+        let profile = builtin_profile("grbl-router").unwrap();
         // Build-wide method: the items' outlines (the checker's design boundary) are then
         // the RE/MPH skins themselves, not the Bézier skins the route does not follow.
         let opts = BuildOptions {
@@ -320,7 +320,7 @@ fn operation_method_key_and_envelope_refused() {
         Circle::new(DVec2::new(42.0, 33.0), 5.0),
         Circle::new(DVec2::new(55.0, 30.0), 3.5),
     ];
-    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let profile = builtin_profile("grbl-router").unwrap();
     let built = build_toolpath(&design_of(&cs, "mph"), &profile, &BuildOptions::default()).unwrap();
     assert_eq!(built.routes.len(), 1);
     assert_eq!(built.routes[0].route, "mph");

@@ -37,7 +37,7 @@ fn moved(design: &Design, angle: f64, d: [f64; 2]) -> Design {
 /// Builds and checks `design` on `machine`: Ok(None) when it checks clean, Ok(Some(msg))
 /// for a refusal, Err(findings) when the program does not check clean.
 fn build_and_check(design: &Design, machine: &str) -> Result<Option<String>, String> {
-    let p = builtin_profile(machine).unwrap().unwrap();
+    let p = builtin_profile(machine).unwrap();
     let opts = BuildOptions::default();
     let mut built = match build_toolpath(design, &p, &opts) {
         Ok(b) => b,
@@ -170,7 +170,7 @@ fn random_c13_channel_the_tool_width_is_a_slot() {
         let t = text.replace("width = 3.176", &format!("width = {width}"));
         let design = load(&t, &file).unwrap();
         assert_eq!(build_and_check(&design, "grbl-router"), Ok(None), "{width}");
-        let p = builtin_profile("grbl-router").unwrap().unwrap();
+        let p = builtin_profile("grbl-router").unwrap();
         let built = build_toolpath(&design, &p, &BuildOptions::default()).unwrap();
         let channel = &built.toolpath.operations[0];
         assert_eq!(channel.cuts.len(), 2, "{width}: one cut per stroke");
@@ -220,7 +220,7 @@ depth = 6.0
     let design = load(text, "wide.toml").unwrap();
     for machine in ["grbl-router", "grbl-laser"] {
         assert_eq!(build_and_check(&design, machine), Ok(None), "{machine}");
-        let p = builtin_profile(machine).unwrap().unwrap();
+        let p = builtin_profile(machine).unwrap();
         let built = build_toolpath(&design, &p, &BuildOptions::default()).unwrap();
         let ops = &built.toolpath.operations;
         let pts = |k: usize| -> Vec<skinpath::geom::DVec2> {

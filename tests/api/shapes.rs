@@ -4,8 +4,8 @@
 //! name the shape, contour and point, and shapes join stroke outlines in one region.
 
 use glam::DVec2;
-use skinpath::design::svg::{ImportOptions, import};
 use skinpath::design::{Design, load};
+use skinpath::design::{ImportOptions, import};
 use skinpath::job::build::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 use std::f64::consts::PI;
@@ -170,7 +170,7 @@ depth = 3.0
     // The library build at the design's coordinates: the profile cuts every contour of
     // the three regions (2 + 2 + 1), and every hatch point is inside a shape.
     let d = load(&laser, "plates.toml").unwrap();
-    let profile = builtin_profile("grbl-laser").unwrap().unwrap();
+    let profile = builtin_profile("grbl-laser").unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();
     let ops = &built.toolpath.operations;
     let fill = ops.iter().find(|o| o.name.starts_with("fill")).unwrap();
@@ -245,10 +245,7 @@ fn filled_rect_and_ring_import_with_closed_form_area() {
     let imp = import(
         &text,
         "r.svg",
-        &ImportOptions {
-            tolerance: tol,
-            ..ImportOptions::default()
-        },
+        &ImportOptions::default().with_tolerance(tol),
     )
     .unwrap();
     assert!(imp.skipped.is_empty(), "{:?}", imp.skipped);
@@ -304,10 +301,7 @@ fn transformed_filled_circle_within_tolerance_of_its_radius() {
     let d = import(
         &text,
         "c.svg",
-        &ImportOptions {
-            tolerance: tol,
-            ..ImportOptions::default()
-        },
+        &ImportOptions::default().with_tolerance(tol),
     )
     .unwrap()
     .design;
@@ -356,7 +350,7 @@ fn fill_and_stroke_give_a_stroke_and_a_shape() {
     // the visible boundary between the black band and the red fill inside it (the band's
     // inner edge, radius 19) is one closed line cut.
     let d = load(&text, "b.svg").unwrap();
-    let profile = builtin_profile("grbl-laser").unwrap().unwrap();
+    let profile = builtin_profile("grbl-laser").unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();
     let ops: Vec<_> = (built.toolpath.operations.iter())
         .map(|o| (o.kind, o.cuts.len()))
@@ -434,7 +428,7 @@ kind = "profile"
 strokes = ["sq"]
 "#;
     let d = load(text, "j.toml").unwrap();
-    let profile = builtin_profile("grbl-laser").unwrap().unwrap();
+    let profile = builtin_profile("grbl-laser").unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();
     let ops = &built.toolpath.operations;
     assert_eq!(ops[0].cuts.len(), 1, "the union is one contour");
@@ -455,7 +449,7 @@ fn channel_of_shapes_only_is_refused_with_the_names() {
         "{PLATES}\n[[operation]]\nkind = \"channel\"\nwidth = 4.0\ndepth = 2.0\nstrokes = [\"frame\", \"tri\"]\n"
     );
     let d = load(&text, "c.toml").unwrap();
-    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let profile = builtin_profile("grbl-router").unwrap();
     let e = build_toolpath(&d, &profile, &BuildOptions::default())
         .unwrap_err()
         .to_string();
@@ -481,7 +475,7 @@ bridge_width = 0.0
     // `bridge_width = 0` keeps the plates' boards apart (by default they are bridged into
     // one board, tests/neon/neon_board.rs): this test measures each piece's reach.
     let d = load(&text, "b.toml").unwrap();
-    let profile = builtin_profile("grbl-router").unwrap().unwrap();
+    let profile = builtin_profile("grbl-router").unwrap();
     let built = build_toolpath(&d, &profile, &BuildOptions::default()).unwrap();
     let board = &built.toolpath.operations[0];
     let r = profile.tools[0].radius();
@@ -650,149 +644,5 @@ fn outline_draws_and_inspect_lists_shapes() {
     let drawn = std::fs::read_to_string(&svg_out).unwrap();
     for name in ["frame", "washer", "tri"] {
         assert!(drawn.contains(&format!("id=\"{name}\"")), "{drawn}");
-    }
-}
-
-/// Random nested and disjoint rings (star-shaped polygons in separate radius bands around
-/// two centres, each either way round): the exact resolution by nesting and orientation
-/// (no crossings) gives the area of geo's union under the same fill rule, and its rings
-/// are oriented (outer counter-clockwise, holes clockwise) so that nonzero and evenodd read
-/// them alike.
-mod resolve {
-    use super::area;
-    use geo::Area;
-    use geo::BooleanOps;
-    use geo::algorithm::bool_ops::{FillRule as GeoRule, OpType};
-    use glam::DVec2;
-    use proptest::prelude::*;
-    use skinpath::design::FillRule;
-    use skinpath::design::shape::{edge_meeting, resolve_rings};
-
-    /// A star-shaped ring of `n` points around `centre`: point i at angle
-    /// (i + jitter_i)·2π/n (jitter < 0.9, so neighbours are less than 1.9·2π/n apart) and
-    /// radius band + 0.8·k_i. With n ≥ 16 and bands 2 apart every chord stays within 1.2 of
-    /// its band (band·(1 − cos(1.9π/16)) < 1.2 for bands up to 11): rings never meet.
-    fn ring(
-        centre: DVec2,
-        band: f64,
-        n: usize,
-        jitter: &[f64],
-        radii: &[f64],
-        ccw: bool,
-    ) -> Vec<DVec2> {
-        let mut r: Vec<DVec2> = (0..n)
-            .map(|i| {
-                let t = (i as f64 + jitter[i]) * std::f64::consts::TAU / n as f64;
-                centre + (band + 0.8 * radii[i]) * DVec2::new(t.cos(), t.sin())
-            })
-            .collect();
-        if !ccw {
-            r.reverse();
-        }
-        r
-    }
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(64))]
-        #[test]
-        fn exact_resolution_matches_geo(
-            spec in prop::collection::vec(
-                (0usize..2, 16usize..32, prop::collection::vec(0.0f64..0.9, 32),
-                 prop::collection::vec(0.0f64..1.0, 32), any::<bool>()),
-                1..6),
-            evenodd in any::<bool>(),
-        ) {
-            // Ring j lies in the radius band [1 + 2j, 1.8 + 2j] around its centre: rings of
-            // one centre nest without meeting, the two centres are far apart.
-            let rings: Vec<Vec<DVec2>> = spec
-                .iter()
-                .enumerate()
-                .map(|(j, (c, n, jitter, radii, ccw))| {
-                    let centre = DVec2::new(100.0 * *c as f64, 0.0);
-                    ring(centre, 1.0 + 2.0 * j as f64, *n, jitter, radii, *ccw)
-                })
-                .collect();
-            prop_assert!(edge_meeting(&rings).is_none());
-            let rule = if evenodd { FillRule::Evenodd } else { FillRule::Nonzero };
-            let out = resolve_rings(&rings, rule);
-            let ours: f64 = out.iter().map(|r| area(r)).sum();
-            let poly = |r: &Vec<DVec2>| {
-                let mut c: Vec<geo::Coord<f64>> =
-                    r.iter().map(|p| geo::Coord { x: p.x, y: p.y }).collect();
-                c.push(c[0]);
-                geo::Polygon::new(geo::LineString::new(c), vec![])
-            };
-            let subject = geo::MultiPolygon::new(rings.iter().map(poly).collect());
-            let geo_rule = if evenodd { GeoRule::EvenOdd } else { GeoRule::NonZero };
-            let theirs = subject
-                .boolean_op_with_fill_rule(
-                    &geo::MultiPolygon::<f64>::new(vec![]),
-                    OpType::Union,
-                    geo_rule,
-                )
-                .unsigned_area();
-            prop_assert!((ours - theirs).abs() <= 1e-6 * (1.0 + theirs), "{ours} vs {theirs}");
-            // The result reads the same under the other rule.
-            let other = if evenodd { FillRule::Nonzero } else { FillRule::Evenodd };
-            let again: f64 = resolve_rings(&out, other).iter().map(|r| area(r)).sum();
-            prop_assert!((again - ours).abs() <= 1e-9 * (1.0 + ours));
-        }
-    }
-}
-
-/// Random contours on a small integer grid (so repeats, collinear points, touching and
-/// crossing edges are common) under either rule: loading never panics; it either fails
-/// with an error that names the shape, or gives a shape whose region is non-empty, made of
-/// rings that neither cross nor touch themselves, and that builds on a laser.
-mod robustness {
-    use proptest::prelude::*;
-    use skinpath::design::load;
-    use skinpath::design::shape::self_intersection;
-
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(160))]
-        #[test]
-        fn grid_contours_load_or_name_the_shape(
-            rings in prop::collection::vec(
-                prop::collection::vec((0i32..6, 0i32..6), 2..5), 1..4),
-            evenodd in any::<bool>(),
-        ) {
-            let contours: Vec<String> = rings
-                .iter()
-                .map(|r| {
-                    let pts: Vec<String> =
-                        r.iter().map(|(x, y)| format!("[{x}.0, {y}.0]")).collect();
-                    format!("[{}]", pts.join(", "))
-                })
-                .collect();
-            let text = format!(
-                "version = 1\n[[shape]]\nname = \"r\"\nfill_rule = \"{}\"\ncontours = [{}]\n",
-                if evenodd { "evenodd" } else { "nonzero" },
-                contours.join(", ")
-            );
-            match load(&text, "g.toml") {
-                Err(e) => {
-                    let e = e.to_string();
-                    prop_assert!(e.starts_with("g.toml: shape 0 \"r\""), "{e}");
-                }
-                Ok(d) => {
-                    let region = d.shape[0].region();
-                    prop_assert!(!region.is_empty());
-                    for r in &region {
-                        prop_assert!(r.len() >= 3);
-                        prop_assert!(self_intersection(r).is_none(), "{r:?}");
-                    }
-                    let profile = skinpath::machine::builtin_profile("grbl-laser")
-                        .unwrap()
-                        .unwrap();
-                    let built = skinpath::job::build::build_toolpath(
-                        &d,
-                        &profile,
-                        &skinpath::job::build::BuildOptions::default(),
-                    );
-                    prop_assert!(built.is_ok(), "{text}: {:?}", built.err().map(|e| e.to_string()));
-                }
-            }
-        }
     }
 }

@@ -126,7 +126,7 @@ fn backboard_of_the_hairpin_keeps_its_margin() {
     let channel = design.operation.iter().find_map(|o| o.width).unwrap();
     let margin = design.operation.iter().find_map(|o| o.margin).unwrap();
     for machine in ["grbl-router", "grbl-laser"] {
-        let p = builtin_profile(machine).unwrap().unwrap();
+        let p = builtin_profile(machine).unwrap();
         let built = build_toolpath(&design, &p, &BuildOptions::default()).unwrap();
         let board = built
             .toolpath

@@ -222,7 +222,7 @@ fn build_and_check(text: &str) -> Result<(), String> {
     let strokes = design.strokes().map_err(|e| e.to_string())?;
     let opts = BuildOptions::default();
     for machine in ["grbl-laser", "grbl-router"] {
-        let p = builtin_profile(machine).unwrap().unwrap();
+        let p = builtin_profile(machine).unwrap();
         let built = build_toolpath(&design, &p, &opts)
             .unwrap_or_else(|e| panic!("{machine}: the build failed: {e}\n{text}"));
         assert!(!built.toolpath.operations.is_empty());
@@ -273,7 +273,7 @@ fn zig_zag_that_failed_now_builds_split() {
     let text = design_text(&pts, false, false);
     let design = load(&text, "zigzag.toml").unwrap();
     let c = &design.strokes().unwrap()[0];
-    let p = builtin_profile("grbl-laser").unwrap().unwrap();
+    let p = builtin_profile("grbl-laser").unwrap();
     let built = build_toolpath(&design, &p, &BuildOptions::default()).unwrap();
     let o = &built.outlines[0];
     let r = o.repair.as_ref().expect("the zig-zag cannot be one skin");

@@ -64,7 +64,7 @@ fn sampled_box(c: &skinpath::dbsc::DiskBSpline) -> (DVec2, DVec2) {
 fn line_only_strokes_are_not_skinned_and_the_rest_are() {
     let design = load(DESIGN, "spine_only.toml").unwrap();
     let strokes = design.strokes().unwrap();
-    let profile = builtin_profile("grbl-laser").unwrap().unwrap();
+    let profile = builtin_profile("grbl-laser").unwrap();
     let opts = BuildOptions::default();
     let built = build_toolpath(&design, &profile, &opts).unwrap();
     let by_name = |n: &str| built.outlines.iter().find(|o| o.name == n).unwrap();
@@ -124,7 +124,7 @@ fn line_only_strokes_are_not_skinned_and_the_rest_are() {
 #[test]
 fn the_re_route_skins_every_stroke() {
     let design = load(DESIGN, "spine_only.toml").unwrap();
-    let profile = builtin_profile("grbl-laser").unwrap().unwrap();
+    let profile = builtin_profile("grbl-laser").unwrap();
     let opts = BuildOptions {
         method: OutlineMethod::Re,
         ..BuildOptions::default()

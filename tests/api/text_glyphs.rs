@@ -3,7 +3,7 @@
 //! without error at heights 10, 40 and 150 mm and two stroke widths (issue 12).
 
 use skinpath::design::Design;
-use skinpath::design::text::{Font, Text};
+use skinpath::design::{Font, Text};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
 
 /// Letters, digits and the punctuation of signs and addresses.

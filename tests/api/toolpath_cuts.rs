@@ -276,7 +276,7 @@ fn attributes_reach_the_vcarve_moves() {
     d.operation = vec![vcarve_op(60.0, cap)];
     let (lo, hi) = c.domain();
     for (machine, laser) in [("grbl-laser", true), ("grbl-router", false)] {
-        let prof = builtin_profile(machine).unwrap().unwrap();
+        let prof = builtin_profile(machine).unwrap();
         let b = build_toolpath(&d, &prof, &BuildOptions::default()).unwrap();
         let ops: Vec<_> = b
             .toolpath
@@ -325,7 +325,7 @@ fn attributes_reach_the_vcarve_moves() {
     let mut plain = support::example("brush");
     plain.stroke[0].attributes = Default::default();
     plain.operation = vec![vcarve_op(60.0, cap)];
-    let prof = builtin_profile("grbl-laser").unwrap().unwrap();
+    let prof = builtin_profile("grbl-laser").unwrap();
     let b = build_toolpath(&plain, &prof, &BuildOptions::default()).unwrap();
     let cut = &b.toolpath.operations[0].cuts[0];
     assert!(cut.moves.iter().all(|m| (m.power - 0.5).abs() < 1e-12));

@@ -142,7 +142,7 @@ fn hatch_lines_lie_inside_and_alternate() {
 
 #[test]
 fn cross_hatch_adds_the_perpendicular_set() {
-    let laser = builtin_profile("grbl-laser").unwrap().unwrap();
+    let laser = builtin_profile("grbl-laser").unwrap();
     let mut d = support::example("brush");
     d.operation
         .retain(|o| o.kind == skinpath::design::OperationKind::Fill);
@@ -244,7 +244,7 @@ fn concentric_rings_never_cross_and_nest() {
 
 #[test]
 fn vcarve_depth_follows_the_radius_below_the_cap() {
-    let router = builtin_profile("grbl-router").unwrap().unwrap();
+    let router = builtin_profile("grbl-router").unwrap();
     let d = support::example("calligraphy");
     let strokes = d.strokes().unwrap();
     let op = d
@@ -294,8 +294,8 @@ fn vcarve_depth_follows_the_radius_below_the_cap() {
 /// have no depths).
 fn build_example(name: &str) -> skinpath::job::build::BuildResult {
     let d = support::example(name);
-    let router = builtin_profile("grbl-router").unwrap().unwrap();
-    let laser = builtin_profile("grbl-laser").unwrap().unwrap();
+    let router = builtin_profile("grbl-router").unwrap();
+    let laser = builtin_profile("grbl-laser").unwrap();
     build_toolpath(&d, &router, &BuildOptions::default())
         .or_else(|_| build_toolpath(&d, &laser, &BuildOptions::default()))
         .unwrap()

@@ -198,7 +198,7 @@ fn text_errors_name_the_option() {
 /// design's loader (`inspect`), for one long line and for many lines.
 #[test]
 fn text_length_is_limited() {
-    use skinpath::design::text::MAX_TEXT_CHARS;
+    use skinpath::design::MAX_TEXT_CHARS;
     let dir = tmpdir("text-length");
     let long = "A".repeat(100_000);
     let (code, err) = run(&["text", &long, "-o", "t.toml"], &dir);

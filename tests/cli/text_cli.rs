@@ -2,7 +2,6 @@
 //! (issue 12 items 4 and 5, and its "Done when").
 
 use skinpath::design::load;
-use skinpath::design::text::smooth;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -260,7 +259,7 @@ fn open_at_80_mm_measures_80_mm_cap_line_to_baseline() {
     // the O and of the P's bowl lie within the fit tolerance of Hershey's polylines, so
     // their tops and bottoms are within that of the cap line and the baseline.
     const TOLERANCE: f64 = 0.05;
-    let round_tolerance = 2.0 * smooth::FIT_TOLERANCE * 80.0 / 21.0;
+    let round_tolerance = 2.0 * skinpath::design::TEXT_FIT_TOLERANCE * 80.0 / 21.0;
     let extent = |pick: &dyn Fn(&str) -> bool| {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for (s, c) in d.stroke.iter().zip(d.strokes().unwrap()) {

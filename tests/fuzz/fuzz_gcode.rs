@@ -15,7 +15,7 @@ fn fuzz_gcode_checker() {
     let cfgs: Vec<_> = profiles
         .iter()
         .map(|n| {
-            let p = builtin_profile(n).unwrap().unwrap();
+            let p = builtin_profile(n).unwrap();
             let r = p.default_tool().map(|t| t.radius()).unwrap_or(0.0);
             check_config(&p, r)
         })

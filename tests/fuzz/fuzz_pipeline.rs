@@ -93,7 +93,7 @@ fn pipeline(d: &Design, machine: &str) -> bool {
         assert!(e.to_string().contains("fuzz.toml"), "{e}");
         return false;
     }
-    let profile = builtin_profile(machine).unwrap().unwrap();
+    let profile = builtin_profile(machine).unwrap();
     let built = match build_toolpath(d, &profile, &BuildOptions::default()) {
         Ok(b) => b,
         Err(e) => {

@@ -6,7 +6,7 @@
 //! that are hard to get right. See tests/support/fuzz.rs for the mutator and the env variables.
 
 use crate::support;
-use skinpath::design::svg::{ImportOptions, import};
+use skinpath::design::{ImportOptions, import};
 use support::fuzz::{Rng, Stats, cases, corpus, fuzz, run_one, seed};
 
 /// Small drawings: nested transforms and `use`, units and a scaled viewBox, arcs, a filled

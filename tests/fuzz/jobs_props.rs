@@ -27,7 +27,7 @@ use support::{EXAMPLES, example};
 const CI_CASES: usize = 6;
 
 fn profile(name: &str) -> Profile {
-    builtin_profile(name).unwrap().unwrap()
+    builtin_profile(name).unwrap()
 }
 
 /// Per operation (machine order): name, number of cuts, cut length; and the xy bounds.

@@ -83,7 +83,7 @@ fn run_length_is_the_sum_of_spine_lengths_against_richardson() {
     let rs = runs(&d, &curves, &flex);
     assert_eq!(rs.len(), 2, "{rs:?}");
     assert_eq!(rs[0].legs.len(), 2);
-    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    let p = builtin_profile("grbl-router").unwrap();
     let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
     let bom = built.neon.unwrap();
     let independent: f64 = richardson_length(&curves[0]) + richardson_length(&curves[1]);
@@ -140,7 +140,7 @@ fn bend_radius_matches_closed_forms() {
             m = -a
         );
         let d = design(&text);
-        let p = builtin_profile("grbl-router").unwrap().unwrap();
+        let p = builtin_profile("grbl-router").unwrap();
         let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
         let bom = built.neon.unwrap();
         let r = &bom.runs[0];
@@ -173,7 +173,7 @@ fn bend_radius_matches_closed_forms() {
         .filter(|t| (lo..=hi).contains(t))
         .map(|t| bend_radius(c, t))
         .fold(f64::INFINITY, f64::min);
-    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    let p = builtin_profile("grbl-router").unwrap();
     let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
     let bom = built.neon.unwrap();
     let r = bom.runs[0].min_bend_radius_mm;
@@ -209,7 +209,7 @@ fn hole_centres(built: &skinpath::job::build::BuildResult) -> Vec<DVec2> {
 /// Every hole lies at a run end, none at a join inside a run, and each hole's disk lies
 /// inside the channel (distance to the nearest spine + hole radius ≤ channel half-width).
 fn holes_at_run_ends(d: &Design, channel: f64, hole: f64) -> (usize, usize) {
-    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    let p = builtin_profile("grbl-router").unwrap();
     let built = build_toolpath(d, &p, &BuildOptions::default()).unwrap();
     let curves = d.strokes().unwrap();
     let flex = d.neon.as_ref().unwrap().flex(d.units);
@@ -274,7 +274,7 @@ fn holes_sit_only_at_run_ends_inside_the_channel() {
     assert_eq!((holes, ends), (4, 4));
     // `at = "start"`: one hole per run.
     let d = design(&TWO_STROKES.replace("kind = \"holes\"", "kind = \"holes\"\nat = \"start\""));
-    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    let p = builtin_profile("grbl-router").unwrap();
     let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
     assert_eq!(hole_centres(&built).len(), 2);
     assert_eq!(built.neon.unwrap().holes, 2);
@@ -292,7 +292,7 @@ fn explicit_runs_and_breaks() {
         "[[stroke]]\nname = \"a\"",
         "[[neon.run]]\nname = \"top\"\nstrokes = [\"far\", \"a\"]\n[[stroke]]\nname = \"a\"",
     ));
-    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    let p = builtin_profile("grbl-router").unwrap();
     let bom = build_toolpath(&d, &p, &BuildOptions::default())
         .unwrap()
         .neon
@@ -558,7 +558,7 @@ fn two_stroke_bom(
         disks_toml(&b, f)
     );
     let d = design(&text);
-    let p = builtin_profile("grbl-router").unwrap().unwrap();
+    let p = builtin_profile("grbl-router").unwrap();
     build_toolpath(&d, &p, &BuildOptions::default())
         .unwrap()
         .neon

@@ -135,7 +135,7 @@ fn a_v_corner_is_rounded_to_the_flex_minimum() {
     // The run's length: two legs shortened by the tangent length, plus the arc R·(π − 2h).
     let built = build_toolpath(
         &d,
-        &builtin_profile("grbl-router").unwrap().unwrap(),
+        &builtin_profile("grbl-router").unwrap(),
         &BuildOptions::default(),
     )
     .unwrap();
@@ -187,7 +187,7 @@ fn a_one_millimetre_hairpin_is_rounded_to_the_flex_minimum() {
     assert!((low - dev).abs() <= 1e-3, "{low} vs {dev}");
     let built = build_toolpath(
         &d,
-        &builtin_profile("grbl-router").unwrap().unwrap(),
+        &builtin_profile("grbl-router").unwrap(),
         &BuildOptions::default(),
     )
     .unwrap();
@@ -266,7 +266,7 @@ fn runs_shorter_than_the_cut_unit_are_warned_about_and_marks_on_request() {
         let d = design(WORD_AND_MARK, extra);
         build_toolpath(
             &d,
-            &builtin_profile("grbl-router").unwrap().unwrap(),
+            &builtin_profile("grbl-router").unwrap(),
             &BuildOptions::default(),
         )
         .unwrap()

@@ -186,7 +186,8 @@ fn decompose(c: char) -> Option<(char, Mark)> {
 }
 
 /// The base letter of an accented Latin-1 letter (`None` for other characters).
-pub fn base_letter(c: char) -> Option<char> {
+#[cfg(test)]
+fn base_letter(c: char) -> Option<char> {
     decompose(c).map(|(b, _)| b)
 }
 
@@ -369,6 +370,85 @@ pub fn compose(
 }
 
 /// Every Latin-1 character (U+00A0 to U+00FF) the fonts have.
-pub fn supported() -> impl Iterator<Item = char> {
+#[cfg(test)]
+pub(crate) fn supported() -> impl Iterator<Item = char> {
     ('\u{a0}'..='\u{ff}').filter(|&c| decompose(c).is_some() || "\u{a0}¡¿«»°·ßÆæ".contains(c))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::text::Font;
+
+    /// Whether a stroke is a dot: its box no larger than [`DOT_SIZE`] each way.
+    fn is_dot(s: &[[i32; 2]]) -> bool {
+        (0..2).all(|k| {
+            let lo = s.iter().map(|p| p[k]).min().unwrap();
+            let hi = s.iter().map(|p| p[k]).max().unwrap();
+            hi - lo <= DOT_SIZE
+        })
+    }
+
+    #[test]
+    fn every_latin1_letter_is_its_base_letter_and_a_mark_in_the_right_place() {
+        let mut letters = 0;
+        for font in Font::ALL {
+            for c in supported() {
+                let g = font.glyph(c).unwrap();
+                if c != '\u{a0}' {
+                    assert!(!g.strokes.is_empty(), "{c:?}");
+                    assert!(!font.spines(c).unwrap().is_empty(), "{c:?}");
+                }
+                let Some(b) = base_letter(c) else {
+                    continue;
+                };
+                letters += 1;
+                let base: &Glyph = font.glyph(b).unwrap();
+                // The base letter's strokes (the i's without its dot) come first, unchanged.
+                let kept: Vec<&Vec<[i32; 2]>> = base
+                    .strokes
+                    .iter()
+                    .filter(|s| b != 'i' || !is_dot(s))
+                    .collect();
+                assert!(g.strokes.len() > kept.len(), "{c:?}");
+                for (s, k) in g.strokes.iter().zip(&kept) {
+                    assert_eq!(s, *k, "{c:?}");
+                }
+                assert_eq!((g.left, g.right), (base.left, base.right), "{c:?}");
+                let ys: Vec<i32> = kept.iter().flat_map(|s| s.iter().map(|p| p[1])).collect();
+                let xs: Vec<i32> = kept.iter().flat_map(|s| s.iter().map(|p| p[0])).collect();
+                let (top, bottom) = (*ys.iter().min().unwrap(), *ys.iter().max().unwrap());
+                let (left, right) = (*xs.iter().min().unwrap(), *xs.iter().max().unwrap());
+                let mark: Vec<[i32; 2]> =
+                    g.strokes[kept.len()..].iter().flatten().copied().collect();
+                // Script marks lean right by the slant over their height.
+                let lean = if font == Font::Script { 3 } else { 0 };
+                // Marks reach 4 units either side of their centre (the diaeresis' dots).
+                let inside_x = |x: i32| (left - 4..=right + 4 + lean).contains(&x);
+                match c {
+                    'Ç' | 'ç' => {
+                        assert!(mark.iter().all(|p| p[1] >= bottom && p[1] <= bottom + 5));
+                        assert!(mark.iter().all(|p| (left - 3..=right + 2).contains(&p[0])));
+                    }
+                    'Ø' | 'ø' => {
+                        assert_eq!(mark, vec![[left - 1, bottom + 1], [right + 1, top - 1]]);
+                    }
+                    _ => {
+                        // Above the letter's box (its x-height or cap line), by the gap.
+                        let low = mark.iter().map(|p| p[1]).max().unwrap();
+                        let high = mark.iter().map(|p| p[1]).min().unwrap();
+                        assert_eq!(low, top - MARK_GAP, "{} {c:?}", font.as_str());
+                        assert!(high >= top - MARK_GAP - 3, "{c:?}");
+                        assert!(
+                            mark.iter().all(|p| inside_x(p[0])),
+                            "{} {c:?}",
+                            font.as_str()
+                        );
+                    }
+                }
+            }
+        }
+        // 28 lower-case and 27 capital accented letters (no capital ÿ in Latin-1).
+        assert_eq!(letters, 2 * 55);
+    }
 }

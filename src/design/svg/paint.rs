@@ -38,6 +38,10 @@ pub(super) const MIN_INK_OPACITY: f64 = 0.1;
 /// under a fill less than half opaque the earlier art stays the more visible.
 pub(super) const HIDE_OPACITY: f64 = 0.5;
 
+/// Distance (mm) within which the end of one clipped piece of a line and the start of the
+/// next are the same point, and the pieces are joined into one run.
+const PIECE_JOIN: f64 = 1e-9;
+
 /// One visible region of a fill.
 pub(super) struct Region {
     /// The shape name (the element id, `ID.fill` beside a stroke).
@@ -236,7 +240,7 @@ fn along(line: &[DVec2], clipped: &geo::MultiLineString<f64>) -> Vec<Vec<DVec2>>
                 if last
                     .last()
                     .zip(p.first())
-                    .is_some_and(|(a, b)| a.distance(*b) < 1e-9) =>
+                    .is_some_and(|(a, b)| a.distance(*b) < PIECE_JOIN) =>
             {
                 last.extend_from_slice(&p[1..]);
             }
@@ -244,4 +248,12 @@ fn along(line: &[DVec2], clipped: &geo::MultiLineString<f64>) -> Vec<Vec<DVec2>>
         }
     }
     out
+}
+
+/// A solid paint as `#rrggbb` (lower case); `None` for gradients and patterns.
+pub(super) fn paint_color(p: &usvg::Paint) -> Option<String> {
+    match p {
+        usvg::Paint::Color(c) => Some(format!("#{:02x}{:02x}{:02x}", c.red, c.green, c.blue)),
+        _ => None,
+    }
 }

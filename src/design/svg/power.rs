@@ -2,6 +2,7 @@
 //! the path effect, read from the source (usvg draws only the filled outline).
 
 use super::*;
+use kurbo::{BezPath, PathEl};
 
 /// An Inkscape Power Stroke path effect on an element: its centre line (`inkscape:original-d`)
 /// and its width points (`offset_points="t,w | t,w | …"`: path time t, half width w in user

@@ -21,8 +21,8 @@ pub const MAX_NODES: u32 = 4_000_000;
 pub const MAX_DEPTH: usize = 256;
 
 /// Most CSS rules in a document's `<style>` elements: usvg's style resolution grows with
-/// the square of the rule count (3,000 rules: 1.9 s, 10⁴: over 25 s); drawing programs write
-/// one rule per distinct style, a few hundred at most.
+/// the square of the rule count; drawing programs write one rule per distinct style, a few
+/// hundred at most.
 pub const MAX_CSS_RULES: usize = 2_000;
 
 /// Deepest nesting of entity definitions followed when sizing the expansion (roxmltree

@@ -3,7 +3,7 @@ use crate::machine::builtin_profile;
 use crate::toolpath::{Operation, OperationKind};
 
 fn profile(name: &str) -> Profile {
-    builtin_profile(name).unwrap().unwrap()
+    builtin_profile(name).unwrap()
 }
 
 fn square(z: f64, power: f64) -> Cut {
