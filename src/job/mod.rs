@@ -14,6 +14,7 @@ pub mod progress;
 pub mod re_route;
 pub mod shapes;
 pub mod size;
+pub mod tolerances;
 
 pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, Summary, design_of_strokes};
 pub use progress::{Progress, ProgressFn, Stage, Timings};

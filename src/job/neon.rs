@@ -1196,7 +1196,7 @@ pub fn run_hole_points(
             }
         }
         for (p, s) in pts {
-            let tol = 1e-9 * (1.0 + p.length());
+            let tol = super::tolerances::SAME_POINT_REL * (1.0 + p.length());
             if selected.contains(&s) && !out.iter().any(|(q, _)| q.distance(p) <= tol) {
                 out.push((p, design.stroke[s].name.clone()));
             }
