@@ -30,6 +30,10 @@ use crate::toolpath::Toolpath;
 use std::sync::{Mutex, MutexGuard};
 use std::time::Instant;
 
+/// How much smaller than exact `--fit` makes the design, as a fraction of the scale: a
+/// millionth, so that the program's rounded coordinates stay inside the size asked for.
+const FIT_SHRINK: f64 = 1e-6;
+
 /// The kind of machine program a job writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OutputFormat {
@@ -234,7 +238,7 @@ impl Job<'_> {
                     &GcodeOptions {
                         job: o.name.to_string(),
                         input_units: units,
-                        tolerance: o.build.tolerance * 0.1,
+                        tolerance: o.build.tolerance * super::tolerances::EMIT_OF_FIT,
                         check_work_area: true,
                     },
                 )?;
@@ -389,7 +393,7 @@ impl Job<'_> {
                     )));
                 };
                 // A hair smaller than exact, so the rounded program stays inside.
-                scale *= f * (1.0 - 1e-6);
+                scale *= f * (1.0 - FIT_SHRINK);
                 design = scaled_design(original, scale);
                 built = build(&design)?;
             }

@@ -132,7 +132,7 @@ pub fn scene_of_design_of(
             &GcodeOptions {
                 job: title.to_string(),
                 input_units: design.units,
-                tolerance: opts.tolerance * 0.1,
+                tolerance: opts.tolerance * super::tolerances::EMIT_OF_FIT,
                 check_work_area: false,
             },
         )?)

@@ -3,7 +3,7 @@
 //! move itself with the check that the job fits ([`place_job`]).
 
 use super::super::JobError;
-use super::super::tolerances::{MM_UNIT_TOL, Tolerances};
+use super::super::tolerances::Tolerances;
 use super::BuildResult;
 use crate::geom::DVec2;
 use crate::machine::Profile;
@@ -190,11 +190,7 @@ pub fn place_job(
     let hi = DVec2::new(s.bbox_max[0], s.bbox_max[1]);
     let size = hi - lo;
     let (a_lo, a_hi) = work_area_xy(profile, design_mm_per_unit);
-    let units = if (design_mm_per_unit - 1.0).abs() < MM_UNIT_TOL {
-        "mm"
-    } else {
-        "in"
-    };
+    let units = super::super::size::units_name(design_mm_per_unit);
     super::super::size::check_fits(
         size,
         false,
