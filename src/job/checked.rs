@@ -81,7 +81,7 @@ pub enum Scale {
     /// As written.
     None,
     /// Strokes, circles and text scaled by this factor about the origin (channel widths,
-    /// hole diameters, depths and margins stay as written, see [`scaled_design`]).
+    /// hole diameters, depths and margins stay as written, as `scaled_design` scales it).
     By(f64),
     /// Scaled uniformly so that the whole job (tool paths included) fits `width` ×
     /// `height` design units.
@@ -95,6 +95,7 @@ pub enum Scale {
 
 /// Options of a [`Job`].
 #[derive(Clone, Copy)]
+#[non_exhaustive]
 pub struct JobOptions<'a> {
     /// Tolerance, ε and skin route of the toolpath.
     pub build: BuildOptions,
@@ -147,6 +148,7 @@ impl std::fmt::Debug for JobOptions<'_> {
 
 /// A design to build for a machine.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Job<'a> {
     /// The design.
     pub design: &'a Design,
@@ -158,6 +160,7 @@ pub struct Job<'a> {
 
 /// What a job made.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct JobOutput {
     /// The machine program (G-code, laser SVG or DXF text).
     pub program: String,
@@ -170,7 +173,7 @@ pub struct JobOutput {
     /// The checker's report of a G-code program (`None` for SVG and DXF).
     pub report: Option<Report>,
     /// Every finding of error severity traced back to the design's operation and stroke,
-    /// with advice (see [`explain`]); empty when the check passed.
+    /// with advice (as `explain` writes them); empty when the check passed.
     pub explanations: Vec<String>,
     /// For every program line (0-based), the operation and cut that made it (G-code).
     pub origins: Vec<LineOrigin>,
@@ -178,7 +181,17 @@ pub struct JobOutput {
     pub timings: Timings,
 }
 
-impl Job<'_> {
+impl<'a> Job<'a> {
+    /// The job of building `design` for `profile` as `options` say.
+    #[must_use]
+    pub fn new(design: &'a Design, profile: &'a Profile, options: JobOptions<'a>) -> Self {
+        Job {
+            design,
+            profile,
+            options,
+        }
+    }
+
     /// Builds, places, writes and (G-code) checks the job.
     pub fn run(&self) -> Result<JobOutput, JobError> {
         self.run_of(None)
@@ -186,7 +199,7 @@ impl Job<'_> {
 
     /// [`Job::run`], building only the operations whose 0-based indices `only` lists (an
     /// `[[output]]`'s selection, [`crate::design::Output::operations_of`]); `None`: every
-    /// operation. The design's other operations stay context ([`build_toolpath_placed`]).
+    /// operation. The design's other operations stay context (as `build_toolpath_placed` builds them).
     pub fn run_of(&self, only: Option<&[usize]>) -> Result<JobOutput, JobError> {
         let o = &self.options;
         let profile = self.profile;
@@ -533,6 +546,7 @@ pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, design: &Desi
 
 /// One operation of the [`Summary`].
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct OperationSummary {
     /// The operation's name.
     pub name: String,
@@ -550,6 +564,7 @@ pub struct OperationSummary {
 
 /// The route one operation's paths took ([`crate::job::re_route::RouteNote`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct RouteSummary {
     /// The operation's name in the toolpath (e.g. "profile 1").
     pub operation: String,
@@ -576,6 +591,7 @@ pub struct Bounds {
 
 /// Time estimates in seconds.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct TimeSummary {
     /// The checker's estimate with the machine's acceleration (G-code only).
     pub with_acceleration: Option<f64>,
@@ -585,6 +601,7 @@ pub struct TimeSummary {
 
 /// The summary of a built job: `skinpath build --json` prints it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct Summary {
     /// The design's file name.
     pub design: String,
@@ -627,6 +644,7 @@ pub struct Summary {
 
 /// What was done to a stroke that could not be skinned as one piece.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct SkinRepairSummary {
     /// The stroke's name.
     pub stroke: String,
@@ -650,6 +668,7 @@ pub struct SkinRepairSummary {
 
 /// A stroke built on the union of its disks because its skin cut into it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct DiskUnionSummary {
     /// The stroke's name.
     pub stroke: String,

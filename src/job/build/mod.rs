@@ -36,7 +36,7 @@ mod profile;
 mod scale;
 mod vcarve;
 
-pub use place::{PLACE_GRID, Place, PlaceAt, Placement, place_job, placement_offset};
+pub use place::{Place, PlaceAt, Placement, place_job};
 pub use scale::{fit_scale, outline_bounds, scaled_design};
 
 use super::JobError;
@@ -58,6 +58,7 @@ use std::sync::Mutex;
 
 /// Options of a build.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct BuildOptions {
     /// Arc fitting and flattening tolerance of the toolpath (design units).
     pub tolerance: f64,
@@ -65,7 +66,7 @@ pub struct BuildOptions {
     pub epsilon: f64,
     /// The skin route of profiles and backboards where an operation does not name one
     /// (`skin`: Bézier skin and general offsets; `re`/`mph`: exact MAT offsets, see
-    /// [`super::re_route`]). With `re`/`mph` the items' outlines are their RE/MPH skins.
+    /// the exact MAT offsets of the RE/MPH skins). With `re`/`mph` the items' outlines are their RE/MPH skins.
     pub method: OutlineMethod,
 }
 
@@ -94,6 +95,7 @@ const ATTR_PIECE_MM: f64 = 0.5;
 
 /// The result of a build.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct BuildResult {
     /// The toolpath in design units.
     pub toolpath: Toolpath,
@@ -106,7 +108,7 @@ pub struct BuildResult {
     pub routes: Vec<RouteNote>,
     /// Wall time spent building the RE/MPH skins of the items (seconds; 0 without them).
     pub re_skin_seconds: f64,
-    /// The neon bill of materials, for a design with a `[neon]` table ([`super::neon`]).
+    /// The neon bill of materials, for a design with a `[neon]` table (see [`NeonBom`](super::NeonBom)).
     pub neon: Option<super::neon::NeonBom>,
     /// What the build could not cut as drawn (features narrower than the tool), in
     /// operation order.
@@ -115,6 +117,7 @@ pub struct BuildResult {
 
 /// Something the build could not cut as drawn.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct BuildWarning {
     /// The operation's name in the toolpath (e.g. "profile 1").
     pub operation: String,

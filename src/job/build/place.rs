@@ -121,6 +121,7 @@ pub enum Place {
 
 impl Place {
     /// The name on the command line (`--place`).
+    #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
             Place::Design => "design",
@@ -132,6 +133,7 @@ impl Place {
 
 /// Where a job went: the shift applied, the job's size and where it lies, in design units.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct Placement {
     /// The placement asked for.
     pub place: Place,

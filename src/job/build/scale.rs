@@ -12,6 +12,7 @@ use crate::geom::DVec2;
 /// ends that get neon holes); the `[neon]` table's `break_at` points. Operation settings
 /// (channel width, hole diameter, depths, margins, bridge width, mounting holes) and the
 /// flex's sizes are physical sizes of tools and material and stay as written.
+#[must_use]
 pub fn scaled_design(design: &Design, f: f64) -> Design {
     let mut d = design.clone();
     let sc = |v: &mut [f64; 3]| {
@@ -52,6 +53,7 @@ pub fn scaled_design(design: &Design, f: f64) -> Design {
 
 /// Bounding box (min, max) of the outlines of a build (with the box of the disks of a
 /// stroke cut only along its spine, [`ItemOutline::spine_box`]), in design units.
+#[must_use]
 pub fn outline_bounds(outlines: &[ItemOutline], tol: f64) -> Option<(DVec2, DVec2)> {
     let mut lo = DVec2::splat(f64::INFINITY);
     let mut hi = DVec2::splat(f64::NEG_INFINITY);
@@ -72,6 +74,7 @@ pub fn outline_bounds(outlines: &[ItemOutline], tol: f64) -> Option<(DVec2, DVec
 /// with the design, the rest of the job (tool offsets, channel widths, backboard margins)
 /// does not, so the factor is (w − extra_x)/outline_w (likewise in y), the smaller of the
 /// two. `job` and `outline` are the sizes at the current scale.
+#[must_use]
 pub fn fit_scale(job: DVec2, outline: DVec2, w: f64, h: f64) -> Option<f64> {
     let extra = job - outline;
     let sx = (w - extra.x) / outline.x;

@@ -118,6 +118,7 @@ pub struct FlexSummary {
 
 /// The neon bill of materials of a build (`build --json`: `neon`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct NeonBom {
     /// The flex.
     pub flex: FlexSummary,
@@ -137,7 +138,7 @@ pub struct NeonBom {
     /// Bends below the flex minimum, channels that merge, runs shorter than the cut unit
     /// and bends `round_bends` could not round ([`NeonBom::judge`]).
     pub warnings: Vec<NeonWarning>,
-    /// The `round` warnings of [`round_bends`] (kept across [`NeonBom::judge`]).
+    /// The `round` warnings of `round_bends` (kept across [`NeonBom::judge`]).
     #[serde(skip)]
     pub round_warnings: Vec<NeonWarning>,
     /// Every stretch bent tighter than the flex (design units).

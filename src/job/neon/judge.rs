@@ -252,7 +252,7 @@ impl NeonBom {
         self.warnings = w;
     }
 
-    /// Records what [`round_bends`] did: per run the bends rounded and the largest
+    /// Records what `round_bends` did: per run the bends rounded and the largest
     /// deviation (design units), and its warnings.
     pub fn set_rounding(&mut self, reports: &[RoundReport], warnings: Vec<NeonWarning>) {
         for r in &mut self.runs {
@@ -264,7 +264,7 @@ impl NeonBom {
         self.judge(self.scale);
     }
 
-    /// Adds the marks (runs shorter than `min_run_length`, see [`split_marks`]) with their
+    /// Adds the marks (runs shorter than `min_run_length`, see `split_marks`) with their
     /// lengths (design units).
     pub fn set_marks(&mut self, design: &Design, marks: &[(Run, f64)]) {
         self.marks = marks

@@ -41,14 +41,9 @@ mod runs;
 pub use bend::{bend_radius, span_min_radius, spine_length};
 pub use bom::{
     CloseRuns, FlexSummary, MarkBom, NeonBom, NeonWarning, RunBom, RunPlace, TightBend, bom,
-    channel_width,
 };
-pub use judge::{ISLAND_FLATTEN_OF_WIDTH, MIN_ISLAND_OF_WIDTH};
-pub use round::{
-    ARC_PIECE_DEG, ARC_RADIUS_MARGIN, ROUND_MARGIN, ROUND_SAMPLES, RoundReport, Rounded,
-    round_bends,
-};
-pub use runs::{Leg, Run, run_hole_points, run_length, runs, split_marks};
+pub use round::{RoundReport, round_bends};
+pub use runs::{Leg, Run, run_hole_points, runs, split_marks};
 
 /// Turning angle (degrees) above which a join of two strokes is a corner (bend radius 0):
 /// G1 joins of fitted strokes agree to far below a degree; a font's corner turns by tens.
@@ -57,10 +52,6 @@ pub const TANGENT_BREAK_DEG: f64 = 1.0;
 /// Curvature samples per knot span before refinement: a cubic span's curvature has at
 /// most a few local maxima, each resolved by a 32-sample grid.
 pub const BEND_SAMPLES: usize = 32;
-
-/// Relative tolerance of the spine lengths (of the spine's length): far below the
-/// 0.1 % a flex order can tell.
-pub const LENGTH_REL_TOL: f64 = 1e-9;
 
 /// Parameter tolerance of the bend refinement, as a fraction of the knot span.
 pub const BEND_PARAM_TOL: f64 = 1e-10;
