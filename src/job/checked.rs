@@ -217,8 +217,8 @@ impl<'a> Job<'a> {
         // Two units of the program's last decimal, so that coordinate rounding cannot put an
         // arc's extreme point a hair outside the work area: a reader takes the arc's radius
         // from the rounded start and the rounded centre offset, each off by up to half a unit
-        // per axis, so the radius (and the extreme) moves by up to √2 units (seed 0x5EED0013
-        // case 138: a hole's circle reached x = −0.0004 with one unit).
+        // per axis, so the radius (and the extreme) moves by up to √2 units (with one unit, a
+        // hole's circle placed at the corner can reach a unit outside).
         let inset = 2.0 * 10f64.powi(-(decimals as i32)) * k;
         let (design, mut built, scale) = self.scaled_build(progress, inset, only)?;
         clock.start(Stage::Place);
@@ -924,5 +924,29 @@ contours = [[[0.0, 10.0], [5.0, 10.0], [5.0, 15.0]]]
         assert_eq!(item_kind(&d, "s"), "stroke");
         assert_eq!(item_kind(&d, "c"), "circle sequence");
         assert_eq!(item_kind(&d, "q"), "shape");
+    }
+
+    /// `--fit W×H` on a laser: the placed job's box fits W × H and fills the binding axis
+    /// up to what a new skin at the new scale may differ by (2·(ε + 2·tol) per side).
+    #[test]
+    fn fit_makes_the_job_fit_the_size() {
+        use super::{Job, JobOptions, Scale};
+        let text = include_str!("../../examples/ring_o.toml");
+        let d = crate::design::load(text, "ring_o.toml").unwrap();
+        let text = include_str!("../../machines/grbl-laser.toml");
+        let p = crate::machine::Profile::from_toml(text, "grbl-laser.toml").unwrap();
+        let (w, h) = (50.0, 40.0);
+        let mut o = JobOptions::default();
+        o.scale = Scale::Fit {
+            width: w,
+            height: h,
+        };
+        let out = Job::new(&d, &p, o).run().unwrap();
+        let [sx, sy] = out.placement.size;
+        let (eps, tol) = (o.build.epsilon, o.build.tolerance);
+        assert!(sx <= w + tol && sy <= h + tol, "{sx} x {sy}");
+        let slack = 4.0 * (eps + 2.0 * tol);
+        assert!((w - sx).min(h - sy) <= slack, "{sx} x {sy} in {w} x {h}");
+        assert!(out.placement.scale < 1.0);
     }
 }

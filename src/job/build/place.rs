@@ -242,3 +242,81 @@ pub fn place_job(
         scale,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{BuildOptions, build_toolpath};
+    use super::*;
+
+    fn router() -> Profile {
+        let text = include_str!("../../../machines/grbl-router.toml");
+        Profile::from_toml(text, "grbl-router.toml").expect("builtin profile")
+    }
+
+    fn ring() -> crate::design::Design {
+        let text = include_str!("../../../examples/ring_o.toml");
+        crate::design::load(text, "ring_o.toml").expect("example design")
+    }
+
+    fn at(place: Place, margin: f64, inset: f64) -> PlaceAt {
+        PlaceAt {
+            place,
+            margin,
+            inset,
+        }
+    }
+
+    /// Lower-left puts the box's min at the work area's corner plus margin and inset;
+    /// centre puts the box's centre at the area's; the design's coordinates do not move.
+    #[test]
+    fn placement_offset_puts_the_box_where_asked() {
+        let p = router();
+        let (a_lo, a_hi) = work_area_xy(&p, 1.0);
+        let (lo, hi) = (DVec2::new(-12.5, 40.25), DVec2::new(87.0, 93.5));
+        let off = placement_offset(lo, hi, &p, 1.0, at(Place::LowerLeft, 5.0, 0.002));
+        assert!(
+            (lo + off - (a_lo + DVec2::splat(5.002)))
+                .abs()
+                .max_element()
+                < 1e-12
+        );
+        let off = placement_offset(lo, hi, &p, 1.0, at(Place::Center, 5.0, 0.002));
+        let mid = 0.5 * (lo + hi) + off;
+        assert!((mid - 0.5 * (a_lo + a_hi)).abs().max_element() < 1e-12);
+        let off = placement_offset(lo, hi, &p, 1.0, at(Place::Design, 5.0, 0.002));
+        assert_eq!(off, DVec2::ZERO);
+        // A design in inches: the work area (mm) is 25.4 times smaller in design units.
+        let (i_lo, i_hi) = work_area_xy(&p, 25.4);
+        assert!((i_lo * 25.4 - a_lo).abs().max_element() < 1e-9);
+        assert!((i_hi * 25.4 - a_hi).abs().max_element() < 1e-9);
+    }
+
+    /// A built job placed lower-left with a margin: the placed toolpath's box starts at
+    /// the work area's corner plus margin and inset (within the placement grid), and keeps
+    /// its size; the placement reports that box.
+    #[test]
+    fn place_job_lower_left_puts_the_toolpath_min_at_the_margin() {
+        let p = router();
+        let mut built = build_toolpath(&ring(), &p, &BuildOptions::default()).expect("build");
+        let before = built.toolpath.stats(DVec2::ZERO);
+        let size = DVec2::new(
+            before.bbox_max[0] - before.bbox_min[0],
+            before.bbox_max[1] - before.bbox_min[1],
+        );
+        let (margin, inset) = (5.0, 0.002);
+        let placed =
+            place_job(&mut built, &p, 1.0, Place::LowerLeft, margin, inset, 1.0).expect("fits");
+        let (a_lo, _) = work_area_xy(&p, 1.0);
+        let want = a_lo + DVec2::splat(margin + inset);
+        let s = built.toolpath.stats(DVec2::ZERO);
+        let got = DVec2::new(s.bbox_min[0], s.bbox_min[1]);
+        assert!(
+            (got - want).abs().max_element() <= 4.0 * PLACE_GRID,
+            "{got} vs {want}"
+        );
+        assert!((DVec2::from_array(placed.min) - want).abs().max_element() < 1e-9);
+        assert!((DVec2::from_array(placed.size) - size).abs().max_element() < 1e-9);
+        let got_size = DVec2::new(s.bbox_max[0], s.bbox_max[1]) - got;
+        assert!((got_size - size).abs().max_element() <= 4.0 * PLACE_GRID);
+    }
+}

@@ -82,3 +82,76 @@ pub fn fit_scale(job: DVec2, outline: DVec2, w: f64, h: f64) -> Option<f64> {
     let s = sx.min(sy);
     (s.is_finite() && s > 0.0).then_some(s)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The factor s makes s·outline + extra fit w × h, with equality in the binding axis
+    /// (extra = job − outline, the parts that do not scale); none when the fixed parts
+    /// alone are larger than the size.
+    #[test]
+    fn fit_scale_fits_the_binding_axis_exactly() {
+        let (job, outline) = (DVec2::new(30.0, 20.0), DVec2::new(25.0, 18.0));
+        let extra = job - outline;
+        let (w, h) = (100.0, 50.0);
+        let s = fit_scale(job, outline, w, h).expect("a factor");
+        let fitted = s * outline + extra;
+        assert!(fitted.x <= w + 1e-12 && fitted.y <= h + 1e-12);
+        assert!((fitted.y - h).abs() < 1e-12, "y binds: {fitted}");
+        assert!((s - (h - extra.y) / outline.y).abs() < 1e-15);
+        assert_eq!(fit_scale(job, outline, 4.0, 50.0), None);
+    }
+
+    /// Disks, points and the neon breaks scale by f about the origin, operation settings
+    /// do not.
+    #[test]
+    fn scaled_design_scales_the_artwork_only() {
+        let text = include_str!("../../../examples/neon_word.toml");
+        let d = crate::design::load(text, "neon_word.toml").expect("example design");
+        let f = 0.37;
+        let s = scaled_design(&d, f);
+        for (a, b) in d.stroke.iter().zip(&s.stroke) {
+            let (da, db) = (a.disks.as_ref(), b.disks.as_ref());
+            for (p, q) in da.into_iter().flatten().zip(db.into_iter().flatten()) {
+                for k in 0..3 {
+                    assert_eq!(q[k], p[k] * f);
+                }
+            }
+        }
+        assert_eq!(d.operation.len(), s.operation.len());
+        for (a, b) in d.operation.iter().zip(&s.operation) {
+            assert_eq!(
+                (a.width, a.diameter, a.depth),
+                (b.width, b.diameter, b.depth)
+            );
+        }
+    }
+
+    /// The outlines' box of a scaled design is the scaled box (the skin scales with its
+    /// disks) within the skin's and the flattening's tolerance.
+    #[test]
+    fn outline_bounds_scale_with_the_design() {
+        use super::super::super::outline::{OutlineOptions, design_outlines};
+        let text = include_str!("../../../examples/ring_o.toml");
+        let d = crate::design::load(text, "ring_o.toml").expect("example design");
+        let opts = OutlineOptions::default();
+        let f = 0.5;
+        let tol = opts.tolerance;
+        let (lo, hi) =
+            outline_bounds(&design_outlines(&d, &opts).expect("outlines"), tol).expect("a box");
+        let scaled = design_outlines(&scaled_design(&d, f), &opts).expect("outlines");
+        let (slo, shi) = outline_bounds(&scaled, tol).expect("a box");
+        let allow = 2.0 * (opts.epsilon + tol);
+        assert!(
+            (slo - f * lo).abs().max_element() <= allow,
+            "{slo} vs {}",
+            f * lo
+        );
+        assert!(
+            (shi - f * hi).abs().max_element() <= allow,
+            "{shi} vs {}",
+            f * hi
+        );
+    }
+}
