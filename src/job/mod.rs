@@ -1,7 +1,7 @@
 //! Whole jobs on a design: outlines of every stroke, circle sequence and shape
 //! ([`design_outlines`], [`outline_document`]), toolpaths for a machine
-//! ([`build_toolpath`]), and the checked job the binary runs ([`Job`]): build, place, write
-//! the machine program and check it. This is the only library module that walks a whole
+//! ([`build_toolpath`]) placed in the work area ([`place_job`]), and the checked job the
+//! binary runs ([`Job`]): scale, build, place, write the machine program and check it. This is the only library module that walks a whole
 //! design through the pipeline; the CLI adds files and terminals around it.
 //!
 //! The items below are the module's public front; its submodules are internal.
@@ -18,17 +18,15 @@ pub(crate) mod progress;
 pub(crate) mod re_route;
 pub(crate) mod shapes;
 pub(crate) mod size;
+pub(crate) mod summary;
 pub(crate) mod tolerances;
 
 pub use build::{
     BuildOptions, BuildResult, BuildWarning, DEFAULT_PROFILE_DEPTH_MM, LINE_DEPTH_MM, Place,
-    Placement, build_toolpath,
+    Placement, build_toolpath, outline_bounds, place_job, scaled_design,
 };
 pub use check::{check_config, design_boundaries, operations_of, part_outlines};
-pub use checked::{
-    Bounds, DiskUnionSummary, Job, JobOptions, JobOutput, OperationSummary, OutputFormat,
-    RouteSummary, Scale, SkinRepairSummary, Summary, TimeSummary, design_of_strokes,
-};
+pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, design_of_strokes};
 pub use inspect::{
     CirclesInfo, DesignInfo, LoopInfo, OutputInfo, SegmentInfo, StrokeInfo, inspect,
 };
@@ -43,6 +41,10 @@ pub use outputs::{OutputJob, job_name, run_outputs};
 pub use preview::{scene_of_build, scene_of_design, scene_of_design_of, scene_of_program};
 pub use progress::{Progress, ProgressFn, Stage, Timings};
 pub use re_route::RouteNote;
+pub use summary::{
+    Bounds, DiskUnionSummary, OperationSummary, RouteSummary, SkinRepairSummary, Summary,
+    TimeSummary,
+};
 
 use crate::design::DesignError;
 

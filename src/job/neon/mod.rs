@@ -37,6 +37,8 @@ mod bom;
 mod judge;
 mod round;
 mod runs;
+#[cfg(test)]
+mod tests;
 
 pub use bend::{bend_radius, span_min_radius, spine_length};
 pub use bom::{
