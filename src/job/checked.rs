@@ -703,10 +703,12 @@ contours = [[[0.0, 10.0], [5.0, 10.0], [5.0, 15.0]]]
         let text = include_str!("../../machines/grbl-laser.toml");
         let p = crate::machine::Profile::from_toml(text, "grbl-laser.toml").unwrap();
         let (w, h) = (50.0, 40.0);
-        let mut o = JobOptions::default();
-        o.scale = Scale::Fit {
-            width: w,
-            height: h,
+        let o = JobOptions {
+            scale: Scale::Fit {
+                width: w,
+                height: h,
+            },
+            ..JobOptions::default()
         };
         let out = Job::new(&d, &p, o).run().unwrap();
         let [sx, sy] = out.placement.size;

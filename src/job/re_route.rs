@@ -377,17 +377,21 @@ mod tests {
             let profile = router();
             // Build-wide method: the items' outlines (the checker's design boundary) are then
             // the RE/MPH skins themselves, not the Bézier skins the route does not follow.
-            let mut opts = BuildOptions::default();
-            opts.tolerance = TOL;
-            opts.method = if ph { OutlineMethod::Mph } else { OutlineMethod::Re };
+            let opts = BuildOptions {
+                tolerance: TOL,
+                method: if ph { OutlineMethod::Mph } else { OutlineMethod::Re },
+                ..BuildOptions::default()
+            };
             let built = build_toolpath(&design, &profile, &opts);
             prop_assume!(built.is_ok());
             let built = built.unwrap();
             prop_assume!(built.routes.iter().all(|r| r.route == method));
             // The same paths from the library, against the exact distance to the skin.
             let interp = if ph { Interp::PhQuintic } else { Interp::Cubic };
-            let mut oo = OutlineOptions::default();
-            oo.tolerance = TOL;
+            let oo = OutlineOptions {
+                tolerance: TOL,
+                ..OutlineOptions::default()
+            };
             let outlines = design_outlines(&design, &oo).unwrap();
             let items = re_items(&design, &[], &outlines, interp, &oo);
             let item = items[0].as_ref().unwrap();
@@ -484,7 +488,6 @@ mod tests {
                         "{name}/{} {interp:?}: skins {e:.4} apart, regions leave {a_out} and {b_out}",
                         o.name
                     );
-                    eprintln!("{name}/{}: {interp:?} skins {e:.4} apart", o.name);
                 }
             }
         }
