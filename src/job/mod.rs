@@ -31,7 +31,8 @@ pub use inspect::{
     CirclesInfo, DesignInfo, LoopInfo, OutputInfo, SegmentInfo, StrokeInfo, inspect,
 };
 pub use neon::{
-    CloseRuns, FlexSummary, MarkBom, NeonBom, NeonWarning, RunBom, RunPlace, TightBend,
+    CloseRuns, FlexSummary, Leg, MarkBom, NeonBom, NeonWarning, Run, RunBom, RunPlace, TightBend,
+    runs,
 };
 pub use outline::{
     ItemError, ItemOutline, OutlineOptions, SkinFallback, SkinRepair, SkinSplit, design_outlines,

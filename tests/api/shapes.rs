@@ -6,7 +6,7 @@
 use glam::DVec2;
 use skinpath::design::svg::{ImportOptions, import};
 use skinpath::design::{Design, load};
-use skinpath::job::build::{BuildOptions, build_toolpath};
+use skinpath::job::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 use std::f64::consts::PI;
 
@@ -785,10 +785,10 @@ mod robustness {
                     let profile = skinpath::machine::builtin_profile("grbl-laser")
                         .unwrap()
                         .unwrap();
-                    let built = skinpath::job::build::build_toolpath(
+                    let built = skinpath::job::build_toolpath(
                         &d,
                         &profile,
-                        &skinpath::job::build::BuildOptions::default(),
+                        &skinpath::job::BuildOptions::default(),
                     );
                     prop_assert!(built.is_ok(), "{text}: {:?}", built.err().map(|e| e.to_string()));
                 }
