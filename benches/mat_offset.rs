@@ -333,7 +333,7 @@ fn main() {
 /// build and the arcs and lines of every profile and backboard, with the route taken.
 fn routes_on_examples() {
     use skinpath::design::OutlineMethod;
-    use skinpath::job::build::{BuildOptions, build_toolpath};
+    use skinpath::job::{BuildOptions, build_toolpath};
     let examples = [
         ("ring_o", "grbl-router"),
         ("circles", "grbl-router"),
@@ -354,10 +354,8 @@ fn routes_on_examples() {
             continue;
         };
         for method in [OutlineMethod::Skin, OutlineMethod::Re, OutlineMethod::Mph] {
-            let opts = BuildOptions {
-                method,
-                ..BuildOptions::default()
-            };
+            let mut opts = BuildOptions::default();
+            opts.method = method;
             let Ok(built) = build_toolpath(&design, &profile, &opts) else {
                 println!("routes: {name} {method:?}: build failed");
                 continue;

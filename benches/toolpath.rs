@@ -127,8 +127,8 @@ fn example_regions() -> Vec<(String, Region)> {
         let Ok(design) = skinpath::design::load(&text, &file) else {
             continue;
         };
-        let opts = skinpath::job::outline::OutlineOptions::default();
-        let Ok(items) = skinpath::job::outline::design_outlines(&design, &opts) else {
+        let opts = skinpath::job::OutlineOptions::default();
+        let Ok(items) = skinpath::job::design_outlines(&design, &opts) else {
             continue;
         };
         let largest = items

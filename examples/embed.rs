@@ -32,15 +32,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             eprintln!("skinned every stroke");
         }
     };
-    let job = Job {
-        design: &design,
-        profile: &profile,
-        options: JobOptions {
-            name: "wave",
-            progress: Some(&progress),
-            ..JobOptions::default()
-        },
-    };
+    let mut options = JobOptions::default();
+    options.name = "wave";
+    options.progress = Some(&progress);
+    let job = Job::new(&design, &profile, options);
     let out = match job.run() {
         Ok(out) => out,
         Err(JobError::Unchecked { explanations, .. }) => {

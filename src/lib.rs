@@ -35,7 +35,7 @@
 //! let design = design_of_strokes("wave", &[("wave", &wave)], &[])?;
 //! let profile = builtin_profile("grbl-router")?;
 //!
-//! let out = Job { design: &design, profile: &profile, options: JobOptions::default() }.run()?;
+//! let out = Job::new(&design, &profile, JobOptions::default()).run()?;
 //! let report = out.report.as_ref().ok_or("G-code is always checked")?;
 //! assert_eq!(report.errors(), 0);
 //! assert!(out.program.lines().any(|l| l.starts_with("G1") || l.starts_with("G2")));

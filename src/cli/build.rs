@@ -8,7 +8,7 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::job::build::{BuildOptions, Place};
+use skinpath::job::{BuildOptions, Place};
 use skinpath::job::{Job, JobError, JobOptions, JobOutput, OutputFormat, Scale, Stage, Timings};
 use skinpath::machine::{MachineKind, Profile, builtin_profile};
 use std::fmt::Write as _;
@@ -281,20 +281,16 @@ pub fn run(a: Args) -> Result<u8> {
     let name = job_name(&a.design);
     let bar = super::progress::Bar::new();
     let on_progress = |p: skinpath::job::Progress| bar.show(p);
-    let job = Job {
-        design: &original,
-        profile: &profile,
-        options: JobOptions {
-            build,
-            place,
-            margin: a.margin,
-            scale,
-            format,
-            name: &name,
-            write_unchecked: a.write_unchecked,
-            progress: bar.active().then_some(&on_progress),
-        },
-    };
+    let mut options = JobOptions::default();
+    options.build = build;
+    options.place = place;
+    options.margin = a.margin;
+    options.scale = scale;
+    options.format = format;
+    options.name = &name;
+    options.write_unchecked = a.write_unchecked;
+    options.progress = bar.active().then_some(&on_progress);
+    let job = Job::new(&original, &profile, options);
     let result = job.run();
     bar.finish();
     let out = match result {
@@ -326,7 +322,7 @@ pub fn run(a: Args) -> Result<u8> {
     let t_write = Instant::now();
     let mut outputs: Vec<(&Path, Vec<u8>)> = Vec::new();
     if let Some(p) = &a.preview {
-        let scene = skinpath::job::preview::scene_of_build(
+        let scene = skinpath::job::scene_of_build(
             &name,
             &out.built.toolpath,
             &profile,
@@ -375,7 +371,7 @@ pub(super) fn print_job(
     text: &mut String,
     out: &JobOutput,
     profile: &Profile,
-    bom: Option<&skinpath::job::neon::NeonBom>,
+    bom: Option<&skinpath::job::NeonBom>,
 ) -> Result<()> {
     let placement = &out.placement;
     let scale = placement.scale;
@@ -527,7 +523,7 @@ fn print_summary(
 const MAX_NEON_WARNINGS: usize = 40;
 
 /// The neon bill of materials: one line per run, the totals and the warnings.
-pub(super) fn print_bom(text: &mut String, bom: &skinpath::job::neon::NeonBom) -> std::fmt::Result {
+pub(super) fn print_bom(text: &mut String, bom: &skinpath::job::NeonBom) -> std::fmt::Result {
     writeln!(
         text,
         "neon: {} runs of {:.0} mm flex, {:.1} mm in total, order {:.0} mm (cut unit {:.0} \

@@ -16,8 +16,8 @@ use super::build::{Args, check_bom, job_name, load_profile, print_bom, print_job
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::{Design, Output};
-use skinpath::job::outputs::{OutputJob, run_outputs};
 use skinpath::job::{JobError, JobOptions, OutputFormat, Stage, Timings};
+use skinpath::job::{OutputJob, run_outputs};
 use skinpath::machine::{MachineKind, Profile, builtin_profile};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -246,16 +246,15 @@ pub fn run(a: Args) -> Result<u8> {
         .collect();
     let bar = super::progress::Bar::new();
     let on_progress = |p: skinpath::job::Progress| bar.show(p);
-    let options = JobOptions {
-        build: s.build,
-        place: s.place,
-        margin: a.margin,
-        scale: s.scale,
-        format: OutputFormat::Gcode,
-        name: &name,
-        write_unchecked: a.write_unchecked,
-        progress: bar.active().then_some(&on_progress),
-    };
+    let mut options = JobOptions::default();
+    options.build = s.build;
+    options.place = s.place;
+    options.margin = a.margin;
+    options.scale = s.scale;
+    options.format = OutputFormat::Gcode;
+    options.name = &name;
+    options.write_unchecked = a.write_unchecked;
+    options.progress = bar.active().then_some(&on_progress);
     let result = run_outputs(&design, &jobs, options);
     bar.finish();
     let outs = match result {
@@ -289,8 +288,8 @@ pub fn run(a: Args) -> Result<u8> {
         .map(|(p, out)| (p.path.as_path(), out.program.clone().into_bytes()))
         .collect();
     for ((p, out), path) in planned.iter().zip(&outs).zip(&previews) {
-        let scene = skinpath::job::preview::scene_of_build(
-            &skinpath::job::outputs::job_name(&name, p.output),
+        let scene = skinpath::job::scene_of_build(
+            &skinpath::job::job_name(&name, p.output),
             &out.built.toolpath,
             &p.profile,
             out.design.units.mm_per_unit(),

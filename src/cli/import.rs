@@ -6,7 +6,7 @@ use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::{Format, HAIRLINE_MM, Operation, OperationKind, default_operations};
 use skinpath::design::{ImportOptions, import};
-use skinpath::job::build::DEFAULT_PROFILE_DEPTH_MM;
+use skinpath::job::DEFAULT_PROFILE_DEPTH_MM;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]

@@ -2,8 +2,8 @@
 
 use super::io;
 use anyhow::Result;
-use skinpath::job::inspect::inspect;
-use skinpath::job::outline::OutlineOptions;
+use skinpath::job::OutlineOptions;
+use skinpath::job::inspect;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]

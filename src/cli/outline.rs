@@ -3,7 +3,7 @@
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::OutlineMethod;
-use skinpath::job::outline::{OutlineOptions, outline_document_with};
+use skinpath::job::{OutlineOptions, outline_document_with};
 use skinpath::job::{Stage, Timings};
 use std::path::PathBuf;
 

@@ -14,8 +14,8 @@ use skinpath::design::ErrorKind;
 use skinpath::emit::{
     HtmlOptions, PngOptions, Scene, SvgOptions, player_html, scene_png, scene_svg,
 };
-use skinpath::job::build::BuildOptions;
-use skinpath::job::preview::{scene_of_design, scene_of_program};
+use skinpath::job::BuildOptions;
+use skinpath::job::{scene_of_design, scene_of_program};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
@@ -133,7 +133,7 @@ fn outputs(
         inputs.extend(profile_file.as_deref());
         io::refuse_overwriting_inputs(&path, &inputs)?;
         let only = o.operations_of(design);
-        let scene = skinpath::job::preview::scene_of_design_of(
+        let scene = skinpath::job::scene_of_design_of(
             &format!("{title} {}", o.name),
             design,
             &profile,

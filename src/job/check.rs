@@ -14,6 +14,7 @@ use crate::sim::{CheckConfig, DesignBoundary, KeepSide};
 /// Feeds may range from 1 unit/min up to the fastest axis; S from 0 to the profile's
 /// maximum (a spindle's minimum rpm only applies while it turns, which the profile's
 /// M3/M5 handling ensures).
+#[must_use]
 pub fn check_config(profile: &Profile, tool_radius: f64) -> CheckConfig {
     let w = &profile.work_area;
     let f = &profile.max_feed;
@@ -61,6 +62,7 @@ pub fn sim_dialect(dialect: Dialect) -> crate::sim::Dialect {
 /// `build` chooses — a drawing (an .svg, or items with `layer` or `color`) item by item
 /// ([`default_operations`]: strokes no wider than `hairline`, design units, as lines), any
 /// other design one profile around the union of everything. Settings are left unset.
+#[must_use]
 pub fn operations_of(design: &Design, hairline: f64) -> Vec<Operation> {
     if !design.operation.is_empty() {
         return design.operation.clone();
@@ -79,6 +81,7 @@ pub fn operations_of(design: &Design, hairline: f64) -> Vec<Operation> {
 /// cut around (outside profiles — a router's default side — and backboards) or not
 /// selected at all are parts. `laser` makes a profile without `side` run on the outline,
 /// as the build does.
+#[must_use]
 pub fn part_outlines(
     design: &Design,
     ops: &[Operation],
@@ -115,6 +118,7 @@ pub fn part_outlines(
 /// (counter-clockwise) and inside the holes (clockwise inner contours of closed strokes).
 /// With `parts = false` only the distance counts. `mm_per_unit` converts the design's units
 /// to the millimetres the checker works in.
+#[must_use]
 pub fn design_boundaries(
     outlines: &[ItemOutline],
     parts: bool,

@@ -30,6 +30,10 @@ use crate::toolpath::Toolpath;
 use std::sync::{Mutex, MutexGuard};
 use std::time::Instant;
 
+/// How much smaller than exact `--fit` makes the design, as a fraction of the scale: a
+/// millionth, so that the program's rounded coordinates stay inside the size asked for.
+const FIT_SHRINK: f64 = 1e-6;
+
 /// The kind of machine program a job writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OutputFormat {
@@ -77,7 +81,7 @@ pub enum Scale {
     /// As written.
     None,
     /// Strokes, circles and text scaled by this factor about the origin (channel widths,
-    /// hole diameters, depths and margins stay as written, see [`scaled_design`]).
+    /// hole diameters, depths and margins stay as written, as `scaled_design` scales it).
     By(f64),
     /// Scaled uniformly so that the whole job (tool paths included) fits `width` ×
     /// `height` design units.
@@ -91,6 +95,7 @@ pub enum Scale {
 
 /// Options of a [`Job`].
 #[derive(Clone, Copy)]
+#[non_exhaustive]
 pub struct JobOptions<'a> {
     /// Tolerance, ε and skin route of the toolpath.
     pub build: BuildOptions,
@@ -143,6 +148,7 @@ impl std::fmt::Debug for JobOptions<'_> {
 
 /// A design to build for a machine.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Job<'a> {
     /// The design.
     pub design: &'a Design,
@@ -154,6 +160,7 @@ pub struct Job<'a> {
 
 /// What a job made.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct JobOutput {
     /// The machine program (G-code, laser SVG or DXF text).
     pub program: String,
@@ -166,7 +173,7 @@ pub struct JobOutput {
     /// The checker's report of a G-code program (`None` for SVG and DXF).
     pub report: Option<Report>,
     /// Every finding of error severity traced back to the design's operation and stroke,
-    /// with advice (see [`explain`]); empty when the check passed.
+    /// with advice (as `explain` writes them); empty when the check passed.
     pub explanations: Vec<String>,
     /// For every program line (0-based), the operation and cut that made it (G-code).
     pub origins: Vec<LineOrigin>,
@@ -174,7 +181,17 @@ pub struct JobOutput {
     pub timings: Timings,
 }
 
-impl Job<'_> {
+impl<'a> Job<'a> {
+    /// The job of building `design` for `profile` as `options` say.
+    #[must_use]
+    pub fn new(design: &'a Design, profile: &'a Profile, options: JobOptions<'a>) -> Self {
+        Job {
+            design,
+            profile,
+            options,
+        }
+    }
+
     /// Builds, places, writes and (G-code) checks the job.
     pub fn run(&self) -> Result<JobOutput, JobError> {
         self.run_of(None)
@@ -182,7 +199,7 @@ impl Job<'_> {
 
     /// [`Job::run`], building only the operations whose 0-based indices `only` lists (an
     /// `[[output]]`'s selection, [`crate::design::Output::operations_of`]); `None`: every
-    /// operation. The design's other operations stay context ([`build_toolpath_placed`]).
+    /// operation. The design's other operations stay context (as `build_toolpath_placed` builds them).
     pub fn run_of(&self, only: Option<&[usize]>) -> Result<JobOutput, JobError> {
         let o = &self.options;
         let profile = self.profile;
@@ -200,8 +217,8 @@ impl Job<'_> {
         // Two units of the program's last decimal, so that coordinate rounding cannot put an
         // arc's extreme point a hair outside the work area: a reader takes the arc's radius
         // from the rounded start and the rounded centre offset, each off by up to half a unit
-        // per axis, so the radius (and the extreme) moves by up to √2 units (seed 0x5EED0013
-        // case 138: a hole's circle reached x = −0.0004 with one unit).
+        // per axis, so the radius (and the extreme) moves by up to √2 units (with one unit, a
+        // hole's circle placed at the corner can reach a unit outside).
         let inset = 2.0 * 10f64.powi(-(decimals as i32)) * k;
         let (design, mut built, scale) = self.scaled_build(progress, inset, only)?;
         clock.start(Stage::Place);
@@ -234,7 +251,7 @@ impl Job<'_> {
                     &GcodeOptions {
                         job: o.name.to_string(),
                         input_units: units,
-                        tolerance: o.build.tolerance * 0.1,
+                        tolerance: o.build.tolerance * super::tolerances::EMIT_OF_FIT,
                         check_work_area: true,
                     },
                 )?;
@@ -389,7 +406,7 @@ impl Job<'_> {
                     )));
                 };
                 // A hair smaller than exact, so the rounded program stays inside.
-                scale *= f * (1.0 - 1e-6);
+                scale *= f * (1.0 - FIT_SHRINK);
                 design = scaled_design(original, scale);
                 built = build(&design)?;
             }
@@ -525,233 +542,6 @@ pub fn explain(f: &Finding, origins: &[LineOrigin], tp: &Toolpath, design: &Desi
         lines.join(", "),
         advice(f.id)
     )
-}
-
-/// One operation of the [`Summary`].
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct OperationSummary {
-    /// The operation's name.
-    pub name: String,
-    /// The toolpath operation kind, lower case (`profile`, `pocket`, ...).
-    pub kind: String,
-    /// Index of the `[[operation]]` in the design; `None` for the default profile.
-    pub design_index: Option<usize>,
-    /// Number of cuts.
-    pub cuts: usize,
-    /// Length of the cutting moves (design units).
-    pub cut_length: f64,
-    /// Whether the operation switches air assist on.
-    pub air_assist: bool,
-}
-
-/// The route one operation's paths took ([`crate::job::re_route::RouteNote`]).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct RouteSummary {
-    /// The operation's name in the toolpath (e.g. "profile 1").
-    pub operation: String,
-    /// "skin", "re" or "mph".
-    pub route: String,
-    /// What the route did, or why the exact route was not taken.
-    pub detail: String,
-    /// Arcs of the operation's paths.
-    pub arcs: usize,
-    /// Lines of the operation's paths.
-    pub lines: usize,
-    /// Wall time of the operation's paths, seconds (varies from run to run).
-    pub seconds: f64,
-}
-
-/// Bounding box of the job.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct Bounds {
-    /// Lowest x, y, z.
-    pub min: [f64; 3],
-    /// Highest x, y, z.
-    pub max: [f64; 3],
-}
-
-/// Time estimates in seconds.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct TimeSummary {
-    /// The checker's estimate with the machine's acceleration (G-code only).
-    pub with_acceleration: Option<f64>,
-    /// Cut length over programmed feeds.
-    pub at_programmed_feeds: f64,
-}
-
-/// The summary of a built job: `skinpath build --json` prints it.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct Summary {
-    /// The design's file name.
-    pub design: String,
-    /// The machine profile's name.
-    pub machine: String,
-    /// Files written (filled in by the caller, which writes them).
-    pub outputs: Vec<String>,
-    /// One summary per operation.
-    pub operations: Vec<OperationSummary>,
-    /// Length of all cutting moves (design units).
-    pub cut_length: f64,
-    /// Length of all travels (design units).
-    pub travel_length: f64,
-    /// Bounding box of the toolpath.
-    pub bounds: Bounds,
-    /// Where the job was placed.
-    pub placement: Placement,
-    /// Time estimates.
-    pub time: TimeSummary,
-    /// The checker's findings (G-code only).
-    pub findings: Vec<Finding>,
-    /// The route each profile and backboard took, with its time.
-    pub routes: Vec<RouteSummary>,
-    /// Wall time of the RE/MPH skins, seconds (0 when the build used none).
-    pub re_skin_seconds: f64,
-    /// Strokes whose skin cut into them, built on the union of their disks instead
-    /// ([`crate::job::outline::ItemOutline::disk_union`]).
-    pub disk_unions: Vec<DiskUnionSummary>,
-    /// The neon bill of materials (designs with a `[neon]` table).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub neon: Option<super::neon::NeonBom>,
-    /// Strokes that could not be skinned as one piece: split at the failing places, pieces
-    /// that still failed built on the union of their disks
-    /// ([`crate::job::outline::ItemOutline::repair`]).
-    pub skin_repairs: Vec<SkinRepairSummary>,
-    /// What the build could not cut as drawn: features narrower than the tool
-    /// ([`crate::job::build::BuildWarning`]).
-    pub warnings: Vec<crate::job::build::BuildWarning>,
-}
-
-/// What was done to a stroke that could not be skinned as one piece.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct SkinRepairSummary {
-    /// The stroke's name.
-    pub stroke: String,
-    /// How often it was split (pieces = splits + 1).
-    pub splits: usize,
-    /// Pieces built on the union of their disks.
-    pub fallbacks: usize,
-    /// Worst deviation of its outline from its disks (design units): how far a disk reaches
-    /// outside the outline or the outline outside the disks.
-    pub deviation: f64,
-    /// Where the deviation is largest (design coordinates, before placement).
-    pub deviation_at: [f64; 2],
-    /// Curve parameters of the splits.
-    pub split_at: Vec<f64>,
-    /// Why the first split or fallback was needed (the skinning error).
-    pub reason: String,
-    /// Which control disks to change, and how, for the stroke to skin as one piece ("" when
-    /// nothing stands out).
-    pub hint: String,
-}
-
-/// A stroke built on the union of its disks because its skin cut into it.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct DiskUnionSummary {
-    /// The stroke's name.
-    pub stroke: String,
-    /// How deep the skin cut into the stroke (design units).
-    pub depth: f64,
-    /// Centre of the deepest-reaching disk (design coordinates, before placement).
-    pub at: [f64; 2],
-}
-
-impl JobOutput {
-    /// The job's summary, with `outputs` empty.
-    pub fn summary(&self, profile: &Profile) -> Summary {
-        let tp = &self.built.toolpath;
-        let s = tp.stats(DVec2::ZERO);
-        let operations = tp
-            .operations
-            .iter()
-            .map(|op| {
-                let single = Toolpath {
-                    operations: vec![op.clone()],
-                };
-                let os = single.stats(DVec2::ZERO);
-                OperationSummary {
-                    name: op.name.clone(),
-                    kind: format!("{:?}", op.kind).to_lowercase(),
-                    design_index: op.design_index,
-                    cuts: op.cuts.len(),
-                    cut_length: os.cut_length,
-                    air_assist: op.air_assist,
-                }
-            })
-            .collect();
-        Summary {
-            design: self.design.file.clone(),
-            machine: profile.name.clone(),
-            outputs: Vec::new(),
-            operations,
-            cut_length: s.cut_length,
-            travel_length: s.travel_length,
-            bounds: Bounds {
-                min: s.bbox_min,
-                max: s.bbox_max,
-            },
-            placement: self.placement,
-            time: TimeSummary {
-                with_acceleration: self.report.as_ref().map(|r| r.stats.time.total),
-                at_programmed_feeds: s.cut_time,
-            },
-            findings: self
-                .report
-                .as_ref()
-                .map(|r| r.findings.clone())
-                .unwrap_or_default(),
-            routes: self
-                .built
-                .routes
-                .iter()
-                .map(|r| RouteSummary {
-                    operation: r.operation.clone(),
-                    route: r.route.clone(),
-                    detail: r.detail.clone(),
-                    arcs: r.counts.arcs,
-                    lines: r.counts.lines,
-                    seconds: r.seconds,
-                })
-                .collect(),
-            re_skin_seconds: self.built.re_skin_seconds,
-            disk_unions: self
-                .built
-                .outlines
-                .iter()
-                .filter_map(|o| {
-                    o.disk_union.map(|u| DiskUnionSummary {
-                        stroke: o.name.clone(),
-                        depth: u.depth,
-                        at: [u.at.x, u.at.y],
-                    })
-                })
-                .collect(),
-            neon: self.built.neon.clone(),
-            skin_repairs: self
-                .built
-                .outlines
-                .iter()
-                .filter_map(|o| {
-                    let r = o.repair.as_ref()?;
-                    Some(SkinRepairSummary {
-                        stroke: o.name.clone(),
-                        splits: r.splits.len(),
-                        fallbacks: r.fallbacks.len(),
-                        deviation: r.deviation,
-                        deviation_at: [r.deviation_at.x, r.deviation_at.y],
-                        split_at: r.splits.iter().map(|s| s.t).collect(),
-                        reason: r
-                            .splits
-                            .first()
-                            .map(|s| s.reason.clone())
-                            .or_else(|| r.fallbacks.first().map(|f| f.reason.clone()))
-                            .unwrap_or_default(),
-                        hint: r.hint.clone().unwrap_or_default(),
-                    })
-                })
-                .collect(),
-            warnings: self.built.warnings.clone(),
-        }
-    }
 }
 
 /// A design of strokes and circle sequences made in code: `strokes` as (name, curve),
@@ -901,5 +691,31 @@ contours = [[[0.0, 10.0], [5.0, 10.0], [5.0, 15.0]]]
         assert_eq!(item_kind(&d, "s"), "stroke");
         assert_eq!(item_kind(&d, "c"), "circle sequence");
         assert_eq!(item_kind(&d, "q"), "shape");
+    }
+
+    /// `--fit W×H` on a laser: the placed job's box fits W × H and fills the binding axis
+    /// up to what a new skin at the new scale may differ by (2·(ε + 2·tol) per side).
+    #[test]
+    fn fit_makes_the_job_fit_the_size() {
+        use super::{Job, JobOptions, Scale};
+        let text = include_str!("../../examples/ring_o.toml");
+        let d = crate::design::load(text, "ring_o.toml").unwrap();
+        let text = include_str!("../../machines/grbl-laser.toml");
+        let p = crate::machine::Profile::from_toml(text, "grbl-laser.toml").unwrap();
+        let (w, h) = (50.0, 40.0);
+        let o = JobOptions {
+            scale: Scale::Fit {
+                width: w,
+                height: h,
+            },
+            ..JobOptions::default()
+        };
+        let out = Job::new(&d, &p, o).run().unwrap();
+        let [sx, sy] = out.placement.size;
+        let (eps, tol) = (o.build.epsilon, o.build.tolerance);
+        assert!(sx <= w + tol && sy <= h + tol, "{sx} x {sy}");
+        let slack = 4.0 * (eps + 2.0 * tol);
+        assert!((w - sx).min(h - sy) <= slack, "{sx} x {sy} in {w} x {h}");
+        assert!(out.placement.scale < 1.0);
     }
 }

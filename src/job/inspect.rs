@@ -87,6 +87,7 @@ pub struct CirclesInfo {
 
 #[derive(Clone, Debug, Serialize)]
 /// The report on a design (what `skinpath inspect` prints).
+#[non_exhaustive]
 pub struct DesignInfo {
     /// The design file.
     pub file: String,

@@ -1,27 +1,57 @@
-//! Whole jobs on a design: outlines of every stroke and circle sequence ([`outline`]) and
-//! shape ([`shapes`]), and toolpaths for a machine ([`build`]). This is the only library module that walks a whole
+//! Whole jobs on a design: outlines of every stroke, circle sequence and shape
+//! ([`design_outlines`], [`outline_document`]), toolpaths for a machine
+//! ([`build_toolpath`]) placed in the work area ([`place_job`]), and the checked job the
+//! binary runs ([`Job`]): scale, build, place, write the machine program and check it. This is the only library module that walks a whole
 //! design through the pipeline; the CLI adds files and terminals around it.
+//!
+//! The items below are the module's public front; its submodules are internal.
 
-pub mod build;
-pub mod check;
-pub mod checked;
-pub mod inspect;
-pub mod neon;
-pub mod outline;
-pub mod outputs;
-pub mod preview;
-pub mod progress;
-pub mod re_route;
-pub mod shapes;
-pub mod size;
+pub(crate) mod build;
+pub(crate) mod check;
+pub(crate) mod checked;
+pub(crate) mod inspect;
+pub(crate) mod neon;
+pub(crate) mod outline;
+pub(crate) mod outputs;
+pub(crate) mod preview;
+pub(crate) mod progress;
+pub(crate) mod re_route;
+pub(crate) mod shapes;
+pub(crate) mod size;
+pub(crate) mod summary;
+pub(crate) mod tolerances;
 
-pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, Summary, design_of_strokes};
+pub use build::{
+    BuildOptions, BuildResult, BuildWarning, DEFAULT_PROFILE_DEPTH_MM, LINE_DEPTH_MM, Place,
+    Placement, build_toolpath, outline_bounds, place_job, scaled_design,
+};
+pub use check::{check_config, design_boundaries, operations_of, part_outlines};
+pub use checked::{Job, JobOptions, JobOutput, OutputFormat, Scale, design_of_strokes};
+pub use inspect::{
+    CirclesInfo, DesignInfo, LoopInfo, OutputInfo, SegmentInfo, StrokeInfo, inspect,
+};
+pub use neon::{
+    CloseRuns, FlexSummary, Leg, MarkBom, NeonBom, NeonWarning, Run, RunBom, RunPlace, TightBend,
+    runs,
+};
+pub use outline::{
+    ItemError, ItemOutline, OutlineOptions, SkinFallback, SkinRepair, SkinSplit, design_outlines,
+    outline_document, outline_document_with,
+};
+pub use outputs::{OutputJob, job_name, run_outputs};
+pub use preview::{scene_of_build, scene_of_design, scene_of_design_of, scene_of_program};
 pub use progress::{Progress, ProgressFn, Stage, Timings};
+pub use re_route::RouteNote;
+pub use summary::{
+    Bounds, DiskUnionSummary, OperationSummary, RouteSummary, SkinRepairSummary, Summary,
+    TimeSummary,
+};
 
 use crate::design::DesignError;
 
 /// Errors of a job; each names the design file and the stroke or operation at fault.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum JobError {
     /// The design could not be read or is invalid.
     #[error(transparent)]
@@ -51,7 +81,7 @@ pub enum JobError {
         /// What went wrong.
         message: String,
     },
-    /// One output of a design with `[[output]]` tables failed (see [`outputs`]); nothing
+    /// One output of a design with `[[output]]` tables failed (see [`run_outputs`]); nothing
     /// of any output is returned.
     #[error("output \"{output}\" (machine {machine}): {source}")]
     Output {
@@ -70,7 +100,7 @@ pub enum JobError {
     Emit(#[from] crate::emit::EmitError),
     /// The G-code program failed its check and [`JobOptions::write_unchecked`] is off;
     /// `explanations` trace every error finding back to the design (see
-    /// [`checked::explain`]).
+    /// `explain` in the checked job).
     #[error(
         "{file}: the program failed {errors} check(s) (listed above with the operation \
          and stroke that made each); nothing was written (--write-unchecked \

@@ -26,6 +26,7 @@ pub use crate::skin::re::outline::{ReOutline, ReOutlineError, re_offsets, sequen
 
 /// Options of an outline job.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct OutlineOptions {
     /// Which outline to draw: skin, raw envelope, RE or MPH skin.
     pub method: OutlineMethod,
@@ -80,10 +81,10 @@ pub struct ItemOutline {
     pub disk_union: Option<Uncovered>,
     /// What was done where the stroke could not be skinned as one piece: splits, pieces
     /// built on the union of their disks, and the outline's deviation from the disks
-    /// ([`repair`]). `None` for a stroke skinned as it is.
+    /// (its repair). `None` for a stroke skinned as it is.
     pub repair: Option<SkinRepair>,
     /// A stroke that a build cuts only along its spine (every operation selecting it is a
-    /// `line`) is not skinned ([`spine_only_outline`]): `contours` is then empty and this is
+    /// `line`) is not skinned (`spine_only_outline`): `contours` is then empty and this is
     /// the box (min, max) of its disks, for the job's bounds. `None` for every outline made.
     pub spine_box: Option<(DVec2, DVec2)>,
 }
@@ -93,6 +94,7 @@ const LOOP_PARAM_TOL: f64 = 1e-10;
 
 /// What went wrong with one stroke or circle sequence (see [`JobError::Item`]).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ItemError {
     /// Envelope loop detection failed.
     #[error(transparent)]

@@ -27,6 +27,7 @@ pub struct OutputJob<'a> {
 }
 
 /// The job name of an output in its program's header: `NAME.OUTPUT`.
+#[must_use]
 pub fn job_name(name: &str, output: &Output) -> String {
     format!("{name}.{}", output.name)
 }

@@ -97,7 +97,7 @@ pub fn scene_of_build(
 /// and for G-code machines its program (arcs fitted within a tenth of the build tolerance)
 /// read back and checked. A job outside the machine's travel is drawn, not refused: the
 /// checker marks it. With `png`, the image's size is checked before the checker runs
-/// ([`scene_of_gcode_for`]).
+/// (as `scene_of_gcode_for` checks a program).
 pub fn scene_of_design(
     title: &str,
     design: &Design,
@@ -110,7 +110,7 @@ pub fn scene_of_design(
 
 /// [`scene_of_design`] of the operations `only` (0-based, an `[[output]]`'s: see
 /// [`crate::design::Output::operations_of`]); the others stay design context
-/// ([`crate::job::build::build_toolpath_placed`]). `None`: every operation.
+/// (as `build_toolpath_placed` takes it). `None`: every operation.
 pub fn scene_of_design_of(
     title: &str,
     design: &Design,
@@ -132,7 +132,7 @@ pub fn scene_of_design_of(
             &GcodeOptions {
                 job: title.to_string(),
                 input_units: design.units,
-                tolerance: opts.tolerance * 0.1,
+                tolerance: opts.tolerance * super::tolerances::EMIT_OF_FIT,
                 check_work_area: false,
             },
         )?)

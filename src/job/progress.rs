@@ -45,6 +45,7 @@ impl Stage {
 /// with fraction 0 and ends with fraction 1; in between it reports after every stroke
 /// skinned or operation planned.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Progress {
     /// The stage running.
     pub stage: Stage,

@@ -286,3 +286,210 @@ fn crosses(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> bool {
     let o = |a: DVec2, b: DVec2, c: DVec2| crate::geom::cross(b - a, c - a);
     (o(p0, p1, q0) > 0.0) != (o(p0, p1, q1) > 0.0) && (o(q0, q1, p0) > 0.0) != (o(q0, q1, p1) > 0.0)
 }
+
+/// The RE/MPH route against independent computation: on random admissible circle
+/// sequences the profile lies at distance δ from the RE skin (the exact distance to the
+/// union of its MAT disks) within the fitting tolerance and the program checks clean; on
+/// the examples the RE and Bézier routes' profile regions differ by at most the skins'
+/// Hausdorff distance plus the tolerances.
+#[cfg(test)]
+mod tests {
+    use super::re_items;
+    use crate::design::{Design, OutlineMethod};
+    use crate::geom::{Circle, DVec2, Path};
+    use crate::job::build::{BuildOptions, build_toolpath};
+    use crate::job::check::check_config;
+    use crate::job::outline::{OutlineOptions, design_outlines};
+    use crate::machine::Profile;
+    use crate::skin::mat_offset::region_distance;
+    use crate::skin::re::Interp;
+    use crate::toolpath::ops::{self, ProfileSide};
+    use crate::toolpath::re_route::mat_profile;
+    use crate::toolpath::region::Region;
+    use geo::{Area, BooleanOps, Buffer};
+    use proptest::prelude::*;
+
+    /// The builtin GRBL router profile.
+    fn router() -> Profile {
+        let text = include_str!("../../machines/grbl-router.toml");
+        Profile::from_toml(text, "grbl-router.toml").unwrap()
+    }
+
+    /// Biarc fitting tolerance of the tests (mm).
+    const TOL: f64 = 0.01;
+
+    fn design_of(cs: &[Circle], method: &str) -> Design {
+        let list: Vec<String> = cs
+            .iter()
+            .map(|c| format!("[{}, {}, {}]", c.c.x, c.c.y, c.r))
+            .collect();
+        let text = format!(
+            "version = 1\nunits = \"mm\"\n[[circles]]\nname = \"seq\"\nclosed = false\n\
+             circles = [{}]\n[[operation]]\nkind = \"profile\"\nside = \"outside\"\n\
+             depth = 2.0\nmethod = \"{method}\"\n",
+            list.join(", ")
+        );
+        crate::design::load(&text, "random.toml").unwrap()
+    }
+
+    /// Open sequences inside the router's work area: steps longer than the radius changes.
+    fn sequence() -> impl Strategy<Value = Vec<Circle>> {
+        prop::collection::vec((-0.7f64..0.7, 9.0f64..16.0, 2.5f64..7.0), 3..6).prop_map(|steps| {
+            let mut dir = 0.3f64;
+            let mut p = DVec2::ZERO;
+            let cs: Vec<Circle> = steps
+                .iter()
+                .map(|&(turn, len, r)| {
+                    dir += turn;
+                    p += len * DVec2::new(dir.cos(), dir.sin());
+                    Circle::new(p, r)
+                })
+                .collect();
+            // Moved so that the lowest circle edge sits 30 mm inside the work area's corner.
+            let lo = cs.iter().fold(DVec2::splat(f64::INFINITY), |m, c| {
+                m.min(c.c - DVec2::splat(c.r))
+            });
+            cs.iter()
+                .map(|c| Circle::new(c.c - lo + DVec2::splat(30.0), c.r))
+                .collect()
+        })
+    }
+
+    fn samples(paths: &[Path], per_seg: usize) -> Vec<DVec2> {
+        let mut v = Vec::new();
+        for p in paths {
+            for s in &p.segs {
+                for k in 0..=per_seg {
+                    v.push(s.eval(k as f64 / per_seg as f64));
+                }
+            }
+        }
+        v
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(8))]
+
+        #[test]
+        fn re_route_is_at_delta_and_checks_clean(cs in sequence(), ph in any::<bool>()) {
+            let method = if ph { "mph" } else { "re" };
+            let design = design_of(&cs, method);
+            let profile = router();
+            // Build-wide method: the items' outlines (the checker's design boundary) are then
+            // the RE/MPH skins themselves, not the Bézier skins the route does not follow.
+            let opts = BuildOptions {
+                tolerance: TOL,
+                method: if ph { OutlineMethod::Mph } else { OutlineMethod::Re },
+                ..BuildOptions::default()
+            };
+            let built = build_toolpath(&design, &profile, &opts);
+            prop_assume!(built.is_ok());
+            let built = built.unwrap();
+            prop_assume!(built.routes.iter().all(|r| r.route == method));
+            // The same paths from the library, against the exact distance to the skin.
+            let interp = if ph { Interp::PhQuintic } else { Interp::Cubic };
+            let oo = OutlineOptions {
+                tolerance: TOL,
+                ..OutlineOptions::default()
+            };
+            let outlines = design_outlines(&design, &oo).unwrap();
+            let items = re_items(&design, &[], &outlines, interp, &oo);
+            let item = items[0].as_ref().unwrap();
+            let r = profile.default_tool().unwrap().radius();
+            let paths = mat_profile(&item.skin, ProfileSide::Outside, r, TOL).unwrap();
+            for q in samples(&paths, 8) {
+                let d = region_distance(&item.skin, q).unwrap();
+                prop_assert!(d > 0.0 && (d - r).abs() <= TOL + 1e-9, "{q}: {d} vs {r}");
+            }
+            // The machine program passes the checker without errors.
+            let g = crate::emit::gcode(
+                &built.toolpath,
+                &profile,
+                &crate::emit::GcodeOptions {
+                    job: "random".into(),
+                    input_units: crate::machine::Units::Mm,
+                    tolerance: TOL * 0.1,
+                    check_work_area: true,
+                },
+            )
+            .unwrap();
+            let mut cfg = check_config(&profile, r);
+            cfg.gouge_tolerance = cfg.gouge_tolerance.max(2.0 * TOL + 1e-3 + cfg.flatten_tolerance);
+            let bounds = crate::job::check::design_boundaries(&built.outlines, true, TOL, 1.0);
+            let report = crate::sim::check_text(crate::sim::Backend::Builtin, &g, &cfg, &bounds);
+            prop_assert_eq!(report.errors(), 0, "{}", report);
+        }
+    }
+
+    fn to_geo(paths: &[Path], tol: f64) -> geo::MultiPolygon<f64> {
+        Region::from_paths(paths, tol).to_geo(tol)
+    }
+
+    /// Largest distance from the points of `a` to the polylines of `b` (both flattened).
+    fn directed(a: &[Path], b: &[Path], tol: f64) -> f64 {
+        let fb: Vec<Vec<DVec2>> = b.iter().map(|p| p.flatten(tol)).collect();
+        let mut worst = 0.0f64;
+        for p in a {
+            for q in p.flatten(tol) {
+                let d = fb
+                    .iter()
+                    .flat_map(|poly| {
+                        (0..poly.len()).map(move |i| {
+                            crate::geom::Line::new(poly[i], poly[(i + 1) % poly.len()]).distance(q)
+                        })
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(d);
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn re_and_bezier_routes_differ_by_the_skin_distance() {
+        let r = 1.5;
+        for name in ["circles", "ring_o", "brush", "loop", "snake", "neon_word"] {
+            let path = format!("{}/examples/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+            let text = std::fs::read_to_string(&path).unwrap();
+            let design = crate::design::load(&text, &path).unwrap();
+            let oo = OutlineOptions {
+                tolerance: TOL,
+                ..OutlineOptions::default()
+            };
+            let outlines = design_outlines(&design, &oo).unwrap();
+            let strokes = design.strokes().unwrap();
+            for interp in [Interp::Cubic, Interp::PhQuintic] {
+                let items = re_items(&design, &strokes, &outlines, interp, &oo);
+                for (o, it) in outlines.iter().zip(&items) {
+                    let Ok(it) = it else { continue };
+                    // The skins' distance (both directions, flattened within TOL).
+                    let e = directed(&o.contours, &it.outline, TOL).max(directed(
+                        &it.outline,
+                        &o.contours,
+                        TOL,
+                    ));
+                    let bez = ops::profile(
+                        &Region::from_paths(&o.contours, TOL),
+                        ProfileSide::Outside,
+                        r,
+                        TOL * 0.1,
+                    );
+                    let Ok(re) = mat_profile(&it.skin, ProfileSide::Outside, r, TOL) else {
+                        continue;
+                    };
+                    let (a, b) = (to_geo(&bez, TOL), to_geo(&re, TOL));
+                    let bound = e + 3.0 * TOL;
+                    // Each region lies within the other grown by the bound: nothing is left of
+                    // the difference once the other is grown.
+                    let a_out = a.difference(&b.buffer(bound)).unsigned_area();
+                    let b_out = b.difference(&a.buffer(bound)).unsigned_area();
+                    assert!(
+                        a_out < 1e-6 * a.unsigned_area() && b_out < 1e-6 * b.unsigned_area(),
+                        "{name}/{} {interp:?}: skins {e:.4} apart, regions leave {a_out} and {b_out}",
+                        o.name
+                    );
+                }
+            }
+        }
+    }
+}

@@ -5,6 +5,7 @@
 
 use super::JobError;
 use super::build::Place;
+use super::tolerances::MM_UNIT_TOL;
 use crate::design::{Design, Fit, OperationKind, ProfileSide};
 use crate::geom::DVec2;
 use crate::machine::Profile;
@@ -35,11 +36,7 @@ pub fn check_fits(
     if size.x + pad + inset <= a_size.x && size.y + pad + inset <= a_size.y {
         return Ok(());
     }
-    let units = if (design_mm_per_unit - 1.0).abs() < 1e-12 {
-        "mm"
-    } else {
-        "in"
-    };
+    let units = units_name(design_mm_per_unit);
     let room = a_size - DVec2::splat(pad + inset);
     let fit = (room.x / size.x).min(room.y / size.y);
     Err(JobError::Options(format!(
@@ -122,4 +119,14 @@ pub fn early_extent(design: &Design, slack: f64) -> Option<(DVec2, DVec2)> {
         }
     }
     (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+}
+
+/// The name of the design's unit for messages: "mm" when a unit is a millimetre (up to
+/// [`MM_UNIT_TOL`]), else "in".
+pub(crate) fn units_name(design_mm_per_unit: f64) -> &'static str {
+    if (design_mm_per_unit - 1.0).abs() < MM_UNIT_TOL {
+        "mm"
+    } else {
+        "in"
+    }
 }

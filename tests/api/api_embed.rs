@@ -4,7 +4,7 @@
 
 use crate::support::ROOT;
 use skinpath::geom::DVec2;
-use skinpath::job::build::scaled_design;
+use skinpath::job::scaled_design;
 use skinpath::{
     Circle, DiskBSpline, Job, JobError, JobOptions, OutputFormat, Scale, Stage, builtin_profile,
     design_of_strokes,
@@ -32,17 +32,10 @@ fn a_stroke_made_in_code_builds_checked_gcode_for_grbl_router() {
     let profile = builtin_profile("grbl-router").unwrap();
     let seen = Mutex::new(Vec::new());
     let progress = |p: skinpath::Progress| seen.lock().unwrap().push(p);
-    let out = Job {
-        design: &design,
-        profile: &profile,
-        options: JobOptions {
-            name: "wave",
-            progress: Some(&progress),
-            ..JobOptions::default()
-        },
-    }
-    .run()
-    .unwrap();
+    let mut options = JobOptions::default();
+    options.name = "wave";
+    options.progress = Some(&progress);
+    let out = Job::new(&design, &profile, options).run().unwrap();
     let report = out.report.as_ref().unwrap();
     assert_eq!(report.errors(), 0, "{:?}", report.findings);
     assert!(out.explanations.is_empty());
@@ -156,17 +149,10 @@ fn scaling_scales_text_and_keeps_its_corners_joints() {
     // as many at half size as at full size.
     let profile = builtin_profile("grbl-laser").unwrap();
     let holes = |scale: Scale| {
-        let out = Job {
-            design: &design,
-            profile: &profile,
-            options: JobOptions {
-                scale,
-                write_unchecked: true,
-                ..JobOptions::default()
-            },
-        }
-        .run()
-        .unwrap();
+        let mut options = JobOptions::default();
+        options.scale = scale;
+        options.write_unchecked = true;
+        let out = Job::new(&design, &profile, options).run().unwrap();
         let op = out
             .built
             .toolpath
@@ -188,25 +174,13 @@ fn an_svg_profile_cannot_write_gcode_and_bad_options_are_typed() {
     let wave = wave();
     let design = design_of_strokes("wave", &[("wave", &wave)], &[]).unwrap();
     let svg = builtin_profile("svg-laser").unwrap();
-    let job = |profile, options| {
-        Job {
-            design: &design,
-            profile,
-            options,
-        }
-        .run()
-    };
+    let job = |profile, options| Job::new(&design, profile, options).run();
     let e = job(&svg, JobOptions::default()).unwrap_err();
     assert!(matches!(e, JobError::Options(_)), "{e}");
     assert!(e.to_string().contains("SVG/DXF upload"));
-    let ok = job(
-        &svg,
-        JobOptions {
-            format: OutputFormat::Svg,
-            ..JobOptions::default()
-        },
-    )
-    .unwrap();
+    let mut svg_options = JobOptions::default();
+    svg_options.format = OutputFormat::Svg;
+    let ok = job(&svg, svg_options).unwrap();
     assert!(ok.program.starts_with("<?xml") || ok.program.contains("<svg"));
     assert!(ok.report.is_none());
     let router = builtin_profile("grbl-router").unwrap();
@@ -217,14 +191,9 @@ fn an_svg_profile_cannot_write_gcode_and_bad_options_are_typed() {
             height: 2.0,
         },
     ] {
-        let e = job(
-            &router,
-            JobOptions {
-                scale: bad,
-                ..JobOptions::default()
-            },
-        )
-        .unwrap_err();
+        let mut options = JobOptions::default();
+        options.scale = bad;
+        let e = job(&router, options).unwrap_err();
         assert!(matches!(e, JobError::Options(_)), "{e}");
     }
 }
@@ -264,15 +233,9 @@ fn a_parallel_build_equals_a_serial_one() {
             .unwrap();
         let out = pool
             .install(|| {
-                Job {
-                    design: &design,
-                    profile: &profile,
-                    options: JobOptions {
-                        name: "neon",
-                        ..JobOptions::default()
-                    },
-                }
-                .run()
+                let mut options = JobOptions::default();
+                options.name = "neon";
+                Job::new(&design, &profile, options).run()
             })
             .unwrap();
         let routes: Vec<(String, String, String)> = (out.summary(&profile).routes.iter())

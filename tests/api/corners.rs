@@ -9,7 +9,7 @@ use geo::{Area, BooleanOps, Contains, Coord, LineString, MultiPolygon, Polygon};
 use glam::DVec2;
 use proptest::prelude::*;
 use skinpath::design::load;
-use skinpath::job::outline::{OutlineOptions, design_outlines};
+use skinpath::job::{OutlineOptions, design_outlines};
 
 /// Flattening tolerance of the skinned contours and of the capsules (mm).
 const TOL: f64 = 0.01;
@@ -58,10 +58,8 @@ fn design_text(points: &[DVec2], r: f64) -> String {
 
 fn piece_outlines(text: &str) -> Vec<Vec<DVec2>> {
     let d = load(text, "corners.toml").unwrap();
-    let opts = OutlineOptions {
-        tolerance: TOL,
-        ..OutlineOptions::default()
-    };
+    let mut opts = OutlineOptions::default();
+    opts.tolerance = TOL;
     design_outlines(&d, &opts)
         .unwrap()
         .iter()

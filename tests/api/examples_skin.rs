@@ -6,15 +6,14 @@
 use crate::support::example;
 use skinpath::dbsc::Side;
 use skinpath::geom::{path_self_intersections, paths_intersections};
-use skinpath::job::outline::{OutlineOptions, design_outlines};
+use skinpath::job::{OutlineOptions, design_outlines};
 
 const EPS: f64 = 0.01;
 
 fn opts() -> OutlineOptions {
-    OutlineOptions {
-        epsilon: EPS,
-        ..OutlineOptions::default()
-    }
+    let mut opts = OutlineOptions::default();
+    opts.epsilon = EPS;
+    opts
 }
 
 #[test]

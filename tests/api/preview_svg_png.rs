@@ -226,13 +226,10 @@ fn laser_svg_hairlines_are_visible_in_the_png() {
     .expect("example");
     let design = skinpath::design::load(&text, "circles.toml").expect("design");
     let profile = skinpath::machine::builtin_profile("svg-laser").expect("shipped and valid");
-    let built = skinpath::job::build::build_toolpath(
-        &design,
-        &profile,
-        &skinpath::job::build::BuildOptions::default(),
-    )
-    .expect("builds");
-    let cfg = skinpath::job::check::check_config(&profile, 0.0);
+    let built =
+        skinpath::job::build_toolpath(&design, &profile, &skinpath::job::BuildOptions::default())
+            .expect("builds");
+    let cfg = skinpath::job::check_config(&profile, 0.0);
     let s = Scene::from_toolpath(
         "circles",
         &built.toolpath,

@@ -1,36 +1,20 @@
-//! The RE/MPH route of `build` (issue 14): exact MAT offsets as tool paths.
-//!
-//! - Random admissible circle sequences: the RE-route profile lies at distance δ from the
-//!   RE skin (the exact distance to the union of its MAT disks), within the biarc fitting
-//!   tolerance, never inside; the G-code of a design made of the sequence passes the checker.
-//! - The examples: the RE and Bézier routes' profile regions differ by at most the two
-//!   skins' Hausdorff distance plus the tolerances (geo boolean differences).
-//! - `build --method re|mph` on every example and every G-code profile exits cleanly (the
-//!   build checks its program and refuses one with errors) and names its routes.
+//! The RE/MPH route of `build` (issue 14): `build --method re|mph` on every example and
+//! every G-code profile exits cleanly (the build checks its program and refuses one with
+//! errors) and names its routes. The route's distance to the RE skin on random sequences
+//! and its difference from the Bézier route on the examples are unit tests of the
+//! library's `job::re_route`.
 
-use geo::{Area, BooleanOps, Buffer};
 use glam::DVec2;
-use proptest::prelude::*;
 use skinpath::design::{Design, OutlineMethod};
-use skinpath::geom::{Circle, Path};
-use skinpath::job::build::{BuildOptions, build_toolpath};
-use skinpath::job::check::check_config;
-use skinpath::job::outline::{OutlineOptions, design_outlines};
-use skinpath::job::re_route::re_items;
+use skinpath::geom::Circle;
+use skinpath::job::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
-use skinpath::skin::Interp;
-use skinpath::skin::region_distance;
-use skinpath::toolpath::ops::{self, ProfileSide};
-use skinpath::toolpath::re_route::mat_profile;
-use skinpath::toolpath::region::Region;
 use std::process::Command;
 
 use crate::support;
 use support::EXAMPLES;
 
-/// Biarc fitting tolerance of the tests (mm).
-const TOL: f64 = 0.01;
-
+/// A design of one open circle sequence profiled outside by `method`.
 fn design_of(cs: &[Circle], method: &str) -> Design {
     let list: Vec<String> = cs
         .iter()
@@ -43,167 +27,6 @@ fn design_of(cs: &[Circle], method: &str) -> Design {
         list.join(", ")
     );
     skinpath::design::load(&text, "random.toml").unwrap()
-}
-
-/// Open sequences inside the router's work area: steps longer than the radius changes.
-fn sequence() -> impl Strategy<Value = Vec<Circle>> {
-    prop::collection::vec((-0.7f64..0.7, 9.0f64..16.0, 2.5f64..7.0), 3..6).prop_map(|steps| {
-        let mut dir = 0.3f64;
-        let mut p = DVec2::ZERO;
-        let cs: Vec<Circle> = steps
-            .iter()
-            .map(|&(turn, len, r)| {
-                dir += turn;
-                p += len * DVec2::new(dir.cos(), dir.sin());
-                Circle::new(p, r)
-            })
-            .collect();
-        // Moved so that the lowest circle edge sits 30 mm inside the work area's corner.
-        let lo = cs.iter().fold(DVec2::splat(f64::INFINITY), |m, c| {
-            m.min(c.c - DVec2::splat(c.r))
-        });
-        cs.iter()
-            .map(|c| Circle::new(c.c - lo + DVec2::splat(30.0), c.r))
-            .collect()
-    })
-}
-
-fn samples(paths: &[Path], per_seg: usize) -> Vec<DVec2> {
-    let mut v = Vec::new();
-    for p in paths {
-        for s in &p.segs {
-            for k in 0..=per_seg {
-                v.push(s.eval(k as f64 / per_seg as f64));
-            }
-        }
-    }
-    v
-}
-
-proptest! {
-    #![proptest_config(ProptestConfig::with_cases(8))]
-
-    #[test]
-    fn re_route_is_at_delta_and_checks_clean(cs in sequence(), ph in any::<bool>()) {
-        let method = if ph { "mph" } else { "re" };
-        let design = design_of(&cs, method);
-        let profile = builtin_profile("grbl-router").unwrap();
-        // Build-wide method: the items' outlines (the checker's design boundary) are then
-        // the RE/MPH skins themselves, not the Bézier skins the route does not follow.
-        let opts = BuildOptions {
-            tolerance: TOL,
-            method: if ph { OutlineMethod::Mph } else { OutlineMethod::Re },
-            ..BuildOptions::default()
-        };
-        let built = build_toolpath(&design, &profile, &opts);
-        prop_assume!(built.is_ok());
-        let built = built.unwrap();
-        prop_assume!(built.routes.iter().all(|r| r.route == method));
-        // The same paths from the library, against the exact distance to the skin.
-        let interp = if ph { Interp::PhQuintic } else { Interp::Cubic };
-        let oo = OutlineOptions { tolerance: TOL, ..OutlineOptions::default() };
-        let outlines = design_outlines(&design, &oo).unwrap();
-        let items = re_items(&design, &[], &outlines, interp, &oo);
-        let item = items[0].as_ref().unwrap();
-        let r = profile.default_tool().unwrap().radius();
-        let paths = mat_profile(&item.skin, ProfileSide::Outside, r, TOL).unwrap();
-        for q in samples(&paths, 8) {
-            let d = region_distance(&item.skin, q).unwrap();
-            prop_assert!(d > 0.0 && (d - r).abs() <= TOL + 1e-9, "{q}: {d} vs {r}");
-        }
-        // The machine program passes the checker without errors.
-        let g = skinpath::emit::gcode(
-            &built.toolpath,
-            &profile,
-            &{
-                let mut o = skinpath::emit::GcodeOptions::default();
-                o.job = "random".into();
-                o.input_units = skinpath::machine::Units::Mm;
-                o.tolerance = TOL * 0.1;
-                o.check_work_area = true;
-                o
-            },
-        )
-        .unwrap();
-        let mut cfg = check_config(&profile, r);
-        cfg.gouge_tolerance = cfg.gouge_tolerance.max(2.0 * TOL + 1e-3 + cfg.flatten_tolerance);
-        let bounds = skinpath::job::check::design_boundaries(&built.outlines, true, TOL, 1.0);
-        let report = skinpath::sim::check_text(skinpath::sim::Backend::Builtin, &g, &cfg, &bounds);
-        prop_assert_eq!(report.errors(), 0, "{}", report);
-    }
-}
-
-fn to_geo(paths: &[Path], tol: f64) -> geo::MultiPolygon<f64> {
-    Region::from_paths(paths, tol).to_geo(tol)
-}
-
-/// Largest distance from the points of `a` to the polylines of `b` (both flattened).
-fn directed(a: &[Path], b: &[Path], tol: f64) -> f64 {
-    let fb: Vec<Vec<DVec2>> = b.iter().map(|p| p.flatten(tol)).collect();
-    let mut worst = 0.0f64;
-    for p in a {
-        for q in p.flatten(tol) {
-            let d = fb
-                .iter()
-                .flat_map(|poly| {
-                    (0..poly.len()).map(move |i| {
-                        skinpath::geom::Line::new(poly[i], poly[(i + 1) % poly.len()]).distance(q)
-                    })
-                })
-                .fold(f64::INFINITY, f64::min);
-            worst = worst.max(d);
-        }
-    }
-    worst
-}
-
-#[test]
-fn re_and_bezier_routes_differ_by_the_skin_distance() {
-    let r = 1.5;
-    for name in ["circles", "ring_o", "brush", "loop", "snake", "neon_word"] {
-        let path = format!("{}/examples/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-        let text = std::fs::read_to_string(&path).unwrap();
-        let design = skinpath::design::load(&text, &path).unwrap();
-        let oo = OutlineOptions {
-            tolerance: TOL,
-            ..OutlineOptions::default()
-        };
-        let outlines = design_outlines(&design, &oo).unwrap();
-        let strokes = design.strokes().unwrap();
-        for interp in [Interp::Cubic, Interp::PhQuintic] {
-            let items = re_items(&design, &strokes, &outlines, interp, &oo);
-            for (o, it) in outlines.iter().zip(&items) {
-                let Ok(it) = it else { continue };
-                // The skins' distance (both directions, flattened within TOL).
-                let e = directed(&o.contours, &it.outline, TOL).max(directed(
-                    &it.outline,
-                    &o.contours,
-                    TOL,
-                ));
-                let bez = ops::profile(
-                    &Region::from_paths(&o.contours, TOL),
-                    ProfileSide::Outside,
-                    r,
-                    TOL * 0.1,
-                );
-                let Ok(re) = mat_profile(&it.skin, ProfileSide::Outside, r, TOL) else {
-                    continue;
-                };
-                let (a, b) = (to_geo(&bez, TOL), to_geo(&re, TOL));
-                let bound = e + 3.0 * TOL;
-                // Each region lies within the other grown by the bound: nothing is left of
-                // the difference once the other is grown.
-                let a_out = a.difference(&b.buffer(bound)).unsigned_area();
-                let b_out = b.difference(&a.buffer(bound)).unsigned_area();
-                assert!(
-                    a_out < 1e-6 * a.unsigned_area() && b_out < 1e-6 * b.unsigned_area(),
-                    "{name}/{} {interp:?}: skins {e:.4} apart, regions leave {a_out} and {b_out}",
-                    o.name
-                );
-                eprintln!("{name}/{}: {interp:?} skins {e:.4} apart", o.name);
-            }
-        }
-    }
 }
 
 fn build_cli(example: &str, machine: &str, method: &str) -> String {
@@ -335,10 +158,8 @@ fn operation_method_key_and_envelope_refused() {
             .to_string()
             .contains("[[operation]] 1 (profile)")
     );
-    let opts = BuildOptions {
-        method: OutlineMethod::Skin,
-        ..BuildOptions::default()
-    };
+    let mut opts = BuildOptions::default();
+    opts.method = OutlineMethod::Skin;
     let built = build_toolpath(&design_of(&cs, "skin"), &profile, &opts).unwrap();
     assert_eq!(built.routes[0].route, "skin");
 }

@@ -9,8 +9,8 @@
 use crate::support::ROOT;
 use skinpath::design::{Design, load};
 use skinpath::emit::{GcodeOptions, gcode};
-use skinpath::job::build::{BuildOptions, Place, build_toolpath, place_job};
-use skinpath::job::check::check_config;
+use skinpath::job::check_config;
+use skinpath::job::{BuildOptions, Place, build_toolpath, place_job};
 use skinpath::machine::{Units, builtin_profile};
 use skinpath::sim::{Backend, Severity, check_text};
 

@@ -6,7 +6,7 @@
 use glam::DVec2;
 use skinpath::design::{Design, load};
 use skinpath::design::{ImportOptions, import};
-use skinpath::job::build::{BuildOptions, build_toolpath};
+use skinpath::job::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 use std::f64::consts::PI;
 

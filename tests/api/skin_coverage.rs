@@ -8,8 +8,8 @@ use skinpath::dbsc::DiskBSpline;
 use skinpath::dbsc::flatten::flatten_disks;
 use skinpath::design::load;
 use skinpath::geom::{Circle, DVec2};
-use skinpath::job::build::{BuildOptions, build_toolpath};
-use skinpath::job::outline::{OutlineOptions, design_outlines};
+use skinpath::job::{BuildOptions, build_toolpath};
+use skinpath::job::{OutlineOptions, design_outlines};
 use skinpath::machine::builtin_profile;
 use skinpath::skin::uncovered;
 

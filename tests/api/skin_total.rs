@@ -10,8 +10,8 @@ use skinpath::dbsc::DiskBSpline;
 use skinpath::design::load;
 use skinpath::geom::predicates::segments_intersect;
 use skinpath::geom::{Circle, DVec2};
-use skinpath::job::build::{BuildOptions, build_toolpath};
-use skinpath::job::outline::ItemOutline;
+use skinpath::job::ItemOutline;
+use skinpath::job::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 
 /// Uniform samples of the disk family per stroke (independent of the job's adaptive ones).

@@ -6,7 +6,7 @@
 
 use skinpath::design::{OutlineMethod, load};
 use skinpath::geom::DVec2;
-use skinpath::job::build::{BuildOptions, build_toolpath, outline_bounds};
+use skinpath::job::{BuildOptions, build_toolpath, outline_bounds};
 use skinpath::machine::builtin_profile;
 use skinpath::toolpath::OperationKind;
 
@@ -125,10 +125,8 @@ fn line_only_strokes_are_not_skinned_and_the_rest_are() {
 fn the_re_route_skins_every_stroke() {
     let design = load(DESIGN, "spine_only.toml").unwrap();
     let profile = builtin_profile("grbl-laser").unwrap();
-    let opts = BuildOptions {
-        method: OutlineMethod::Re,
-        ..BuildOptions::default()
-    };
+    let mut opts = BuildOptions::default();
+    opts.method = OutlineMethod::Re;
     let built = build_toolpath(&design, &profile, &opts).unwrap();
     for o in &built.outlines {
         assert!(

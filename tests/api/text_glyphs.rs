@@ -4,7 +4,7 @@
 
 use skinpath::design::Design;
 use skinpath::design::{Font, Text};
-use skinpath::job::outline::{OutlineOptions, design_outlines};
+use skinpath::job::{OutlineOptions, design_outlines};
 
 /// Letters, digits and the punctuation of signs and addresses.
 const GLYPHS: &str = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789.,:;!?'\"-+&()/#@%*=$éÜñßçÅæÆØ¡¿«°";
@@ -41,11 +41,9 @@ fn every_glyph_outlines_at_three_heights_and_two_widths() {
                     let d = design(t);
                     // Accuracy relative to the letter size (the default ε of 0.01 mm on a
                     // 150 mm letter costs minutes of knot insertion and shows nothing).
-                    let opts = OutlineOptions {
-                        epsilon: REL_EPSILON * h,
-                        tolerance: REL_EPSILON * h,
-                        ..OutlineOptions::default()
-                    };
+                    let mut opts = OutlineOptions::default();
+                    opts.epsilon = REL_EPSILON * h;
+                    opts.tolerance = REL_EPSILON * h;
                     count += 1;
                     if let Err(e) = design_outlines(&d, &opts) {
                         failures.push(format!("{} {c:?} h {h} w {}: {e}", font.as_str(), w * h));

@@ -7,7 +7,7 @@ use crate::support;
 use glam::{DVec2, DVec3};
 use skinpath::design::{Operation, OperationKind as DKind};
 use skinpath::geom::Path;
-use skinpath::job::build::{BuildOptions, build_toolpath};
+use skinpath::job::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 use skinpath::toolpath::cut::{Lead, Tabs};
 use skinpath::toolpath::ops::{ProfileSide, profile};

@@ -9,7 +9,7 @@ use crate::support;
 use geo::{Area, Buffer};
 use glam::DVec2;
 use skinpath::geom::predicates::segments_intersect;
-use skinpath::job::build::{BuildOptions, build_toolpath};
+use skinpath::job::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 use skinpath::toolpath::OperationKind;
 use skinpath::toolpath::ops::{ProfileSide, concentric, hatch, profile};
@@ -292,7 +292,7 @@ fn vcarve_depth_follows_the_radius_below_the_cap() {
 
 /// Builds an example with a router (falls back to the laser when the design's operations
 /// have no depths).
-fn build_example(name: &str) -> skinpath::job::build::BuildResult {
+fn build_example(name: &str) -> skinpath::job::BuildResult {
     let d = support::example(name);
     let router = builtin_profile("grbl-router").unwrap();
     let laser = builtin_profile("grbl-laser").unwrap();

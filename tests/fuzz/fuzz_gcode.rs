@@ -2,7 +2,7 @@
 //! (`sim::check_text`), seeded with the simulator corpus. See tests/support/fuzz.rs.
 
 use crate::support;
-use skinpath::job::check::check_config;
+use skinpath::job::check_config;
 use skinpath::machine::builtin_profile;
 use skinpath::sim::{Backend, check_text};
 use support::fuzz::{cases, corpus, fuzz};

@@ -5,9 +5,9 @@
 use crate::support;
 use skinpath::design::{CircleSeq, Design, Operation, OperationKind, Stroke, Units, validate};
 use skinpath::emit::{GcodeOptions, gcode};
-use skinpath::job::build::{BuildOptions, build_toolpath};
-use skinpath::job::check::check_config;
-use skinpath::job::outline::{OutlineOptions, outline_document};
+use skinpath::job::check_config;
+use skinpath::job::{BuildOptions, build_toolpath};
+use skinpath::job::{OutlineOptions, outline_document};
 use skinpath::machine::builtin_profile;
 use skinpath::sim::{Backend, check_text};
 use support::fuzz::{Rng, Stats, cases, run_one, seed};

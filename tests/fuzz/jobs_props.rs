@@ -11,10 +11,8 @@
 
 use skinpath::design::{Design, Operation, OperationKind, load};
 use skinpath::emit::{GcodeOptions, gcode};
-use skinpath::job::build::{
-    BuildOptions, BuildResult, Place, build_toolpath, place_job, scaled_design,
-};
-use skinpath::job::check::check_config;
+use skinpath::job::check_config;
+use skinpath::job::{BuildOptions, BuildResult, Place, build_toolpath, place_job, scaled_design};
 use skinpath::machine::{Profile, Units, builtin_profile};
 use skinpath::sim::{Backend, Severity, check_text};
 use std::collections::BTreeMap;
@@ -163,11 +161,9 @@ fn translation_and_scale_invariance_on_every_example() {
             // Scaled by 1000, tolerances with it.
             let f = 1000.0;
             let (sd, sp) = scaled_job(&design, &p, f);
-            let sopts = BuildOptions {
-                tolerance: opts.tolerance * f,
-                epsilon: opts.epsilon * f,
-                ..opts
-            };
+            let mut sopts = opts;
+            sopts.tolerance = opts.tolerance * f;
+            sopts.epsilon = opts.epsilon * f;
             let big = build_toolpath(&sd, &sp, &sopts)
                 .unwrap_or_else(|e| panic!("{name} scaled on {machine}: {e}"));
             let (ops2, b2) = summary(&big);

@@ -1,15 +1,15 @@
-//! Neon flex runs and the bill of materials (issue 41 items 1–4 and 7): run lengths against
-//! an independent arc-length integration, bend radii against closed forms, holes only at
-//! run ends and inside the channel, the `[neon]` table's presets and errors, the CLI's
-//! `--json` and `--bom`, and the warnings of a scaled build.
+//! Neon flex runs and the bill of materials (issue 41 items 1–4 and 7): the `[neon]`
+//! table's presets and errors, the CLI's `--json` and `--bom`, and the warnings of a scaled
+//! build, holes only at run ends on script signs. Run lengths, bend radii, the two-stroke
+//! run-end holes and explicit runs against closed forms are
+//! unit tests of the library's `job::neon` (src/job/neon/tests.rs).
 
 use crate::support;
 
 use skinpath::dbsc::DiskBSpline;
 use skinpath::design::{Design, load};
 use skinpath::geom::DVec2;
-use skinpath::job::build::{BuildOptions, build_toolpath};
-use skinpath::job::neon::{bend_radius, runs, spine_length};
+use skinpath::job::{BuildOptions, build_toolpath, runs};
 use skinpath::machine::builtin_profile;
 use support::{skinpath_in, tmpdir};
 
@@ -41,155 +41,9 @@ fn design(text: &str) -> Design {
     load(text, "neon_test.toml").unwrap()
 }
 
-/// Twelve disks on a circle of radius `r` about (50, 50), interpolated by a closed stroke.
-fn circle_points(r: f64, n: usize) -> String {
-    let pts: Vec<String> = (0..n)
-        .map(|k| {
-            let a = std::f64::consts::TAU * k as f64 / n as f64;
-            format!(
-                "[{:.12}, {:.12}, 3.0]",
-                50.0 + r * a.cos(),
-                50.0 + r * a.sin()
-            )
-        })
-        .collect();
-    pts.join(", ")
-}
-
-const TWO_STROKES: &str = r#"
-version = 1
-[neon]
-flex = "6mm"
-[[stroke]]
-name = "a"
-disks = [[0, 0, 3], [20, 10, 3], [40, -5, 3], [60, 0, 3]]
-[[stroke]]
-name = "b"
-disks = [[60, 0, 3], [75, 20, 3], [70, 40, 3], [50, 45, 3]]
-[[stroke]]
-name = "far"
-disks = [[0, 60, 3], [30, 70, 3], [60, 60, 3]]
-[[operation]]
-kind = "channel"
-[[operation]]
-kind = "holes"
-"#;
-
-#[test]
-fn run_length_is_the_sum_of_spine_lengths_against_richardson() {
-    let d = design(TWO_STROKES);
-    let curves = d.strokes().unwrap();
-    let flex = d.neon.as_ref().unwrap().flex(d.units);
-    let rs = runs(&d, &curves, &flex);
-    assert_eq!(rs.len(), 2, "{rs:?}");
-    assert_eq!(rs[0].legs.len(), 2);
-    let p = builtin_profile("grbl-router").unwrap();
-    let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
-    let bom = built.neon.unwrap();
-    let independent: f64 = richardson_length(&curves[0]) + richardson_length(&curves[1]);
-    let l = bom.runs[0].length_mm;
-    assert!(
-        (l - independent).abs() <= 1e-3 * independent,
-        "{l} vs {independent}"
-    );
-    // Much tighter than the 0.1 % asked for: both integrations are accurate to ~1e-9.
-    assert!((l - independent).abs() <= 1e-6 * independent);
-    assert_eq!(bom.runs[0].strokes, ["a", "b"]);
-    // Cut length: the length rounded up to the 25 mm cut unit.
-    let cut = bom.runs[0].cut_length_mm;
-    assert!(
-        cut >= l && cut - l < 25.0 && (cut / 25.0).fract() == 0.0,
-        "{cut}"
-    );
-    let total: f64 = bom.runs.iter().map(|r| r.length_mm).sum();
-    assert!((bom.total_length_mm - total).abs() < 1e-9);
-}
-
-#[test]
-fn straight_and_circular_spines_have_their_closed_form_lengths() {
-    // A straight stroke: its length is the distance of its ends.
-    let d = design(
-        "version = 1\n[[stroke]]\nname = \"s\"\ndisks = [[1, 2, 1], [4, 6, 1], [7, 10, 1], [13, 18, 1]]\n",
-    );
-    let c = &d.strokes().unwrap()[0];
-    let l = spine_length(c, 1e-10);
-    assert!((l - 20.0).abs() < 1e-9, "{l}");
-    // A closed stroke through 24 points of a circle of radius 30: its length is the curve's
-    // own (Richardson) length, and within 0.1 % of the circle's 2π·30.
-    let text = format!(
-        "version = 1\n[[stroke]]\nname = \"o\"\nclosed = true\npoints = [{}]\n",
-        circle_points(30.0, 24)
-    );
-    let d = design(&text);
-    let c = &d.strokes().unwrap()[0];
-    let l = spine_length(c, 1e-9);
-    let r = richardson_length(c);
-    assert!((l - r).abs() <= 1e-7 * r, "{l} vs {r}");
-    let circle = std::f64::consts::TAU * 30.0;
-    assert!((l - circle).abs() <= 1e-3 * circle, "{l} vs {circle}");
-}
-
-#[test]
-fn bend_radius_matches_closed_forms() {
-    // The quadratic Bézier (−a, a), (0, −a), (a, a) is the parabola y = x²/a on x ∈ [−a, a]:
-    // its smallest radius of curvature is a/2, at the vertex (t = ½).
-    for a in [2.0, 10.0, 37.5] {
-        let text = format!(
-            "version = 1\n[neon]\nmin_bend_radius = 1000.0\n[[stroke]]\nname = \"p\"\ndegree = 2\n\
-             disks = [[{m}, {a}, 1], [0, {m}, 1], [{a}, {a}, 1]]\n",
-            m = -a
-        );
-        let d = design(&text);
-        let p = builtin_profile("grbl-router").unwrap();
-        let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
-        let bom = built.neon.unwrap();
-        let r = &bom.runs[0];
-        assert!((r.min_bend_radius_mm - a / 2.0).abs() < 1e-9 * a, "{r:?}");
-        assert!(
-            (r.at.t - 0.5).abs() < 1e-6 && r.at.x.abs() < 1e-6 * a,
-            "{r:?}"
-        );
-        // The stretch is reported as a warning with its place.
-        assert!(bom.warnings.iter().any(|w| w.kind == "bend"
-            && w.message.contains("stroke \"p\"")
-            && (w.at[0]).abs() < 1e-6 * a));
-    }
-    // A closed stroke through 36 points of a circle of radius 25: every bend radius is 25
-    // within the interpolation's deviation from the circle, and the reported minimum is the
-    // minimum of a dense sample (a second method) to 1e-6.
-    let text = format!(
-        "version = 1\n[neon]\n[[stroke]]\nname = \"o\"\nclosed = true\npoints = [{}]\n",
-        circle_points(25.0, 36)
-    );
-    let d = design(&text);
-    let c = &d.strokes().unwrap()[0];
-    let (lo, hi) = c.domain();
-    // The reference sample includes both sides of every knot (where a cubic's curvature
-    // often peaks) besides a dense grid.
-    let knots = c.breakpoints();
-    let sampled = (0..20_000)
-        .map(|k| lo + (hi - lo) * (k as f64 + 0.5) / 20_000.0)
-        .chain(knots.iter().flat_map(|&t| [t - 1e-9, t + 1e-9]))
-        .filter(|t| (lo..=hi).contains(t))
-        .map(|t| bend_radius(c, t))
-        .fold(f64::INFINITY, f64::min);
-    let p = builtin_profile("grbl-router").unwrap();
-    let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
-    let bom = built.neon.unwrap();
-    let r = bom.runs[0].min_bend_radius_mm;
-    assert!(bom.runs[0].closed);
-    assert!((r - 25.0).abs() < 0.01 * 25.0, "{r}");
-    assert!(
-        r <= sampled + 1e-9 && sampled - r < 1e-6 * 25.0,
-        "{r} vs {sampled}"
-    );
-    // 25 mm is above the 6 mm flex's 15 mm minimum: no warning.
-    assert!(bom.warnings.is_empty(), "{:?}", bom.warnings);
-}
-
 /// Hole centres of the build's holes operations (a drill's point, a milled circle's arc
 /// centre).
-fn hole_centres(built: &skinpath::job::build::BuildResult) -> Vec<DVec2> {
+fn hole_centres(built: &skinpath::job::BuildResult) -> Vec<DVec2> {
     let mut out = Vec::new();
     for op in &built.toolpath.operations {
         if op.kind != skinpath::toolpath::OperationKind::Holes {
@@ -260,51 +114,6 @@ fn holes_at_run_ends(d: &Design, channel: f64, hole: f64) -> (usize, usize) {
         }
     }
     (holes.len(), distinct.len())
-}
-
-#[test]
-fn holes_sit_only_at_run_ends_inside_the_channel() {
-    let d = design(TWO_STROKES);
-    // Channel 6.5 (6 mm flex + 0.5), holes 4 mm (the 6 mm preset).
-    let ch = &d.operation[0];
-    assert_eq!((ch.width, ch.depth), (Some(6.5), Some(10.0)));
-    assert_eq!(d.operation[1].diameter, Some(4.0));
-    let (holes, ends) = holes_at_run_ends(&d, 6.5, 4.0);
-    // Two open runs: "a"+"b" joined at (60, 0) and "far": 4 holes, none at (60, 0).
-    assert_eq!((holes, ends), (4, 4));
-    // `at = "start"`: one hole per run.
-    let d = design(&TWO_STROKES.replace("kind = \"holes\"", "kind = \"holes\"\nat = \"start\""));
-    let p = builtin_profile("grbl-router").unwrap();
-    let built = build_toolpath(&d, &p, &BuildOptions::default()).unwrap();
-    assert_eq!(hole_centres(&built).len(), 2);
-    assert_eq!(built.neon.unwrap().holes, 2);
-}
-
-#[test]
-fn explicit_runs_and_breaks() {
-    // break_at at the join of "a" and "b" splits the run.
-    let d = design(&TWO_STROKES.replace("flex = \"6mm\"", "flex = \"6mm\"\nbreak_at = [[60, 1]]"));
-    let curves = d.strokes().unwrap();
-    let flex = d.neon.as_ref().unwrap().flex(d.units);
-    assert_eq!(runs(&d, &curves, &flex).len(), 3);
-    // An explicit run joins "far" to "a" across a gap, which is bridged and counted.
-    let d = design(&TWO_STROKES.replace(
-        "[[stroke]]\nname = \"a\"",
-        "[[neon.run]]\nname = \"top\"\nstrokes = [\"far\", \"a\"]\n[[stroke]]\nname = \"a\"",
-    ));
-    let p = builtin_profile("grbl-router").unwrap();
-    let bom = build_toolpath(&d, &p, &BuildOptions::default())
-        .unwrap()
-        .neon
-        .unwrap();
-    let top = bom.runs.iter().find(|r| r.name == "top").unwrap();
-    assert_eq!(top.strokes, ["far", "a"]);
-    // "far" ends at (60, 60) nearest "a"'s ... start (0, 0) is 60 away, end (60, 0) 60 away:
-    // "far" reversed ends at (0, 60), 60 from (0, 0).
-    assert!((top.bridged_mm - 60.0).abs() < 1e-9, "{top:?}");
-    assert!(top.min_bend_radius_mm == 0.0, "a bridged turn is a corner");
-    // "b" is left on its own.
-    assert!(bom.runs.iter().any(|r| r.strokes == ["b"]));
 }
 
 #[test]
@@ -546,7 +355,7 @@ fn two_stroke_bom(
     pts_b: &[(f64, f64)],
     f: &dyn Fn(DVec2) -> DVec2,
     reverse_b: bool,
-) -> skinpath::job::neon::NeonBom {
+) -> skinpath::job::NeonBom {
     let mut b = pts_b.to_vec();
     if reverse_b {
         b.reverse();

@@ -5,7 +5,7 @@
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
 use glam::{DVec2, DVec3};
 use skinpath::geom::{Arc, Line};
-use skinpath::job::outline::{ItemOutline, OutlineOptions, design_outlines};
+use skinpath::job::{ItemOutline, OutlineOptions, design_outlines};
 use skinpath::toolpath::region::Region;
 use skinpath::toolpath::{Cut, MoveKind};
 

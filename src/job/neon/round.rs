@@ -46,6 +46,20 @@ pub const ARC_RADIUS_MARGIN: f64 = 1e-4;
 /// Newton iterations for the fillet's tangency parameters.
 const NEWTON_STEPS: usize = 40;
 
+/// Residual at which the Newton search for where two offsets of a bend cross stops, as a
+/// fraction of the flattening tolerance: a millionth, far below what the arc placed there
+/// can show.
+const NEWTON_OF_TOL: f64 = 1e-6;
+
+/// Step of the central differences of that Newton search, as a fraction of the knot span:
+/// 10⁻⁷, about the cube root of the double's precision (the step that balances truncation
+/// against round-off of a central difference).
+const DIFF_STEP_OF_SPAN: f64 = 1e-7;
+
+/// Length below which a piece of a rounded spine is degenerate and dropped, as a fraction
+/// of the size of the spine's coordinates: 10⁻¹², a few units of round-off.
+const DEGENERATE_OF_SCALE: f64 = 1e-12;
+
 /// Bends rounded on one run and how far the rounded spine is from the drawn one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RoundReport {
@@ -355,7 +369,7 @@ fn fillet(
     let f = |pi: (usize, f64), pj: (usize, f64)| {
         offset(run, curves, pi.0, pi.1, s, r).0 - offset(run, curves, pj.0, pj.1, s, r).0
     };
-    let eps = 1e-6 * tol;
+    let eps = NEWTON_OF_TOL * tol;
     for _ in 0..NEWTON_STEPS {
         let v = f(pi, pj);
         if v.length() <= eps {
@@ -367,8 +381,8 @@ fn fillet(
         };
         let (ai, bi) = span(pi.0);
         let (aj, bj) = span(pj.0);
-        let hi_ = 1e-7 * (bi - ai);
-        let hj = 1e-7 * (bj - aj);
+        let hi_ = DIFF_STEP_OF_SPAN * (bi - ai);
+        let hj = DIFF_STEP_OF_SPAN * (bj - aj);
         let di = (f((pi.0, (pi.1 + hi_).min(bi)), pj) - f((pi.0, (pi.1 - hi_).max(ai)), pj))
             / ((pi.1 + hi_).min(bi) - (pi.1 - hi_).max(ai));
         let dj = (f(pi, (pj.0, (pj.1 + hj).min(bj))) - f(pi, (pj.0, (pj.1 - hj).max(aj))))
@@ -430,7 +444,7 @@ fn deviation(samples: &[Sample], f: &Fillet, r: f64, curves: &[DiskBSpline], run
         .collect();
     let to_poly = |p: DVec2, poly: &[DVec2]| {
         poly.windows(2)
-            .map(|w| super::segment_distance(p, p, w[0], w[1]).0)
+            .map(|w| super::judge::segment_distance(p, p, w[0], w[1]).0)
             .fold(f64::INFINITY, f64::min)
     };
     let mut d: f64 = 0.0;
@@ -575,8 +589,8 @@ fn assemble(c: &BSpline<DVec3>, pieces: &[Piece], reversed: bool) -> Vec<Vec<DVe
         .map(|v| v.truncate().length())
         .fold(1.0, f64::max);
     segs.retain(|s| {
-        s[0].truncate().distance(s[s.len() - 1].truncate()) > 1e-12 * scale
-            || poly_len(s) > 1e-12 * scale
+        s[0].truncate().distance(s[s.len() - 1].truncate()) > DEGENERATE_OF_SCALE * scale
+            || poly_len(s) > DEGENERATE_OF_SCALE * scale
     });
     if reversed {
         segs.reverse();
