@@ -8,9 +8,12 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::job::build::{BuildOptions, Place};
-use skinpath::job::{Job, JobError, JobOptions, JobOutput, OutputFormat, Scale, Stage, Timings};
-use skinpath::machine::{MachineKind, Profile, builtin_profile};
+use skinpath::job::Timings;
+use skinpath::machine::MachineKind;
+use skinpath::{
+    BuildOptions, Job, JobError, JobOptions, JobOutput, OutputFormat, Place, Profile, Scale, Stage,
+    builtin_profile,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -207,7 +210,7 @@ pub(super) fn job_name(design: &Path) -> String {
 }
 
 /// Refuses `--bom` for a design without a `[neon]` table.
-pub(super) fn check_bom(a: &Args, design: &skinpath::design::Design, file: &str) -> Result<()> {
+pub(super) fn check_bom(a: &Args, design: &skinpath::Design, file: &str) -> Result<()> {
     if a.bom.is_some() && design.neon.is_none() {
         bail!(
             "{file}: --bom needs a [neon] table in the design (the flex the bill of materials \
@@ -279,7 +282,7 @@ pub fn run(a: Args) -> Result<u8> {
     timings.add(Stage::Read, t_read.elapsed());
     let name = job_name(&a.design);
     let bar = super::progress::Bar::new();
-    let on_progress = |p: skinpath::job::Progress| bar.show(p);
+    let on_progress = |p: skinpath::Progress| bar.show(p);
     let job = Job {
         design: &original,
         profile: &profile,
@@ -494,7 +497,7 @@ pub(super) fn print_job(
 
 fn print_summary(
     text: &mut String,
-    tp: &skinpath::toolpath::Toolpath,
+    tp: &skinpath::Toolpath,
     profile: &Profile,
     time: Option<f64>,
 ) -> std::fmt::Result {

@@ -15,10 +15,13 @@
 use super::build::{Args, check_bom, job_name, load_profile, print_bom, print_job, settings};
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::design::{Design, Output};
+use skinpath::design::Output;
+use skinpath::job::Timings;
 use skinpath::job::outputs::{OutputJob, run_outputs};
-use skinpath::job::{JobError, JobOptions, OutputFormat, Stage, Timings};
-use skinpath::machine::{MachineKind, Profile, builtin_profile};
+use skinpath::machine::MachineKind;
+use skinpath::{
+    Design, JobError, JobOptions, OutputFormat, Profile, Stage, Summary, builtin_profile,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -59,7 +62,7 @@ struct OutputSummary<'a> {
     operations: Option<Vec<usize>>,
     /// The job's summary, as `build --json` prints it for one program (its `outputs`: the
     /// program and its preview).
-    summary: skinpath::job::Summary,
+    summary: Summary,
 }
 
 /// A shipped profile by name, or a profile file: a relative path is read from the design
@@ -245,7 +248,7 @@ pub fn run(a: Args) -> Result<u8> {
         })
         .collect();
     let bar = super::progress::Bar::new();
-    let on_progress = |p: skinpath::job::Progress| bar.show(p);
+    let on_progress = |p: skinpath::Progress| bar.show(p);
     let options = JobOptions {
         build: s.build,
         place: s.place,

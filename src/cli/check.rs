@@ -8,12 +8,13 @@
 //! is the program's).
 
 use super::build::load_profile;
+use super::files;
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::HAIRLINE_MM;
 use skinpath::job::check::{check_config, design_boundaries, operations_of, part_outlines};
 use skinpath::job::outline::{OutlineOptions, design_outlines};
-use skinpath::sim::{Backend, CheckConfig, Dialect, files, interp};
+use skinpath::sim::{Backend, CheckConfig, Dialect, interp};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -72,7 +73,7 @@ pub struct Args {
 #[derive(serde::Serialize)]
 struct TimedReport<'a> {
     #[serde(flatten)]
-    report: &'a skinpath::sim::Report,
+    report: &'a skinpath::Report,
     timings: &'a Timings,
 }
 
@@ -119,7 +120,7 @@ pub fn run(a: Args) -> Result<u8> {
 /// The report of a check that could not run: not usable, the error as its reason and as its
 /// one finding, whose id tells a backend stopped at its limit ([`BACKEND_LIMIT`]) from one
 /// that failed ([`BACKEND_ERROR`]) and from unusable input ([`INPUT_ERROR`]).
-fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
+fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::Report {
     use skinpath::sim::rs274::Rs274Error;
     let id = match e.downcast_ref::<Rs274Error>() {
         Some(Rs274Error::Timeout(_) | Rs274Error::OutputTooLarge(_) | Rs274Error::Stalled(_)) => {
@@ -129,7 +130,7 @@ fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
         None => INPUT_ERROR,
     };
     let message = super::chain(e);
-    skinpath::sim::Report {
+    skinpath::Report {
         backend: if a.backend == "linuxcnc" {
             Backend::LinuxCnc.name()
         } else {
@@ -148,7 +149,7 @@ fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
 
 /// The profile of the `[[output]]` of `--design` the program is (module docs of `--only`),
 /// when --machine is not given; `None` for a design without outputs.
-fn output_profile(a: &Args) -> Result<Option<skinpath::machine::Profile>> {
+fn output_profile(a: &Args) -> Result<Option<skinpath::Profile>> {
     let (Some(d), None) = (&a.design, &a.machine) else {
         return Ok(None);
     };
@@ -339,7 +340,7 @@ fn checked(a: &Args) -> Result<u8> {
 /// `clock` started when the report stage did.
 fn write_report(
     a: &Args,
-    report: &skinpath::sim::Report,
+    report: &skinpath::Report,
     timings: &mut Timings,
     clock: Instant,
 ) -> Result<u8> {

@@ -3,8 +3,9 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
-use skinpath::design::text::{Align, Font, Kerning, Text, layout_problem};
-use skinpath::design::{Design, FlexPreset, Format, MAX_COORD, Neon, Operation, Units};
+use skinpath::Design;
+use skinpath::design::text::{Align, Font, Kerning, layout_problem};
+use skinpath::design::{FlexPreset, Format, MAX_COORD, Neon, Operation, Text, Units};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
