@@ -14,7 +14,7 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use skinpath::geom::DVec2;
-use skinpath::internals::{Across, NgcLine, SegmentSet, Syntax, interpret, parse_line_into};
+use skinpath::internals::{Across, NgcLine, SegmentSet, Syntax, parse_line_into};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -199,7 +199,7 @@ fn interpret(c: &mut Criterion) {
     g.sample_size(10);
     g.throughput(Throughput::Bytes(src.len() as u64));
     g.bench_function("skinpath-builtin", |b| {
-        b.iter(|| black_box(interpret(&src, 0.005).motions.len()))
+        b.iter(|| black_box(skinpath::internals::interpret(&src, 0.005).motions.len()))
     });
     g.bench_function("gcode-crate-parse", |b| {
         b.iter(|| black_box(gcode::parse(&src).map(|p| p.blocks.len()).unwrap_or(0)))
