@@ -51,8 +51,8 @@
 //! may change in any release. The crate root re-exports the job's types ([`Job`],
 //! [`JobOptions`], [`JobOutput`], [`JobError`], [`Summary`], [`BuildOptions`], …) and the
 //! values a job takes and gives ([`Design`], [`Profile`], [`Toolpath`], [`Report`],
-//! [`DiskBSpline`], [`Circle`]). Each public module offers its own API at its root, with no
-//! public submodules:
+//! [`DiskBSpline`], [`BSpline`], [`Circle`]). Each public module offers its own API at its
+//! root, with no public submodules:
 //!
 //! | module | what it offers |
 //! |---|---|
@@ -129,4 +129,7 @@ pub use job::{
 };
 pub use machine::{Profile, builtin_profile};
 pub use sim::Report;
+// The B-spline a disk B-spline curve and its attribute channels are made of
+// (`DiskBSpline::curve`, `design::attribute_curve`), and its construction error.
+pub use spline::{BSpline, SplineError};
 pub use toolpath::Toolpath;

@@ -7,8 +7,6 @@ use crate::support;
 use skinpath::design::Design;
 use skinpath::design::text::{Font, Glyph, Text, latin1, smooth};
 use skinpath::geom::DVec2;
-use skinpath::spline::fit::least_squares_with_params;
-use skinpath::spline::knots::clamped_uniform;
 
 /// Every character of both fonts: printable ASCII and the Latin-1 characters.
 fn all_chars() -> Vec<char> {
@@ -354,26 +352,6 @@ fn characters_outside_the_fonts_are_refused_by_name_and_position() {
             ..t
         };
         assert_eq!(ok.problem(), None);
-    }
-}
-
-#[test]
-fn least_squares_parameters_give_the_clamped_uniform_knots() {
-    // The fitter places P&T eq. 9.68–9.69 knots from the parameters; with
-    // `uniform_knot_params` they are the clamped uniform knots loading gives the pieces.
-    for m in [10usize, 17, 40, 101] {
-        let pts: Vec<DVec2> = (0..m)
-            .map(|i| DVec2::new(i as f64, ((i * i) % 7) as f64))
-            .collect();
-        let params = smooth::uniform_knot_params(m);
-        for n in 4..=(m / 2 + 2).min(m) {
-            let c = least_squares_with_params(&pts, &params, n, 3, false).unwrap();
-            let want = clamped_uniform(3, n);
-            assert_eq!(c.knots().len(), want.len());
-            for (a, b) in c.knots().iter().zip(&want) {
-                assert!((a - b).abs() < 1e-12, "m {m} n {n}: {a} vs {b}");
-            }
-        }
     }
 }
 
