@@ -7,11 +7,10 @@
 
 use cavalier_contours::polyline::{PlineOffsetOptions, PlineSource, PlineSourceMut, Polyline};
 use criterion::Criterion;
-use skinpath::geom::Circle;
-use skinpath::geom::path::polygon_area;
-use skinpath::geom::{DVec2, Path, PathSeg};
-use skinpath::skin::mat_offset::{MatOffset, inner_offset, outline};
-use skinpath::skin::re::{Interp, ReSkin, Touch};
+use skinpath::geom::{Circle, DVec2, Path, PathSeg};
+use skinpath::internals::{
+    Interp, MatOffset, ReSkin, Touch, biarc_paths, inner_offset, outline, polygon_area,
+};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -237,7 +236,7 @@ fn main() {
     };
     let ex = exact_samples(&exact, 1000);
     let merged = exact.to_merged_arc_paths(TOL).unwrap_or_default();
-    let biarcs = skinpath::toolpath::re_route::biarc_paths(&exact, TOL).unwrap();
+    let biarcs = biarc_paths(&exact, TOL).unwrap();
     let arcs3 = exact.to_arc_paths(TOL).unwrap();
     let lines = exact.to_line_paths(TOL).unwrap();
     let cav = general_route(&skin);
@@ -280,11 +279,7 @@ fn main() {
     let t_merge = median_time(7, 40, || {
         exact.to_merged_arc_paths(TOL).map(|m| m.paths.len())
     });
-    let t_biarc = median_time(7, 40, || {
-        skinpath::toolpath::re_route::biarc_paths(&exact, TOL)
-            .unwrap()
-            .len()
-    });
+    let t_biarc = median_time(7, 40, || biarc_paths(&exact, TOL).unwrap().len());
     let t_cav = median_time(7, 40, || general_route(&skin));
     let ol_arcs = ol.to_arc_paths(TOL).unwrap();
     let t_cav_only = match ol_arcs.first() {
@@ -332,8 +327,9 @@ fn main() {
 /// Whole builds of the examples by each route (`build --method skin|re|mph`): time per
 /// build and the arcs and lines of every profile and backboard, with the route taken.
 fn routes_on_examples() {
+    use skinpath::BuildOptions;
     use skinpath::design::OutlineMethod;
-    use skinpath::job::{BuildOptions, build_toolpath};
+    use skinpath::internals::build_toolpath;
     let examples = [
         ("ring_o", "grbl-router"),
         ("circles", "grbl-router"),

@@ -14,7 +14,7 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use skinpath::geom::DVec2;
-use skinpath::sim::checks::SegmentSet;
+use skinpath::internals::{Across, NgcLine, SegmentSet, Syntax, parse_line_into};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -67,7 +67,7 @@ fn segment_set(polys: &[Vec<DVec2>]) -> SegmentSet {
 /// the intersection check.
 fn multi_pass_rings(passes: usize) -> SegmentSet {
     let mut s = SegmentSet::new();
-    s.across = skinpath::sim::checks::Across::Crossings;
+    s.across = Across::Crossings;
     let mut contours: Vec<Vec<DVec2>> = Vec::new();
     for l in 0..40 {
         let o = DVec2::new(12.0 * (l % 10) as f64, 12.0 * (l / 10) as f64);
@@ -199,22 +199,22 @@ fn interpret(c: &mut Criterion) {
     g.sample_size(10);
     g.throughput(Throughput::Bytes(src.len() as u64));
     g.bench_function("skinpath-builtin", |b| {
-        b.iter(|| black_box(skinpath::sim::interp::interpret(&src, 0.005).motions.len()))
+        b.iter(|| black_box(skinpath::internals::interpret(&src, 0.005).motions.len()))
     });
     g.bench_function("gcode-crate-parse", |b| {
         b.iter(|| black_box(gcode::parse(&src).map(|p| p.blocks.len()).unwrap_or(0)))
     });
-    let syn = skinpath::sim::ngc::Syntax {
+    let syn = Syntax {
         ngc: true,
         checksums: false,
         dollar: false,
     };
     g.bench_function("skinpath-parse-only", |b| {
-        let mut line = skinpath::sim::ngc::Line::default();
+        let mut line = NgcLine::default();
         b.iter(|| {
             let mut words = 0;
             for l in src.split('\n') {
-                skinpath::sim::ngc::parse_line_into(l, syn, &mut line);
+                parse_line_into(l, syn, &mut line);
                 words += line.words.len();
             }
             black_box(words)

@@ -11,9 +11,10 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use geo::Buffer;
 use skinpath::geom::{DVec2, Line, Path};
-use skinpath::toolpath::ops::hatch;
-use skinpath::toolpath::order::order_paths;
-use skinpath::toolpath::region::{Region, flatten_pline, pline_from_points};
+use skinpath::internals::{
+    ProfileSide, Region, concentric, design_outlines, flatten_pline, hatch, order_paths,
+    pline_from_points, polyline_path, profile,
+};
 use std::hint::black_box;
 
 /// A wavy closed outline with `n` vertices (a flower of radius 40 ± 8 mm).
@@ -85,7 +86,7 @@ fn bench_offsets(c: &mut Criterion) {
 fn bench_winding(c: &mut Criterion) {
     use cavalier_contours::core::math::Vector2;
     use cavalier_contours::polyline::{PlineSource, Polyline};
-    use skinpath::toolpath::winding::WindingIndex;
+    use skinpath::internals::WindingIndex;
     let mut g = c.benchmark_group("winding_of_offset_vertices");
     for &n in &[100usize, 1000, 10_000] {
         let region = Region::from_contours(vec![pline_from_points(&flower(n), true)]);
@@ -127,8 +128,8 @@ fn example_regions() -> Vec<(String, Region)> {
         let Ok(design) = skinpath::design::load(&text, &file) else {
             continue;
         };
-        let opts = skinpath::job::OutlineOptions::default();
-        let Ok(items) = skinpath::job::design_outlines(&design, &opts) else {
+        let opts = skinpath::internals::OutlineOptions::default();
+        let Ok(items) = design_outlines(&design, &opts) else {
             continue;
         };
         let largest = items
@@ -210,18 +211,9 @@ fn bench_example_offsets(c: &mut Criterion) {
             b.iter(|| black_box(hatch(&region, 0.5, 0.5, true, flat_tol)))
         });
         g.bench_function(BenchmarkId::new("concentric_1", &ex), |b| {
-            b.iter(|| {
-                black_box(skinpath::toolpath::ops::concentric(
-                    &region, 1.0, 1.0, 1.0, 10_000, 1e-6,
-                ))
-            })
+            b.iter(|| black_box(concentric(&region, 1.0, 1.0, 1.0, 10_000, 1e-6)))
         });
-        let profiles = skinpath::toolpath::ops::profile(
-            &region,
-            skinpath::toolpath::ops::ProfileSide::Outside,
-            1.5,
-            1e-6,
-        );
+        let profiles = profile(&region, ProfileSide::Outside, 1.5, 1e-6);
         g.bench_function(BenchmarkId::new("order_profiles", &ex), |b| {
             b.iter(|| black_box(order_paths(&profiles, DVec2::ZERO, flat_tol)))
         });
@@ -238,7 +230,7 @@ fn bench_hatch_and_order(c: &mut Criterion) {
     let squares: Vec<Path> = (0..400)
         .map(|i| {
             let c = DVec2::new((i * 37 % 200) as f64, (i * 91 % 200) as f64);
-            skinpath::toolpath::ops::polyline_path(
+            polyline_path(
                 &[
                     c,
                     c + DVec2::new(3.0, 0.0),
@@ -261,11 +253,8 @@ fn bench_hatch_and_order(c: &mut Criterion) {
 /// route `build` falls back to). Vertex counts and the areas' difference are printed once.
 fn bench_channel_region(c: &mut Criterion) {
     use cavalier_contours::polyline::PlineSource;
-    use skinpath::dbsc::flatten::flatten_spine;
-    use skinpath::dbsc::spine::spine_cubics;
-    use skinpath::toolpath::ops::swept_region;
-    use skinpath::toolpath::region::pline_from_path;
-    use skinpath::toolpath::swept::swept_arc_region;
+    use skinpath::dbsc::flatten_spine;
+    use skinpath::internals::{pline_from_path, spine_cubics, swept_arc_region, swept_region};
     let file = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/neon_word.toml");
     let text = std::fs::read_to_string(file).expect("neon_word.toml");
     let design = skinpath::design::load(&text, file).expect("loads");

@@ -44,7 +44,44 @@
 //! assert!(summary.cut_length > 0.0);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! ## The public front
+//!
+//! What is public is what an embedder needs; everything else is internal to the crate and
+//! may change in any release. The crate root re-exports the job's types ([`Job`],
+//! [`JobOptions`], [`JobOutput`], [`JobError`], [`Summary`], [`BuildOptions`], …) and the
+//! values a job takes and gives ([`Design`], [`Profile`], [`Toolpath`], [`Report`],
+//! [`DiskBSpline`], [`BSpline`], [`Circle`]). Each public module offers its own API at its
+//! root, with no public submodules:
+//!
+//! | module | what it offers |
+//! |---|---|
+//! | [`job`] | [`Job`], its options, results and progress; `check`, `outline`, `preview` and `inspect` of a design |
+//! | [`design`] | the design model (format below), [`design::load`], import of SVG drawings, single-stroke text, the design errors |
+//! | [`machine`] | machine profiles: [`Profile`], the shipped ones ([`builtin_profile`]), their errors |
+//! | [`geom`] | geometry primitives: points ([`geom::DVec2`]), circles, lines, arcs, cubics, paths |
+//! | [`dbsc`] | disk B-spline curves: construction, fitting, envelopes and their loops |
+//! | [`skin`] | skinning curves of circle sequences and disk B-splines |
+//! | [`toolpath`] | the toolpath model: operations, cuts, moves |
+//! | [`emit`] | G-code, laser SVG, DXF and preview writers |
+//! | [`sim`] | the G-code simulator and checker: [`Report`] and its findings |
+//!
+//! ## Features
+//!
+//! | feature | default | gives | pulls in |
+//! |---|---|---|---|
+//! | `cli` | on | the `skinpath` binary | clap, anyhow, indicatif, signal-hook |
+//! | `png` | on | PNG previews | resvg, tiny-skia, usvg |
+//! | `svg-import` | on | designs read from SVG drawings | usvg, simplecss, svgtypes, kurbo |
+//! | `parallel` | on | skins, outlines and checks on rayon's thread pool (sequential without it, same results) | rayon |
+//! | `internals` | off | `skinpath::internals`: the stages benches/ time; not a stable API | — |
+//!
+//! `cargo build --lib --no-default-features` is the toolpath library alone: designs from
+//! TOML or JSON, jobs, G-code, laser SVG, DXF and SVG previews, and the checker.
+//!
 
+// The design-format reference (docs/design-format.md), with its doc test.
+#![doc = include_str!("../docs/design-format.md")]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 // The library's own dependencies only: dev-dependencies (criterion, proptest, …) are linked
@@ -58,14 +95,17 @@ pub mod dbsc;
 pub mod design;
 pub mod emit;
 pub mod geom;
+#[cfg(feature = "internals")]
+#[doc(hidden)]
+pub mod internals;
 pub mod job;
 pub mod machine;
 mod par;
 pub mod sim;
 pub mod skin;
-pub mod spline;
+pub(crate) mod spline;
 pub mod toolpath;
-pub mod units;
+pub(crate) mod units;
 
 // Dependencies of the `skinpath` binary only (argument parsing, error chains, progress
 // bars, signal handling): the library does not use them, and `unused_crate_dependencies`
@@ -89,4 +129,7 @@ pub use job::{
 };
 pub use machine::{Profile, builtin_profile};
 pub use sim::Report;
+// The B-spline a disk B-spline curve and its attribute channels are made of
+// (`DiskBSpline::curve`, `design::attribute_curve`), and its construction error.
+pub use spline::{BSpline, SplineError};
 pub use toolpath::Toolpath;

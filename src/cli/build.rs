@@ -208,7 +208,7 @@ pub(super) fn job_name(design: &Path) -> String {
 }
 
 /// Refuses `--bom` for a design without a `[neon]` table.
-pub(super) fn check_bom(a: &Args, design: &skinpath::design::Design, file: &str) -> Result<()> {
+pub(super) fn check_bom(a: &Args, design: &skinpath::Design, file: &str) -> Result<()> {
     if a.bom.is_some() && design.neon.is_none() {
         bail!(
             "{file}: --bom needs a [neon] table in the design (the flex the bill of materials \
@@ -491,7 +491,7 @@ pub(super) fn print_job(
 
 fn print_summary(
     text: &mut String,
-    tp: &skinpath::toolpath::Toolpath,
+    tp: &skinpath::Toolpath,
     profile: &Profile,
     time: Option<f64>,
 ) -> std::fmt::Result {

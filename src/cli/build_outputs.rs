@@ -16,7 +16,7 @@ use super::build::{Args, check_bom, job_name, load_profile, print_bom, print_job
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::{Design, Output};
-use skinpath::job::{JobError, JobOptions, OutputFormat, Stage, Timings};
+use skinpath::job::{JobError, JobOptions, OutputFormat, Stage, Summary, Timings};
 use skinpath::job::{OutputJob, run_outputs};
 use skinpath::machine::{MachineKind, Profile, builtin_profile};
 use std::fmt::Write as _;
@@ -59,7 +59,7 @@ struct OutputSummary<'a> {
     operations: Option<Vec<usize>>,
     /// The job's summary, as `build --json` prints it for one program (its `outputs`: the
     /// program and its preview).
-    summary: skinpath::job::Summary,
+    summary: Summary,
 }
 
 /// A shipped profile by name, or a profile file: a relative path is read from the design

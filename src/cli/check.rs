@@ -8,6 +8,7 @@
 //! is the program's).
 
 use super::build::load_profile;
+use super::files;
 use super::io;
 use anyhow::{Context, Result, bail};
 use skinpath::design::HAIRLINE_MM;
@@ -72,7 +73,7 @@ pub struct Args {
 #[derive(serde::Serialize)]
 struct TimedReport<'a> {
     #[serde(flatten)]
-    report: &'a skinpath::sim::Report,
+    report: &'a skinpath::Report,
     timings: &'a Timings,
 }
 
@@ -147,7 +148,7 @@ fn failure_report(a: &Args, e: &anyhow::Error) -> skinpath::sim::Report {
 
 /// The profile of the `[[output]]` of `--design` the program is (module docs of `--only`),
 /// when --machine is not given; `None` for a design without outputs.
-fn output_profile(a: &Args) -> Result<Option<skinpath::machine::Profile>> {
+fn output_profile(a: &Args) -> Result<Option<skinpath::Profile>> {
     let (Some(d), None) = (&a.design, &a.machine) else {
         return Ok(None);
     };
@@ -259,7 +260,7 @@ fn checked(a: &Args) -> Result<u8> {
     let loader = CheckedLoader(|name: &str| find_sub(&dirs, name));
     let opts = InterpOptions::with_loader(&loader);
     // Only a regular file is read (a FIFO would hang, /dev/zero never ends).
-    let size = skinpath::sim::regular_file_size(&a.program)
+    let size = files::regular_file_size(&a.program)
         .with_context(|| format!("cannot read {}", a.program.display()))?;
     let stream = cfg
         .stream
@@ -281,9 +282,8 @@ fn checked(a: &Args) -> Result<u8> {
         return write_report(a, &report, &mut timings, Instant::now());
     }
     let clock = Instant::now();
-    let bytes =
-        skinpath::sim::read_regular(&a.program, skinpath::sim::STREAM_ABOVE_BYTES.max(size))
-            .with_context(|| format!("cannot read {}", a.program.display()))?;
+    let bytes = files::read_regular(&a.program, skinpath::sim::STREAM_ABOVE_BYTES.max(size))
+        .with_context(|| format!("cannot read {}", a.program.display()))?;
     let (text, decode_findings) = skinpath::sim::decode(&bytes);
     timings.read = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
@@ -327,7 +327,7 @@ fn checked(a: &Args) -> Result<u8> {
 /// `clock` started when the report stage did.
 fn write_report(
     a: &Args,
-    report: &skinpath::sim::Report,
+    report: &skinpath::Report,
     timings: &mut Timings,
     clock: Instant,
 ) -> Result<u8> {
@@ -359,7 +359,7 @@ fn write_report(
 
 /// `NAME.ngc` (any case of the name) in the first folder of `dirs` that holds it: its text,
 /// or why it cannot be read (not a regular file, larger than
-/// [`skinpath::sim::MAX_SUB_FILE_BYTES`]).
+/// [`files::MAX_SUB_FILE_BYTES`]).
 fn find_sub(dirs: &[PathBuf], name: &str) -> Result<Option<String>, String> {
     for d in dirs {
         for cand in [
@@ -367,9 +367,9 @@ fn find_sub(dirs: &[PathBuf], name: &str) -> Result<Option<String>, String> {
             format!("{}.ngc", name.to_uppercase()),
         ] {
             let p = d.join(cand);
-            match skinpath::sim::read_regular(&p, skinpath::sim::MAX_SUB_FILE_BYTES) {
+            match files::read_regular(&p, files::MAX_SUB_FILE_BYTES) {
                 Ok(b) => return Ok(Some(String::from_utf8_lossy(&b).into_owned())),
-                Err(skinpath::sim::FileError::Io { source, .. })
+                Err(files::FileError::Io { source, .. })
                     if source.kind() == std::io::ErrorKind::NotFound => {}
                 Err(e) => return Err(e.to_string()),
             }

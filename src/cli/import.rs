@@ -106,7 +106,7 @@ fn describe(op: &Operation) -> String {
 
 /// One line per layer and colour: how many strokes (with their length along the points)
 /// and filled shapes the import found there.
-fn found_per_layer_and_colour(d: &skinpath::design::Design) -> Vec<String> {
+fn found_per_layer_and_colour(d: &skinpath::Design) -> Vec<String> {
     use std::collections::BTreeMap;
     // (strokes, their length in mm, shapes)
     let mut groups: BTreeMap<(String, String), (usize, f64, usize)> = BTreeMap::new();

@@ -4,7 +4,7 @@
 mod build;
 mod build_outputs;
 mod check;
-
+mod files;
 mod import;
 mod init;
 mod inspect;

@@ -2,9 +2,10 @@
 
 use super::io;
 use anyhow::{Context, Result, bail};
+use skinpath::Stage;
 use skinpath::design::OutlineMethod;
+use skinpath::job::Timings;
 use skinpath::job::{OutlineOptions, outline_document_with};
-use skinpath::job::{Stage, Timings};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -84,7 +85,7 @@ pub fn run(a: Args) -> Result<u8> {
         }
     }
     let bar = super::progress::Bar::new();
-    let on_progress = |p: skinpath::job::Progress| bar.show(p);
+    let on_progress = |p: skinpath::Progress| bar.show(p);
     let doc = timings.time(Stage::Skin, || {
         outline_document_with(&design, &opts, bar.active().then_some(&on_progress))
     });

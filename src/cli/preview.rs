@@ -10,11 +10,11 @@
 use super::build::load_profile;
 use super::io;
 use anyhow::{Context, Result, bail};
+use skinpath::BuildOptions;
 use skinpath::design::ErrorKind;
 use skinpath::emit::{
     HtmlOptions, PngOptions, Scene, SvgOptions, player_html, scene_png, scene_svg,
 };
-use skinpath::job::BuildOptions;
 use skinpath::job::{scene_of_design, scene_of_program};
 use std::path::{Path, PathBuf};
 
@@ -96,7 +96,7 @@ fn png_options(a: &Args) -> Result<PngOptions> {
 /// a set (all or none).
 fn outputs(
     a: &Args,
-    design: &skinpath::design::Design,
+    design: &skinpath::Design,
     title: &str,
     opts: &BuildOptions,
     png: PngOptions,

@@ -2,7 +2,7 @@
 //! terminal: piped or captured output (tests, scripts) sees nothing.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use skinpath::job::{Progress, Stage};
+use skinpath::{Progress, Stage};
 use std::io::IsTerminal;
 use std::sync::Mutex;
 

@@ -29,7 +29,6 @@
 
 pub(crate) mod checks;
 pub(crate) mod config;
-pub(crate) mod files;
 pub(crate) mod findings;
 pub(crate) mod interp;
 pub(crate) mod linuxcnc;
@@ -45,7 +44,6 @@ pub(crate) mod timeline;
 
 pub use checks::{CheckFindings, DesignBoundary, KeepSide};
 pub use config::{CheckConfig, Dialect, MachineKind, ToolEntry, parse_tool_table};
-pub use files::{FileError, MAX_SUB_FILE_BYTES, read_regular, regular_file_size};
 pub use findings::{Finding, Severity};
 pub use interp::{CheckedLoader, LoadSub, Options as InterpOptions, ReadSeek, SubLoader};
 pub use linuxcnc::{number_lines, parse_canon};

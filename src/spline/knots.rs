@@ -1,17 +1,6 @@
-//! Knot vectors: construction (clamped, unclamped, periodic) and validation.
+//! Knot vectors: construction (clamped, periodic) and validation.
 
 use super::SplineError;
-
-/// How a knot vector treats its ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum KnotKind {
-    /// End knots repeated p + 1 times: the curve starts and ends at its end control values.
-    Clamped,
-    /// No end multiplicity: the curve lives on [u_p, u_{n+1}] only.
-    Unclamped,
-    /// Uniform spacing continued around a wrap: a closed curve.
-    Periodic,
-}
 
 /// Clamped knots with uniform interior spacing on [0, 1] for `n_ctrl` control values.
 pub fn clamped_uniform(degree: usize, n_ctrl: usize) -> Vec<f64> {
@@ -51,16 +40,6 @@ pub fn clamped_averaged(degree: usize, n_ctrl: usize, params: &[f64]) -> Vec<f64
     }
     k.extend(std::iter::repeat_n(b, p + 1));
     k
-}
-
-/// Periodic knots for a closed curve with `n_distinct` distinct control values stored with
-/// the first p repeated (n_distinct + p values): breakpoints 0, 1/n, …, 1 for the period
-/// [0, 1], continued uniformly p knots beyond each end.
-pub fn periodic_uniform(degree: usize, n_distinct: usize) -> Vec<f64> {
-    let breaks: Vec<f64> = (0..=n_distinct)
-        .map(|i| i as f64 / n_distinct as f64)
-        .collect();
-    periodic_from_breaks(degree, &breaks)
 }
 
 /// Periodic knots from the n + 1 breakpoints u_0 < … < u_n of one period (n = number of

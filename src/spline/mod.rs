@@ -18,9 +18,10 @@ pub mod curve;
 pub mod fit;
 pub mod knots;
 
-pub use basis::{basis_funs, ders_basis_funs, find_span};
+pub use basis::ders_basis_funs;
+#[cfg(test)]
+pub use basis::find_span;
 pub use curve::BSpline;
-pub use knots::KnotKind;
 
 use glam::{DVec2, DVec3};
 use std::ops::{Add, Mul, Sub};

@@ -11,8 +11,8 @@ use crate::support;
 
 use ::gcode::{Code, Value};
 use glam::DVec2;
+use skinpath::BSpline;
 use skinpath::dbsc::DiskBSpline;
-use skinpath::spline::BSpline;
 use support::{ROOT, skinpath, tmpdir};
 
 /// Cox–de Boor recursion N_{i,p}(t) on `knots` (right end: the last non-zero span).

@@ -278,7 +278,8 @@ fn files_that_are_not_files_are_refused_at_once() {
         eprintln!("skipped the FIFO cases: mkfifo is not available");
     }
     // Too large a subroutine file: refused by size, not read.
-    let big = sim::MAX_SUB_FILE_BYTES + 1;
+    // The binary reads subroutine files up to the streaming threshold (src/cli/files.rs).
+    let big = sim::STREAM_ABOVE_BYTES + 1;
     let f = std::fs::File::create(lib.join("big.ngc")).expect("create");
     f.set_len(big).expect("sparse file");
     let calls_big = d.join("calls_big.ngc");

@@ -237,7 +237,8 @@ fn check_input<P: Components>(
 }
 
 /// Interpolate the data with a degree-`degree` B-spline, parameters chosen by `kind`
-/// (see [`interpolate_with_params`]).
+/// (see [`interpolate_with_params`]). Used by the tests only.
+#[cfg(test)]
 pub fn interpolate<P: Components>(
     points: &[P],
     degree: usize,
@@ -290,7 +291,8 @@ pub fn interpolate_with_params<P: Components>(
 }
 
 /// Least-squares fit with `n_ctrl` control values, parameters chosen by `kind`
-/// (see [`least_squares_with_params`]).
+/// (see [`least_squares_with_params`]). Used by the tests only.
+#[cfg(test)]
 pub fn least_squares<P: Components>(
     points: &[P],
     n_ctrl: usize,

@@ -1,4 +1,4 @@
-//! Reading programs and subroutine files that may not be files: only regular files are
+//! Reading programs and subroutine files for `check` that may not be files: only regular files are
 //! opened (a FIFO would block the reader forever, `/dev/zero` or a symlink to it never
 //! ends), and no more than a size cap is read.
 //!
@@ -10,12 +10,11 @@ use std::io::Read;
 use std::path::Path;
 
 /// Largest subroutine file read (bytes): called files are held in memory whole, as a
-/// program below the streaming threshold is ([`super::stream::STREAM_ABOVE_BYTES`]).
-pub const MAX_SUB_FILE_BYTES: u64 = super::stream::STREAM_ABOVE_BYTES;
+/// program below the streaming threshold is ([`skinpath::sim::STREAM_ABOVE_BYTES`]).
+pub const MAX_SUB_FILE_BYTES: u64 = skinpath::sim::STREAM_ABOVE_BYTES;
 
 /// Why a path cannot be read as a program or subroutine file.
 #[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
 pub enum FileError {
     /// The path names something other than a regular file.
     #[error("{path}: {kind}, not a regular file")]
