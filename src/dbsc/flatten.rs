@@ -151,7 +151,7 @@ fn derivs1(c: &DiskBSpline, t: f64, left: bool) -> [(DVec2, f64); 2] {
         for (order, o) in out.iter_mut().enumerate() {
             for (i, &w) in d[order].iter().enumerate() {
                 let v = curve.ctrl()[j - p + i];
-                o.0 += w * DVec2::new(v.x, v.y);
+                o.0 += w * v.truncate();
                 o.1 += w * v.z;
             }
         }

@@ -1,6 +1,6 @@
 //! Cubic Bézier curves.
 
-use super::DVec2;
+use super::{Aabb, DVec2};
 
 /// The cubic Bézier curve with control points `p0..p3`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,15 +90,9 @@ impl CubicBez {
     }
 
     /// Axis-aligned box of the control polygon (contains the curve).
-    pub fn control_bbox(&self) -> (DVec2, DVec2) {
-        let pts = self.points();
-        let mut lo = pts[0];
-        let mut hi = pts[0];
-        for p in &pts[1..] {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
-        (lo, hi)
+    #[must_use]
+    pub fn control_bbox(&self) -> Aabb {
+        Aabb::from_points(&self.points())
     }
 
     /// Largest distance of the inner control points from the chord p0p3: the curve lies

@@ -4,11 +4,13 @@
 //! Everything is `f64` with [`glam::DVec2`] for points and vectors. Every approximate routine
 //! takes its tolerance as an argument; the defaults a caller may use live in [`tol`].
 
+pub mod aabb;
 pub mod arc;
 pub mod bernstein;
 pub mod circle;
 pub mod cubic;
 pub mod hull;
+pub mod interop;
 pub mod line;
 pub mod path;
 pub mod predicates;
@@ -17,6 +19,7 @@ pub mod roots;
 pub mod slabs;
 pub mod tol;
 
+pub use aabb::Aabb;
 pub use arc::Arc;
 pub use circle::Circle;
 pub use cubic::CubicBez;

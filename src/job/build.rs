@@ -566,7 +566,7 @@ fn union_of(regions: &[Region], tol: f64) -> Region {
 /// the path's first point, or of the nearest one (`items` and `regions` pair up). Regions
 /// whose bounding box (arcs included) misses the point are not asked.
 fn attribute(ctx: &Ctx, items: &[usize], regions: &[Region], paths: &[Path]) -> Vec<String> {
-    let boxes: Vec<Option<(DVec2, DVec2)>> = regions.iter().map(Region::bounds).collect();
+    let boxes: Vec<Option<(DVec2, DVec2)>> = (regions.iter()).map(|r| r.bounds().map(Into::into)).collect();
     paths
         .par_iter()
         .map(|p| {
@@ -732,7 +732,7 @@ fn lost_to_the_tool(
                 2.0 * r
             )
         };
-        out.push((crate::toolpath::region::path_from_pline(c), message));
+        out.push((crate::geom::interop::path_from_pline(c), message));
     }
     out
 }
@@ -816,7 +816,7 @@ fn channel_swept(ctx: &Ctx, c: &DiskBSpline, width: f64) -> (Path, Region) {
     let eps = ctx.tol * 0.1;
     let arcs = crate::toolpath::line::spine_pline(c, ctx.tol).and_then(|pline| {
         let region = swept_arc_region(&pline, width / 2.0, eps)?;
-        Some((crate::toolpath::region::path_from_pline(&pline), region))
+        Some((crate::geom::interop::path_from_pline(&pline), region))
     });
     arcs.unwrap_or_else(|| channel_polygon(ctx, c, width))
 }
@@ -1991,8 +1991,8 @@ fn plan_placed(
     at: PlaceAt,
     tol: f64,
 ) -> (Toolpath, Vec<PlanStats>) {
-    let Some((lo, hi)) = (specs.iter().filter_map(|s| s.geometry.bounds()))
-        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    let Some(crate::geom::Aabb { min: lo, max: hi }) =
+        (specs.iter().filter_map(|s| s.geometry.bounds())).reduce(crate::geom::Aabb::union)
     else {
         return plan(specs, DVec2::ZERO, tol);
     };

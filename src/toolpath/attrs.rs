@@ -140,7 +140,7 @@ impl<'a> SpineIndex<'a> {
     pub fn nearest(&self, p: DVec2, tol: f64) -> f64 {
         let i = self
             .chords
-            .nearest_neighbor([p.x, p.y])
+            .nearest_neighbor(p.to_array())
             .map_or(1, |c| c.data)
             .max(1);
         let (a, b) = (self.pts[i - 1], self.pts[i]);

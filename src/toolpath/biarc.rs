@@ -18,7 +18,7 @@
 //! which on a fit within tol is a few per arc.
 
 use crate::geom::hull::{arc_hull_bound, segment_hull_bound};
-use crate::geom::{Arc, CubicBez, DVec2, Line, PathSeg, perp};
+use crate::geom::{Aabb, Arc, CubicBez, DVec2, Line, PathSeg, perp};
 
 /// Evenly spread points of the curve whose distances [`max_deviation`] tries first.
 const PRE_SAMPLES: usize = 16;
@@ -227,9 +227,8 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
     // A chord whose box lies more than tol from a piece's hull box bounds the piece's
     // distance by more than tol: it cannot prove the piece, so only chords near it are
     // tried (the bound stays the minimum of bounds, each valid on its own).
-    let chord_boxes: Vec<(DVec2, DVec2)> = flat
-        .windows(2)
-        .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
+    let chord_boxes: Vec<Aabb> = (flat.windows(2))
+        .map(|w| Aabb::from_corners(w[0], w[1]))
         .collect();
     // The distance to the flattening, chord by chord, skipping a chord whose box is no
     // nearer than the nearest chord so far (the same minimum as `polyline_distance`);
@@ -242,9 +241,7 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
         let mut at = hint.get();
         for k in 0..n {
             let i = (hint.get() + k) % n;
-            let (lo, hi) = chord_boxes[i];
-            let gap = (lo - p).max(p - hi).max(DVec2::ZERO);
-            if gap.length_squared() >= best * best {
+            if chord_boxes[i].distance_squared(p) >= best * best {
                 continue;
             }
             let d = Line::new(flat[i], flat[i + 1]).distance(p);
@@ -276,15 +273,11 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
             if bound > tol
                 && let Some(hull) = piece_hull(s, a, b)
             {
-                let (lo, hi) = hull.iter().fold(
-                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-                );
-                let (lo, hi) = (lo - DVec2::splat(tol), hi + DVec2::splat(tol));
+                let near = Aabb::from_points(&hull).grow(tol);
                 bound = flat
                     .windows(2)
                     .zip(&chord_boxes)
-                    .filter(|(_, (a, b))| a.cmple(hi).all() && lo.cmple(*b).all())
+                    .filter(|(_, b)| b.intersects(&near))
                     .filter_map(|(w, _)| {
                         hull_distance_bound(&hull, &PathSeg::Line(Line::new(w[0], w[1])))
                     })

@@ -12,7 +12,8 @@
 //! items and channels, so the board's edge keeps its margin from every channel.
 
 use super::ops;
-use super::region::{Region, flatten_pline};
+use super::region::Region;
+use crate::geom::interop::flatten_pline;
 use crate::geom::DVec2;
 use cavalier_contours::polyline::{PlineSource, Polyline};
 

@@ -2,7 +2,7 @@
 //! depth, lead-in and lead-out arcs on the waste side, and holding tabs on through-cuts.
 
 use super::model::{Cut, Move, MoveKind};
-use crate::geom::{Arc, DVec2, Line, Path, PathSeg, perp};
+use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, perp};
 use glam::DVec3;
 
 /// Holding tabs: short bridges left standing on the last passes of a through-cut. On a
@@ -213,20 +213,15 @@ fn leads_clear(
     // Only segments whose bounding box meets the lead's can meet it (closed boxes, so
     // touching counts); the exact predicate decides the rest. O(n + k·m) instead of O(n·m).
     let hits = |pts: &[DVec2], contour: &[[DVec2; 2]]| {
-        let (lo, hi) = pts.iter().fold(
-            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
-        let meets = |a: DVec2, b: DVec2| a.cmple(hi).all() && b.cmpge(lo).all();
+        let lead = Aabb::from_points(pts);
         let mut near: Vec<[DVec2; 2]> = contour
             .iter()
-            .filter(|r| meets(r[0].min(r[1]), r[0].max(r[1])))
+            .filter(|r| Aabb::from_corners(r[0], r[1]).intersects(&lead))
             .copied()
             .collect();
         // The other contours' segments near the lead, flattened one by one.
         for seg in others.iter().flat_map(|o| &o.segs) {
-            let (a, b) = seg.bounding_box();
-            if meets(a, b) {
+            if seg.bounding_box().intersects(&lead) {
                 let f = seg.flatten(flat_tol);
                 near.extend(f.windows(2).map(|r| [r[0], r[1]]));
             }

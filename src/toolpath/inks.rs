@@ -27,10 +27,10 @@
 //! probe the items whose boxes hold it, each through a winding index of its contours
 //! ([`super::winding::WindingIndex`], O(1 + k) a query): O((n + k) log n) for n segments.
 
-use super::region::{Region, flatten_pline};
+use super::region::Region;
 use super::winding::WindingIndex;
-use crate::geom::DVec2;
-use cavalier_contours::core::math::Vector2;
+use crate::geom::interop::{self, flatten_pline};
+use crate::geom::{Aabb, DVec2};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
@@ -73,10 +73,6 @@ type Boxed = GeomWithData<Rectangle<[f64; 2]>, usize>;
 /// A segment's box with its (item, contour, index of its first point).
 type BoxedSegment = GeomWithData<Rectangle<[f64; 2]>, (usize, usize, usize)>;
 
-fn rect(lo: DVec2, hi: DVec2) -> Rectangle<[f64; 2]> {
-    Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y])
-}
-
 /// The flattened contours of the items and what asks them where a point lies.
 struct Inks<'a> {
     items: &'a [Painted<'a>],
@@ -112,19 +108,18 @@ impl<'a> Inks<'a> {
         let mut segs = Vec::new();
         let mut boxes = Vec::new();
         for (i, item) in rings.iter().enumerate() {
-            let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+            let mut all = Aabb::EMPTY;
             for (k, ring) in item.iter().enumerate() {
                 for s in 0..ring.len() {
                     let (a, b) = (ring[s], ring[(s + 1) % ring.len()]);
-                    segs.push(GeomWithData::new(rect(a.min(b), a.max(b)), (i, k, s)));
-                    lo = lo.min(a);
-                    hi = hi.max(a);
+                    let seg = Aabb::from_corners(a, b);
+                    segs.push(GeomWithData::new(interop::rectangle(seg), (i, k, s)));
+                    all = all.add_point(a);
                 }
             }
             // Arcs bulge past their chords by less than the flattening tolerance.
-            let pad = DVec2::splat(tol);
-            if lo.x <= hi.x {
-                boxes.push(GeomWithData::new(rect(lo - pad, hi + pad), i));
+            if all.min.x <= all.max.x {
+                boxes.push(GeomWithData::new(interop::rectangle(all.grow(tol)), i));
             }
         }
         Inks {
@@ -138,9 +133,9 @@ impl<'a> Inks<'a> {
 
     /// The last item (in paint order) whose region holds `q` (non-zero total winding).
     fn top(&self, q: DVec2) -> Option<usize> {
-        let v = Vector2::new(q.x, q.y);
+        let v = interop::vector2(q);
         self.boxes
-            .locate_all_at_point([q.x, q.y])
+            .locate_all_at_point(q.to_array())
             .map(|g| g.data)
             .filter(|&i| self.windings[i].iter().map(|w| w.winding(v)).sum::<i32>() != 0)
             .max()
@@ -331,7 +326,7 @@ fn simplify(points: Vec<DVec2>) -> Vec<DVec2> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::toolpath::region::pline_from_points;
+    use crate::geom::interop::pline_from_points;
 
     const TOL: f64 = 0.01;
 

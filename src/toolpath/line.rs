@@ -11,7 +11,8 @@
 //! spine is a closed cut.
 
 use super::biarc::fit_cubic;
-use super::region::{path_from_pline, pline_from_path};
+use super::region::pline_from_path;
+use crate::geom::interop::path_from_pline;
 use crate::dbsc::DiskBSpline;
 use crate::geom::{CubicBez, DVec2, Line, Path, PathSeg};
 use cavalier_contours::polyline::Polyline;

@@ -3,7 +3,8 @@
 //! Every function here is pure geometry on [`Region`]s and polylines; [`super::plan`] turns
 //! the paths into cuts with depths, feeds and ordering.
 
-use super::region::{Region, flatten_pline};
+use super::region::Region;
+use crate::geom::interop::{self, flatten_pline};
 use crate::geom::{Arc, Circle, DVec2, Line, Path, PathSeg};
 use geo::Buffer;
 
@@ -296,10 +297,7 @@ pub fn swept_region(spine: &[DVec2], closed: bool, half_width: f64, tol: f64) ->
     if spine.len() < 2 || half_width <= 0.0 {
         return Region::default();
     }
-    let mut coords: Vec<geo::Coord<f64>> = spine
-        .iter()
-        .map(|p| geo::Coord { x: p.x, y: p.y })
-        .collect();
+    let mut coords: Vec<geo::Coord<f64>> = spine.iter().map(|&p| interop::coord(p)).collect();
     if closed {
         coords.push(coords[0]);
     }
@@ -435,7 +433,7 @@ pub fn polyline_path(points: &[DVec2], closed: bool) -> Path {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::toolpath::region::pline_from_points;
+    use crate::geom::interop::pline_from_points;
     use cavalier_contours::polyline::PlineSourceMut;
     use std::f64::consts::PI;
 

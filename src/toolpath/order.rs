@@ -16,9 +16,9 @@
 //! number of steps fixed by n and these constants.
 
 use crate::geom::slabs::PolygonWinding;
-use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, interop};
+use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree};
 
 /// Upper bound on 2-opt improvement sweeps; improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
@@ -38,19 +38,6 @@ pub const MAX_2OPT_BLOCK: usize = 1_000;
 /// are ordered by nearest neighbour alone (a 2-opt sweep is O(n²)).
 pub const MAX_NEAREST_PATHS: usize = 5_000;
 
-/// Vertex bounding box of a flattened path (min, max); empty paths give an inverted box.
-fn vertex_box(pts: &[DVec2]) -> (DVec2, DVec2) {
-    pts.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    )
-}
-
-/// Distance from `p` to the box `b` (0 inside).
-fn box_distance(b: &(DVec2, DVec2), p: DVec2) -> f64 {
-    (b.0 - p).max(p - b.1).max(DVec2::ZERO).length()
-}
-
 /// Travel figures of an ordering.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OrderStats {
@@ -67,14 +54,13 @@ pub struct OrderStats {
 /// ([`PolygonWinding`], the exact even-odd test in O(1 + k) per vertex).
 pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
     let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
-    let boxes: Vec<(DVec2, DVec2)> = polys.iter().map(|p| vertex_box(p)).collect();
-    let rect = |(lo, hi): (DVec2, DVec2)| Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]);
+    let boxes: Vec<Aabb> = polys.iter().map(Aabb::from_points).collect();
     // The boxes of the non-empty paths; the paths whose boxes lie in box j (edges included)
     // are the candidates inside path j.
     let tree: RTree<BoxEntry> = RTree::bulk_load(
         (0..paths.len())
             .filter(|&i| !polys[i].is_empty())
-            .map(|i| BoxEntry::new(rect(boxes[i]), i))
+            .map(|i| BoxEntry::new(interop::rectangle(boxes[i]), i))
             .collect(),
     );
     (0..paths.len())
@@ -82,10 +68,8 @@ pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
             if !paths[j].closed || polys[j].len() < 3 {
                 return Vec::new();
             }
-            let envelope =
-                AABB::from_corners([boxes[j].0.x, boxes[j].0.y], [boxes[j].1.x, boxes[j].1.y]);
             let mut inner: Vec<usize> = tree
-                .locate_in_envelope(envelope)
+                .locate_in_envelope(interop::envelope(boxes[j]))
                 .map(|e| e.data)
                 .filter(|&i| i != j)
                 .collect();
@@ -226,8 +210,8 @@ fn travel(order: &[Path], home: DVec2) -> f64 {
 type BoxEntry = GeomWithData<Rectangle<[f64; 2]>, usize>;
 
 /// Relative slack of the R-tree walk's stopping test: its squared box distances are rounded
-/// apart from [`box_distance`], so the walk goes on a hair past the best entry and the test
-/// that decides is `box_distance`'s own.
+/// apart from [`Aabb::distance`], so the walk goes on a hair past the best entry and the test
+/// that decides is `Aabb::distance`'s own.
 const WALK_SLACK: f64 = 1e-9;
 
 /// Nearest neighbour from `home` among the paths whose predecessors (`before`, the
@@ -238,15 +222,12 @@ const WALK_SLACK: f64 = 1e-9;
 fn nearest_neighbour(
     paths: &[Path],
     before: &[Vec<usize>],
-    boxes: &[(DVec2, DVec2)],
+    boxes: &[Aabb],
     home: DVec2,
     tol: f64,
 ) -> Vec<(usize, Path)> {
     let n = paths.len();
-    let entry = |i: usize| {
-        let (lo, hi) = boxes[i];
-        BoxEntry::new(Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]), i)
-    };
+    let entry = |i: usize| BoxEntry::new(interop::rectangle(boxes[i]), i);
     let mut waiting: Vec<usize> = before.iter().map(Vec::len).collect();
     let mut after: Vec<Vec<usize>> = vec![Vec::new(); n];
     for (j, b) in before.iter().enumerate() {
@@ -259,14 +240,14 @@ fn nearest_neighbour(
     let mut pos = home;
     while free.size() > 0 {
         let mut best: Option<(usize, f64, Path)> = None;
-        for (e, d2) in free.nearest_neighbor_iter_with_distance_2([pos.x, pos.y]) {
+        for (e, d2) in free.nearest_neighbor_iter_with_distance_2(pos.to_array()) {
             let i = e.data;
             if let Some(b) = &best {
                 if d2.sqrt() > b.1 * (1.0 + WALK_SLACK) + WALK_SLACK {
                     break;
                 }
                 // The entry of path i is a point of it (or an end): no nearer than its box.
-                if box_distance(&boxes[i], pos) > b.1 {
+                if boxes[i].distance(pos) > b.1 {
                     continue;
                 }
             }
@@ -301,13 +282,9 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
     let n = paths.len();
     let before = precedence(paths, tol);
     // Boxes of the flattenings, grown by the flattening tolerance so that they contain the
-    // paths: no point of path i is nearer to the tool than `box_distance(boxes[i], pos)`.
-    let boxes: Vec<(DVec2, DVec2)> = paths
-        .iter()
-        .map(|p| {
-            let (lo, hi) = vertex_box(&p.flatten(tol));
-            (lo - DVec2::splat(tol), hi + DVec2::splat(tol))
-        })
+    // paths: no point of path i is nearer to the tool than `boxes[i].distance(pos)`.
+    let boxes: Vec<Aabb> = (paths.iter())
+        .map(|p| Aabb::from_points(&p.flatten(tol)).grow(tol))
         .collect();
     let travel_input = travel(paths, home);
     let order = nearest_neighbour(paths, &before, &boxes, home, tol);
@@ -528,8 +505,9 @@ mod tests {
                 )
             })
             .collect();
-        let boxes: Vec<(DVec2, DVec2)> =
-            paths.iter().map(|p| vertex_box(&p.flatten(1e-3))).collect();
+        let boxes: Vec<Aabb> = (paths.iter())
+            .map(|p| Aabb::from_points(&p.flatten(1e-3)))
+            .collect();
         let before = vec![Vec::new(); n];
         let nn = nearest_neighbour(&paths, &before, &boxes, DVec2::ZERO, 1e-3);
         let nn_travel = travel(

@@ -14,7 +14,9 @@
 
 use super::biarc::fit_cubic;
 use super::winding::WindingIndex;
-use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use crate::geom::interop::{self, push_line_or_arc};
+pub use crate::geom::interop::{flatten_pline, path_from_pline, pline_from_points};
+use crate::geom::{Aabb, DVec2, Path, PathSeg};
 use crate::skin::intersect::{path_self_intersections, paths_intersections};
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
 use cavalier_contours::shape_algorithms::{Shape, ShapeOffsetOptions};
@@ -28,10 +30,6 @@ pub struct Region {
     pub contours: Vec<Polyline<f64>>,
 }
 
-/// Largest arc sweep per polyline vertex: cavalier_contours keeps |bulge| ≤ 1 (a half
-/// circle), so longer arcs are split.
-const MAX_SWEEP_PER_VERTEX: f64 = std::f64::consts::PI;
-
 /// Vertices closer than this fraction of the tolerance are one vertex, and a vertex between
 /// two lines that lies nearer than this fraction of the tolerance to the chord of its
 /// neighbours is dropped ([`simplify_ring`]). It must exceed the position tolerance the
@@ -41,23 +39,6 @@ const MAX_SWEEP_PER_VERTEX: f64 = std::f64::consts::PI;
 /// contours (the E channel of issue 11 had such a pair, 1.5e-4 apart at tolerance 1e-2).
 pub const REPEAT_FRACTION: f64 = 0.05;
 
-/// Append the line/arc `seg` (starting where the polyline currently ends) as vertices.
-fn push_seg(pl: &mut Polyline<f64>, seg: &PathSeg) {
-    match seg {
-        PathSeg::Line(l) => pl.add(l.p0.x, l.p0.y, 0.0),
-        PathSeg::Arc(a) => {
-            let n = (a.sweep.abs() / MAX_SWEEP_PER_VERTEX).ceil().max(1.0) as usize;
-            let part = a.sweep / n as f64;
-            let bulge = (part / 4.0).tan();
-            for i in 0..n {
-                let p = a.eval(i as f64 / n as f64);
-                pl.add(p.x, p.y, bulge);
-            }
-        }
-        PathSeg::Cubic(_) => {}
-    }
-}
-
 /// A polyline from a path, closed when the path is (an open one ends with the path's end
 /// point); cubics become biarcs within `tol`.
 pub fn pline_from_path(path: &Path, tol: f64) -> Polyline<f64> {
@@ -66,10 +47,10 @@ pub fn pline_from_path(path: &Path, tol: f64) -> Polyline<f64> {
         match seg {
             PathSeg::Cubic(c) => {
                 for s in fit_cubic(c, tol) {
-                    push_seg(&mut pl, &s);
+                    push_line_or_arc(&mut pl, &s);
                 }
             }
-            other => push_seg(&mut pl, other),
+            other => push_line_or_arc(&mut pl, other),
         }
     }
     pl.set_is_closed(path.closed);
@@ -79,38 +60,6 @@ pub fn pline_from_path(path: &Path, tol: f64) -> Polyline<f64> {
     // Repeated positions (a biarc joint on a path's own end point) relative to the
     // tolerance, so the result does not depend on the size or position of the path.
     pl.remove_repeat_pos(tol * REPEAT_FRACTION).unwrap_or(pl)
-}
-
-/// A closed polyline through `points` (no arcs).
-pub fn pline_from_points(points: &[DVec2], closed: bool) -> Polyline<f64> {
-    let mut pl = Polyline::with_capacity(points.len(), closed);
-    for p in points {
-        pl.add(p.x, p.y, 0.0);
-    }
-    pl
-}
-
-/// The lines and arcs of a polyline as a path.
-pub fn path_from_pline(pl: &Polyline<f64>) -> Path {
-    let mut segs = Vec::with_capacity(pl.vertex_count());
-    for (v1, v2) in pl.iter_segments() {
-        let p0 = DVec2::new(v1.x, v1.y);
-        let p1 = DVec2::new(v2.x, v2.y);
-        if p0 == p1 {
-            continue;
-        }
-        if v1.bulge == 0.0 {
-            segs.push(PathSeg::Line(Line::new(p0, p1)));
-        } else {
-            segs.push(PathSeg::Arc(Arc::from_bulge(p0, p1, v1.bulge)));
-        }
-    }
-    Path::new(segs, pl.is_closed())
-}
-
-/// Points of a polyline within `tol` (arcs flattened by sagitta).
-pub fn flatten_pline(pl: &Polyline<f64>, tol: f64) -> Vec<DVec2> {
-    path_from_pline(pl).flatten(tol)
 }
 
 /// A closed ring without repeated points and without spikes: a vertex where the ring turns
@@ -209,7 +158,7 @@ pub fn simplify_ring(pts: Vec<DVec2>, eps: f64) -> Vec<DVec2> {
 pub fn despike(pl: &Polyline<f64>, eps: f64, hair: f64) -> Polyline<f64> {
     use cavalier_contours::polyline::PlineVertex;
     type V = PlineVertex<f64>;
-    let p = |v: &V| DVec2::new(v.x, v.y);
+    let p = interop::vertex_point;
     // Whether `b` is removable between `a` and `c`.
     let removable = |a: &V, b: &V, c: &V| -> bool {
         if a.bulge == 0.0 && p(a).distance(p(b)) < eps * 0.1 {
@@ -429,8 +378,8 @@ impl Windings {
         let mut everywhere = Vec::new();
         for (k, w) in each.iter().enumerate() {
             match w.bounds() {
-                Some((lo, hi)) if lo.iter().chain(&hi).all(|c| c.is_finite()) => {
-                    boxes.push(GeomWithData::new(Rectangle::from_corners(lo, hi), k));
+                Some(b) if b.min.is_finite() && b.max.is_finite() => {
+                    boxes.push(GeomWithData::new(interop::rectangle(b), k));
                 }
                 Some(_) => everywhere.push(k),
                 None => {}
@@ -454,7 +403,7 @@ impl Windings {
     /// The winding number of contour `k` about (x, y).
     fn of(&self, k: usize, x: f64, y: f64) -> i32 {
         self.each.get(k).map_or(0, |w| {
-            w.winding(cavalier_contours::core::math::Vector2::new(x, y))
+            w.winding(interop::vector2(DVec2::new(x, y)))
         })
     }
 
@@ -668,21 +617,18 @@ impl Region {
     }
 
     /// The bounding box of the contours, arcs included (None without contours).
-    pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
-        self.boxes(0.0)
-            .into_iter()
-            .flatten()
-            .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    #[must_use]
+    pub fn bounds(&self) -> Option<Aabb> {
+        self.boxes(0.0).into_iter().flatten().reduce(Aabb::union)
     }
 
     /// Each contour's bounding box grown by `tol` (None for an empty contour).
-    fn boxes(&self, tol: f64) -> Vec<Option<(DVec2, DVec2)>> {
+    fn boxes(&self, tol: f64) -> Vec<Option<Aabb>> {
         self.contours
             .iter()
             .map(|c| {
                 c.extents().map(|b| {
-                    let lo = DVec2::new(b.min_x, b.min_y) - DVec2::splat(tol);
-                    (lo, DVec2::new(b.max_x, b.max_y) + DVec2::splat(tol))
+                    Aabb::new(DVec2::new(b.min_x, b.min_y), DVec2::new(b.max_x, b.max_y)).grow(tol)
                 })
             })
             .collect()
@@ -750,16 +696,10 @@ impl Region {
 
     /// Centre of the bounding box of the vertices (zero for an empty region).
     pub fn center(&self) -> DVec2 {
-        let mut lo = DVec2::splat(f64::INFINITY);
-        let mut hi = DVec2::splat(f64::NEG_INFINITY);
-        for c in &self.contours {
-            for v in c.iter_vertexes() {
-                lo = lo.min(DVec2::new(v.x, v.y));
-                hi = hi.max(DVec2::new(v.x, v.y));
-            }
-        }
-        if lo.x <= hi.x {
-            0.5 * (lo + hi)
+        let b = (self.contours.iter().flat_map(|c| c.iter_vertexes()))
+            .fold(Aabb::EMPTY, |b, v| b.add_point(interop::vertex_point(&v)));
+        if b.min.x <= b.max.x {
+            b.center()
         } else {
             DVec2::ZERO
         }
@@ -818,16 +758,7 @@ impl Region {
         let polys = geo::MultiPolygon::new(
             rings
                 .into_iter()
-                .map(|ring| {
-                    let mut pts: Vec<geo::Coord<f64>> = ring
-                        .into_iter()
-                        .map(|q| geo::Coord { x: q.x, y: q.y })
-                        .collect();
-                    if let Some(&f) = pts.first() {
-                        pts.push(f);
-                    }
-                    geo::Polygon::new(geo::LineString::new(pts), vec![])
-                })
+                .map(|ring| geo::Polygon::new(interop::ring_line_string(ring), vec![]))
                 .collect(),
         );
         let empty = geo::MultiPolygon::<f64>::new(vec![]);
@@ -842,16 +773,7 @@ impl Region {
 
     /// The region as geo polygons (contours flattened within `tol`).
     pub fn to_geo(&self, tol: f64) -> geo::MultiPolygon<f64> {
-        let ring = |c: &Polyline<f64>| {
-            let mut pts: Vec<geo::Coord<f64>> = flatten_pline(c, tol)
-                .into_iter()
-                .map(|p| geo::Coord { x: p.x, y: p.y })
-                .collect();
-            if let Some(&f) = pts.first() {
-                pts.push(f);
-            }
-            geo::LineString::new(pts)
-        };
+        let ring = |c: &Polyline<f64>| interop::ring_line_string(flatten_pline(c, tol));
         let outers: Vec<&Polyline<f64>> = self.contours.iter().filter(|c| c.area() > 0.0).collect();
         let holes: Vec<&Polyline<f64>> = self.contours.iter().filter(|c| c.area() <= 0.0).collect();
         let mut polys: Vec<geo::Polygon<f64>> = outers
@@ -867,7 +789,7 @@ impl Region {
                 .iter()
                 .enumerate()
                 .filter(|(_, o)| {
-                    o.winding_number(cavalier_contours::core::math::Vector2::new(v.x, v.y)) != 0
+                    o.winding_number(v.pos()) != 0
                 })
                 .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
                 .map(|(i, _)| i);
@@ -887,10 +809,7 @@ impl Region {
     pub fn from_geo(mp: &geo::MultiPolygon<f64>, tol: f64) -> Region {
         let mut contours = Vec::new();
         let conv = |ls: &geo::LineString<f64>| {
-            let mut pts: Vec<DVec2> = ls.coords().map(|c| DVec2::new(c.x, c.y)).collect();
-            if pts.len() > 1 && pts.first() == pts.last() {
-                pts.pop();
-            }
+            let pts = interop::ring_points(ls);
             // Zigzags of a few µm along a boundary (seed 0x5EED0011 case 251: a laser
             // channel's union went back and forth 0.03 mm four times) are hairs too.
             despike(
@@ -915,7 +834,7 @@ impl Region {
 
     /// True when `p` is inside the material (non-zero total winding).
     pub fn contains(&self, p: DVec2) -> bool {
-        let v = cavalier_contours::core::math::Vector2::new(p.x, p.y);
+        let v = interop::vector2(p);
         self.contours
             .iter()
             .map(|c| c.winding_number(v))
@@ -931,24 +850,17 @@ impl Region {
 
 /// Whether the paths `a` and `b`, with bounding boxes `ba` and `bb` grown by `tol`, meet
 /// within `tol` (boxes first, then the segments through bounding-volume trees).
-fn meet(
-    a: &Path,
-    ba: Option<(DVec2, DVec2)>,
-    b: &Path,
-    bb: Option<(DVec2, DVec2)>,
-    tol: f64,
-) -> bool {
+fn meet(a: &Path, ba: Option<Aabb>, b: &Path, bb: Option<Aabb>, tol: f64) -> bool {
     let (Some(ba), Some(bb)) = (ba, bb) else {
         return false;
     };
-    let overlap = ba.0.cmple(bb.1).all() && bb.0.cmple(ba.1).all();
-    overlap && !paths_intersections(a, b, tol).is_empty()
+    ba.intersects(&bb) && !paths_intersections(a, b, tol).is_empty()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::CubicBez;
+    use crate::geom::{CubicBez, Line};
     use std::f64::consts::PI;
 
     fn square(x0: f64, y0: f64, s: f64) -> Polyline<f64> {
@@ -1025,7 +937,7 @@ mod tests {
             .enumerate()
             .map(|(i, c)| {
                 let v = c.iter_vertexes().next().expect("a vertex");
-                let p = cavalier_contours::core::math::Vector2::new(v.x, v.y);
+                let p = v.pos();
                 let depth = (0..contours.len())
                     .filter(|&j| j != i && contours[j].winding_number(p) != 0)
                     .count();

@@ -16,6 +16,7 @@
 //! O(1 + k) per query for the k segments listed in the point's slab, instead of O(n).
 
 use crate::geom::slabs::Slabs;
+use crate::geom::{Aabb, DVec2};
 use cavalier_contours::core::math::{Vector2, is_left, is_left_or_equal};
 use cavalier_contours::polyline::{PlineSource, PlineVertex, Polyline};
 
@@ -218,8 +219,9 @@ impl WindingIndex {
     /// height, far above their rounding, and a point beyond the arc's own extent is outside
     /// its circular segment; those values sum to 0 since a closed polyline crosses every
     /// height upward as often as downward.
-    pub fn bounds(&self) -> Option<([f64; 2], [f64; 2])> {
-        self.bounds
+    #[must_use]
+    pub fn bounds(&self) -> Option<Aabb> {
+        (self.bounds).map(|(lo, hi)| Aabb::new(DVec2::from_array(lo), DVec2::from_array(hi)))
     }
 
     /// The winding number of the polyline about `p`: the value cavalier_contours'
@@ -402,7 +404,7 @@ mod tests {
                 .map(|&(x, y)| (x as f64 * scale + shift.0, y as f64 * scale + shift.1))
                 .collect();
             let pl = pline(&pts, &bulges);
-            let (lo, hi) = WindingIndex::new(&pl).bounds().expect("a closed polyline");
+            let Aabb { min: lo, max: hi } = WindingIndex::new(&pl).bounds().expect("a closed polyline");
             let inside = |p: Vector2<f64>| {
                 lo[0] <= p.x && p.x <= hi[0] && lo[1] <= p.y && p.y <= hi[1]
             };
