@@ -192,7 +192,7 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
-    /// A path of a line and a three-quarter arc goes to a polyline (the arc split at
+    /// A closed path of a line (length √2) and a three-quarter arc goes to a polyline (the arc split at
     /// π per vertex: two vertices of bulge tan(3π/16)) and back unchanged.
     #[test]
     fn lines_and_arcs_survive_the_round_trip() {
@@ -208,7 +208,7 @@ mod tests {
         let back = path_from_pline(&pl);
         assert_eq!(back.segs.len(), 3);
         let total: f64 = back.segs.iter().map(|s| s.length(1e-9)).sum();
-        assert!((total - (1.0 + 1.5 * PI)).abs() < 1e-12, "{total}");
+        assert!((total - (2f64.sqrt() + 1.5 * PI)).abs() < 1e-12, "{total}");
         for q in flatten_pline(&pl, 1e-4).iter().skip(1) {
             let on_arc = (q.distance(arc.center) - 1.0).abs() < 1e-12;
             assert!(on_arc || line.distance(*q) < 1e-12, "{q}");

@@ -566,7 +566,9 @@ fn union_of(regions: &[Region], tol: f64) -> Region {
 /// the path's first point, or of the nearest one (`items` and `regions` pair up). Regions
 /// whose bounding box (arcs included) misses the point are not asked.
 fn attribute(ctx: &Ctx, items: &[usize], regions: &[Region], paths: &[Path]) -> Vec<String> {
-    let boxes: Vec<Option<(DVec2, DVec2)>> = (regions.iter()).map(|r| r.bounds().map(Into::into)).collect();
+    let boxes: Vec<Option<(DVec2, DVec2)>> = (regions.iter())
+        .map(|r| r.bounds().map(Into::into))
+        .collect();
     paths
         .par_iter()
         .map(|p| {

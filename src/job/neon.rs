@@ -805,8 +805,8 @@ pub const ISLAND_FLATTEN_OF_WIDTH: f64 = 1e-2;
 /// the design's; an H that holds none (of area at least π(MIN_ISLAND_OF_WIDTH·w·s)², as
 /// H itself: smaller holes are slivers of the union) is filled.
 fn filled_islands(spines: &[Vec<DVec2>], closed: &[bool], width: f64, scale: f64) -> Vec<DVec2> {
-    use crate::toolpath::ops::swept_region;
     use crate::geom::interop::flatten_pline;
+    use crate::toolpath::ops::swept_region;
     use crate::toolpath::region::Region;
     use cavalier_contours::polyline::PlineSource;
     let tol = ISLAND_FLATTEN_OF_WIDTH * width;

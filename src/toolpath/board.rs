@@ -13,8 +13,8 @@
 
 use super::ops;
 use super::region::Region;
-use crate::geom::interop::flatten_pline;
 use crate::geom::DVec2;
+use crate::geom::interop::flatten_pline;
 use cavalier_contours::polyline::{PlineSource, Polyline};
 
 /// Default smallest width of a bridge between two pieces of a backboard, in millimetres:

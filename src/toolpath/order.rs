@@ -84,7 +84,11 @@ pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
         .collect()
 }
 
-/// The point of a line or arc nearest to `p`, as (parameter, distance).
+/// Parameter accuracy of the nearest point on a cubic ([`crate::geom::CubicBez::nearest`]):
+/// far below the snapping distance of entry points for any cubic shorter than a kilometre.
+const CUBIC_NEAREST_ACCURACY: f64 = 1e-12;
+
+/// The point of a line, arc or cubic nearest to `p`, as (parameter, distance).
 fn nearest_on_seg(s: &PathSeg, p: DVec2) -> (f64, f64) {
     match s {
         PathSeg::Line(l) => {
@@ -104,13 +108,9 @@ fn nearest_on_seg(s: &PathSeg, p: DVec2) -> (f64, f64) {
             };
             (t, a.eval(t).distance(p))
         }
-        PathSeg::Cubic(c) => {
-            // Coarse search: cubics are fitted to arcs before ordering; this is a fallback.
-            (0..=64)
-                .map(|i| i as f64 / 64.0)
-                .map(|t| (t, c.eval(t).distance(p)))
-                .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a })
-        }
+        // Cubics are fitted to arcs before ordering; a path that keeps one gets its exact
+        // nearest point.
+        PathSeg::Cubic(c) => c.nearest(p, CUBIC_NEAREST_ACCURACY),
     }
 }
 

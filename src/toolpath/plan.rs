@@ -37,8 +37,9 @@ impl Geometry {
             Geometry::Paths(paths) => (paths.iter().flat_map(|p| &p.segs))
                 .fold(Aabb::EMPTY, |b, s| b.union(s.bounding_box())),
             Geometry::Points(points) => Aabb::from_points(points),
-            Geometry::Polylines3(lines) => (lines.iter().flatten())
-                .fold(Aabb::EMPTY, |b, p| b.add_point(p.truncate())),
+            Geometry::Polylines3(lines) => {
+                (lines.iter().flatten()).fold(Aabb::EMPTY, |b, p| b.add_point(p.truncate()))
+            }
             Geometry::AttrPolylines3(lines) => (lines.iter().flat_map(|l| &l.points))
                 .fold(Aabb::EMPTY, |b, p| b.add_point(p.truncate())),
         };

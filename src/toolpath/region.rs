@@ -402,9 +402,9 @@ impl Windings {
 
     /// The winding number of contour `k` about (x, y).
     fn of(&self, k: usize, x: f64, y: f64) -> i32 {
-        self.each.get(k).map_or(0, |w| {
-            w.winding(interop::vector2(DVec2::new(x, y)))
-        })
+        self.each
+            .get(k)
+            .map_or(0, |w| w.winding(interop::vector2(DVec2::new(x, y))))
     }
 
     /// The total winding number of the contours other than `skip` about (x, y).
@@ -788,9 +788,7 @@ impl Region {
             let owner = outers
                 .iter()
                 .enumerate()
-                .filter(|(_, o)| {
-                    o.winding_number(v.pos()) != 0
-                })
+                .filter(|(_, o)| o.winding_number(v.pos()) != 0)
                 .min_by(|a, b| a.1.area().total_cmp(&b.1.area()))
                 .map(|(i, _)| i);
             if let Some(i) = owner {

@@ -243,8 +243,8 @@ fn sound(region: &Region, spine: &Polyline<f64>, r: f64, eps: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::toolpath::ops::swept_region;
     use crate::geom::interop::pline_from_points;
+    use crate::toolpath::ops::swept_region;
     use proptest::prelude::*;
 
     const EPS: f64 = 1e-4;
