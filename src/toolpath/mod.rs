@@ -16,6 +16,7 @@ pub mod order;
 pub mod plan;
 pub mod re_route;
 pub mod region;
+pub mod rings;
 pub mod stats;
 pub mod swept;
 pub mod valleys;

@@ -23,7 +23,8 @@
 //! Cost: two offsets of the spine, O(n log n) in its segments, and the checks, O(n·m) for
 //! the distances of the m boundary vertices to the n spine segments.
 
-use super::region::{MEET_FRACTION, Region, degenerate};
+use super::region::{MEET_FRACTION, Region};
+use super::rings::degenerate;
 use crate::geom::{DVec2, interop};
 use cavalier_contours::polyline::{
     PlineCreation, PlineOffsetOptions, PlineSource, PlineSourceMut, PlineVertex, Polyline,
