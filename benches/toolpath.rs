@@ -85,7 +85,7 @@ fn bench_offsets(c: &mut Criterion) {
 fn bench_winding(c: &mut Criterion) {
     use cavalier_contours::core::math::Vector2;
     use cavalier_contours::polyline::{PlineSource, Polyline};
-    use skinpath::toolpath::winding::WindingIndex;
+    use skinpath::geom::index::WindingIndex;
     let mut g = c.benchmark_group("winding_of_offset_vertices");
     for &n in &[100usize, 1000, 10_000] {
         let region = Region::from_contours(vec![pline_from_points(&flower(n), true)]);

@@ -10,13 +10,14 @@ pub mod bernstein;
 pub mod circle;
 pub mod cubic;
 pub mod hull;
+pub mod index;
 pub mod interop;
 pub mod line;
 pub mod path;
 pub mod predicates;
 pub mod quad;
 pub mod roots;
-pub mod slabs;
+
 pub mod tol;
 
 pub use aabb::Aabb;

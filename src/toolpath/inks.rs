@@ -25,10 +25,10 @@
 //!
 //! Cost: each segment asks an R-tree of the segments for those within δ of it, and each
 //! probe the items whose boxes hold it, each through a winding index of its contours
-//! ([`super::winding::WindingIndex`], O(1 + k) a query): O((n + k) log n) for n segments.
+//! ([`crate::geom::index::WindingIndex`], O(1 + k) a query): O((n + k) log n) for n segments.
 
 use super::region::Region;
-use super::winding::WindingIndex;
+use crate::geom::index::WindingIndex;
 use crate::geom::interop::{self, flatten_pline};
 use crate::geom::{Aabb, DVec2};
 use rstar::primitives::{GeomWithData, Rectangle};

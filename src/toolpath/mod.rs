@@ -20,6 +20,5 @@ pub mod rings;
 pub mod stats;
 pub mod swept;
 pub mod valleys;
-pub mod winding;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

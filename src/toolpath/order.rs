@@ -15,7 +15,7 @@
 //! large drawing is ordered by nearest neighbour alone. No loop here refines: each ends after a
 //! number of steps fixed by n and these constants.
 
-use crate::geom::slabs::PolygonWinding;
+use crate::geom::index::PolygonWinding;
 use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, interop};
 use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};

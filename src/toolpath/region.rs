@@ -15,7 +15,7 @@
 use super::biarc::fit_cubic;
 pub(crate) use super::rings::degenerate;
 use super::rings::{despike, drop_repeated_rings, simplify_ring, single_traversal};
-use super::winding::WindingIndex;
+use crate::geom::index::WindingIndex;
 use crate::geom::interop::{self, push_line_or_arc};
 pub use crate::geom::interop::{flatten_pline, path_from_pline, pline_from_points};
 use crate::geom::{Aabb, DVec2, Path, PathSeg};

@@ -15,7 +15,7 @@
 //! Cost: O(n) to build for n segments (at most [`MAX_ENTRIES_PER_SEGMENT`]·n slab entries),
 //! O(1 + k) per query for the k segments listed in the point's slab, instead of O(n).
 
-use crate::geom::slabs::Slabs;
+use super::slabs::Slabs;
 use crate::geom::{Aabb, DVec2};
 use cavalier_contours::core::math::{Vector2, is_left, is_left_or_equal};
 use cavalier_contours::polyline::{PlineSource, PlineVertex, Polyline};
