@@ -8,7 +8,7 @@
 use cavalier_contours::polyline::{PlineOffsetOptions, PlineSource, PlineSourceMut, Polyline};
 use criterion::Criterion;
 use skinpath::geom::Circle;
-use skinpath::geom::path::polygon_area;
+use skinpath::geom::polygon_area;
 use skinpath::geom::{DVec2, Path, PathSeg};
 use skinpath::skin::mat_offset::{MatOffset, inner_offset, outline};
 use skinpath::skin::re::{Interp, ReSkin, Touch};

@@ -85,7 +85,7 @@ fn bench_offsets(c: &mut Criterion) {
 fn bench_winding(c: &mut Criterion) {
     use cavalier_contours::core::math::Vector2;
     use cavalier_contours::polyline::{PlineSource, Polyline};
-    use skinpath::geom::index::WindingIndex;
+    use skinpath::geom::WindingIndex;
     let mut g = c.benchmark_group("winding_of_offset_vertices");
     for &n in &[100usize, 1000, 10_000] {
         let region = Region::from_contours(vec![pline_from_points(&flower(n), true)]);
@@ -261,8 +261,8 @@ fn bench_hatch_and_order(c: &mut Criterion) {
 /// route `build` falls back to). Vertex counts and the areas' difference are printed once.
 fn bench_channel_region(c: &mut Criterion) {
     use cavalier_contours::polyline::PlineSource;
-    use skinpath::dbsc::flatten::flatten_spine;
-    use skinpath::dbsc::spine::spine_cubics;
+    use skinpath::dbsc::flatten_spine;
+    use skinpath::dbsc::spine_cubics;
     use skinpath::toolpath::ops::swept_region;
     use skinpath::toolpath::region::pline_from_path;
     use skinpath::toolpath::swept::swept_arc_region;

@@ -1,8 +1,8 @@
 //! Conversions between geom's types (glam's [`DVec2`], [`Aabb`], [`Path`]) and those of the
 //! crates geometry is handed to: cavalier_contours (`Vector2`, `Polyline`: offsets,
 //! winding numbers), geo (`Coord`, `LineString`, `Polygon`: polygon booleans), rstar
-//! (`AABB`, `Rectangle`: R-trees) and, with the `svg-import` feature, kurbo (`Point`,
-//! `CubicBez`: SVG flattening). Every conversion is exact (coordinates copied, bulges
+//! (`AABB`, `Rectangle`: R-trees) and, with the `svg-import` feature, kurbo (`Point`: SVG
+//! flattening). Every conversion is exact (coordinates copied, bulges
 //! b = tan(θ/4) of cavalier's arcs turned into [`Arc`]s and back), so a value taken there
 //! and back is the value itself.
 
@@ -20,13 +20,6 @@ const MAX_SWEEP_PER_VERTEX: f64 = std::f64::consts::PI;
 #[inline]
 pub fn vector2(p: DVec2) -> Vector2<f64> {
     Vector2::new(p.x, p.y)
-}
-
-/// A cavalier_contours vector as a point.
-#[must_use]
-#[inline]
-pub fn from_vector2(v: Vector2<f64>) -> DVec2 {
-    DVec2::new(v.x, v.y)
 }
 
 /// The position of a polyline vertex (its bulge dropped).
@@ -140,13 +133,6 @@ pub fn flatten_pline(pl: &Polyline<f64>, tol: f64) -> Vec<DVec2> {
     path_from_pline(pl).flatten(tol)
 }
 
-/// A vertex of a polyline at `p` with bulge `bulge`.
-#[must_use]
-#[inline]
-pub fn pline_vertex(p: DVec2, bulge: f64) -> PlineVertex<f64> {
-    PlineVertex::new(p.x, p.y, bulge)
-}
-
 /// A point as kurbo's point.
 #[cfg(feature = "svg-import")]
 #[must_use]
@@ -161,30 +147,6 @@ pub fn kurbo_point(p: DVec2) -> kurbo::Point {
 #[inline]
 pub fn from_kurbo_point(p: kurbo::Point) -> DVec2 {
     DVec2::new(p.x, p.y)
-}
-
-/// A cubic Bézier as kurbo's.
-#[cfg(feature = "svg-import")]
-#[must_use]
-pub fn kurbo_cubic(c: &super::CubicBez) -> kurbo::CubicBez {
-    kurbo::CubicBez::new(
-        kurbo_point(c.p0),
-        kurbo_point(c.p1),
-        kurbo_point(c.p2),
-        kurbo_point(c.p3),
-    )
-}
-
-/// A kurbo cubic Bézier as ours.
-#[cfg(feature = "svg-import")]
-#[must_use]
-pub fn from_kurbo_cubic(c: kurbo::CubicBez) -> super::CubicBez {
-    super::CubicBez::new(
-        from_kurbo_point(c.p0),
-        from_kurbo_point(c.p1),
-        from_kurbo_point(c.p2),
-        from_kurbo_point(c.p3),
-    )
 }
 
 #[cfg(test)]
@@ -218,7 +180,8 @@ mod tests {
     #[test]
     fn points_and_rings_round_trip() {
         let p = DVec2::new(1.5, -2.25);
-        assert_eq!(from_vector2(vector2(p)), p);
+        assert_eq!(vector2(p).x, p.x);
+        assert_eq!(vector2(p).y, p.y);
         assert_eq!(from_coord(coord(p)), p);
         let ring = vec![DVec2::ZERO, DVec2::X, DVec2::ONE];
         let ls = ring_line_string(ring.iter().copied());

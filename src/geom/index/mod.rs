@@ -31,5 +31,5 @@
 mod slabs;
 mod winding;
 
-pub use slabs::{PolygonWinding, Slabs};
+pub use slabs::PolygonWinding;
 pub use winding::WindingIndex;

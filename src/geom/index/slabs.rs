@@ -97,6 +97,7 @@ impl Slabs {
     }
 
     /// Number of entries (an item listed in k slabs counts k times).
+    #[cfg(test)]
     pub fn entries(&self) -> usize {
         self.entries.len()
     }
