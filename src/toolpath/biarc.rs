@@ -18,6 +18,7 @@
 //! which on a fit within tol is a few per arc.
 
 use crate::geom::hull::{arc_hull_bound, segment_hull_bound};
+use crate::geom::tol::{DISTANCE_FLATTEN, LENGTH_ACCURACY};
 use crate::geom::{Aabb, Arc, CubicBez, DVec2, Line, PathSeg, perp};
 
 /// Evenly spread points of the curve whose distances [`max_deviation`] tries first.
@@ -120,7 +121,7 @@ fn seg_distance(s: &PathSeg, p: DVec2) -> f64 {
     match s {
         PathSeg::Line(l) => l.distance(p),
         PathSeg::Arc(a) => a.distance(p),
-        PathSeg::Cubic(c) => polyline_distance(&c.flatten(1e-9), p),
+        PathSeg::Cubic(c) => polyline_distance(&c.flatten(DISTANCE_FLATTEN), p),
     }
 }
 
@@ -254,7 +255,7 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
         best + tol / 8.0
     };
     for s in segs {
-        let len = s.length(1e-9);
+        let len = s.length(LENGTH_ACCURACY);
         let mut stack = vec![(0.0, 1.0, gdist(s.eval(0.0)), gdist(s.eval(1.0)))];
         let mut pieces = 0usize;
         while let Some((a, b, ga, gb)) = stack.pop() {

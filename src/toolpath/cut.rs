@@ -2,6 +2,7 @@
 //! depth, lead-in and lead-out arcs on the waste side, and holding tabs on through-cuts.
 
 use super::model::{Cut, Move, MoveKind};
+use crate::geom::tol::LENGTH_ACCURACY;
 use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, perp};
 use glam::DVec3;
 
@@ -92,7 +93,7 @@ fn split_at_lengths(path: &Path, marks: &[f64]) -> Vec<(PathSeg, f64)> {
     let mut s_start = 0.0;
     let mut mi = 0;
     for seg in &path.segs {
-        let len = seg.length(1e-9);
+        let len = seg.length(LENGTH_ACCURACY);
         let mut local = 0.0;
         while mi < marks.len() && marks[mi] < s_start + len {
             let m = marks[mi] - s_start;
@@ -193,7 +194,7 @@ fn leads_clear(
     path: &Path,
     others: &[&Path],
 ) -> bool {
-    let tol = |s: &PathSeg| (s.length(1e-9) * 1e-3).max(1e-9);
+    let tol = |s: &PathSeg| (s.length(LENGTH_ACCURACY) * 1e-3).max(1e-9);
     let flat_tol = leads.1.as_ref().map(tol).unwrap_or(1e-3);
     // The contour's chords, segment by segment; `inner` leaves out the chords of the first
     // and last segments (those ending at the touch point).
@@ -232,7 +233,7 @@ fn leads_clear(
         })
     };
     let part = |s: &PathSeg, a: f64, b: f64| -> Vec<DVec2> {
-        let n = ((s.length(1e-9) / tol(s)).ceil() as usize).clamp(2, 4096);
+        let n = ((s.length(LENGTH_ACCURACY) / tol(s)).ceil() as usize).clamp(2, 4096);
         (0..=n)
             .map(|i| s.eval(a + (b - a) * i as f64 / n as f64))
             .collect()
@@ -319,7 +320,11 @@ fn smooth_start(path: &Path, min_len: f64) -> Option<Path> {
     if !path.closed || n < 2 {
         return None;
     }
-    let lens: Vec<f64> = path.segs.iter().map(|s| s.length(1e-9)).collect();
+    let lens: Vec<f64> = path
+        .segs
+        .iter()
+        .map(|s| s.length(LENGTH_ACCURACY))
+        .collect();
     let (t0, t1) = (
         seg_tangent(&path.segs[0], 0.0),
         seg_tangent(&path.segs[n - 1], 1.0),
@@ -372,7 +377,7 @@ pub fn contour_cut_leads(
     let smoothed = lead_size.and_then(|size| smooth_start(path, lead_start_segment(size)));
     let path = smoothed.as_ref().unwrap_or(path);
     let start = path.start()?;
-    let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
+    let total: f64 = path.segs.iter().map(|s| s.length(LENGTH_ACCURACY)).sum();
     if total <= 0.0 {
         return None;
     }
@@ -461,7 +466,7 @@ pub fn contour_cut_leads(
                 .collect()
         };
         for (seg, s0) in &run {
-            let len = seg.length(1e-9);
+            let len = seg.length(LENGTH_ACCURACY);
             let on_tab = forward && in_tab(s0 + len / 2.0);
             if laser_bridges && on_tab {
                 // A laser leaves a tab as a bridge: the beam is off across it.

@@ -211,9 +211,8 @@ pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f6
 /// on. The first ring (the wall pass) is R₋first itself, so walls and corners are cut
 /// exactly. A ring that is not sound, that is [simple](Region::simple) and
 /// [held](Region::holds) by the region at every vertex and segment middle (cavalier_contours
-/// once returned one touching itself along an arc, seed 0x5EED0011 case 61 rotated, and
-/// cut across the counters of script lettering with single chords), is replaced by its
-/// opening too, and an opening that is not sound is never used; where neither is, geo's
+/// can return one touching itself along an arc, which would cut across the counters of
+/// script lettering with single chords), is replaced by its opening too, and an opening that is not sound is never used; where neither is, geo's
 /// buffer makes the ring (flattened within [`BUFFER_TOL_EPS`]·eps). Cost: four offsets
 /// of the region per ring (three of them side by side), two O(n log n) segment tests and
 /// two winding tests through slab indexes.
@@ -387,8 +386,8 @@ pub fn backboard(
     };
     // Each offset is checked (simple and nested, else made by geo's buffer), and the board
     // must hold the union. cavalier_contours can split it along chords through the strokes
-    // (seed 0x5EED0011 case 251 rotated by 0.7 rad: the board of two crossing hairpins came
-    // back as four rings); geo's buffer makes the whole closing then.
+    // (the board of two crossing hairpins can come back as four rings); geo's buffer makes
+    // the whole closing then.
     let grown = closed(&|r, d| r.offset_checked(d, eps, tol));
     let grown = if grown.holds(&union) {
         grown

@@ -16,6 +16,7 @@
 //! number of steps fixed by n and these constants.
 
 use crate::geom::index::PolygonWinding;
+use crate::geom::tol::LENGTH_ACCURACY;
 use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, interop};
 use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
@@ -170,7 +171,7 @@ pub fn rotate_to_nearest(path: &Path, p: DVec2, eps: f64) -> Path {
             |a, b| if b.1.1 < a.1.1 { b } else { a },
         );
     let seg = &path.segs[best];
-    let len = seg.length(1e-9);
+    let len = seg.length(LENGTH_ACCURACY);
     let mut segs = Vec::with_capacity(path.segs.len() + 1);
     if t * len <= eps {
         segs.extend_from_slice(&path.segs[best..]);
@@ -483,7 +484,7 @@ mod tests {
         let sq = square(DVec2::ZERO, 1.0);
         let r = rotate_to_nearest(&sq, DVec2::new(0.3, -5.0), 1e-9);
         assert!((r.start().unwrap() - DVec2::new(0.3, -1.0)).length() < 1e-12);
-        assert!((r.length(1e-9) - 8.0).abs() < 1e-12);
+        assert!((r.length(LENGTH_ACCURACY) - 8.0).abs() < 1e-12);
         assert_eq!(r.max_gap(), 0.0);
     }
 
@@ -577,8 +578,8 @@ mod tests {
             idx.sort();
             prop_assert_eq!(idx, (0..paths.len()).collect::<Vec<_>>());
             let o: Vec<Path> = o.into_iter().map(|(_, p)| p).collect();
-            let total_in: f64 = paths.iter().map(|p| p.length(1e-9)).sum();
-            let total_out: f64 = o.iter().map(|p| p.length(1e-9)).sum();
+            let total_in: f64 = paths.iter().map(|p| p.length(LENGTH_ACCURACY)).sum();
+            let total_out: f64 = o.iter().map(|p| p.length(LENGTH_ACCURACY)).sum();
             prop_assert!((total_in - total_out).abs() < 1e-6 * total_in);
             for i in 0..o.len() {
                 for j in 0..i {

@@ -38,7 +38,7 @@ pub struct Region {
 /// offsets use (`eps`·0.1 = tolerance·0.01, see [`Region::offset`] and the build's
 /// `eps = tolerance·0.1`): cavalier_contours keeps vertices 1.5 × its position tolerance
 /// apart as distinct and then joins offset slices at them into zero-area two-vertex
-/// contours (the E channel of issue 11 had such a pair, 1.5e-4 apart at tolerance 1e-2).
+/// contours (such a pair can lie 1.5e-4 apart at tolerance 1e-2).
 pub const REPEAT_FRACTION: f64 = 0.05;
 
 /// A polyline from a path, closed when the path is (an open one ends with the path's end
@@ -199,7 +199,7 @@ impl Region {
         let moved = self.translated(-c);
         let shape = Shape::from_plines(moved.contours.iter().cloned());
         // Passes of one ring, and copies of a ring, that cavalier returns differ by up to a
-        // few `eps` (2e-3 at eps = 1e-3, seed 0x5EED0011 case 52); within 10·eps (the
+        // few `eps` (2e-3 at eps = 1e-3 has been seen); within 10·eps (the
         // build's arc tolerance) they are one path for the tool.
         let near = 10.0 * eps;
         let opts = ShapeOffsetOptions {
@@ -287,11 +287,10 @@ impl Region {
     }
 
     /// Whether every contour is simple and no two meet within `tol`: no contour crosses or
-    /// touches itself (a grown board came back as one ring looping over itself across a
-    /// channel, seed 0x5EED0012 case 111), and rings that share an edge, which pass every
-    /// vertex test, are caught too (a grown board came back as two rings split along a
-    /// chord through a channel, seed 0x5EED0014 case 52). Either way the profile cut the
-    /// channel. Pairs are prefiltered by bounding boxes; segments are tested through
+    /// touches itself (a grown board can come back as one ring looping over itself across a
+    /// channel), and rings that share an edge, which pass every vertex test, are caught too
+    /// (a grown board can come back as two rings split along a chord through a channel).
+    /// Either way the profile would cut the channel. Pairs are prefiltered by bounding boxes; segments are tested through
     /// [`path_self_intersections`] and [`paths_intersections`] (bounding-volume trees).
     pub fn simple(&self, tol: f64) -> bool {
         let paths = self.paths();
@@ -515,8 +514,8 @@ impl Region {
         let mut contours = Vec::new();
         let conv = |ls: &geo::LineString<f64>| {
             let pts = interop::ring_points(ls);
-            // Zigzags of a few µm along a boundary (seed 0x5EED0011 case 251: a laser
-            // channel's union went back and forth 0.03 mm four times) are hairs too.
+            // Zigzags of a few µm along a boundary (a laser channel's union can go back and
+            // forth 0.03 mm several times) are hairs too.
             despike(
                 &pline_from_points(&simplify_ring(pts, tol * REPEAT_FRACTION), true),
                 tol * 0.1,

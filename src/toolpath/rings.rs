@@ -88,8 +88,8 @@ pub fn simplify_ring(pts: Vec<DVec2>, eps: f64) -> Vec<DVec2> {
 /// turns back on itself (the edges point in opposite directions and the excursion is
 /// narrower than `eps`) is removed, and so are vertices within
 /// `eps`·0.1 of the previous one, repeatedly. An arc whose sagitta is below `eps`·0.1
-/// counts as straight here (it lies that close to its chord): seed 0x5EED0011 case 177
-/// had a 1.4 µm piece of a 5.4 mm arc and a line straight back along it; the edge that
+/// counts as straight here (it lies that close to its chord): an offset can leave a 1.4 µm
+/// piece of a 5.4 mm arc and a line straight back along it; the edge that
 /// replaces a removed spike vertex is then a line. Offsets can leave such zero-width
 /// there-and-back excursions where two nearly coincident boundaries meet (seen at the
 /// coincident end caps of the README's example strokes s1 and c1, a 0.02 mm spike); a tool
@@ -97,8 +97,7 @@ pub fn simplify_ring(pts: Vec<DVec2>, eps: f64) -> Vec<DVec2> {
 ///
 /// `hair` (≥ `eps`) is the widest excursion removed when its edges are longer than `eps`:
 /// offsets also leave hairs, there-and-back excursions millimetres long and a few µm wide
-/// where a channel ring pinches off (seed 0x5EED0011 cases 188 and 263: 0.8 µm and 5.5 µm
-/// wide, 9.5 mm and 3.5 mm long), which the rounded program turns into a cut touching
+/// where a channel ring pinches off (0.8 µm to 5.5 µm wide, several mm long), which the rounded program turns into a cut touching
 /// itself. No tool clears anything by running into such a hair and back.
 pub fn despike(pl: &Polyline<f64>, eps: f64, hair: f64) -> Polyline<f64> {
     use cavalier_contours::polyline::PlineVertex;
@@ -180,13 +179,12 @@ pub fn despike(pl: &Polyline<f64>, eps: f64, hair: f64) -> Polyline<f64> {
 /// The closed polyline `pl` traversed once: when its vertices (positions within `eps`,
 /// equal bulges) repeat with a period p that divides the vertex count, the first p
 /// vertices. cavalier_contours' slice joining can return one ring traversed twice (a
-/// channel of the random-design campaign, seed 7 case 58, was cut twice round at one
-/// depth: "cut contour touches itself" along its whole length).
+/// channel would be cut twice round at one depth: "cut contour touches itself" along its
+/// whole length).
 ///
 /// The passes need not repeat vertex for vertex: the slices of one pass can be split at
-/// other points than those of the next (seed 0x5EED0011 cases 37 and 155: a channel ring
-/// went round 2 and 4 times with 59/53 and 42/41/44/42 vertices per pass; case 52 seven
-/// times, each pass 6e-4 from the last). So when the
+/// other points than those of the next (a channel ring can go round two to seven times
+/// with a different vertex count each pass, each pass 6e-4 from the last). So when the
 /// ring comes back to its first vertex (within `near`) after vertex k, and every point of
 /// the rest of the ring (flattened within `eps`) lies within `near` of the first loop
 /// v₀…v_k, the rest only retraces the loop and the loop alone is returned. A figure eight
@@ -246,8 +244,8 @@ fn retraces(a: &Polyline<f64>, b: &Polyline<f64>, eps: f64, near: f64) -> bool {
 
 /// `rings` without those that retrace an earlier one: the same orientation, and every
 /// point of each within `near` of the other (`retraces`, points flattened within
-/// `eps`). cavalier_contours can return one offset ring several times over (seed
-/// 0x5EED0011 case 52: a channel ring seven times, cut seven times round at one depth).
+/// `eps`). cavalier_contours can return one offset ring several times over (a channel
+/// ring up to seven times, which would be cut seven times round at one depth).
 pub fn drop_repeated_rings(rings: Vec<Polyline<f64>>, eps: f64, near: f64) -> Vec<Polyline<f64>> {
     let mut kept: Vec<(Polyline<f64>, f64, [f64; 4])> = Vec::with_capacity(rings.len());
     for r in rings {
