@@ -82,14 +82,14 @@ pub enum ExtendError {
     #[error("target disk: centre is not finite")]
     TargetNotFinite,
     /// P′(b) = 0, so there is no end tangent to continue; also returned when no α₁ in
-    /// [`ALPHA1_RANGE`] gives a finite bending energy.
+    /// `ALPHA1_RANGE` gives a finite bending energy.
     #[error("the centre curve has zero velocity at its end: no tangent to continue")]
     ZeroEndTangent,
     /// The target centre Q equals the end point P(b): the chord is zero.
     #[error("target disk centre coincides with the end of the centre curve")]
     TargetAtEnd,
     /// No α₂ (for [`RadiusFairing::Coupled`]: α₂ = α₁) keeps R₁ and R₂ at or above the
-    /// bound [`MIN_RADIUS_FRACTION`] · min(R₀, R₃).
+    /// bound `MIN_RADIUS_FRACTION` · min(R₀, R₃).
     #[error("no α₂ keeps the extension's control radii above {min}")]
     NoPositiveRadius {
         /// The control-radius bound, in the curve's length unit.

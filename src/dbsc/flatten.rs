@@ -298,7 +298,7 @@ fn side_samples(
 }
 
 /// The envelope side `side` within `tol`, one polyline per piece between no-envelope
-/// intervals (located to [`ROOT_TOL_REL`] of the domain).
+/// intervals (located to `ROOT_TOL_REL` of the domain).
 pub fn flatten_envelope(c: &DiskBSpline, side: Side, tol: f64) -> Vec<Vec<DVec2>> {
     let gaps = no_envelope_intervals(c, root_tol(c));
     side_samples(c, side, &gaps, tol)

@@ -136,7 +136,7 @@ impl CubicBez {
     /// coefficients are those of the product of the cubic B − p (points qᵢ = Pᵢ − p) and
     /// the quadratic B′ (points dⱼ = 3(Pⱼ₊₁ − Pⱼ)): cₖ = Σ_{i+j=k} C(3,i)C(2,j)/C(5,k) qᵢ·dⱼ
     /// (Farouki and Rajan 1988, product rule); the roots are isolated by subdivision and
-    /// refined by Brent's method to `accuracy` in t ([`bernstein::isolate_roots`]). The
+    /// refined by Brent's method to `accuracy` in t (`bernstein::isolate_roots`). The
     /// lowest parameter wins a tie.
     #[must_use]
     pub fn nearest(&self, p: DVec2, accuracy: f64) -> (f64, f64) {

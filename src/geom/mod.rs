@@ -2,7 +2,7 @@
 //! curves, and paths made of them; tolerance defaults; exact orientation predicates.
 //!
 //! Everything is `f64` with [`glam::DVec2`] for points and vectors. Every approximate routine
-//! takes its tolerance as an argument; the defaults a caller may use live in [`tol`].
+//! takes its tolerance as an argument; the defaults a caller may use live in `tol`.
 
 pub(crate) mod aabb;
 pub(crate) mod arc;

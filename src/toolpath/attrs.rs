@@ -2,7 +2,7 @@
 //! curves of the stroke the cut came from.
 //!
 //! An attribute is blended like the radius, a(t) = Σ N_{i,p}(t)·A_i (wu-2021 eq. 18, the
-//! per-disk constant case, [`crate::dbsc::attributes`]). A point p of a cut (on the outline,
+//! per-disk constant case, `crate::dbsc::attributes`). A point p of a cut (on the outline,
 //! on a hatch line inside it, on a channel wall) takes the value at the *nearest spine
 //! parameter*: the t minimising ‖q(t) − p‖, the foot of the perpendicular
 //! (q(t) − p)·q′(t) = 0 on the centre curve q.

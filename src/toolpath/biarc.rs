@@ -84,8 +84,8 @@ pub fn biarc(p0: DVec2, t0: DVec2, p1: DVec2, t1: DVec2, tol: f64) -> Option<[Pa
 }
 
 /// An upper bound of dist(x, `seg`) over the convex hull of `hull` (any order), or `None`:
-/// a line by [`segment_hull_bound`] (the distance to a segment is convex); an arc of sweep
-/// at most π by [`arc_hull_bound`] where the hull lies in its sector (exactly, no slack);
+/// a line by `segment_hull_bound` (the distance to a segment is convex); an arc of sweep
+/// at most π by `arc_hull_bound` where the hull lies in its sector (exactly, no slack);
 /// `None` for wider arcs, for hulls outside the sector and for cubic elements.
 pub fn hull_distance_bound(hull: &[DVec2], seg: &PathSeg) -> Option<f64> {
     match seg {

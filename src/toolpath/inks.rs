@@ -43,7 +43,7 @@ pub const PROBE_FRACTION: f64 = 0.5;
 pub const FLATTEN_FRACTION: f64 = 0.25;
 
 /// Dropped stretches of a boundary shorter than this fraction of the tolerance between two
-/// kept ones are kept ([`bridge_gaps`]): a reflex corner hides a few δ of its edges from
+/// kept ones are kept (`bridge_gaps`): a reflex corner hides a few δ of its edges from
 /// the probes (δ·cot(θ/2) for an inner turn θ, 2δ at a right angle; 4 tolerances cover turns
 /// down to about 15°).
 pub const BRIDGE_FRACTION: f64 = 4.0;

@@ -52,7 +52,7 @@ pub struct OrderStats {
 /// in increasing order. A path whose vertices all lie inside polygon j also lies inside j's
 /// vertex box, so only the paths whose boxes lie in j's box are tested (found through an
 /// R-tree of the boxes); their vertices are tested through a slab index of polygon j
-/// ([`PolygonWinding`], the exact even-odd test in O(1 + k) per vertex).
+/// (`PolygonWinding`, the exact even-odd test in O(1 + k) per vertex).
 pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
     let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
     let boxes: Vec<Aabb> = polys.iter().map(Aabb::from_points).collect();

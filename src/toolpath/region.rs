@@ -428,7 +428,7 @@ impl Region {
 
     /// The union of several regions, keeping the arcs of regions that lie apart: when their
     /// contours together are [simple](Region::simple) within `tol` and
-    /// [well nested](Region::well_nested) (no boundary meets another, none lies in another's
+    /// well nested (no boundary meets another, none lies in another's
     /// material) they are the union as they are; otherwise [`Region::union`].
     pub fn union_keeping_arcs(regions: &[Region], tol: f64) -> Region {
         let together = Region {

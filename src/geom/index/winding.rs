@@ -213,7 +213,7 @@ impl WindingIndex {
     /// A box outside which the polyline winds 0 times about every point (None: it winds 0
     /// times about every point; an infinite box when a coordinate is not finite): the
     /// segments' x and height ranges, arcs' extremes included, each widened by
-    /// [`RANGE_WIDENING`]. Below or above it no term is non-zero (the slabs); left or right
+    /// `RANGE_WIDENING`. Below or above it no term is non-zero (the slabs); left or right
     /// of it every term has its value for a point at infinity on that side: the chord tests
     /// `is_left` have a true cross product of at least the widening times the chord's
     /// height, far above their rounding, and a point beyond the arc's own extent is outside
