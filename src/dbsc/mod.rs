@@ -12,13 +12,14 @@ mod fit;
 mod loops;
 
 pub use crate::spline::fit::Parametrization;
+/// The centre–radius B-spline a [`DiskBSpline`] wraps ([`DiskBSpline::curve`],
+/// [`DiskBSpline::from_curve`]) and its error: the spline module itself is crate-private.
+pub use crate::spline::{BSpline, SplineError, Vector};
 pub(crate) use curve::envelope_of_jet;
 pub use curve::{DiskBSpline, EnvelopePoint, Side};
 pub use fit::{DbscFitError, disk_parameters};
 pub(crate) use loops::{Bern, SpanPoly};
 pub use loops::{EnvelopeLoop, LoopError, LoopReport, brent, find_loops, lemma1};
-
-use crate::spline::SplineError;
 
 /// Errors of disk B-spline construction and evaluation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
