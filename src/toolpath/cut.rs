@@ -49,13 +49,18 @@ pub struct CutOptions {
     pub waste_left: bool,
 }
 
+/// Relative slack of the pass count ⌈depth / step_down − slack⌉: a depth that is a whole
+/// number of steps up to rounding (3 × 0.1 = 0.30000000000000004) gets that many passes,
+/// not one more.
+const STEP_COUNT_SLACK: f64 = 1e-9;
+
 /// Depth levels stepping down by at most `step_down` to `depth` (depth > 0 is below the
 /// surface): ⌈depth / step_down⌉ equal passes. A zero depth gives one pass at z = 0.
 pub fn step_levels(depth: f64, step_down: f64) -> Vec<f64> {
     if depth <= 0.0 || step_down <= 0.0 {
         return vec![0.0];
     }
-    let n = (depth / step_down - 1e-9).ceil().max(1.0) as usize;
+    let n = (depth / step_down - STEP_COUNT_SLACK).ceil().max(1.0) as usize;
     (1..=n).map(|i| -depth * i as f64 / n as f64).collect()
 }
 
@@ -182,6 +187,10 @@ fn lead_geometry(
 /// construction, and flattened or rounded the two may meet.
 const LEAD_TOUCH_FRACTION: f64 = 0.05;
 
+/// Fraction of a lead left out at its touch point when testing it against the contour: the
+/// contour's end segments and the lead share that point exactly, which is no crossing.
+const LEAD_END_BACKOFF: f64 = 1e-9;
+
 /// True when neither lead meets the contour (exact segment tests on flattenings within
 /// 1e-3 of the lead's length), apart from the tangential touch at the contour end, nor any
 /// of the operation's `others` contours (a lead into a narrow gap between two pieces of a
@@ -243,7 +252,7 @@ fn leads_clear(
         let split = far + (touch - far) * (1.0 - LEAD_TOUCH_FRACTION);
         // The touch point itself is left out: the contour's first and last segments end
         // there, and the lead's end there is shared with them.
-        let end = touch - (touch - far) * 1e-9;
+        let end = touch - (touch - far) * LEAD_END_BACKOFF;
         !hits(&part(s, far, split), &ring) && !hits(&part(s, split, end), inner)
     };
     let lead_in_ok = leads

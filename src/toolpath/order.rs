@@ -21,6 +21,10 @@ use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, interop};
 use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
 
+/// Least travel a 2-opt move must save to be made (model units): moves that only reorder
+/// rounding are not taken, so the sweeps end.
+const MIN_2OPT_GAIN: f64 = 1e-12;
+
 /// Upper bound on 2-opt improvement sweeps; improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
 
@@ -349,12 +353,12 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
                 // floating point as well: a block that cannot be entered cheaply enough is
                 // skipped before its second distance is taken.
                 let enter = prev_end.distance(rev_start(&at[b]));
-                if enter + 1e-12 >= old {
+                if enter + MIN_2OPT_GAIN >= old {
                     continue;
                 }
                 let next_start = (b + 1 < m).then(|| at[b + 1].0);
                 let new = enter + next_start.map_or(0.0, |s| rev_end(&at[a]).distance(s));
-                if new + 1e-12 < old {
+                if new + MIN_2OPT_GAIN < old {
                     let blocked = order[a..=b]
                         .iter()
                         .any(|(j, _)| before[*j].iter().any(|&k| p[k] >= a && p[k] <= b));
