@@ -7,6 +7,7 @@
 //! `[[bench]]` target requires the feature (`cargo bench --features internals`).
 
 pub use crate::dbsc::spine::spine_cubics;
+pub use crate::geom::index::WindingIndex;
 pub use crate::geom::path::polygon_area;
 pub use crate::job::build::build_toolpath;
 pub use crate::job::outline::{OutlineOptions, design_outlines};
@@ -24,4 +25,3 @@ pub use crate::toolpath::order::order_paths;
 pub use crate::toolpath::re_route::biarc_paths;
 pub use crate::toolpath::region::{Region, flatten_pline, pline_from_path, pline_from_points};
 pub use crate::toolpath::swept::swept_arc_region;
-pub use crate::toolpath::winding::WindingIndex;

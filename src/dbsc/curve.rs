@@ -145,14 +145,14 @@ impl DiskBSpline {
         };
         c[..n]
             .iter()
-            .map(|v| Circle::new(DVec2::new(v.x, v.y), v.z))
+            .map(|v| Circle::new(v.truncate(), v.z))
             .collect()
     }
 
     /// The disk ⟨q(t); r(t)⟩.
     pub fn circle_at(&self, t: f64) -> Circle {
         let v = self.curve.eval(t);
-        Circle::new(DVec2::new(v.x, v.y), v.z)
+        Circle::new(v.truncate(), v.z)
     }
 
     /// Centre q(t).
@@ -170,7 +170,7 @@ impl DiskBSpline {
         self.curve
             .derivs(t, order)
             .into_iter()
-            .map(|v| (DVec2::new(v.x, v.y), v.z))
+            .map(|v| (v.truncate(), v.z))
             .collect()
     }
 

@@ -23,6 +23,7 @@
 //! and so are the envelopes, at the cost of a less fair radius.
 
 use super::DiskBSpline;
+use crate::geom::roots::{Golden, Tie};
 use crate::geom::{Circle, DVec2, cross};
 use crate::spline::BSpline;
 use glam::DVec3;
@@ -47,6 +48,10 @@ const BOUNDARY_SLACK: f64 = 1e-12;
 
 /// Samples of the global log-spaced scan before local refinement.
 const SCAN_SAMPLES: usize = 128;
+
+/// Most golden-section steps after the scan: (1/φ)²⁰⁰ of the bracket is far below any
+/// tolerance, so the relative width `tol` ends the search first.
+const GOLDEN_MAX_STEPS: usize = 200;
 
 /// Initial panels of the bending-energy quadrature.
 const QUAD_PIECES: usize = 8;
@@ -77,14 +82,14 @@ pub enum ExtendError {
     #[error("target disk: centre is not finite")]
     TargetNotFinite,
     /// P′(b) = 0, so there is no end tangent to continue; also returned when no α₁ in
-    /// [`ALPHA1_RANGE`] gives a finite bending energy.
+    /// `ALPHA1_RANGE` gives a finite bending energy.
     #[error("the centre curve has zero velocity at its end: no tangent to continue")]
     ZeroEndTangent,
     /// The target centre Q equals the end point P(b): the chord is zero.
     #[error("target disk centre coincides with the end of the centre curve")]
     TargetAtEnd,
     /// No α₂ (for [`RadiusFairing::Coupled`]: α₂ = α₁) keeps R₁ and R₂ at or above the
-    /// bound [`MIN_RADIUS_FRACTION`] · min(R₀, R₃).
+    /// bound `MIN_RADIUS_FRACTION` · min(R₀, R₃).
     #[error("no α₂ keeps the extension's control radii above {min}")]
     NoPositiveRadius {
         /// The control-radius bound, in the curve's length unit.
@@ -246,31 +251,12 @@ fn minimise(
         return None;
     }
     // Golden section on [x_{best−1}, x_{best+1}].
-    let (mut a, mut b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(xs.len() - 1)]);
-    let gr = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - gr * (b - a);
-    let mut d = a + gr * (b - a);
-    let (mut fc, mut fd) = (g(c), g(d));
-    let tol = tol.max(f64::EPSILON);
-    for _ in 0..200 {
-        if (b - a).abs() <= tol {
-            break;
-        }
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - gr * (b - a);
-            fc = g(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + gr * (b - a);
-            fd = g(d);
-        }
-    }
-    let x = 0.5 * (a + b);
+    let (a, b) = (xs[best.saturating_sub(1)], xs[(best + 1).min(xs.len() - 1)]);
+    // The ratio is (√5 − 1)/2 as evaluated in f64, which the extensions were computed with.
+    let golden = Golden::new(tol.max(f64::EPSILON), GOLDEN_MAX_STEPS, Tie::Right)
+        .with_ratio(0.5 * (5f64.sqrt() - 1.0));
+    let bracket = golden.min(&g, a, b);
+    let x = bracket.mid();
     let (best_a, best_v) = if g(x) <= bv {
         (x.exp(), g(x))
     } else {

@@ -151,7 +151,7 @@ fn derivs1(c: &DiskBSpline, t: f64, left: bool) -> [(DVec2, f64); 2] {
         for (order, o) in out.iter_mut().enumerate() {
             for (i, &w) in d[order].iter().enumerate() {
                 let v = curve.ctrl()[j - p + i];
-                o.0 += w * DVec2::new(v.x, v.y);
+                o.0 += w * v.truncate();
                 o.1 += w * v.z;
             }
         }
@@ -298,7 +298,7 @@ fn side_samples(
 }
 
 /// The envelope side `side` within `tol`, one polyline per piece between no-envelope
-/// intervals (located to [`ROOT_TOL_REL`] of the domain).
+/// intervals (located to `ROOT_TOL_REL` of the domain).
 pub fn flatten_envelope(c: &DiskBSpline, side: Side, tol: f64) -> Vec<Vec<DVec2>> {
     let gaps = no_envelope_intervals(c, root_tol(c));
     side_samples(c, side, &gaps, tol)

@@ -12,13 +12,14 @@ mod fit;
 mod loops;
 
 pub use crate::spline::fit::Parametrization;
+/// The centre–radius B-spline a [`DiskBSpline`] wraps ([`DiskBSpline::curve`],
+/// [`DiskBSpline::from_curve`]) and its error: the spline module itself is crate-private.
+pub use crate::spline::{BSpline, SplineError, Vector};
 pub(crate) use curve::envelope_of_jet;
 pub use curve::{DiskBSpline, EnvelopePoint, Side};
 pub use fit::{DbscFitError, disk_parameters};
 pub(crate) use loops::{Bern, SpanPoly};
 pub use loops::{EnvelopeLoop, LoopError, LoopReport, brent, find_loops, lemma1};
-
-use crate::spline::SplineError;
 
 /// Errors of disk B-spline construction and evaluation.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -42,22 +43,23 @@ pub enum DbscError {
     Spline(#[from] SplineError),
 }
 
-pub mod attributes;
-pub mod caps;
-pub mod extend;
-pub mod flatten;
-pub mod interior;
-pub mod no_envelope;
-pub mod spine;
-pub mod tangent;
-pub mod tessellate;
-pub mod transform;
+pub(crate) mod attributes;
+pub(crate) mod caps;
+pub(crate) mod extend;
+pub(crate) mod flatten;
+pub(crate) mod interior;
+pub(crate) mod no_envelope;
+pub(crate) mod spine;
+pub(crate) mod tangent;
+pub(crate) mod tessellate;
+pub(crate) mod transform;
 pub use attributes::{AttributeError, AttributedDbsc};
 pub use caps::{CapError, End, cap, caps};
 pub use extend::{ExtendError, Extension, RadiusFairing, extend_g2};
-pub use flatten::{FlatOutline, flatten, flatten_envelope, flatten_spine};
+pub use flatten::{FlatOutline, flatten, flatten_disks, flatten_envelope, flatten_spine};
 pub use interior::interior_point;
 pub use no_envelope::no_envelope_intervals;
+pub use spine::spine_cubics;
 pub use tangent::{envelope_tangent, envelope_tangent_coeffs};
 pub use tessellate::{Mesh, Resolution, TessellateError, tessellate};
 pub use transform::TransformError;

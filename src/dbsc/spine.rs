@@ -17,7 +17,7 @@ use crate::geom::{CubicBez, Path, PathSeg};
 pub const MAX_CUBIC_DEGREE: usize = 3;
 
 /// The spine as cubic Bézier pieces, one per non-empty knot span, closed for a closed
-/// curve; `None` above degree [`MAX_CUBIC_DEGREE`] (a span is then no cubic).
+/// curve; `None` above degree `MAX_CUBIC_DEGREE` (a span is then no cubic).
 pub fn spine_cubics(c: &DiskBSpline) -> Option<Path> {
     if c.degree() > MAX_CUBIC_DEGREE {
         return None;

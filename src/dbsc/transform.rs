@@ -24,7 +24,7 @@ pub enum TransformError {
 impl DiskBSpline {
     fn map_xyr(&self, f: impl Fn(DVec2, f64) -> (DVec2, f64)) -> DiskBSpline {
         DiskBSpline::from_curve(self.curve().map(|v| {
-            let (p, r) = f(DVec2::new(v.x, v.y), v.z);
+            let (p, r) = f(v.truncate(), v.z);
             DVec3::new(p.x, p.y, r)
         }))
     }

@@ -1,6 +1,6 @@
 //! Circular arcs: centre, radius, start angle and signed sweep.
 
-use super::DVec2;
+use super::{Aabb, DVec2};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The arc of the circle (`center`, `radius`) from angle `start` through the signed angle
@@ -144,12 +144,10 @@ impl Arc {
 
     /// The exact axis-aligned bounding box (lo, hi) of the arc: its end points and its
     /// [`extrema`](Self::extrema).
-    pub fn bounding_box(&self) -> (DVec2, DVec2) {
-        let (p0, p1) = (self.p0(), self.p1());
-        self.extrema()
-            .fold((p0.min(p1), p0.max(p1)), |(lo, hi), q| {
-                (lo.min(q), hi.max(q))
-            })
+    #[must_use]
+    pub fn bounding_box(&self) -> Aabb {
+        let start = Aabb::from_corners(self.p0(), self.p1());
+        self.extrema().fold(start, Aabb::add_point)
     }
 
     /// Euclidean distance from `p` to the arc.
@@ -263,19 +261,19 @@ mod tests {
     fn bounding_box_includes_swept_extremes_only() {
         // Quarter arc from +x to +y: the box is the unit square's corner [0, 1]².
         let q = Arc::new(DVec2::ZERO, 1.0, 0.0, PI / 2.0);
-        let (lo, hi) = q.bounding_box();
+        let Aabb { min: lo, max: hi } = q.bounding_box();
         assert!(lo.abs().max_element() < 1e-15 && (hi - DVec2::ONE).abs().max_element() < 1e-15);
         // Arc from angle −π/4 through 0 to π/4 (centre (2, 3), radius 2): reaches x = 4.
         let a = Arc::new(DVec2::new(2.0, 3.0), 2.0, -PI / 4.0, PI / 2.0);
         assert_eq!(a.extrema().collect::<Vec<_>>(), vec![DVec2::new(4.0, 3.0)]);
-        let (lo, hi) = a.bounding_box();
+        let Aabb { min: lo, max: hi } = a.bounding_box();
         assert_eq!(hi.x, 4.0);
         assert!((lo.x - (2.0 + 2.0_f64.sqrt())).abs() < 1e-12);
         assert!((hi.y - (3.0 + 2.0_f64.sqrt())).abs() < 1e-12);
         // The clockwise arc over the same ends sweeps the other three extremes.
         let cw = Arc::new(DVec2::new(2.0, 3.0), 2.0, -PI / 4.0, -1.5 * PI);
         assert_eq!(cw.extrema().count(), 3);
-        assert_eq!(cw.bounding_box().0, DVec2::new(0.0, 1.0));
+        assert_eq!(cw.bounding_box().min, DVec2::new(0.0, 1.0));
     }
 
     #[test]

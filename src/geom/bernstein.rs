@@ -25,7 +25,7 @@ pub const INLINE: usize = 64;
 pub const SMALL: usize = 8;
 
 /// Binomial coefficient C(n, k) as f64 (0 for k > n); exact while the product's steps
-/// C(n, i)·(n − i) stay below 2⁵³ (every n ≤ 54). Read from a table for n < [`INLINE`]
+/// C(n, i)·(n − i) stay below 2⁵³ (every n ≤ 54). Read from a table for n < `INLINE`
 /// (products of Bernstein polynomials take three per coefficient pair), else computed.
 pub fn binom(n: usize, k: usize) -> f64 {
     if k > n {

@@ -1,6 +1,15 @@
 //! Cubic Bézier curves.
 
-use super::DVec2;
+use super::{Aabb, DVec2, bernstein};
+
+/// Subdivision depth cap of [`CubicBez::nearest`]'s root isolation: pieces of 2⁻⁶⁰ of the
+/// parameter range are below any accuracy asked.
+const NEAREST_MAX_DEPTH: u32 = 60;
+
+/// Cap on split pieces of [`CubicBez::nearest`]'s root isolation: a quintic has at most five
+/// roots, so a few hundred pieces isolate them unless the polynomial vanishes identically
+/// (p the centre of a circular-looking cubic), where any candidate is as near as another.
+const NEAREST_MAX_SPLITS: usize = 512;
 
 /// The cubic Bézier curve with control points `p0..p3`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,15 +99,9 @@ impl CubicBez {
     }
 
     /// Axis-aligned box of the control polygon (contains the curve).
-    pub fn control_bbox(&self) -> (DVec2, DVec2) {
-        let pts = self.points();
-        let mut lo = pts[0];
-        let mut hi = pts[0];
-        for p in &pts[1..] {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
-        (lo, hi)
+    #[must_use]
+    pub fn control_bbox(&self) -> Aabb {
+        Aabb::from_points(&self.points())
     }
 
     /// Largest distance of the inner control points from the chord p0p3: the curve lies
@@ -125,6 +128,40 @@ impl CubicBez {
             a.flatten_into(tol, depth + 1, out);
             b.flatten_into(tol, depth + 1, out);
         }
+    }
+
+    /// The point of the curve nearest to `p`, as (parameter, distance): the end points and
+    /// the roots in (0, 1) of f(t) = (B(t) − p)·B′(t), the quintic whose zeros are the
+    /// curve's points where the direction to `p` is normal to it. Its Bernstein
+    /// coefficients are those of the product of the cubic B − p (points qᵢ = Pᵢ − p) and
+    /// the quadratic B′ (points dⱼ = 3(Pⱼ₊₁ − Pⱼ)): cₖ = Σ_{i+j=k} C(3,i)C(2,j)/C(5,k) qᵢ·dⱼ
+    /// (Farouki and Rajan 1988, product rule); the roots are isolated by subdivision and
+    /// refined by Brent's method to `accuracy` in t (`bernstein::isolate_roots`). The
+    /// lowest parameter wins a tie.
+    #[must_use]
+    pub fn nearest(&self, p: DVec2, accuracy: f64) -> (f64, f64) {
+        let q = self.points().map(|c| c - p);
+        let d = [self.p1 - self.p0, self.p2 - self.p1, self.p3 - self.p2].map(|v| 3.0 * v);
+        let mut c = [0.0; 6];
+        for (i, qi) in q.iter().enumerate() {
+            for (j, dj) in d.iter().enumerate() {
+                c[i + j] += bernstein::binom(3, i) * bernstein::binom(2, j) * qi.dot(*dj);
+            }
+        }
+        for (k, ck) in c.iter_mut().enumerate() {
+            *ck /= bernstein::binom(5, k);
+        }
+        let opts = bernstein::RootOptions {
+            tol: accuracy,
+            max_depth: NEAREST_MAX_DEPTH,
+            max_splits: NEAREST_MAX_SPLITS,
+        };
+        let roots = bernstein::isolate_roots(&c, &opts);
+        std::iter::once(0.0)
+            .chain(roots)
+            .chain(std::iter::once(1.0))
+            .map(|t| (t, self.eval(t).distance(p)))
+            .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a })
     }
 
     /// Arc length by adaptive Gauss–Legendre quadrature to relative accuracy `tol`.
@@ -203,6 +240,54 @@ mod tests {
             assert!((fd - c.deriv(t)).length() < 1e-8);
             let fd2 = (c.deriv(t + h) - c.deriv(t - h)) / (2.0 * h);
             assert!((fd2 - c.deriv2(t)).length() < 1e-7);
+        }
+    }
+
+    /// The nearest point agrees with dense sampling refined by golden-section search (a
+    /// second method), is never farther than any sample, and its direction to `p` is normal
+    /// to the curve unless it is an end point.
+    #[test]
+    fn nearest_agrees_with_dense_sampling() {
+        use crate::geom::roots::{Golden, Tie};
+        let c = CubicBez::new(
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(3.0, -1.0),
+            DVec2::new(4.0, 1.0),
+        );
+        for (x, y) in [
+            (2.0, 2.0),
+            (2.0, -1.0),
+            (-1.0, -1.0),
+            (5.0, 0.3),
+            (1.0, 0.8),
+            (3.3, 0.0),
+        ] {
+            let p = DVec2::new(x, y);
+            let (t, d) = c.nearest(p, 1e-12);
+            assert!((c.eval(t).distance(p) - d).abs() < 1e-15);
+            let n = 4000;
+            let k = (0..=n)
+                .min_by(|&a, &b| {
+                    let (ta, tb) = (a as f64 / n as f64, b as f64 / n as f64);
+                    c.eval(ta).distance(p).total_cmp(&c.eval(tb).distance(p))
+                })
+                .unwrap();
+            let (a, b) = (
+                (k.max(1) - 1) as f64 / n as f64,
+                (k + 1).min(n) as f64 / n as f64,
+            );
+            let g = Golden::new(1e-13, 200, Tie::Right).min(|s| c.eval(s).distance(p), a, b);
+            let want = c
+                .eval(g.mid())
+                .distance(p)
+                .min(c.eval(k as f64 / n as f64).distance(p));
+            assert!(d <= want + 1e-12, "{p}: {d} vs {want}");
+            assert!(d >= want - 1e-9, "{p}: {d} vs {want}");
+            if t > 0.0 && t < 1.0 {
+                let u = c.deriv(t).normalize();
+                assert!((c.eval(t) - p).dot(u).abs() < 1e-9, "{p}");
+            }
         }
     }
 

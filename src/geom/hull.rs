@@ -5,7 +5,7 @@
 //! offsets in [`crate::skin::mat_offset`]) with a handful of pieces where a Lipschitz
 //! bound needs pieces about as short as the tolerance.
 //!
-//! Cost: O(n²) per bound for n hull points (n ≤ 6 here); [`point_hull_distance`] tests
+//! Cost: O(n²) per bound for n hull points (n ≤ 6 here); `point_hull_distance` tests
 //! O(n³) triangles only when the point lies within the points' diameter of one of them.
 
 use super::{DVec2, Line, cross};
@@ -20,6 +20,7 @@ use super::{DVec2, Line, cross};
 /// nearest point is farther than L the hull cannot hold `o`. Distances are compared squared
 /// and one square root taken: √ is monotone and correctly rounded, so the value is the
 /// least of the segment distances [`Line::distance`] gives, bit for bit.
+#[cfg(test)]
 pub fn point_hull_distance(o: DVec2, pts: &[DVec2]) -> f64 {
     point_hull_distance_sq(o, pts, nearest_and_diameter_sq(o, pts)).sqrt()
 }
@@ -37,7 +38,7 @@ fn nearest_and_diameter_sq(o: DVec2, pts: &[DVec2]) -> (f64, f64) {
     (m2, l2)
 }
 
-/// The square of [`point_hull_distance`], given `nearest_and_diameter_sq(o, pts)`.
+/// The square of `point_hull_distance`, given `nearest_and_diameter_sq(o, pts)`.
 fn point_hull_distance_sq(o: DVec2, pts: &[DVec2], (m2, l2): (f64, f64)) -> f64 {
     let n = pts.len();
     let inside = |a: DVec2, b: DVec2, c: DVec2| {
@@ -74,7 +75,7 @@ fn point_hull_distance_sq(o: DVec2, pts: &[DVec2], (m2, l2): (f64, f64)) -> f64 
 /// In the sector the nearest point of the arc is that of its circle, so the distance is
 /// | |x − c| − r | ≤ max(max_v |v − c| − r, r − dist(c, hull)): |x − c| is convex (its
 /// maximum over the hull is at a point) and at least the distance from c to the hull
-/// ([`point_hull_distance`]). (A cheaper lower bound of that distance, √(m² − (L/2)²) from
+/// (`point_hull_distance`). (A cheaper lower bound of that distance, √(m² − (L/2)²) from
 /// the nearest point m and the longest edge L, holds only when c lies outside the hull:
 /// for c at the centroid of an equilateral triangle it gives 0.29·L instead of 0.)
 pub fn arc_hull_bound(

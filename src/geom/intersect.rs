@@ -204,7 +204,7 @@ impl Piece {
                 t1,
                 ends: (c.p0, c.p3),
                 flat: c.flatness(),
-                bbox: c.control_bbox(),
+                bbox: c.control_bbox().into(),
             },
             Geom::Arc(a) => Piece::arc(a, t0, t1, (a.p0(), a.p1()), arc_flatness(&a)),
         }

@@ -1,6 +1,6 @@
 //! Paths: connected sequences of lines, arcs and cubic Béziers, open or closed.
 
-use super::{Arc, CubicBez, DVec2, Line};
+use super::{Aabb, Arc, CubicBez, DVec2, Line};
 
 /// One piece of a [`Path`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,11 +79,12 @@ impl PathSeg {
         }
     }
 
-    /// An axis-aligned box (lo, hi) holding the segment and its flattenings: a line's ends,
+    /// An axis-aligned box holding the segment and its flattenings: a line's ends,
     /// an arc's exact [`Arc::bounding_box`], a cubic's [`CubicBez::control_bbox`].
-    pub fn bounding_box(&self) -> (DVec2, DVec2) {
+    #[must_use]
+    pub fn bounding_box(&self) -> Aabb {
         match self {
-            PathSeg::Line(l) => (l.p0.min(l.p1), l.p0.max(l.p1)),
+            PathSeg::Line(l) => Aabb::from_corners(l.p0, l.p1),
             PathSeg::Arc(a) => a.bounding_box(),
             PathSeg::Cubic(c) => c.control_bbox(),
         }

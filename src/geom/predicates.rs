@@ -67,7 +67,7 @@ pub fn edge_winding(a: DVec2, b: DVec2, p: DVec2) -> i32 {
 }
 
 /// Winding number of `p` with respect to the closed polygon `poly` (last vertex joined to
-/// the first): the sum of [`edge_winding`] over its edges, exact for all finite inputs.
+/// the first): the sum of `edge_winding` over its edges, exact for all finite inputs.
 /// Its parity is the even-odd (crossing number) inside test.
 pub fn winding_number(poly: &[DVec2], p: DVec2) -> i32 {
     let n = poly.len();

@@ -20,3 +20,14 @@ pub const RELATIVE: f64 = 1e-9;
 pub fn scaled(scale: f64) -> f64 {
     RELATIVE * scale.abs().max(1.0)
 }
+
+/// Relative accuracy of the arc lengths the toolpath stage measures for bookkeeping (a
+/// cubic's length by adaptive quadrature: splitting paths at a length, lead and tab
+/// positions, travel): 1e-9, far below every output tolerance, so the length is exact for
+/// every purpose it serves.
+pub const LENGTH_ACCURACY: f64 = 1e-9;
+
+/// Flattening accuracy of a cubic whose flattening stands in for the curve in a distance
+/// (the distance of a point to a cubic as the distance to its polyline): 1e-9 model
+/// units, far below every output tolerance.
+pub const DISTANCE_FLATTEN: f64 = 1e-9;

@@ -7,7 +7,7 @@
 //!
 //!   e = max over the run's segments S of max( max_{v ∈ S} ‖v − C‖ − R, R − dist(C, S) ) ≤ tol
 //!
-//! and every vertex lies in the arc's sector ([`arc_hull_bound`], each segment its own
+//! and every vertex lies in the arc's sector (`arc_hull_bound`, each segment its own
 //! hull: ‖· − C‖ is convex, so its maximum over a segment is at an end and its minimum is
 //! the distance from C to the segment). Every point of the run is then within e of the arc;
 //! conversely the run joins the ray C→v_i to the ray C→v_j inside the sector's band of

@@ -2,7 +2,7 @@
 //! curves of the stroke the cut came from.
 //!
 //! An attribute is blended like the radius, a(t) = Σ N_{i,p}(t)·A_i (wu-2021 eq. 18, the
-//! per-disk constant case, [`crate::dbsc::attributes`]). A point p of a cut (on the outline,
+//! per-disk constant case, `crate::dbsc::attributes`). A point p of a cut (on the outline,
 //! on a hatch line inside it, on a channel wall) takes the value at the *nearest spine
 //! parameter*: the t minimising ‖q(t) − p‖, the foot of the perpendicular
 //! (q(t) − p)·q′(t) = 0 on the centre curve q.
@@ -140,7 +140,7 @@ impl<'a> SpineIndex<'a> {
     pub fn nearest(&self, p: DVec2, tol: f64) -> f64 {
         let i = self
             .chords
-            .nearest_neighbor([p.x, p.y])
+            .nearest_neighbor(p.to_array())
             .map_or(1, |c| c.data)
             .max(1);
         let (a, b) = (self.pts[i - 1], self.pts[i]);

@@ -18,7 +18,8 @@
 //! which on a fit within tol is a few per arc.
 
 use crate::geom::hull::{arc_hull_bound, segment_hull_bound};
-use crate::geom::{Arc, CubicBez, DVec2, Line, PathSeg, perp};
+use crate::geom::tol::{DISTANCE_FLATTEN, LENGTH_ACCURACY};
+use crate::geom::{Aabb, Arc, CubicBez, DVec2, Line, PathSeg, perp};
 
 /// Evenly spread points of the curve whose distances [`max_deviation`] tries first.
 const PRE_SAMPLES: usize = 16;
@@ -83,8 +84,8 @@ pub fn biarc(p0: DVec2, t0: DVec2, p1: DVec2, t1: DVec2, tol: f64) -> Option<[Pa
 }
 
 /// An upper bound of dist(x, `seg`) over the convex hull of `hull` (any order), or `None`:
-/// a line by [`segment_hull_bound`] (the distance to a segment is convex); an arc of sweep
-/// at most π by [`arc_hull_bound`] where the hull lies in its sector (exactly, no slack);
+/// a line by `segment_hull_bound` (the distance to a segment is convex); an arc of sweep
+/// at most π by `arc_hull_bound` where the hull lies in its sector (exactly, no slack);
 /// `None` for wider arcs, for hulls outside the sector and for cubic elements.
 pub fn hull_distance_bound(hull: &[DVec2], seg: &PathSeg) -> Option<f64> {
     match seg {
@@ -120,7 +121,7 @@ fn seg_distance(s: &PathSeg, p: DVec2) -> f64 {
     match s {
         PathSeg::Line(l) => l.distance(p),
         PathSeg::Arc(a) => a.distance(p),
-        PathSeg::Cubic(c) => polyline_distance(&c.flatten(1e-9), p),
+        PathSeg::Cubic(c) => polyline_distance(&c.flatten(DISTANCE_FLATTEN), p),
     }
 }
 
@@ -227,9 +228,8 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
     // A chord whose box lies more than tol from a piece's hull box bounds the piece's
     // distance by more than tol: it cannot prove the piece, so only chords near it are
     // tried (the bound stays the minimum of bounds, each valid on its own).
-    let chord_boxes: Vec<(DVec2, DVec2)> = flat
-        .windows(2)
-        .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
+    let chord_boxes: Vec<Aabb> = (flat.windows(2))
+        .map(|w| Aabb::from_corners(w[0], w[1]))
         .collect();
     // The distance to the flattening, chord by chord, skipping a chord whose box is no
     // nearer than the nearest chord so far (the same minimum as `polyline_distance`);
@@ -242,9 +242,7 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
         let mut at = hint.get();
         for k in 0..n {
             let i = (hint.get() + k) % n;
-            let (lo, hi) = chord_boxes[i];
-            let gap = (lo - p).max(p - hi).max(DVec2::ZERO);
-            if gap.length_squared() >= best * best {
+            if chord_boxes[i].distance_squared(p) >= best * best {
                 continue;
             }
             let d = Line::new(flat[i], flat[i + 1]).distance(p);
@@ -257,7 +255,7 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
         best + tol / 8.0
     };
     for s in segs {
-        let len = s.length(1e-9);
+        let len = s.length(LENGTH_ACCURACY);
         let mut stack = vec![(0.0, 1.0, gdist(s.eval(0.0)), gdist(s.eval(1.0)))];
         let mut pieces = 0usize;
         while let Some((a, b, ga, gb)) = stack.pop() {
@@ -276,15 +274,11 @@ fn max_deviation_within(c: &CubicBez, segs: &[PathSeg], tol: f64, budget: usize)
             if bound > tol
                 && let Some(hull) = piece_hull(s, a, b)
             {
-                let (lo, hi) = hull.iter().fold(
-                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-                );
-                let (lo, hi) = (lo - DVec2::splat(tol), hi + DVec2::splat(tol));
+                let near = Aabb::from_points(&hull).grow(tol);
                 bound = flat
                     .windows(2)
                     .zip(&chord_boxes)
-                    .filter(|(_, (a, b))| a.cmple(hi).all() && lo.cmple(*b).all())
+                    .filter(|(_, b)| b.intersects(&near))
                     .filter_map(|(w, _)| {
                         hull_distance_bound(&hull, &PathSeg::Line(Line::new(w[0], w[1])))
                     })

@@ -12,8 +12,9 @@
 //! items and channels, so the board's edge keeps its margin from every channel.
 
 use super::ops;
-use super::region::{Region, flatten_pline};
+use super::region::Region;
 use crate::geom::DVec2;
+use crate::geom::interop::flatten_pline;
 use cavalier_contours::polyline::{PlineSource, Polyline};
 
 /// Default smallest width of a bridge between two pieces of a backboard, in millimetres:

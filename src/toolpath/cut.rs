@@ -2,7 +2,8 @@
 //! depth, lead-in and lead-out arcs on the waste side, and holding tabs on through-cuts.
 
 use super::model::{Cut, Move, MoveKind};
-use crate::geom::{Arc, DVec2, Line, Path, PathSeg, perp};
+use crate::geom::tol::LENGTH_ACCURACY;
+use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, perp};
 use glam::DVec3;
 
 /// Holding tabs: short bridges left standing on the last passes of a through-cut. On a
@@ -48,13 +49,18 @@ pub struct CutOptions {
     pub waste_left: bool,
 }
 
+/// Relative slack of the pass count ⌈depth / step_down − slack⌉: a depth that is a whole
+/// number of steps up to rounding (3 × 0.1 = 0.30000000000000004) gets that many passes,
+/// not one more.
+const STEP_COUNT_SLACK: f64 = 1e-9;
+
 /// Depth levels stepping down by at most `step_down` to `depth` (depth > 0 is below the
 /// surface): ⌈depth / step_down⌉ equal passes. A zero depth gives one pass at z = 0.
 pub fn step_levels(depth: f64, step_down: f64) -> Vec<f64> {
     if depth <= 0.0 || step_down <= 0.0 {
         return vec![0.0];
     }
-    let n = (depth / step_down - 1e-9).ceil().max(1.0) as usize;
+    let n = (depth / step_down - STEP_COUNT_SLACK).ceil().max(1.0) as usize;
     (1..=n).map(|i| -depth * i as f64 / n as f64).collect()
 }
 
@@ -92,7 +98,7 @@ fn split_at_lengths(path: &Path, marks: &[f64]) -> Vec<(PathSeg, f64)> {
     let mut s_start = 0.0;
     let mut mi = 0;
     for seg in &path.segs {
-        let len = seg.length(1e-9);
+        let len = seg.length(LENGTH_ACCURACY);
         let mut local = 0.0;
         while mi < marks.len() && marks[mi] < s_start + len {
             let m = marks[mi] - s_start;
@@ -181,6 +187,10 @@ fn lead_geometry(
 /// construction, and flattened or rounded the two may meet.
 const LEAD_TOUCH_FRACTION: f64 = 0.05;
 
+/// Fraction of a lead left out at its touch point when testing it against the contour: the
+/// contour's end segments and the lead share that point exactly, which is no crossing.
+const LEAD_END_BACKOFF: f64 = 1e-9;
+
 /// True when neither lead meets the contour (exact segment tests on flattenings within
 /// 1e-3 of the lead's length), apart from the tangential touch at the contour end, nor any
 /// of the operation's `others` contours (a lead into a narrow gap between two pieces of a
@@ -193,7 +203,7 @@ fn leads_clear(
     path: &Path,
     others: &[&Path],
 ) -> bool {
-    let tol = |s: &PathSeg| (s.length(1e-9) * 1e-3).max(1e-9);
+    let tol = |s: &PathSeg| (s.length(LENGTH_ACCURACY) * 1e-3).max(1e-9);
     let flat_tol = leads.1.as_ref().map(tol).unwrap_or(1e-3);
     // The contour's chords, segment by segment; `inner` leaves out the chords of the first
     // and last segments (those ending at the touch point).
@@ -213,20 +223,15 @@ fn leads_clear(
     // Only segments whose bounding box meets the lead's can meet it (closed boxes, so
     // touching counts); the exact predicate decides the rest. O(n + k·m) instead of O(n·m).
     let hits = |pts: &[DVec2], contour: &[[DVec2; 2]]| {
-        let (lo, hi) = pts.iter().fold(
-            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
-        let meets = |a: DVec2, b: DVec2| a.cmple(hi).all() && b.cmpge(lo).all();
+        let lead = Aabb::from_points(pts);
         let mut near: Vec<[DVec2; 2]> = contour
             .iter()
-            .filter(|r| meets(r[0].min(r[1]), r[0].max(r[1])))
+            .filter(|r| Aabb::from_corners(r[0], r[1]).intersects(&lead))
             .copied()
             .collect();
         // The other contours' segments near the lead, flattened one by one.
         for seg in others.iter().flat_map(|o| &o.segs) {
-            let (a, b) = seg.bounding_box();
-            if meets(a, b) {
+            if seg.bounding_box().intersects(&lead) {
                 let f = seg.flatten(flat_tol);
                 near.extend(f.windows(2).map(|r| [r[0], r[1]]));
             }
@@ -237,7 +242,7 @@ fn leads_clear(
         })
     };
     let part = |s: &PathSeg, a: f64, b: f64| -> Vec<DVec2> {
-        let n = ((s.length(1e-9) / tol(s)).ceil() as usize).clamp(2, 4096);
+        let n = ((s.length(LENGTH_ACCURACY) / tol(s)).ceil() as usize).clamp(2, 4096);
         (0..=n)
             .map(|i| s.eval(a + (b - a) * i as f64 / n as f64))
             .collect()
@@ -247,7 +252,7 @@ fn leads_clear(
         let split = far + (touch - far) * (1.0 - LEAD_TOUCH_FRACTION);
         // The touch point itself is left out: the contour's first and last segments end
         // there, and the lead's end there is shared with them.
-        let end = touch - (touch - far) * 1e-9;
+        let end = touch - (touch - far) * LEAD_END_BACKOFF;
         !hits(&part(s, far, split), &ring) && !hits(&part(s, split, end), inner)
     };
     let lead_in_ok = leads
@@ -324,7 +329,11 @@ fn smooth_start(path: &Path, min_len: f64) -> Option<Path> {
     if !path.closed || n < 2 {
         return None;
     }
-    let lens: Vec<f64> = path.segs.iter().map(|s| s.length(1e-9)).collect();
+    let lens: Vec<f64> = path
+        .segs
+        .iter()
+        .map(|s| s.length(LENGTH_ACCURACY))
+        .collect();
     let (t0, t1) = (
         seg_tangent(&path.segs[0], 0.0),
         seg_tangent(&path.segs[n - 1], 1.0),
@@ -377,7 +386,7 @@ pub fn contour_cut_leads(
     let smoothed = lead_size.and_then(|size| smooth_start(path, lead_start_segment(size)));
     let path = smoothed.as_ref().unwrap_or(path);
     let start = path.start()?;
-    let total: f64 = path.segs.iter().map(|s| s.length(1e-9)).sum();
+    let total: f64 = path.segs.iter().map(|s| s.length(LENGTH_ACCURACY)).sum();
     if total <= 0.0 {
         return None;
     }
@@ -466,7 +475,7 @@ pub fn contour_cut_leads(
                 .collect()
         };
         for (seg, s0) in &run {
-            let len = seg.length(1e-9);
+            let len = seg.length(LENGTH_ACCURACY);
             let on_tab = forward && in_tab(s0 + len / 2.0);
             if laser_bridges && on_tab {
                 // A laser leaves a tab as a bridge: the beam is off across it.

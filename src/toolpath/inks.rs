@@ -25,12 +25,12 @@
 //!
 //! Cost: each segment asks an R-tree of the segments for those within δ of it, and each
 //! probe the items whose boxes hold it, each through a winding index of its contours
-//! ([`super::winding::WindingIndex`], O(1 + k) a query): O((n + k) log n) for n segments.
+//! ([`crate::geom::index::WindingIndex`], O(1 + k) a query): O((n + k) log n) for n segments.
 
-use super::region::{Region, flatten_pline};
-use super::winding::WindingIndex;
-use crate::geom::DVec2;
-use cavalier_contours::core::math::Vector2;
+use super::region::Region;
+use crate::geom::index::WindingIndex;
+use crate::geom::interop::{self, flatten_pline};
+use crate::geom::{Aabb, DVec2};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
@@ -43,7 +43,7 @@ pub const PROBE_FRACTION: f64 = 0.5;
 pub const FLATTEN_FRACTION: f64 = 0.25;
 
 /// Dropped stretches of a boundary shorter than this fraction of the tolerance between two
-/// kept ones are kept ([`bridge_gaps`]): a reflex corner hides a few δ of its edges from
+/// kept ones are kept (`bridge_gaps`): a reflex corner hides a few δ of its edges from
 /// the probes (δ·cot(θ/2) for an inner turn θ, 2δ at a right angle; 4 tolerances cover turns
 /// down to about 15°).
 pub const BRIDGE_FRACTION: f64 = 4.0;
@@ -72,10 +72,6 @@ type Boxed = GeomWithData<Rectangle<[f64; 2]>, usize>;
 
 /// A segment's box with its (item, contour, index of its first point).
 type BoxedSegment = GeomWithData<Rectangle<[f64; 2]>, (usize, usize, usize)>;
-
-fn rect(lo: DVec2, hi: DVec2) -> Rectangle<[f64; 2]> {
-    Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y])
-}
 
 /// The flattened contours of the items and what asks them where a point lies.
 struct Inks<'a> {
@@ -112,19 +108,18 @@ impl<'a> Inks<'a> {
         let mut segs = Vec::new();
         let mut boxes = Vec::new();
         for (i, item) in rings.iter().enumerate() {
-            let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+            let mut all = Aabb::EMPTY;
             for (k, ring) in item.iter().enumerate() {
                 for s in 0..ring.len() {
                     let (a, b) = (ring[s], ring[(s + 1) % ring.len()]);
-                    segs.push(GeomWithData::new(rect(a.min(b), a.max(b)), (i, k, s)));
-                    lo = lo.min(a);
-                    hi = hi.max(a);
+                    let seg = Aabb::from_corners(a, b);
+                    segs.push(GeomWithData::new(interop::rectangle(seg), (i, k, s)));
+                    all = all.add_point(a);
                 }
             }
             // Arcs bulge past their chords by less than the flattening tolerance.
-            let pad = DVec2::splat(tol);
-            if lo.x <= hi.x {
-                boxes.push(GeomWithData::new(rect(lo - pad, hi + pad), i));
+            if all.min.x <= all.max.x {
+                boxes.push(GeomWithData::new(interop::rectangle(all.grow(tol)), i));
             }
         }
         Inks {
@@ -138,9 +133,9 @@ impl<'a> Inks<'a> {
 
     /// The last item (in paint order) whose region holds `q` (non-zero total winding).
     fn top(&self, q: DVec2) -> Option<usize> {
-        let v = Vector2::new(q.x, q.y);
+        let v = interop::vector2(q);
         self.boxes
-            .locate_all_at_point([q.x, q.y])
+            .locate_all_at_point(q.to_array())
             .map(|g| g.data)
             .filter(|&i| self.windings[i].iter().map(|w| w.winding(v)).sum::<i32>() != 0)
             .max()
@@ -331,7 +326,7 @@ fn simplify(points: Vec<DVec2>) -> Vec<DVec2> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::toolpath::region::pline_from_points;
+    use crate::geom::interop::pline_from_points;
 
     const TOL: f64 = 0.01;
 

@@ -11,8 +11,9 @@
 //! spine is a closed cut.
 
 use super::biarc::fit_cubic;
-use super::region::{path_from_pline, pline_from_path};
+use super::region::pline_from_path;
 use crate::dbsc::DiskBSpline;
+use crate::geom::interop::path_from_pline;
 use crate::geom::{CubicBez, DVec2, Line, Path, PathSeg};
 use cavalier_contours::polyline::Polyline;
 
@@ -86,6 +87,7 @@ pub fn polyline_path(points: &[DVec2], closed: bool) -> Option<Path> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::roots::{Golden, Tie};
     use crate::geom::{Circle, PathSeg};
 
     fn curve(degree: usize, closed: bool, pts: &[(f64, f64)]) -> DiskBSpline {
@@ -113,18 +115,9 @@ mod tests {
                 da.total_cmp(&db)
             })
             .unwrap();
-        let (mut a, mut b) = (t_at(k.saturating_sub(1)), t_at((k + 1).min(n)));
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        for _ in 0..80 {
-            let x1 = b - g * (b - a);
-            let x2 = a + g * (b - a);
-            if c.center(x1).distance(p) < c.center(x2).distance(p) {
-                b = x2;
-            } else {
-                a = x1;
-            }
-        }
-        c.center(0.5 * (a + b)).distance(p)
+        let (a, b) = (t_at(k.saturating_sub(1)), t_at((k + 1).min(n)));
+        let g = Golden::new(-1.0, 80, Tie::Right).min(|t| c.center(t).distance(p), a, b);
+        c.center(g.mid()).distance(p)
     }
 
     /// The path stays within the tolerance of the spine (every flattened point), starts and

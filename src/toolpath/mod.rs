@@ -16,9 +16,9 @@ pub mod order;
 pub mod plan;
 pub mod re_route;
 pub mod region;
+pub mod rings;
 pub mod stats;
 pub mod swept;
 pub mod valleys;
-pub mod winding;
 
 pub use model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};

@@ -3,7 +3,8 @@
 //! Every function here is pure geometry on [`Region`]s and polylines; [`super::plan`] turns
 //! the paths into cuts with depths, feeds and ordering.
 
-use super::region::{Region, flatten_pline};
+use super::region::Region;
+use crate::geom::interop::{self, flatten_pline};
 use crate::geom::{Arc, Circle, DVec2, Line, Path, PathSeg};
 use geo::Buffer;
 
@@ -210,9 +211,8 @@ pub fn hatch(region: &Region, angle: f64, spacing: f64, alternate: bool, tol: f6
 /// on. The first ring (the wall pass) is R₋first itself, so walls and corners are cut
 /// exactly. A ring that is not sound, that is [simple](Region::simple) and
 /// [held](Region::holds) by the region at every vertex and segment middle (cavalier_contours
-/// once returned one touching itself along an arc, seed 0x5EED0011 case 61 rotated, and
-/// cut across the counters of script lettering with single chords), is replaced by its
-/// opening too, and an opening that is not sound is never used; where neither is, geo's
+/// can return one touching itself along an arc, which would cut across the counters of
+/// script lettering with single chords), is replaced by its opening too, and an opening that is not sound is never used; where neither is, geo's
 /// buffer makes the ring (flattened within [`BUFFER_TOL_EPS`]·eps). Cost: four offsets
 /// of the region per ring (three of them side by side), two O(n log n) segment tests and
 /// two winding tests through slab indexes.
@@ -296,10 +296,7 @@ pub fn swept_region(spine: &[DVec2], closed: bool, half_width: f64, tol: f64) ->
     if spine.len() < 2 || half_width <= 0.0 {
         return Region::default();
     }
-    let mut coords: Vec<geo::Coord<f64>> = spine
-        .iter()
-        .map(|p| geo::Coord { x: p.x, y: p.y })
-        .collect();
+    let mut coords: Vec<geo::Coord<f64>> = spine.iter().map(|&p| interop::coord(p)).collect();
     if closed {
         coords.push(coords[0]);
     }
@@ -389,8 +386,8 @@ pub fn backboard(
     };
     // Each offset is checked (simple and nested, else made by geo's buffer), and the board
     // must hold the union. cavalier_contours can split it along chords through the strokes
-    // (seed 0x5EED0011 case 251 rotated by 0.7 rad: the board of two crossing hairpins came
-    // back as four rings); geo's buffer makes the whole closing then.
+    // (the board of two crossing hairpins can come back as four rings); geo's buffer makes
+    // the whole closing then.
     let grown = closed(&|r, d| r.offset_checked(d, eps, tol));
     let grown = if grown.holds(&union) {
         grown
@@ -435,7 +432,7 @@ pub fn polyline_path(points: &[DVec2], closed: bool) -> Path {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::toolpath::region::pline_from_points;
+    use crate::geom::interop::pline_from_points;
     use cavalier_contours::polyline::PlineSourceMut;
     use std::f64::consts::PI;
 

@@ -15,10 +15,15 @@
 //! large drawing is ordered by nearest neighbour alone. No loop here refines: each ends after a
 //! number of steps fixed by n and these constants.
 
-use crate::geom::slabs::PolygonWinding;
-use crate::geom::{Arc, DVec2, Line, Path, PathSeg};
+use crate::geom::index::PolygonWinding;
+use crate::geom::tol::LENGTH_ACCURACY;
+use crate::geom::{Aabb, Arc, DVec2, Line, Path, PathSeg, interop};
+use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree};
+
+/// Least travel a 2-opt move must save to be made (model units): moves that only reorder
+/// rounding are not taken, so the sweeps end.
+const MIN_2OPT_GAIN: f64 = 1e-12;
 
 /// Upper bound on 2-opt improvement sweeps; improvement stalls far earlier.
 const MAX_2OPT_SWEEPS: usize = 50;
@@ -38,19 +43,6 @@ pub const MAX_2OPT_BLOCK: usize = 1_000;
 /// are ordered by nearest neighbour alone (a 2-opt sweep is O(n²)).
 pub const MAX_NEAREST_PATHS: usize = 5_000;
 
-/// Vertex bounding box of a flattened path (min, max); empty paths give an inverted box.
-fn vertex_box(pts: &[DVec2]) -> (DVec2, DVec2) {
-    pts.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    )
-}
-
-/// Distance from `p` to the box `b` (0 inside).
-fn box_distance(b: &(DVec2, DVec2), p: DVec2) -> f64 {
-    (b.0 - p).max(p - b.1).max(DVec2::ZERO).length()
-}
-
 /// Travel figures of an ordering.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OrderStats {
@@ -64,17 +56,16 @@ pub struct OrderStats {
 /// in increasing order. A path whose vertices all lie inside polygon j also lies inside j's
 /// vertex box, so only the paths whose boxes lie in j's box are tested (found through an
 /// R-tree of the boxes); their vertices are tested through a slab index of polygon j
-/// ([`PolygonWinding`], the exact even-odd test in O(1 + k) per vertex).
+/// (`PolygonWinding`, the exact even-odd test in O(1 + k) per vertex).
 pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
     let polys: Vec<Vec<DVec2>> = paths.iter().map(|p| p.flatten(tol)).collect();
-    let boxes: Vec<(DVec2, DVec2)> = polys.iter().map(|p| vertex_box(p)).collect();
-    let rect = |(lo, hi): (DVec2, DVec2)| Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]);
+    let boxes: Vec<Aabb> = polys.iter().map(Aabb::from_points).collect();
     // The boxes of the non-empty paths; the paths whose boxes lie in box j (edges included)
     // are the candidates inside path j.
     let tree: RTree<BoxEntry> = RTree::bulk_load(
         (0..paths.len())
             .filter(|&i| !polys[i].is_empty())
-            .map(|i| BoxEntry::new(rect(boxes[i]), i))
+            .map(|i| BoxEntry::new(interop::rectangle(boxes[i]), i))
             .collect(),
     );
     (0..paths.len())
@@ -82,10 +73,8 @@ pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
             if !paths[j].closed || polys[j].len() < 3 {
                 return Vec::new();
             }
-            let envelope =
-                AABB::from_corners([boxes[j].0.x, boxes[j].0.y], [boxes[j].1.x, boxes[j].1.y]);
             let mut inner: Vec<usize> = tree
-                .locate_in_envelope(envelope)
+                .locate_in_envelope(interop::envelope(boxes[j]))
                 .map(|e| e.data)
                 .filter(|&i| i != j)
                 .collect();
@@ -100,7 +89,11 @@ pub fn precedence(paths: &[Path], tol: f64) -> Vec<Vec<usize>> {
         .collect()
 }
 
-/// The point of a line or arc nearest to `p`, as (parameter, distance).
+/// Parameter accuracy of the nearest point on a cubic ([`crate::geom::CubicBez::nearest`]):
+/// far below the snapping distance of entry points for any cubic shorter than a kilometre.
+const CUBIC_NEAREST_ACCURACY: f64 = 1e-12;
+
+/// The point of a line, arc or cubic nearest to `p`, as (parameter, distance).
 fn nearest_on_seg(s: &PathSeg, p: DVec2) -> (f64, f64) {
     match s {
         PathSeg::Line(l) => {
@@ -120,13 +113,9 @@ fn nearest_on_seg(s: &PathSeg, p: DVec2) -> (f64, f64) {
             };
             (t, a.eval(t).distance(p))
         }
-        PathSeg::Cubic(c) => {
-            // Coarse search: cubics are fitted to arcs before ordering; this is a fallback.
-            (0..=64)
-                .map(|i| i as f64 / 64.0)
-                .map(|t| (t, c.eval(t).distance(p)))
-                .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a })
-        }
+        // Cubics are fitted to arcs before ordering; a path that keeps one gets its exact
+        // nearest point.
+        PathSeg::Cubic(c) => c.nearest(p, CUBIC_NEAREST_ACCURACY),
     }
 }
 
@@ -186,7 +175,7 @@ pub fn rotate_to_nearest(path: &Path, p: DVec2, eps: f64) -> Path {
             |a, b| if b.1.1 < a.1.1 { b } else { a },
         );
     let seg = &path.segs[best];
-    let len = seg.length(1e-9);
+    let len = seg.length(LENGTH_ACCURACY);
     let mut segs = Vec::with_capacity(path.segs.len() + 1);
     if t * len <= eps {
         segs.extend_from_slice(&path.segs[best..]);
@@ -226,8 +215,8 @@ fn travel(order: &[Path], home: DVec2) -> f64 {
 type BoxEntry = GeomWithData<Rectangle<[f64; 2]>, usize>;
 
 /// Relative slack of the R-tree walk's stopping test: its squared box distances are rounded
-/// apart from [`box_distance`], so the walk goes on a hair past the best entry and the test
-/// that decides is `box_distance`'s own.
+/// apart from [`Aabb::distance`], so the walk goes on a hair past the best entry and the test
+/// that decides is `Aabb::distance`'s own.
 const WALK_SLACK: f64 = 1e-9;
 
 /// Nearest neighbour from `home` among the paths whose predecessors (`before`, the
@@ -238,15 +227,12 @@ const WALK_SLACK: f64 = 1e-9;
 fn nearest_neighbour(
     paths: &[Path],
     before: &[Vec<usize>],
-    boxes: &[(DVec2, DVec2)],
+    boxes: &[Aabb],
     home: DVec2,
     tol: f64,
 ) -> Vec<(usize, Path)> {
     let n = paths.len();
-    let entry = |i: usize| {
-        let (lo, hi) = boxes[i];
-        BoxEntry::new(Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]), i)
-    };
+    let entry = |i: usize| BoxEntry::new(interop::rectangle(boxes[i]), i);
     let mut waiting: Vec<usize> = before.iter().map(Vec::len).collect();
     let mut after: Vec<Vec<usize>> = vec![Vec::new(); n];
     for (j, b) in before.iter().enumerate() {
@@ -259,14 +245,14 @@ fn nearest_neighbour(
     let mut pos = home;
     while free.size() > 0 {
         let mut best: Option<(usize, f64, Path)> = None;
-        for (e, d2) in free.nearest_neighbor_iter_with_distance_2([pos.x, pos.y]) {
+        for (e, d2) in free.nearest_neighbor_iter_with_distance_2(pos.to_array()) {
             let i = e.data;
             if let Some(b) = &best {
                 if d2.sqrt() > b.1 * (1.0 + WALK_SLACK) + WALK_SLACK {
                     break;
                 }
                 // The entry of path i is a point of it (or an end): no nearer than its box.
-                if box_distance(&boxes[i], pos) > b.1 {
+                if boxes[i].distance(pos) > b.1 {
                     continue;
                 }
             }
@@ -301,13 +287,9 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
     let n = paths.len();
     let before = precedence(paths, tol);
     // Boxes of the flattenings, grown by the flattening tolerance so that they contain the
-    // paths: no point of path i is nearer to the tool than `box_distance(boxes[i], pos)`.
-    let boxes: Vec<(DVec2, DVec2)> = paths
-        .iter()
-        .map(|p| {
-            let (lo, hi) = vertex_box(&p.flatten(tol));
-            (lo - DVec2::splat(tol), hi + DVec2::splat(tol))
-        })
+    // paths: no point of path i is nearer to the tool than `boxes[i].distance(pos)`.
+    let boxes: Vec<Aabb> = (paths.iter())
+        .map(|p| Aabb::from_points(&p.flatten(tol)).grow(tol))
         .collect();
     let travel_input = travel(paths, home);
     let order = nearest_neighbour(paths, &before, &boxes, home, tol);
@@ -371,12 +353,12 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
                 // floating point as well: a block that cannot be entered cheaply enough is
                 // skipped before its second distance is taken.
                 let enter = prev_end.distance(rev_start(&at[b]));
-                if enter + 1e-12 >= old {
+                if enter + MIN_2OPT_GAIN >= old {
                     continue;
                 }
                 let next_start = (b + 1 < m).then(|| at[b + 1].0);
                 let new = enter + next_start.map_or(0.0, |s| rev_end(&at[a]).distance(s));
-                if new + 1e-12 < old {
+                if new + MIN_2OPT_GAIN < old {
                     let blocked = order[a..=b]
                         .iter()
                         .any(|(j, _)| before[*j].iter().any(|&k| p[k] >= a && p[k] <= b));
@@ -506,7 +488,7 @@ mod tests {
         let sq = square(DVec2::ZERO, 1.0);
         let r = rotate_to_nearest(&sq, DVec2::new(0.3, -5.0), 1e-9);
         assert!((r.start().unwrap() - DVec2::new(0.3, -1.0)).length() < 1e-12);
-        assert!((r.length(1e-9) - 8.0).abs() < 1e-12);
+        assert!((r.length(LENGTH_ACCURACY) - 8.0).abs() < 1e-12);
         assert_eq!(r.max_gap(), 0.0);
     }
 
@@ -528,8 +510,9 @@ mod tests {
                 )
             })
             .collect();
-        let boxes: Vec<(DVec2, DVec2)> =
-            paths.iter().map(|p| vertex_box(&p.flatten(1e-3))).collect();
+        let boxes: Vec<Aabb> = (paths.iter())
+            .map(|p| Aabb::from_points(&p.flatten(1e-3)))
+            .collect();
         let before = vec![Vec::new(); n];
         let nn = nearest_neighbour(&paths, &before, &boxes, DVec2::ZERO, 1e-3);
         let nn_travel = travel(
@@ -599,8 +582,8 @@ mod tests {
             idx.sort();
             prop_assert_eq!(idx, (0..paths.len()).collect::<Vec<_>>());
             let o: Vec<Path> = o.into_iter().map(|(_, p)| p).collect();
-            let total_in: f64 = paths.iter().map(|p| p.length(1e-9)).sum();
-            let total_out: f64 = o.iter().map(|p| p.length(1e-9)).sum();
+            let total_in: f64 = paths.iter().map(|p| p.length(LENGTH_ACCURACY)).sum();
+            let total_out: f64 = o.iter().map(|p| p.length(LENGTH_ACCURACY)).sum();
             prop_assert!((total_in - total_out).abs() < 1e-6 * total_in);
             for i in 0..o.len() {
                 for j in 0..i {

@@ -8,7 +8,7 @@
 use super::cut::{CutOptions, Lead, Tabs, contour_cut_leads, step_levels};
 use super::model::{Cut, Move, MoveKind, Operation, OperationKind, Toolpath};
 use super::order::{OrderStats, order_paths};
-use crate::geom::{DVec2, Path};
+use crate::geom::{Aabb, DVec2, Path};
 use glam::DVec3;
 
 /// What the tool centre follows in one operation.
@@ -26,36 +26,24 @@ pub enum Geometry {
 }
 
 impl Geometry {
-    /// The box (lo, hi) in xy of what the tool centre follows, or `None` when there is
+    /// The box in xy of what the tool centre follows, or `None` when there is
     /// nothing: paths by their segments' boxes (arcs exact, cubics by their control points,
     /// [`crate::geom::PathSeg::bounding_box`]), points and polylines by their points. It does
     /// not depend on the cut order, so a placement computed from it is known before the order
     /// is chosen (leads, added by the cuts, can reach past it).
-    pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
-        let mut lo = DVec2::splat(f64::INFINITY);
-        let mut hi = DVec2::splat(f64::NEG_INFINITY);
-        let mut grow = |a: DVec2, b: DVec2| {
-            lo = lo.min(a);
-            hi = hi.max(b);
-        };
-        match self {
-            Geometry::Paths(paths) => {
-                for s in paths.iter().flat_map(|p| &p.segs) {
-                    let (a, b) = s.bounding_box();
-                    grow(a, b);
-                }
+    #[must_use]
+    pub fn bounds(&self) -> Option<Aabb> {
+        let b = match self {
+            Geometry::Paths(paths) => (paths.iter().flat_map(|p| &p.segs))
+                .fold(Aabb::EMPTY, |b, s| b.union(s.bounding_box())),
+            Geometry::Points(points) => Aabb::from_points(points),
+            Geometry::Polylines3(lines) => {
+                (lines.iter().flatten()).fold(Aabb::EMPTY, |b, p| b.add_point(p.truncate()))
             }
-            Geometry::Points(points) => points.iter().for_each(|&p| grow(p, p)),
-            Geometry::Polylines3(lines) => lines
-                .iter()
-                .flatten()
-                .for_each(|p| grow(p.truncate(), p.truncate())),
-            Geometry::AttrPolylines3(lines) => lines
-                .iter()
-                .flat_map(|l| &l.points)
-                .for_each(|p| grow(p.truncate(), p.truncate())),
-        }
-        (lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+            Geometry::AttrPolylines3(lines) => (lines.iter().flat_map(|l| &l.points))
+                .fold(Aabb::EMPTY, |b, p| b.add_point(p.truncate())),
+        };
+        b.non_empty()
     }
 }
 
@@ -415,12 +403,12 @@ mod tests {
         );
         let paths = Geometry::Paths(vec![square(DVec2::new(42.0, 2.0), 2.0), circle]);
         let points = Geometry::Points(vec![DVec2::new(-5.0, 30.0)]);
-        let (lo, hi) = paths.bounds().expect("paths have a box");
+        let Aabb { min: lo, max: hi } = paths.bounds().expect("paths have a box");
         assert!(lo.distance(DVec2::new(7.0, 0.0)) < 1e-12, "{lo}");
         assert!(hi.distance(DVec2::new(44.0, 23.0)) < 1e-12, "{hi}");
         assert_eq!(
             points.bounds(),
-            Some((DVec2::new(-5.0, 30.0), DVec2::new(-5.0, 30.0)))
+            Some(Aabb::new(DVec2::new(-5.0, 30.0), DVec2::new(-5.0, 30.0)))
         );
         assert_eq!(Geometry::Points(vec![]).bounds(), None);
         let specs = [spec(OperationKind::Profile, paths)];

@@ -11,6 +11,7 @@
 
 use super::biarc::biarc;
 use super::ops::ProfileSide;
+use crate::geom::tol::DISTANCE_FLATTEN;
 use crate::geom::{DVec2, Line, Path, PathSeg};
 use crate::skin::mat_offset::{self, MatOffset, MatOffsetError};
 use crate::skin::re::{Branch, ReSkin};
@@ -166,7 +167,7 @@ fn seg_distance(s: &PathSeg, p: DVec2) -> f64 {
     match s {
         PathSeg::Line(l) => l.distance(p),
         PathSeg::Arc(a) => a.distance(p),
-        PathSeg::Cubic(c) => super::biarc::polyline_distance(&c.flatten(1e-9), p),
+        PathSeg::Cubic(c) => super::biarc::polyline_distance(&c.flatten(DISTANCE_FLATTEN), p),
     }
 }
 

@@ -23,9 +23,9 @@
 //! Cost: two offsets of the spine, O(n log n) in its segments, and the checks, O(n·m) for
 //! the distances of the m boundary vertices to the n spine segments.
 
-use super::region::{MEET_FRACTION, Region, degenerate};
-use crate::geom::DVec2;
-use cavalier_contours::core::math::Vector2;
+use super::region::{MEET_FRACTION, Region};
+use super::rings::degenerate;
+use crate::geom::{DVec2, interop};
 use cavalier_contours::polyline::{
     PlineCreation, PlineOffsetOptions, PlineSource, PlineSourceMut, PlineVertex, Polyline,
 };
@@ -74,11 +74,11 @@ pub fn swept_arc_region(spine: &Polyline<f64>, r: f64, eps: f64) -> Option<Regio
 }
 
 fn start_of(pl: &Polyline<f64>) -> DVec2 {
-    pl.get(0).map_or(DVec2::NAN, |v| DVec2::new(v.x, v.y))
+    pl.get(0).map_or(DVec2::NAN, |v| interop::vertex_point(&v))
 }
 
 fn end_of(pl: &Polyline<f64>) -> DVec2 {
-    pl.last().map_or(DVec2::NAN, |v| DVec2::new(v.x, v.y))
+    pl.last().map_or(DVec2::NAN, |v| interop::vertex_point(&v))
 }
 
 /// Counter-clockwise angle from `a` to `b` about `c`, in [0, 2π).
@@ -181,7 +181,7 @@ fn cap_arcs(
             let v = from - c;
             let mid = c + DVec2::new(cs * v.x - sn * v.y, sn * v.x + cs * v.y);
             let on_boundary = spine
-                .closest_point(Vector2::new(mid.x, mid.y), eps * 0.1)
+                .closest_point(interop::vector2(mid), eps * 0.1)
                 .is_some_and(|cp| cp.distance >= r - slack);
             if on_boundary {
                 let mut arc = Polyline::with_capacity(3, false);
@@ -231,12 +231,12 @@ fn sound(region: &Region, spine: &Polyline<f64>, r: f64, eps: f64) -> bool {
         .flat_map(|c| c.iter_vertexes())
         .all(|v| {
             spine
-                .closest_point(Vector2::new(v.x, v.y), eps * 0.1)
+                .closest_point(v.pos(), eps * 0.1)
                 .is_some_and(|cp| (cp.distance - r).abs() <= slack)
         });
     at_r && spine
         .iter_vertexes()
-        .all(|v| region.contains(DVec2::new(v.x, v.y)))
+        .all(|v| region.contains(interop::vertex_point(&v)))
         && region.well_nested()
         && region.simple(eps * MEET_FRACTION)
 }
@@ -244,8 +244,8 @@ fn sound(region: &Region, spine: &Polyline<f64>, r: f64, eps: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::interop::pline_from_points;
     use crate::toolpath::ops::swept_region;
-    use crate::toolpath::region::pline_from_points;
     use proptest::prelude::*;
 
     const EPS: f64 = 1e-4;
@@ -347,7 +347,7 @@ mod tests {
         assert_eq!(region.contours.len(), 2);
         assert!(!region.contains(DVec2::ZERO));
         let tol = 1e-5;
-        let flat = crate::toolpath::region::flatten_pline(&spine, tol);
+        let flat = crate::geom::interop::flatten_pline(&spine, tol);
         let polygon = swept_region(&flat, false, 2.0, tol);
         let slack = 4.0 * tol * region.perimeter();
         assert!(

@@ -83,7 +83,7 @@ pub fn fill_narrow_valleys(region: &Region, delta: f64, tol: f64) -> Option<Regi
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::toolpath::region::pline_from_points;
+    use crate::geom::interop::{self, pline_from_points};
 
     /// A star of `n` points alternating between radii `outer` and `inner`.
     fn star(n: usize, outer: f64, inner: f64) -> Region {
@@ -123,11 +123,11 @@ mod tests {
         // The tips stay, the valley vertices lie inside the filled star.
         let sv: Vec<DVec2> = s.contours[0]
             .iter_vertexes()
-            .map(|v| DVec2::new(v.x, v.y))
+            .map(|v| interop::vertex_point(&v))
             .collect();
         let fv: Vec<DVec2> = f.contours[0]
             .iter_vertexes()
-            .map(|v| DVec2::new(v.x, v.y))
+            .map(|v| interop::vertex_point(&v))
             .collect();
         assert_eq!(fv, sv.iter().copied().step_by(2).collect::<Vec<_>>());
         assert!(sv.iter().skip(1).step_by(2).all(|&p| f.contains(p)));
@@ -137,7 +137,7 @@ mod tests {
         let edges: Vec<(DVec2, DVec2)> = {
             let v: Vec<DVec2> = s.contours[0]
                 .iter_vertexes()
-                .map(|v| DVec2::new(v.x, v.y))
+                .map(|v| interop::vertex_point(&v))
                 .collect();
             (0..v.len()).map(|i| (v[i], v[(i + 1) % v.len()])).collect()
         };
@@ -153,7 +153,7 @@ mod tests {
         let mut checked = 0;
         for c in &out.contours {
             for v in c.iter_vertexes().step_by(7) {
-                let d = dist(DVec2::new(v.x, v.y));
+                let d = dist(interop::vertex_point(&v));
                 assert!(d >= delta - 1e-6 && d <= delta + tol + 1e-6, "{d}");
                 checked += 1;
             }

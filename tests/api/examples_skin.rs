@@ -58,7 +58,7 @@ fn every_example_outline_is_free_of_crossings() {
 
 /// No two non-adjacent segments of the line contours share a point (exact predicates).
 fn assert_union_contours_do_not_cross(contours: &[skinpath::geom::Path]) {
-    use skinpath::geom::predicates::segments_intersect;
+    use skinpath::geom::segments_intersect;
     let segs: Vec<(usize, usize, skinpath::geom::DVec2, skinpath::geom::DVec2)> = contours
         .iter()
         .enumerate()

@@ -5,7 +5,7 @@
 
 use glam::DVec2;
 use serde_json::Value;
-use skinpath::geom::predicates::segments_intersect;
+use skinpath::geom::segments_intersect;
 use std::path::PathBuf;
 use std::process::Command;
 

@@ -181,7 +181,7 @@ fn random_c13_channel_the_tool_width_is_a_slot() {
                 .iter()
                 .position(|s| Some(&s.name) == cut.source.as_ref())
                 .unwrap();
-            let spine = skinpath::dbsc::flatten::flatten_spine(&strokes[k], 1e-4);
+            let spine = skinpath::dbsc::flatten_spine(&strokes[k], 1e-4);
             for m in cut.moves.iter().filter(|m| m.to.z < 0.0) {
                 let q = skinpath::geom::DVec2::new(m.to.x, m.to.y);
                 let d = spine

@@ -5,7 +5,7 @@
 //! instead, with a `disk-union` marker.
 
 use skinpath::dbsc::DiskBSpline;
-use skinpath::dbsc::flatten::flatten_disks;
+use skinpath::dbsc::flatten_disks;
 use skinpath::design::load;
 use skinpath::geom::{Circle, DVec2};
 use skinpath::job::{BuildOptions, build_toolpath};

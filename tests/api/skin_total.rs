@@ -8,7 +8,7 @@
 
 use skinpath::dbsc::DiskBSpline;
 use skinpath::design::load;
-use skinpath::geom::predicates::segments_intersect;
+use skinpath::geom::segments_intersect;
 use skinpath::geom::{Circle, DVec2};
 use skinpath::job::ItemOutline;
 use skinpath::job::{BuildOptions, build_toolpath};

@@ -8,7 +8,7 @@ use crate::support;
 
 use geo::{Area, Buffer};
 use glam::DVec2;
-use skinpath::geom::predicates::segments_intersect;
+use skinpath::geom::segments_intersect;
 use skinpath::job::{BuildOptions, build_toolpath};
 use skinpath::machine::builtin_profile;
 use skinpath::toolpath::OperationKind;

@@ -5,7 +5,7 @@
 
 use serde_json::Value as Json;
 use skinpath::geom::DVec2;
-use skinpath::geom::predicates::segments_intersect;
+use skinpath::geom::segments_intersect;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -52,13 +52,7 @@ pub(super) fn turn(a: DVec2, b: DVec2) -> f64 {
     a.angle_to(b).abs()
 }
 
-fn kp(p: DVec2) -> kurbo::Point {
-    kurbo::Point::new(p.x, p.y)
-}
-
-fn dv(p: kurbo::Point) -> DVec2 {
-    DVec2::new(p.x, p.y)
-}
+use crate::geom::interop::{from_kurbo_point as dv, kurbo_point as kp};
 
 /// Start and end tangents of a segment given by its control points (the first control
 /// point apart from the end point; zero for a degenerate segment).

@@ -440,7 +440,9 @@ pub(super) fn attribute(
     regions: &[Region],
     paths: &[Path],
 ) -> Vec<String> {
-    let boxes: Vec<Option<(DVec2, DVec2)>> = regions.iter().map(Region::bounds).collect();
+    let boxes: Vec<Option<(DVec2, DVec2)>> = (regions.iter())
+        .map(|r| r.bounds().map(Into::into))
+        .collect();
     paths
         .par_iter()
         .map(|p| {

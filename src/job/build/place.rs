@@ -51,8 +51,8 @@ pub(super) fn plan_placed(
     tol: &Tolerances,
 ) -> (Toolpath, Vec<PlanStats>) {
     let tol = tol.fit;
-    let Some((lo, hi)) = (specs.iter().filter_map(|s| s.geometry.bounds()))
-        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    let Some(crate::geom::Aabb { min: lo, max: hi }) =
+        (specs.iter().filter_map(|s| s.geometry.bounds())).reduce(crate::geom::Aabb::union)
     else {
         return plan(specs, DVec2::ZERO, tol);
     };

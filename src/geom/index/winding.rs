@@ -15,7 +15,8 @@
 //! Cost: O(n) to build for n segments (at most [`MAX_ENTRIES_PER_SEGMENT`]·n slab entries),
 //! O(1 + k) per query for the k segments listed in the point's slab, instead of O(n).
 
-use crate::geom::slabs::Slabs;
+use super::slabs::Slabs;
+use crate::geom::{Aabb, DVec2};
 use cavalier_contours::core::math::{Vector2, is_left, is_left_or_equal};
 use cavalier_contours::polyline::{PlineSource, PlineVertex, Polyline};
 
@@ -212,14 +213,15 @@ impl WindingIndex {
     /// A box outside which the polyline winds 0 times about every point (None: it winds 0
     /// times about every point; an infinite box when a coordinate is not finite): the
     /// segments' x and height ranges, arcs' extremes included, each widened by
-    /// [`RANGE_WIDENING`]. Below or above it no term is non-zero (the slabs); left or right
+    /// `RANGE_WIDENING`. Below or above it no term is non-zero (the slabs); left or right
     /// of it every term has its value for a point at infinity on that side: the chord tests
     /// `is_left` have a true cross product of at least the widening times the chord's
     /// height, far above their rounding, and a point beyond the arc's own extent is outside
     /// its circular segment; those values sum to 0 since a closed polyline crosses every
     /// height upward as often as downward.
-    pub fn bounds(&self) -> Option<([f64; 2], [f64; 2])> {
-        self.bounds
+    #[must_use]
+    pub fn bounds(&self) -> Option<Aabb> {
+        (self.bounds).map(|(lo, hi)| Aabb::new(DVec2::from_array(lo), DVec2::from_array(hi)))
     }
 
     /// The winding number of the polyline about `p`: the value cavalier_contours'
@@ -402,7 +404,7 @@ mod tests {
                 .map(|&(x, y)| (x as f64 * scale + shift.0, y as f64 * scale + shift.1))
                 .collect();
             let pl = pline(&pts, &bulges);
-            let (lo, hi) = WindingIndex::new(&pl).bounds().expect("a closed polyline");
+            let Aabb { min: lo, max: hi } = WindingIndex::new(&pl).bounds().expect("a closed polyline");
             let inside = |p: Vector2<f64>| {
                 lo[0] <= p.x && p.x <= hi[0] && lo[1] <= p.y && p.y <= hi[1]
             };

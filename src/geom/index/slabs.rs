@@ -11,8 +11,8 @@
 //! slab count starts at n and is halved until the entries fit), O(1 + k) per query for the
 //! k items listed in the slab.
 
-use super::DVec2;
-use super::predicates::edge_winding;
+use crate::geom::DVec2;
+use crate::geom::predicates::edge_winding;
 
 /// Item numbers listed by slab of height.
 #[derive(Clone, Debug)]
@@ -97,6 +97,7 @@ impl Slabs {
     }
 
     /// Number of entries (an item listed in k slabs counts k times).
+    #[cfg(test)]
     pub fn entries(&self) -> usize {
         self.entries.len()
     }
@@ -121,7 +122,7 @@ impl Slabs {
 
 /// Winding numbers of many points about one closed polygon: the sum of
 /// [`edge_winding`] over the edges listed in the point's slab, equal to
-/// [`super::predicates::winding_number`] for every point (an edge's term is non-zero only
+/// [`crate::geom::predicates::winding_number`] for every point (an edge's term is non-zero only
 /// where the point's height lies in the edge's).
 #[derive(Clone, Debug)]
 pub struct PolygonWinding<'a> {
@@ -161,7 +162,7 @@ impl<'a> PolygonWinding<'a> {
             .sum()
     }
 
-    /// Even-odd inside test ([`super::predicates::inside_even_odd`]).
+    /// Even-odd inside test ([`crate::geom::predicates::inside_even_odd`]).
     pub fn inside_even_odd(&self, p: DVec2) -> bool {
         self.winding(p) % 2 != 0
     }
