@@ -71,8 +71,8 @@
 //! | feature | default | gives | pulls in |
 //! |---|---|---|---|
 //! | `cli` | on | the `skinpath` binary | clap, anyhow, indicatif, signal-hook |
-//! | `png` | on | PNG previews | resvg, tiny-skia, usvg |
-//! | `svg-import` | on | designs read from SVG drawings | usvg, simplecss, svgtypes, kurbo |
+//! | `png` | on | PNG previews | resvg (with its usvg), tiny-skia |
+//! | `svg-import` | on | designs read from SVG drawings | usvg, roxmltree, simplecss, svgtypes, kurbo |
 //! | `parallel` | on | skins, outlines and checks on rayon's thread pool (sequential without it, same results) | rayon |
 //! | `internals` | off | `skinpath::internals`: the stages benches/ time; not a stable API | — |
 //!

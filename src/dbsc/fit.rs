@@ -60,7 +60,7 @@ pub enum DbscFitError {
 }
 
 /// Check the data disks and return their parameters from the centres (see
-/// [`fit::parameters`]: m values for open data, m + 1 for closed).
+/// `spline::fit::parameters`: m values for open data, m + 1 for closed).
 ///
 /// Consecutive disks with the same centre (cyclically for closed data) are rejected under
 /// every parametrisation: the centre curve would stall there (q′ = 0 ≤ |r′|), where a DBSC
@@ -117,7 +117,7 @@ fn checked(curve: BSpline<DVec3>) -> Result<DiskBSpline, DbscFitError> {
 impl DiskBSpline {
     /// The DBSC of degree p whose disk at t_i is the data disk i: centre Q_i and radius d_i
     /// (wu-2021 "Interpolation", parameters by eq. 16 for chord length; see
-    /// [`fit::interpolate_with_params`] for the knots and the O(m³) dense solve). The data
+    /// `spline::fit::interpolate_with_params` for the knots and the O(m³) dense solve). The data
     /// parameters t_i are [`disk_parameters`]. Open curves start at disk 0 and end at disk
     /// m − 1; closed curves (m distinct disks, the first not repeated) are C^{p−1}.
     ///
@@ -136,7 +136,7 @@ impl DiskBSpline {
 
     /// The DBSC of degree p with `n_ctrl` control disks nearest to the data disks in the
     /// least-squares sense Σ ‖(Q_i, d_i) − (q(t_i), r(t_i))‖² (wu-2021 "Approximation"; P&T
-    /// Sec. 9.4.1, see [`fit::least_squares_with_params`]). Open curves keep the end disks
+    /// Sec. 9.4.1, see `spline::fit::least_squares_with_params`). Open curves keep the end disks
     /// exactly. With n_ctrl = m it is [`DiskBSpline::interpolate`].
     ///
     /// Errors as for `interpolate`, and n_ctrl outside p + 1..=m.

@@ -43,7 +43,7 @@
 //! [`CHANNEL_CLEARANCE_MM`] and its `depth` the channel depth; holes take `diameter` =
 //! `hole_diameter` and `depth` = `board_thickness` (through the board); a backboard takes
 //! `depth` = `board_thickness`. Holes are then drilled where flex runs end, not at every
-//! stroke end (see [`crate::job::neon`]).
+//! stroke end (the neon stage of the build).
 //!
 //! Validation ([`validate`]): every length finite, > 0 and at most
 //! [`MAX_COORD`](super::MAX_COORD) (`join_tolerance` ≥ 0); `break_at` points finite; a run's
@@ -132,7 +132,7 @@ pub struct Neon {
     pub break_at: Option<Vec<[f64; 2]>>,
     /// `round_bends`: before the channel is made, replace every bend of a run tighter than
     /// `min_bend_radius` by an arc of that radius tangent to the spine before and after it
-    /// (see [`crate::job::neon`]); default false (bends tighter than the flex are warned
+    /// (the neon stage of the build); default false (bends tighter than the flex are warned
     /// about and cut as drawn).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub round_bends: Option<bool>,

@@ -67,7 +67,7 @@ impl Default for GcodeOptions {
 /// first cut of pocket N, `(skinpath:group none)` before a cut of no pocket. Moves of one
 /// pocket may cross each other (concentric rings meeting a hole); the checker
 /// judges every other crossing, and every file without the marks, strictly. Cuts of `line`
-/// operations go under `(skinpath:group 0)` ([`LINE_GROUP`]): lines of a drawing may cross
+/// operations go under `(skinpath:group 0)` (`LINE_GROUP`): lines of a drawing may cross
 /// each other, themselves and other cuts. The marks are written whether or not the profile
 /// writes comments.
 pub const GROUP_MARK: &str = "skinpath:group";

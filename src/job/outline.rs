@@ -18,8 +18,8 @@ use crate::skin::re::{self, Branch, Interp, Touch};
 use crate::skin::{SkinOptions, outline_circles};
 use crate::toolpath::region::Region;
 
-pub mod cache;
-pub mod repair;
+pub(crate) mod cache;
+pub(crate) mod repair;
 pub use repair::{SkinFallback, SkinRepair, SkinSplit};
 
 pub use crate::skin::re::outline::{ReOutline, ReOutlineError, re_offsets, sequence_touches};

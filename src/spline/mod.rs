@@ -13,10 +13,10 @@
 //!
 //! Complexity: evaluation O(p²) per point (de Boor), knot insertion O(n + p).
 
-pub mod basis;
-pub mod curve;
-pub mod fit;
-pub mod knots;
+pub(crate) mod basis;
+pub(crate) mod curve;
+pub(crate) mod fit;
+pub(crate) mod knots;
 
 pub use basis::ders_basis_funs;
 #[cfg(test)]

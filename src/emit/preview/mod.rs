@@ -296,7 +296,7 @@ impl Scene {
         }
     }
 
-    /// True when motion `i` removes material (see [`is_cutting`]).
+    /// True when motion `i` removes material (the checker's rule for a cutting move).
     pub fn is_cut(&self, i: usize) -> bool {
         self.motions
             .get(i)

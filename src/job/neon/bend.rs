@@ -84,30 +84,13 @@ pub fn span_min_radius(c: &DiskBSpline, a: f64, b: f64, param_tol: f64) -> (f64,
 }
 
 /// Golden-section search for a maximum of `f` on [a, b] to an interval of `tol`
-/// (Kiefer 1953): the interval shrinks by 1/φ per step keeping the larger inner value.
-fn golden_max(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
-    const INV_PHI: f64 = 0.618_033_988_749_894_8;
-    let mut c = b - INV_PHI * (b - a);
-    let mut d = a + INV_PHI * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
+/// (Kiefer 1953; [`crate::geom::roots::Golden`] on −f, equal values keeping the left part),
+/// the midpoint of the final bracket.
+fn golden_max(f: &impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    use crate::geom::roots::{Golden, Tie};
     // Each step shrinks the interval by 1/φ; 200 steps reach any tol from any interval.
-    for _ in 0..200 {
-        if b - a <= tol.max(0.0) {
-            break;
-        }
-        if fc >= fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - INV_PHI * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + INV_PHI * (b - a);
-            fd = f(d);
-        }
-    }
-    0.5 * (a + b)
+    const MAX_STEPS: usize = 200;
+    Golden::new(tol.max(0.0), MAX_STEPS, Tie::Left)
+        .min(|x| -f(x), a, b)
+        .mid()
 }

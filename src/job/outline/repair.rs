@@ -101,7 +101,7 @@ pub struct SkinRepair {
     /// Where the deviation is largest.
     pub deviation_at: DVec2,
     /// Which control disks to change, and how, for the stroke to skin as one piece
-    /// ([`crate::design::corners::skin_hint`]), when something stands out.
+    /// (the corner hint the design module writes for a stroke), when something stands out.
     pub hint: Option<String>,
 }
 

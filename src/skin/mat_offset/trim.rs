@@ -16,6 +16,7 @@
 //! a contour that pinches off splits into several.
 
 use super::{LoopCut, MatOffset, MatOffsetError, OffsetContour, Piece};
+use crate::geom::roots::{Golden, GoldenBracket, Tie};
 use crate::geom::{Arc, DVec2};
 use crate::skin::re::{Branch, ReSkin};
 
@@ -83,30 +84,14 @@ pub fn region_distance(skin: &ReSkin, p: DVec2) -> Option<f64> {
             }
             // A local minimum among the samples: refine in the neighbouring intervals.
             let h = 1.0 / DIST_SAMPLES as f64;
-            let mut a = (k as f64 * h - h).max(0.0);
-            let mut b = (k as f64 * h + h).min(1.0);
-            let phi = 0.5 * (5f64.sqrt() - 1.0);
-            let mut c = b - phi * (b - a);
-            let mut d = a + phi * (b - a);
-            let (mut gc, mut gd) = (g(c)?, g(d)?);
-            for _ in 0..GOLDEN_ITERS {
-                if gc < gd {
-                    b = d;
-                    d = c;
-                    gd = gc;
-                    c = b - phi * (b - a);
-                    gc = g(c)?;
-                } else {
-                    a = c;
-                    c = d;
-                    gc = gd;
-                    d = a + phi * (b - a);
-                    gd = g(d)?;
-                }
-                if b - a < PARAM_RESOLUTION {
-                    break;
-                }
-            }
+            let a = (k as f64 * h - h).max(0.0);
+            let b = (k as f64 * h + h).min(1.0);
+            // Stops once the bracket is narrower than PARAM_RESOLUTION (the bracket starts at
+            // least h wide); (√5 − 1)/2 as evaluated in f64 is the ratio these results use.
+            let golden = Golden::new(PARAM_RESOLUTION.next_down(), GOLDEN_ITERS, Tie::Right)
+                .with_ratio(0.5 * (5f64.sqrt() - 1.0));
+            let GoldenBracket { fc: gc, fd: gd, .. } =
+                golden.min_with(|t| g(t).ok_or(()), a, b).ok()?;
             best = best.min(vals[k]).min(gc).min(gd);
         }
     }
