@@ -342,12 +342,6 @@ fn inner_contours_precede_enclosing_ones_on_every_example() {
                 }
             }
         }
-        for s in &b.stats {
-            println!(
-                "travel {ex:12} {:24} input {:10.1} ordered {:10.1}",
-                s.operation, s.order.travel_input, s.order.travel_ordered
-            );
-        }
     }
 }
 
