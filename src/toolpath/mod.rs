@@ -2,6 +2,12 @@
 //!
 //! This stage turns outlines into ordered cuts (profiles, channels, backboards, holes,
 //! fills, V-carving); `emit` turns them into a machine's dialect.
+//!
+//! The public front is the model an embedder reads from a build or writes for an emitter
+//! ([`Toolpath`], [`Operation`], [`Cut`], [`Move`] and their kinds), its summary figures
+//! ([`ToolpathStats`]) and the two limits a build reports or documents
+//! ([`MAX_HATCH_LINES`], [`MAX_NEAREST_PATHS`]). The operations themselves (offsets,
+//! hatching, ordering, planning) are reached through `job`.
 
 pub(crate) mod arc_merge;
 pub(crate) mod attrs;
