@@ -13,7 +13,7 @@ use geo::Buffer;
 use skinpath::geom::{DVec2, Line, Path};
 use skinpath::internals::{
     ProfileSide, Region, concentric, design_outlines, flatten_pline, hatch, order_paths,
-    pline_from_points, polyline_path, profile,
+    pline_from_points, profile,
 };
 use std::hint::black_box;
 
@@ -230,7 +230,7 @@ fn bench_hatch_and_order(c: &mut Criterion) {
     let squares: Vec<Path> = (0..400)
         .map(|i| {
             let c = DVec2::new((i * 37 % 200) as f64, (i * 91 % 200) as f64);
-            polyline_path(
+            Path::polyline(
                 &[
                     c,
                     c + DVec2::new(3.0, 0.0),

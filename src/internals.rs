@@ -18,9 +18,7 @@ pub use crate::sim::ngc::{Line as NgcLine, Syntax, parse_line_into};
 pub use crate::skin::dbsc_skin::{DbscSkinOptions, ReportBounds, skin_dbsc};
 pub use crate::skin::mat_offset::{MatOffset, inner_offset, outline};
 pub use crate::skin::re::{Interp, ReSkin, Touch};
-pub use crate::toolpath::ops::{
-    ProfileSide, concentric, hatch, polyline_path, profile, swept_region,
-};
+pub use crate::toolpath::ops::{ProfileSide, concentric, hatch, profile, swept_region};
 pub use crate::toolpath::order::order_paths;
 pub use crate::toolpath::re_route::biarc_paths;
 pub use crate::toolpath::region::{Region, flatten_pline, pline_from_path, pline_from_points};

@@ -433,7 +433,7 @@ pub struct MountingHoles {
     pub diameter: f64,
     /// `mounting_holes.inset`: distance of each hole's centre from the board's edge,
     /// design units, in (0, [`MAX_COORD`](super::MAX_COORD)]; default
-    /// [`MOUNTING_INSET_MM`](crate::toolpath::board::MOUNTING_INSET_MM) (8 mm).
+    /// 8 mm (`toolpath::board::MOUNTING_INSET_MM`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inset: Option<f64>,
 }
@@ -518,7 +518,7 @@ pub struct Operation {
     /// `bridge_width` (backboard only): smallest width of the bridges that join the
     /// board's pieces (words and letters that lie apart) into one board, design units, ≥ 0
     /// and at most [`MAX_COORD`](super::MAX_COORD); default
-    /// [`BRIDGE_WIDTH_MM`](crate::toolpath::board::BRIDGE_WIDTH_MM) (10 mm); 0 leaves the
+    /// 10 mm (`toolpath::board::BRIDGE_WIDTH_MM`); 0 leaves the
     /// pieces apart.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bridge_width: Option<f64>,
@@ -530,7 +530,7 @@ pub struct Operation {
     /// design units, ≥ 0 and at most [`MAX_COORD`](super::MAX_COORD); unset or 0: the
     /// corners the margin gives (arcs of the margin's radius). Where a corner this round
     /// does not fit within the margin, the board grows there (never into the margin);
-    /// see [`crate::toolpath::board::rounded`].
+    /// see `toolpath::board::rounded`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corner_radius: Option<f64>,
     // holes
@@ -581,7 +581,7 @@ pub struct Operation {
     /// `"inner"`: the visible boundaries between the selected items' differently coloured
     /// areas inside their union, each cut once (where one ink meets another, or a later
     /// item lies on an earlier one), and not their outer boundary, which a profile of the
-    /// same items cuts ([`crate::toolpath::inks`]).
+    /// same items cuts (`toolpath::inks`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub boundaries: Option<LineBoundaries>,
 }

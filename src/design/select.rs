@@ -168,7 +168,7 @@ pub fn stroke_default_kind(s: &super::model::Stroke, hairline: f64) -> Operation
 /// `boundaries = "inner"` and the same selector follows the profile: the visible
 /// boundaries between differently coloured areas inside the union (a logo's inner star
 /// where gold meets black) are cut once each along the boundary
-/// ([`crate::toolpath::inks`]); the profile cuts the union's outside and holes.
+/// (`toolpath::inks`); the profile cuts the union's outside and holes.
 /// Groups come in order of first appearance; each is one operation selecting exactly its
 /// items: by `layers = [...]` when the group is every item of those layers, else by
 /// `colors = [...]` when it is every item of those colours, else by `strokes = [...]` (no

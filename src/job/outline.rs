@@ -76,7 +76,7 @@ pub struct ItemOutline {
     pub self_overlap: bool,
     /// Where the skin outline left part of the stroke outside (by more than ε plus the
     /// flattening): the deepest-reaching disk. `contours` are then the union of the
-    /// stroke's disks ([`crate::toolpath::ops::swept_disks`]), flattened within the
+    /// stroke's disks (`toolpath::ops::swept_disks`), flattened within the
     /// outline tolerance, instead of the skin.
     pub disk_union: Option<Uncovered>,
     /// What was done where the stroke could not be skinned as one piece: splits, pieces

@@ -26,8 +26,6 @@ pub enum Lead {
     None,
     /// A quarter arc of the given radius tangent to the contour, on the waste side.
     Arc(f64),
-    /// A straight line of the given length along the normal, on the waste side.
-    Line(f64),
 }
 
 /// Parameters of one cut.
@@ -149,14 +147,6 @@ fn lead_geometry(
 ) -> (DVec2, Option<PathSeg>, Option<PathSeg>) {
     match lead {
         Lead::None => (start, None, None),
-        Lead::Line(l) => {
-            let e = start + side * l * perp(t0);
-            (
-                e,
-                Some(PathSeg::Line(Line::new(e, start))),
-                Some(PathSeg::Line(Line::new(end, end + side * l * perp(t1)))),
-            )
-        }
         Lead::Arc(r) => {
             // Centres on the waste side at distance r: a quarter turn tangent to the contour.
             let c = start + side * r * perp(t0);
@@ -365,6 +355,7 @@ fn smooth_start(path: &Path, min_len: f64) -> Option<Path> {
 /// contour start with the plunge feed, runs the contour (lifting to the tab top over tab
 /// spans when the level is below it), and the last level runs the lead-out. Open paths are
 /// run back and forth (even passes reversed) so the tool never travels without cutting.
+#[cfg(test)]
 pub fn contour_cut(path: &Path, opts: &CutOptions, source: Option<String>) -> Option<Cut> {
     contour_cut_leads(path, &[], opts, source).map(|(c, _)| c)
 }
@@ -381,7 +372,6 @@ pub fn contour_cut_leads(
     let lead_size = match opts.lead {
         Lead::None => None,
         Lead::Arc(r) => Some(r),
-        Lead::Line(l) => Some(l),
     };
     let smoothed = lead_size.and_then(|size| smooth_start(path, lead_start_segment(size)));
     let path = smoothed.as_ref().unwrap_or(path);
@@ -413,7 +403,6 @@ pub fn contour_cut_leads(
         }
         lead = match lead {
             Lead::Arc(r) => Lead::Arc(r / 2.0),
-            Lead::Line(l) => Lead::Line(l / 2.0),
             Lead::None => Lead::None,
         };
         leads = lead_geometry(lead, side, start, t0, end, t1);

@@ -103,6 +103,7 @@ pub struct Toolpath {
 
 impl Toolpath {
     /// The same toolpath moved by `d` in the plane (arc centres move along).
+    #[must_use]
     pub fn translated(&self, d: DVec2) -> Toolpath {
         self.mapped_xy(|p| p + d)
     }
@@ -110,6 +111,7 @@ impl Toolpath {
     /// The toolpath with every point's x and y (move ends, cut starts, arc centres) mapped
     /// by `f`; z, feeds and the rest unchanged. `f` must keep distances (a translation, or
     /// one followed by a rounding far below the tolerances) for the arcs to stay arcs.
+    #[must_use]
     pub fn mapped_xy(&self, f: impl Fn(DVec2) -> DVec2) -> Toolpath {
         let f3 = |p: DVec3| f(p.truncate()).extend(p.z);
         Toolpath {

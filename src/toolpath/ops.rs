@@ -68,8 +68,8 @@ pub fn holes(points: &[DVec2], diameter: f64, tool_radius: f64) -> Vec<Hole> {
 /// Largest number of hatch lines of one fill direction: 20 000 lines are 400 mm of
 /// material at 0.02 mm (photo engraving on a large laser bed), so a count beyond it is a
 /// mistaken spacing (0.0001 mm), not work; the build's check of the lines' crossings
-/// grows with their number (40 000 lines 0.002 mm apart took 17 s, December 2026, 2
-/// cores). A fill is refused before any line is made ([`hatch_line_count`]).
+/// grows with their number. A fill is refused before any line is made, with an error
+/// naming the operation, its spacing and this limit.
 pub const MAX_HATCH_LINES: usize = 20_000;
 
 /// Largest number of concentric rings of one fill: a fill whose bound ([`ring_count_bound`])
@@ -409,24 +409,10 @@ pub fn vcarve_depth(r: f64, angle: f64, max_depth: f64) -> f64 {
     -(r / (angle / 2.0).tan()).min(max_depth)
 }
 
-/// Points of a spine with half-widths, as one open path at varying depth for a V-bit:
-/// (xy, z) per point.
-pub fn vcarve_spine(spine: &[(DVec2, f64)], angle: f64, max_depth: f64) -> Vec<glam::DVec3> {
-    spine
-        .iter()
-        .map(|&(p, r)| glam::DVec3::new(p.x, p.y, vcarve_depth(r, angle, max_depth)))
-        .collect()
-}
-
 /// The part of an outline deeper than a V-bit's cap: points farther than
 /// max_depth·tan(θ/2) from the boundary, cleared flat at the cap.
 pub fn vcarve_flat_region(outline: &Region, angle: f64, max_depth: f64, eps: f64) -> Region {
     outline.offset(-max_depth * (angle / 2.0).tan(), eps)
-}
-
-/// An open polyline path through points.
-pub fn polyline_path(points: &[DVec2], closed: bool) -> Path {
-    Path::polyline(points, closed)
 }
 
 #[cfg(test)]

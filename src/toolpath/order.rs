@@ -39,7 +39,7 @@ const MAX_2OPT_WORK: usize = 200_000_000;
 /// see every pair as before.
 pub const MAX_2OPT_BLOCK: usize = 1_000;
 
-/// Most paths whose nearest-neighbour order is improved by 2-opt ([`order_paths`]); more
+/// Most paths of one operation whose nearest-neighbour order is improved by 2-opt; more
 /// are ordered by nearest neighbour alone (a 2-opt sweep is O(n²)).
 pub const MAX_NEAREST_PATHS: usize = 5_000;
 

@@ -18,8 +18,6 @@ pub enum Geometry {
     Paths(Vec<Path>),
     /// Points to drill (routers: plunge, peck) or pierce (lasers: dwell).
     Points(Vec<DVec2>),
-    /// Polylines with their own z (V-carving), cut in one pass each.
-    Polylines3(Vec<Vec<DVec3>>),
     /// Polylines with their own z and, per point, their own feed and power (a stroke's
     /// attribute curves sampled along its spine), cut in one pass each.
     AttrPolylines3(Vec<AttrPolyline>),
@@ -37,9 +35,6 @@ impl Geometry {
             Geometry::Paths(paths) => (paths.iter().flat_map(|p| &p.segs))
                 .fold(Aabb::EMPTY, |b, s| b.union(s.bounding_box())),
             Geometry::Points(points) => Aabb::from_points(points),
-            Geometry::Polylines3(lines) => {
-                (lines.iter().flatten()).fold(Aabb::EMPTY, |b, p| b.add_point(p.truncate()))
-            }
             Geometry::AttrPolylines3(lines) => (lines.iter().flat_map(|l| &l.points))
                 .fold(Aabb::EMPTY, |b, p| b.add_point(p.truncate())),
         };
@@ -212,14 +207,6 @@ pub fn plan(specs: &[OpSpec], home: DVec2, tol: f64) -> (Toolpath, Vec<PlanStats
                     },
                 });
             }
-            Geometry::Polylines3(lines) => {
-                for (i, l) in lines.iter().enumerate() {
-                    if let Some(mut c) = polyline3_cut(l, spec, source_of(i)) {
-                        c.group = group_of(i);
-                        cuts.push(c);
-                    }
-                }
-            }
             Geometry::AttrPolylines3(lines) => {
                 for (i, l) in lines.iter().enumerate() {
                     if let Some(mut c) = attr_polyline3_cut(l, spec, source_of(i)) {
@@ -281,31 +268,6 @@ fn drill_cut(p: DVec2, spec: &OpSpec, source: Option<String>) -> Cut {
         start: DVec3::new(p.x, p.y, 0.0),
         moves,
     }
-}
-
-/// A polyline with its own z per point, in one pass.
-fn polyline3_cut(l: &[DVec3], spec: &OpSpec, source: Option<String>) -> Option<Cut> {
-    let first = *l.first()?;
-    let mut moves = vec![Move {
-        kind: MoveKind::Line,
-        to: first,
-        feed: spec.plunge_feed,
-        power: spec.power,
-    }];
-    for &p in &l[1..] {
-        moves.push(Move {
-            kind: MoveKind::Line,
-            to: p,
-            feed: spec.feed,
-            power: spec.power,
-        });
-    }
-    Some(Cut {
-        source,
-        group: None,
-        start: DVec3::new(first.x, first.y, 0.0),
-        moves,
-    })
 }
 
 /// A polyline with its own z, feed and power per point, in one pass.

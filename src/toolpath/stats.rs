@@ -6,6 +6,7 @@ use glam::{DVec2, DVec3};
 
 /// Summary figures of a toolpath (design units; time in seconds).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[non_exhaustive]
 pub struct ToolpathStats {
     /// Number of operations.
     pub operations: usize,
@@ -25,6 +26,7 @@ pub struct ToolpathStats {
 
 /// Length of a move from `from`: arcs by radius × sweep (with the helix's z), lines by
 /// distance, dwells zero.
+#[must_use]
 pub fn move_length(from: DVec3, kind: &MoveKind, to: DVec3) -> f64 {
     match kind {
         MoveKind::Line | MoveKind::Rapid => from.distance(to),
@@ -39,6 +41,7 @@ pub fn move_length(from: DVec3, kind: &MoveKind, to: DVec3) -> f64 {
 impl Toolpath {
     /// Summary figures; `home` is where the tool starts. The bounding box is exact: arcs
     /// count with their axis-extreme points.
+    #[must_use]
     pub fn stats(&self, home: DVec2) -> ToolpathStats {
         let mut s = ToolpathStats {
             operations: self.operations.len(),

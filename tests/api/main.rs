@@ -30,5 +30,3 @@ mod spine_only;
 mod svg_real_fidelity;
 mod text_fonts;
 mod text_glyphs;
-mod toolpath_cuts;
-mod toolpath_props;

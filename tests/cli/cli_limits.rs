@@ -288,7 +288,7 @@ fn work_area_is_checked_before_the_build() {
 /// within the limit builds and checks clean.
 #[test]
 fn fill_line_count_is_limited() {
-    use skinpath::toolpath::ops::MAX_HATCH_LINES;
+    use skinpath::toolpath::MAX_HATCH_LINES;
     let dir = tmpdir("fill");
     let design = fill_design(&dir, 1e-4);
     let (code, err) = run(
@@ -326,7 +326,7 @@ fn fill_line_count_is_limited() {
     assert_eq!(code, Some(0), "{err}");
     let program = std::fs::read_to_string(dir.join("f.gcode")).unwrap();
     let cuts = program.lines().filter(|l| l.starts_with("G1 X")).count();
-    let nearest = skinpath::toolpath::order::MAX_NEAREST_PATHS;
+    let nearest = skinpath::toolpath::MAX_NEAREST_PATHS;
     assert!(cuts > nearest && cuts <= 6_000, "{cuts}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -443,7 +443,7 @@ fn unwritable_stderr_does_not_stop_import_or_build() {
 
 /// Item 17: a 9,999-point star (spikes 0.02 mm apart, far narrower than the 3.175 mm bit)
 /// builds on the router and its program checks clean; its valleys are closed before the
-/// outside offset ([`skinpath::toolpath::valleys`]), which took minutes and a gigabyte.
+/// outside offset (`toolpath::valleys`), which took minutes and a gigabyte.
 #[test]
 fn star_of_many_points_builds_on_the_router() {
     let dir = tmpdir("star");

@@ -75,15 +75,6 @@ pub(super) fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
                     inputs.push((Print::Swept(vec![q, q + DVec2::X * eps]), r));
                 }
             }
-            Geometry::Polylines3(lines) => {
-                for (k, l) in lines.iter().enumerate() {
-                    let pts: Vec<DVec2> = l.iter().map(|p| p.truncate()).collect();
-                    if let Some(&q) = pts.first() {
-                        reps.push((si, k, q));
-                        inputs.push((Print::Swept(pts), r));
-                    }
-                }
-            }
             Geometry::AttrPolylines3(lines) => {
                 for (k, l) in lines.iter().enumerate() {
                     let pts: Vec<DVec2> = l.points.iter().map(|p| p.truncate()).collect();
@@ -165,7 +156,6 @@ pub(super) fn assign_pockets(ctx: &Ctx, specs: &mut [OpSpec]) {
         let n = match &s.geometry {
             Geometry::Paths(p) => p.len(),
             Geometry::Points(p) => p.len(),
-            Geometry::Polylines3(l) => l.len(),
             Geometry::AttrPolylines3(l) => l.len(),
         };
         if s.groups.len() != n {

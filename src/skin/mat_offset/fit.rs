@@ -2,19 +2,27 @@
 //! Sec. 4: the exact offsets y + (r ± δ) m± of eq. 13 handed to G-code as G1/G2/G3), and
 //! flattening them to polylines.
 
-use super::{MatOffset, MatOffsetError, Piece, check_tolerance};
-use crate::geom::{Arc, CubicBez, DVec2, Line, Path, PathSeg};
+use super::{MatOffset, Piece};
+use crate::geom::{Arc, PathSeg};
 use crate::skin::re::Branch;
+#[cfg(any(test, feature = "internals"))]
+use {
+    super::{MatOffsetError, check_tolerance},
+    crate::geom::{CubicBez, DVec2, Line, Path},
+};
 
 /// Three points are collinear (a line, not an arc) when |(p₀ − p_m) × (p₁ − p_m)| is at most
 /// this fraction of the chord²: a sagitta far below any tolerance.
+#[cfg(any(test, feature = "internals"))]
 const COLLINEAR_REL: f64 = 1e-12;
 
 /// Samples at which a fitted piece is compared with the exact curve (interior points
 /// k/CHECK_SAMPLES): the tolerance is verified there, not proved between them.
+#[cfg(any(test, feature = "internals"))]
 const CHECK_SAMPLES: usize = 16;
 
 /// How a piece of exact curve is approximated.
+#[cfg(any(test, feature = "internals"))]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum FitKind {
     Line,
@@ -24,6 +32,7 @@ enum FitKind {
 
 /// The circular arc through `p0`, `pm`, `p1` (a line when they are collinear to within
 /// `eps` relative to the chord).
+#[cfg(any(test, feature = "internals"))]
 fn arc3(p0: DVec2, pm: DVec2, p1: DVec2) -> PathSeg {
     let a = pm - p0;
     let b = p1 - pm;
@@ -42,17 +51,20 @@ fn arc3(p0: DVec2, pm: DVec2, p1: DVec2) -> PathSeg {
     PathSeg::Arc(Arc::from_center_points(center, p0, p1, cr > 0.0))
 }
 /// Deepest bisection of a piece when fitting.
+#[cfg(any(test, feature = "internals"))]
 const MAX_FIT_DEPTH: u32 = 30;
 
 impl MatOffset {
     /// The contours as paths of cubic Béziers (Hermite fits of the exact curve, bisected
     /// until the parametric distance at CHECK_SAMPLES interior points is ≤ `tol`) and true
     /// arcs for caps.
+    #[cfg(any(test, feature = "internals"))]
     pub fn to_cubic_paths(&self, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
         self.to_paths(tol, FitKind::Cubic)
     }
 
     /// The contours as paths of line segments within `tol` (same test) and true arcs.
+    #[cfg(any(test, feature = "internals"))]
     pub fn to_line_paths(&self, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
         self.to_paths(tol, FitKind::Line)
     }
@@ -61,12 +73,14 @@ impl MatOffset {
     /// of each piece, bisected until the distance of CHECK_SAMPLES interior points of the
     /// exact curve to the arc is ≤ `tol`) and the true cap arcs: ready for G2/G3 and for
     /// arc-and-line offsetting.
+    #[cfg(any(test, feature = "internals"))]
     pub fn to_arc_paths(&self, tol: f64) -> Result<Vec<Path>, MatOffsetError> {
         self.to_paths(tol, FitKind::Arc)
     }
 
     /// `tol` must be positive and finite ([`MatOffsetError::BadTolerance`]): at 0 or NaN
     /// every piece would be bisected to depth MAX_FIT_DEPTH, 2³⁰ pieces each.
+    #[cfg(any(test, feature = "internals"))]
     fn to_paths(&self, tol: f64, kind: FitKind) -> Result<Vec<Path>, MatOffsetError> {
         check_tolerance(tol)?;
         Ok(self
@@ -115,6 +129,7 @@ impl MatOffset {
     }
 
     #[allow(clippy::too_many_arguments)]
+    #[cfg(any(test, feature = "internals"))]
     fn fit(
         &self,
         s: usize,

@@ -4,18 +4,16 @@
 //! against `Region::contains`, concentric rings against exact segment predicates, V-carve
 //! depths against r·cot(θ/2), and ordering against containment of the traced cuts.
 
-use crate::support;
-
+use super::*;
+use crate::geom::segments_intersect;
+use crate::job::{BuildOptions, build_toolpath};
+use crate::machine::builtin_profile;
+use crate::toolpath::OperationKind;
+use crate::toolpath::ops::{ProfileSide, concentric, hatch, profile};
+use crate::toolpath::region::Region;
 use geo::{Area, Buffer};
 use glam::DVec2;
-use skinpath::geom::segments_intersect;
-use skinpath::job::{BuildOptions, build_toolpath};
-use skinpath::machine::builtin_profile;
-use skinpath::toolpath::OperationKind;
-use skinpath::toolpath::ops::{ProfileSide, concentric, hatch, profile};
-use skinpath::toolpath::region::Region;
 use std::f64::consts::PI;
-use support::toolpath::*;
 
 /// Arc fitting tolerance of the regions.
 const TOL: f64 = 1e-2;
@@ -143,12 +141,12 @@ fn hatch_lines_lie_inside_and_alternate() {
 #[test]
 fn cross_hatch_adds_the_perpendicular_set() {
     let laser = builtin_profile("grbl-laser").unwrap();
-    let mut d = support::example("brush");
+    let mut d = super::example("brush");
     d.operation
-        .retain(|o| o.kind == skinpath::design::OperationKind::Fill);
+        .retain(|o| o.kind == crate::design::OperationKind::Fill);
     d.operation[0].spacing = Some(1.0);
     let angle = d.operation[0].angle.unwrap_or(0.0).to_radians();
-    let count = |d: &skinpath::design::Design| {
+    let count = |d: &crate::design::Design| {
         let b = build_toolpath(d, &laser, &BuildOptions::default()).unwrap();
         let op = &b.toolpath.operations[0];
         assert_eq!(op.kind, OperationKind::Fill);
@@ -245,12 +243,12 @@ fn concentric_rings_never_cross_and_nest() {
 #[test]
 fn vcarve_depth_follows_the_radius_below_the_cap() {
     let router = builtin_profile("grbl-router").unwrap();
-    let d = support::example("calligraphy");
+    let d = super::example("calligraphy");
     let strokes = d.strokes().unwrap();
     let op = d
         .operation
         .iter()
-        .find(|o| o.kind == skinpath::design::OperationKind::Vcarve)
+        .find(|o| o.kind == crate::design::OperationKind::Vcarve)
         .unwrap();
     let theta = op.angle.unwrap().to_radians();
     let cap = op.max_depth.unwrap();
@@ -292,8 +290,8 @@ fn vcarve_depth_follows_the_radius_below_the_cap() {
 
 /// Builds an example with a router (falls back to the laser when the design's operations
 /// have no depths).
-fn build_example(name: &str) -> skinpath::job::BuildResult {
-    let d = support::example(name);
+fn build_example(name: &str) -> crate::job::BuildResult {
+    let d = super::example(name);
     let router = builtin_profile("grbl-router").unwrap();
     let laser = builtin_profile("grbl-laser").unwrap();
     build_toolpath(&d, &router, &BuildOptions::default())
@@ -343,12 +341,6 @@ fn inner_contours_precede_enclosing_ones_on_every_example() {
                     }
                 }
             }
-        }
-        for s in &b.stats {
-            println!(
-                "travel {ex:12} {:24} input {:10.1} ordered {:10.1}",
-                s.operation, s.order.travel_input, s.order.travel_ordered
-            );
         }
     }
 }

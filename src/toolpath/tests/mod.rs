@@ -1,20 +1,36 @@
-//! Shared helpers of the toolpath integration tests: example loading, region transforms,
-//! exact point-to-polyline distances, and cut tracing.
-#![allow(dead_code)]
+//! Tests of the toolpath operations on the shipped examples and on built regions: cuts as
+//! configured ([`cuts`]), geometric properties against independent computations
+//! ([`props`]), backboard bridges ([`board`]) and clearing rings of dense channels
+//! ([`channels`]). The helpers here are what they share:
+//! example loading, region transforms, exact point-to-polyline distances, and cut tracing.
 
+mod board;
+mod channels;
+mod cuts;
+mod props;
+
+use crate::design::Design;
+use crate::geom::interop::flatten_pline;
+use crate::geom::{Arc, Line};
+use crate::job::{ItemOutline, OutlineOptions, design_outlines};
+use crate::toolpath::region::Region;
+use crate::toolpath::{Cut, MoveKind};
 use cavalier_contours::polyline::{PlineCreation, PlineSource, PlineSourceMut, Polyline};
 use glam::{DVec2, DVec3};
-use skinpath::geom::{Arc, Line};
-use skinpath::job::{ItemOutline, OutlineOptions, design_outlines};
-use skinpath::toolpath::region::Region;
-use skinpath::toolpath::{Cut, MoveKind};
 
 /// The examples every property is rerun on.
 pub const EXAMPLES: [&str; 5] = ["brush", "ring_o", "neon_word", "calligraphy", "circles"];
 
+/// The shipped example examples/`name`.toml, loaded.
+pub fn example(name: &str) -> Design {
+    let path = format!("{}/examples/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    crate::design::load(&text, &path).unwrap()
+}
+
 /// Outlines of an example at the default build tolerances.
 pub fn outlines(name: &str) -> Vec<ItemOutline> {
-    design_outlines(&super::example(name), &OutlineOptions::default()).unwrap()
+    design_outlines(&example(name), &OutlineOptions::default()).unwrap()
 }
 
 /// Regions of every item of an example, biarc-fitted within `tol`.
@@ -61,10 +77,7 @@ pub fn rings_distance(rings: &[Vec<DVec2>], p: DVec2) -> f64 {
 
 /// Region contours flattened within `tol`.
 pub fn flat_rings(r: &Region, tol: f64) -> Vec<Vec<DVec2>> {
-    r.contours
-        .iter()
-        .map(|c| skinpath::toolpath::region::flatten_pline(c, tol))
-        .collect()
+    r.contours.iter().map(|c| flatten_pline(c, tol)).collect()
 }
 
 /// Even–odd point in polygon.

@@ -2,18 +2,16 @@
 //! attributes (power, feed, depth) reach the V-carve moves, checked against an independent
 //! Cox–de Boor evaluation of the attribute B-spline.
 
-use crate::support;
-
+use super::*;
+use crate::design::{Operation, OperationKind as DKind};
+use crate::geom::Path;
+use crate::job::{BuildOptions, build_toolpath};
+use crate::machine::builtin_profile;
+use crate::toolpath::cut::{Lead, Tabs};
+use crate::toolpath::ops::{ProfileSide, profile};
+use crate::toolpath::plan::{Geometry, OpSpec, plan};
+use crate::toolpath::{Cut, MoveKind, OperationKind};
 use glam::{DVec2, DVec3};
-use skinpath::design::{Operation, OperationKind as DKind};
-use skinpath::geom::Path;
-use skinpath::job::{BuildOptions, build_toolpath};
-use skinpath::machine::builtin_profile;
-use skinpath::toolpath::cut::{Lead, Tabs};
-use skinpath::toolpath::ops::{ProfileSide, profile};
-use skinpath::toolpath::plan::{Geometry, OpSpec, plan};
-use skinpath::toolpath::{Cut, MoveKind, OperationKind};
-use support::toolpath::*;
 
 fn square(c: DVec2, s: f64) -> Path {
     let corner = |x: f64, y: f64| c + DVec2::new(x * s, y * s);
@@ -150,7 +148,7 @@ fn tabs_lift_only_on_deep_passes_over_tab_spans() {
 
 #[test]
 fn lead_in_only_as_the_first_cutting_move() {
-    for lead in [Lead::Arc(2.0), Lead::Line(1.5)] {
+    for lead in [Lead::Arc(2.0)] {
         let (mut with_lead, mut dropped) = (0, 0);
         let paths = contours();
         for cut in cut_of(spec(paths.clone(), None, lead)) {
@@ -176,7 +174,7 @@ fn lead_in_only_as_the_first_cutting_move() {
             // The entry is off the contour, the lead-in (move 1) lands on it.
             assert!(d(cut.moves[1].to) < 1e-6);
             match (lead, cut.moves[1].kind) {
-                (Lead::Arc(_), MoveKind::Arc { .. }) | (Lead::Line(_), MoveKind::Line) => {}
+                (Lead::Arc(_), MoveKind::Arc { .. }) => {}
                 other => panic!("lead-in of the wrong kind: {other:?}"),
             }
             // Every move between the lead-in and the lead-out stays on the contour.
@@ -263,7 +261,7 @@ fn vcarve_op(angle: f64, max_depth: f64) -> Operation {
 
 #[test]
 fn attributes_reach_the_vcarve_moves() {
-    let mut d = support::example("brush");
+    let mut d = super::example("brush");
     let strokes = d.strokes().unwrap();
     let c = &strokes[0];
     let knots = c.curve().knots().to_vec();
@@ -322,7 +320,7 @@ fn attributes_reach_the_vcarve_moves() {
         }
     }
     // Without attributes the V-carve falls back to the operation's power and feed.
-    let mut plain = support::example("brush");
+    let mut plain = super::example("brush");
     plain.stroke[0].attributes = Default::default();
     plain.operation = vec![vcarve_op(60.0, cap)];
     let prof = builtin_profile("grbl-laser").unwrap();
