@@ -4,7 +4,7 @@
 //! `machine::tests`).
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use skinpath::internals::{format_number, format_number_std};
+use skinpath::machine::{format_number, format_number_std};
 use std::hint::black_box;
 
 /// Coordinates of a 300 × 200 mm job, the kind `build` writes.

@@ -7,10 +7,10 @@
 
 use cavalier_contours::polyline::{PlineOffsetOptions, PlineSource, PlineSourceMut, Polyline};
 use criterion::Criterion;
+use skinpath::geom::polygon_area;
 use skinpath::geom::{Circle, DVec2, Path, PathSeg};
-use skinpath::internals::{
-    Interp, MatOffset, ReSkin, Touch, biarc_paths, inner_offset, outline, polygon_area,
-};
+use skinpath::internals::{MatOffset, biarc_paths, inner_offset, outline};
+use skinpath::skin::{Interp, ReSkin, Touch};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -329,7 +329,7 @@ fn main() {
 fn routes_on_examples() {
     use skinpath::BuildOptions;
     use skinpath::design::OutlineMethod;
-    use skinpath::internals::build_toolpath;
+    use skinpath::job::build_toolpath;
     let examples = [
         ("ring_o", "grbl-router"),
         ("circles", "grbl-router"),

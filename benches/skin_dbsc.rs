@@ -15,7 +15,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rayon::prelude::*;
 use skinpath::dbsc::{DiskBSpline, find_loops};
 use skinpath::geom::{Circle, DVec2};
-use skinpath::internals::{DbscSkinOptions, ReportBounds, skin_dbsc};
+use skinpath::skin::{DbscSkinOptions, ReportBounds, skin_dbsc};
 use std::hint::black_box;
 
 fn open(d: &[(f64, f64, f64)]) -> DiskBSpline {

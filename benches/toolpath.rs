@@ -12,9 +12,9 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use geo::Buffer;
 use skinpath::geom::{DVec2, Line, Path};
 use skinpath::internals::{
-    ProfileSide, Region, concentric, design_outlines, flatten_pline, hatch, order_paths,
-    pline_from_points, profile,
+    ProfileSide, Region, concentric, flatten_pline, hatch, order_paths, pline_from_points, profile,
 };
+use skinpath::job::design_outlines;
 use std::hint::black_box;
 
 /// A wavy closed outline with `n` vertices (a flower of radius 40 ± 8 mm).
@@ -86,7 +86,7 @@ fn bench_offsets(c: &mut Criterion) {
 fn bench_winding(c: &mut Criterion) {
     use cavalier_contours::core::math::Vector2;
     use cavalier_contours::polyline::{PlineSource, Polyline};
-    use skinpath::internals::WindingIndex;
+    use skinpath::geom::WindingIndex;
     let mut g = c.benchmark_group("winding_of_offset_vertices");
     for &n in &[100usize, 1000, 10_000] {
         let region = Region::from_contours(vec![pline_from_points(&flower(n), true)]);
@@ -128,7 +128,7 @@ fn example_regions() -> Vec<(String, Region)> {
         let Ok(design) = skinpath::design::load(&text, &file) else {
             continue;
         };
-        let opts = skinpath::internals::OutlineOptions::default();
+        let opts = skinpath::job::OutlineOptions::default();
         let Ok(items) = design_outlines(&design, &opts) else {
             continue;
         };
@@ -254,7 +254,8 @@ fn bench_hatch_and_order(c: &mut Criterion) {
 fn bench_channel_region(c: &mut Criterion) {
     use cavalier_contours::polyline::PlineSource;
     use skinpath::dbsc::flatten_spine;
-    use skinpath::internals::{pline_from_path, spine_cubics, swept_arc_region, swept_region};
+    use skinpath::dbsc::spine_cubics;
+    use skinpath::internals::{pline_from_path, swept_arc_region, swept_region};
     let file = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/neon_word.toml");
     let text = std::fs::read_to_string(file).expect("neon_word.toml");
     let design = skinpath::design::load(&text, file).expect("loads");
