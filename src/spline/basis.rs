@@ -36,10 +36,44 @@ pub fn find_span(knots: &[f64], degree: usize, n_ctrl: usize, t: f64) -> usize {
 
 /// The p + 1 non-zero basis functions N_{span−p,p}(t) .. N_{span,p}(t) (P&T A2.2).
 pub fn basis_funs(knots: &[f64], degree: usize, span: usize, t: f64) -> Vec<f64> {
-    let p = degree;
-    let mut n = vec![0.0; p + 1];
-    let mut left = vec![0.0; p + 1];
-    let mut right = vec![0.0; p + 1];
+    with_basis_funs(knots, degree, span, t, <[f64]>::to_vec)
+}
+
+/// [`basis_funs`] handed to `f` without heap allocation for degrees below [`STACK_P1`]:
+/// point evaluation ([`crate::spline::BSpline::eval`]) calls this for every point.
+pub fn with_basis_funs<R>(
+    knots: &[f64],
+    degree: usize,
+    span: usize,
+    t: f64,
+    f: impl FnOnce(&[f64]) -> R,
+) -> R {
+    let p1 = degree + 1;
+    if p1 <= STACK_P1 {
+        let mut n = [0.0; STACK_P1];
+        let mut left = [0.0; STACK_P1];
+        let mut right = [0.0; STACK_P1];
+        basis_core(knots, degree, span, t, &mut n, &mut left, &mut right);
+        f(&n[..p1])
+    } else {
+        let mut n = vec![0.0; p1];
+        let mut left = vec![0.0; p1];
+        let mut right = vec![0.0; p1];
+        basis_core(knots, degree, span, t, &mut n, &mut left, &mut right);
+        f(&n)
+    }
+}
+
+/// P&T A2.2 into `n` with scratch `left`, `right` (each at least p + 1 long).
+fn basis_core(
+    knots: &[f64],
+    p: usize,
+    span: usize,
+    t: f64,
+    n: &mut [f64],
+    left: &mut [f64],
+    right: &mut [f64],
+) {
     n[0] = 1.0;
     for j in 1..=p {
         left[j] = t - knots[span + 1 - j];
@@ -53,7 +87,6 @@ pub fn basis_funs(knots: &[f64], degree: usize, span: usize, t: f64) -> Vec<f64>
         }
         n[j] = saved;
     }
-    n
 }
 
 /// Derivatives of orders 0..=k of the p + 1 non-zero basis functions at t (P&T A2.3):
@@ -290,5 +323,28 @@ mod tests {
         assert_eq!(find_span(&k, 2, 4, 0.5), 2);
         assert_eq!(find_span(&k, 2, 4, 1.0), 3);
         assert_eq!(find_span(&k, 2, 4, 2.0), 3);
+    }
+
+    /// Both sides of [`STACK_P1`] (stack and heap scratch): A2.2 against the zeroth row of
+    /// A2.3, and the partition of unity.
+    #[test]
+    fn basis_funs_match_a2_3_on_stack_and_heap() {
+        for p in 1..=2 * STACK_P1 {
+            let mut k = vec![0.0; p + 1];
+            k.extend((1..=4).map(|i| i as f64 * 0.7));
+            k.extend(vec![2.8; p]);
+            let n_ctrl = k.len() - p - 1;
+            for i in 0..=40 {
+                let t = 2.8 * i as f64 / 40.0;
+                let span = find_span(&k, p, n_ctrl, t);
+                let n = basis_funs(&k, p, span, t);
+                let d = ders_basis_funs(&k, p, span, t, 0);
+                assert_eq!(n.len(), p + 1);
+                for (a, b) in n.iter().zip(&d[0]) {
+                    assert!((a - b).abs() <= 1e-13, "p={p} t={t}: {a} vs {b}");
+                }
+                assert!((n.iter().sum::<f64>() - 1.0).abs() <= 1e-12);
+            }
+        }
     }
 }

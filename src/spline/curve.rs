@@ -1,6 +1,6 @@
 //! The B-spline curve type: evaluation (de Boor), derivatives, knot insertion, splitting.
 
-use super::basis::{basis_funs, find_span, with_ders_basis_funs};
+use super::basis::{find_span, with_basis_funs, with_ders_basis_funs};
 use super::knots;
 use super::{SplineError, Vector};
 
@@ -130,12 +130,13 @@ impl<P: Vector> BSpline<P> {
     pub fn eval(&self, t: f64) -> P {
         let t = self.wrap(t);
         let span = find_span(&self.knots, self.degree, self.ctrl.len(), t);
-        let n = basis_funs(&self.knots, self.degree, span, t);
-        let mut acc = P::ZERO;
-        for (j, nj) in n.iter().enumerate() {
-            acc = acc + self.ctrl[span - self.degree + j] * *nj;
-        }
-        acc
+        with_basis_funs(&self.knots, self.degree, span, t, |n| {
+            let mut acc = P::ZERO;
+            for (j, nj) in n.iter().enumerate() {
+                acc = acc + self.ctrl[span - self.degree + j] * *nj;
+            }
+            acc
+        })
     }
 
     /// C(t), C′(t), …, C^{(k)}(t) (P&T A3.2). Orders above the degree are zero.

@@ -2,7 +2,7 @@
 //! B-spline through evenly spaced samples until it stays within the tolerance.
 
 use super::*;
-use rstar::primitives::{GeomWithData, Line as RLine};
+use crate::par::prelude::*;
 
 /// Points of a subpath closer than `tol · MERGE_FRACTION` to the point kept before them are
 /// merged into it (repeated points, zero-length segments, digitiser noise): the cleaned line
@@ -15,6 +15,10 @@ pub(super) const MERGE_FRACTION: f64 = 0.1;
 /// legs that long lies JITTER_REACH·tol·sin(θ/2) from that chord: over half the tolerance
 /// for every θ above 14.4°.
 pub(super) const JITTER_FRACTION: f64 = 0.5;
+
+/// A run's fit is done once it strays at most `FIT_TARGET`·tol from the run (a margin
+/// below the tolerance the import promises).
+const FIT_TARGET: f64 = 0.9;
 
 /// How far along the path (in tolerances) the jitter test looks on each side of a corner.
 pub(super) const JITTER_REACH: f64 = 4.0;
@@ -294,10 +298,19 @@ impl Ctx<'_> {
         let mut points: Vec<[f64; 3]> = Vec::new();
         let mut worst = 0.0f64;
         let mut corners = Vec::new();
-        for (k, run) in runs.iter().enumerate() {
-            let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
-            let rr: Vec<f64> = run.iter().map(|&i| rs[i]).collect();
-            let (fit, dev) = self.fit_run(name, &rp, &rr, whole_closed)?;
+        // The runs are fitted independently (in parallel), then joined in order; the
+        // first run that fails in that order decides the error.
+        let (file, tol) = (self.file, self.opts.tolerance);
+        let fits: Vec<Result<(Vec<[f64; 3]>, f64), &'static str>> = runs
+            .par_iter()
+            .map(|run| {
+                let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
+                let rr: Vec<f64> = run.iter().map(|&i| rs[i]).collect();
+                fit_run(file, tol, name, &rp, &rr, whole_closed)
+            })
+            .collect();
+        for (k, fit) in fits.into_iter().enumerate() {
+            let (fit, dev) = fit?;
             worst = worst.max(dev);
             if k > 0 {
                 corners.push(points.len() - 1);
@@ -326,169 +339,349 @@ impl Ctx<'_> {
         s.to_dbsc(self.file, 0).map_err(|_| NO_INTERPOLANT)?;
         Ok((s, worst))
     }
-
-    /// Points [x, y, r] whose interpolant stays within the tolerance of the run `pts`
-    /// (both ways), or the closest that builds, and the distance reached.
-    pub(super) fn fit_run(
-        &self,
-        name: &str,
-        pts: &[DVec2],
-        radii: &[f64],
-        closed: bool,
-    ) -> Result<(Vec<[f64; 3]>, f64), &'static str> {
-        let mut s = vec![0.0];
-        for q in pts.windows(2) {
-            s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
-        }
-        if closed {
-            s.push(s.last().copied().unwrap_or(0.0) + pts[pts.len() - 1].distance(pts[0]));
-        }
-        let total = s.last().copied().unwrap_or(0.0);
-        if total <= 0.0 {
-            return Err(ZERO_LENGTH);
-        }
-        let mut ring: Vec<DVec2> = pts.to_vec();
-        let mut ring_r = radii.to_vec();
-        if closed {
-            ring.push(pts[0]);
-            ring_r.push(radii[0]);
-        }
-        let at = |u: f64| -> [f64; 3] {
-            let i = s.partition_point(|&v| v <= u).clamp(1, s.len() - 1);
-            let (a, b) = (s[i - 1], s[i]);
-            let f = if b > a { (u - a) / (b - a) } else { 0.0 };
-            let p = ring[i - 1].lerp(ring[i], f);
-            let r = ring_r[i - 1] + f * (ring_r[i] - ring_r[i - 1]);
-            // usvg keeps f32 coordinates: digits past 1e-6 mm are noise.
-            [p.x, p.y, r].map(|v| (v * ROUND).round() / ROUND)
-        };
-        let run = Polyline::new(&ring);
-        let mut count = if closed { 8 } else { 2 };
-        let mut best: Option<(Vec<[f64; 3]>, f64)> = None;
-        loop {
-            let samples: Vec<[f64; 3]> = if closed {
-                (0..count)
-                    .map(|j| at(total * j as f64 / count as f64))
-                    .collect()
-            } else {
-                (0..count)
-                    .map(|j| at(total * j as f64 / (count - 1) as f64))
-                    .collect()
-            };
-            // A fit that does not build (a singular interpolation system) is never kept.
-            let dev = self.deviation(name, &samples, &run, &ring_r, closed);
-            if dev.is_finite() && best.as_ref().is_none_or(|b| dev < b.1) {
-                best = Some((samples, dev));
-            }
-            let done = best
-                .as_ref()
-                .is_some_and(|b| b.1 <= 0.9 * self.opts.tolerance);
-            if done || count >= MAX_RUN_POINTS {
-                return best.ok_or(NO_INTERPOLANT);
-            }
-            count = if count == 2 { 4 } else { 2 * count - 1 };
-        }
-    }
-
-    /// How far the stroke through `samples` strays from the run (the polyline `run` with
-    /// radii `ring_r`; infinite when no stroke interpolates the samples): the largest distance from its spine to the run and from the run to its
-    /// spine, plus the largest radius error at the run's points (the radius at the spine
-    /// sample nearest each point against the point's radius). The sum bounds how far the
-    /// stroke's disks stray from the drawn ones.
-    pub(super) fn deviation(
-        &self,
-        name: &str,
-        samples: &[[f64; 3]],
-        run: &Polyline,
-        ring_r: &[f64],
-        closed: bool,
-    ) -> f64 {
-        let ring = run.pts;
-        let mut st = Stroke::from_disks(name, Vec::new());
-        st.disks = None;
-        st.closed = closed;
-        st.degree = 3.min(samples.len() - 1).max(1);
-        st.points = Some(samples.to_vec());
-        let Ok(c) = st.to_dbsc(self.file, 0) else {
-            return f64::INFINITY;
-        };
-        let (lo, hi) = c.domain();
-        let n = (samples.len() * 16).max(64);
-        let params: Vec<f64> = (0..=n)
-            .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-            .collect();
-        let spine: Vec<DVec2> = params.iter().map(|&t| c.center(t)).collect();
-        let curve = Polyline::new(&spine);
-        // From every spine sample: its distance to the run, and its radius against the run's
-        // radius at the nearest point of the run.
-        let (a, to_run) = spine
-            .iter()
-            .zip(&params)
-            .fold((0.0f64, 0.0f64), |acc, (&q, &t)| {
-                let (d, i, f) = run.nearest(q);
-                let r = match ring_r.get(i + 1) {
-                    Some(&r1) => ring_r[i] + f * (r1 - ring_r[i]),
-                    None => ring_r[0],
-                };
-                (acc.0.max(d), acc.1.max((c.radius(t) - r).abs()))
-            });
-        let b = ring.iter().map(|&q| curve.nearest(q).0).fold(0.0, f64::max);
-        let samples_tree = rstar::RTree::bulk_load(
-            spine
-                .iter()
-                .enumerate()
-                .map(|(i, q)| GeomWithData::new([q.x, q.y], i))
-                .collect(),
-        );
-        let to_spine = ring
-            .iter()
-            .zip(ring_r)
-            .map(|(&q, &r)| {
-                let j = samples_tree
-                    .nearest_neighbor([q.x, q.y])
-                    .map_or(0, |n| n.data);
-                (c.radius(params[j]) - r).abs()
-            })
-            .fold(0.0, f64::max);
-        let radius_error = to_run.max(to_spine);
-        a.max(b) + radius_error
-    }
 }
 
-/// A polyline with an R-tree of its segments: the nearest point of the polyline to a
-/// query in O(log n) instead of a scan of every segment (the fit measures every spine
-/// sample against the run and every run point against the spine).
+/// Points [x, y, r] whose interpolant stays within the tolerance of the run `pts`
+/// (both ways), or the closest that builds, and the distance reached.
+pub(super) fn fit_run(
+    file: &str,
+    tolerance: f64,
+    name: &str,
+    pts: &[DVec2],
+    radii: &[f64],
+    closed: bool,
+) -> Result<(Vec<[f64; 3]>, f64), &'static str> {
+    let mut s = vec![0.0];
+    for q in pts.windows(2) {
+        s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
+    }
+    if closed {
+        s.push(s.last().copied().unwrap_or(0.0) + pts[pts.len() - 1].distance(pts[0]));
+    }
+    let total = s.last().copied().unwrap_or(0.0);
+    if total <= 0.0 {
+        return Err(ZERO_LENGTH);
+    }
+    let mut ring: Vec<DVec2> = pts.to_vec();
+    let mut ring_r = radii.to_vec();
+    if closed {
+        ring.push(pts[0]);
+        ring_r.push(radii[0]);
+    }
+    let at = |u: f64| -> [f64; 3] {
+        let i = s.partition_point(|&v| v <= u).clamp(1, s.len() - 1);
+        let (a, b) = (s[i - 1], s[i]);
+        let f = if b > a { (u - a) / (b - a) } else { 0.0 };
+        let p = ring[i - 1].lerp(ring[i], f);
+        let r = ring_r[i - 1] + f * (ring_r[i] - ring_r[i - 1]);
+        // usvg keeps f32 coordinates: digits past 1e-6 mm are noise.
+        [p.x, p.y, r].map(|v| (v * ROUND).round() / ROUND)
+    };
+    let run = Polyline::new(&ring);
+    let target = FIT_TARGET * tolerance;
+    let sample = |count: usize| -> Vec<[f64; 3]> {
+        if closed {
+            (0..count)
+                .map(|j| at(total * j as f64 / count as f64))
+                .collect()
+        } else {
+            (0..count)
+                .map(|j| at(total * j as f64 / (count - 1) as f64))
+                .collect()
+        }
+    };
+    let mut count = if closed { 8 } else { 2 };
+    let mut tried = Vec::new();
+    loop {
+        let samples = sample(count);
+        // The last try is measured in full; the others only until they are known to
+        // miss the target.
+        let last = count >= MAX_RUN_POINTS;
+        let bound = if last { f64::INFINITY } else { target };
+        let dev = deviation(file, name, &samples, &run, &ring_r, closed, bound);
+        // A fit that does not build (a singular interpolation system) is never kept.
+        // Every earlier try missed the target, so one that meets it is the best.
+        if dev.is_finite() && dev <= target {
+            return Ok((samples, dev));
+        }
+        tried.push(count);
+        if last {
+            break;
+        }
+        count = if count == 2 { 4 } else { 2 * count - 1 };
+    }
+    // None met the target: the closest that builds, each try measured in full.
+    let mut best: Option<(Vec<[f64; 3]>, f64)> = None;
+    for count in tried {
+        let samples = sample(count);
+        let dev = deviation(file, name, &samples, &run, &ring_r, closed, f64::INFINITY);
+        if dev.is_finite() && best.as_ref().is_none_or(|b| dev < b.1) {
+            best = Some((samples, dev));
+        }
+    }
+    best.ok_or(NO_INTERPOLANT)
+}
+
+/// How far the stroke through `samples` strays from the run (the polyline `run` with
+/// radii `ring_r`; infinite when no stroke interpolates the samples): the largest distance from its spine to the run and from the run to its
+/// spine, plus the largest radius error at the run's points (the radius at the spine
+/// sample nearest each point against the point's radius). The sum bounds how far the
+/// stroke's disks stray from the drawn ones. The measure stops as soon as it exceeds
+/// `bound` (then the value returned is above `bound` but may be below the whole
+/// measure); at or below `bound` it is exact.
+pub(super) fn deviation(
+    file: &str,
+    name: &str,
+    samples: &[[f64; 3]],
+    run: &Polyline,
+    ring_r: &[f64],
+    closed: bool,
+    bound: f64,
+) -> f64 {
+    let ring = run.pts;
+    let mut st = Stroke::from_disks(name, Vec::new());
+    st.disks = None;
+    st.closed = closed;
+    st.degree = 3.min(samples.len() - 1).max(1);
+    st.points = Some(samples.to_vec());
+    let Ok(c) = st.to_dbsc(file, 0) else {
+        return f64::INFINITY;
+    };
+    let (lo, hi) = c.domain();
+    let n = (samples.len() * 16).max(64);
+    let disks: Vec<crate::geom::Circle> = (0..=n)
+        .map(|i| c.circle_at(lo + (hi - lo) * i as f64 / n as f64))
+        .collect();
+    let spine: Vec<DVec2> = disks.iter().map(|d| d.c).collect();
+    // A run of one width: the radius error is |r(t) − r| over the spine samples (those
+    // nearest the run's points are among them), found without a nearest-point search.
+    let uniform = ring_r.iter().all(|&r| r == ring_r[0]);
+    let mut radius_error = 0.0f64;
+    if uniform {
+        radius_error = disks
+            .iter()
+            .map(|d| (d.r - ring_r[0]).abs())
+            .fold(0.0, f64::max);
+        if radius_error > bound {
+            return radius_error;
+        }
+    }
+    // From every spine sample: its distance to the run, and (for a run of varying
+    // width) its radius against the run's radius at the nearest point of the run.
+    let mut a = 0.0f64;
+    let mut hint = None;
+    for d in &disks {
+        if uniform && let Some((near, j)) = hint.map(|h| run.near_hint(d.c, h)) {
+            // The nearest item is at most `near` away: it cannot raise the maximum.
+            if near <= a {
+                hint = Some(j);
+                continue;
+            }
+        }
+        let (dist, i, f) = run.nearest_from(d.c, hint);
+        hint = Some(i);
+        a = a.max(dist);
+        if !uniform {
+            let r = match ring_r.get(i + 1) {
+                Some(&r1) => ring_r[i] + f * (r1 - ring_r[i]),
+                None => ring_r[0],
+            };
+            radius_error = radius_error.max((d.r - r).abs());
+        }
+        if a + radius_error > bound {
+            return a + radius_error;
+        }
+    }
+    // From every point of the run: its distance to the spine, and its radius against
+    // the radius at the nearest spine sample.
+    let curve = Polyline::new(&spine);
+    let mut b = 0.0f64;
+    let mut hint = None;
+    for &q in ring {
+        if let Some((near, j)) = hint.map(|h| curve.near_hint(q, h))
+            && near <= a.max(b)
+        {
+            hint = Some(j);
+            continue;
+        }
+        let (dist, i, _) = curve.nearest_from(q, hint);
+        hint = Some(i);
+        b = b.max(dist);
+        if a.max(b) + radius_error > bound {
+            return a.max(b) + radius_error;
+        }
+    }
+    if !uniform {
+        let samples = Polyline::points(&spine);
+        let mut hint = None;
+        for (&q, &r) in ring.iter().zip(ring_r) {
+            let (_, j, _) = samples.nearest_from(q, hint);
+            hint = Some(j);
+            radius_error = radius_error.max((disks[j].r - r).abs());
+        }
+    }
+    a.max(b) + radius_error
+}
+
+/// Items per leaf block of [`Polyline`]'s hierarchy.
+const CHAIN_LEAF: usize = 8;
+
+/// An axis-aligned box (min, max corners).
+type Bounds = (DVec2, DVec2);
+
+/// A polyline (or a chain of points) with a bounding-volume hierarchy in sequence order:
+/// boxes of blocks of [`CHAIN_LEAF`] consecutive items, then of pairs of blocks, up to one
+/// root, built in O(n) without sorting (consecutive items of a drawn line or a sampled
+/// spine are close, so the boxes stay tight; see `geom::intersect::SeqBvh`). The nearest
+/// item to a query is found by branch and bound on the box distances, started from a hint
+/// (the item nearest the previous query of a coherent sequence), so a query costs
+/// O(log n) box tests.
 pub(super) struct Polyline<'a> {
     pts: &'a [DVec2],
-    tree: rstar::RTree<GeomWithData<RLine<[f64; 2]>, usize>>,
+    /// Whether the items are the segments `pts[i]..pts[i + 1]` (else the points).
+    segments: bool,
+    /// `levels[0]` bounds leaf blocks; node j of level k + 1 bounds nodes 2j, 2j + 1 of k.
+    levels: Vec<Vec<Bounds>>,
+}
+
+/// Distance from `p` to the box `b` (0 inside).
+fn box_distance(b: &Bounds, p: DVec2) -> f64 {
+    let d = (b.0 - p).max(p - b.1).max(DVec2::ZERO);
+    d.length()
 }
 
 impl<'a> Polyline<'a> {
+    /// The polyline through `pts` (its items are the segments).
     pub(super) fn new(pts: &'a [DVec2]) -> Self {
-        let segs = pts
-            .windows(2)
-            .enumerate()
-            .map(|(i, w)| GeomWithData::new(RLine::new([w[0].x, w[0].y], [w[1].x, w[1].y]), i))
-            .collect();
-        Polyline {
+        Self::build(pts, true)
+    }
+
+    /// The points `pts` themselves as items.
+    pub(super) fn points(pts: &'a [DVec2]) -> Self {
+        Self::build(pts, false)
+    }
+
+    fn build(pts: &'a [DVec2], segments: bool) -> Self {
+        let mut chain = Polyline {
             pts,
-            tree: rstar::RTree::bulk_load(segs),
+            segments,
+            levels: Vec::new(),
+        };
+        let items = chain.items();
+        let mut cur: Vec<Bounds> = (0..items.div_ceil(CHAIN_LEAF))
+            .map(|j| {
+                let end = ((j + 1) * CHAIN_LEAF).min(items) - 1;
+                let last = if segments { end + 1 } else { end };
+                pts[j * CHAIN_LEAF..=last]
+                    .iter()
+                    .fold((pts[j * CHAIN_LEAF], pts[j * CHAIN_LEAF]), |b, &q| {
+                        (b.0.min(q), b.1.max(q))
+                    })
+            })
+            .collect();
+        while cur.len() > 1 {
+            let next = cur
+                .chunks(2)
+                .map(|c| c.iter().fold(c[0], |b, q| (b.0.min(q.0), b.1.max(q.1))))
+                .collect();
+            chain.levels.push(cur);
+            cur = next;
+        }
+        chain.levels.push(cur);
+        chain
+    }
+
+    /// Number of items: segments or points.
+    fn items(&self) -> usize {
+        if self.segments {
+            self.pts.len().saturating_sub(1)
+        } else {
+            self.pts.len()
         }
     }
 
+    /// Distance from `p` to item `i` and the parameter of the nearest point along it.
+    fn item_distance(&self, i: usize, p: DVec2) -> (f64, f64) {
+        if !self.segments {
+            return (self.pts[i].distance(p), 0.0);
+        }
+        let seg = crate::geom::Line::new(self.pts[i], self.pts[i + 1]);
+        let t = seg.nearest_t(p);
+        (seg.eval(t).distance(p), t)
+    }
+
     /// Distance from `p` to the polyline, the segment it is nearest to and the parameter
-    /// along that segment (for one point: its distance, segment 0, parameter 0).
+    /// along that segment (for one point: its distance, segment 0, parameter 0); for a
+    /// chain of points: the distance to the nearest point, its index and 0.
     pub(super) fn nearest(&self, p: DVec2) -> (f64, usize, f64) {
-        let Some(n) = self.tree.nearest_neighbor([p.x, p.y]) else {
+        self.nearest_from(p, None)
+    }
+
+    /// [`Polyline::nearest`], the search bounded from the start by the distance to the
+    /// item `hint` (the answer is the same with any hint, or none).
+    pub(super) fn nearest_from(&self, p: DVec2, hint: Option<usize>) -> (f64, usize, f64) {
+        let items = self.items();
+        if items == 0 {
             return (
                 self.pts.first().map_or(f64::INFINITY, |&q| p.distance(q)),
                 0,
                 0.0,
             );
-        };
-        let i = n.data;
-        let seg = crate::geom::Line::new(self.pts[i], self.pts[i + 1]);
-        let t = seg.nearest_t(p);
-        (seg.eval(t).distance(p), i, t)
+        }
+        let i = hint.filter(|&i| i < items).unwrap_or(0);
+        let (d, t) = self.item_distance(i, p);
+        let mut best = (d, i, t);
+        let top = self.levels.len() - 1;
+        for j in 0..self.levels[top].len() {
+            self.descend(top, j, p, &mut best);
+        }
+        best
+    }
+
+    /// The least distance from `p` to the items `hint` − 1, `hint`, `hint` + 1 and the
+    /// item at that distance: an upper bound of the distance [`Polyline::nearest_from`]
+    /// finds (which starts from that item), without a search.
+    pub(super) fn near_hint(&self, p: DVec2, hint: usize) -> (f64, usize) {
+        let items = self.items();
+        let mut best = (f64::INFINITY, hint);
+        for i in hint.saturating_sub(1)..(hint + 2).min(items) {
+            let d = self.item_distance(i, p).0;
+            if d < best.0 {
+                best = (d, i);
+            }
+        }
+        best
+    }
+
+    /// Branch and bound below node `j` of level `k`: nodes farther than the best distance
+    /// so far are pruned, the nearer child is visited first; ties keep the lower index.
+    fn descend(&self, k: usize, j: usize, p: DVec2, best: &mut (f64, usize, f64)) {
+        if box_distance(&self.levels[k][j], p) > best.0 {
+            return;
+        }
+        if k == 0 {
+            let end = ((j + 1) * CHAIN_LEAF).min(self.items());
+            for i in j * CHAIN_LEAF..end {
+                let (d, t) = self.item_distance(i, p);
+                if d < best.0 || (d == best.0 && i < best.1) {
+                    *best = (d, i, t);
+                }
+            }
+            return;
+        }
+        let below = &self.levels[k - 1];
+        let (a, b) = (2 * j, 2 * j + 1);
+        if b >= below.len() {
+            self.descend(k - 1, a, p, best);
+        } else if box_distance(&below[b], p) < box_distance(&below[a], p) {
+            self.descend(k - 1, b, p, best);
+            self.descend(k - 1, a, p, best);
+        } else {
+            self.descend(k - 1, a, p, best);
+            self.descend(k - 1, b, p, best);
+        }
     }
 }
+
+#[cfg(test)]
+mod tests;
