@@ -301,7 +301,7 @@ impl Ctx<'_> {
         // The runs are fitted independently (in parallel), then joined in order; the
         // first run that fails in that order decides the error.
         let (file, tol) = (self.file, self.opts.tolerance);
-        let fits: Vec<Result<(Vec<[f64; 3]>, f64), &'static str>> = runs
+        let fits: Vec<RunFit> = runs
             .par_iter()
             .map(|run| {
                 let rp: Vec<DVec2> = run.iter().map(|&i| pts[i]).collect();
@@ -341,6 +341,9 @@ impl Ctx<'_> {
     }
 }
 
+/// A run's samples [x, y, r] and how far their stroke strays, or why none builds.
+type RunFit = Result<(Vec<[f64; 3]>, f64), &'static str>;
+
 /// Points [x, y, r] whose interpolant stays within the tolerance of the run `pts`
 /// (both ways), or the closest that builds, and the distance reached.
 pub(super) fn fit_run(
@@ -350,7 +353,7 @@ pub(super) fn fit_run(
     pts: &[DVec2],
     radii: &[f64],
     closed: bool,
-) -> Result<(Vec<[f64; 3]>, f64), &'static str> {
+) -> RunFit {
     let mut s = vec![0.0];
     for q in pts.windows(2) {
         s.push(s.last().copied().unwrap_or(0.0) + q[0].distance(q[1]));
