@@ -452,49 +452,47 @@ pub(super) fn deviation(
     };
     let (lo, hi) = c.domain();
     let n = (samples.len() * 16).max(64);
-    let disks: Vec<crate::geom::Circle> = (0..=n)
-        .map(|i| c.circle_at(lo + (hi - lo) * i as f64 / n as f64))
-        .collect();
-    let spine: Vec<DVec2> = disks.iter().map(|d| d.c).collect();
     // A run of one width: the radius error is |r(t) − r| over the spine samples (those
     // nearest the run's points are among them), found without a nearest-point search.
     let uniform = ring_r.iter().all(|&r| r == ring_r[0]);
     let mut radius_error = 0.0f64;
-    if uniform {
-        radius_error = disks
-            .iter()
-            .map(|d| (d.r - ring_r[0]).abs())
-            .fold(0.0, f64::max);
-        if radius_error > bound {
-            return radius_error;
-        }
-    }
-    // From every spine sample: its distance to the run, and (for a run of varying
-    // width) its radius against the run's radius at the nearest point of the run.
+    // From every spine sample (evaluated as the measure goes, so a try that misses stops
+    // early): its distance to the run, and its radius against the run's radius at the
+    // nearest point of the run.
+    let mut disks: Vec<crate::geom::Circle> = Vec::with_capacity(n + 1);
     let mut a = 0.0f64;
     let mut hint = None;
-    for d in &disks {
-        if uniform && let Some((near, j)) = hint.map(|h| run.near_hint(d.c, h)) {
-            // The nearest item is at most `near` away: it cannot raise the maximum.
-            if near <= a {
-                hint = Some(j);
-                continue;
-            }
+    for k in 0..=n {
+        let d = c.circle_at(lo + (hi - lo) * k as f64 / n as f64);
+        disks.push(d);
+        if uniform {
+            radius_error = radius_error.max((d.r - ring_r[0]).abs());
         }
-        let (dist, i, f) = run.nearest_from(d.c, hint);
-        hint = Some(i);
-        a = a.max(dist);
-        if !uniform {
-            let r = match ring_r.get(i + 1) {
-                Some(&r1) => ring_r[i] + f * (r1 - ring_r[i]),
-                None => ring_r[0],
-            };
-            radius_error = radius_error.max((d.r - r).abs());
+        // The nearest item is at most `near` away: when that cannot raise the maximum,
+        // no search is needed.
+        let skip = uniform
+            && hint.is_some_and(|h| {
+                let (near, j) = run.near_hint(d.c, h);
+                hint = Some(j);
+                near <= a
+            });
+        if !skip {
+            let (dist, i, f) = run.nearest_from(d.c, hint);
+            hint = Some(i);
+            a = a.max(dist);
+            if !uniform {
+                let r = match ring_r.get(i + 1) {
+                    Some(&r1) => ring_r[i] + f * (r1 - ring_r[i]),
+                    None => ring_r[0],
+                };
+                radius_error = radius_error.max((d.r - r).abs());
+            }
         }
         if a + radius_error > bound {
             return a + radius_error;
         }
     }
+    let spine: Vec<DVec2> = disks.iter().map(|d| d.c).collect();
     // From every point of the run: its distance to the spine, and its radius against
     // the radius at the nearest spine sample.
     let curve = Polyline::new(&spine);
