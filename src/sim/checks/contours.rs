@@ -602,13 +602,18 @@ pub(crate) fn intersection_findings(
             let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
                 continue;
             };
-            let side = |g: &super::Seg| Side {
+            let side = |g: &super::Seg, k: usize| Side {
                 contour: g.contour,
                 index: g.index,
-                line: line_of(g.source),
+                line: line_of(set.source(k)),
             };
             let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
-            folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
+            folder.contact(
+                side(s, c.i),
+                side(t, c.j),
+                c.proper,
+                [c.point.x, c.point.y, z],
+            );
         }
         let [own, across] = folder.counts();
         let full = own > cap && (!crossings || across > cap);
@@ -635,19 +640,52 @@ const SELF_INTERSECTION: &str = "self-intersection";
 /// Id of the findings of two contours crossing.
 const CONTOUR_CROSSING: &str = "contour-crossing";
 
-/// The [`PathKey`] of every contour of `set`, in order.
+/// The [`PathKey`] of every contour of `set`, in order, as [`pass_numbers`] reads them:
+/// the hash of a contour's points is taken only where another contour has its count,
+/// closedness and pocket mark (elsewhere the key differs from every other key whatever
+/// the hash, which is then left at [`FNV128_BASIS`]), so that one long contour, as a
+/// spiral, is not hashed for nothing. The pass numbers are those of the full keys.
 fn path_keys(set: &SegmentSet) -> Vec<PathKey> {
     let mut at = 0usize;
-    set.contours
+    let spans: Vec<(usize, PathKey)> = set
+        .contours
         .iter()
         .map(|&(n, closed)| {
             let segs = set.segs.get(at..at + n as usize).unwrap_or_default();
+            let start = at;
             at += n as usize;
+            let h = PathHasher {
+                count: segs.len() as u32,
+                hash: FNV128_BASIS,
+            };
+            let pocket = if segs.is_empty() {
+                None
+            } else {
+                set.pocket(start)
+            };
+            (start, h.key(closed, pocket))
+        })
+        .collect();
+    let mut shared: std::collections::HashMap<PathKey, u32> =
+        std::collections::HashMap::with_capacity(spans.len());
+    for (_, k) in &spans {
+        *shared.entry(*k).or_insert(0) += 1;
+    }
+    spans
+        .iter()
+        .map(|&(start, k)| {
+            if shared.get(&k).copied().unwrap_or(0) < 2 {
+                return k;
+            }
+            let segs = set
+                .segs
+                .get(start..start + k.count as usize)
+                .unwrap_or_default();
             let mut h = PathHasher::default();
             for g in segs {
                 h.segment(g.a, g.b);
             }
-            h.key(closed, segs.first().and_then(|g| g.pocket))
+            h.key(k.closed, k.pocket)
         })
         .collect()
 }
