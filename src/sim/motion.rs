@@ -146,18 +146,27 @@ impl Motion {
 
     /// Axis-aligned bounds (min, max) of the move, arcs included exactly (the arc's
     /// axis extremes at angles 0, π/2, π, 3π/2 when swept).
+    /// Inlined for straight moves (most of a program's): the caller's copy of the move
+    /// is read where it is.
     #[must_use]
+    #[inline]
     pub fn bounds(&self) -> (DVec3, DVec3) {
-        let mut lo = self.from.min(self.to);
-        let mut hi = self.from.max(self.to);
-        if let Some(a) = &self.arc {
-            for p in a.extrema() {
-                lo = lo.min(p.extend(lo.z));
-                hi = hi.max(p.extend(hi.z));
-            }
+        let lo = self.from.min(self.to);
+        let hi = self.from.max(self.to);
+        match &self.arc {
+            Some(a) => arc_bounds(a, lo, hi),
+            None => (lo, hi),
         }
-        (lo, hi)
     }
+}
+
+/// Bounds `lo`..`hi` of a move's end points widened by the extremes of its arc `a`.
+fn arc_bounds(a: &Arc, mut lo: DVec3, mut hi: DVec3) -> (DVec3, DVec3) {
+    for p in a.extrema() {
+        lo = lo.min(p.extend(lo.z));
+        hi = hi.max(p.extend(hi.z));
+    }
+    (lo, hi)
 }
 
 /// The motions of a program, stored compactly: 32 bytes per move instead of the 160 of a

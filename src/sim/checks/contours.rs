@@ -255,7 +255,7 @@ pub fn contour_segments(
 ) -> (SegmentSet, Vec<ContourStart>, Option<Finding>) {
     let mut set = new_set(cfg);
     // At most one segment per straight move: arcs may need more (the vector grows then).
-    set.segs.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
+    set.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
     let mut starts: Vec<ContourStart> = Vec::new();
     let mut open = None;
     let stop = for_each_cut_point(motions, marks, cfg, |e| match e {

@@ -146,6 +146,12 @@ impl SegmentSet {
         Self::default()
     }
 
+    /// Reserves room for `n` more segments.
+    pub fn reserve(&mut self, n: usize) {
+        self.segs.reserve(n);
+        self.sources.reserve(n);
+    }
+
     /// Adds a polyline; `sources[k]` tags the segment from `points[k]` to `points[k+1]`.
     /// Repeated points are skipped. Returns the contour number.
     #[allow(dead_code)] // used by the benches (`crate::internals`) and the tests
