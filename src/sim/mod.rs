@@ -111,7 +111,7 @@ pub fn load_with(
             } else {
                 "the file holds only blank lines".into()
             });
-        } else if text.contains('\0') {
+        } else if memchr::memchr(0, text.as_bytes()).is_some() {
             prog.unusable = Some("the file holds NUL bytes: it is binary, not G-code".into());
         }
     }
