@@ -750,3 +750,52 @@ pub(crate) fn contact_finding(
     };
     f.lines(lines).at(at)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The keys of [`path_keys`] (hashes only where count, closedness and pocket collide)
+    /// number the passes as keys hashed in full do, and as the copies were made.
+    #[test]
+    fn path_keys_number_passes_as_full_hashes_do() {
+        let sq = |o: f64, s: f64| {
+            [(0.0, 0.0), (s, 0.0), (s, s), (0.0, s), (0.0, 0.0)]
+                .map(|(x, y)| DVec2::new(o + x, o + y))
+                .to_vec()
+        };
+        let open = |o: f64| vec![DVec2::new(o, 0.0), DVec2::new(o + 1.0, 2.0)];
+        let mut set = SegmentSet::new();
+        // A, a copy of A, B (A's count and closedness, other points), C (one segment,
+        // open), D (C's shape in pocket 3), a copy of D, and C's shape again: a copy of C.
+        set.push_polyline(&sq(0.0, 1.0), &[]);
+        set.push_polyline(&sq(0.0, 1.0), &[]);
+        set.push_polyline(&sq(5.0, 2.0), &[]);
+        set.push_polyline(&open(9.0), &[]);
+        set.push_polyline_in(&open(9.0), &[], Some(3));
+        set.push_polyline_in(&open(9.0), &[], Some(3));
+        set.push_polyline(&open(9.0), &[]);
+        let mut at = 0usize;
+        let full: Vec<PathKey> = set
+            .contours
+            .iter()
+            .enumerate()
+            .map(|(c, &(n, closed))| {
+                let mut h = PathHasher::default();
+                for g in &set.segs[at..at + n as usize] {
+                    h.segment(g.a, g.b);
+                }
+                let pocket = set.pocket(at);
+                at += n as usize;
+                assert_eq!(pocket, [None, None, None, None, Some(3), Some(3), None][c]);
+                h.key(closed, pocket)
+            })
+            .collect();
+        let got = pass_numbers(&path_keys(&set));
+        assert_eq!(got, pass_numbers(&full));
+        assert_eq!(
+            got,
+            vec![(0, 1), (0, 2), (2, 1), (3, 1), (4, 1), (4, 2), (3, 2)]
+        );
+    }
+}

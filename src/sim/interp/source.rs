@@ -29,7 +29,7 @@ pub(super) enum LineStarts {
 
 impl LineStarts {
     /// The line starts of `text` (the first at 0, then after each `\n`).
-    fn of(text: &[u8]) -> Self {
+    pub(super) fn of(text: &[u8]) -> Self {
         if u32::try_from(text.len()).is_ok() {
             let mut v = vec![0u32];
             // Every offset is at most text.len(), which fits.
@@ -43,7 +43,7 @@ impl LineStarts {
     }
 
     /// Number of lines.
-    fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         match self {
             LineStarts::Narrow(v) => v.len(),
             LineStarts::Wide(v) => v.len(),
@@ -51,7 +51,7 @@ impl LineStarts {
     }
 
     /// Start of line `i`.
-    fn get(&self, i: usize) -> Option<usize> {
+    pub(super) fn get(&self, i: usize) -> Option<usize> {
         match self {
             LineStarts::Narrow(v) => v.get(i).map(|&s| s as usize),
             LineStarts::Wide(v) => v.get(i).copied(),
@@ -59,7 +59,7 @@ impl LineStarts {
     }
 
     /// Index of the line holding byte `at`.
-    fn line_of(&self, at: usize) -> usize {
+    pub(super) fn line_of(&self, at: usize) -> usize {
         let k = match self {
             LineStarts::Narrow(v) => v.partition_point(|&st| st as usize <= at),
             LineStarts::Wide(v) => v.partition_point(|&st| st <= at),
