@@ -111,7 +111,7 @@ pub fn load_with(
             } else {
                 "the file holds only blank lines".into()
             });
-        } else if text.contains('\0') {
+        } else if memchr::memchr(0, text.as_bytes()).is_some() {
             prog.unusable = Some("the file holds NUL bytes: it is binary, not G-code".into());
         }
     }
@@ -239,7 +239,7 @@ pub fn checks_and_stats(
         || {
             timed(|| {
                 let mut checks = checks::MoveChecks::new(&mm);
-                let stats = stats_each(prog, &mm, |m| checks.motion(m));
+                let stats = stats_each(prog, &mm, |m, bounds| checks.motion_in(m, bounds));
                 (checks.finish(prog), stats)
             })
         },
@@ -353,25 +353,30 @@ pub fn assemble_with(
 /// Move count, cut and rapid lengths (helical lengths for arcs), bounds, time.
 #[must_use]
 pub fn stats(prog: &Program, cfg: &CheckConfig) -> Stats {
-    stats_each(prog, cfg, |_| {})
+    stats_each(prog, cfg, |_, _| {})
 }
 
-/// [`stats`], handing every move (dwells too) to `f` on the way.
-fn stats_each(prog: &Program, cfg: &CheckConfig, mut f: impl FnMut(&Motion)) -> Stats {
+/// [`stats`], handing every move (dwells too) to `f` on the way, with its
+/// [`Motion::bounds`] (computed once for both).
+fn stats_each(
+    prog: &Program,
+    cfg: &CheckConfig,
+    mut f: impl FnMut(&Motion, (DVec3, DVec3)),
+) -> Stats {
     let mut s = Stats::default();
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     // One pass over the moves: the estimate hands each to `f` and to the length and bounds
     // sums.
     s.time = time::estimate_each(&prog.motions, cfg, |m| {
-        f(m);
+        let (a, b) = m.bounds();
+        f(m, (a, b));
         match m.kind {
             MotionKind::Rapid => s.rapid_length += m.length(),
             MotionKind::Feed => s.cut_length += m.length(),
             MotionKind::Dwell { .. } => return,
         }
         s.motions += 1;
-        let (a, b) = m.bounds();
         lo = lo.min(a);
         hi = hi.max(b);
     });

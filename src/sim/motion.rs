@@ -146,27 +146,37 @@ impl Motion {
 
     /// Axis-aligned bounds (min, max) of the move, arcs included exactly (the arc's
     /// axis extremes at angles 0, π/2, π, 3π/2 when swept).
+    /// Inlined for straight moves (most of a program's): the caller's copy of the move
+    /// is read where it is.
     #[must_use]
+    #[inline]
     pub fn bounds(&self) -> (DVec3, DVec3) {
-        let mut lo = self.from.min(self.to);
-        let mut hi = self.from.max(self.to);
-        if let Some(a) = &self.arc {
-            for p in a.extrema() {
-                lo = lo.min(p.extend(lo.z));
-                hi = hi.max(p.extend(hi.z));
-            }
+        let lo = self.from.min(self.to);
+        let hi = self.from.max(self.to);
+        match &self.arc {
+            Some(a) => arc_bounds(a, lo, hi),
+            None => (lo, hi),
         }
-        (lo, hi)
     }
 }
 
-/// The motions of a program, stored compactly: 40 bytes per move instead of the 160 of a
-/// [`Motion`] (a 10M-move program needs 400 MB instead of 1.6 GB).
+/// Bounds `lo`..`hi` of a move's end points widened by the extremes of its arc `a`.
+fn arc_bounds(a: &Arc, mut lo: DVec3, mut hi: DVec3) -> (DVec3, DVec3) {
+    for p in a.extrema() {
+        lo = lo.min(p.extend(lo.z));
+        hi = hi.max(p.extend(hi.z));
+    }
+    (lo, hi)
+}
+
+/// The motions of a program, stored compactly: 32 bytes per move instead of the 160 of a
+/// [`Motion`] (a 10M-move program needs 320 MB instead of 1.6 GB).
 ///
-/// Each move keeps its end point, kind, source line and two small indexes: one into a table
-/// of distinct (feed, tool state, group) states (consecutive moves mostly share one) and one
-/// into a side table holding what few moves have: an arc, a dwell time, a start point that
-/// is not the previous move's end. The start point of every other move is the end point of
+/// Each move keeps its end point, kind, and either its source line and an index into a
+/// table of distinct (feed, tool state, group) states (consecutive moves mostly share one),
+/// or an index into a side table holding what few moves have (an arc, a dwell time, a
+/// start point that is not the previous move's end, a line or state index too large for
+/// the record) together with their line and state. The start point of every other move is the end point of
 /// the move before it (compared bit for bit, so nothing is rounded). [`Motion`] values are
 /// built on demand by [`Motions::get`] and [`Motions::iter`]; they equal the ones pushed.
 #[derive(Clone, Default, PartialEq)]
@@ -180,21 +190,24 @@ pub struct Motions {
 #[derive(Clone, Copy, PartialEq)]
 struct Rec {
     to: [f64; 3],
-    /// Source line, or [`BIG_LINE`] when it is in the side entry.
-    line: u32,
-    /// Index into [`Motions::states`].
-    state: u32,
-    /// Index into [`Motions::sides`], or [`NO_SIDE`].
-    side: u32,
-    /// 0 rapid, 1 feed, 2 dwell.
-    kind: u8,
+    /// Source line, or with [`HAS_SIDE`] set in `tag` the index into [`Motions::sides`].
+    line_or_side: u32,
+    /// Bits 0–1: the kind (0 rapid, 1 feed, 2 dwell); bit 2: [`HAS_SIDE`]; bits 3–31:
+    /// the index into [`Motions::states`] (without a side entry).
+    tag: u32,
 }
 
-/// `Rec::line` of a move whose line does not fit in 32 bits (kept in its side entry).
-const BIG_LINE: u32 = u32::MAX;
+/// `Rec::tag` bit of a move with a side entry.
+const HAS_SIDE: u32 = 1 << 2;
 
-/// `Rec::side` of a move without a side entry.
-const NO_SIDE: u32 = u32::MAX;
+/// Bits of `Rec::tag` below the state index.
+const STATE_SHIFT: u32 = 3;
+
+/// `Rec::tag` mask of the kind.
+const KIND_MASK: u32 = 3;
+
+/// Largest state index a record holds itself (29 bits); larger ones go to the side entry.
+const MAX_REC_STATE: u32 = u32::MAX >> STATE_SHIFT;
 
 /// What consecutive moves mostly share.
 #[derive(Clone, Copy, PartialEq)]
@@ -212,8 +225,10 @@ struct Side {
     arc: Option<Arc>,
     /// Dwell time of a G4 (seconds).
     seconds: f64,
-    /// Source line when it does not fit in `Rec::line`.
+    /// Source line.
     line: usize,
+    /// Index into [`Motions::states`].
+    state: u32,
 }
 
 fn same_bits(a: DVec3, b: [f64; 3]) -> bool {
@@ -288,24 +303,26 @@ impl Motions {
             MotionKind::Feed => (1, 0.0),
             MotionKind::Dwell { seconds } => (2, seconds),
         };
-        let line = u32::try_from(m.line).ok().filter(|&l| l != BIG_LINE);
-        let side = if chained && m.arc.is_none() && kind != 2 && line.is_some() {
-            NO_SIDE
-        } else {
-            self.sides.push(Side {
-                from: (!chained).then_some(m.from),
-                arc: m.arc,
-                seconds,
-                line: m.line,
-            });
-            index32(self.sides.len() - 1)
+        let line = u32::try_from(m.line).ok();
+        let (line_or_side, tag) = match line {
+            Some(line) if chained && m.arc.is_none() && kind != 2 && state <= MAX_REC_STATE => {
+                (line, kind | state << STATE_SHIFT)
+            }
+            _ => {
+                self.sides.push(Side {
+                    from: (!chained).then_some(m.from),
+                    arc: m.arc,
+                    seconds,
+                    line: m.line,
+                    state,
+                });
+                (index32(self.sides.len() - 1), kind | HAS_SIDE)
+            }
         };
         self.recs.push(Rec {
             to: m.to.to_array(),
-            line: line.unwrap_or(BIG_LINE),
-            state,
-            side,
-            kind,
+            line_or_side,
+            tag,
         });
     }
 
@@ -351,13 +368,15 @@ impl Motions {
 
     #[inline]
     fn build(&self, r: &Rec, prev: Option<[f64; 3]>) -> Motion {
-        let side = self
-            .sides
-            .get(r.side as usize)
-            .filter(|_| r.side != NO_SIDE);
+        let side = if r.tag & HAS_SIDE != 0 {
+            self.sides.get(r.line_or_side as usize)
+        } else {
+            None
+        };
+        let state = side.map_or(r.tag >> STATE_SHIFT, |s| s.state);
         let st = self
             .states
-            .get(r.state as usize)
+            .get(state as usize)
             .copied()
             .unwrap_or(MoveState {
                 feed: 0.0,
@@ -370,7 +389,7 @@ impl Motions {
             .or(prev.map(DVec3::from_array))
             .unwrap_or(to);
         Motion {
-            kind: match r.kind {
+            kind: match r.tag & KIND_MASK {
                 0 => MotionKind::Rapid,
                 1 => MotionKind::Feed,
                 _ => MotionKind::Dwell {
@@ -382,11 +401,7 @@ impl Motions {
             arc: side.and_then(|s| s.arc),
             feed: st.feed,
             tool: st.tool,
-            line: if r.line == BIG_LINE {
-                side.map_or(0, |s| s.line)
-            } else {
-                r.line as usize
-            },
+            line: side.map_or(r.line_or_side as usize, |s| s.line),
             group: st.group,
         }
     }
@@ -596,7 +611,7 @@ mod tests {
         assert!(list.get(want.len()).is_none());
         let back: Vec<String> = list.iter().rev().map(|m| bits(&m)).collect();
         assert_eq!(back, exp.iter().rev().cloned().collect::<Vec<_>>());
-        assert_eq!(std::mem::size_of::<Rec>(), 40);
+        assert_eq!(std::mem::size_of::<Rec>(), 32);
     }
 
     #[test]

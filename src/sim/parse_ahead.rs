@@ -126,8 +126,10 @@ fn parse_chunks(
             if n == lines.len() {
                 lines.push(Line::default());
             }
-            // The interpreter's test for a line to skip, taken off its thread.
-            let is_blank = raw.trim().is_empty();
+            // The interpreter's test for a line to skip (`str::trim` empty), taken off its
+            // thread; a line starting with a visible ASCII character is not blank.
+            let is_blank =
+                !raw.as_bytes().first().is_some_and(u8::is_ascii_graphic) && raw.trim().is_empty();
             if !is_blank {
                 ngc::parse_line_into(raw, syn, &mut lines[n]);
             }

@@ -255,7 +255,7 @@ pub fn contour_segments(
 ) -> (SegmentSet, Vec<ContourStart>, Option<Finding>) {
     let mut set = new_set(cfg);
     // At most one segment per straight move: arcs may need more (the vector grows then).
-    set.segs.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
+    set.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
     let mut starts: Vec<ContourStart> = Vec::new();
     let mut open = None;
     let stop = for_each_cut_point(motions, marks, cfg, |e| match e {
@@ -602,13 +602,18 @@ pub(crate) fn intersection_findings(
             let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
                 continue;
             };
-            let side = |g: &super::Seg| Side {
+            let side = |g: &super::Seg, k: usize| Side {
                 contour: g.contour,
                 index: g.index,
-                line: line_of(g.source),
+                line: line_of(set.source(k)),
             };
             let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
-            folder.contact(side(s), side(t), c.proper, [c.point.x, c.point.y, z]);
+            folder.contact(
+                side(s, c.i),
+                side(t, c.j),
+                c.proper,
+                [c.point.x, c.point.y, z],
+            );
         }
         let [own, across] = folder.counts();
         let full = own > cap && (!crossings || across > cap);
@@ -635,19 +640,52 @@ const SELF_INTERSECTION: &str = "self-intersection";
 /// Id of the findings of two contours crossing.
 const CONTOUR_CROSSING: &str = "contour-crossing";
 
-/// The [`PathKey`] of every contour of `set`, in order.
+/// The [`PathKey`] of every contour of `set`, in order, as [`pass_numbers`] reads them:
+/// the hash of a contour's points is taken only where another contour has its count,
+/// closedness and pocket mark (elsewhere the key differs from every other key whatever
+/// the hash, which is then left at [`FNV128_BASIS`]), so that one long contour, as a
+/// spiral, is not hashed for nothing. The pass numbers are those of the full keys.
 fn path_keys(set: &SegmentSet) -> Vec<PathKey> {
     let mut at = 0usize;
-    set.contours
+    let spans: Vec<(usize, PathKey)> = set
+        .contours
         .iter()
         .map(|&(n, closed)| {
             let segs = set.segs.get(at..at + n as usize).unwrap_or_default();
+            let start = at;
             at += n as usize;
+            let h = PathHasher {
+                count: segs.len() as u32,
+                hash: FNV128_BASIS,
+            };
+            let pocket = if segs.is_empty() {
+                None
+            } else {
+                set.pocket(start)
+            };
+            (start, h.key(closed, pocket))
+        })
+        .collect();
+    let mut shared: std::collections::HashMap<PathKey, u32> =
+        std::collections::HashMap::with_capacity(spans.len());
+    for (_, k) in &spans {
+        *shared.entry(*k).or_insert(0) += 1;
+    }
+    spans
+        .iter()
+        .map(|&(start, k)| {
+            if shared.get(&k).copied().unwrap_or(0) < 2 {
+                return k;
+            }
+            let segs = set
+                .segs
+                .get(start..start + k.count as usize)
+                .unwrap_or_default();
             let mut h = PathHasher::default();
             for g in segs {
                 h.segment(g.a, g.b);
             }
-            h.key(closed, segs.first().and_then(|g| g.pocket))
+            h.key(k.closed, k.pocket)
         })
         .collect()
 }
@@ -711,4 +749,53 @@ pub(crate) fn contact_finding(
         )
     };
     f.lines(lines).at(at)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The keys of [`path_keys`] (hashes only where count, closedness and pocket collide)
+    /// number the passes as keys hashed in full do, and as the copies were made.
+    #[test]
+    fn path_keys_number_passes_as_full_hashes_do() {
+        let sq = |o: f64, s: f64| {
+            [(0.0, 0.0), (s, 0.0), (s, s), (0.0, s), (0.0, 0.0)]
+                .map(|(x, y)| DVec2::new(o + x, o + y))
+                .to_vec()
+        };
+        let open = |o: f64| vec![DVec2::new(o, 0.0), DVec2::new(o + 1.0, 2.0)];
+        let mut set = SegmentSet::new();
+        // A, a copy of A, B (A's count and closedness, other points), C (one segment,
+        // open), D (C's shape in pocket 3), a copy of D, and C's shape again: a copy of C.
+        set.push_polyline(&sq(0.0, 1.0), &[]);
+        set.push_polyline(&sq(0.0, 1.0), &[]);
+        set.push_polyline(&sq(5.0, 2.0), &[]);
+        set.push_polyline(&open(9.0), &[]);
+        set.push_polyline_in(&open(9.0), &[], Some(3));
+        set.push_polyline_in(&open(9.0), &[], Some(3));
+        set.push_polyline(&open(9.0), &[]);
+        let mut at = 0usize;
+        let full: Vec<PathKey> = set
+            .contours
+            .iter()
+            .enumerate()
+            .map(|(c, &(n, closed))| {
+                let mut h = PathHasher::default();
+                for g in &set.segs[at..at + n as usize] {
+                    h.segment(g.a, g.b);
+                }
+                let pocket = set.pocket(at);
+                at += n as usize;
+                assert_eq!(pocket, [None, None, None, None, Some(3), Some(3), None][c]);
+                h.key(closed, pocket)
+            })
+            .collect();
+        let got = pass_numbers(&path_keys(&set));
+        assert_eq!(got, pass_numbers(&full));
+        assert_eq!(
+            got,
+            vec![(0, 1), (0, 2), (2, 1), (3, 1), (4, 1), (4, 2), (3, 2)]
+        );
+    }
 }

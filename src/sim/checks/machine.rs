@@ -42,14 +42,30 @@ impl Limits {
     /// [`Limits::motion`] into `out`, built only while `out` keeps out-of-bounds findings
     /// (beyond its cap the move is only counted: no message is formatted).
     pub(crate) fn check_move(&self, m: &Motion, cfg: &CheckConfig, out: &mut super::Capped) {
-        if self.leaves(m) {
+        self.check_move_in(m, m.bounds(), cfg, out);
+    }
+
+    /// [`Limits::check_move`] of a move whose [`Motion::bounds`] are `bounds` (for callers
+    /// that have them already).
+    pub(crate) fn check_move_in(
+        &self,
+        m: &Motion,
+        bounds: (glam::DVec3, glam::DVec3),
+        cfg: &CheckConfig,
+        out: &mut super::Capped,
+    ) {
+        if self.outside(bounds) {
             out.push_with(OUT_OF_BOUNDS, || self.motion(m, cfg));
         }
     }
 
     /// Whether `m` leaves the work area: exactly when [`Limits::motion`] finds it.
     pub fn leaves(&self, m: &Motion) -> bool {
-        let (lo, hi) = m.bounds();
+        self.outside(m.bounds())
+    }
+
+    /// Whether bounds `(lo, hi)` reach outside the work area.
+    fn outside(&self, (lo, hi): (glam::DVec3, glam::DVec3)) -> bool {
         (0..3).any(|i| lo[i] < self.lo[i] || hi[i] > self.hi[i])
     }
 }

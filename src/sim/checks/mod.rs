@@ -191,10 +191,10 @@ impl<'c> MoveChecks<'c> {
         }
     }
 
-    /// Checks the next move.
-    pub fn motion(&mut self, m: &Motion) {
+    /// Checks the next move, whose [`Motion::bounds`] are `bounds`.
+    pub fn motion_in(&mut self, m: &Motion, bounds: (glam::DVec3, glam::DVec3)) {
         let cfg = self.cfg;
-        self.limits.check_move(m, cfg, &mut self.bounds);
+        self.limits.check_move_in(m, bounds, cfg, &mut self.bounds);
         machine::rapid_move(m, cfg, &mut self.rapids);
         self.feed_power.motion(m, cfg, &mut self.feeds);
     }

@@ -12,16 +12,65 @@ pub(super) enum Body<'a> {
     /// The whole text, with the byte offset of each line start.
     Mem {
         text: Cow<'a, str>,
-        starts: Vec<usize>,
+        starts: LineStarts,
     },
     /// A program read line by line from a seekable stream ([`interpret_stream`]).
     Stream(Box<LineStream<'a>>),
 }
 
+/// The byte offset of each line start of an in-memory text: 4 bytes a line for texts
+/// below 4 GiB (a million-line program keeps 4 MB, not 8), 8 beyond.
+pub(super) enum LineStarts {
+    /// Offsets that fit in 32 bits.
+    Narrow(Vec<u32>),
+    /// Offsets of a text of 4 GiB or more.
+    Wide(Vec<usize>),
+}
+
+impl LineStarts {
+    /// The line starts of `text` (the first at 0, then after each `\n`).
+    pub(super) fn of(text: &[u8]) -> Self {
+        if u32::try_from(text.len()).is_ok() {
+            let mut v = vec![0u32];
+            // Every offset is at most text.len(), which fits.
+            v.extend(memchr_lines(text).map(|i| i as u32));
+            LineStarts::Narrow(v)
+        } else {
+            let mut v = vec![0usize];
+            v.extend(memchr_lines(text));
+            LineStarts::Wide(v)
+        }
+    }
+
+    /// Number of lines.
+    pub(super) fn len(&self) -> usize {
+        match self {
+            LineStarts::Narrow(v) => v.len(),
+            LineStarts::Wide(v) => v.len(),
+        }
+    }
+
+    /// Start of line `i`.
+    pub(super) fn get(&self, i: usize) -> Option<usize> {
+        match self {
+            LineStarts::Narrow(v) => v.get(i).map(|&s| s as usize),
+            LineStarts::Wide(v) => v.get(i).copied(),
+        }
+    }
+
+    /// Index of the line holding byte `at`.
+    pub(super) fn line_of(&self, at: usize) -> usize {
+        let k = match self {
+            LineStarts::Narrow(v) => v.partition_point(|&st| st as usize <= at),
+            LineStarts::Wide(v) => v.partition_point(|&st| st <= at),
+        };
+        k.saturating_sub(1)
+    }
+}
+
 impl<'a> Source<'a> {
     pub(super) fn new(name: String, text: Cow<'a, str>) -> Self {
-        let mut starts = vec![0];
-        starts.extend(memchr_lines(text.as_bytes()));
+        let starts = LineStarts::of(text.as_bytes());
         Source {
             name,
             body: Body::Mem { text, starts },
@@ -36,8 +85,8 @@ impl<'a> Source<'a> {
     pub(super) fn line(&mut self, i: usize) -> &str {
         match &mut self.body {
             Body::Mem { text, starts } => {
-                let a = starts[i];
-                let b = starts.get(i + 1).map_or(text.len(), |&e| e - 1);
+                let a = starts.get(i).unwrap_or(text.len());
+                let b = starts.get(i + 1).map_or(text.len(), |e| e - 1);
                 let l = &text[a..b.max(a)];
                 l.strip_suffix('\r').unwrap_or(l)
             }
@@ -210,10 +259,10 @@ pub(super) fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
 
 /// Indexes of the lines of `s` holding an `o` or `O` (the only ones that can hold an O-word),
 /// in order, each once.
-pub(super) fn lines_with_o(text: &str, starts: &[usize]) -> Vec<usize> {
+pub(super) fn lines_with_o(text: &str, starts: &LineStarts) -> Vec<usize> {
     let mut out: Vec<usize> = Vec::new();
     for at in memchr::memchr2_iter(b'o', b'O', text.as_bytes()) {
-        let line = starts.partition_point(|&st| st <= at).saturating_sub(1);
+        let line = starts.line_of(at);
         if out.last() != Some(&line) {
             out.push(line);
         }

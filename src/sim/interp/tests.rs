@@ -497,3 +497,37 @@ fn called_files_from_the_loader() {
     assert_eq!(ids(&p), vec![("o-word", 2)]);
     assert!(p.diagnostics[0].message.contains("nope.ngc"));
 }
+
+/// Both layouts of [`source::LineStarts`] give the lines `str::split('\n')` gives, and
+/// the line holding every byte.
+#[test]
+fn line_starts_narrow_and_wide_agree_with_split() {
+    let text = "G1 X1\r\n\n(o-word o100)\nG0 Y2\n  \nlast";
+    let lines: Vec<&str> = text.split('\n').collect();
+    let mut begin = Vec::new();
+    let mut at = 0usize;
+    for l in &lines {
+        begin.push(at);
+        at += l.len() + 1;
+    }
+    let narrow = source::LineStarts::Narrow(begin.iter().map(|&b| b as u32).collect());
+    let wide = source::LineStarts::Wide(begin.clone());
+    assert!(matches!(
+        source::LineStarts::of(text.as_bytes()),
+        source::LineStarts::Narrow(ref v) if v.iter().map(|&b| b as usize).eq(begin.iter().copied())
+    ));
+    for starts in [&narrow, &wide] {
+        assert_eq!(starts.len(), lines.len());
+        for (i, &b) in begin.iter().enumerate() {
+            assert_eq!(starts.get(i), Some(b));
+        }
+        assert_eq!(starts.get(lines.len()), None);
+        for k in 0..text.len() {
+            let want = begin.iter().rposition(|&b| b <= k).unwrap_or(0);
+            assert_eq!(starts.line_of(k), want, "byte {k}");
+        }
+    }
+    // The O-word pre-scan finds the one line holding an o (line 2), once.
+    assert_eq!(source::lines_with_o(text, &narrow), vec![2]);
+    assert_eq!(source::lines_with_o(text, &wide), vec![2]);
+}

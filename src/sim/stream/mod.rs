@@ -732,14 +732,14 @@ fn load_tile_at(
             b: r.b,
             contour: r.contour,
             index: r.index,
-            source: 0,
-            pocket: r.group,
         })
         .collect();
     let links = recs.iter().map(|r| r.link).collect();
+    let pockets = recs.iter().map(|r| r.group).collect();
     let set = SegmentSet::tile(
         segs,
         links,
+        pockets,
         contours::across(cfg),
         contours::tangent_slack(cfg),
     );

@@ -77,8 +77,9 @@ impl SegmentSet {
             return None;
         }
         let span = |c: usize| &self.segs[starts[c]..starts[c] + self.contours[c].0 as usize];
+        let pocket = |s: &Seg| self.pockets.get(s.contour as usize).copied().flatten();
         let bits = |s: &Seg| {
-            let p = s.pocket.map_or(0, |p| u64::from(p) + 1);
+            let p = pocket(s).map_or(0, |p| u64::from(p) + 1);
             let [ax, ay, bx, by] = [s.a.x, s.a.y, s.b.x, s.b.y].map(f64::to_bits);
             [ax, ay, bx, by, p]
         };
@@ -144,7 +145,10 @@ impl SegmentSet {
                 contour: number,
                 ..*s
             }));
+            let tags = self.sources.get(starts[c]..starts[c] + n as usize);
+            out.sources.extend_from_slice(tags.unwrap_or_default());
             out.contours.push((n, closed));
+            out.pockets.push(self.pockets.get(c).copied().flatten());
         }
         Some(out)
     }

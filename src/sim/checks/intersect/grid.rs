@@ -130,13 +130,21 @@ pub(super) fn cover(a: DVec2, b: DVec2, mut f: impl FnMut(u64, u64)) {
 }
 
 impl SegmentSet {
-    /// A tile of a larger set: `segs` with their neighbours `links` (same length), in the
-    /// larger set's order, contacts between contours counted by `across`; see
-    /// [`SegmentSet::cell_contacts`].
-    pub fn tile(segs: Vec<Seg>, links: Vec<Link>, across: Across, tangent_slack: f64) -> Self {
+    /// A tile of a larger set: `segs` with their neighbours `links` and their contours'
+    /// pocket marks `pockets` (both the same length), in the larger set's order, contacts
+    /// between contours counted by `across`; see [`SegmentSet::cell_contacts`].
+    pub fn tile(
+        segs: Vec<Seg>,
+        links: Vec<Link>,
+        pockets: Vec<Option<u32>>,
+        across: Across,
+        tangent_slack: f64,
+    ) -> Self {
         SegmentSet {
             segs,
             contours: Vec::new(),
+            sources: Vec::new(),
+            pockets,
             across,
             tangent_slack,
             links: Some(links),

@@ -44,8 +44,9 @@ const FIRST_ROUND: usize = 64;
 /// skipping in O(1) the cells without a pair in its window.
 const ROUND_GROWTH: usize = 8;
 
-/// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it,
-/// `source` is the caller's tag (a motion index).
+/// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it.
+/// The caller's tag and the pocket mark are kept beside it ([`SegmentSet::source`],
+/// [`SegmentSet::pocket`]): 40 bytes a segment, which the searches read over and over.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Seg {
     /// Start point.
@@ -56,10 +57,6 @@ pub struct Seg {
     pub contour: u32,
     /// Position of the segment in its polyline.
     pub index: u32,
-    /// The caller's tag (a motion index).
-    pub source: u32,
-    /// The pocket its contour clears with others (see [`SegmentSet::push_polyline_in`]).
-    pub pocket: Option<u32>,
 }
 
 /// The pocket mark of line cuts (`(skinpath:group 0)`; pockets are numbered from 1): cuts
@@ -89,6 +86,11 @@ pub struct SegmentSet {
     pub segs: Vec<Seg>,
     /// Per contour: number of segments and whether it is closed (last point = first).
     pub contours: Vec<(u32, bool)>,
+    /// Per segment: the caller's tag (a motion index; none in a tile, read as 0).
+    sources: Vec<u32>,
+    /// The pocket marks ([`SegmentSet::push_polyline_in`]): per contour, or per segment
+    /// in a tile (whose contours are not held).
+    pockets: Vec<Option<u32>>,
     /// The contacts between different contours that count.
     pub across: Across,
     /// How far (a length) a chord may stray from the curve it stands for, by flattening and
@@ -144,6 +146,12 @@ impl SegmentSet {
         Self::default()
     }
 
+    /// Reserves room for `n` more segments.
+    pub fn reserve(&mut self, n: usize) {
+        self.segs.reserve(n);
+        self.sources.reserve(n);
+    }
+
     /// Adds a polyline; `sources[k]` tags the segment from `points[k]` to `points[k+1]`.
     /// Repeated points are skipped. Returns the contour number.
     #[allow(dead_code)] // used by the benches (`crate::internals`) and the tests
@@ -164,6 +172,7 @@ impl SegmentSet {
     ) -> u32 {
         let Some(&first) = points.first() else {
             self.contours.push((0, false));
+            self.pockets.push(pocket);
             return self.contours.len() as u32 - 1;
         };
         let mut open = self.begin_polyline(first, pocket);
@@ -197,9 +206,8 @@ impl SegmentSet {
                 b: p,
                 contour: open.contour,
                 index: open.count,
-                source,
-                pocket: open.pocket,
             });
+            self.sources.push(source);
             open.count += 1;
             open.prev = p;
         }
@@ -210,7 +218,22 @@ impl SegmentSet {
     pub fn end_polyline(&mut self, open: OpenPolyline) -> u32 {
         let closed = open.count >= 2 && open.first == open.prev;
         self.contours.push((open.count, closed));
+        self.pockets.push(open.pocket);
         open.contour
+    }
+
+    /// The caller's tag of segment `i` (0 in a tile, or past the end).
+    pub fn source(&self, i: usize) -> u32 {
+        self.sources.get(i).copied().unwrap_or(0)
+    }
+
+    /// The pocket mark of segment `i`'s contour (None past the end).
+    pub fn pocket(&self, i: usize) -> Option<u32> {
+        if self.links.is_some() {
+            return self.pockets.get(i).copied().flatten();
+        }
+        let c = self.segs.get(i)?.contour as usize;
+        self.pockets.get(c).copied().flatten()
     }
 
     /// All contacts: non-adjacent pairs that share any point (proper or not), and adjacent
@@ -326,13 +349,14 @@ impl SegmentSet {
                 let (Some(s), Some(t)) = (self.segs.get(i), self.segs.get(j)) else {
                     return;
                 };
-                // Line cuts may retrace themselves as they may cross (see `test_pair`).
-                if s.pocket == Some(LINE_GROUP) {
-                    return;
-                }
-                // s ends where t starts.
+                // s ends where t starts. The cheap test first: a path going on (not
+                // back) fails it, and the rest is not needed. Line cuts may retrace
+                // themselves as they may cross (see `test_pair`).
                 let (a, b, c) = (s.a, s.b, t.b);
-                if orient2d(a, b, c) == 0.0 && (c - b).dot(a - b) > 0.0 {
+                if (c - b).dot(a - b) > 0.0
+                    && self.pocket(i) != Some(LINE_GROUP)
+                    && orient2d(a, b, c) == 0.0
+                {
                     out.push(Contact {
                         i: i.min(j),
                         j: i.max(j),

@@ -135,9 +135,10 @@ impl SegmentSet {
             return None;
         }
         let across = s.contour != t.contour;
-        let one_pocket = s.pocket.is_some() && s.pocket == t.pocket;
+        let (sp, tp) = (self.pocket(i), self.pocket(j));
+        let one_pocket = sp.is_some() && sp == tp;
         // Line cuts follow a drawing's lines: they may cross anything, themselves included.
-        let line = s.pocket == Some(LINE_GROUP) || t.pocket == Some(LINE_GROUP);
+        let line = sp == Some(LINE_GROUP) || tp == Some(LINE_GROUP);
         if line
             || across && (self.across == Across::Never || one_pocket)
             || self.adjacent(i, j, s, t)
