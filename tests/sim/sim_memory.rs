@@ -17,7 +17,7 @@ use std::path::Path;
 use std::process::Command;
 
 /// Address-space budget of the 20 MB program, MiB (a release build passes in 200 since moves
-/// are stored in 40 bytes; it needed more than 250 before).
+/// are stored in 32 bytes; it needed more than 250 before they were 40).
 const SMALL_BUDGET_MB: u64 = 300;
 
 /// Address-space budget of the 200 MB program, MiB (streaming route; it needed 2000 in
