@@ -129,34 +129,51 @@ impl BoxGrid {
     }
 
     /// The least `dist(i)` over all items, where `dist(i)` is at least the distance from `p`
-    /// to box i (module docs). Once the best is at most `floor` the search may stop with it
-    /// (a value at most `floor`, not necessarily the least). Infinite with no items.
-    pub(crate) fn nearest(&self, p: DVec2, floor: f64, dist: impl Fn(usize) -> f64) -> f64 {
+    /// to box i (module docs), and an item where it is reached. Once the best is at most
+    /// `floor` the search may stop with it (a value at most `floor`, not necessarily the
+    /// least). `hint` (an item index, typically the answer for a nearby point) is tried
+    /// first: the minimum is the same, found sooner. Infinite (and `None`) with no items.
+    pub(crate) fn nearest(
+        &self,
+        p: DVec2,
+        floor: f64,
+        hint: Option<usize>,
+        dist: impl Fn(usize) -> f64,
+    ) -> (f64, Option<usize>) {
         let slack = PRUNE_SLACK * self.h;
         let (cx, cy) = self.cell(p);
         // Rings nearer than the grid hold no cells: start at the first that reaches it.
         let reach = |c: i64, n: i64| (-c).max(c - (n - 1)).max(0);
         let first = reach(cx, self.nx).max(reach(cy, self.ny));
         let last = (cx.max(self.nx - 1 - cx)).max(cy.max(self.ny - 1 - cy));
-        let mut best = f64::INFINITY;
-        let visit = |x: i64, y: i64, best: &mut f64| -> bool {
+        let mut best = (f64::INFINITY, None);
+        if let Some(i) = hint.filter(|&i| i < self.boxes.len()) {
+            best = (dist(i), Some(i));
+            if best.0 <= floor {
+                return best;
+            }
+        }
+        let visit = |x: i64, y: i64, best: &mut (f64, Option<usize>)| -> bool {
             if x < 0 || y < 0 || x >= self.nx || y >= self.ny {
                 return false;
             }
             for &i in self.cell_items(x, y) {
                 let i = i as usize;
-                if self.boxes[i].distance(p) > *best + slack {
+                if self.boxes[i].distance(p) > best.0 + slack {
                     continue;
                 }
-                *best = best.min(dist(i));
-                if *best <= floor {
+                let d = dist(i);
+                if d < best.0 {
+                    *best = (d, Some(i));
+                }
+                if best.0 <= floor {
                     return true;
                 }
             }
             false
         };
         for k in first..=last {
-            if (k - 1) as f64 * self.h > best + slack {
+            if (k - 1) as f64 * self.h > best.0 + slack {
                 break;
             }
             if k == 0 {
@@ -229,8 +246,12 @@ mod tests {
             for (x, y) in qs {
                 let p = DVec2::new(x, y);
                 let brute = boxes.iter().map(|b| b.distance(p)).fold(f64::INFINITY, f64::min);
-                let got = g.nearest(p, f64::NEG_INFINITY, |i| boxes[i].distance(p));
+                let (got, at) = g.nearest(p, f64::NEG_INFINITY, None, |i| boxes[i].distance(p));
                 prop_assert_eq!(got, brute);
+                prop_assert_eq!(boxes[at.unwrap()].distance(p), brute);
+                // Any hint gives the same minimum.
+                let hinted = g.nearest(p, f64::NEG_INFINITY, Some(boxes.len() / 2), |i| boxes[i].distance(p));
+                prop_assert_eq!(hinted.0, brute);
                 let mut listed = Vec::new();
                 g.ray_items(p, |i| listed.push(i));
                 listed.sort_unstable();
@@ -251,9 +272,12 @@ mod tests {
         let boxes = boxes_of(&[(0.0, 0.0, 1.0, 1.0), (10.0, 0.0, 1.0, 1.0)]);
         let g = BoxGrid::new(boxes.clone());
         let p = DVec2::new(5.0, 0.5);
-        assert_eq!(g.nearest(p, f64::NEG_INFINITY, |i| boxes[i].distance(p)), 4.0);
-        assert!(g.nearest(p, 100.0, |i| boxes[i].distance(p)) <= 100.0);
+        let d = |i: usize| boxes[i].distance(p);
+        assert_eq!(g.nearest(p, f64::NEG_INFINITY, None, d), (4.0, Some(0)));
+        assert!(g.nearest(p, 100.0, None, d).0 <= 100.0);
+        // A hint at most `floor` is the answer at once.
+        assert_eq!(g.nearest(p, 4.5, Some(1), d), (4.0, Some(1)));
         let e = BoxGrid::new(Vec::new());
-        assert_eq!(e.nearest(p, 0.0, |_| 0.0), f64::INFINITY);
+        assert_eq!(e.nearest(p, 0.0, None, |_| 0.0), (f64::INFINITY, None));
     }
 }

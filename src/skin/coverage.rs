@@ -46,6 +46,8 @@ pub fn uncovered(disks: &[(f64, Circle)], polygons: &[Vec<DVec2>]) -> Option<Unc
         .flat_map(|p| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])))
         .collect();
     let grid = BoxGrid::new(edges.iter().map(|&(a, b)| Aabb::from_corners(a, b)).collect());
+    // Consecutive disks are near each other: each search starts at the previous one's edge.
+    let mut last = None;
     disks
         .iter()
         .map(|&(t, d)| {
@@ -54,9 +56,10 @@ pub fn uncovered(disks: &[(f64, Circle)], polygons: &[Vec<DVec2>]) -> Option<Unc
             let mut winding = 0i32;
             grid.ray_items(d.c, |i| winding += edge_winding(edges[i].0, edges[i].1, d.c));
             let inside = winding % 2 != 0;
-            let dist = grid.nearest(d.c, f64::NEG_INFINITY, |i| {
+            let (dist, at) = grid.nearest(d.c, f64::NEG_INFINITY, last, |i| {
                 Line::new(edges[i].0, edges[i].1).distance(d.c)
             });
+            last = at;
             let depth = if inside { d.r - dist } else { d.r + dist };
             Uncovered { depth, t, at: d.c }
         })
@@ -96,9 +99,15 @@ pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVe
     // (the early break of Taha & Hanbury 2015, "An efficient algorithm for calculating the
     // exact Hausdorff distance", §3: a point nearer than the largest distance so far cannot
     // change the maximum, so its search stops there).
-    let dist = |p: DVec2, floor: f64| -> f64 {
-        grid.nearest(p, floor, |i| hull_distance(p, &pairs[i].0, &pairs[i].1))
-            .max(0.0)
+    // Consecutive samples are near each other: each search starts at the previous one's
+    // pair.
+    let mut last = None;
+    let mut dist = |p: DVec2, floor: f64| -> f64 {
+        let (d, at) = grid.nearest(p, floor, last, |i| {
+            hull_distance(p, &pairs[i].0, &pairs[i].1)
+        });
+        last = at;
+        d.max(0.0)
     };
     let mut worst = (0.0f64, DVec2::ZERO);
     for poly in polygons {

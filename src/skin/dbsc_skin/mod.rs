@@ -367,6 +367,7 @@ fn skin_parts(
         marks: vec![Mark::Open; if closed { n } else { n.saturating_sub(1) }],
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
         cache: RefCell::new(KeyMap::default()),
+        quick: RefCell::default(),
         params,
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),

@@ -38,6 +38,10 @@ pub(super) struct State<'a> {
     pub(super) weights: Vec<f64>,
     /// Error bounds by (arc, span, side, mode).
     pub(super) cache: RefCell<KeyMap<HausdorffBounds>>,
+    /// Decide-mode keys whose bound the quick proof of D_H ≤ ε − gap gave in a run that
+    /// never ran out of work, with the work spent: the Compare bound of the same arc and
+    /// span is that run again (same steps, same bounds), taken from here instead.
+    pub(super) quick: RefCell<KeyMap<usize>>,
     /// Envelope loops of the curve (kruppa-2023 Sec. 3).
     pub(super) loops: Vec<EnvelopeLoop>,
     /// Refinement steps left for the Hausdorff bounds of the whole skinning.
