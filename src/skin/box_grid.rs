@@ -275,8 +275,11 @@ mod tests {
         let d = |i: usize| boxes[i].distance(p);
         assert_eq!(g.nearest(p, f64::NEG_INFINITY, None, d), (4.0, Some(0)));
         assert!(g.nearest(p, 100.0, None, d).0 <= 100.0);
-        // A hint at most `floor` is the answer at once.
-        assert_eq!(g.nearest(p, 4.5, Some(1), d), (4.0, Some(1)));
+        // A hint at most `floor` is the answer at once; a farther hint gives way to the
+        // nearest item.
+        assert_eq!(g.nearest(p, 4.5, Some(0), d), (4.0, Some(0)));
+        assert_eq!(g.nearest(p, f64::NEG_INFINITY, Some(1), d), (4.0, Some(0)));
+        assert_eq!(g.nearest(p, 5.5, Some(1), d), (5.0, Some(1)));
         let e = BoxGrid::new(Vec::new());
         assert_eq!(e.nearest(p, 0.0, None, |_| 0.0), (f64::INFINITY, None));
     }
