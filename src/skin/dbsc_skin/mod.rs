@@ -368,6 +368,7 @@ fn skin_parts(
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
         cache: RefCell::new(KeyMap::default()),
         quick: RefCell::default(),
+        clear: RefCell::default(),
         params,
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),
@@ -402,11 +403,13 @@ fn skin_parts(
         ReportBounds::Tight => Mode::Tight,
         ReportBounds::Decided => Mode::DecidedReport,
     };
+    // Contours that phase 3 already found free of crossings (the same test) need no test.
+    let verified = st.clear.take();
     // The state moves to the other closure by a unique borrow (its caches are not Sync).
     let state = &mut st;
     let (crossing, err) = crate::par::join(
         || {
-            (!opts.allow_global_overlap)
+            (!opts.allow_global_overlap && verified.as_ref() != Some(&o.contours))
                 .then(|| first_crossing(&o.contours, opts.intersect_tol))
                 .flatten()
         },
