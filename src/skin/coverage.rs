@@ -45,7 +45,12 @@ pub fn uncovered(disks: &[(f64, Circle)], polygons: &[Vec<DVec2>]) -> Option<Unc
         .iter()
         .flat_map(|p| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])))
         .collect();
-    let grid = BoxGrid::new(edges.iter().map(|&(a, b)| Aabb::from_corners(a, b)).collect());
+    let grid = BoxGrid::new(
+        edges
+            .iter()
+            .map(|&(a, b)| Aabb::from_corners(a, b))
+            .collect(),
+    );
     // Consecutive disks are near each other: each search starts at the previous one's edge.
     let mut last = None;
     disks
@@ -54,7 +59,9 @@ pub fn uncovered(disks: &[(f64, Circle)], polygons: &[Vec<DVec2>]) -> Option<Unc
             // The winding number's parity from the edges the ray can cross (the others
             // contribute 0 to the sum of `edge_winding`).
             let mut winding = 0i32;
-            grid.ray_items(d.c, |i| winding += edge_winding(edges[i].0, edges[i].1, d.c));
+            grid.ray_items(d.c, |i| {
+                winding += edge_winding(edges[i].0, edges[i].1, d.c)
+            });
             let inside = winding % 2 != 0;
             let (dist, at) = grid.nearest(d.c, f64::NEG_INFINITY, last, |i| {
                 Line::new(edges[i].0, edges[i].1).distance(d.c)

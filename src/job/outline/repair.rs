@@ -32,8 +32,8 @@
 //! ([`crate::skin::coverage::excess`], boundary sampled every [`EXCESS_STEP`] tolerances);
 //! the larger is [`SkinRepair::deviation`].
 
-use crate::dbsc::{DiskBSpline, LoopReport};
 use crate::dbsc::flatten::flatten_disks;
+use crate::dbsc::{DiskBSpline, LoopReport};
 use crate::geom::{Circle, DVec2, Path};
 use crate::skin::admissible::{Condition, SkinError};
 use crate::skin::coverage::{Uncovered, excess, uncovered};

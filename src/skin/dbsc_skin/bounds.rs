@@ -183,7 +183,11 @@ impl State<'_> {
         // A Compare bound that the quick proof gave in Decide mode is that bound again
         // ([`State::quick`]); it is not computed ahead.
         let reused = |key: &CacheKey| {
-            key.2 == Mode::Compare && self.quick.borrow().contains_key(&(key.0, key.1, Mode::Decide))
+            key.2 == Mode::Compare
+                && self
+                    .quick
+                    .borrow()
+                    .contains_key(&(key.0, key.1, Mode::Decide))
         };
         let mut pre = speculative_bounds(
             &sides,
