@@ -151,7 +151,7 @@ impl DiskBSpline {
 
     /// The disk ⟨q(t); r(t)⟩.
     pub fn circle_at(&self, t: f64) -> Circle {
-        let v = self.curve.eval(t);
+        let v = self.point(t);
         Circle::new(v.truncate(), v.z)
     }
 
@@ -162,7 +162,15 @@ impl DiskBSpline {
 
     /// Radius r(t).
     pub fn radius(&self, t: f64) -> f64 {
-        self.curve.eval(t).z
+        self.point(t).z
+    }
+
+    /// (q(t), r(t)) as one point of the curve: P&T A2.3 at order 0 on the stack
+    /// ([`BSpline::derivs_array`]), the same arithmetic as [`BSpline::eval`] (A2.2) without
+    /// its heap buffers (the skin and its measures evaluate circles millions of times).
+    fn point(&self, t: f64) -> DVec3 {
+        let [v] = self.curve.derivs_array::<1>(t);
+        v
     }
 
     /// (q^{(k)}(t), r^{(k)}(t)) for k = 0..=order.

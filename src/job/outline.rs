@@ -139,9 +139,10 @@ pub fn stroke_outline(
     let skin_opts = DbscSkinOptions {
         epsilon: opts.epsilon,
         report: opts.report,
+        loop_tol: LOOP_PARAM_TOL,
         ..DbscSkinOptions::default()
     };
-    let failure = match repair::skin_piece(c, &skin_opts) {
+    let failure = match repair::skin_piece(c, &skin_opts, Some(&loops)) {
         Ok((sk, self_overlap)) => {
             let contours = repair::skin_contours(&sk, self_overlap, opts.tolerance);
             // Where phase 3 stopped with ε far from met, the skin can cut through the

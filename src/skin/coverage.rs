@@ -14,10 +14,14 @@
 //!
 //! positive exactly when part of the disk lies outside Ω. [`uncovered`] returns the
 //! deepest sample. The inside test is the exact winding number of
-//! [`crate::geom::predicates`]. Cost: O(S·V) for S disk samples and V polygon vertices.
+//! [`crate::geom::predicates`], summed over the edges that the ray from the centre can
+//! cross; the distance to the boundary is the nearest edge's. Both queries run on a grid of
+//! the edges' boxes ([`BoxGrid`]): about O(S + V) for S disk samples and V polygon
+//! vertices of evenly sized edges, where scanning every edge costs O(S·V).
 
-use crate::geom::predicates::winding_number;
-use crate::geom::{Circle, DVec2, Line};
+use crate::geom::predicates::edge_winding;
+use crate::geom::{Aabb, Circle, DVec2, Line};
+use crate::skin::box_grid::BoxGrid;
 
 /// The deepest-reaching disk sample outside a skin's region: where the skin leaves a disk
 /// uncovered.
@@ -37,41 +41,32 @@ pub struct Uncovered {
 /// in the module docs. `None` when there are no disks. With no polygons every disk lies
 /// outside: the depth is infinite.
 pub fn uncovered(disks: &[(f64, Circle)], polygons: &[Vec<DVec2>]) -> Option<Uncovered> {
-    let mut edges: Vec<Line> = polygons
+    let edges: Vec<(DVec2, DVec2)> = polygons
         .iter()
-        .flat_map(|p| (0..p.len()).map(move |i| Line::new(p[i], p[(i + 1) % p.len()])))
+        .flat_map(|p| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])))
         .collect();
-    // Edges in order of their middle's x: an edge is at least |Δx| − (its half x-extent)
-    // from a point, so the scan outwards from the nearest middle stops once that exceeds
-    // the best distance (the same minimum as over all edges).
-    let mid = |e: &Line| 0.5 * (e.p0.x + e.p1.x);
-    edges.sort_by(|a, b| mid(a).total_cmp(&mid(b)));
-    let half = edges
-        .iter()
-        .map(|e| 0.5 * (e.p0.x - e.p1.x).abs())
-        .fold(0.0, f64::max);
-    let nearest = |q: DVec2| -> f64 {
-        let start = edges.partition_point(|e| mid(e) < q.x);
-        let mut best = f64::INFINITY;
-        for e in &edges[start..] {
-            if mid(e) - q.x - half > best {
-                break;
-            }
-            best = best.min(e.distance(q));
-        }
-        for e in edges[..start].iter().rev() {
-            if q.x - mid(e) - half > best {
-                break;
-            }
-            best = best.min(e.distance(q));
-        }
-        best
-    };
+    let grid = BoxGrid::new(
+        edges
+            .iter()
+            .map(|&(a, b)| Aabb::from_corners(a, b))
+            .collect(),
+    );
+    // Consecutive disks are near each other: each search starts at the previous one's edge.
+    let mut last = None;
     disks
         .iter()
         .map(|&(t, d)| {
-            let inside = polygons.iter().map(|p| winding_number(p, d.c)).sum::<i32>() % 2 != 0;
-            let dist = nearest(d.c);
+            // The winding number's parity from the edges the ray can cross (the others
+            // contribute 0 to the sum of `edge_winding`).
+            let mut winding = 0i32;
+            grid.ray_items(d.c, |i| {
+                winding += edge_winding(edges[i].0, edges[i].1, d.c)
+            });
+            let inside = winding % 2 != 0;
+            let (dist, at) = grid.nearest(d.c, f64::NEG_INFINITY, last, |i| {
+                Line::new(edges[i].0, edges[i].1).distance(d.c)
+            });
+            last = at;
             let depth = if inside { d.r - dist } else { d.r + dist };
             Uncovered { depth, t, at: d.c }
         })
@@ -86,8 +81,8 @@ pub fn uncovered(disks: &[(f64, Circle)], polygons: &[Vec<DVec2>]) -> Option<Unc
 /// 1-Lipschitz, so the sampling misses at most `step`/2). With `depth` of [`uncovered`] it
 /// bounds the two-sided deviation of an outline from its stroke: every point of a disk
 /// lies within `depth` of the region, every boundary point within this of a disk. Pairs
-/// are scanned in order of their middle's x from the nearest, stopping where |Δx| minus
-/// the largest half extent exceeds the best distance found. Returns the distance and the
+/// are searched on a grid of their boxes ([`BoxGrid::nearest`]: a pair is at least as far
+/// as its box, which holds its swept disks). Returns the distance and the
 /// boundary point where it is largest: (0, origin) when there are no polygons; infinite
 /// when there are no disks.
 pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVec2) {
@@ -95,43 +90,31 @@ pub fn excess(disks: &[Circle], polygons: &[Vec<DVec2>], step: f64) -> (f64, DVe
         let at = polygons.iter().flatten().next().copied();
         return at.map_or((0.0, DVec2::ZERO), |p| (f64::INFINITY, p));
     }
-    let mut pairs: Vec<(Circle, Circle)> = if disks.len() == 1 {
+    let pairs: Vec<(Circle, Circle)> = if disks.len() == 1 {
         vec![(disks[0], disks[0])]
     } else {
         disks.windows(2).map(|w| (w[0], w[1])).collect()
     };
-    let mid = |(a, b): &(Circle, Circle)| 0.5 * (a.c.x + b.c.x);
-    pairs.sort_by(|x, y| mid(x).total_cmp(&mid(y)));
-    let half = pairs
-        .iter()
-        .map(|(a, b)| 0.5 * (a.c.x - b.c.x).abs() + a.r.max(b.r))
-        .fold(0.0, f64::max);
+    let disk_box = |d: &Circle| Aabb::new(d.c - DVec2::splat(d.r), d.c + DVec2::splat(d.r));
+    let grid = BoxGrid::new(
+        pairs
+            .iter()
+            .map(|(a, b)| disk_box(a).union(disk_box(b)))
+            .collect(),
+    );
     // The distance of p, or any value at most `floor` once it is known not to exceed it
     // (the early break of Taha & Hanbury 2015, "An efficient algorithm for calculating the
     // exact Hausdorff distance", §3: a point nearer than the largest distance so far cannot
-    // change the maximum, so its scan stops there).
-    let dist = |p: DVec2, floor: f64| -> f64 {
-        let start = pairs.partition_point(|q| mid(q) < p.x);
-        let mut best = f64::INFINITY;
-        for q in &pairs[start..] {
-            if mid(q) - p.x - half > best {
-                break;
-            }
-            best = best.min(hull_distance(p, &q.0, &q.1));
-            if best <= floor {
-                return best.max(0.0);
-            }
-        }
-        for q in pairs[..start].iter().rev() {
-            if p.x - mid(q) - half > best {
-                break;
-            }
-            best = best.min(hull_distance(p, &q.0, &q.1));
-            if best <= floor {
-                return best.max(0.0);
-            }
-        }
-        best.max(0.0)
+    // change the maximum, so its search stops there).
+    // Consecutive samples are near each other: each search starts at the previous one's
+    // pair.
+    let mut last = None;
+    let mut dist = |p: DVec2, floor: f64| -> f64 {
+        let (d, at) = grid.nearest(p, floor, last, |i| {
+            hull_distance(p, &pairs[i].0, &pairs[i].1)
+        });
+        last = at;
+        d.max(0.0)
     };
     let mut worst = (0.0f64, DVec2::ZERO);
     for poly in polygons {

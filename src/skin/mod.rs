@@ -9,6 +9,7 @@
 pub(crate) mod admissible;
 pub(crate) mod bezier;
 pub(crate) mod bits_hash;
+pub(crate) mod box_grid;
 pub(crate) mod coverage;
 pub(crate) mod dbsc_skin;
 pub(crate) mod hausdorff;

@@ -32,13 +32,14 @@
 //! ([`crate::skin::coverage::excess`], boundary sampled every [`EXCESS_STEP`] tolerances);
 //! the larger is [`SkinRepair::deviation`].
 
-use crate::dbsc::DiskBSpline;
 use crate::dbsc::flatten::flatten_disks;
+use crate::dbsc::{DiskBSpline, LoopReport};
 use crate::geom::{Circle, DVec2, Path};
 use crate::skin::admissible::{Condition, SkinError};
 use crate::skin::coverage::{Uncovered, excess, uncovered};
 use crate::skin::dbsc_skin::{
-    DbscSkin, DbscSkinError, DbscSkinOptions, SegmentReport, check_knot_circles, skin_dbsc,
+    DbscSkin, DbscSkinError, DbscSkinOptions, SegmentReport, check_knot_circles,
+    skin_dbsc_or_overlap,
 };
 use crate::spline::BSpline;
 use crate::toolpath::ops::swept_disks;
@@ -139,22 +140,14 @@ struct Failure {
 }
 
 /// The skin of one piece as the job takes it: retried with
-/// [`DbscSkinOptions::allow_global_overlap`] when its spine crosses itself.
+/// [`DbscSkinOptions::allow_global_overlap`] when its spine crosses itself (one run,
+/// [`skin_dbsc_or_overlap`]); `loops`, when given, are `find_loops(c, opts.loop_tol)`.
 pub fn skin_piece(
     c: &DiskBSpline,
     opts: &DbscSkinOptions,
+    loops: Option<&LoopReport>,
 ) -> Result<(DbscSkin, bool), DbscSkinError> {
-    match skin_dbsc(c, opts) {
-        Ok(sk) => Ok((sk, false)),
-        Err(DbscSkinError::SelfIntersection { .. }) => {
-            let o = DbscSkinOptions {
-                allow_global_overlap: true,
-                ..*opts
-            };
-            Ok((skin_dbsc(c, &o)?, true))
-        }
-        Err(e) => Err(e),
-    }
+    skin_dbsc_or_overlap(c, opts, loops)
 }
 
 /// Contours of a skin as the job draws them: the union of its lobes when it overlaps itself.
@@ -337,17 +330,18 @@ fn attempt(
     tol: f64,
     limit: f64,
 ) -> Result<(DbscSkin, bool), Failure> {
-    match check_knot_circles(&p.curve).and_then(|()| skin_piece(&p.curve, opts)) {
+    match check_knot_circles(&p.curve).and_then(|()| skin_piece(&p.curve, opts, None)) {
         Ok((sk, overlap)) => {
             let contours = skin_contours(&sk, overlap, tol);
-            if let Some(u) = missed(&p.curve, &contours, tol, limit) {
+            // The same disks and polygons as [`missed`] measures.
+            let disks = flatten_disks(&p.curve, tol);
+            let polygons: Vec<Vec<DVec2>> = contours.iter().map(|c| c.flatten(tol)).collect();
+            if let Some(u) = uncovered(&disks, &polygons).filter(|u| u.depth > limit) {
                 return Err(missed_failure(u, p.range));
             }
             // A piece's skin may also round a bend well outside its disks (where its
             // Hausdorff bound stays unmet): split it there too, at the nearest disk.
-            let disks = flatten_disks(&p.curve, tol);
             let circles: Vec<Circle> = disks.iter().map(|&(_, d)| d).collect();
-            let polygons: Vec<Vec<DVec2>> = contours.iter().map(|c| c.flatten(tol)).collect();
             let (out, at) = excess(&circles, &polygons, EXCESS_STEP * tol);
             if out <= limit {
                 return Ok((sk, overlap));

@@ -11,7 +11,7 @@ use crate::skin::SkinError;
 use crate::skin::bits_hash::{BitsMap, BitsSet};
 use crate::skin::hausdorff::{
     EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
-    skin_envelope_bounds, skin_envelope_within,
+    skin_envelope_bounds, skin_envelope_within, skin_envelope_within_path,
 };
 
 /// What the error bounds of a pass are for.
@@ -74,17 +74,20 @@ pub(super) struct BoundJob {
 }
 
 pub(super) type SideSkin = Result<(Vec<f64>, Vec<CubicBez>), SkinError>;
-pub(super) type Speculative = (Result<HausdorffBounds, HausdorffError>, usize);
+/// A bound computed ahead: the bounds and whether the quick proof of D_H ≤ ε − gap gave them
+/// ([`skin_envelope_within_path`]), or the error; and the work it spent.
+pub(super) type Speculative = (Result<(HausdorffBounds, bool), HausdorffError>, usize);
 
 /// Runs `bound` in parallel (rayon) on every distinct uncached (arc, span) of the sides up
-/// to the first side that failed, keyed by cache key; the caller decides in serial order
-/// which results stand (a pure function of the job and the budget, so thread count and
-/// scheduling cannot change them).
+/// to the first side that failed and that `reused` does not take from an earlier bound,
+/// keyed by cache key; the caller decides in serial order which results stand (a pure
+/// function of the job and the budget, so thread count and scheduling cannot change them).
 pub(super) fn speculative_bounds(
     sides: &[SideSkin; 2],
     hi: f64,
     (mode, eps): (Mode, f64),
     cache: &KeyMap<HausdorffBounds>,
+    reused: impl Fn(&CacheKey) -> bool,
     bound: impl Fn(&BoundJob) -> Speculative + Sync,
 ) -> KeyMap<Speculative> {
     let mut jobs: Vec<BoundJob> = Vec::new();
@@ -97,7 +100,7 @@ pub(super) fn speculative_bounds(
             let t0 = ps[a];
             let t1 = ps.get(a + 1).copied().unwrap_or(hi);
             let key = cache_key(arc, t0, t1, k, mode);
-            if cached(cache, &key, eps).is_none() && seen.insert(key) {
+            if cached(cache, &key, eps).is_none() && !reused(&key) && seen.insert(key) {
                 jobs.push(BoundJob {
                     key,
                     arc: *arc,
@@ -121,6 +124,27 @@ pub(super) fn param_bits(ps: &[f64]) -> Vec<u64> {
 }
 
 impl State<'_> {
+    /// Records a Decide bound that the quick proof of D_H ≤ ε − gap gave (`quick`) in a run
+    /// that never ran out of work, with the work it spent ([`State::quick`]).
+    fn note_quick(&self, key: &CacheKey, quick: bool, spent: usize) {
+        if quick && key.2 == Mode::Decide {
+            self.quick.borrow_mut().insert(*key, spent);
+        }
+    }
+
+    /// For a Compare key whose Decide bound the quick proof gave: that bound and its work,
+    /// when `left` covers the work (the Compare run takes the same steps to the same
+    /// bounds: the quick proof does not depend on the rejection, [`skin_envelope_within_path`]).
+    fn reuse_quick(&self, key: &CacheKey, left: usize) -> Option<(HausdorffBounds, usize)> {
+        if key.2 != Mode::Compare {
+            return None;
+        }
+        let decide = (key.0, key.1, Mode::Decide);
+        let spent = *self.quick.borrow().get(&decide)?;
+        let h = self.cache.borrow().get(&decide).copied()?;
+        (spent <= left).then_some((h, spent))
+    }
+
     /// Errors of every side segment, mapped onto the segments of `params`.
     ///
     /// The bounds not yet cached are computed in parallel ([`speculative_bounds`]), then
@@ -141,23 +165,42 @@ impl State<'_> {
         let spans = &self.spans;
         let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| {
             let env = EnvelopeSegment::with_spans(c, spans, side, t0, t1)?;
+            let plain = |h: HausdorffBounds| (h, false);
             match mode {
-                Mode::Tight => skin_envelope_bounds(arc, &env, gap, w),
+                Mode::Tight => skin_envelope_bounds(arc, &env, gap, w).map(plain),
                 Mode::Decide => {
-                    skin_envelope_within(arc, &env, (eps, Rejection::QuickLower), gap, w)
+                    skin_envelope_within_path(arc, &env, (eps, Rejection::QuickLower), gap, w)
                 }
                 Mode::DecidedReport => {
-                    skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w)
+                    skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w).map(plain)
                 }
-                Mode::Compare => skin_envelope_within(arc, &env, (eps, Rejection::Full), gap, w),
+                Mode::Compare => {
+                    skin_envelope_within_path(arc, &env, (eps, Rejection::Full), gap, w)
+                }
             }
         };
         let par_budget = self.work.borrow().left.min(MAX_BOUND_WORK);
-        let mut pre = speculative_bounds(&sides, self.hi, (mode, eps), &self.cache.borrow(), |j| {
-            let mut w = Work::new(par_budget);
-            let r = bound(&j.arc, j.side, j.t0, j.t1, &mut w);
-            (r, w.spent)
-        });
+        // A Compare bound that the quick proof gave in Decide mode is that bound again
+        // ([`State::quick`]); it is not computed ahead.
+        let reused = |key: &CacheKey| {
+            key.2 == Mode::Compare
+                && self
+                    .quick
+                    .borrow()
+                    .contains_key(&(key.0, key.1, Mode::Decide))
+        };
+        let mut pre = speculative_bounds(
+            &sides,
+            self.hi,
+            (mode, eps),
+            &self.cache.borrow(),
+            reused,
+            |j| {
+                let mut w = Work::new(par_budget);
+                let r = bound(&j.arc, j.side, j.t0, j.t1, &mut w);
+                (r, w.spent)
+            },
+        );
         for (k, (side, skin)) in [Side::Left, Side::Right].into_iter().zip(sides).enumerate() {
             let (ps, arcs) = skin?;
             let mut j = 0;
@@ -179,16 +222,33 @@ impl State<'_> {
                             });
                         }
                         let mut w = Work::new(budget.left.min(MAX_BOUND_WORK));
-                        let h = match pre.remove(&key) {
-                            // Never ran out and fits this budget: the same run as serial.
-                            Some((r, spent)) if spent < par_budget && spent <= w.left => {
+                        let start = w.left;
+                        let h = match (self.reuse_quick(&key, w.left), pre.remove(&key)) {
+                            // The quick proof's run again, spending what it spent.
+                            (Some((h, spent)), _) => {
                                 w = Work {
                                     left: w.left - spent,
                                     spent,
                                 };
-                                r?
+                                h
                             }
-                            _ => bound(arc, side, t0, t1, &mut w)?,
+                            // Never ran out and fits this budget: the same run as serial.
+                            (None, Some((r, spent))) if spent < par_budget && spent <= w.left => {
+                                w = Work {
+                                    left: w.left - spent,
+                                    spent,
+                                };
+                                let (h, quick) = r?;
+                                self.note_quick(&key, quick, spent);
+                                h
+                            }
+                            _ => {
+                                let (h, quick) = bound(arc, side, t0, t1, &mut w)?;
+                                if w.spent < start {
+                                    self.note_quick(&key, quick, w.spent);
+                                }
+                                h
+                            }
                         };
                         budget.left -= w.spent;
                         budget.spent += w.spent;

@@ -24,7 +24,7 @@
 
 use super::hausdorff::{HausdorffBounds, HausdorffError, Work};
 use super::{AdmissibilityOptions, SkinError, check_admissible};
-use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, Side, SpanPoly, find_loops};
+use crate::dbsc::{DiskBSpline, EnvelopeLoop, LoopError, LoopReport, Side, SpanPoly, find_loops};
 use crate::geom::{Circle, CubicBez, Path};
 use std::cell::RefCell;
 
@@ -298,6 +298,47 @@ fn adm_opts() -> AdmissibilityOptions {
 /// docs). The outline never self-intersects: phases 1–2 keep the circle sequence admissible
 /// and phase 3 keeps an insertion only when the outline stays free of intersections.
 pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, DbscSkinError> {
+    let (crossing, skin) = skin_parts(c, opts, None)?;
+    match crossing {
+        Some((contour, other, segment)) => Err(DbscSkinError::SelfIntersection {
+            contour,
+            other,
+            segment,
+        }),
+        None => skin,
+    }
+}
+
+/// [`skin_dbsc`], and where its outline crosses itself the skin that
+/// [`DbscSkinOptions::allow_global_overlap`] gives instead, marked `true`: the result of
+/// `skin_dbsc(c, opts)` when that is not [`DbscSkinError::SelfIntersection`], else of
+/// `skin_dbsc` with `allow_global_overlap` set — from one run (the option only skips the
+/// final crossing test, so the second run would repeat the first). `loops`, when given,
+/// must be `find_loops(c, opts.loop_tol)` (a caller that has them saves the search).
+pub(crate) fn skin_dbsc_or_overlap(
+    c: &DiskBSpline,
+    opts: &DbscSkinOptions,
+    loops: Option<&LoopReport>,
+) -> Result<(DbscSkin, bool), DbscSkinError> {
+    let (crossing, skin) = skin_parts(c, opts, loops)?;
+    skin.map(|sk| (sk, crossing.is_some()))
+}
+
+/// The crossing of the final outline found by the safety net of [`skin_dbsc`] (none with
+/// [`DbscSkinOptions::allow_global_overlap`]) and the skin or the error of its report;
+/// the outer error is any earlier one (options, loops, phases, outline).
+#[allow(clippy::type_complexity)]
+fn skin_parts(
+    c: &DiskBSpline,
+    opts: &DbscSkinOptions,
+    known_loops: Option<&LoopReport>,
+) -> Result<
+    (
+        Option<(usize, usize, usize)>,
+        Result<DbscSkin, DbscSkinError>,
+    ),
+    DbscSkinError,
+> {
     if !(opts.epsilon > 0.0 && opts.epsilon.is_finite()) {
         return Err(DbscSkinError::Options(
             "epsilon must be positive and finite",
@@ -326,6 +367,8 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         marks: vec![Mark::Open; if closed { n } else { n.saturating_sub(1) }],
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
         cache: RefCell::new(KeyMap::default()),
+        quick: RefCell::default(),
+        clear: RefCell::default(),
         params,
         work: RefCell::new(Work::new(opts.max_work)),
         spans: SpanPoly::all(c),
@@ -334,9 +377,19 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
     };
     // The envelope loops (phase 3 and the report use them) beside phases 1 and 2, which
     // do not: a loop error still comes first, as when they were found before.
-    let (loops, phases) = crate::par::join(|| find_loops(c, opts.loop_tol), || st.phases_one_two());
-    let loops = loops?;
-    phases?;
+    let loops = match known_loops {
+        Some(l) => {
+            st.phases_one_two()?;
+            l.clone()
+        }
+        None => {
+            let (loops, phases) =
+                crate::par::join(|| find_loops(c, opts.loop_tol), || st.phases_one_two());
+            let loops = loops?;
+            phases?;
+            loops
+        }
+    };
     st.loops = loops.loops.clone();
     if opts.two_sided {
         st.phase3()?;
@@ -350,24 +403,22 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         ReportBounds::Tight => Mode::Tight,
         ReportBounds::Decided => Mode::DecidedReport,
     };
+    // Contours that phase 3 already found free of crossings (the same test) need no test.
+    let verified = st.clear.take();
     // The state moves to the other closure by a unique borrow (its caches are not Sync).
     let state = &mut st;
     let (crossing, err) = crate::par::join(
         || {
-            (!opts.allow_global_overlap)
+            (!opts.allow_global_overlap && verified.as_ref() != Some(&o.contours))
                 .then(|| first_crossing(&o.contours, opts.intersect_tol))
                 .flatten()
         },
         move || state.errors(mode),
     );
-    if let Some((contour, other, segment)) = crossing {
-        return Err(DbscSkinError::SelfIntersection {
-            contour,
-            other,
-            segment,
-        });
-    }
-    let err = err?;
+    let err = match err {
+        Ok(e) => e,
+        Err(e) => return Ok((crossing, Err(e))),
+    };
     let mut report = Vec::with_capacity(err.len());
     for (i, e) in err.iter().enumerate() {
         let (t0, t1) = (st.params[i], st.seg_end(i));
@@ -398,7 +449,7 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
             loops: lp,
         });
     }
-    Ok(DbscSkin {
+    let skin = DbscSkin {
         closed,
         circles: st.circles_of(&st.params),
         params: st.params,
@@ -410,7 +461,8 @@ pub fn skin_dbsc(c: &DiskBSpline, opts: &DbscSkinOptions) -> Result<DbscSkin, Db
         outline: o.contours,
         report,
         work: st.work.borrow().spent,
-    })
+    };
+    Ok((crossing, Ok(skin)))
 }
 
 /// Whether the loop interval [a, b] (wrapping when a > b) overlaps [t0, t1].

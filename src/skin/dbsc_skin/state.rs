@@ -38,6 +38,14 @@ pub(super) struct State<'a> {
     pub(super) weights: Vec<f64>,
     /// Error bounds by (arc, span, side, mode).
     pub(super) cache: RefCell<KeyMap<HausdorffBounds>>,
+    /// Decide-mode keys whose bound the quick proof of D_H ≤ ε − gap gave in a run that
+    /// never ran out of work, with the work spent: the Compare bound of the same arc and
+    /// span is that run again (same steps, same bounds), taken from here instead.
+    pub(super) quick: RefCell<KeyMap<usize>>,
+    /// The outline contours of the last insertion phase 3 kept, which
+    /// [`State::self_intersects`] found free of crossings: the final outline when no
+    /// insertion followed (rejected ones restore the state), so its safety net is known.
+    pub(super) clear: RefCell<Option<Vec<Path>>>,
     /// Envelope loops of the curve (kruppa-2023 Sec. 3).
     pub(super) loops: Vec<EnvelopeLoop>,
     /// Refinement steps left for the Hausdorff bounds of the whole skinning.
@@ -301,9 +309,17 @@ impl State<'_> {
         })
     }
 
+    /// Whether the outline of the current sequence crosses itself (or cannot be made);
+    /// an outline free of crossings is kept in [`State::clear`].
     pub(super) fn self_intersects(&self) -> bool {
         match self.outline() {
-            Ok(o) => outline_intersects(&o.contours, self.opts.intersect_tol),
+            Ok(o) => {
+                let crosses = outline_intersects(&o.contours, self.opts.intersect_tol);
+                if !crosses {
+                    *self.clear.borrow_mut() = Some(o.contours);
+                }
+                crosses
+            }
             Err(_) => true,
         }
     }

@@ -161,6 +161,19 @@ fn bounds_impl(
     threshold: Option<(f64, Rejection)>,
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
+    bounds_path(x, y, gap, threshold, work).map(|(h, _)| h)
+}
+
+/// [`bounds_impl`], and whether the quick proof of D_H ≤ ε − gap gave the bounds: that path
+/// does not depend on the [`Rejection`], so the bounds of one rejection there are those of
+/// every other (same curves, gap, ε, and a budget that does not run short).
+fn bounds_path(
+    x: &dyn BoundedCurve,
+    y: &dyn BoundedCurve,
+    gap: f64,
+    threshold: Option<(f64, Rejection)>,
+    work: &mut Work,
+) -> Result<(HausdorffBounds, bool), HausdorffError> {
     if !(gap > 0.0 && gap.is_finite()) {
         return Err(HausdorffError::Gap(gap));
     }
@@ -180,10 +193,11 @@ fn bounds_impl(
             && let Some(a) = search(true, &below, work)
             && let Some(b) = search(false, &below, work)
         {
-            return Ok(HausdorffBounds {
+            let h = HausdorffBounds {
                 lower: 0.0,
                 upper: a.upper.max(b.upper),
-            });
+            };
+            return Ok((h, true));
         }
         // Quick proof of D_H > ε at the farthest sample of either direction.
         for forward in [true, false]
@@ -197,23 +211,25 @@ fn bounds_impl(
                         .map_or(f64::INFINITY, |o| o.upper),
                     _ => f64::INFINITY,
                 };
-                return Ok(HausdorffBounds {
+                let h = HausdorffBounds {
                     lower: h.lower,
                     upper: h.upper.max(other),
-                });
+                };
+                return Ok((h, false));
             }
         }
     }
     let threshold = threshold.map(|t| t.0);
     let a = directed(x, y, gap, threshold, work)?;
     if threshold.is_some_and(|e| a.lower > e) {
-        return Ok(a);
+        return Ok((a, false));
     }
     let b = directed(y, x, gap, threshold, work)?;
-    Ok(HausdorffBounds {
+    let h = HausdorffBounds {
         lower: a.lower.max(b.lower),
         upper: a.upper.max(b.upper),
-    })
+    };
+    Ok((h, false))
 }
 
 /// D_H between a skin segment and the `side` envelope of `curve` on [t_a, t_b]
@@ -274,6 +290,18 @@ pub(crate) fn skin_envelope_within(
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
     bounds_impl(skin, env, gap, Some((eps, rejection)), work)
+}
+
+/// [`skin_envelope_within`], and whether its bounds are those of the quick proof of
+/// D_H ≤ ε − gap, which every [`Rejection`] gives alike ([`bounds_path`]).
+pub(crate) fn skin_envelope_within_path(
+    skin: &CubicBez,
+    env: &EnvelopeSegment,
+    (eps, rejection): (f64, Rejection),
+    gap: f64,
+    work: &mut Work,
+) -> Result<(HausdorffBounds, bool), HausdorffError> {
+    bounds_path(skin, env, gap, Some((eps, rejection)), work)
 }
 
 #[cfg(test)]
