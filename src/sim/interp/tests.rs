@@ -160,7 +160,8 @@ fn run_parsed(src: &str, cfg: &CheckConfig, ahead: bool) -> Program {
     it.add_source("program".into(), Cow::Borrowed(src));
     if ahead {
         std::thread::scope(|scope| {
-            let mut a = ParseAhead::spawn(scope, src, it.syn);
+            let starts = std::sync::Arc::new(LineStarts::of(src.as_bytes()));
+            let mut a = ParseAhead::spawn(scope, src, starts, it.syn);
             it.run(None, Some(&mut a));
         });
     } else {
