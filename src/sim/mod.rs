@@ -368,12 +368,12 @@ fn stats_each(
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     // One pass over the moves: the estimate hands each to `f` and to the length and bounds
     // sums.
-    s.time = time::estimate_each_len(&prog.motions, cfg, |m, len| {
+    s.time = time::estimate_each(&prog.motions, cfg, |m| {
         let (a, b) = m.bounds();
         f(m, (a, b));
         match m.kind {
-            MotionKind::Rapid => s.rapid_length += len,
-            MotionKind::Feed => s.cut_length += len,
+            MotionKind::Rapid => s.rapid_length += m.length(),
+            MotionKind::Feed => s.cut_length += m.length(),
             MotionKind::Dwell { .. } => return,
         }
         s.motions += 1;

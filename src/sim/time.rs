@@ -56,17 +56,7 @@ impl Block {
     /// the rate limit for a rapid. None for a chord the limits cannot move (zero length,
     /// zero or non-finite speed or acceleration).
     pub(super) fn of_chord(d: DVec3, feed: f64, rapid: bool, lim: &AxisLimits) -> Option<Block> {
-        Block::of_chord_len(d, d.length(), feed, rapid, lim)
-    }
-
-    /// [`Block::of_chord`] with the chord's length `len` = |d| given (the caller has it).
-    fn of_chord_len(
-        d: DVec3,
-        len: f64,
-        feed: f64,
-        rapid: bool,
-        lim: &AxisLimits,
-    ) -> Option<Block> {
+        let len = d.length();
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
@@ -135,21 +125,10 @@ pub fn estimate_each(
     cfg: &CheckConfig,
     mut f: impl FnMut(&Motion),
 ) -> TimeEstimate {
-    estimate_each_len(motions, cfg, |m, _| f(m))
-}
-
-/// [`estimate_each`], handing `f` each motion's [`Motion::length`] too: a line's length is
-/// its chord's, so one square root serves the caller's sums and the planner block.
-pub(super) fn estimate_each_len(
-    motions: &Motions,
-    cfg: &CheckConfig,
-    mut f: impl FnMut(&Motion, f64),
-) -> TimeEstimate {
     let mut est = Estimator::new(cfg);
     for m in motions {
-        let len = m.length();
-        f(&m, len);
-        est.motion_len(&m, len);
+        f(&m);
+        est.motion(&m);
     }
     est.finish()
 }
@@ -160,19 +139,12 @@ pub(super) fn untimed(m: &Motion) -> bool {
     m.kind == MotionKind::Feed && (m.feed <= 0.0 || m.feed.is_nan())
 }
 
-/// The planner blocks of a rapid or feed move, with whether it is a rapid; `len` is the
-/// move's [`Motion::length`] (a line's is its one chord's, |to − from|).
-fn for_blocks(
-    m: &Motion,
-    len: f64,
-    lim: &AxisLimits,
-    cfg: &CheckConfig,
-    mut f: impl FnMut(Block, bool),
-) {
+/// The planner blocks of a rapid or feed move, with whether it is a rapid.
+fn for_blocks(m: &Motion, lim: &AxisLimits, cfg: &CheckConfig, mut f: impl FnMut(Block, bool)) {
     let is_rapid = m.kind == MotionKind::Rapid;
     if m.arc.is_none() {
         // A line is one chord: no point list to build.
-        if let Some(b) = Block::of_chord_len(m.to - m.from, len, m.feed, is_rapid, lim) {
+        if let Some(b) = Block::of_chord(m.to - m.from, m.feed, is_rapid, lim) {
             f(b, is_rapid);
         }
         return;
@@ -231,11 +203,6 @@ impl Estimator {
 
     /// Adds the next move.
     pub fn motion(&mut self, m: &Motion) {
-        self.motion_len(m, m.length());
-    }
-
-    /// [`Estimator::motion`] with the move's [`Motion::length`] `len` given.
-    fn motion_len(&mut self, m: &Motion, len: f64) {
         match m.kind {
             MotionKind::Dwell { seconds } => {
                 self.settle(true);
@@ -248,7 +215,7 @@ impl Estimator {
             MotionKind::Rapid | MotionKind::Feed => {
                 // Junction limits are computed when settling, in a loop of their own.
                 let window = &mut self.window;
-                for_blocks(m, len, &self.lim, &self.cfg, |b, r| window.push((b, r, 0.0)));
+                for_blocks(m, &self.lim, &self.cfg, |b, r| window.push((b, r, 0.0)));
                 if self.window.len() >= self.limit {
                     self.settle(false);
                 }
