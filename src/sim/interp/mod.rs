@@ -43,9 +43,9 @@ mod source;
 mod tests;
 
 use modal::*;
+pub(in crate::sim) use source::LineStarts;
 use source::*;
 pub use source::{MotionSink, ReadSeek, Scan};
-pub(in crate::sim) use source::LineStarts;
 
 /// GRBL's ARC_ANGULAR_TRAVEL_EPSILON: an IJ arc whose end direction is within this angle
 /// (radians) past its start direction is a full circle.
