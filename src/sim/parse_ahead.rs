@@ -15,7 +15,9 @@
 //! drops its [`ParseAhead`] (a program ending early does not wait for the rest to be
 //! parsed).
 
+use super::interp::LineStarts;
 use super::ngc::{self, Line, Syntax};
+use std::sync::Arc;
 use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 
 /// Lines per chunk: large enough that the hand-over (two channel operations) is noise,
@@ -56,16 +58,18 @@ pub struct ParseAhead {
 }
 
 impl ParseAhead {
-    /// Starts a worker in `scope` parsing the lines of `text` (split at `\n`, a trailing
-    /// `\r` removed: the lines [`super::interp`] reads from an in-memory source) with `syn`.
+    /// Starts a worker in `scope` parsing the lines of `text` with `syn`: the lines
+    /// [`super::interp`] reads from an in-memory source, found by its line `starts` (of
+    /// `text`; split at `\n`, a trailing `\r` removed).
     pub fn spawn<'scope, 'env: 'scope>(
         scope: &'scope std::thread::Scope<'scope, 'env>,
         text: &'env str,
+        starts: Arc<LineStarts>,
         syn: Syntax,
     ) -> ParseAhead {
         let (tx, rx) = sync_channel::<Chunk>(IN_FLIGHT);
         let (recycle, spare) = sync_channel::<(Vec<Line>, Vec<bool>)>(IN_FLIGHT + 2);
-        scope.spawn(move || parse_chunks(text, syn, &tx, &spare));
+        scope.spawn(move || parse_chunks(text, &starts, syn, &tx, &spare));
         ParseAhead {
             rx,
             recycle,
@@ -103,20 +107,12 @@ impl ParseAhead {
 /// interpreter hangs up.
 fn parse_chunks(
     text: &str,
+    starts: &LineStarts,
     syn: Syntax,
     tx: &SyncSender<Chunk>,
     spare: &Receiver<(Vec<Line>, Vec<bool>)>,
 ) {
-    // `text.split('\n')` by the memchr crate's search (a third of the time of the
-    // standard library's char searcher here).
-    let mut start = 0;
-    let mut lines_of = memchr::memchr_iter(b'\n', text.as_bytes())
-        .chain(std::iter::once(text.len()))
-        .map(|end| {
-            let l = &text[start..end];
-            start = end + 1;
-            l.strip_suffix('\r').unwrap_or(l)
-        });
+    let mut lines_of = (0..starts.len()).map(|i| starts.line(text, i));
     let mut first = 0;
     loop {
         let (mut lines, mut blank) = spare.try_recv().unwrap_or_default();
@@ -183,7 +179,8 @@ mod tests {
             .map(|l| l.strip_suffix('\r').unwrap_or(l))
             .collect();
         std::thread::scope(|s| {
-            let mut ahead = ParseAhead::spawn(s, &text, syn());
+            let starts = Arc::new(LineStarts::of(text.as_bytes()));
+            let mut ahead = ParseAhead::spawn(s, &text, starts, syn());
             // Every line in order, then a forward jump over whole chunks.
             let mut want = Line::default();
             for i in (0..CHUNK_LINES + 5).chain(3 * CHUNK_LINES..lines.len()) {
@@ -210,7 +207,8 @@ mod tests {
     fn dropping_the_reader_stops_the_worker() {
         let text = "G1 X1\n".repeat(20 * CHUNK_LINES);
         std::thread::scope(|s| {
-            let mut ahead = ParseAhead::spawn(s, &text, syn());
+            let starts = Arc::new(LineStarts::of(text.as_bytes()));
+            let mut ahead = ParseAhead::spawn(s, &text, starts, syn());
             assert!(ahead.get(0).is_some());
             drop(ahead);
             // The scope joins the worker: this returns only if it stopped.

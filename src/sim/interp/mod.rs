@@ -43,6 +43,7 @@ mod source;
 mod tests;
 
 use modal::*;
+pub(in crate::sim) use source::LineStarts;
 use source::*;
 pub use source::{MotionSink, ReadSeek, Scan};
 
@@ -392,9 +393,14 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
     it.prog.motions.reserve(lines);
     // Asked only for long programs: the answer reads the process's CPU limits.
     let two_threads = || std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
-    if lines >= parse_ahead::MIN_LINES && two_threads() {
+    // The worker reads the lines where the source found them.
+    let starts = match it.sources.first().map(|s| &s.body) {
+        Some(Body::Mem { starts, .. }) => Some(std::sync::Arc::clone(starts)),
+        _ => None,
+    };
+    if let Some(starts) = starts.filter(|_| lines >= parse_ahead::MIN_LINES && two_threads()) {
         std::thread::scope(|scope| {
-            let mut ahead = ParseAhead::spawn(scope, src, it.syn);
+            let mut ahead = ParseAhead::spawn(scope, src, starts, it.syn);
             it.run(None, Some(&mut ahead));
         });
     } else {

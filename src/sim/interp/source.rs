@@ -12,7 +12,8 @@ pub(super) enum Body<'a> {
     /// The whole text, with the byte offset of each line start.
     Mem {
         text: Cow<'a, str>,
-        starts: LineStarts,
+        /// Shared with the parse-ahead worker, which reads the same lines.
+        starts: std::sync::Arc<LineStarts>,
     },
     /// A program read line by line from a seekable stream ([`interpret_stream`]).
     Stream(Box<LineStream<'a>>),
@@ -20,7 +21,7 @@ pub(super) enum Body<'a> {
 
 /// The byte offset of each line start of an in-memory text: 4 bytes a line for texts
 /// below 4 GiB (a million-line program keeps 4 MB, not 8), 8 beyond.
-pub(super) enum LineStarts {
+pub(in crate::sim) enum LineStarts {
     /// Offsets that fit in 32 bits.
     Narrow(Vec<u32>),
     /// Offsets of a text of 4 GiB or more.
@@ -29,7 +30,7 @@ pub(super) enum LineStarts {
 
 impl LineStarts {
     /// The line starts of `text` (the first at 0, then after each `\n`).
-    pub(super) fn of(text: &[u8]) -> Self {
+    pub(in crate::sim) fn of(text: &[u8]) -> Self {
         if u32::try_from(text.len()).is_ok() {
             let mut v = vec![0u32];
             // Every offset is at most text.len(), which fits.
@@ -43,7 +44,7 @@ impl LineStarts {
     }
 
     /// Number of lines.
-    pub(super) fn len(&self) -> usize {
+    pub(in crate::sim) fn len(&self) -> usize {
         match self {
             LineStarts::Narrow(v) => v.len(),
             LineStarts::Wide(v) => v.len(),
@@ -58,6 +59,15 @@ impl LineStarts {
         }
     }
 
+    /// Line `i` of `text` (the text these are the starts of), without its `\n` and a
+    /// trailing `\r`: the `i`th piece of `text.split('\n')`, empty past the last.
+    pub(in crate::sim) fn line<'t>(&self, text: &'t str, i: usize) -> &'t str {
+        let a = self.get(i).unwrap_or(text.len());
+        let b = self.get(i + 1).map_or(text.len(), |e| e - 1);
+        let l = text.get(a..b.max(a)).unwrap_or_default();
+        l.strip_suffix('\r').unwrap_or(l)
+    }
+
     /// Index of the line holding byte `at`.
     pub(super) fn line_of(&self, at: usize) -> usize {
         let k = match self {
@@ -70,7 +80,7 @@ impl LineStarts {
 
 impl<'a> Source<'a> {
     pub(super) fn new(name: String, text: Cow<'a, str>) -> Self {
-        let starts = LineStarts::of(text.as_bytes());
+        let starts = std::sync::Arc::new(LineStarts::of(text.as_bytes()));
         Source {
             name,
             body: Body::Mem { text, starts },
@@ -84,12 +94,7 @@ impl<'a> Source<'a> {
     }
     pub(super) fn line(&mut self, i: usize) -> &str {
         match &mut self.body {
-            Body::Mem { text, starts } => {
-                let a = starts.get(i).unwrap_or(text.len());
-                let b = starts.get(i + 1).map_or(text.len(), |e| e - 1);
-                let l = &text[a..b.max(a)];
-                l.strip_suffix('\r').unwrap_or(l)
-            }
+            Body::Mem { text, starts } => starts.line(text, i),
             Body::Stream(s) => s.line(i),
         }
     }

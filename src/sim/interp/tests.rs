@@ -160,7 +160,8 @@ fn run_parsed(src: &str, cfg: &CheckConfig, ahead: bool) -> Program {
     it.add_source("program".into(), Cow::Borrowed(src));
     if ahead {
         std::thread::scope(|scope| {
-            let mut a = ParseAhead::spawn(scope, src, it.syn);
+            let starts = std::sync::Arc::new(LineStarts::of(src.as_bytes()));
+            let mut a = ParseAhead::spawn(scope, src, starts, it.syn);
             it.run(None, Some(&mut a));
         });
     } else {
@@ -530,4 +531,62 @@ fn line_starts_narrow_and_wide_agree_with_split() {
     // The O-word pre-scan finds the one line holding an o (line 2), once.
     assert_eq!(source::lines_with_o(text, &narrow), vec![2]);
     assert_eq!(source::lines_with_o(text, &wide), vec![2]);
+}
+
+/// Every program of the sim corpus (tests/sim_corpus) and a generated spiral of plain `G1`
+/// lines (the shape `benches/check_vs_geos.py` checks) give, in every dialect, the same
+/// program through the plain block route as through the general one: moves, state, words,
+/// findings, end, bit for bit.
+#[test]
+fn plain_blocks_match_the_general_route_on_the_corpus() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sim_corpus");
+    let mut programs: Vec<(String, String)> = std::fs::read_dir(&dir)
+        .expect("the corpus directory")
+        .map(|e| e.expect("a corpus entry").path())
+        .filter(|p| p.is_file())
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).expect("a corpus program");
+            (p.display().to_string(), text)
+        })
+        .collect();
+    assert!(
+        programs.len() >= 10,
+        "corpus of {} programs",
+        programs.len()
+    );
+    // Archimedean spiral r = 0.45 θ / 2π in 3-decimal words, as CAM writes it.
+    let mut spiral = String::from("G21 G90 G17\nF1500 S800\nG0 X100.000 Y100.000\nM3\n");
+    for k in 1..5000 {
+        let t = f64::from(k) * 0.05;
+        let r = 0.45 * t / TAU;
+        let (x, y) = (100.0 + r * t.cos(), 100.0 + r * t.sin());
+        spiral += &format!("G1 X{x:.3} Y{y:.3}\n");
+    }
+    spiral += "M5\nM2\n";
+    programs.push(("spiral".into(), spiral));
+    let mut plain_lines = 0;
+    for (name, src) in &programs {
+        for dialect in [
+            Dialect::Generic,
+            Dialect::Linuxcnc,
+            Dialect::Grbl,
+            Dialect::Marlin,
+            Dialect::Smoothie,
+        ] {
+            let cfg = CheckConfig {
+                dialect,
+                ..CheckConfig::default()
+            };
+            let fast = run_cfg(src, &cfg);
+            let general = run_general(src, &cfg);
+            assert_eq!(
+                format!("{fast:?}"),
+                format!("{general:?}"),
+                "{name} ({dialect:?})"
+            );
+        }
+        plain_lines += src.lines().filter(|l| l.starts_with("G1 X")).count();
+    }
+    // The comparison covers the plain route, not only lines it refuses.
+    assert!(plain_lines >= 4999, "{plain_lines} plain lines");
 }
