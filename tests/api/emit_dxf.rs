@@ -1,36 +1,109 @@
-//! DXF parses back with the `dxf` crate: $INSUNITS = mm, one layer per operation, closed
-//! flags, and the polylines (bulges turned back into arcs) trace the same contours.
+//! DXF parses back: $INSUNITS = mm, one layer per operation, closed flags, and the polylines
+//! (bulges turned back into arcs) trace the same contours. Read by the test's own group-code
+//! reader, which ezdxf (the reference Python DXF library, when installed: `python3-ezdxf`)
+//! confirms on every drawing the tests write.
 
 use crate::support;
 
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 use proptest::prelude::*;
 use skinpath::emit::{DxfOptions, dxf};
 use skinpath::geom::Arc;
 use skinpath::toolpath::Toolpath;
 use support::emit::*;
 
-fn load(text: &str) -> ::dxf::Drawing {
-    ::dxf::Drawing::load(&mut text.as_bytes()).unwrap_or_else(|e| panic!("{e}\n{text}"))
+/// A DXF drawing as read back: what the checks below compare with the toolpath.
+#[derive(Debug, PartialEq)]
+struct Drawing {
+    /// `$INSUNITS` of the header (4 = millimetres).
+    insunits: Option<i64>,
+    /// `$EXTMIN` and `$EXTMAX` of the header (x, y).
+    extents: Option<(DVec2, DVec2)>,
+    /// The names in the LAYER table.
+    layers: Vec<String>,
+    /// Every POLYLINE of the ENTITIES section.
+    polylines: Vec<Poly>,
 }
 
 /// A polyline read back: layer, closed flag, vertices with bulges.
 type Poly = (String, bool, Vec<(DVec2, f64)>);
 
-/// Every polyline of the drawing.
-fn polylines(d: &::dxf::Drawing) -> Vec<Poly> {
-    d.entities()
-        .filter_map(|e| match &e.specific {
-            ::dxf::entities::EntityType::Polyline(p) => Some((
-                e.common.layer.clone(),
-                p.is_closed(),
-                p.vertices()
-                    .map(|v| (DVec2::new(v.location.x, v.location.y), v.bulge))
-                    .collect(),
-            )),
-            _ => None,
+/// Reads the drawing with the test's own group-code reader, which knows the DXF reference
+/// (code/value line pairs; HEADER variables after code 9; LAYER table entries named by code 2;
+/// POLYLINE with layer 8 and flags 70 (bit 1 = closed), then VERTEX entities with 10/20 and
+/// bulge 42 until SEQEND; the file ends with `0 EOF`) and shares no code with the writer.
+/// Every malformed pair fails the test.
+fn load(text: &str) -> Drawing {
+    let lines: Vec<&str> = text.lines().map(str::trim).collect();
+    assert!(lines.len() % 2 == 0, "odd number of lines\n{text}");
+    let pairs: Vec<(i32, &str)> = lines
+        .chunks(2)
+        .map(|p| {
+            (
+                p[0].parse()
+                    .unwrap_or_else(|e| panic!("group code {:?}: {e}", p[0])),
+                p[1],
+            )
         })
-        .collect()
+        .collect();
+    assert_eq!(pairs.last(), Some(&(0, "EOF")), "the file ends with 0 EOF");
+    let num = |v: &str| -> f64 { v.parse().unwrap_or_else(|e| panic!("number {v:?}: {e}")) };
+    let mut d = Drawing {
+        insunits: None,
+        extents: None,
+        layers: Vec::new(),
+        polylines: Vec::new(),
+    };
+    let (mut section, mut var, mut entity) = ("", "", "");
+    let (mut ext, mut depth) = ([DVec2::ZERO; 2], 0);
+    for (i, &(code, value)) in pairs.iter().enumerate() {
+        if code == 0 {
+            entity = value;
+            match value {
+                "SECTION" => {
+                    depth += 1;
+                    section = pairs.get(i + 1).filter(|p| p.0 == 2).map_or("", |p| p.1);
+                }
+                "ENDSEC" => depth -= 1,
+                "POLYLINE" => d.polylines.push((String::new(), false, Vec::new())),
+                "VERTEX" => {
+                    let poly = d.polylines.last_mut().expect("VERTEX after a POLYLINE");
+                    poly.2.push((DVec2::ZERO, 0.0));
+                }
+                _ => {}
+            }
+            assert!((0..=1).contains(&depth), "sections balanced");
+            continue;
+        }
+        match (section, entity, code) {
+            ("HEADER", _, 9) => var = value,
+            ("HEADER", _, 70) if var == "$INSUNITS" => d.insunits = value.parse().ok(),
+            ("HEADER", _, 10 | 20) if var == "$EXTMIN" || var == "$EXTMAX" => {
+                let k = usize::from(var == "$EXTMAX");
+                if code == 10 {
+                    ext[k].x = num(value)
+                } else {
+                    ext[k].y = num(value)
+                }
+                d.extents = Some((ext[0], ext[1]));
+            }
+            ("TABLES", "LAYER", 2) => d.layers.push(value.to_string()),
+            ("ENTITIES", "POLYLINE", 8) => d.polylines.last_mut().unwrap().0 = value.to_string(),
+            ("ENTITIES", "POLYLINE", 70) => {
+                d.polylines.last_mut().unwrap().1 = value.parse::<i64>().unwrap() & 1 == 1
+            }
+            ("ENTITIES", "VERTEX", 10 | 20 | 42) => {
+                let v = d.polylines.last_mut().unwrap().2.last_mut().unwrap();
+                match code {
+                    10 => v.0.x = num(value),
+                    20 => v.0.y = num(value),
+                    _ => v.1 = num(value),
+                }
+            }
+            _ => {}
+        }
+    }
+    d
 }
 
 /// Length of a bulged polyline and the arcs it contains (centre, radius).
@@ -56,16 +129,13 @@ fn measure(closed: bool, vs: &[(DVec2, f64)]) -> (f64, Vec<(DVec2, f64)>) {
 fn check(tp: &Toolpath) {
     let text = dxf(tp, &DxfOptions::default()).unwrap();
     let d = load(&text);
-    assert_eq!(
-        d.header.default_drawing_units,
-        ::dxf::enums::Units::Millimeters
-    );
-    let layers: Vec<String> = d.layers().map(|l| l.name.clone()).collect();
+    assert_eq!(d.insunits, Some(4), "millimetres");
+    let layers = &d.layers;
     for (i, op) in tp.operations.iter().enumerate() {
         let want = layer_name(i, &op.name);
         assert!(layers.contains(&want), "{want} not in {layers:?}");
     }
-    let polys = polylines(&d);
+    let polys = &d.polylines;
     let ncuts: usize = tp.operations.iter().map(|o| o.cuts.len()).sum();
     assert_eq!(polys.len(), ncuts);
     let circles = arc_circles(tp);
@@ -109,25 +179,12 @@ fn extents_include_arc_bulges() {
     // spans x 20..80 and y 20..60 (outline), and the S-curve's semicircle reaches y = 40
     // while its 270° arc reaches x = 61 — all inside the outline.
     let d = load(&dxf(&job(&[0.0], 1.0), &DxfOptions::default()).unwrap());
-    let (lo, hi) = (
-        d.header.minimum_drawing_extents.clone(),
-        d.header.maximum_drawing_extents.clone(),
-    );
+    let (lo, hi) = d.extents.expect("extents in the header");
     assert_eq!((lo.x, lo.y), (20.0, 20.0));
     assert_eq!((hi.x, hi.y), (80.0, 60.0));
     // A lone circle: the extents are the circle's box, not its start point.
-    let tp = Toolpath {
-        operations: vec![op(
-            "hole",
-            skinpath::toolpath::OperationKind::Holes,
-            vec![circle(DVec2::new(5.0, 5.0), 2.0, 0.0, true, 1.0)],
-        )],
-    };
-    let d = load(&dxf(&tp, &DxfOptions::default()).unwrap());
-    let (lo, hi) = (
-        d.header.minimum_drawing_extents.clone(),
-        d.header.maximum_drawing_extents.clone(),
-    );
+    let d = load(&dxf(&lone_circle(true), &DxfOptions::default()).unwrap());
+    let (lo, hi) = d.extents.expect("extents in the header");
     assert!(
         (lo.x - 3.0).abs() < 1e-12 && (lo.y - 3.0).abs() < 1e-12,
         "{lo:?}"
@@ -138,10 +195,8 @@ fn extents_include_arc_bulges() {
     );
 }
 
-#[test]
-fn passes_and_reversed_directions_round_trip() {
-    let mut tp = job(&[0.0, -1.0], 1.0);
-    // Reverse every cut: arcs change direction, starts become ends.
+/// `tp` with every cut reversed: arcs change direction, starts become ends.
+fn reversed(mut tp: Toolpath) -> Toolpath {
     for op in &mut tp.operations {
         for c in &mut op.cuts {
             let mut pts = vec![c.start];
@@ -159,26 +214,158 @@ fn passes_and_reversed_directions_round_trip() {
             c.moves = moves;
         }
     }
-    check(&tp);
+    tp
+}
+
+/// A lone full circle of radius 2 about (5, 5), as a hole.
+fn lone_circle(ccw: bool) -> Toolpath {
+    Toolpath {
+        operations: vec![op(
+            "hole",
+            skinpath::toolpath::OperationKind::Holes,
+            vec![circle(DVec2::new(5.0, 5.0), 2.0, 0.0, ccw, 1.0)],
+        )],
+    }
+}
+
+/// A profile along a chain of lines and tangent arcs from `start` (see `support::emit::chain`).
+fn chain_job(start: DVec2, steps: &[(u8, f64, f64, f64, bool)]) -> Toolpath {
+    Toolpath {
+        operations: vec![op(
+            "random",
+            skinpath::toolpath::OperationKind::Profile,
+            vec![cut(start.extend(0.0), chain(start, steps, 0.0))],
+        )],
+    }
+}
+
+#[test]
+fn passes_and_reversed_directions_round_trip() {
+    check(&reversed(job(&[0.0, -1.0], 1.0)));
+}
+
+/// ezdxf, the reference DXF library, reads every drawing these tests write as the test's own
+/// reader does: the same units, extents, layers and polylines, number for number. Skipped
+/// (and says so) where no Python with ezdxf is installed.
+#[test]
+fn ezdxf_reads_what_the_group_code_reader_reads() {
+    const SCRIPT: &str = r#"
+import json, sys, ezdxf
+def num(x):
+    return repr(float(x))
+out = []
+for path in sys.argv[1:]:
+    doc = ezdxf.readfile(path)
+    h = doc.header
+    out.append({
+        "insunits": h.get("$INSUNITS"),
+        "extents": [[num(c) for c in list(h[k])[:2]] for k in ("$EXTMIN", "$EXTMAX")],
+        "layers": [l.dxf.name for l in doc.layers],
+        "polylines": [[e.dxf.layer, e.is_closed,
+                       [[num(v.dxf.location[0]), num(v.dxf.location[1]),
+                         num(v.dxf.get("bulge", 0.0))]
+                        for v in e.vertices]]
+                      for e in doc.modelspace() if e.dxftype() == "POLYLINE"],
+    })
+print(json.dumps(out))
+"#;
+    let Some(python) = ["python3", "/usr/bin/python3"].into_iter().find(|p| {
+        std::process::Command::new(p)
+            .args(["-c", "import ezdxf"])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    }) else {
+        eprintln!("SKIPPED: ezdxf (python3-ezdxf) is not installed");
+        return;
+    };
+    let mut rng = support::rng::Rng::new(0xD8F0_0001);
+    let mut drawings = vec![
+        job(&[0.0], 1.0),
+        reversed(job(&[0.0, -1.0], 1.0)),
+        lone_circle(true),
+        lone_circle(false),
+    ];
+    for _ in 0..64 {
+        let start = DVec2::new(rng.range(-50.0, 50.0), rng.range(-50.0, 50.0));
+        let steps: Vec<_> = (0..1 + rng.below(11))
+            .map(|_| {
+                let kind = rng.below(3) as u8;
+                let (len, turn, sweep) = (
+                    rng.range(0.5, 20.0),
+                    rng.range(-3.1, 3.1),
+                    rng.range(0.01, 6.2),
+                );
+                (kind, len, turn, sweep, rng.below(2) == 1)
+            })
+            .collect();
+        drawings.push(chain_job(start, &steps));
+    }
+    let dir = support::tmpdir("ezdxf");
+    let mut paths = Vec::new();
+    let mut ours = Vec::new();
+    for (i, tp) in drawings.iter().enumerate() {
+        let text = dxf(tp, &DxfOptions::default()).unwrap();
+        let path = dir.join(format!("d{i}.dxf"));
+        std::fs::write(&path, &text).unwrap();
+        paths.push(path);
+        ours.push(load(&text));
+    }
+    let out = std::process::Command::new(python)
+        .arg("-c")
+        .arg(SCRIPT)
+        .args(&paths)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let theirs: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(theirs.len(), ours.len());
+    // Numbers come as Python's shortest round-trip text, parsed here correctly rounded (JSON
+    // numbers through serde_json may be one unit in the last place off).
+    let f = |v: &serde_json::Value| v.as_str().unwrap().parse::<f64>().unwrap();
+    for (i, (t, o)) in theirs.iter().zip(&ours).enumerate() {
+        assert_eq!(t["insunits"].as_i64(), o.insunits, "drawing {i}");
+        let e = &t["extents"];
+        let ext = (
+            DVec2::new(f(&e[0][0]), f(&e[0][1])),
+            DVec2::new(f(&e[1][0]), f(&e[1][1])),
+        );
+        assert_eq!(Some(ext), o.extents, "drawing {i}");
+        // ezdxf adds its two standard layers ("0", "Defpoints") to every document.
+        let layers: Vec<&str> = (t["layers"].as_array().unwrap().iter())
+            .map(|l| l.as_str().unwrap())
+            .filter(|l| !["0", "Defpoints"].contains(l))
+            .collect();
+        assert_eq!(layers, o.layers, "drawing {i}");
+        let polys: Vec<Poly> = (t["polylines"].as_array().unwrap().iter())
+            .map(|p| {
+                let vs = (p[2].as_array().unwrap().iter())
+                    .map(|v| (DVec2::new(f(&v[0]), f(&v[1])), f(&v[2])))
+                    .collect();
+                (
+                    p[0].as_str().unwrap().to_string(),
+                    p[1].as_bool().unwrap(),
+                    vs,
+                )
+            })
+            .collect();
+        assert_eq!(polys, o.polylines, "drawing {i}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn lone_full_circle_is_closed() {
-    let tp = Toolpath {
-        operations: vec![op(
-            "hole",
-            skinpath::toolpath::OperationKind::Holes,
-            vec![circle(DVec2::new(5.0, 5.0), 2.0, 0.0, false, 1.0)],
-        )],
-    };
-    let d = load(&dxf(&tp, &DxfOptions::default()).unwrap());
-    let polys = polylines(&d);
+    let d = load(&dxf(&lone_circle(false), &DxfOptions::default()).unwrap());
+    let polys = &d.polylines;
     assert_eq!(polys.len(), 1);
     assert!(polys[0].1, "closed flag");
     assert_eq!(polys[0].2.len(), 3, "three 120° pieces");
     let (len, _) = measure(true, &polys[0].2);
     assert!((len - 2.0 * std::f64::consts::PI * 2.0).abs() < 1e-12);
-    let _ = DVec3::ZERO;
 }
 
 proptest! {
@@ -191,15 +378,7 @@ proptest! {
         steps in prop::collection::vec(
             (0u8..3, 0.5f64..20.0, -3.1f64..3.1, 0.01f64..6.2, any::<bool>()), 1..12),
     ) {
-        let s = DVec2::new(start.0, start.1);
-        let tp = Toolpath {
-            operations: vec![op(
-                "random",
-                skinpath::toolpath::OperationKind::Profile,
-                vec![cut(s.extend(0.0), chain(s, &steps, 0.0))],
-            )],
-        };
-        check(&tp);
+        check(&chain_job(DVec2::new(start.0, start.1), &steps));
     }
 }
 
