@@ -10,7 +10,7 @@ use crate::par::prelude::*;
 use crate::skin::SkinError;
 use crate::skin::bits_hash::{BitsMap, BitsSet};
 use crate::skin::hausdorff::{
-    EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Seeds, Work,
+    EnvelopeSegment, HausdorffBounds, HausdorffError, MAX_BOUND_WORK, Rejection, Work,
     skin_envelope_bounds, skin_envelope_within, skin_envelope_within_path,
 };
 
@@ -64,15 +64,13 @@ pub(super) fn cached(
     })
 }
 
-/// One Hausdorff bound to compute: a skin arc against the envelope on `side` over [t0, t1],
-/// with the samples of an earlier run on the same arc and span, if any ([`State::seeds`]).
+/// One Hausdorff bound to compute: a skin arc against the envelope on `side` over [t0, t1].
 pub(super) struct BoundJob {
     key: CacheKey,
     arc: CubicBez,
     side: Side,
     t0: f64,
     t1: f64,
-    seeds: Seeds,
 }
 
 pub(super) type SideSkin = Result<(Vec<f64>, Vec<CubicBez>), SkinError>;
@@ -84,17 +82,14 @@ pub(super) type Speculative = (Result<(HausdorffBounds, bool), HausdorffError>, 
 /// to the first side that failed and that `reused` does not take from an earlier bound,
 /// keyed by cache key; the caller decides in serial order which results stand (a pure
 /// function of the job and the budget, so thread count and scheduling cannot change them).
-/// Each job starts from the samples `seeds` gives for its key and returns them with its
-/// result.
 pub(super) fn speculative_bounds(
     sides: &[SideSkin; 2],
     hi: f64,
     (mode, eps): (Mode, f64),
     cache: &KeyMap<HausdorffBounds>,
     reused: impl Fn(&CacheKey) -> bool,
-    seeds: impl Fn(&CacheKey) -> Seeds,
     bound: impl Fn(&BoundJob) -> Speculative + Sync,
-) -> KeyMap<(Speculative, Seeds)> {
+) -> KeyMap<Speculative> {
     let mut jobs: Vec<BoundJob> = Vec::new();
     let mut seen: BitsSet<CacheKey> = BitsSet::default();
     for (k, side) in [Side::Left, Side::Right].into_iter().enumerate() {
@@ -112,7 +107,6 @@ pub(super) fn speculative_bounds(
                     side,
                     t0,
                     t1,
-                    seeds: seeds(&key),
                 });
             }
         }
@@ -121,9 +115,7 @@ pub(super) fn speculative_bounds(
     if jobs.len() < 2 {
         return KeyMap::default();
     }
-    jobs.into_par_iter()
-        .map(|j| (j.key, (bound(&j), j.seeds)))
-        .collect()
+    jobs.par_iter().map(|j| (j.key, bound(j))).collect()
 }
 
 /// The bits of a parameter sequence, the key of [`State::admissible`].
@@ -137,24 +129,6 @@ impl State<'_> {
     fn note_quick(&self, key: &CacheKey, quick: bool, spent: usize) {
         if quick && key.2 == Mode::Decide {
             self.quick.borrow_mut().insert(*key, spent);
-        }
-    }
-
-    /// The samples a Decide run of the same arc and span made for a Compare key, taken out
-    /// of [`State::seeds`] (none for other modes or keys).
-    fn take_seeds(&self, key: &CacheKey) -> Seeds {
-        let decide = (key.0, key.1, Mode::Decide);
-        (key.2 == Mode::Compare)
-            .then(|| self.seeds.borrow_mut().remove(&decide))
-            .flatten()
-            .unwrap_or_default()
-    }
-
-    /// Keeps the samples of a Decide run that the quick proof did not settle: a Compare
-    /// run of the same key starts from them ([`State::seeds`]).
-    fn keep_seeds(&self, key: &CacheKey, quick: bool, seeds: Seeds) {
-        if !quick && key.2 == Mode::Decide {
-            self.seeds.borrow_mut().insert(*key, seeds);
         }
     }
 
@@ -189,19 +163,19 @@ impl State<'_> {
         let gap = self.opts.gap_fraction * self.opts.epsilon;
         let (c, eps) = (self.c, self.opts.epsilon);
         let spans = &self.spans;
-        let bound = |arc: &CubicBez, side: Side, (t0, t1): (f64, f64), w: &mut Work, s: &Seeds| {
+        let bound = |arc: &CubicBez, side: Side, t0: f64, t1: f64, w: &mut Work| {
             let env = EnvelopeSegment::with_spans(c, spans, side, t0, t1)?;
             let plain = |h: HausdorffBounds| (h, false);
             match mode {
                 Mode::Tight => skin_envelope_bounds(arc, &env, gap, w).map(plain),
                 Mode::Decide => {
-                    skin_envelope_within_path(arc, &env, (eps, Rejection::QuickLower), gap, w, s)
+                    skin_envelope_within_path(arc, &env, (eps, Rejection::QuickLower), gap, w)
                 }
                 Mode::DecidedReport => {
                     skin_envelope_within(arc, &env, (eps, Rejection::Quick), gap, w).map(plain)
                 }
                 Mode::Compare => {
-                    skin_envelope_within_path(arc, &env, (eps, Rejection::Full), gap, w, s)
+                    skin_envelope_within_path(arc, &env, (eps, Rejection::Full), gap, w)
                 }
             }
         };
@@ -221,10 +195,9 @@ impl State<'_> {
             (mode, eps),
             &self.cache.borrow(),
             reused,
-            |key| self.take_seeds(key),
             |j| {
                 let mut w = Work::new(par_budget);
-                let r = bound(&j.arc, j.side, (j.t0, j.t1), &mut w, &j.seeds);
+                let r = bound(&j.arc, j.side, j.t0, j.t1, &mut w);
                 (r, w.spent)
             },
         );
@@ -260,29 +233,20 @@ impl State<'_> {
                                 h
                             }
                             // Never ran out and fits this budget: the same run as serial.
-                            (None, Some(((r, spent), seeds)))
-                                if spent < par_budget && spent <= w.left =>
-                            {
+                            (None, Some((r, spent))) if spent < par_budget && spent <= w.left => {
                                 w = Work {
                                     left: w.left - spent,
                                     spent,
                                 };
                                 let (h, quick) = r?;
                                 self.note_quick(&key, quick, spent);
-                                self.keep_seeds(&key, quick, seeds);
                                 h
                             }
-                            (None, ahead) => {
-                                // The samples of the run ahead or of Decide's run, if any.
-                                let seeds = match ahead {
-                                    Some((_, seeds)) => seeds,
-                                    None => self.take_seeds(&key),
-                                };
-                                let (h, quick) = bound(arc, side, (t0, t1), &mut w, &seeds)?;
+                            _ => {
+                                let (h, quick) = bound(arc, side, t0, t1, &mut w)?;
                                 if w.spent < start {
                                     self.note_quick(&key, quick, w.spent);
                                 }
-                                self.keep_seeds(&key, quick, seeds);
                                 h
                             }
                         };

@@ -368,7 +368,6 @@ fn skin_parts(
         weights: vec![0.5; if closed { n } else { n.saturating_sub(1) }],
         cache: RefCell::new(KeyMap::default()),
         quick: RefCell::default(),
-        seeds: RefCell::default(),
         clear: RefCell::default(),
         params,
         work: RefCell::new(Work::new(opts.max_work)),

@@ -8,7 +8,7 @@ use crate::dbsc::{DiskBSpline, EnvelopeLoop, Side, SpanPoly};
 use crate::geom::intersect::{path_self_intersections, paths_intersections};
 use crate::geom::{Circle, CubicBez, DVec2, Path};
 use crate::skin::bits_hash::{BitsMap, BitsSet};
-use crate::skin::hausdorff::{HausdorffBounds, Seeds, Work};
+use crate::skin::hausdorff::{HausdorffBounds, Work};
 use crate::skin::outline::outline_from_skins;
 use crate::skin::touching::triplet_touching;
 use crate::skin::{SkinError, Skins, TouchingPoints, check_admissible};
@@ -42,10 +42,6 @@ pub(super) struct State<'a> {
     /// never ran out of work, with the work spent: the Compare bound of the same arc and
     /// span is that run again (same steps, same bounds), taken from here instead.
     pub(super) quick: RefCell<KeyMap<usize>>,
-    /// The samples ([`Seeds`]) of Decide-mode runs that the quick proof did not settle, by
-    /// key: the Compare run of the same arc and span starts from them (they depend only on
-    /// the arc and the envelope segment, so its bounds are the same).
-    pub(super) seeds: RefCell<KeyMap<Seeds>>,
     /// The outline contours of the last insertion phase 3 kept, which
     /// [`State::self_intersects`] found free of crossings: the final outline when no
     /// insertion followed (rejected ones restore the state), so its safety net is known.

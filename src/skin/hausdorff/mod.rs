@@ -161,15 +161,8 @@ fn bounds_impl(
     threshold: Option<(f64, Rejection)>,
     work: &mut Work,
 ) -> Result<HausdorffBounds, HausdorffError> {
-    bounds_path(x, y, gap, threshold, work, &Seeds::default()).map(|(h, _)| h)
+    bounds_path(x, y, gap, threshold, work).map(|(h, _)| h)
 }
-
-/// The samples of both directions (X → Y, Y → X) that [`bounds_path`]'s searches start
-/// from, each made on first use. They depend only on the two curves, so a caller that
-/// bounds the same skin arc against the same envelope segment again (another
-/// [`Rejection`]) may pass the same `Seeds` and get the same bounds without sampling again.
-#[derive(Default)]
-pub(crate) struct Seeds([OnceCell<Option<MatchSeed>>; 2]);
 
 /// [`bounds_impl`], and whether the quick proof of D_H ≤ ε − gap gave the bounds: that path
 /// does not depend on the [`Rejection`], so the bounds of one rejection there are those of
@@ -180,7 +173,6 @@ fn bounds_path(
     gap: f64,
     threshold: Option<(f64, Rejection)>,
     work: &mut Work,
-    seeds: &Seeds,
 ) -> Result<(HausdorffBounds, bool), HausdorffError> {
     if !(gap > 0.0 && gap.is_finite()) {
         return Err(HausdorffError::Gap(gap));
@@ -190,9 +182,9 @@ fn bounds_path(
     // stop at a gap ≤ `gap` with upper > ε): the same decision, found cheaper.
     if let Some((eps, rejection)) = threshold {
         // Each direction's samples, taken once for all the searches below.
-        let [xy, yx] = &seeds.0;
+        let (xy, yx) = (OnceCell::new(), OnceCell::new());
         let search = |forward: bool, goal: &Goal, work: &mut Work| {
-            let (p, q, cell) = if forward { (x, y, xy) } else { (y, x, yx) };
+            let (p, q, cell) = if forward { (x, y, &xy) } else { (y, x, &yx) };
             let seed = cell.get_or_init(|| MatchSeed::new(p, q)).as_ref()?;
             match_search(p, q, seed, goal, work)
         };
@@ -301,17 +293,15 @@ pub(crate) fn skin_envelope_within(
 }
 
 /// [`skin_envelope_within`], and whether its bounds are those of the quick proof of
-/// D_H ≤ ε − gap, which every [`Rejection`] gives alike ([`bounds_path`]); the samples are
-/// taken from `seeds` (made there when missing).
+/// D_H ≤ ε − gap, which every [`Rejection`] gives alike ([`bounds_path`]).
 pub(crate) fn skin_envelope_within_path(
     skin: &CubicBez,
     env: &EnvelopeSegment,
     (eps, rejection): (f64, Rejection),
     gap: f64,
     work: &mut Work,
-    seeds: &Seeds,
 ) -> Result<(HausdorffBounds, bool), HausdorffError> {
-    bounds_path(skin, env, gap, Some((eps, rejection)), work, seeds)
+    bounds_path(skin, env, gap, Some((eps, rejection)), work)
 }
 
 #[cfg(test)]
