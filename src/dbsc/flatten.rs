@@ -96,13 +96,10 @@ fn refine<const K: usize>(
     depth: usize,
     out: &mut Vec<(f64, [DVec2; K])>,
 ) {
-    let probes: Vec<(f64, [DVec2; K])> = PROBES
-        .iter()
-        .map(|&s| {
-            let t = a.0 + s * (b.0 - a.0);
-            (t, f(t))
-        })
-        .collect();
+    let probes: [(f64, [DVec2; K]); PROBES.len()] = PROBES.map(|s| {
+        let t = a.0 + s * (b.0 - a.0);
+        (t, f(t))
+    });
     let ok = depth >= MAX_DEPTH
         || (0..K).all(|k| {
             let (pa, pb) = (a.1[k], b.1[k]);
@@ -200,7 +197,12 @@ pub fn flatten_spine(c: &DiskBSpline, tol: f64) -> Vec<DVec2> {
 /// (t, disk) pairs in parameter order, knots included; a closed curve's last sample
 /// repeats its first.
 pub fn flatten_disks(c: &DiskBSpline, tol: f64) -> Vec<(f64, Circle)> {
-    let f = |t: f64, _left: bool| [c.center(t), DVec2::new(c.radius(t), 0.0)];
+    // One evaluation gives both: the centre and radius of `circle_at` are those of
+    // `center` and `radius`.
+    let f = |t: f64, _left: bool| {
+        let d = c.circle_at(t);
+        [d.c, DVec2::new(d.r, 0.0)]
+    };
     piecewise(c, c.domain(), &f, tol)
         .into_iter()
         .map(|(t, [q, r])| (t, Circle::new(q, r.x)))
