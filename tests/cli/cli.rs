@@ -1163,31 +1163,12 @@ fn dxf_output_mm_and_closed() {
     let out = d.join("ring.dxf");
     let o = build("ring_o", "svg-laser", &out);
     expect_ok(&o, "build ring_o dxf");
-    let drawing = dxf::Drawing::load_file(&out).expect("dxf loads");
-    assert_eq!(
-        drawing.header.default_drawing_units,
-        dxf::enums::Units::Millimeters
-    );
-    let mut closed = 0;
-    let mut total = 0;
-    for e in drawing.entities() {
-        match &e.specific {
-            dxf::entities::EntityType::Polyline(p) => {
-                total += 1;
-                if p.is_closed() {
-                    closed += 1;
-                }
-                assert!(p.vertices().count() >= 3);
-            }
-            dxf::entities::EntityType::LwPolyline(p) => {
-                total += 1;
-                if p.is_closed() {
-                    closed += 1;
-                }
-            }
-            _ => {}
-        }
-    }
+    let text = std::fs::read_to_string(&out).expect("dxf written");
+    let drawing = support::dxf::load(&text);
+    assert_eq!(drawing.insunits, Some(4), "millimetres");
+    let total = drawing.polylines.len();
+    let closed = drawing.polylines.iter().filter(|p| p.1).count();
+    assert!(drawing.polylines.iter().all(|p| p.2.len() >= 3));
     // A ring cut outside: two closed contours (outer and inner boundary).
     assert_eq!(total, 2, "polylines");
     assert_eq!(closed, 2, "closed polylines");

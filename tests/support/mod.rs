@@ -3,11 +3,12 @@
 //! (examples/*.toml, kept in step with the folder by `cli::every_example_is_listed`), a
 //! fresh temporary directory, a run of the built binary, the header of a check-corpus
 //! program, golden G-code comparison, the "OPEN" neon sign fixture, and the submodules
-//! [`emit`] (hand-built toolpaths), [`fuzz`] (the mutation fuzzer) and [`rng`] (the one
+//! [`dxf`] (a DXF reader), [`emit`] (hand-built toolpaths), [`fuzz`] (the mutation fuzzer) and [`rng`] (the one
 //! seeded random-number generator). Each binary uses only
 //! part of it.
 #![allow(dead_code)]
 
+pub mod dxf;
 pub mod emit;
 pub mod fuzz;
 pub mod rng;
