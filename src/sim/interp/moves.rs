@@ -356,6 +356,9 @@ impl Interp<'_, '_> {
             }
             Mode::ArcCw | Mode::ArcCcw => {
                 b.used_arc = true;
+                // P on G2/G3 is the number of turns in LinuxCNC (and the generic dialect);
+                // GRBL has no such word and refuses it as unused (error:36).
+                b.used_p |= self.cfg.dialect != Dialect::Grbl;
                 if b.machine_coords {
                     self.err(
                         "invalid-value",

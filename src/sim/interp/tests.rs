@@ -444,6 +444,31 @@ fn unsupported_codes_say_so_with_code_and_line() {
     assert!(p.diagnostics.iter().any(|d| d.message.contains("M123")));
 }
 
+/// P on an arc is its number of turns (LinuxCNC G2/G3 P), used and not an unused word; GRBL
+/// has no P on arcs and refuses it. A half turn then two full turns of radius 5: 5π·(1 + 4).
+#[test]
+fn arc_turns_word_is_used_where_the_dialect_has_it() {
+    let src = "G21 G90 G17\nG0 X0 Y0\nG2 X10 Y0 I5 J0 P3 F600\nM2";
+    for (dialect, unused) in [
+        (Dialect::Linuxcnc, false),
+        (Dialect::Generic, false),
+        (Dialect::Grbl, true),
+    ] {
+        let cfg = CheckConfig {
+            dialect,
+            ..CheckConfig::default()
+        };
+        let p = run_cfg(src, &cfg);
+        let flagged = p.diagnostics.iter().any(|d| d.id == "unused-word");
+        assert_eq!(flagged, unused, "{dialect:?}: {:?}", p.diagnostics);
+        let arc = (p.motions.to_vec().iter().find_map(|m| m.arc)).expect("an arc");
+        assert!(
+            (arc.sweep.abs() * arc.radius - 5.0 * PI * 5.0).abs() < 1e-9,
+            "{dialect:?}"
+        );
+    }
+}
+
 #[test]
 fn dialects() {
     let grbl = CheckConfig {
