@@ -26,7 +26,7 @@ pub type Poly = (String, bool, Vec<(DVec2, f64)>);
 /// Every malformed pair fails the test.
 pub fn load(text: &str) -> Drawing {
     let lines: Vec<&str> = text.lines().map(str::trim).collect();
-    assert!(lines.len() % 2 == 0, "odd number of lines\n{text}");
+    assert!(lines.len().is_multiple_of(2), "odd number of lines\n{text}");
     let pairs: Vec<(i32, &str)> = lines
         .chunks(2)
         .map(|p| {
