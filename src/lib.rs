@@ -118,6 +118,10 @@ use clap as _;
 use indicatif as _;
 #[cfg(feature = "cli")]
 use signal_hook as _;
+// The benches' harness: a dependency only with `internals` (every `[[bench]]` requires it),
+// so that a plain `cargo test` does not build it.
+#[cfg(feature = "internals")]
+use criterion as _;
 
 pub use dbsc::DiskBSpline;
 pub use design::Design;
