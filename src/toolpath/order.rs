@@ -405,20 +405,8 @@ pub fn order_paths(paths: &[Path], home: DVec2, tol: f64) -> (Vec<(usize, Path)>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::toolpath::tests::square;
     use proptest::prelude::*;
-
-    fn square(c: DVec2, s: f64) -> Path {
-        let corner = |x: f64, y: f64| c + DVec2::new(x * s, y * s);
-        Path::polyline(
-            &[
-                corner(-1.0, -1.0),
-                corner(1.0, -1.0),
-                corner(1.0, 1.0),
-                corner(-1.0, 1.0),
-            ],
-            true,
-        )
-    }
 
     fn contains(outer: &Path, inner: &Path) -> bool {
         let poly = outer.flatten(1e-3);

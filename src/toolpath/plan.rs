@@ -307,19 +307,7 @@ fn attr_polyline3_cut(l: &AttrPolyline, spec: &OpSpec, source: Option<String>) -
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn square(c: DVec2, s: f64) -> Path {
-        let corner = |x: f64, y: f64| c + DVec2::new(x * s, y * s);
-        Path::polyline(
-            &[
-                corner(-1.0, -1.0),
-                corner(1.0, -1.0),
-                corner(1.0, 1.0),
-                corner(-1.0, 1.0),
-            ],
-            true,
-        )
-    }
+    use crate::toolpath::tests::square;
 
     fn spec(kind: OperationKind, geometry: Geometry) -> OpSpec {
         OpSpec {

@@ -13,19 +13,6 @@ use crate::toolpath::plan::{Geometry, OpSpec, plan};
 use crate::toolpath::{Cut, MoveKind, OperationKind};
 use glam::{DVec2, DVec3};
 
-fn square(c: DVec2, s: f64) -> Path {
-    let corner = |x: f64, y: f64| c + DVec2::new(x * s, y * s);
-    Path::polyline(
-        &[
-            corner(-1.0, -1.0),
-            corner(1.0, -1.0),
-            corner(1.0, 1.0),
-            corner(-1.0, 1.0),
-        ],
-        true,
-    )
-}
-
 /// Paths to cut: two nested squares, a far square, and the outside profile of the
 /// calligraphy example's first stroke (lines and arcs).
 fn contours() -> Vec<Path> {

@@ -11,7 +11,7 @@ mod props;
 
 use crate::design::Design;
 use crate::geom::interop::flatten_pline;
-use crate::geom::{Arc, Line};
+use crate::geom::{Arc, Line, Path};
 use crate::job::{ItemOutline, OutlineOptions, design_outlines};
 use crate::toolpath::region::Region;
 use crate::toolpath::{Cut, MoveKind};
@@ -20,6 +20,21 @@ use glam::{DVec2, DVec3};
 
 /// The examples every property is rerun on.
 pub const EXAMPLES: [&str; 5] = ["brush", "ring_o", "neon_word", "calligraphy", "circles"];
+
+/// The axis-aligned square of half-side `s` about `c`, counter-clockwise from its lower-left
+/// corner.
+pub fn square(c: DVec2, s: f64) -> Path {
+    let corner = |x: f64, y: f64| c + DVec2::new(x * s, y * s);
+    Path::polyline(
+        &[
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ],
+        true,
+    )
+}
 
 /// The shipped example examples/`name`.toml, loaded.
 pub fn example(name: &str) -> Design {
