@@ -1,12 +1,13 @@
 //! Spatial indexes: which one to use for what.
 //!
-//! Four kinds are in use; each suits a different shape of data and query. Costs are for n
+//! Five kinds are in use; each suits a different shape of data and query. Costs are for n
 //! items and k answers.
 //!
 //! | index | where | build | query | suits |
 //! |---|---|---|---|---|
-//! | R-tree (`rstar`, bulk-loaded) | `toolpath::{order, inks, region, attrs}`, `design::svg::{fit, paint}`, `sim::checks::gouge` | O(n log n) | O(log n + k) box / nearest | scattered boxes of any size; nearest-neighbour walks; few queries per build |
-//! | sequence BVH (`SeqBvh`) | `skin::intersect` (moving to `geom::intersect`) | O(n) | O(log n + k) | boxes in path order (consecutive segments of a path, circles of a stroke): blocks of consecutive boxes stay tight however long and thin the shape |
+//! | R-tree (`rstar`, bulk-loaded) | `toolpath::{order, inks, region, attrs}`, `design::svg::paint`, `sim::checks::gouge` | O(n log n) | O(log n + k) box / nearest | scattered boxes of any size; nearest-neighbour walks; few queries per build |
+//! | sequence BVH (`SeqBvh`; and the nearest-point hierarchy of `design::svg::fit`, built the same way) | `geom::intersect`; `design::svg::fit` | O(n) | O(log n + k); nearest seeded with the previous answer | boxes in path order (consecutive segments of a path, circles of a stroke): blocks of consecutive boxes stay tight however long and thin the shape |
+//! | uniform box grid (`skin::box_grid::BoxGrid`) | `skin::coverage` | O(n) | nearest by rings of cells, seeded with the previous answer | boxes of similar size spread over the stroke (the coverage queries of a skin) |
 //! | uniform hash grid (`Grid`) | `sim::checks::intersect`, `sim::stream` | O(n) | O(1 + k) per cell | many short segments of similar length spread evenly (a G-code program's moves): all-pairs contacts in one pass |
 //! | slabs ([`Slabs`], [`PolygonWinding`], [`WindingIndex`]) | here; used by `toolpath::{order, region, inks}` | O(n) | O(1 + k) | point queries against one polygon or polyline (inside, winding number): only height matters |
 //!
