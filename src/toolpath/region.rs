@@ -442,10 +442,34 @@ impl Region {
     }
 
     /// The union of several regions, through polygons flattened within `tol`.
+    ///
+    /// Two or more regions are united two at a time in a balanced tree (⌈log₂ n⌉ levels of
+    /// i_overlay unions, fill rule non-zero), not in one overlay of all their rings: one
+    /// overlay of many mutually overlapping rings (a stroke repaired into dozens of
+    /// nearly coincident disk pieces) sends i_overlay's split solver into long work
+    /// (67 such rings, 2,983 vertices: 35 s in one overlay, 5 ms as a tree, same area).
     pub fn union(regions: &[Region], tol: f64) -> Region {
-        let polys: Vec<geo::MultiPolygon<f64>> = regions.iter().map(|r| r.to_geo(tol)).collect();
-        let merged = geo::algorithm::bool_ops::unary_union(polys.iter());
-        Region::from_geo(&merged, tol)
+        let mut level: Vec<geo::MultiPolygon<f64>> =
+            regions.iter().map(|r| r.to_geo(tol)).collect();
+        if level.len() < 2 {
+            let merged = geo::algorithm::bool_ops::unary_union(level.iter());
+            return Region::from_geo(&merged, tol);
+        }
+        while level.len() > 1 {
+            level = level
+                .chunks(2)
+                .map(|pair| match pair {
+                    [a, b] => geo::BooleanOps::boolean_op_with_fill_rule(
+                        a,
+                        b,
+                        geo::algorithm::bool_ops::OpType::Union,
+                        geo::algorithm::bool_ops::FillRule::NonZero,
+                    ),
+                    _ => pair[0].clone(),
+                })
+                .collect();
+        }
+        Region::from_geo(&level[0], tol)
     }
 
     /// The region bounded by closed paths that may cross themselves and each other (a
@@ -780,6 +804,62 @@ mod tests {
         let u = Region::union(&[a, b], 1e-3);
         assert_eq!(u.contours.len(), 1);
         assert!((u.area() - 175.0).abs() < 1e-9);
+    }
+
+    /// Many nearly coincident disks (a stroke repaired into dozens of tiny pieces) and an
+    /// annulus with a disk across its hole: the union's membership agrees with the
+    /// inputs' at every grid point off their boundaries (a second, pointwise method).
+    #[test]
+    fn union_of_many_nearly_coincident_disks_and_a_hole() {
+        let tol = 1e-3;
+        let ring = |c: DVec2, r: f64, ccw: bool| {
+            let mut pl = Polyline::new_closed();
+            let b = if ccw { 1.0 } else { -1.0 };
+            pl.add(c.x - r, c.y, b);
+            pl.add(c.x + r, c.y, b);
+            pl
+        };
+        // (centre, radius, hole radius): the annulus has material for r_hole < |p − c| < r.
+        let mut shapes: Vec<(DVec2, f64, f64)> = (0..60)
+            .map(|k| {
+                let a = 0.7 * k as f64;
+                (2e-3 * k as f64 * DVec2::new(a.cos(), a.sin()), 2.0, 0.0)
+            })
+            .collect();
+        shapes.push((DVec2::new(20.0, 0.0), 5.0, 3.0));
+        shapes.push((DVec2::new(17.5, 0.0), 1.5, 0.0));
+        let regions: Vec<Region> = shapes
+            .iter()
+            .map(|&(c, r, hole)| {
+                let mut contours = vec![ring(c, r, true)];
+                if hole > 0.0 {
+                    contours.push(ring(c, hole, false));
+                }
+                Region::from_contours(contours)
+            })
+            .collect();
+        let u = Region::union(&regions, tol);
+        let (mut inside, mut checked) = (0, 0);
+        for i in 0..=300 {
+            for j in 0..=100 {
+                let p = DVec2::new(-3.0 + 0.1 * i as f64, -5.5 + 0.11 * j as f64);
+                let near_boundary = shapes.iter().any(|&(c, r, hole)| {
+                    let d = p.distance(c);
+                    (d - r).abs() < 4.0 * tol || (hole > 0.0 && (d - hole).abs() < 4.0 * tol)
+                });
+                if near_boundary {
+                    continue;
+                }
+                let expected = shapes.iter().any(|&(c, r, hole)| {
+                    let d = p.distance(c);
+                    d < r && (hole == 0.0 || d > hole)
+                });
+                assert_eq!(u.contains(p), expected, "{p}");
+                checked += 1;
+                inside += usize::from(expected);
+            }
+        }
+        assert!(checked > 25_000 && inside > 1_000, "{checked} {inside}");
     }
 
     #[test]
