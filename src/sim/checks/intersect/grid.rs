@@ -305,13 +305,16 @@ impl SegmentSet {
             };
             [p.x.to_bits(), p.y.to_bits(), q.x.to_bits(), q.y.to_bits()]
         };
-        let mut ids: Vec<u32> = cell.to_vec();
-        ids.sort_by_key(|&k| (key(k), k));
+        // Sorted by (key, segment), each key computed once: the pairs are unique, so the
+        // unstable sort gives the one order.
+        let mut keyed: Vec<([u64; 4], u32)> = cell.iter().map(|&k| (key(k), k)).collect();
+        keyed.sort_unstable();
+        let ids: Vec<u32> = keyed.iter().map(|x| x.1).collect();
         let mut groups: Vec<(usize, usize)> = Vec::new();
         let mut g = 0;
         while g < ids.len() {
             let mut e = g + 1;
-            while e < ids.len() && key(ids[e]) == key(ids[g]) {
+            while e < ids.len() && keyed[e].0 == keyed[g].0 {
                 e += 1;
             }
             groups.push((g, e));
