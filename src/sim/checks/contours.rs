@@ -591,11 +591,17 @@ pub(crate) fn intersection_findings(
     let mut folder = ContactFolder::new(&passes, cfg);
     // The search may stop once the report is full: every id that can still be found has
     // more findings than the cap, no finding lists passes that later contacts would add
-    // to, and enough contacts were found that the rest are worth not looking for.
+    // to, and enough contacts were found that the rest are worth not looking for. It
+    // stops as soon as every id has all the findings it can have (then the counts are
+    // exact, and no lower bound is given).
     let cap = cfg.max_findings_per_check.max(1);
     let crossings = !cfg.allow_crossings && set.contours.len() > 1;
     let may_stop = !folder.lists_passes();
     let mut seen = 0usize;
+    // Per id, all the findings it can have found ([`finding_bounds`], taken once contacts
+    // come): its count is then exact, and the search need not go on for it.
+    let mut bounds: Option<[usize; 2]> = None;
+    let mut exhausted = [false; 2];
     let (capped, stopped) = set.contacts_in_order(|batch| {
         seen += batch.len();
         for c in batch {
@@ -615,18 +621,61 @@ pub(crate) fn intersection_findings(
                 [c.point.x, c.point.y, z],
             );
         }
-        let [own, across] = folder.counts();
-        let full = own > cap && (!crossings || across > cap);
-        !(may_stop && full && seen >= STOP_AFTER_CONTACTS)
+        if !may_stop || seen == 0 {
+            return true;
+        }
+        let counts = folder.counts();
+        let [own_max, across_max] = *bounds.get_or_insert_with(|| finding_bounds(set, &line_of));
+        exhausted = [counts[0] >= own_max, !crossings || counts[1] >= across_max];
+        let done = |k: usize| exhausted[k] || counts[k] > cap;
+        let full = done(0) && done(1);
+        !(full && (seen >= STOP_AFTER_CONTACTS || exhausted == [true, true]))
     });
     if capped {
         out.push(too_many_contacts());
     }
     folder.finish(out);
     if stopped {
-        out.at_least(SELF_INTERSECTION);
-        out.at_least(CONTOUR_CROSSING);
+        for (id, exact) in [SELF_INTERSECTION, CONTOUR_CROSSING]
+            .into_iter()
+            .zip(exhausted)
+        {
+            if !exact {
+                out.at_least(id);
+            }
+        }
     }
+}
+
+/// Most findings the intersection check can make of `set`'s contacts when no path is cut
+/// more than once (one finding per pair of source lines, [`ContactFolder`]): of contours
+/// touching themselves, Σ r(r+1)/2, and of two contours crossing, Σ_{c<d} r_c·r_d =
+/// ((Σ r)² − Σ r²)/2, where r counts the runs of segments of one source line along a
+/// contour (no fewer than its distinct lines). A finding count that reaches its bound
+/// is the whole count: an arc of 100,000 turns on one line makes one finding however
+/// often it crosses itself.
+fn finding_bounds(set: &SegmentSet, line_of: &impl Fn(u32) -> usize) -> [usize; 2] {
+    let (mut own, mut runs, mut squares) = (0u128, 0u128, 0u128);
+    let mut at = 0usize;
+    for &(n, _) in &set.contours {
+        let mut r = 0u128;
+        let (mut source, mut line) = (None, None);
+        for k in at..at + n as usize {
+            let src = set.source(k);
+            if source != Some(src) {
+                source = Some(src);
+                let l = line_of(src);
+                r += u128::from(line != Some(l));
+                line = Some(l);
+            }
+        }
+        at += n as usize;
+        own += r * (r + 1) / 2;
+        runs += r;
+        squares += r * r;
+    }
+    let across = (runs * runs - squares) / 2;
+    [own, across].map(|b| usize::try_from(b).unwrap_or(usize::MAX))
 }
 
 /// Contacts the intersection check finds before it may stop its search early: the counts

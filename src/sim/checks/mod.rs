@@ -482,6 +482,44 @@ mod tests {
         assert_eq!(json["suppressed_at_least"][0], "self-intersection");
     }
 
+    /// An arc of 500 turns on one line (78,540 chords crossing one another some 10⁷ times):
+    /// all its contacts make one finding, so the search stops once it has it. The report
+    /// is that finding at the first contact in segment order (found here by testing the
+    /// first segments against all others), exact (no lower bound, no contact limit
+    /// reached), on the circle within the flattening tolerance.
+    #[test]
+    fn arc_of_many_turns_on_one_line_makes_one_finding_and_stops() {
+        let src = "G21 G90 G17\nG0 X0 Y0\nM3 S500\nG2 X10 Y0 I5 J0 P500 F600\nM5\nM2\n";
+        let cfg = CheckConfig::default();
+        let r = check_text(Backend::Builtin, src, &cfg, &[]);
+        assert!(
+            r.findings.iter().all(|f| f.id != "too-many-contacts"),
+            "{r}"
+        );
+        assert!(
+            r.suppressed_at_least.is_empty() && r.suppressed.is_empty(),
+            "{r}"
+        );
+        let own: Vec<&Finding> = (r.findings.iter())
+            .filter(|f| f.id == "self-intersection")
+            .collect();
+        assert_eq!(own.len(), 1, "{r}");
+        assert_eq!(own[0].lines, vec![4, 4]);
+        let prog = crate::sim::load(Backend::Builtin, src, &cfg.in_mm());
+        let (set, _, _) = contours::contour_segments(&prog.motions, &prog.group_marks, &cfg);
+        let n = set.segs.len();
+        assert!(n >= intersect::ROUNDS_MIN, "{n}");
+        let first = (0..n)
+            .find_map(|i| (i + 1..n).find_map(|j| set.test_pair(i, j)))
+            .map(|c| [c.point.x, c.point.y, 0.0]);
+        assert_eq!(Some(own[0].at[0]), first);
+        let from_centre = DVec2::new(own[0].at[0][0] - 5.0, own[0].at[0][1]).length();
+        assert!(
+            (from_centre - 5.0).abs() <= cfg.flatten_tolerance,
+            "{from_centre}"
+        );
+    }
+
     fn gcode(p: &[DVec2]) -> String {
         let mut s = String::from("G21 G90\n");
         let first = p.first().copied().unwrap_or_default();

@@ -264,7 +264,10 @@ impl SegmentSet {
     /// holding k copies of a segment thus gives O(k) tests and contacts instead of O(k²)
     /// (2,000 coincident contours stay linear); contacts a copy would add are repeats of
     /// its first copy's at the same place.
-    /// Only pairs whose lower index is in `window` are tested, until `limit` contacts.
+    /// Only pairs whose lower index is in `window` are tested, until `limit` contacts: a
+    /// segment outside the window is paired only with the first copies in it (w · k pairs
+    /// for w of a cell's k segments in the window, not k²/2), in the order of the whole
+    /// cell's pairs, so that the contacts found are those of the whole cell's loop.
     pub(super) fn cell_pairs(
         &self,
         cell: &[u32],
@@ -272,18 +275,23 @@ impl SegmentSet {
         limit: usize,
         out: &mut Vec<Contact>,
     ) {
+        let inside = |k: u32| window.contains(&(k as usize));
+        // Tests a pair; false once `limit` contacts are found.
         let mut test = |i: u32, j: u32| {
             if out.len() < limit
-                && window.contains(&(i.min(j) as usize))
+                && inside(i.min(j))
                 && let Some(c) = self.test_pair(i as usize, j as usize)
             {
                 out.push(c);
             }
+            out.len() < limit
         };
         if cell.len() <= TWIN_CELL_MIN {
             for (x, &i) in cell.iter().enumerate() {
                 for &j in &cell[x + 1..] {
-                    test(i, j);
+                    if !test(i, j) {
+                        return;
+                    }
                 }
             }
             return;
@@ -297,31 +305,51 @@ impl SegmentSet {
             };
             [p.x.to_bits(), p.y.to_bits(), q.x.to_bits(), q.y.to_bits()]
         };
-        let mut ids: Vec<u32> = cell.to_vec();
-        ids.sort_by_key(|&k| (key(k), k));
+        // Sorted by (key, segment), each key computed once: the pairs are unique, so the
+        // unstable sort gives the one order.
+        let mut keyed: Vec<([u64; 4], u32)> = cell.iter().map(|&k| (key(k), k)).collect();
+        keyed.sort_unstable();
+        let ids: Vec<u32> = keyed.iter().map(|x| x.1).collect();
         let mut groups: Vec<(usize, usize)> = Vec::new();
         let mut g = 0;
         while g < ids.len() {
             let mut e = g + 1;
-            while e < ids.len() && key(ids[e]) == key(ids[g]) {
+            while e < ids.len() && keyed[e].0 == keyed[g].0 {
                 e += 1;
             }
             groups.push((g, e));
             g = e;
         }
         let reps: Vec<u32> = groups.iter().map(|&(a, _)| ids[a]).collect();
+        // Groups whose first copy is in the window, in order: the only partners of a
+        // segment outside it whose pair can be tested.
+        let in_window: Vec<usize> = (0..reps.len()).filter(|&x| inside(reps[x])).collect();
+        let all: Vec<usize> = (0..reps.len()).collect();
         for (x, &i) in reps.iter().enumerate() {
-            for &j in &reps[x + 1..] {
-                test(i, j);
+            // Partners of i after it: every group when i is in the window, else those whose
+            // first copy is.
+            let after = if inside(i) {
+                &all[x + 1..]
+            } else {
+                &in_window[in_window.partition_point(|&y| y <= x)..]
+            };
+            for &y in after {
+                if !test(i, reps[y]) {
+                    return;
+                }
             }
         }
         for (gi, &(a, e)) in groups.iter().enumerate() {
             for &m in &ids[a + 1..e] {
-                test(ids[a], m);
+                if !test(ids[a], m) {
+                    return;
+                }
                 let cm = self.segs[m as usize].contour;
-                for (gj, &r) in reps.iter().enumerate() {
-                    if gj != gi && self.segs[r as usize].contour == cm {
-                        test(m, r);
+                let partners = if inside(m) { &all } else { &in_window };
+                for &gj in partners {
+                    let r = reps[gj];
+                    if gj != gi && self.segs[r as usize].contour == cm && !test(m, r) {
+                        return;
                     }
                 }
             }

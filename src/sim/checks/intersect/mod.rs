@@ -79,6 +79,13 @@ pub enum Across {
     Never,
 }
 
+/// Most contacts a window of [`SegmentSet::contacts_in_order`] wider than one segment may
+/// give: a window past it is searched again, [`ROUND_GROWTH`] times narrower (its search
+/// stops there, so each try costs about this many contacts). An arc of 100,000 turns crosses itself some 10⁴
+/// times per chord, 2²⁰ times in the first 64 chords; its report is decided by the first
+/// chord's contacts.
+const WINDOW_CONTACTS: usize = 1 << 16;
+
 /// Polylines split into segments (zero-length segments dropped).
 #[derive(Clone, Debug, Default)]
 pub struct SegmentSet {
@@ -269,6 +276,9 @@ impl SegmentSet {
     /// windows [`FIRST_ROUND`] segments long, each [`ROUND_GROWTH`] times the one before:
     /// a retraced contour's contacts all have their lower segment in its first pass, and
     /// a report full after the first window is found at the cost of that window's cells.
+    /// A window of more than one segment with [`WINDOW_CONTACTS`] contacts or more is
+    /// searched again [`ROUND_GROWTH`] times narrower, down to one segment, so that a contour crossing itself
+    /// everywhere hands out its first segments' contacts before the whole cap's worth.
     pub fn contacts_in_order(&self, mut take: impl FnMut(&[Contact]) -> bool) -> (bool, bool) {
         let n = self.segs.len();
         let whole = |take: &mut dyn FnMut(&[Contact]) -> bool| {
@@ -292,17 +302,27 @@ impl SegmentSet {
         while lo < n {
             let hi = lo.saturating_add(size).min(n);
             let window = lo..hi;
+            let room = MAX_CONTACTS - total;
+            let limit = if hi - lo > 1 {
+                room.min(WINDOW_CONTACTS)
+            } else {
+                room
+            };
+            let found = self.window_cell_contacts(
+                entries.len(),
+                |i| (entries[i] >> 32, entries[i] as u32),
+                &window,
+                limit,
+            );
+            if limit < room && found.len() >= limit {
+                size = ((hi - lo) / ROUND_GROWTH).max(1);
+                continue;
+            }
             let mut batch: Vec<Contact> = overlaps
                 .iter()
                 .filter(|c| window.contains(&c.i))
                 .copied()
                 .collect();
-            let found = self.window_cell_contacts(
-                entries.len(),
-                |i| (entries[i] >> 32, entries[i] as u32),
-                &window,
-                MAX_CONTACTS - total,
-            );
             total += found.len();
             batch.extend(found);
             batch.sort_by_key(|c| (c.i, c.j));

@@ -552,3 +552,35 @@ proptest::proptest! {
         }
     }
 }
+
+/// A polyline around a circle 70,000 times a chord of 2π/10.48576 rad (the chords of an
+/// arc of many turns flattened to the chord cap: every chord crosses thousands of others).
+/// Searched in rounds, the first window would give far more than [`WINDOW_CONTACTS`]
+/// contacts: it is searched again narrower, and the first batch handed out is every
+/// contact whose lower segment is in it, as testing each of its segments against every
+/// other segment gives them, in (i, j) order.
+#[test]
+fn a_window_crossed_everywhere_is_narrowed_to_its_first_segments() {
+    let n = ROUNDS_MIN + 4_464;
+    let step = std::f64::consts::TAU / 10.485_76;
+    let p: Vec<DVec2> = (0..=n)
+        .map(|k| DVec2::new(5.0, 0.0) - 5.0 * DVec2::from_angle(k as f64 * step))
+        .collect();
+    let mut s = SegmentSet::new();
+    s.push_polyline(&p, &[]);
+    assert_eq!(s.segs.len(), n);
+    let mut first = Vec::new();
+    let (capped, stopped) = s.contacts_in_order(|b| {
+        first.extend_from_slice(b);
+        false
+    });
+    assert!(!capped && stopped);
+    let last = first.iter().map(|c| c.i).max().unwrap_or(0);
+    assert!(last + 1 < FIRST_ROUND, "window not narrowed: {last}");
+    let s = &s;
+    let want: Vec<Contact> = (0..=last)
+        .flat_map(|i| (i + 1..n).filter_map(move |j| s.test_pair(i, j)))
+        .collect();
+    assert!(want.len() > 1000, "{}", want.len());
+    assert_eq!(first, want);
+}
