@@ -190,6 +190,7 @@ pub fn repair(
         range,
     };
     let shortest = MIN_PIECE_FRACTION * (range.1 - range.0);
+    let knots = c.breakpoints();
     if c.is_closed() {
         // The seam is a split of its own: the opened curve's ends are the same disk.
         let t = 0.5 * (range.0 + range.1);
@@ -211,6 +212,11 @@ pub fn repair(
     while let Some((piece, known)) = todo.pop() {
         let failure = match known {
             Some(f) => f,
+            None if turn_piece(&piece, range, &knots) => Failure {
+                place: None,
+                reason: TURN_REASON.to_string(),
+                missed: None,
+            },
             None => match attempt(&piece, opts, tol, limit) {
                 Ok((sk, overlap)) => {
                     done.push((piece.range, Done::Skinned(Box::new(sk), overlap)));
@@ -321,6 +327,24 @@ fn missed_failure(u: Uncovered, range: (f64, f64)) -> Failure {
         ),
         missed: Some(u),
     }
+}
+
+/// Why a [`turn_piece`] is built on its disks.
+const TURN_REASON: &str = "one knot span between two splits (the tip of a turn)";
+
+/// Whether a piece is one knot span of the stroke, [u_k, u_k+1] with both ends split
+/// (neither is an end of the stroke's domain `whole`; `knots` are the stroke's
+/// breakpoints): where consecutive knot circles fail one after another (a hatch's turn)
+/// this is the tip of the turn, which a skin follows only by many one-sided insertions; it
+/// is built on the union of its disks instead (within the tolerance of them).
+fn turn_piece(p: &Piece, whole: (f64, f64), knots: &[f64]) -> bool {
+    let (lo, hi) = p.range;
+    let k = knots.partition_point(|&u| u < lo);
+    lo > whole.0
+        && hi < whole.1
+        && knots.get(k) == Some(&lo)
+        && knots.get(k + 1) == Some(&hi)
+        && p.curve.breakpoints().len() == 2
 }
 
 /// Skin one piece and check that it holds its disks.
