@@ -567,6 +567,38 @@ mod tests {
         }
     }
 
+    /// A turn tip is exactly one knot span of the stroke with a split at both ends: not a
+    /// piece at an end of the stroke, not a part of a span, not two spans.
+    #[test]
+    fn turn_pieces_are_inner_knot_spans() {
+        // A zig-zag hatch: its turns fail kruppa-2023 Def. 4.1 at consecutive knots.
+        let disks: Vec<Circle> = (0..9)
+            .map(|k| Circle::new(DVec2::new(k as f64, 4.0 * (k % 2) as f64), 0.4))
+            .collect();
+        let c = DiskBSpline::open(3, &disks, None).unwrap();
+        let knots = c.breakpoints();
+        let whole = c.domain();
+        let stroke = Piece {
+            curve: c.clone(),
+            range: whole,
+        };
+        let (u1, u2, u3) = (knots[1], knots[2], knots[3]);
+        let (_, rest) = split(&stroke, u1).unwrap();
+        let (tip, rest) = split(&rest, u2).unwrap();
+        assert_eq!(tip.range, (u1, u2));
+        assert!(turn_piece(&tip, whole, &knots));
+        // The first span reaches the stroke's start; the rest spans several knots.
+        let (first, _) = split(&stroke, u1).unwrap();
+        assert!(!turn_piece(&first, whole, &knots));
+        assert!(!turn_piece(&rest, whole, &knots));
+        // Part of a span, and a piece over two spans.
+        let (part, _) = split(&tip, 0.5 * (u1 + u2)).unwrap();
+        assert!(!turn_piece(&part, whole, &knots));
+        let (two, _) = split(&split(&stroke, u1).unwrap().1, u3).unwrap();
+        assert_eq!(two.range, (u1, u3));
+        assert!(!turn_piece(&two, whole, &knots));
+    }
+
     /// Split places: the middle of a bad triplet, a covered circle among neighbours, the
     /// widest gap when the coverers are far; nothing for a work budget or outside the piece.
     #[test]
