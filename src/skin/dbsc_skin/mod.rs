@@ -375,6 +375,7 @@ fn skin_parts(
         circles: RefCell::default(),
         admissible: RefCell::default(),
         sides: RefCell::default(),
+        touching: RefCell::default(),
     };
     // The envelope loops (phase 3 and the report use them) beside phases 1 and 2, which
     // do not: a loop error still comes first, as when they were found before.

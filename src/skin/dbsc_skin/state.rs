@@ -12,8 +12,9 @@ use crate::geom::{Circle, CubicBez, DVec2, Path, PathSeg};
 use crate::skin::bits_hash::{BitsMap, BitsSet};
 use crate::skin::hausdorff::{HausdorffBounds, Work};
 use crate::skin::outline::outline_from_skins;
+use crate::skin::touching::touching_points_with;
 use crate::skin::touching::triplet_touching;
-use crate::skin::{SkinError, Skins, TouchingPoints, check_admissible};
+use crate::skin::{SkinError, Skins, TouchingPoints, bezier_skins, check_admissible};
 use std::cell::RefCell;
 
 /// Relative tolerance of the radical centre of phase 3 (kruppa-2023 Sec. 4.3): centres
@@ -64,6 +65,9 @@ pub(super) struct State<'a> {
     /// The last [`State::skin_sides`] with the bits of its parameters and the circle uses:
     /// a pass skins its sequence for the bounds of two modes and for the outline test.
     pub(super) sides: RefCell<Option<SidesMemo>>,
+    /// The touching points of each triplet skinned so far (or none), by the bits of its
+    /// three parameters.
+    pub(super) touching: RefCell<BitsMap<[u64; 3], Option<TouchingPoints>>>,
 }
 
 /// A sequence's parameter bits and circle uses with its two skins ([`State::sides`]).
@@ -166,20 +170,40 @@ impl State<'_> {
         if pl == pr {
             let skins = self
                 .admissible_params(&pl)
-                .and_then(|()| skin_both_arcs(&self.circles_of(&pl), self.closed));
+                .and_then(|()| self.skin_both_arcs(&pl));
             return match skins {
                 Ok((left, right)) => [Ok((pl.clone(), left)), Ok((pr, right))],
                 Err(e) => [Err(e.clone()), Err(e)],
             };
         }
         [(Side::Left, pl), (Side::Right, pr)].map(|(side, ps)| {
-            let (left, right) = skin_both_arcs(&self.circles_of(&ps), self.closed)?;
+            let (left, right) = self.skin_both_arcs(&ps)?;
             let arcs = match side {
                 Side::Left => left,
                 Side::Right => right,
             };
             Ok((ps, arcs))
         })
+    }
+
+    /// The left and the right skin arcs of the circles at `ps` ([`super::skin_circles`]
+    /// without its admissibility test: [`State::skin_sides`] makes that test where it
+    /// applies), each triplet's touching points kept by the bits of its three parameters
+    /// ([`State::touching`]): an insertion changes the triplets around it only.
+    fn skin_both_arcs(&self, ps: &[f64]) -> Result<(Vec<CubicBez>, Vec<CubicBez>), SkinError> {
+        let circles = self.circles_of(ps);
+        let n = ps.len();
+        let rel_tol = adm_opts().rel_tol;
+        let mut memo = self.touching.borrow_mut();
+        let tp = touching_points_with(&circles, self.closed, |i| {
+            let (a, b) = ((i + n - 1) % n, (i + 1) % n);
+            let key = [ps[a].to_bits(), ps[i].to_bits(), ps[b].to_bits()];
+            *memo.entry(key).or_insert_with(|| {
+                triplet_touching(&circles[a], &circles[i], &circles[b], rel_tol).map(|t| t.points)
+            })
+        })?;
+        let s = bezier_skins(&circles, &tp, self.closed)?;
+        Ok((s.left, s.right))
     }
 
     pub(super) fn met(&self, h: &HausdorffBounds) -> bool {
@@ -642,18 +666,4 @@ pub(super) fn crossed(contour: usize, other: usize) -> String {
     } else {
         format!("crosses contour {other}")
     }
-}
-
-/// The left and the right skin arcs of one circle sequence ([`super::skin_circles`]),
-/// without its admissibility test: [`State::skin_sides`] makes that test where it applies.
-pub(super) fn skin_both_arcs(
-    circles: &[Circle],
-    closed: bool,
-) -> Result<(Vec<CubicBez>, Vec<CubicBez>), SkinError> {
-    let opts = crate::skin::SkinOptions {
-        admissibility: adm_opts(),
-        check_admissibility: false,
-    };
-    let s = crate::skin::skin_circles(circles, closed, &opts)?;
-    Ok((s.left, s.right))
 }
