@@ -551,9 +551,6 @@ mod tests {
             .collect()
     }
 
-    /// The parallel Hausdorff bounds give the serial result: one thread against four, with
-    /// a budget large enough for every bound and one so small that the serial replay must
-    /// recompute bounds cut short by the shared budget (and finally runs out).
     proptest::proptest! {
         /// The test of an outline after one change, from the crossing-free outline before
         /// it, agrees with the test of the whole outline: a star-shaped polygon (no
@@ -591,6 +588,9 @@ mod tests {
         }
     }
 
+    /// The parallel Hausdorff bounds give the serial result: one thread against four, with
+    /// a budget large enough for every bound and one so small that the serial replay must
+    /// recompute bounds cut short by the shared budget (and finally runs out).
     /// Two contours that cross each other but not themselves are named as a pair, not as
     /// one contour intersecting itself.
     #[test]
