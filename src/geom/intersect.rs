@@ -717,6 +717,51 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
     out
 }
 
+/// Whether [`path_self_intersections`] of `path` would find anything in a pair of segments
+/// of which at least one is marked in `changed` (or a marked cubic crossing itself): the
+/// same pair tests (same order i < j, same joints), stopping at the first hit. Where every
+/// pair of unmarked segments is known to be free of hits, this equals
+/// `!path_self_intersections(path, tol).is_empty()`.
+pub(crate) fn path_self_intersects_changed(path: &Path, tol: f64, changed: &[bool]) -> bool {
+    let segs = &path.segs;
+    let n = segs.len();
+    let marked = |i: usize| changed.get(i).copied().unwrap_or(true);
+    for (i, s) in segs.iter().enumerate() {
+        if let PathSeg::Cubic(c) = s
+            && marked(i)
+            && !cubic_self_intersections(c, tol).is_empty()
+        {
+            return true;
+        }
+    }
+    let tree = SeqBvh::new(segs.iter().map(|s| seg_box(s, tol)).collect());
+    let mut near_ones = Vec::new();
+    for i in (0..n).filter(|&i| marked(i)) {
+        near_ones.clear();
+        tree.query(&tree.boxes[i], &mut near_ones);
+        for &o in &near_ones {
+            // A pair of two marked segments is tested once, from its first segment.
+            if o == i || (marked(o) && o < i) {
+                continue;
+            }
+            let (i, j) = (i.min(o), i.max(o));
+            let (s, t) = (&segs[i], &segs[j]);
+            let mut joints = Vec::new();
+            let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
+            if j == i + 1 && near(s.end(), t.start()) {
+                joints.push(Joint::between(s, 1.0, t, 0.0, tol));
+            }
+            if path.closed && i == 0 && j == n - 1 && near(t.end(), s.start()) {
+                joints.push(Joint::between(s, 0.0, t, 1.0, tol));
+            }
+            if !pair_hits(s, t, &joints, tol).is_empty() {
+                return true;
+            }
+        }
+    }
+    false
+}
+
 /// All intersections between a segment of `a` and a segment of `b` within `tol`
 /// (`PathHit::a` indexes `a`, `PathHit::b` indexes `b`).
 pub fn paths_intersections(a: &Path, b: &Path, tol: f64) -> Vec<PathHit> {

@@ -292,6 +292,21 @@ pub fn touching_points(
     closed: bool,
     rel_tol: f64,
 ) -> Result<Vec<TouchingPoints>, SkinError> {
+    let n = circles.len();
+    touching_points_with(circles, closed, |i| {
+        let (a, b) = (&circles[(i + n - 1) % n], &circles[(i + 1) % n]);
+        triplet_touching(a, &circles[i], b, rel_tol).map(|t| t.points)
+    })
+}
+
+/// [`touching_points`] with the points of circle i between its neighbours (every circle of
+/// a closed sequence, the inner ones of an open one) given by `inner(i)`, which must be
+/// those of [`triplet_touching`]: a caller that keeps them saves computing them again.
+pub(crate) fn touching_points_with(
+    circles: &[Circle],
+    closed: bool,
+    mut inner: impl FnMut(usize) -> Option<TouchingPoints>,
+) -> Result<Vec<TouchingPoints>, SkinError> {
     validate_circles(circles)?;
     check_count(circles.len(), closed)?;
     let n = circles.len();
@@ -303,10 +318,7 @@ pub fn touching_points(
         } else if !closed && i == n - 1 {
             end_touching(&circles[n - 1], &circles[n - 2], false).ok_or(err)?
         } else {
-            let (a, b) = (&circles[(i + n - 1) % n], &circles[(i + 1) % n]);
-            triplet_touching(a, &circles[i], b, rel_tol)
-                .ok_or(err)?
-                .points
+            inner(i).ok_or(err)?
         };
         out.push(tp);
     }

@@ -190,6 +190,7 @@ pub fn repair(
         range,
     };
     let shortest = MIN_PIECE_FRACTION * (range.1 - range.0);
+    let knots = c.breakpoints();
     if c.is_closed() {
         // The seam is a split of its own: the opened curve's ends are the same disk.
         let t = 0.5 * (range.0 + range.1);
@@ -211,6 +212,11 @@ pub fn repair(
     while let Some((piece, known)) = todo.pop() {
         let failure = match known {
             Some(f) => f,
+            None if turn_piece(&piece, range, &knots) => Failure {
+                place: None,
+                reason: TURN_REASON.to_string(),
+                missed: None,
+            },
             None => match attempt(&piece, opts, tol, limit) {
                 Ok((sk, overlap)) => {
                     done.push((piece.range, Done::Skinned(Box::new(sk), overlap)));
@@ -321,6 +327,24 @@ fn missed_failure(u: Uncovered, range: (f64, f64)) -> Failure {
         ),
         missed: Some(u),
     }
+}
+
+/// Why a [`turn_piece`] is built on its disks.
+const TURN_REASON: &str = "one knot span between two splits (the tip of a turn)";
+
+/// Whether a piece is one knot span of the stroke, [u_k, u_k+1] with both ends split
+/// (neither is an end of the stroke's domain `whole`; `knots` are the stroke's
+/// breakpoints): where consecutive knot circles fail one after another (a hatch's turn)
+/// this is the tip of the turn, which a skin follows only by many one-sided insertions; it
+/// is built on the union of its disks instead (within the tolerance of them).
+fn turn_piece(p: &Piece, whole: (f64, f64), knots: &[f64]) -> bool {
+    let (lo, hi) = p.range;
+    let k = knots.partition_point(|&u| u < lo);
+    lo > whole.0
+        && hi < whole.1
+        && knots.get(k) == Some(&lo)
+        && knots.get(k + 1) == Some(&hi)
+        && p.curve.breakpoints().len() == 2
 }
 
 /// Skin one piece and check that it holds its disks.
@@ -541,6 +565,38 @@ mod tests {
             assert!(cd[0].c.distance(c.center(lo)) < 1e-9);
             assert!(cd[cd.len() - 1].c.distance(c.center(hi)) < 1e-9);
         }
+    }
+
+    /// A turn tip is exactly one knot span of the stroke with a split at both ends: not a
+    /// piece at an end of the stroke, not a part of a span, not two spans.
+    #[test]
+    fn turn_pieces_are_inner_knot_spans() {
+        // A zig-zag hatch: its turns fail kruppa-2023 Def. 4.1 at consecutive knots.
+        let disks: Vec<Circle> = (0..9)
+            .map(|k| Circle::new(DVec2::new(k as f64, 4.0 * (k % 2) as f64), 0.4))
+            .collect();
+        let c = DiskBSpline::open(3, &disks, None).unwrap();
+        let knots = c.breakpoints();
+        let whole = c.domain();
+        let stroke = Piece {
+            curve: c.clone(),
+            range: whole,
+        };
+        let (u1, u2, u3) = (knots[1], knots[2], knots[3]);
+        let (_, rest) = split(&stroke, u1).unwrap();
+        let (tip, rest) = split(&rest, u2).unwrap();
+        assert_eq!(tip.range, (u1, u2));
+        assert!(turn_piece(&tip, whole, &knots));
+        // The first span reaches the stroke's start; the rest spans several knots.
+        let (first, _) = split(&stroke, u1).unwrap();
+        assert!(!turn_piece(&first, whole, &knots));
+        assert!(!turn_piece(&rest, whole, &knots));
+        // Part of a span, and a piece over two spans.
+        let (part, _) = split(&tip, 0.5 * (u1 + u2)).unwrap();
+        assert!(!turn_piece(&part, whole, &knots));
+        let (two, _) = split(&split(&stroke, u1).unwrap().1, u3).unwrap();
+        assert_eq!(two.range, (u1, u3));
+        assert!(!turn_piece(&two, whole, &knots));
     }
 
     /// Split places: the middle of a bad triplet, a covered circle among neighbours, the

@@ -374,6 +374,8 @@ fn skin_parts(
         spans: SpanPoly::all(c),
         circles: RefCell::default(),
         admissible: RefCell::default(),
+        sides: RefCell::default(),
+        touching: RefCell::default(),
     };
     // The envelope loops (phase 3 and the report use them) beside phases 1 and 2, which
     // do not: a loop error still comes first, as when they were found before.
@@ -547,6 +549,43 @@ mod tests {
                 )
             })
             .collect()
+    }
+
+    proptest::proptest! {
+        /// The test of an outline after one change, from the crossing-free outline before
+        /// it, agrees with the test of the whole outline: a star-shaped polygon (no
+        /// crossings) with one vertex moved, one inserted and one removed.
+        #[test]
+        fn crosses_since_agrees_with_the_whole_test(
+            radii in proptest::collection::vec(1.0f64..3.0, 5..40),
+            k in 0usize..40,
+            moved in (-4.0f64..4.0, -4.0f64..4.0),
+        ) {
+            use super::state::crosses_since;
+            let n = radii.len();
+            let star: Vec<DVec2> = radii
+                .iter()
+                .enumerate()
+                .map(|(i, &r)| r * DVec2::from_angle(std::f64::consts::TAU * i as f64 / n as f64))
+                .collect();
+            let old = [Path::polyline(&star, true)];
+            proptest::prop_assert!(!outline_intersects(&old, 1e-9));
+            let k = k % n;
+            let p = DVec2::new(moved.0, moved.1);
+            let mut changed = star.clone();
+            changed[k] = p;
+            let mut inserted = star.clone();
+            inserted.insert(k, p);
+            let mut removed = star.clone();
+            removed.remove(k);
+            for v in [changed, inserted, removed] {
+                let new = [Path::polyline(&v, true)];
+                proptest::prop_assert_eq!(
+                    crosses_since(&old, &new, 1e-9),
+                    outline_intersects(&new, 1e-9)
+                );
+            }
+        }
     }
 
     /// The parallel Hausdorff bounds give the serial result: one thread against four, with

@@ -5,13 +5,16 @@
 use super::bounds::{KeyMap, Mode, SideSkin, param_bits};
 use super::{CircleUse, DbscSkinError, DbscSkinOptions, Phase, adm_opts, not_admissible, overlaps};
 use crate::dbsc::{DiskBSpline, EnvelopeLoop, Side, SpanPoly};
-use crate::geom::intersect::{path_self_intersections, paths_intersections};
-use crate::geom::{Circle, CubicBez, DVec2, Path};
+use crate::geom::intersect::{
+    path_self_intersections, path_self_intersects_changed, paths_intersections,
+};
+use crate::geom::{Circle, CubicBez, DVec2, Path, PathSeg};
 use crate::skin::bits_hash::{BitsMap, BitsSet};
 use crate::skin::hausdorff::{HausdorffBounds, Work};
 use crate::skin::outline::outline_from_skins;
+use crate::skin::touching::touching_points_with;
 use crate::skin::touching::triplet_touching;
-use crate::skin::{SkinError, Skins, TouchingPoints, check_admissible};
+use crate::skin::{SkinError, Skins, TouchingPoints, bezier_skins, check_admissible};
 use std::cell::RefCell;
 
 /// Relative tolerance of the radical centre of phase 3 (kruppa-2023 Sec. 4.3): centres
@@ -59,7 +62,16 @@ pub(super) struct State<'a> {
     /// Parameter sequences (by their bits) whose circles passed [`check_admissible`]: the
     /// skin of a pass's sequence need not test again what its insertion test showed.
     pub(super) admissible: RefCell<BitsSet<Vec<u64>>>,
+    /// The last [`State::skin_sides`] with the bits of its parameters and the circle uses:
+    /// a pass skins its sequence for the bounds of two modes and for the outline test.
+    pub(super) sides: RefCell<Option<SidesMemo>>,
+    /// The touching points of each triplet skinned so far (or none), by the bits of its
+    /// three parameters.
+    pub(super) touching: RefCell<BitsMap<[u64; 3], Option<TouchingPoints>>>,
 }
+
+/// A sequence's parameter bits and circle uses with its two skins ([`State::sides`]).
+pub(super) type SidesMemo = ((Vec<u64>, Vec<CircleUse>), [SideSkin; 2]);
 
 impl State<'_> {
     pub(super) fn circles_of(&self, ps: &[f64]) -> Vec<Circle> {
@@ -141,24 +153,57 @@ impl State<'_> {
     /// error), skipped for a sequence that passed before. With one-sided circles (phase 3)
     /// one side's sequence may break the admissibility of the other's, so none is tested.
     pub(super) fn skin_sides(&self) -> [SideSkin; 2] {
+        let key = (param_bits(&self.params), self.uses.clone());
+        if let Some((k, sides)) = self.sides.borrow().as_ref()
+            && *k == key
+        {
+            return sides.clone();
+        }
+        let sides = self.skin_sides_anew();
+        *self.sides.borrow_mut() = Some((key, sides.clone()));
+        sides
+    }
+
+    /// [`State::skin_sides`] computed.
+    fn skin_sides_anew(&self) -> [SideSkin; 2] {
         let (pl, pr) = (self.side_params(Side::Left), self.side_params(Side::Right));
         if pl == pr {
             let skins = self
                 .admissible_params(&pl)
-                .and_then(|()| skin_both_arcs(&self.circles_of(&pl), self.closed));
+                .and_then(|()| self.skin_both_arcs(&pl));
             return match skins {
                 Ok((left, right)) => [Ok((pl.clone(), left)), Ok((pr, right))],
                 Err(e) => [Err(e.clone()), Err(e)],
             };
         }
         [(Side::Left, pl), (Side::Right, pr)].map(|(side, ps)| {
-            let (left, right) = skin_both_arcs(&self.circles_of(&ps), self.closed)?;
+            let (left, right) = self.skin_both_arcs(&ps)?;
             let arcs = match side {
                 Side::Left => left,
                 Side::Right => right,
             };
             Ok((ps, arcs))
         })
+    }
+
+    /// The left and the right skin arcs of the circles at `ps` ([`super::skin_circles`]
+    /// without its admissibility test: [`State::skin_sides`] makes that test where it
+    /// applies), each triplet's touching points kept by the bits of its three parameters
+    /// ([`State::touching`]): an insertion changes the triplets around it only.
+    fn skin_both_arcs(&self, ps: &[f64]) -> Result<(Vec<CubicBez>, Vec<CubicBez>), SkinError> {
+        let circles = self.circles_of(ps);
+        let n = ps.len();
+        let rel_tol = adm_opts().rel_tol;
+        let mut memo = self.touching.borrow_mut();
+        let tp = touching_points_with(&circles, self.closed, |i| {
+            let (a, b) = ((i + n - 1) % n, (i + 1) % n);
+            let key = [ps[a].to_bits(), ps[i].to_bits(), ps[b].to_bits()];
+            *memo.entry(key).or_insert_with(|| {
+                triplet_touching(&circles[a], &circles[i], &circles[b], rel_tol).map(|t| t.points)
+            })
+        })?;
+        let s = bezier_skins(&circles, &tp, self.closed)?;
+        Ok((s.left, s.right))
     }
 
     pub(super) fn met(&self, h: &HausdorffBounds) -> bool {
@@ -314,7 +359,11 @@ impl State<'_> {
     pub(super) fn self_intersects(&self) -> bool {
         match self.outline() {
             Ok(o) => {
-                let crosses = outline_intersects(&o.contours, self.opts.intersect_tol);
+                let tol = self.opts.intersect_tol;
+                let crosses = match self.clear.borrow().as_deref() {
+                    Some(old) => crosses_since(old, &o.contours, tol),
+                    None => outline_intersects(&o.contours, tol),
+                };
                 if !crosses {
                     *self.clear.borrow_mut() = Some(o.contours);
                 }
@@ -517,6 +566,80 @@ pub(super) fn outline_intersects(contours: &[Path], tol: f64) -> bool {
     first_crossing(contours, tol).is_some()
 }
 
+/// [`outline_intersects`] of `new`, given that `old` is free of crossings (the outline
+/// before one insertion): only the pairs of segments with a changed segment are tested.
+/// A segment of `new` is unchanged when `old` holds it (same bits) with the same segments
+/// before and after it; two unchanged segments then were a pair of `old` in the same order
+/// and adjacency, whose test found nothing. Applies to one closed contour before and after
+/// whose segments are all distinct and whose unchanged segments keep their order; anything
+/// else is tested whole.
+pub(super) fn crosses_since(old: &[Path], new: &[Path], tol: f64) -> bool {
+    let ([o], [p]) = (old, new) else {
+        return outline_intersects(new, tol);
+    };
+    match changed_segments(o, p) {
+        Some(changed) if o.closed && p.closed => path_self_intersects_changed(p, tol, &changed),
+        _ => outline_intersects(new, tol),
+    }
+}
+
+/// The bits of a path segment (kind and every coordinate).
+fn seg_bits(s: &PathSeg) -> [u64; 9] {
+    let mut k = [0u64; 9];
+    let vals: Vec<f64> = match s {
+        PathSeg::Line(l) => vec![l.p0.x, l.p0.y, l.p1.x, l.p1.y],
+        PathSeg::Arc(a) => vec![a.center.x, a.center.y, a.radius, a.start, a.sweep],
+        PathSeg::Cubic(c) => c.points().iter().flat_map(|q| [q.x, q.y]).collect(),
+    };
+    k[0] = match s {
+        PathSeg::Line(_) => 0,
+        PathSeg::Arc(_) => 1,
+        PathSeg::Cubic(_) => 2,
+    };
+    for (slot, v) in k[1..].iter_mut().zip(vals) {
+        *slot = v.to_bits();
+    }
+    k
+}
+
+/// Per segment of the closed path `p`, whether it changed from the closed path `o`
+/// ([`crosses_since`]); `None` when a path repeats a segment or the unchanged segments of
+/// `p` do not keep their order in `o`.
+fn changed_segments(o: &Path, p: &Path) -> Option<Vec<bool>> {
+    let (ob, pb): (Vec<_>, Vec<_>) = (
+        o.segs.iter().map(seg_bits).collect(),
+        p.segs.iter().map(seg_bits).collect(),
+    );
+    let mut at: BitsMap<[u64; 9], usize> = BitsMap::default();
+    for (i, k) in ob.iter().enumerate() {
+        if at.insert(*k, i).is_some() {
+            return None;
+        }
+    }
+    let mut seen: BitsSet<[u64; 9]> = BitsSet::default();
+    if !pb.iter().all(|k| seen.insert(*k)) {
+        return None;
+    }
+    let (n, m) = (ob.len(), pb.len());
+    if n == 0 || m == 0 {
+        return None;
+    }
+    let mut last = None;
+    let mut changed = vec![true; m];
+    for (i, k) in pb.iter().enumerate() {
+        let Some(&j) = at.get(k) else { continue };
+        let same = ob[(j + n - 1) % n] == pb[(i + m - 1) % m] && ob[(j + 1) % n] == pb[(i + 1) % m];
+        if same {
+            if last.is_some_and(|l| l >= j) {
+                return None;
+            }
+            last = Some(j);
+            changed[i] = false;
+        }
+    }
+    Some(changed)
+}
+
 /// The first crossing of the outline contours, as (contour, other contour, segment of the
 /// first): a contour crossing itself first, then pairs of contours.
 pub(super) fn first_crossing(contours: &[Path], tol: f64) -> Option<(usize, usize, usize)> {
@@ -543,18 +666,4 @@ pub(super) fn crossed(contour: usize, other: usize) -> String {
     } else {
         format!("crosses contour {other}")
     }
-}
-
-/// The left and the right skin arcs of one circle sequence ([`super::skin_circles`]),
-/// without its admissibility test: [`State::skin_sides`] makes that test where it applies.
-pub(super) fn skin_both_arcs(
-    circles: &[Circle],
-    closed: bool,
-) -> Result<(Vec<CubicBez>, Vec<CubicBez>), SkinError> {
-    let opts = crate::skin::SkinOptions {
-        admissibility: adm_opts(),
-        check_admissibility: false,
-    };
-    let s = crate::skin::skin_circles(circles, closed, &opts)?;
-    Ok((s.left, s.right))
 }
