@@ -7,7 +7,7 @@
 //! disks, and two neighbouring pieces share the disk at the split: the round joint of a
 //! corner (`design::corners`), without refitting anything. The stroke's region is the
 //! union of its pieces' regions, so the outline is the boolean union of the pieces' regions
-//! ([`Region::union`], flattened within the tolerance): simple (the boundary of a union)
+//! ([`Region::union_pairwise`], flattened within the tolerance): simple (the boundary of a union)
 //! and holding every disk as each piece holds its own.
 //!
 //! **Where to split** ([`failing_place`]): at the middle circle of a triplet that violates
@@ -275,7 +275,7 @@ pub fn repair(
     }
     // Each piece is a region of its own (a piece on its disks may have a hole that another
     // piece covers), so the outline is the boolean union of the regions.
-    let contours = Region::union(&regions, tol).paths();
+    let contours = Region::union_pairwise(&regions, tol).paths();
     let (deviation, deviation_at) = deviation(c, &contours, tol);
     Repaired {
         contours,
