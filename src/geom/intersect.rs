@@ -688,7 +688,6 @@ fn seg_box(s: &PathSeg, tol: f64) -> BBox {
 /// Sorted by segment indices.
 pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
     let segs = &path.segs;
-    let n = segs.len();
     let mut out = Vec::new();
     for (i, s) in segs.iter().enumerate() {
         if let PathSeg::Cubic(c) = s {
@@ -700,14 +699,7 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
     let tree = SeqBvh::new(segs.iter().map(|s| seg_box(s, tol)).collect());
     tree.overlapping_pairs(|i, j| {
         let (s, t) = (&segs[i], &segs[j]);
-        let mut joints = Vec::new();
-        let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
-        if j == i + 1 && near(s.end(), t.start()) {
-            joints.push(Joint::between(s, 1.0, t, 0.0, tol));
-        }
-        if path.closed && i == 0 && j == n - 1 && near(t.end(), s.start()) {
-            joints.push(Joint::between(s, 0.0, t, 1.0, tol));
-        }
+        let joints = path_joints(path, i, j, tol);
         for hit in pair_hits(s, t, &joints, tol) {
             out.push(PathHit { a: i, b: j, hit });
         }
@@ -715,6 +707,21 @@ pub fn path_self_intersections(path: &Path, tol: f64) -> Vec<PathHit> {
     // The tree reports candidates in its own order.
     out.sort_by_key(|h| (h.a, h.b));
     out
+}
+
+/// The joints of segments `i < j` of `path`: consecutive segments whose ends meet within
+/// `tol`, and the last and first of a closed path.
+fn path_joints(path: &Path, i: usize, j: usize, tol: f64) -> Vec<Joint> {
+    let (s, t) = (&path.segs[i], &path.segs[j]);
+    let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
+    let mut joints = Vec::new();
+    if j == i + 1 && near(s.end(), t.start()) {
+        joints.push(Joint::between(s, 1.0, t, 0.0, tol));
+    }
+    if path.closed && i == 0 && j + 1 == path.segs.len() && near(t.end(), s.start()) {
+        joints.push(Joint::between(s, 0.0, t, 1.0, tol));
+    }
+    joints
 }
 
 /// Whether [`path_self_intersections`] of `path` would find anything in a pair of segments
@@ -746,15 +753,7 @@ pub(crate) fn path_self_intersects_changed(path: &Path, tol: f64, changed: &[boo
             }
             let (i, j) = (i.min(o), i.max(o));
             let (s, t) = (&segs[i], &segs[j]);
-            let mut joints = Vec::new();
-            let near = |p: DVec2, q: DVec2| p.distance(q) <= tol;
-            if j == i + 1 && near(s.end(), t.start()) {
-                joints.push(Joint::between(s, 1.0, t, 0.0, tol));
-            }
-            if path.closed && i == 0 && j == n - 1 && near(t.end(), s.start()) {
-                joints.push(Joint::between(s, 0.0, t, 1.0, tol));
-            }
-            if !pair_hits(s, t, &joints, tol).is_empty() {
+            if !pair_hits(s, t, &path_joints(path, i, j, tol), tol).is_empty() {
                 return true;
             }
         }
