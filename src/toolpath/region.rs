@@ -25,6 +25,12 @@ use cavalier_contours::shape_algorithms::{Shape, ShapeOffsetOptions};
 use rstar::RTree;
 use rstar::primitives::{GeomWithData, Rectangle};
 
+/// Most regions [`Region::union_pairwise`] unites in one overlay. A few overlapping rings
+/// are one overlay's cheapest case (the repairs of the shipped examples have 2 to 6 pieces);
+/// the overlay's long work begins with dozens of nearly coincident rings (40 of them took
+/// 1.2 s in a debug build, 67 took 35 s in release), which the tree unites in milliseconds.
+const ONE_OVERLAY_MAX_REGIONS: usize = 8;
+
 /// Closed contours of a region: counter-clockwise material, clockwise holes.
 #[derive(Clone, Debug, Default)]
 pub struct Region {
@@ -452,16 +458,17 @@ impl Region {
 
     /// The union of several regions united two at a time in a balanced tree (⌈log₂ n⌉
     /// levels of i_overlay unions, fill rule non-zero), through polygons flattened within
-    /// `tol`. For many regions that overlap in one place, such as the pieces of a repaired
-    /// stroke where a place keeps failing (dozens of nearly coincident disks): one overlay
-    /// of all their rings sends i_overlay's split solver into long work (67 such rings,
-    /// 2,983 vertices: 35 s), the tree takes milliseconds for the same area. For many
-    /// regions that lie mostly apart, [`Region::union`] is the cheaper (one pass over the
-    /// vertices instead of one per level).
+    /// `tol`; up to [`ONE_OVERLAY_MAX_REGIONS`] regions in one overlay, as
+    /// [`Region::union`]. For many regions that overlap in one place, such as the pieces of
+    /// a repaired stroke where a place keeps failing (dozens of nearly coincident disks):
+    /// one overlay of all their rings sends i_overlay's split solver into long work (67
+    /// such rings, 2,983 vertices: 35 s), the tree takes milliseconds for the same area.
+    /// For many regions that lie mostly apart, [`Region::union`] is the cheaper (one pass
+    /// over the vertices instead of one per level).
     pub fn union_pairwise(regions: &[Region], tol: f64) -> Region {
         let mut level: Vec<geo::MultiPolygon<f64>> =
             regions.iter().map(|r| r.to_geo(tol)).collect();
-        if level.len() < 2 {
+        if level.len() <= ONE_OVERLAY_MAX_REGIONS {
             let merged = geo::algorithm::bool_ops::unary_union(level.iter());
             return Region::from_geo(&merged, tol);
         }
