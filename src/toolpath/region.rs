@@ -466,12 +466,11 @@ impl Region {
     /// For many regions that lie mostly apart, [`Region::union`] is the cheaper (one pass
     /// over the vertices instead of one per level).
     pub fn union_pairwise(regions: &[Region], tol: f64) -> Region {
+        if regions.len() <= ONE_OVERLAY_MAX_REGIONS {
+            return Region::union(regions, tol);
+        }
         let mut level: Vec<geo::MultiPolygon<f64>> =
             regions.iter().map(|r| r.to_geo(tol)).collect();
-        if level.len() <= ONE_OVERLAY_MAX_REGIONS {
-            let merged = geo::algorithm::bool_ops::unary_union(level.iter());
-            return Region::from_geo(&merged, tol);
-        }
         while level.len() > 1 {
             level = level
                 .chunks(2)

@@ -577,25 +577,36 @@ pub(super) fn crosses_since(old: &[Path], new: &[Path], tol: f64) -> bool {
     let ([o], [p]) = (old, new) else {
         return outline_intersects(new, tol);
     };
+    if !(o.closed && p.closed) {
+        return outline_intersects(new, tol);
+    }
     match changed_segments(o, p) {
-        Some(changed) if o.closed && p.closed => path_self_intersects_changed(p, tol, &changed),
-        _ => outline_intersects(new, tol),
+        Some(changed) => path_self_intersects_changed(p, tol, &changed),
+        None => outline_intersects(new, tol),
     }
 }
 
-/// The bits of a path segment (kind and every coordinate).
+/// The bits of a path segment (kind and every coordinate, unused slots 0).
 fn seg_bits(s: &PathSeg) -> [u64; 9] {
-    let mut k = [0u64; 9];
-    let vals: Vec<f64> = match s {
-        PathSeg::Line(l) => vec![l.p0.x, l.p0.y, l.p1.x, l.p1.y],
-        PathSeg::Arc(a) => vec![a.center.x, a.center.y, a.radius, a.start, a.sweep],
-        PathSeg::Cubic(c) => c.points().iter().flat_map(|q| [q.x, q.y]).collect(),
+    let (kind, vals): (u64, [f64; 8]) = match s {
+        PathSeg::Line(l) => (0, [l.p0.x, l.p0.y, l.p1.x, l.p1.y, 0.0, 0.0, 0.0, 0.0]),
+        PathSeg::Arc(a) => (
+            1,
+            [
+                a.center.x, a.center.y, a.radius, a.start, a.sweep, 0.0, 0.0, 0.0,
+            ],
+        ),
+        PathSeg::Cubic(c) => {
+            let q = c.points();
+            (
+                2,
+                [
+                    q[0].x, q[0].y, q[1].x, q[1].y, q[2].x, q[2].y, q[3].x, q[3].y,
+                ],
+            )
+        }
     };
-    k[0] = match s {
-        PathSeg::Line(_) => 0,
-        PathSeg::Arc(_) => 1,
-        PathSeg::Cubic(_) => 2,
-    };
+    let mut k = [kind; 9];
     for (slot, v) in k[1..].iter_mut().zip(vals) {
         *slot = v.to_bits();
     }

@@ -81,9 +81,9 @@ pub enum Across {
 
 /// Most contacts a window of [`SegmentSet::contacts_in_order`] wider than one segment may
 /// give: a window past it is searched again, [`ROUND_GROWTH`] times narrower (its search
-/// stops there, so each try costs about this many contacts). An arc of 100,000 turns crosses itself some 10⁴
-/// times per chord, 2²⁰ times in the first 64 chords; its report is decided by the first
-/// chord's contacts.
+/// stops there, so each try costs about this many contacts). An arc of 100,000 turns
+/// crosses itself some 10⁴ times per chord, 2²⁰ times in the first 64 chords; its report
+/// is decided by the first chord's contacts.
 const WINDOW_CONTACTS: usize = 1 << 16;
 
 /// Polylines split into segments (zero-length segments dropped).
@@ -277,8 +277,9 @@ impl SegmentSet {
     /// a retraced contour's contacts all have their lower segment in its first pass, and
     /// a report full after the first window is found at the cost of that window's cells.
     /// A window of more than one segment with [`WINDOW_CONTACTS`] contacts or more is
-    /// searched again [`ROUND_GROWTH`] times narrower, down to one segment, so that a contour crossing itself
-    /// everywhere hands out its first segments' contacts before the whole cap's worth.
+    /// searched again [`ROUND_GROWTH`] times narrower, down to one segment, so that a
+    /// contour crossing itself everywhere hands out its first segments' contacts before the
+    /// whole cap's worth.
     pub fn contacts_in_order(&self, mut take: impl FnMut(&[Contact]) -> bool) -> (bool, bool) {
         let n = self.segs.len();
         let whole = |take: &mut dyn FnMut(&[Contact]) -> bool| {
