@@ -34,7 +34,6 @@ pub(crate) mod interp;
 pub(crate) mod linuxcnc;
 pub(crate) mod motion;
 pub(crate) mod ngc;
-mod parse_ahead;
 pub(crate) mod report;
 pub(crate) mod rs274;
 pub(crate) mod stream;

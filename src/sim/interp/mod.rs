@@ -24,7 +24,6 @@ use super::config::{CheckConfig, Dialect, ToolEntry};
 use super::findings::{Finding, Severity};
 use super::motion::{Event, Motion, MotionKind, Program, ProgramEnd, Spindle, ToolState, Units};
 use super::ngc::{self, Expr, Line, OKind, ParamRef, ParamSource, Syntax};
-use super::parse_ahead::{self, Ahead, ParseAhead};
 use crate::geom::{Arc, DVec2, perp};
 use glam::DVec3;
 use std::borrow::Cow;
@@ -43,7 +42,6 @@ mod source;
 mod tests;
 
 use modal::*;
-pub(in crate::sim) use source::LineStarts;
 use source::*;
 pub use source::{MotionSink, ReadSeek, Scan};
 
@@ -391,21 +389,7 @@ pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Progr
     // unused part is returned at the end.
     let lines = it.sources.first().map_or(0, |s| s.len());
     it.prog.motions.reserve(lines);
-    // Asked only for long programs: the answer reads the process's CPU limits.
-    let two_threads = || std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
-    // The worker reads the lines where the source found them.
-    let starts = match it.sources.first().map(|s| &s.body) {
-        Some(Body::Mem { starts, .. }) => Some(std::sync::Arc::clone(starts)),
-        _ => None,
-    };
-    if let Some(starts) = starts.filter(|_| lines >= parse_ahead::MIN_LINES && two_threads()) {
-        std::thread::scope(|scope| {
-            let mut ahead = ParseAhead::spawn(scope, src, starts, it.syn);
-            it.run(None, Some(&mut ahead));
-        });
-    } else {
-        it.run(None, None);
-    }
+    it.run(None);
     it.prog.motions.shrink_to_fit();
     it.prog.final_tool = it.st.tool;
     it.prog
@@ -439,7 +423,7 @@ pub fn interpret_stream<'a>(
     };
     it.push_source(src, owords);
     it.streaming = true;
-    it.run(Some(sink), None);
+    it.run(Some(sink));
     it.prog.final_tool = it.st.tool;
     let error = match it.sources.first().map(|s| &s.body) {
         Some(Body::Stream(s)) => s.error.clone(),

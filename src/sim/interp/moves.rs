@@ -120,61 +120,49 @@ impl Interp<'_, '_> {
             && l.dollar.is_none()
             && l.oword.is_none()
             && l.comments.is_empty()
-            && l.assigns.is_empty()
-            && self.st.feed_mode == FeedMode::PerMinute)
+            && l.assigns.is_empty())
         {
             return false;
         }
-        let mut mode = self.st.mode;
-        let mut xyz: [Option<f64>; 3] = [None; 3];
-        let mut feed: Option<f64> = None;
-        let mut speed: Option<f64> = None;
-        let mut g = false;
+        let mut p = PlainWords::default();
         for w in &l.words {
             let Expr::Num(v) = w.value else {
                 return false;
             };
-            if !v.is_finite() {
+            if !p.add(w.letter, v) {
                 return false;
             }
-            let slot = match w.letter {
-                'G' if !g => {
-                    g = true;
-                    mode = match tenths(v) {
-                        Some(0) => Mode::Rapid,
-                        Some(10) => Mode::Linear,
-                        _ => return false,
-                    };
-                    continue;
-                }
-                // Line numbers are counted as words and otherwise ignored (as in `collect`).
-                'N' => continue,
-                'X' => &mut xyz[0],
-                'Y' => &mut xyz[1],
-                'Z' => &mut xyz[2],
-                // F0 takes the general route (Marlin and Smoothie ignore it).
-                'F' if v > 0.0 => &mut feed,
-                'S' if v >= 0.0 => &mut speed,
-                _ => return false,
-            };
-            if slot.is_some() {
-                return false;
-            }
-            *slot = Some(v);
         }
+        self.plain_run(&p)
+    }
+
+    /// [`Interp::plain_block`] of the line `raw` read straight from its text by
+    /// [`ngc::plain_words`], with no [`Line`] built: the same outcome as parsing it
+    /// ([`ngc::parse_line_into`]) and running that, for the lines both take; false, having
+    /// changed nothing, for the others (comments among them), which take that route.
+    pub(super) fn plain_text(&mut self, raw: &str) -> bool {
+        let mut p = PlainWords::default();
+        ngc::plain_words(raw, self.syn, |letter, v| p.add(letter, v)) && self.plain_run(&p)
+    }
+
+    /// Runs the plain block `p` (see [`Interp::plain_block`]); false, having changed
+    /// nothing, where it is not one in the current state.
+    fn plain_run(&mut self, p: &PlainWords) -> bool {
+        if self.st.feed_mode != FeedMode::PerMinute || p.words == 0 {
+            return false;
+        }
+        let mode = p.mode.unwrap_or(self.st.mode);
         let kind = match mode {
             Mode::Rapid => MotionKind::Rapid,
             Mode::Linear => MotionKind::Feed,
             _ => return false,
         };
-        if l.words.is_empty() {
-            return false;
-        }
         // A G1 with no axis word and no feed rate: the general route reports LinuxCNC's refusal.
-        if g && kind == MotionKind::Feed
-            && feed.is_none()
+        if p.mode.is_some()
+            && kind == MotionKind::Feed
+            && p.feed.is_none()
             && self.st.feed <= 0.0
-            && xyz.iter().all(Option::is_none)
+            && p.xyz.iter().all(Option::is_none)
         {
             return false;
         }
@@ -182,20 +170,20 @@ impl Interp<'_, '_> {
         if self.src == 0 {
             self.prog.last_line = self.line;
         }
-        self.prog.words += l.words.len();
-        if let Some(f) = feed {
+        self.prog.words += p.words;
+        if let Some(f) = p.feed {
             self.st.feed = f;
             self.st.feed_k = self.st.k();
         }
-        if let Some(s) = speed {
+        if let Some(s) = p.speed {
             let spindle = self.st.tool.spindle;
             self.st.tool.switch(spindle, s);
         }
         self.st.mode = mode;
-        if xyz.iter().any(Option::is_some) {
+        if p.xyz.iter().any(Option::is_some) {
             let off = self.st.offset();
             let cur = self.st.pos - off;
-            let to = self.axes(cur, cur, xyz, false) + off;
+            let to = self.axes(cur, cur, p.xyz, false) + off;
             self.straight(kind, to);
         }
         true
@@ -521,5 +509,53 @@ impl Interp<'_, '_> {
             }
             _ => self.cfg.arc_radius_tolerance,
         }
+    }
+}
+
+/// The words of a plain block ([`Interp::plain_block`]), gathered one by one.
+#[derive(Default)]
+struct PlainWords {
+    /// The motion mode a `G0` or `G1` word sets.
+    mode: Option<Mode>,
+    xyz: [Option<f64>; 3],
+    feed: Option<f64>,
+    speed: Option<f64>,
+    /// Words read (line numbers too: they count as words).
+    words: usize,
+}
+
+impl PlainWords {
+    /// Takes the word `letter` `v`; false when a plain block cannot hold it (another
+    /// letter, a second G, X, Y, Z, F or S, a G other than G0 or G1, F ≤ 0, S < 0, a value
+    /// that is not finite).
+    fn add(&mut self, letter: char, v: f64) -> bool {
+        if !v.is_finite() {
+            return false;
+        }
+        self.words += 1;
+        let slot = match letter {
+            'G' if self.mode.is_none() => {
+                self.mode = match tenths(v) {
+                    Some(0) => Some(Mode::Rapid),
+                    Some(10) => Some(Mode::Linear),
+                    _ => return false,
+                };
+                return true;
+            }
+            // Line numbers are counted as words and otherwise ignored (as in `collect`).
+            'N' => return true,
+            'X' => &mut self.xyz[0],
+            'Y' => &mut self.xyz[1],
+            'Z' => &mut self.xyz[2],
+            // F0 takes the general route (Marlin and Smoothie ignore it).
+            'F' if v > 0.0 => &mut self.feed,
+            'S' if v >= 0.0 => &mut self.speed,
+            _ => return false,
+        };
+        if slot.is_some() {
+            return false;
+        }
+        *slot = Some(v);
+        true
     }
 }

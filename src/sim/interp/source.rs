@@ -12,8 +12,9 @@ pub(super) enum Body<'a> {
     /// The whole text, with the byte offset of each line start.
     Mem {
         text: Cow<'a, str>,
-        /// Shared with the parse-ahead worker, which reads the same lines.
-        starts: std::sync::Arc<LineStarts>,
+        /// Shared with [`Interp::run`], which reads plain lines without borrowing the
+        /// source ([`Source::borrowed`]).
+        starts: std::rc::Rc<LineStarts>,
     },
     /// A program read line by line from a seekable stream ([`interpret_stream`]).
     Stream(Box<LineStream<'a>>),
@@ -21,7 +22,7 @@ pub(super) enum Body<'a> {
 
 /// The byte offset of each line start of an in-memory text: 4 bytes a line for texts
 /// below 4 GiB (a million-line program keeps 4 MB, not 8), 8 beyond.
-pub(in crate::sim) enum LineStarts {
+pub(super) enum LineStarts {
     /// Offsets that fit in 32 bits.
     Narrow(Vec<u32>),
     /// Offsets of a text of 4 GiB or more.
@@ -30,7 +31,7 @@ pub(in crate::sim) enum LineStarts {
 
 impl LineStarts {
     /// The line starts of `text` (the first at 0, then after each `\n`).
-    pub(in crate::sim) fn of(text: &[u8]) -> Self {
+    pub(super) fn of(text: &[u8]) -> Self {
         if u32::try_from(text.len()).is_ok() {
             let mut v = vec![0u32];
             // Every offset is at most text.len(), which fits.
@@ -44,7 +45,7 @@ impl LineStarts {
     }
 
     /// Number of lines.
-    pub(in crate::sim) fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         match self {
             LineStarts::Narrow(v) => v.len(),
             LineStarts::Wide(v) => v.len(),
@@ -61,7 +62,7 @@ impl LineStarts {
 
     /// Line `i` of `text` (the text these are the starts of), without its `\n` and a
     /// trailing `\r`: the `i`th piece of `text.split('\n')`, empty past the last.
-    pub(in crate::sim) fn line<'t>(&self, text: &'t str, i: usize) -> &'t str {
+    pub(super) fn line<'t>(&self, text: &'t str, i: usize) -> &'t str {
         let a = self.get(i).unwrap_or(text.len());
         let b = self.get(i + 1).map_or(text.len(), |e| e - 1);
         let l = text.get(a..b.max(a)).unwrap_or_default();
@@ -80,7 +81,7 @@ impl LineStarts {
 
 impl<'a> Source<'a> {
     pub(super) fn new(name: String, text: Cow<'a, str>) -> Self {
-        let starts = std::sync::Arc::new(LineStarts::of(text.as_bytes()));
+        let starts = std::rc::Rc::new(LineStarts::of(text.as_bytes()));
         Source {
             name,
             body: Body::Mem { text, starts },
@@ -96,6 +97,18 @@ impl<'a> Source<'a> {
         match &mut self.body {
             Body::Mem { text, starts } => starts.line(text, i),
             Body::Stream(s) => s.line(i),
+        }
+    }
+
+    /// The text and its line starts when the source holds text borrowed for `'a` (the
+    /// program of [`interpret_with`]): lines read from it do not borrow the source.
+    pub(super) fn borrowed(&self) -> Option<(&'a str, std::rc::Rc<LineStarts>)> {
+        match &self.body {
+            Body::Mem {
+                text: Cow::Borrowed(text),
+                starts,
+            } => Some((text, std::rc::Rc::clone(starts))),
+            _ => None,
         }
     }
 }
@@ -335,13 +348,8 @@ impl<'a> Interp<'a, '_> {
         id
     }
 
-    /// Runs the program from its first line; `ahead` parses the main program's lines on
-    /// another thread ([`ParseAhead`]).
-    pub(super) fn run(
-        &mut self,
-        mut sink: Option<MotionSink<'_>>,
-        mut ahead: Option<&mut ParseAhead>,
-    ) {
+    /// Runs the program from its first line.
+    pub(super) fn run(&mut self, mut sink: Option<MotionSink<'_>>) {
         let mut drain = |it: &mut Self| {
             if let Some(f) = sink.as_mut() {
                 for m in it.pending.drain(..) {
@@ -353,6 +361,13 @@ impl<'a> Interp<'a, '_> {
         let mut started = false;
         let mut percent_open = false;
         let mut scratch = Line::default();
+        // Plain motion lines of the main program read for the first time are run straight
+        // from its text ([`Interp::plain_text`]); the others are parsed.
+        let main_text = if self.plain_moves {
+            self.sources.first().and_then(Source::borrowed)
+        } else {
+            None
+        };
         while !self.stop {
             drain(self);
             if i >= self.sources[src].len() {
@@ -373,50 +388,39 @@ impl<'a> Interp<'a, '_> {
             if src == 0 {
                 self.prog.lines = i + 1;
             }
-            // Lines of the main program read for the first time come from the worker when
-            // there is one, parsed or marked blank (whitespace only).
             let fresh = src == 0 && i >= self.high_water[src];
-            let early = match ahead.as_deref_mut() {
-                Some(a) if fresh => a.get(i),
-                _ => None,
-            };
-            let cached: Option<std::rc::Rc<Line>>;
-            let parsed: &Line = match early {
-                Some(Ahead::Blank) => {
-                    i += 1;
-                    continue;
-                }
-                Some(Ahead::Line(l)) => {
-                    self.high_water[src] = i + 1;
-                    l
-                }
-                None => {
-                    let text = self.sources[src].line(i);
-                    if text.trim().is_empty() {
-                        i += 1;
-                        continue;
+            if let Some((text, starts)) = main_text.as_ref().filter(|_| fresh)
+                && self.plain_text(starts.line(text, i))
+            {
+                self.high_water[src] = i + 1;
+                started = true;
+                self.jumped = false;
+                i += 1;
+                continue;
+            }
+            let text = self.sources[src].line(i);
+            if text.trim().is_empty() {
+                i += 1;
+                continue;
+            }
+            // Lines met again (loop bodies, subroutines) are parsed once and cached; lines
+            // read for the first time are parsed into one reused buffer and not kept
+            // (bounded memory and no allocation per line on long programs).
+            let cached: Option<std::rc::Rc<Line>> = if i < self.high_water[src] {
+                Some(match self.cache.get(&(src, i)) {
+                    Some(l) => l.clone(),
+                    None => {
+                        let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
+                        self.cache.insert((src, i), l.clone());
+                        l
                     }
-                    // Lines met again (loop bodies, subroutines) are parsed once and
-                    // cached; lines read for the first time are parsed into one reused
-                    // buffer and not kept (bounded memory and no allocation per line on
-                    // long programs).
-                    cached = if i < self.high_water[src] {
-                        Some(match self.cache.get(&(src, i)) {
-                            Some(l) => l.clone(),
-                            None => {
-                                let l = std::rc::Rc::new(ngc::parse_line(text, self.syn));
-                                self.cache.insert((src, i), l.clone());
-                                l
-                            }
-                        })
-                    } else {
-                        self.high_water[src] = i + 1;
-                        ngc::parse_line_into(text, self.syn, &mut scratch);
-                        None
-                    };
-                    cached.as_deref().unwrap_or(&scratch)
-                }
+                })
+            } else {
+                self.high_water[src] = i + 1;
+                ngc::parse_line_into(text, self.syn, &mut scratch);
+                None
             };
+            let parsed: &Line = cached.as_deref().unwrap_or(&scratch);
             if parsed.percent && src == 0 {
                 if !started {
                     started = true;

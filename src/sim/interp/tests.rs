@@ -18,7 +18,7 @@ fn run_general(src: &str, cfg: &CheckConfig) -> Program {
     let mut it = new_interp(cfg, &opts);
     it.plain_moves = false;
     it.add_source("program".into(), Cow::Borrowed(src));
-    it.run(None, None);
+    it.run(None);
     it.prog.final_tool = it.st.tool;
     it.prog
 }
@@ -153,30 +153,14 @@ proptest::proptest! {
     }
 }
 
-/// `src` interpreted with its lines parsed on a second thread (`ahead`) or on this one.
-fn run_parsed(src: &str, cfg: &CheckConfig, ahead: bool) -> Program {
-    let opts = Options { load_sub: None };
-    let mut it = new_interp(cfg, &opts);
-    it.add_source("program".into(), Cow::Borrowed(src));
-    if ahead {
-        std::thread::scope(|scope| {
-            let starts = std::sync::Arc::new(LineStarts::of(src.as_bytes()));
-            let mut a = ParseAhead::spawn(scope, src, starts, it.syn);
-            it.run(None, Some(&mut a));
-        });
-    } else {
-        it.run(None, None);
-    }
-    it.prog.final_tool = it.st.tool;
-    it.prog
-}
-
+/// Plain lines read straight from the text ([`Interp::plain_text`]) only where they are read
+/// for the first time: the program is the general route's across jumps and calls.
 #[test]
-fn parsing_ahead_gives_the_same_program() {
-    // Several chunks of lines: a subroutine called in a loop (its lines met again come
-    // from the cache), if/else jumping forward over whole chunks, errors, comments,
-    // CRLF, empty and whitespace-only lines, and lines after the end.
-    let chunk = parse_ahead::CHUNK_LINES;
+fn plain_text_route_follows_jumps_and_calls() {
+    // A subroutine called in a loop (its lines met again come from the cache), if/else
+    // jumping forward over thousands of lines, errors, comments, CRLF, empty and
+    // whitespace-only lines, and lines after the end.
+    let chunk = 2048;
     let mut src = String::from("o100 sub\nG1 X#1 Y[#1*2] F600\nG2 X0 Y0 I1 J1\no100 endsub\n");
     src += "#5 = 0\no200 while [#5 LT 3]\no100 call [#5 + 1]\n#5 = [#5 + 1]\no200 endwhile\n";
     src += "o300 if [#5 GT 10]\n";
@@ -188,7 +172,7 @@ fn parsing_ahead_gives_the_same_program() {
         src += &match k % 6 {
             0 => format!("G1 X{}.5 Y-{k}\r\n", k % 97),
             1 if k % 4 == 1 => "\n".to_string(),
-            // Whitespace only (the worker marks it blank), and a no-break space, which
+            // Whitespace only (no words: skipped), and a no-break space, which
             // `str::trim` takes as whitespace too.
             1 => " \t\u{a0}\r\n".to_string(),
             2 => format!("G0 Z{} ; lift\n", k % 5),
@@ -203,10 +187,10 @@ fn parsing_ahead_gives_the_same_program() {
             dialect,
             ..CheckConfig::default()
         };
-        let serial = run_parsed(&src, &cfg, false);
-        let ahead = run_parsed(&src, &cfg, true);
-        assert!(serial.motions.len() > chunk, "{dialect:?}");
-        assert_eq!(format!("{serial:?}"), format!("{ahead:?}"), "{dialect:?}");
+        let fast = run_cfg(&src, &cfg);
+        let general = run_general(&src, &cfg);
+        assert!(general.motions.len() > chunk, "{dialect:?}");
+        assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{dialect:?}");
     }
 }
 

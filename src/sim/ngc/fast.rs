@@ -41,20 +41,77 @@ pub(super) fn parse_plain(
     words: &mut Vec<PWord>,
     comments: &mut Vec<String>,
 ) -> bool {
+    let mut count = 0usize;
+    let whole = scan_plain(
+        raw,
+        syn,
+        |letter, v, column| {
+            match words.get_mut(count) {
+                Some(w) => {
+                    w.letter = letter;
+                    // A number over a number needs no drop glue.
+                    match &mut w.value {
+                        Expr::Num(x) => *x = v,
+                        e => *e = Expr::Num(v),
+                    }
+                    w.column = column;
+                }
+                None => words.push(PWord {
+                    letter,
+                    value: Expr::Num(v),
+                    column,
+                }),
+            }
+            count += 1;
+            true
+        },
+        // Only ASCII lines are `parse_simple`'s, so only ASCII comments are this path's.
+        |text| {
+            let ok = text.is_ascii();
+            if ok {
+                comments.push(comment_text(text));
+            }
+            ok
+        },
+    );
+    if whole {
+        words.truncate(count);
+    }
+    whole
+}
+
+/// The words of a plain line without comments, as [`parse_plain`] reads them (upper-case
+/// letter, value): each handed to `word`, which returns false to stop. True when the
+/// whole line was read and every word taken; false at a comment or anything
+/// [`parse_plain`] does not read (the line then takes [`parse_line_into`]). The
+/// interpreter's route for plain motion blocks, with no [`Line`] built.
+pub fn plain_words(raw: &str, syn: Syntax, mut word: impl FnMut(char, f64) -> bool) -> bool {
+    let raw = raw.as_bytes();
+    // A comment is refused before any word is read: a line with one is read twice otherwise.
+    memchr::memchr2(b'(', b';', raw).is_none()
+        && scan_plain(raw, syn, |c, v, _| word(c, v), |_| false)
+}
+
+/// The scanner of [`parse_plain`]: hands each word (upper-case letter, value, 1-based
+/// column) to `word` and each comment's text (between the parentheses, or after `;`) to
+/// `comment`, in line order; either returns false to stop. True when the whole line was
+/// read.
+fn scan_plain(
+    raw: &[u8],
+    syn: Syntax,
+    mut word: impl FnMut(char, f64, usize) -> bool,
+    mut comment: impl FnMut(&[u8]) -> bool,
+) -> bool {
     if raw.len() > PLAIN_MAX {
         return false;
     }
     let n = raw.len();
     let mut k = 0usize;
-    let mut count = 0usize;
-    // Only ASCII lines are `parse_simple`'s, so only ASCII comments are this path's.
-    let comment = |text: &[u8]| text.is_ascii().then(|| comment_text(text));
     loop {
         while k < n && matches!(raw[k], b' ' | b'\t' | b'\r') {
             k += 1;
         }
         if k == n {
-            words.truncate(count);
             return true;
         }
         let c = raw[k];
@@ -62,18 +119,16 @@ pub(super) fn parse_plain(
             let Some(e) = memchr::memchr(b')', &raw[k + 1..]) else {
                 return false;
             };
-            let Some(text) = comment(&raw[k + 1..k + 1 + e]) else {
+            if !comment(&raw[k + 1..k + 1 + e]) {
                 return false;
-            };
-            comments.push(text);
+            }
             k += e + 2;
             continue;
         }
         if c == b';' {
-            let Some(text) = comment(&raw[k + 1..]) else {
+            if !comment(&raw[k + 1..]) {
                 return false;
-            };
-            comments.push(text);
+            }
             k = n;
             continue;
         }
@@ -95,24 +150,9 @@ pub(super) fn parse_plain(
             return false;
         }
         k = end;
-        let letter = char::from(c.to_ascii_uppercase());
-        match words.get_mut(count) {
-            Some(w) => {
-                w.letter = letter;
-                // A number over a number needs no drop glue.
-                match &mut w.value {
-                    Expr::Num(x) => *x = v,
-                    e => *e = Expr::Num(v),
-                }
-                w.column = column;
-            }
-            None => words.push(PWord {
-                letter,
-                value: Expr::Num(v),
-                column,
-            }),
+        if !word(char::from(c.to_ascii_uppercase()), v, column) {
+            return false;
         }
-        count += 1;
     }
 }
 

@@ -26,6 +26,7 @@ mod tests_expr;
 use cursor::*;
 use expr::*;
 pub use expr::{BinOp, Expr, ParamRef, ParamSource, param_index};
+pub use fast::plain_words;
 use fast::*;
 
 /// Two values compare equal (EQ/NE) when they differ by less than this: LinuxCNC's
