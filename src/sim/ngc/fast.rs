@@ -194,7 +194,10 @@ pub(super) fn plain_number(raw: &[u8], mut k: usize) -> Option<(f64, usize)> {
     if digits == 0 {
         return None;
     }
-    let v = if digits <= PLAIN_DIGITS {
+    let v = if digits <= PLAIN_DIGITS && frac == 0 {
+        // A whole number (G1, F1500): m itself, exact, without the division's latency.
+        m as f64
+    } else if digits <= PLAIN_DIGITS {
         // frac ≤ digits ≤ 15 < 23.
         m as f64 / POW10[frac]
     } else {
