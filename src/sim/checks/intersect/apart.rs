@@ -73,31 +73,35 @@ impl SegmentSet {
             starts.push(at);
             at += n as usize;
         }
-        if at != self.segs.len() {
+        if at != self.len() || !self.ids.is_empty() {
             return None;
         }
-        let span = |c: usize| &self.segs[starts[c]..starts[c] + self.contours[c].0 as usize];
-        let pocket = |s: &Seg| self.pockets.get(s.contour as usize).copied().flatten();
-        let bits = |s: &Seg| {
-            let p = pocket(s).map_or(0, |p| u64::from(p) + 1);
-            let [ax, ay, bx, by] = [s.a.x, s.a.y, s.b.x, s.b.y].map(f64::to_bits);
+        let span = |c: usize| starts[c]..starts[c] + self.contours[c].0 as usize;
+        // Segment k of contour c, as bits.
+        let bits = |c: usize, k: usize| {
+            let p = self.pockets.get(c).copied().flatten();
+            let p = p.map_or(0, |p| u64::from(p) + 1);
+            let (a, b) = self.ends(k);
+            let [ax, ay, bx, by] = [a.x, a.y, b.x, b.y].map(f64::to_bits);
             [ax, ay, bx, by, p]
         };
         let hash = |c: usize| {
             // FNV-1a over the coordinates' bits.
             let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-            for s in span(c) {
-                for w in bits(s) {
+            for k in span(c) {
+                for w in bits(c, k) {
                     h = (h ^ w).wrapping_mul(0x0000_0100_0000_01b3);
                 }
             }
             h
         };
-        let same =
-            |c: usize, d: usize| span(c).iter().zip(span(d)).all(|(s, t)| bits(s) == bits(t));
+        let same = |c: usize, d: usize| span(c).zip(span(d)).all(|(s, t)| bits(c, s) == bits(d, t));
         // Contours are grouped by size, closedness and first segment; only the few groups
         // of two or more (the passes of one cut, mostly) are hashed whole and compared.
-        let head = |c: usize| (self.contours[c], span(c).first().map(bits));
+        let head = |c: usize| {
+            let first = span(c).next().map(|k| bits(c, k));
+            (self.contours[c], first)
+        };
         let mut order: Vec<usize> = (0..self.contours.len()).collect();
         order.sort_unstable_by_key(|&c| (head(c), c));
         let mut copy = vec![false; self.contours.len()];
@@ -136,19 +140,15 @@ impl SegmentSet {
             tangent_slack: self.tangent_slack,
             ..SegmentSet::default()
         };
-        for (c, &(n, closed)) in self.contours.iter().enumerate() {
-            if copy[c] {
-                continue;
+        for c in (0..self.contours.len()).filter(|&c| !copy[c]) {
+            // The contour's first point (its only one when it has no segment).
+            let first = self.points[starts[c] + c];
+            let mut open = out.begin_polyline(first, self.pockets.get(c).copied().flatten());
+            for k in span(c) {
+                out.polyline_to(&mut open, self.ends(k).1, self.source(k));
             }
-            let number = out.contours.len() as u32;
-            out.segs.extend(span(c).iter().map(|s| Seg {
-                contour: number,
-                ..*s
-            }));
-            let tags = self.sources.get(starts[c]..starts[c] + n as usize);
-            out.sources.extend_from_slice(tags.unwrap_or_default());
-            out.contours.push((n, closed));
-            out.pockets.push(self.pockets.get(c).copied().flatten());
+            // Same points, so the same count and closedness as contour c.
+            out.end_polyline(open);
         }
         Some(out)
     }
@@ -173,44 +173,39 @@ impl SegmentSet {
         if self.links.is_some() {
             return false;
         }
-        let n = self.segs.len();
-        let dir = |s: &Seg| (s.b.x - s.a.x).partial_cmp(&0.0);
+        let n = self.len();
+        let dir = |(a, b): (DVec2, DVec2)| (b.x - a.x).partial_cmp(&0.0);
         let mut chains: Vec<Chain> = Vec::new();
         let mut blocks: Vec<(f64, f64)> = Vec::with_capacity(n / CHAIN_BLOCK + 1);
         let mut k = 0;
         while k < n {
-            let s = &self.segs[k];
-            if !(s.a.is_finite() && s.b.is_finite()) {
+            let s = self.ends(k);
+            if !(s.0.is_finite() && s.1.is_finite()) {
                 return false;
             }
             let d = dir(s);
             let mut e = k + 1;
+            // Segments of one contour are stored in order (a whole set: `shift` is the
+            // contour number), so a run of equal shifts is a run of consecutive segments.
             if d != Some(std::cmp::Ordering::Equal) {
-                while e < n {
-                    let t = &self.segs[e];
-                    if t.contour != s.contour
-                        || t.index != self.segs[e - 1].index + 1
-                        || dir(t) != d
-                    {
-                        break;
-                    }
+                while e < n && self.shift[e] == self.shift[k] && dir(self.ends(e)) == d {
                     e += 1;
                 }
             }
-            if self.segs[k + 1..e].iter().any(|t| !t.b.is_finite()) {
+            if (k + 1..e).any(|t| !self.ends(t).1.is_finite()) {
                 return false;
             }
             let block = blocks.len() as u32;
-            for run in self.segs[k..e].chunks(CHAIN_BLOCK) {
-                let (lo, hi) = run
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
-                        (lo.min(t.a.y).min(t.b.y), hi.max(t.a.y).max(t.b.y))
+            for r0 in (k..e).step_by(CHAIN_BLOCK) {
+                let (lo, hi) = (r0..(r0 + CHAIN_BLOCK).min(e))
+                    .map(|t| self.ends(t))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+                        (lo.min(a.y).min(b.y), hi.max(a.y).max(b.y))
                     });
                 blocks.push((lo, hi));
             }
             // The chain's box: its end points bound its x range, its blocks its y range.
-            let (x0, x1) = (s.a.x, self.segs[e - 1].b.x);
+            let (x0, x1) = (s.0.x, self.ends(e - 1).1.x);
             let (y0, y1) = blocks[block as usize..]
                 .iter()
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
@@ -267,9 +262,7 @@ impl SegmentSet {
         blocks: &[(f64, f64)],
         budget: usize,
     ) -> Option<bool> {
-        let mut scan = CHAIN_BUDGET
-            .saturating_mul(self.segs.len())
-            .saturating_add(4096);
+        let mut scan = CHAIN_BUDGET.saturating_mul(self.len()).saturating_add(4096);
         let mut left = budget;
         let mut spend = |k: usize| {
             left = left.saturating_sub(k);
@@ -324,7 +317,7 @@ impl SegmentSet {
             for i in 0..count.div_ceil(CHAIN_BLOCK) {
                 let s0 = ch.start as usize + i * CHAIN_BLOCK;
                 let s1 = (s0 + CHAIN_BLOCK).min(ch.end as usize);
-                let (x0, x1) = (self.segs[s0].a.x, self.segs[s1 - 1].b.x);
+                let (x0, x1) = (self.ends(s0).0.x, self.ends(s1 - 1).1.x);
                 let (y0, y1) = *ys.get(ch.block as usize + i)?;
                 boxes.push((
                     DVec2::new(x0.min(x1), y0),
@@ -430,8 +423,8 @@ impl SegmentSet {
             (0..s1 - s0).map(move |t| if rev { s1 - 1 - t } else { s0 + t })
         };
         let xs = |k: usize| {
-            let s = &self.segs[k];
-            (s.a.x.min(s.b.x), s.a.x.max(s.b.x))
+            let (a, b) = self.ends(k);
+            (a.x.min(b.x), a.x.max(b.x))
         };
         let mut held = [0usize; CHAIN_BLOCK];
         let mut count = 0;
@@ -490,7 +483,7 @@ impl SegmentSet {
         let block = |c: &Chain, i: usize| {
             let s0 = c.start as usize + i * CHAIN_BLOCK;
             let s1 = (s0 + CHAIN_BLOCK).min(c.end as usize);
-            let (x0, x1) = (self.segs[s0].a.x, self.segs[s1 - 1].b.x);
+            let (x0, x1) = (self.ends(s0).0.x, self.ends(s1 - 1).1.x);
             let (y0, y1) = ys[c.block as usize + i];
             (
                 s0..s1,
