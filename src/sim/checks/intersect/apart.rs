@@ -32,6 +32,13 @@ pub(super) struct Chain {
 /// about a hundred times.
 pub(super) const NESTED_COVER: f64 = 8.0;
 
+/// Most grid cells per (cell, block) entry for which [`SegmentSet::blocks_apart_on_grid`]
+/// sorts its entries by counting (one count per cell): a dense set (the spiral's blocks
+/// take about 3 entries per cell) is sorted in two passes over 4-byte entries; a sparse
+/// one (few blocks spread over a large box) by the radix sort, whose memory does not grow
+/// with the cells.
+pub(super) const DENSE_KEYS_PER_ENTRY: u64 = 4;
+
 /// Segments per block of a chain in [`SegmentSet::chains_apart`].
 pub(super) const CHAIN_BLOCK: usize = 8;
 
@@ -364,27 +371,13 @@ impl SegmentSet {
         if covers > bound || max_key > u64::from(u32::MAX) {
             return None;
         }
-        let mut entries: Vec<u64> = Vec::with_capacity(covers as usize);
-        for (k, b) in boxes.iter().enumerate() {
-            let ((c0, r0), (c1, r1)) = (cell(b.0), cell(b.1));
-            for c in c0..=c1 {
-                for r in r0..=r1 {
-                    entries.push(((c * ny + r) << 32) | k as u64);
-                }
-            }
-        }
-        radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
-        let mut g = 0;
-        while g < entries.len() {
-            let key = entries[g] >> 32;
-            let mut e = g + 1;
-            while e < entries.len() && entries[e] >> 32 == key {
-                e += 1;
-            }
-            for x in g..e {
-                let p = &boxes[entries[x] as u32 as usize];
-                for &y in &entries[x + 1..e] {
-                    let q = &boxes[y as u32 as usize];
+        // The blocks of one cell, in increasing block number: pairs of two chains whose
+        // boxes overlap, examined here when the low corner of their intersection is in it.
+        let mut cell_apart = |key: u64, ids: &[u32]| {
+            for (x, &i) in ids.iter().enumerate() {
+                let p = &boxes[i as usize];
+                for &y in &ids[x + 1..] {
+                    let q = &boxes[y as usize];
                     if p.2 == q.2 || p.0.cmpgt(q.1).any() || q.0.cmpgt(p.1).any() {
                         continue;
                     }
@@ -394,9 +387,73 @@ impl SegmentSet {
                     }
                     let (a, b) = (&chains[p.2 as usize], &chains[q.2 as usize]);
                     if !spend(1) || !self.blocks_apart(a, p.3, b, q.3, spend) {
-                        return Some(false);
+                        return false;
                     }
                 }
+            }
+            true
+        };
+        // Each box's cells, block by block: keys in storage order per block.
+        let for_each_entry = |f: &mut dyn FnMut(u64, u32)| {
+            for (k, b) in boxes.iter().enumerate() {
+                let ((c0, r0), (c1, r1)) = (cell(b.0), cell(b.1));
+                for c in c0..=c1 {
+                    for r in r0..=r1 {
+                        f(c * ny + r, k as u32);
+                    }
+                }
+            }
+        };
+        if max_key <= DENSE_KEYS_PER_ENTRY.saturating_mul(covers) {
+            // Counting sort by cell (stable, so each cell's blocks stay in increasing
+            // number, the order the radix sort below gives): 4 bytes an entry and one
+            // count per cell, instead of 8 bytes an entry twice over.
+            let mut end = vec![0u32; max_key as usize + 1];
+            // Keys are below max_key by its definition; one that is not leaves the
+            // decision to the sweep rather than be lost.
+            let mut inside = true;
+            for_each_entry(&mut |key, _| match end.get_mut(key as usize + 1) {
+                Some(n) => *n += 1,
+                None => inside = false,
+            });
+            if !inside {
+                return None;
+            }
+            for k in 1..end.len() {
+                end[k] += end[k - 1];
+            }
+            let mut ids = vec![0u32; covers as usize];
+            for_each_entry(&mut |key, k| {
+                let at = &mut end[key as usize];
+                ids[*at as usize] = k;
+                *at += 1;
+            });
+            // Now end[key] is where cell key's blocks end (and cell key + 1's begin).
+            let mut begin = 0usize;
+            for (key, &e) in end.iter().enumerate() {
+                let e = e as usize;
+                if e - begin >= 2 && !cell_apart(key as u64, &ids[begin..e]) {
+                    return Some(false);
+                }
+                begin = e;
+            }
+            return Some(true);
+        }
+        let mut entries: Vec<u64> = Vec::with_capacity(covers as usize);
+        for_each_entry(&mut |key, k| entries.push((key << 32) | u64::from(k)));
+        radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
+        let mut ids: Vec<u32> = Vec::new();
+        let mut g = 0;
+        while g < entries.len() {
+            let key = entries[g] >> 32;
+            let mut e = g + 1;
+            while e < entries.len() && entries[e] >> 32 == key {
+                e += 1;
+            }
+            ids.clear();
+            ids.extend(entries[g..e].iter().map(|&x| x as u32));
+            if !cell_apart(key, &ids) {
+                return Some(false);
             }
             g = e;
         }

@@ -637,7 +637,9 @@ proptest::proptest! {
         s.across = Across::Crossings;
         if let Some(reps) = s.without_copies() {
             // The contours kept, renumbered, with their segments, tags and pockets.
-            let kept: Vec<(Vec<(DVec2, DVec2, u32)>, Option<u32>)> = (0..reps.contours.len())
+            // A contour's segments (end points and tag) and its pocket.
+            type Listed = (Vec<(DVec2, DVec2, u32)>, Option<u32>);
+            let kept: Vec<Listed> = (0..reps.contours.len())
                 .map(|c| {
                     let segs = (0..reps.len())
                         .filter(|&i| reps.seg(i).contour == c as u32)
@@ -646,7 +648,7 @@ proptest::proptest! {
                     (segs, reps.pockets[c])
                 })
                 .collect();
-            let of = |c: usize| -> (Vec<(DVec2, DVec2, u32)>, Option<u32>) {
+            let of = |c: usize| -> Listed {
                 let segs = want
                     .iter()
                     .filter(|w| w.0.contour == c as u32)
