@@ -184,49 +184,62 @@ impl SegmentSet {
         let dir = |(a, b): (DVec2, DVec2)| (b.x - a.x).partial_cmp(&0.0);
         let mut chains: Vec<Chain> = Vec::new();
         let mut blocks: Vec<(f64, f64)> = Vec::with_capacity(n / CHAIN_BLOCK + 1);
-        let mut k = 0;
-        while k < n {
-            let s = self.ends(k);
-            if !(s.0.is_finite() && s.1.is_finite()) {
+        // Contour by contour (chains never span two): contour c's points are n + 1 from
+        // points[f + c], f its first segment (see [`SegmentSet`]).
+        let mut f = 0usize;
+        for (c, &(count, _)) in self.contours.iter().enumerate() {
+            let count = count as usize;
+            let Some(p) = self.points.get(f + c..f + c + count + 1) else {
                 return false;
-            }
-            let d = dir(s);
-            let mut e = k + 1;
-            // Segments of one contour are stored in order (a whole set: `shift` is the
-            // contour number), so a run of equal shifts is a run of consecutive segments.
-            if d != Some(std::cmp::Ordering::Equal) {
-                while e < n && self.shift[e] == self.shift[k] && dir(self.ends(e)) == d {
-                    e += 1;
+            };
+            let seg = |t: usize| (p[t], p[t + 1]);
+            let mut k = 0;
+            while k < count {
+                let s = seg(k);
+                if !(s.0.is_finite() && s.1.is_finite()) {
+                    return false;
                 }
-            }
-            if (k + 1..e).any(|t| !self.ends(t).1.is_finite()) {
-                return false;
-            }
-            let block = blocks.len() as u32;
-            for r0 in (k..e).step_by(CHAIN_BLOCK) {
-                let (lo, hi) = (r0..(r0 + CHAIN_BLOCK).min(e))
-                    .map(|t| self.ends(t))
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
-                        (lo.min(a.y).min(b.y), hi.max(a.y).max(b.y))
+                let d = dir(s);
+                let mut e = k + 1;
+                if d != Some(std::cmp::Ordering::Equal) {
+                    while e < count && dir(seg(e)) == d {
+                        e += 1;
+                    }
+                }
+                if p[k + 2..e + 1].iter().any(|q| !q.is_finite()) {
+                    return false;
+                }
+                let block = blocks.len() as u32;
+                for r0 in (k..e).step_by(CHAIN_BLOCK) {
+                    let (lo, hi) = (r0..(r0 + CHAIN_BLOCK).min(e))
+                        .map(seg)
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+                            (lo.min(a.y).min(b.y), hi.max(a.y).max(b.y))
+                        });
+                    blocks.push((lo, hi));
+                }
+                // The chain's box: its end points bound its x range, its blocks its y
+                // range.
+                let (x0, x1) = (s.0.x, p[e].x);
+                let (y0, y1) = blocks[block as usize..]
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
+                        (lo.min(y.0), hi.max(y.1))
                     });
-                blocks.push((lo, hi));
-            }
-            // The chain's box: its end points bound its x range, its blocks its y range.
-            let (x0, x1) = (s.0.x, self.ends(e - 1).1.x);
-            let (y0, y1) = blocks[block as usize..]
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
-                    (lo.min(y.0), hi.max(y.1))
+                chains.push(Chain {
+                    start: (f + k) as u32,
+                    end: (f + e) as u32,
+                    rev: d == Some(std::cmp::Ordering::Less),
+                    lo: DVec2::new(x0.min(x1), y0),
+                    hi: DVec2::new(x0.max(x1), y1),
+                    block,
                 });
-            chains.push(Chain {
-                start: k as u32,
-                end: e as u32,
-                rev: d == Some(std::cmp::Ordering::Less),
-                lo: DVec2::new(x0.min(x1), y0),
-                hi: DVec2::new(x0.max(x1), y1),
-                block,
-            });
-            k = e;
+                k = e;
+            }
+            f += count;
+        }
+        if f != n {
+            return false;
         }
         chains.sort_by(|a, b| a.lo.x.total_cmp(&b.lo.x));
         // A short try of the sweep over chains, which decides sparse sets (circles apart,

@@ -438,36 +438,37 @@ impl SegmentSet {
     fn adjacent_overlaps(&self) -> Vec<Contact> {
         let mut out = Vec::new();
         let mut start = 0usize;
-        for &(n, closed) in &self.contours {
+        for (c, &(n, closed)) in self.contours.iter().enumerate() {
             let n = n as usize;
-            let end = start + n;
-            let mut check = |i: usize, j: usize| {
-                if j >= self.len() {
-                    return;
+            // Contour c's points: n + 1 from points[start + c] (see [`SegmentSet`]);
+            // segment start + t runs from p[t] to p[t + 1]. Line cuts may retrace
+            // themselves as they may cross (see `test_pair`).
+            let line = self.pockets.get(c).copied().flatten() == Some(LINE_GROUP);
+            let p = self
+                .points
+                .get(start + c..start + c + n + 1)
+                .unwrap_or_default();
+            if !line && n >= 1 && p.len() == n + 1 {
+                // Segment i (from a to b) and the next one j (from b to c): the cheap
+                // test first, a path going on (not back) fails it.
+                let mut check = |i: usize, j: usize, a: DVec2, b: DVec2, c: DVec2| {
+                    if (c - b).dot(a - b) > 0.0 && orient2d(a, b, c) == 0.0 {
+                        out.push(Contact {
+                            i: i.min(j),
+                            j: i.max(j),
+                            point: b,
+                            proper: false,
+                        });
+                    }
+                };
+                for (t, w) in p.windows(3).enumerate() {
+                    check(start + t, start + t + 1, w[0], w[1], w[2]);
                 }
-                // s ends where t starts. The cheap test first: a path going on (not
-                // back) fails it, and the rest is not needed. Line cuts may retrace
-                // themselves as they may cross (see `test_pair`).
-                let ((a, b), (_, c)) = (self.ends(i), self.ends(j));
-                if (c - b).dot(a - b) > 0.0
-                    && self.pocket(i) != Some(LINE_GROUP)
-                    && orient2d(a, b, c) == 0.0
-                {
-                    out.push(Contact {
-                        i: i.min(j),
-                        j: i.max(j),
-                        point: b,
-                        proper: false,
-                    });
+                if closed && n >= 2 {
+                    check(start + n - 1, start, p[n - 1], p[n], p[1]);
                 }
-            };
-            for i in start..end.saturating_sub(1) {
-                check(i, i + 1);
             }
-            if closed && n >= 2 {
-                check(end - 1, start);
-            }
-            start = end;
+            start += n;
         }
         out
     }
