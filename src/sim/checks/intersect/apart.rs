@@ -492,28 +492,30 @@ impl SegmentSet {
             let rev = c.rev;
             (0..s1 - s0).map(move |t| if rev { s1 - 1 - t } else { s0 + t })
         };
-        let xs = |k: usize| {
+        // A segment's index and box.
+        let boxed = |k: usize| {
             let (a, b) = self.ends(k);
-            (a.x.min(b.x), a.x.max(b.x))
+            (k, a.min(b), a.max(b))
         };
-        let mut held = [0usize; CHAIN_BLOCK];
+        let mut held = [(0usize, DVec2::ZERO, DVec2::ZERO); CHAIN_BLOCK];
         let mut count = 0;
         for q in run(b, j) {
-            held[count] = q;
+            held[count] = boxed(q);
             count += 1;
         }
         let others = &held[..count];
         let mut first = 0;
-        for p in run(a, i) {
-            let (plo, phi) = xs(p);
-            while first < others.len() && xs(others[first]).1 < plo {
+        for (p, plo, phi) in run(a, i).map(boxed) {
+            while first < others.len() && others[first].2.x < plo.x {
                 first += 1;
             }
-            for &q in &others[first..] {
-                if xs(q).0 > phi {
+            for &(q, qlo, qhi) in &others[first..] {
+                if qlo.x > phi.x {
                     break;
                 }
-                if !spend(1) || self.test_pair(p, q).is_some() {
+                // Boxes apart: `test_pair` would say so first.
+                let near = plo.cmple(qhi).all() && qlo.cmple(phi).all();
+                if !spend(1) || near && self.test_pair(p, q).is_some() {
                     return false;
                 }
             }

@@ -130,10 +130,14 @@ impl SegmentSet {
     /// Exact contact test of two segments; same-contour adjacent pairs are skipped (see
     /// `Self::adjacent_overlaps`), and pairs of two contours follow [`SegmentSet::across`].
     pub fn test_pair(&self, i: usize, j: usize) -> Option<Contact> {
-        let (s, t) = (self.get(i)?, self.get(j)?);
-        if s.a.max(s.b).cmplt(t.a.min(t.b)).any() || t.a.max(t.b).cmplt(s.a.min(s.b)).any() {
+        if i.max(j) >= self.len() {
             return None;
         }
+        let ((sa, sb), (ta, tb)) = (self.ends(i), self.ends(j));
+        if sa.max(sb).cmplt(ta.min(tb)).any() || ta.max(tb).cmplt(sa.min(sb)).any() {
+            return None;
+        }
+        let (s, t) = (self.seg(i), self.seg(j));
         let across = s.contour != t.contour;
         let (sp, tp) = (self.pocket(i), self.pocket(j));
         let one_pocket = sp.is_some() && sp == tp;
