@@ -89,9 +89,9 @@ pub fn cut_contours_marked(
 
 /// Most segments the contour checks take from one program (arcs flattened): 2²³ segments
 /// hold about 200 MB in the checks' segment set (24 bytes a segment), eight times the
-/// densest programs the benches check (10⁶ segments), while arcs of a million turns or thousands of circles of
-/// kilometre radius would flatten to hundreds of millions. Past it the checks stop with a
-/// [`check_limit`] finding.
+/// densest programs the benches check (10⁶ segments), while arcs of a million turns or
+/// thousands of circles of kilometre radius would flatten to hundreds of millions. Past it
+/// the checks stop with a [`check_limit`] finding.
 pub const MAX_CONTOUR_SEGMENTS: usize = 1 << 23;
 
 /// Calls `f` with each contour of [`cut_contours_marked`] in order, built in one buffer
