@@ -22,6 +22,9 @@ pub(super) struct Chain {
     pub(super) rev: bool,
     pub(super) lo: DVec2,
     pub(super) hi: DVec2,
+    /// Its contour's number: segment k of the chain starts at `points[k + shift]`
+    /// (see [`SegmentSet`]).
+    pub(super) shift: u32,
     /// Index of its first block in the y ranges of [`SegmentSet::proven_apart`].
     pub(super) block: u32,
 }
@@ -232,6 +235,7 @@ impl SegmentSet {
                     rev: d == Some(std::cmp::Ordering::Less),
                     lo: DVec2::new(x0.min(x1), y0),
                     hi: DVec2::new(x0.max(x1), y1),
+                    shift: c as u32,
                     block,
                 });
                 k = e;
@@ -337,7 +341,8 @@ impl SegmentSet {
             for i in 0..count.div_ceil(CHAIN_BLOCK) {
                 let s0 = ch.start as usize + i * CHAIN_BLOCK;
                 let s1 = (s0 + CHAIN_BLOCK).min(ch.end as usize);
-                let (x0, x1) = (self.ends(s0).0.x, self.ends(s1 - 1).1.x);
+                let sh = ch.shift as usize;
+                let (x0, x1) = (self.points[s0 + sh].x, self.points[s1 + sh].x);
                 let (y0, y1) = *ys.get(ch.block as usize + i)?;
                 boxes.push((
                     DVec2::new(x0.min(x1), y0),
@@ -555,7 +560,8 @@ impl SegmentSet {
         let block = |c: &Chain, i: usize| {
             let s0 = c.start as usize + i * CHAIN_BLOCK;
             let s1 = (s0 + CHAIN_BLOCK).min(c.end as usize);
-            let (x0, x1) = (self.ends(s0).0.x, self.ends(s1 - 1).1.x);
+            let sh = c.shift as usize;
+            let (x0, x1) = (self.points[s0 + sh].x, self.points[s1 + sh].x);
             let (y0, y1) = ys[c.block as usize + i];
             (
                 s0..s1,
