@@ -149,7 +149,7 @@ fn contacts(c: &mut Criterion) {
     // the copies were left out of the sweep, such a program always went to the grid:
     // "grid-only" is that route, measured beside the sweep on the same set.
     let passes = multi_pass_rings(6);
-    let n = passes.segs.len();
+    let n = passes.len();
     g.throughput(Throughput::Elements(n as u64));
     g.bench_with_input(BenchmarkId::new("passes-sweep", n), &passes, |b, s| {
         b.iter(|| black_box(s.contacts().len()))
@@ -164,8 +164,8 @@ fn contacts(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("naive", n), &set, |b, s| {
             b.iter(|| {
                 let mut hits = 0usize;
-                for i in 0..s.segs.len() {
-                    for j in i + 1..s.segs.len() {
+                for i in 0..s.len() {
+                    for j in i + 1..s.len() {
                         hits += usize::from(s.test_pair(i, j).is_some());
                     }
                 }

@@ -88,10 +88,10 @@ pub fn cut_contours_marked(
 }
 
 /// Most segments the contour checks take from one program (arcs flattened): 2²³ segments
-/// hold about 470 MB in the checks' segment set, eight times the densest programs the
-/// benches check (10⁶ segments), while arcs of a million turns or thousands of circles of
-/// kilometre radius would flatten to hundreds of millions. Past it the checks stop with a
-/// [`check_limit`] finding.
+/// hold about 200 MB in the checks' segment set (24 bytes a segment), eight times the
+/// densest programs the benches check (10⁶ segments), while arcs of a million turns or
+/// thousands of circles of kilometre radius would flatten to hundreds of millions. Past it
+/// the checks stop with a [`check_limit`] finding.
 pub const MAX_CONTOUR_SEGMENTS: usize = 1 << 23;
 
 /// Calls `f` with each contour of [`cut_contours_marked`] in order, built in one buffer
@@ -605,10 +605,10 @@ pub(crate) fn intersection_findings(
     let (capped, stopped) = set.contacts_in_order(|batch| {
         seen += batch.len();
         for c in batch {
-            let (Some(s), Some(t)) = (set.segs.get(c.i), set.segs.get(c.j)) else {
+            let (Some(s), Some(t)) = (set.get(c.i), set.get(c.j)) else {
                 continue;
             };
-            let side = |g: &super::Seg, k: usize| Side {
+            let side = |g: super::Seg, k: usize| Side {
                 contour: g.contour,
                 index: g.index,
                 line: line_of(set.source(k)),
@@ -700,7 +700,8 @@ fn path_keys(set: &SegmentSet) -> Vec<PathKey> {
         .contours
         .iter()
         .map(|&(n, closed)| {
-            let segs = set.segs.get(at..at + n as usize).unwrap_or_default();
+            let end = at + n as usize;
+            let segs = if end <= set.len() { at..end } else { at..at };
             let start = at;
             at += n as usize;
             let h = PathHasher {
@@ -726,13 +727,10 @@ fn path_keys(set: &SegmentSet) -> Vec<PathKey> {
             if shared.get(&k).copied().unwrap_or(0) < 2 {
                 return k;
             }
-            let segs = set
-                .segs
-                .get(start..start + k.count as usize)
-                .unwrap_or_default();
             let mut h = PathHasher::default();
-            for g in segs {
-                h.segment(g.a, g.b);
+            for g in start..start + k.count as usize {
+                let (a, b) = set.ends(g);
+                h.segment(a, b);
             }
             h.key(k.closed, k.pocket)
         })
@@ -831,8 +829,9 @@ mod tests {
             .enumerate()
             .map(|(c, &(n, closed))| {
                 let mut h = PathHasher::default();
-                for g in &set.segs[at..at + n as usize] {
-                    h.segment(g.a, g.b);
+                for g in at..at + n as usize {
+                    let (a, b) = set.ends(g);
+                    h.segment(a, b);
                 }
                 let pocket = set.pocket(at);
                 at += n as usize;

@@ -507,7 +507,7 @@ mod tests {
         assert_eq!(own[0].lines, vec![4, 4]);
         let prog = crate::sim::load(Backend::Builtin, src, &cfg.in_mm());
         let (set, _, _) = contours::contour_segments(&prog.motions, &prog.group_marks, &cfg);
-        let n = set.segs.len();
+        let n = set.len();
         assert!(n >= intersect::ROUNDS_MIN, "{n}");
         let first = (0..n)
             .find_map(|i| (i + 1..n).find_map(|j| set.test_pair(i, j)))
@@ -695,7 +695,7 @@ mod tests {
         s.push_polyline_in(&y, &[], Some(1));
         let c = s.contacts();
         assert_eq!(c.len(), 1, "{c:?}");
-        assert_eq!((s.segs[c[0].i].contour, s.segs[c[0].j].contour), (1, 2));
+        assert_eq!((s.seg(c[0].i).contour, s.seg(c[0].j).contour), (1, 2));
     }
 
     /// The segment set built in one pass ([`contours::contour_segments`]) is the one built
@@ -720,7 +720,10 @@ mod tests {
         for c in &kept {
             want.push_polyline_in(&c.points, &c.sources, c.group);
         }
-        assert_eq!(set.segs, want.segs);
+        assert_eq!(
+            set.iter().collect::<Vec<_>>(),
+            want.iter().collect::<Vec<_>>()
+        );
         assert_eq!(set.contours, want.contours);
         let want_starts: Vec<contours::ContourStart> = kept
             .iter()
@@ -759,7 +762,7 @@ mod tests {
                 }
             }
             let folds = s.contacts().iter().filter(|c| {
-                let (a, b) = (&s.segs[c.i], &s.segs[c.j]);
+                let (a, b) = (s.seg(c.i), s.seg(c.j));
                 a.contour == b.contour && b.index == a.index + 1
                     || a.contour == b.contour && a.index == 0 && b.index + 1 == s.contours[b.contour as usize].0
             }).count();

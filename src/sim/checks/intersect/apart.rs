@@ -22,6 +22,9 @@ pub(super) struct Chain {
     pub(super) rev: bool,
     pub(super) lo: DVec2,
     pub(super) hi: DVec2,
+    /// Its contour's number: segment k of the chain starts at `points[k + shift]`
+    /// (see [`SegmentSet`]).
+    pub(super) shift: u32,
     /// Index of its first block in the y ranges of [`SegmentSet::proven_apart`].
     pub(super) block: u32,
 }
@@ -31,6 +34,13 @@ pub(super) struct Chain {
 /// it less than once (the benches' circles 0.8 times), the spiral's nested half turns
 /// about a hundred times.
 pub(super) const NESTED_COVER: f64 = 8.0;
+
+/// Most grid cells per (cell, block) entry for which [`SegmentSet::blocks_apart_on_grid`]
+/// sorts its entries by counting (one count per cell): a dense set (the spiral's blocks
+/// take about 3 entries per cell) is sorted in two passes over 4-byte entries; a sparse
+/// one (few blocks spread over a large box) by the radix sort, whose memory does not grow
+/// with the cells.
+pub(super) const DENSE_KEYS_PER_ENTRY: u64 = 4;
 
 /// Segments per block of a chain in [`SegmentSet::chains_apart`].
 pub(super) const CHAIN_BLOCK: usize = 8;
@@ -73,31 +83,35 @@ impl SegmentSet {
             starts.push(at);
             at += n as usize;
         }
-        if at != self.segs.len() {
+        if at != self.len() || !self.ids.is_empty() {
             return None;
         }
-        let span = |c: usize| &self.segs[starts[c]..starts[c] + self.contours[c].0 as usize];
-        let pocket = |s: &Seg| self.pockets.get(s.contour as usize).copied().flatten();
-        let bits = |s: &Seg| {
-            let p = pocket(s).map_or(0, |p| u64::from(p) + 1);
-            let [ax, ay, bx, by] = [s.a.x, s.a.y, s.b.x, s.b.y].map(f64::to_bits);
+        let span = |c: usize| starts[c]..starts[c] + self.contours[c].0 as usize;
+        // Segment k of contour c, as bits.
+        let bits = |c: usize, k: usize| {
+            let p = self.pockets.get(c).copied().flatten();
+            let p = p.map_or(0, |p| u64::from(p) + 1);
+            let (a, b) = self.ends(k);
+            let [ax, ay, bx, by] = [a.x, a.y, b.x, b.y].map(f64::to_bits);
             [ax, ay, bx, by, p]
         };
         let hash = |c: usize| {
             // FNV-1a over the coordinates' bits.
             let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-            for s in span(c) {
-                for w in bits(s) {
+            for k in span(c) {
+                for w in bits(c, k) {
                     h = (h ^ w).wrapping_mul(0x0000_0100_0000_01b3);
                 }
             }
             h
         };
-        let same =
-            |c: usize, d: usize| span(c).iter().zip(span(d)).all(|(s, t)| bits(s) == bits(t));
+        let same = |c: usize, d: usize| span(c).zip(span(d)).all(|(s, t)| bits(c, s) == bits(d, t));
         // Contours are grouped by size, closedness and first segment; only the few groups
         // of two or more (the passes of one cut, mostly) are hashed whole and compared.
-        let head = |c: usize| (self.contours[c], span(c).first().map(bits));
+        let head = |c: usize| {
+            let first = span(c).next().map(|k| bits(c, k));
+            (self.contours[c], first)
+        };
         let mut order: Vec<usize> = (0..self.contours.len()).collect();
         order.sort_unstable_by_key(|&c| (head(c), c));
         let mut copy = vec![false; self.contours.len()];
@@ -136,19 +150,15 @@ impl SegmentSet {
             tangent_slack: self.tangent_slack,
             ..SegmentSet::default()
         };
-        for (c, &(n, closed)) in self.contours.iter().enumerate() {
-            if copy[c] {
-                continue;
+        for c in (0..self.contours.len()).filter(|&c| !copy[c]) {
+            // The contour's first point (its only one when it has no segment).
+            let first = self.points[starts[c] + c];
+            let mut open = out.begin_polyline(first, self.pockets.get(c).copied().flatten());
+            for k in span(c) {
+                out.polyline_to(&mut open, self.ends(k).1, self.source(k));
             }
-            let number = out.contours.len() as u32;
-            out.segs.extend(span(c).iter().map(|s| Seg {
-                contour: number,
-                ..*s
-            }));
-            let tags = self.sources.get(starts[c]..starts[c] + n as usize);
-            out.sources.extend_from_slice(tags.unwrap_or_default());
-            out.contours.push((n, closed));
-            out.pockets.push(self.pockets.get(c).copied().flatten());
+            // Same points, so the same count and closedness as contour c.
+            out.end_polyline(open);
         }
         Some(out)
     }
@@ -173,58 +183,67 @@ impl SegmentSet {
         if self.links.is_some() {
             return false;
         }
-        let n = self.segs.len();
-        let dir = |s: &Seg| (s.b.x - s.a.x).partial_cmp(&0.0);
+        let n = self.len();
+        let dir = |(a, b): (DVec2, DVec2)| (b.x - a.x).partial_cmp(&0.0);
         let mut chains: Vec<Chain> = Vec::new();
         let mut blocks: Vec<(f64, f64)> = Vec::with_capacity(n / CHAIN_BLOCK + 1);
-        let mut k = 0;
-        while k < n {
-            let s = &self.segs[k];
-            if !(s.a.is_finite() && s.b.is_finite()) {
+        // Contour by contour (chains never span two): contour c's points are n + 1 from
+        // points[f + c], f its first segment (see [`SegmentSet`]).
+        let mut f = 0usize;
+        for (c, &(count, _)) in self.contours.iter().enumerate() {
+            let count = count as usize;
+            let Some(p) = self.points.get(f + c..f + c + count + 1) else {
                 return false;
-            }
-            let d = dir(s);
-            let mut e = k + 1;
-            if d != Some(std::cmp::Ordering::Equal) {
-                while e < n {
-                    let t = &self.segs[e];
-                    if t.contour != s.contour
-                        || t.index != self.segs[e - 1].index + 1
-                        || dir(t) != d
-                    {
-                        break;
-                    }
-                    e += 1;
+            };
+            let seg = |t: usize| (p[t], p[t + 1]);
+            let mut k = 0;
+            while k < count {
+                let s = seg(k);
+                if !(s.0.is_finite() && s.1.is_finite()) {
+                    return false;
                 }
-            }
-            if self.segs[k + 1..e].iter().any(|t| !t.b.is_finite()) {
-                return false;
-            }
-            let block = blocks.len() as u32;
-            for run in self.segs[k..e].chunks(CHAIN_BLOCK) {
-                let (lo, hi) = run
+                let d = dir(s);
+                let mut e = k + 1;
+                if d != Some(std::cmp::Ordering::Equal) {
+                    while e < count && dir(seg(e)) == d {
+                        e += 1;
+                    }
+                }
+                if p[k + 2..e + 1].iter().any(|q| !q.is_finite()) {
+                    return false;
+                }
+                let block = blocks.len() as u32;
+                for r0 in (k..e).step_by(CHAIN_BLOCK) {
+                    let (lo, hi) = (r0..(r0 + CHAIN_BLOCK).min(e))
+                        .map(seg)
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+                            (lo.min(a.y).min(b.y), hi.max(a.y).max(b.y))
+                        });
+                    blocks.push((lo, hi));
+                }
+                // The chain's box: its end points bound its x range, its blocks its y
+                // range.
+                let (x0, x1) = (s.0.x, p[e].x);
+                let (y0, y1) = blocks[block as usize..]
                     .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| {
-                        (lo.min(t.a.y).min(t.b.y), hi.max(t.a.y).max(t.b.y))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
+                        (lo.min(y.0), hi.max(y.1))
                     });
-                blocks.push((lo, hi));
-            }
-            // The chain's box: its end points bound its x range, its blocks its y range.
-            let (x0, x1) = (s.a.x, self.segs[e - 1].b.x);
-            let (y0, y1) = blocks[block as usize..]
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
-                    (lo.min(y.0), hi.max(y.1))
+                chains.push(Chain {
+                    start: (f + k) as u32,
+                    end: (f + e) as u32,
+                    rev: d == Some(std::cmp::Ordering::Less),
+                    lo: DVec2::new(x0.min(x1), y0),
+                    hi: DVec2::new(x0.max(x1), y1),
+                    shift: c as u32,
+                    block,
                 });
-            chains.push(Chain {
-                start: k as u32,
-                end: e as u32,
-                rev: d == Some(std::cmp::Ordering::Less),
-                lo: DVec2::new(x0.min(x1), y0),
-                hi: DVec2::new(x0.max(x1), y1),
-                block,
-            });
-            k = e;
+                k = e;
+            }
+            f += count;
+        }
+        if f != n {
+            return false;
         }
         chains.sort_by(|a, b| a.lo.x.total_cmp(&b.lo.x));
         // A short try of the sweep over chains, which decides sparse sets (circles apart,
@@ -267,9 +286,7 @@ impl SegmentSet {
         blocks: &[(f64, f64)],
         budget: usize,
     ) -> Option<bool> {
-        let mut scan = CHAIN_BUDGET
-            .saturating_mul(self.segs.len())
-            .saturating_add(4096);
+        let mut scan = CHAIN_BUDGET.saturating_mul(self.len()).saturating_add(4096);
         let mut left = budget;
         let mut spend = |k: usize| {
             left = left.saturating_sub(k);
@@ -324,7 +341,8 @@ impl SegmentSet {
             for i in 0..count.div_ceil(CHAIN_BLOCK) {
                 let s0 = ch.start as usize + i * CHAIN_BLOCK;
                 let s1 = (s0 + CHAIN_BLOCK).min(ch.end as usize);
-                let (x0, x1) = (self.segs[s0].a.x, self.segs[s1 - 1].b.x);
+                let sh = ch.shift as usize;
+                let (x0, x1) = (self.points[s0 + sh].x, self.points[s1 + sh].x);
                 let (y0, y1) = *ys.get(ch.block as usize + i)?;
                 boxes.push((
                     DVec2::new(x0.min(x1), y0),
@@ -371,27 +389,13 @@ impl SegmentSet {
         if covers > bound || max_key > u64::from(u32::MAX) {
             return None;
         }
-        let mut entries: Vec<u64> = Vec::with_capacity(covers as usize);
-        for (k, b) in boxes.iter().enumerate() {
-            let ((c0, r0), (c1, r1)) = (cell(b.0), cell(b.1));
-            for c in c0..=c1 {
-                for r in r0..=r1 {
-                    entries.push(((c * ny + r) << 32) | k as u64);
-                }
-            }
-        }
-        radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
-        let mut g = 0;
-        while g < entries.len() {
-            let key = entries[g] >> 32;
-            let mut e = g + 1;
-            while e < entries.len() && entries[e] >> 32 == key {
-                e += 1;
-            }
-            for x in g..e {
-                let p = &boxes[entries[x] as u32 as usize];
-                for &y in &entries[x + 1..e] {
-                    let q = &boxes[y as u32 as usize];
+        // The blocks of one cell, in increasing block number: pairs of two chains whose
+        // boxes overlap, examined here when the low corner of their intersection is in it.
+        let mut cell_apart = |key: u64, ids: &[u32]| {
+            for (x, &i) in ids.iter().enumerate() {
+                let p = &boxes[i as usize];
+                for &y in &ids[x + 1..] {
+                    let q = &boxes[y as usize];
                     if p.2 == q.2 || p.0.cmpgt(q.1).any() || q.0.cmpgt(p.1).any() {
                         continue;
                     }
@@ -401,9 +405,73 @@ impl SegmentSet {
                     }
                     let (a, b) = (&chains[p.2 as usize], &chains[q.2 as usize]);
                     if !spend(1) || !self.blocks_apart(a, p.3, b, q.3, spend) {
-                        return Some(false);
+                        return false;
                     }
                 }
+            }
+            true
+        };
+        // Each box's cells, block by block: keys in storage order per block.
+        let for_each_entry = |f: &mut dyn FnMut(u64, u32)| {
+            for (k, b) in boxes.iter().enumerate() {
+                let ((c0, r0), (c1, r1)) = (cell(b.0), cell(b.1));
+                for c in c0..=c1 {
+                    for r in r0..=r1 {
+                        f(c * ny + r, k as u32);
+                    }
+                }
+            }
+        };
+        if max_key <= DENSE_KEYS_PER_ENTRY.saturating_mul(covers) {
+            // Counting sort by cell (stable, so each cell's blocks stay in increasing
+            // number, the order the radix sort below gives): 4 bytes an entry and one
+            // count per cell, instead of 8 bytes an entry twice over.
+            let mut end = vec![0u32; max_key as usize + 1];
+            // Keys are below max_key by its definition; one that is not leaves the
+            // decision to the sweep rather than be lost.
+            let mut inside = true;
+            for_each_entry(&mut |key, _| match end.get_mut(key as usize + 1) {
+                Some(n) => *n += 1,
+                None => inside = false,
+            });
+            if !inside {
+                return None;
+            }
+            for k in 1..end.len() {
+                end[k] += end[k - 1];
+            }
+            let mut ids = vec![0u32; covers as usize];
+            for_each_entry(&mut |key, k| {
+                let at = &mut end[key as usize];
+                ids[*at as usize] = k;
+                *at += 1;
+            });
+            // Now end[key] is where cell key's blocks end (and cell key + 1's begin).
+            let mut begin = 0usize;
+            for (key, &e) in end.iter().enumerate() {
+                let e = e as usize;
+                if e - begin >= 2 && !cell_apart(key as u64, &ids[begin..e]) {
+                    return Some(false);
+                }
+                begin = e;
+            }
+            return Some(true);
+        }
+        let mut entries: Vec<u64> = Vec::with_capacity(covers as usize);
+        for_each_entry(&mut |key, k| entries.push((key << 32) | u64::from(k)));
+        radix_sort_high(&mut entries, 64 - max_key.leading_zeros());
+        let mut ids: Vec<u32> = Vec::new();
+        let mut g = 0;
+        while g < entries.len() {
+            let key = entries[g] >> 32;
+            let mut e = g + 1;
+            while e < entries.len() && entries[e] >> 32 == key {
+                e += 1;
+            }
+            ids.clear();
+            ids.extend(entries[g..e].iter().map(|&x| x as u32));
+            if !cell_apart(key, &ids) {
+                return Some(false);
             }
             g = e;
         }
@@ -429,28 +497,30 @@ impl SegmentSet {
             let rev = c.rev;
             (0..s1 - s0).map(move |t| if rev { s1 - 1 - t } else { s0 + t })
         };
-        let xs = |k: usize| {
-            let s = &self.segs[k];
-            (s.a.x.min(s.b.x), s.a.x.max(s.b.x))
+        // A segment's index and box.
+        let boxed = |k: usize| {
+            let (a, b) = self.ends(k);
+            (k, a.min(b), a.max(b))
         };
-        let mut held = [0usize; CHAIN_BLOCK];
+        let mut held = [(0usize, DVec2::ZERO, DVec2::ZERO); CHAIN_BLOCK];
         let mut count = 0;
         for q in run(b, j) {
-            held[count] = q;
+            held[count] = boxed(q);
             count += 1;
         }
         let others = &held[..count];
         let mut first = 0;
-        for p in run(a, i) {
-            let (plo, phi) = xs(p);
-            while first < others.len() && xs(others[first]).1 < plo {
+        for (p, plo, phi) in run(a, i).map(boxed) {
+            while first < others.len() && others[first].2.x < plo.x {
                 first += 1;
             }
-            for &q in &others[first..] {
-                if xs(q).0 > phi {
+            for &(q, qlo, qhi) in &others[first..] {
+                if qlo.x > phi.x {
                     break;
                 }
-                if !spend(1) || self.test_pair(p, q).is_some() {
+                // Boxes apart: `test_pair` would say so first.
+                let near = plo.cmple(qhi).all() && qlo.cmple(phi).all();
+                if !spend(1) || near && self.test_pair(p, q).is_some() {
                     return false;
                 }
             }
@@ -490,7 +560,8 @@ impl SegmentSet {
         let block = |c: &Chain, i: usize| {
             let s0 = c.start as usize + i * CHAIN_BLOCK;
             let s1 = (s0 + CHAIN_BLOCK).min(c.end as usize);
-            let (x0, x1) = (self.segs[s0].a.x, self.segs[s1 - 1].b.x);
+            let sh = c.shift as usize;
+            let (x0, x1) = (self.points[s0 + sh].x, self.points[s1 + sh].x);
             let (y0, y1) = ys[c.block as usize + i];
             (
                 s0..s1,

@@ -140,8 +140,19 @@ impl SegmentSet {
         across: Across,
         tangent_slack: f64,
     ) -> Self {
+        let mut points = Vec::with_capacity(2 * segs.len());
+        let mut shift = Vec::with_capacity(segs.len());
+        let mut ids = Vec::with_capacity(segs.len());
+        for (i, s) in segs.iter().enumerate() {
+            points.extend([s.a, s.b]);
+            shift.push(i as u32);
+            ids.push((s.contour, s.index));
+        }
         SegmentSet {
-            segs,
+            points,
+            shift,
+            firsts: Vec::new(),
+            ids,
             contours: Vec::new(),
             sources: Vec::new(),
             pockets,
@@ -158,9 +169,10 @@ impl SegmentSet {
         if let Some(out) = self.packed_cell_contacts(grid, &keys) {
             return out;
         }
-        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * self.segs.len());
-        for (k, s) in self.segs.iter().enumerate() {
-            grid.cover(s.a, s.b, |key| {
+        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * self.len());
+        for k in 0..self.len() {
+            let (a, b) = self.ends(k);
+            grid.cover(a, b, |key| {
                 if keys.contains(&key) {
                     entries.push((key, k as u32));
                 }
@@ -239,11 +251,12 @@ impl SegmentSet {
         grid: &Grid,
         keys: &std::ops::Range<u64>,
     ) -> Option<Vec<u64>> {
-        u32::try_from(self.segs.len()).ok()?;
-        let mut entries: Vec<u64> = Vec::with_capacity(2 * self.segs.len());
+        u32::try_from(self.len()).ok()?;
+        let mut entries: Vec<u64> = Vec::with_capacity(2 * self.len());
         let mut max_key = 0u64;
-        for (k, s) in self.segs.iter().enumerate() {
-            grid.cover(s.a, s.b, |key| {
+        for k in 0..self.len() {
+            let (a, b) = self.ends(k);
+            grid.cover(a, b, |key| {
                 if keys.contains(&key) {
                     max_key = max_key.max(key);
                     entries.push((key << 32) | k as u64);
@@ -297,11 +310,11 @@ impl SegmentSet {
             return;
         }
         let key = |k: u32| {
-            let s = &self.segs[k as usize];
-            let (p, q) = if (s.a.x, s.a.y) <= (s.b.x, s.b.y) {
-                (s.a, s.b)
+            let (a, b) = self.ends(k as usize);
+            let (p, q) = if (a.x, a.y) <= (b.x, b.y) {
+                (a, b)
             } else {
-                (s.b, s.a)
+                (b, a)
             };
             [p.x.to_bits(), p.y.to_bits(), q.x.to_bits(), q.y.to_bits()]
         };
@@ -344,11 +357,11 @@ impl SegmentSet {
                 if !test(ids[a], m) {
                     return;
                 }
-                let cm = self.segs[m as usize].contour;
+                let cm = self.contour_of(m as usize);
                 let partners = if inside(m) { &all } else { &in_window };
                 for &gj in partners {
                     let r = reps[gj];
-                    if gj != gi && self.segs[r as usize].contour == cm && !test(m, r) {
+                    if gj != gi && self.contour_of(r as usize) == cm && !test(m, r) {
                         return;
                     }
                 }

@@ -45,8 +45,8 @@ const FIRST_ROUND: usize = 64;
 const ROUND_GROWTH: usize = 8;
 
 /// One segment of a polyline: `contour` numbers the polyline, `index` the segment in it.
-/// The caller's tag and the pocket mark are kept beside it ([`SegmentSet::source`],
-/// [`SegmentSet::pocket`]): 40 bytes a segment, which the searches read over and over.
+/// A [`SegmentSet`] does not store it: it builds it on demand ([`SegmentSet::seg`]) from
+/// its point array and each segment's contour number.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Seg {
     /// Start point.
@@ -87,12 +87,28 @@ pub enum Across {
 const WINDOW_CONTACTS: usize = 1 << 16;
 
 /// Polylines split into segments (zero-length segments dropped).
+///
+/// The segments are not stored one by one ([`Seg`] is built on demand by
+/// [`SegmentSet::seg`]): a polyline's points are stored once, the end of one segment being
+/// the start of the next, and segment i runs from `points[i + shift[i]]` to the point after
+/// it. In a set of whole polylines, contour c stores its count + 1 points (one for a
+/// contour without segments), so `shift[i]` is segment i's contour number; in a tile
+/// ([`SegmentSet::tile`]) each segment stores its two end points (`shift[i]` = i) and its
+/// contour and index are held beside it. 24 bytes a segment with the caller's tag, not the
+/// 44 of two end points, a contour, an index and a tag: less memory to fault in and to
+/// stream through the searches.
 #[derive(Clone, Debug, Default)]
 pub struct SegmentSet {
-    /// The segments, polyline by polyline.
-    pub segs: Vec<Seg>,
+    /// The polylines' points (see [`SegmentSet`]).
+    points: Vec<DVec2>,
+    /// Per segment: where its start point is in `points`, less its own index.
+    shift: Vec<u32>,
     /// Per contour: number of segments and whether it is closed (last point = first).
     pub contours: Vec<(u32, bool)>,
+    /// Per contour: index of its first segment (whole sets; empty for a tile).
+    firsts: Vec<u32>,
+    /// Per segment of a tile: its contour and its position in it (empty for whole sets).
+    ids: Vec<(u32, u32)>,
     /// Per segment: the caller's tag (a motion index; none in a tile, read as 0).
     sources: Vec<u32>,
     /// The pocket marks ([`SegmentSet::push_polyline_in`]): per contour, or per segment
@@ -137,9 +153,9 @@ pub struct Link {
 /// Two segments that share a point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Contact {
-    /// Indices into [`SegmentSet::segs`], i < j.
+    /// Indices into [`SegmentSet::seg`], i < j.
     pub i: usize,
-    /// The other segment (index into [`SegmentSet::segs`]).
+    /// The other segment (index into [`SegmentSet::seg`]).
     pub j: usize,
     /// A point they share (the crossing point, or a shared end/overlap point).
     pub point: DVec2,
@@ -155,8 +171,66 @@ impl SegmentSet {
 
     /// Reserves room for `n` more segments.
     pub fn reserve(&mut self, n: usize) {
-        self.segs.reserve(n);
+        self.points.reserve(n);
+        self.shift.reserve(n);
         self.sources.reserve(n);
+    }
+
+    /// Number of segments.
+    pub fn len(&self) -> usize {
+        self.shift.len()
+    }
+
+    /// True when the set has no segment.
+    #[allow(dead_code)] // the counterpart of `len`, used by the tests
+    pub fn is_empty(&self) -> bool {
+        self.shift.is_empty()
+    }
+
+    /// The end points of segment `i` (`i` < [`SegmentSet::len`]).
+    #[inline]
+    pub fn ends(&self, i: usize) -> (DVec2, DVec2) {
+        let k = i + self.shift[i] as usize;
+        (self.points[k], self.points[k + 1])
+    }
+
+    /// Segment `i` (`i` < [`SegmentSet::len`]).
+    #[inline]
+    pub fn seg(&self, i: usize) -> Seg {
+        let (a, b) = self.ends(i);
+        let (contour, index) = match self.ids.get(i) {
+            Some(&id) => id,
+            None => {
+                let c = self.shift[i];
+                let first = self.firsts.get(c as usize).copied().unwrap_or(0);
+                (c, i as u32 - first)
+            }
+        };
+        Seg {
+            a,
+            b,
+            contour,
+            index,
+        }
+    }
+
+    /// Segment `i`, None past the end.
+    pub fn get(&self, i: usize) -> Option<Seg> {
+        (i < self.len()).then(|| self.seg(i))
+    }
+
+    /// The segments in order.
+    pub fn iter(&self) -> impl Iterator<Item = Seg> + '_ {
+        (0..self.len()).map(|i| self.seg(i))
+    }
+
+    /// Contour number of segment `i` (`i` < [`SegmentSet::len`]).
+    #[inline]
+    pub fn contour_of(&self, i: usize) -> u32 {
+        match self.ids.get(i) {
+            Some(&(c, _)) => c,
+            None => self.shift[i],
+        }
     }
 
     /// Adds a polyline; `sources[k]` tags the segment from `points[k]` to `points[k+1]`.
@@ -178,9 +252,9 @@ impl SegmentSet {
         pocket: Option<u32>,
     ) -> u32 {
         let Some(&first) = points.first() else {
-            self.contours.push((0, false));
-            self.pockets.push(pocket);
-            return self.contours.len() as u32 - 1;
+            // A contour without segments still holds a point (see [`SegmentSet`]).
+            let open = self.begin_polyline(DVec2::ZERO, pocket);
+            return self.end_polyline(open);
         };
         let mut open = self.begin_polyline(first, pocket);
         for (k, &p) in points.iter().enumerate().skip(1) {
@@ -194,7 +268,9 @@ impl SegmentSet {
     /// then [`SegmentSet::end_polyline`]) as [`SegmentSet::push_polyline_in`] adds it
     /// whole: for callers that do not hold its points. No other polyline may be added
     /// before it ends.
-    pub fn begin_polyline(&self, first: DVec2, pocket: Option<u32>) -> OpenPolyline {
+    pub fn begin_polyline(&mut self, first: DVec2, pocket: Option<u32>) -> OpenPolyline {
+        self.points.push(first);
+        self.firsts.push(self.shift.len() as u32);
         OpenPolyline {
             contour: self.contours.len() as u32,
             count: 0,
@@ -208,12 +284,8 @@ impl SegmentSet {
     /// point before).
     pub fn polyline_to(&mut self, open: &mut OpenPolyline, p: DVec2, source: u32) {
         if open.prev != p {
-            self.segs.push(Seg {
-                a: open.prev,
-                b: p,
-                contour: open.contour,
-                index: open.count,
-            });
+            self.points.push(p);
+            self.shift.push(open.contour);
             self.sources.push(source);
             open.count += 1;
             open.prev = p;
@@ -239,7 +311,10 @@ impl SegmentSet {
         if self.links.is_some() {
             return self.pockets.get(i).copied().flatten();
         }
-        let c = self.segs.get(i)?.contour as usize;
+        if i >= self.len() {
+            return None;
+        }
+        let c = self.contour_of(i) as usize;
         self.pockets.get(c).copied().flatten()
     }
 
@@ -281,7 +356,7 @@ impl SegmentSet {
     /// contour crossing itself everywhere hands out its first segments' contacts before the
     /// whole cap's worth.
     pub fn contacts_in_order(&self, mut take: impl FnMut(&[Contact]) -> bool) -> (bool, bool) {
-        let n = self.segs.len();
+        let n = self.len();
         let whole = |take: &mut dyn FnMut(&[Contact]) -> bool| {
             let (c, capped) = self.contacts_capped();
             take(&c);
@@ -346,8 +421,8 @@ impl SegmentSet {
     /// search takes another route (no grid, long segments apart, keys or indices beyond 32
     /// bits).
     fn round_entries(&self) -> Option<Vec<u64>> {
-        let n = self.segs.len();
-        let (lo, hi, total) = self.extent(self.segs.iter());
+        let n = self.len();
+        let (lo, hi, total) = self.extent(self.iter());
         let grid = Grid::new(lo, hi, total, n)?;
         if n >= SPLIT_MIN && grid.h > LONG_SEGMENT * self.median_length() {
             let all: Vec<u32> = (0..n as u32).collect();
@@ -363,42 +438,43 @@ impl SegmentSet {
     fn adjacent_overlaps(&self) -> Vec<Contact> {
         let mut out = Vec::new();
         let mut start = 0usize;
-        for &(n, closed) in &self.contours {
+        for (c, &(n, closed)) in self.contours.iter().enumerate() {
             let n = n as usize;
-            let end = start + n;
-            let mut check = |i: usize, j: usize| {
-                let (Some(s), Some(t)) = (self.segs.get(i), self.segs.get(j)) else {
-                    return;
+            // Contour c's points: n + 1 from points[start + c] (see [`SegmentSet`]);
+            // segment start + t runs from p[t] to p[t + 1]. Line cuts may retrace
+            // themselves as they may cross (see `test_pair`).
+            let line = self.pockets.get(c).copied().flatten() == Some(LINE_GROUP);
+            let p = self
+                .points
+                .get(start + c..start + c + n + 1)
+                .unwrap_or_default();
+            if !line && n >= 1 && p.len() == n + 1 {
+                // Segment i (from a to b) and the next one j (from b to c): the cheap
+                // test first, a path going on (not back) fails it.
+                let mut check = |i: usize, j: usize, a: DVec2, b: DVec2, c: DVec2| {
+                    if (c - b).dot(a - b) > 0.0 && orient2d(a, b, c) == 0.0 {
+                        out.push(Contact {
+                            i: i.min(j),
+                            j: i.max(j),
+                            point: b,
+                            proper: false,
+                        });
+                    }
                 };
-                // s ends where t starts. The cheap test first: a path going on (not
-                // back) fails it, and the rest is not needed. Line cuts may retrace
-                // themselves as they may cross (see `test_pair`).
-                let (a, b, c) = (s.a, s.b, t.b);
-                if (c - b).dot(a - b) > 0.0
-                    && self.pocket(i) != Some(LINE_GROUP)
-                    && orient2d(a, b, c) == 0.0
-                {
-                    out.push(Contact {
-                        i: i.min(j),
-                        j: i.max(j),
-                        point: b,
-                        proper: false,
-                    });
+                for (t, w) in p.windows(3).enumerate() {
+                    check(start + t, start + t + 1, w[0], w[1], w[2]);
                 }
-            };
-            for i in start..end.saturating_sub(1) {
-                check(i, i + 1);
+                if closed && n >= 2 {
+                    check(start + n - 1, start, p[n - 1], p[n], p[1]);
+                }
             }
-            if closed && n >= 2 {
-                check(end - 1, start);
-            }
-            start = end;
+            start += n;
         }
         out
     }
 
     fn grid_contacts(&self) -> Vec<Contact> {
-        if self.segs.len() < 2 || self.proven_apart_with_copies() {
+        if self.len() < 2 || self.proven_apart_with_copies() {
             return Vec::new();
         }
         self.grid_only_contacts()
@@ -408,11 +484,11 @@ impl SegmentSet {
     /// consecutive segments): the route [`SegmentSet::contacts`] takes when the sweep
     /// cannot prove the set apart. Unsorted.
     pub fn grid_only_contacts(&self) -> Vec<Contact> {
-        let n = self.segs.len();
+        let n = self.len();
         if n < 2 {
             return Vec::new();
         }
-        let (lo, hi, total) = self.extent(self.segs.iter());
+        let (lo, hi, total) = self.extent(self.iter());
         let Some(grid) = Grid::new(lo, hi, total, n) else {
             return self.brute_force_contacts();
         };
@@ -442,8 +518,8 @@ impl SegmentSet {
     /// Quadratic fallback for degenerate extents (non-finite coordinates).
     fn brute_force_contacts(&self) -> Vec<Contact> {
         let mut out = Vec::new();
-        for i in 0..self.segs.len() {
-            for j in i + 1..self.segs.len() {
+        for i in 0..self.len() {
+            for j in i + 1..self.len() {
                 if let Some(c) = self.test_pair(i, j) {
                     out.push(c);
                     if out.len() >= MAX_CONTACTS {

@@ -30,7 +30,7 @@ impl SegmentSet {
     /// pass of segment `i` through its end point `v`; `None` where the run starts or ends
     /// at `v`.
     pub(super) fn pass_at(&self, i: usize, v: DVec2) -> Option<(DVec2, DVec2)> {
-        let s = self.segs.get(i)?;
+        let s = self.get(i)?;
         if let Some(links) = &self.links {
             let l = links.get(i)?;
             return if s.a == v {
@@ -41,7 +41,7 @@ impl SegmentSet {
                 None
             };
         }
-        let same = |k: usize| self.segs.get(k).filter(|t| t.contour == s.contour);
+        let same = |k: usize| self.get(k).filter(|t| t.contour == s.contour);
         let (n, closed) = self.contours.get(s.contour as usize).copied()?;
         let first = i - s.index as usize;
         let last = first + n as usize - 1;
@@ -70,7 +70,7 @@ impl SegmentSet {
     /// the path passes twice without the two passes crossing (or where one pass starts or
     /// ends): the directions of one pass do not separate those of the other around `v`.
     pub(super) fn is_revisit(&self, i: usize, j: usize) -> bool {
-        let (Some(s), Some(t)) = (self.segs.get(i), self.segs.get(j)) else {
+        let (Some(s), Some(t)) = (self.get(i), self.get(j)) else {
             return false;
         };
         let Some(v) = [s.a, s.b].into_iter().find(|&p| p == t.a || p == t.b) else {
@@ -130,10 +130,14 @@ impl SegmentSet {
     /// Exact contact test of two segments; same-contour adjacent pairs are skipped (see
     /// `Self::adjacent_overlaps`), and pairs of two contours follow [`SegmentSet::across`].
     pub fn test_pair(&self, i: usize, j: usize) -> Option<Contact> {
-        let (s, t) = (self.segs.get(i)?, self.segs.get(j)?);
-        if s.a.max(s.b).cmplt(t.a.min(t.b)).any() || t.a.max(t.b).cmplt(s.a.min(s.b)).any() {
+        if i.max(j) >= self.len() {
             return None;
         }
+        let ((sa, sb), (ta, tb)) = (self.ends(i), self.ends(j));
+        if sa.max(sb).cmplt(ta.min(tb)).any() || ta.max(tb).cmplt(sa.min(sb)).any() {
+            return None;
+        }
+        let (s, t) = (self.seg(i), self.seg(j));
         let across = s.contour != t.contour;
         let (sp, tp) = (self.pocket(i), self.pocket(j));
         let one_pocket = sp.is_some() && sp == tp;
@@ -141,7 +145,7 @@ impl SegmentSet {
         let line = sp == Some(LINE_GROUP) || tp == Some(LINE_GROUP);
         if line
             || across && (self.across == Across::Never || one_pocket)
-            || self.adjacent(i, j, s, t)
+            || self.adjacent(i, j, &s, &t)
         {
             return None;
         }

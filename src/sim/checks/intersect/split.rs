@@ -17,7 +17,12 @@ pub(super) const SPLIT_MIN: usize = 1024;
 impl SegmentSet {
     /// The median segment length (the upper one for an even count; 0 for no segment).
     pub(super) fn median_length(&self) -> f64 {
-        let mut lengths: Vec<f64> = self.segs.iter().map(|s| s.a.distance(s.b)).collect();
+        let mut lengths: Vec<f64> = (0..self.len())
+            .map(|k| {
+                let (a, b) = self.ends(k);
+                a.distance(b)
+            })
+            .collect();
         if lengths.is_empty() {
             return 0.0;
         }
@@ -26,7 +31,7 @@ impl SegmentSet {
     }
 
     /// Bounds (lo, hi) and total length of `segs`.
-    pub(super) fn extent<'s>(&self, segs: impl Iterator<Item = &'s Seg>) -> (DVec2, DVec2, f64) {
+    pub(super) fn extent(&self, segs: impl Iterator<Item = Seg>) -> (DVec2, DVec2, f64) {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         let mut total = 0.0;
         for s in segs {
@@ -48,8 +53,8 @@ impl SegmentSet {
             return None;
         }
         let len = |k: u32| {
-            let s = &self.segs[k as usize];
-            s.a.distance(s.b)
+            let (a, b) = self.ends(k as usize);
+            a.distance(b)
         };
         let mut lengths: Vec<f64> = ids.iter().map(|&k| len(k)).collect();
         if !lengths.iter().all(|l| l.is_finite()) {
@@ -112,7 +117,7 @@ impl SegmentSet {
             self.long_against(&rest, short, out);
             return;
         }
-        let seg = |k: &u32| &self.segs[*k as usize];
+        let seg = |k: &u32| self.seg(*k as usize);
         let (llo, lhi, ltotal) = self.extent(long.iter().map(seg));
         let near: Vec<u32> = short
             .iter()
@@ -182,7 +187,7 @@ impl SegmentSet {
         if ids.len() < 2 {
             return;
         }
-        let (lo, hi, total) = self.extent(ids.iter().map(|&k| &self.segs[k as usize]));
+        let (lo, hi, total) = self.extent(ids.iter().map(|&k| self.seg(k as usize)));
         let Some(grid) = Grid::new(lo, hi, total, ids.len()) else {
             for (x, &i) in ids.iter().enumerate() {
                 self.pairs_between(&[i], &ids[x + 1..], out);
@@ -191,8 +196,8 @@ impl SegmentSet {
         };
         let mut entries: Vec<(u64, u32)> = Vec::with_capacity(2 * ids.len());
         for &k in ids {
-            let s = &self.segs[k as usize];
-            grid.cover(s.a, s.b, |key| entries.push((key, k)));
+            let (a, b) = self.ends(k as usize);
+            grid.cover(a, b, |key| entries.push((key, k)));
         }
         entries.sort_unstable();
         let room = MAX_CONTACTS.saturating_sub(out.len());

@@ -59,12 +59,8 @@ fn copies_are_exact_repeats_of_a_contour() {
     }
     let reps = s.without_copies().expect("copies");
     assert_eq!(reps.contours, vec![(4, true), (4, true)]);
-    assert_eq!(reps.segs.len(), 8);
-    assert!(
-        reps.segs[4..]
-            .iter()
-            .all(|g| g.contour == 1 && g.a.x >= 5.0)
-    );
+    assert_eq!(reps.len(), 8);
+    assert!(reps.iter().skip(4).all(|g| g.contour == 1 && g.a.x >= 5.0));
     // Same start, same count, another path: no copy.
     let mut other = sq(0.0);
     other[2].y = 2.0;
@@ -267,7 +263,7 @@ fn coincident_contours_stay_linear() {
     set.push_polyline(&cross, &[]);
     let c = set.contacts();
     assert!(c.len() < 20 * 2000, "{} contacts", c.len());
-    let crossing = set.segs.len() - 1;
+    let crossing = set.len() - 1;
     assert!(c.iter().any(|c| c.j == crossing && c.proper));
     // Copies of the same contour (a retraced contour) still touch themselves.
     let mut twice = sq.clone();
@@ -279,7 +275,7 @@ fn coincident_contours_stay_linear() {
     let c = one.contacts();
     assert!(
         c.iter()
-            .any(|c| one.segs[c.i].contour == one.segs[c.j].contour)
+            .any(|c| one.seg(c.i).contour == one.seg(c.j).contour)
     );
 }
 
@@ -352,15 +348,15 @@ fn long_segments_apart_give_the_contacts_of_every_pair() {
         pts.push(p);
     }
     s.push_polyline(&pts, &[]);
-    assert!(SPLIT_MIN <= s.segs.len());
-    let long = s.long_segments(&(0..s.segs.len() as u32).collect::<Vec<_>>());
+    assert!(SPLIT_MIN <= s.len());
+    let long = s.long_segments(&(0..s.len() as u32).collect::<Vec<_>>());
     assert!(long.is_some_and(|l| l.len() >= 6 && l.len() < 100));
     let got: Vec<_> = s.contacts().iter().map(|c| (c.i, c.j)).collect();
     let want = naive(&s);
     assert_eq!(got, want);
     // Long segments cross short ones too: the long-against-short pass is exercised.
     let long_short = want.iter().any(|&(i, j)| {
-        let len = |k: usize| s.segs[k].a.distance(s.segs[k].b);
+        let len = |k: usize| s.seg(k).a.distance(s.seg(k).b);
         (len(i) > 100.0) != (len(j) > 100.0)
     });
     assert!(long_short && want.len() > 100, "{}", want.len());
@@ -427,7 +423,7 @@ fn dense_spiral_is_proven_apart_and_a_chord_across_it_is_found() {
     let c = DVec2::new(50.0, 50.0);
     let mut s = SegmentSet::new();
     s.push_polyline(&spiral(c, 40, 2000, 0.45), &[]);
-    let n = s.segs.len();
+    let n = s.len();
     assert!(n > 70_000, "{n}");
     assert!(s.proven_apart());
     assert!(s.contacts().is_empty());
@@ -465,7 +461,7 @@ fn rounds_hand_out_the_whole_search_in_order() {
     p.push(p[0]);
     let mut s = SegmentSet::new();
     s.push_polyline(&p, &[]);
-    assert!(s.segs.len() >= ROUNDS_MIN);
+    assert!(s.len() >= ROUNDS_MIN);
     let (want, capped) = s.contacts_capped();
     assert!(!capped);
     let mut got = Vec::new();
@@ -542,8 +538,8 @@ proptest::proptest! {
         closed in proptest::bool::ANY,
     ) {
         let s = lattice_set(&steps, spread, closed);
-        let meets = (0..s.segs.len())
-            .any(|i| (i + 1..s.segs.len()).any(|j| s.test_pair(i, j).is_some()));
+        let meets = (0..s.len())
+            .any(|i| (i + 1..s.len()).any(|j| s.test_pair(i, j).is_some()));
         if s.proven_apart() {
             proptest::prop_assert!(!meets);
         }
@@ -568,7 +564,7 @@ fn a_window_crossed_everywhere_is_narrowed_to_its_first_segments() {
         .collect();
     let mut s = SegmentSet::new();
     s.push_polyline(&p, &[]);
-    assert_eq!(s.segs.len(), n);
+    assert_eq!(s.len(), n);
     let mut first = Vec::new();
     let (capped, stopped) = s.contacts_in_order(|b| {
         first.extend_from_slice(b);
@@ -583,4 +579,92 @@ fn a_window_crossed_everywhere_is_narrowed_to_its_first_segments() {
         .collect();
     assert!(want.len() > 1000, "{}", want.len());
     assert_eq!(first, want);
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+    /// The segments a set builds from its point array ([`SegmentSet::seg`]) are those of
+    /// its polylines listed one by one: each pair of consecutive distinct points, numbered
+    /// by contour and position, with its tag and pocket, whatever empty, one-point or
+    /// repeated-point polylines come between; a tile built from them holds the same
+    /// segments; and the set without copies holds the segments of the contours kept.
+    #[test]
+    fn segments_from_points_are_those_listed_one_by_one(
+        lines in proptest::collection::vec(
+            (proptest::collection::vec((0u8..4, 0u8..4), 0..9), proptest::option::of(1u32..3)),
+            0..7,
+        ),
+    ) {
+        let mut s = SegmentSet::new();
+        let mut want: Vec<(Seg, u32, Option<u32>)> = Vec::new();
+        let mut closed = Vec::new();
+        for (c, (line, pocket)) in lines.iter().enumerate() {
+            let points: Vec<DVec2> =
+                line.iter().map(|&(x, y)| DVec2::new(f64::from(x), f64::from(y))).collect();
+            let tags: Vec<u32> = (0..points.len() as u32).map(|k| 100 * c as u32 + k).collect();
+            proptest::prop_assert_eq!(s.push_polyline_in(&points, &tags, *pocket), c as u32);
+            let mut index = 0;
+            let mut prev = points.first().copied();
+            for (k, &p) in points.iter().enumerate().skip(1) {
+                if prev != Some(p) {
+                    let a = prev.unwrap_or(p);
+                    let seg = Seg { a, b: p, contour: c as u32, index };
+                    want.push((seg, tags[k - 1], *pocket));
+                    index += 1;
+                    prev = Some(p);
+                }
+            }
+            closed.push(index >= 2 && points.first() == prev.as_ref());
+        }
+        proptest::prop_assert_eq!(s.len(), want.len());
+        proptest::prop_assert_eq!(s.is_empty(), want.is_empty());
+        let got: Vec<(Seg, u32, Option<u32>)> =
+            (0..s.len()).map(|i| (s.seg(i), s.source(i), s.pocket(i))).collect();
+        proptest::prop_assert_eq!(&got, &want);
+        proptest::prop_assert!(s.get(s.len()).is_none());
+        let got_closed: Vec<bool> = s.contours.iter().map(|c| c.1).collect();
+        proptest::prop_assert_eq!(got_closed, closed);
+        let tile = SegmentSet::tile(
+            want.iter().map(|w| w.0).collect(),
+            vec![Link::default(); want.len()],
+            want.iter().map(|w| w.2).collect(),
+            Across::All,
+            0.0,
+        );
+        let tiled: Vec<Seg> = tile.iter().collect();
+        let listed: Vec<Seg> = want.iter().map(|w| w.0).collect();
+        proptest::prop_assert_eq!(&tiled, &listed);
+        s.across = Across::Crossings;
+        if let Some(reps) = s.without_copies() {
+            // The contours kept, renumbered, with their segments, tags and pockets.
+            // A contour's segments (end points and tag) and its pocket.
+            type Listed = (Vec<(DVec2, DVec2, u32)>, Option<u32>);
+            let kept: Vec<Listed> = (0..reps.contours.len())
+                .map(|c| {
+                    let segs = (0..reps.len())
+                        .filter(|&i| reps.seg(i).contour == c as u32)
+                        .map(|i| (reps.seg(i).a, reps.seg(i).b, reps.source(i)))
+                        .collect();
+                    (segs, reps.pockets[c])
+                })
+                .collect();
+            let of = |c: usize| -> Listed {
+                let segs = want
+                    .iter()
+                    .filter(|w| w.0.contour == c as u32)
+                    .map(|w| (w.0.a, w.0.b, w.1))
+                    .collect();
+                (segs, lines[c].1)
+            };
+            let originals: Vec<_> = (0..lines.len()).map(of).collect();
+            // Each kept contour is an original one, in order.
+            let mut from = 0;
+            for k in &kept {
+                let at = (from..originals.len()).find(|&c| originals[c] == *k);
+                proptest::prop_assert!(at.is_some(), "{k:?}");
+                from = at.unwrap_or(0) + 1;
+            }
+            proptest::prop_assert!(kept.len() < lines.len());
+        }
+    }
 }
