@@ -29,6 +29,13 @@ pub(super) struct Chain {
     pub(super) block: u32,
 }
 
+impl Chain {
+    /// Number of its blocks of [`CHAIN_BLOCK`] segments (the last may be shorter).
+    pub(super) fn blocks(&self) -> usize {
+        ((self.end - self.start) as usize).div_ceil(CHAIN_BLOCK)
+    }
+}
+
 /// How many times over the chains' boxes may cover the set's box before
 /// [`SegmentSet::proven_apart`] skips the short try of its sweep: disjoint contours cover
 /// it less than once (the benches' circles 0.8 times), the spiral's nested half turns
@@ -46,6 +53,28 @@ pub(super) const DENSE_KEYS_PER_ENTRY: u64 = 4;
 pub(super) const CHAIN_BLOCK: usize = 8;
 
 impl SegmentSet {
+    /// Block `i` of chain `c` in storage order: its segment range and its box, whose x
+    /// range the block's end points bound (the chain is x-monotone) and whose y range is
+    /// the block's entry in `ys` (the y ranges of [`SegmentSet::proven_apart`]). None
+    /// where `ys` has no such entry.
+    fn chain_block(
+        &self,
+        c: &Chain,
+        i: usize,
+        ys: &[(f64, f64)],
+    ) -> Option<(std::ops::Range<usize>, DVec2, DVec2)> {
+        let s0 = c.start as usize + i * CHAIN_BLOCK;
+        let s1 = (s0 + CHAIN_BLOCK).min(c.end as usize);
+        let sh = c.shift as usize;
+        let (x0, x1) = (self.points.get(s0 + sh)?.x, self.points.get(s1 + sh)?.x);
+        let &(y0, y1) = ys.get(c.block as usize + i)?;
+        Some((
+            s0..s1,
+            DVec2::new(x0.min(x1), y0),
+            DVec2::new(x0.max(x1), y1),
+        ))
+    }
+
     /// [`SegmentSet::proven_apart`] on the set with every contour that repeats an earlier
     /// one left out, when contacts between contours are [`Across::Crossings`] or
     /// [`Across::Never`]; on the whole set otherwise.
@@ -337,19 +366,9 @@ impl SegmentSet {
         // Blocks: (box lo, box hi, chain, block number within the chain).
         let mut boxes: Vec<(DVec2, DVec2, u32, u32)> = Vec::with_capacity(ys.len());
         for (c, ch) in chains.iter().enumerate() {
-            let count = (ch.end - ch.start) as usize;
-            for i in 0..count.div_ceil(CHAIN_BLOCK) {
-                let s0 = ch.start as usize + i * CHAIN_BLOCK;
-                let s1 = (s0 + CHAIN_BLOCK).min(ch.end as usize);
-                let sh = ch.shift as usize;
-                let (x0, x1) = (self.points[s0 + sh].x, self.points[s1 + sh].x);
-                let (y0, y1) = *ys.get(ch.block as usize + i)?;
-                boxes.push((
-                    DVec2::new(x0.min(x1), y0),
-                    DVec2::new(x0.max(x1), y1),
-                    c as u32,
-                    i as u32,
-                ));
+            for i in 0..ch.blocks() {
+                let (_, lo, hi) = self.chain_block(ch, i, ys)?;
+                boxes.push((lo, hi, c as u32, i as u32));
             }
         }
         let m = boxes.len();
@@ -554,32 +573,17 @@ impl SegmentSet {
         } else {
             (b, a)
         };
-        let count = |c: &Chain| (c.end - c.start) as usize;
-        let blocks = |c: &Chain| count(c).div_ceil(CHAIN_BLOCK);
-        // Block i of chain c in storage order: its segment range and its box.
-        let block = |c: &Chain, i: usize| {
-            let s0 = c.start as usize + i * CHAIN_BLOCK;
-            let s1 = (s0 + CHAIN_BLOCK).min(c.end as usize);
-            let sh = c.shift as usize;
-            let (x0, x1) = (self.points[s0 + sh].x, self.points[s1 + sh].x);
-            let (y0, y1) = ys[c.block as usize + i];
-            (
-                s0..s1,
-                DVec2::new(x0.min(x1), y0),
-                DVec2::new(x0.max(x1), y1),
-            )
-        };
-        // Block i of chain c in x order.
+        // Block i of chain c in x order (None only for block y ranges that do not match
+        // the chains: then the chains are not proven apart).
         let in_x_order = |c: &Chain, i: usize| {
-            if c.rev {
-                block(c, blocks(c) - 1 - i)
-            } else {
-                block(c, i)
-            }
+            let k = if c.rev { c.blocks() - 1 - i } else { i };
+            self.chain_block(c, k, ys)
         };
-        let nl = blocks(long);
-        for i in 0..blocks(short) {
-            let (run, lo, hi) = block(short, i);
+        let nl = long.blocks();
+        for i in 0..short.blocks() {
+            let Some((run, lo, hi)) = self.chain_block(short, i, ys) else {
+                return false;
+            };
             if lo.cmpgt(long.hi).any() || hi.cmplt(long.lo).any() {
                 continue;
             }
@@ -590,14 +594,19 @@ impl SegmentSet {
             let (mut j, mut top) = (0usize, nl);
             while j < top {
                 let mid = (j + top) / 2;
-                if in_x_order(long, mid).2.x < lo.x {
+                let Some((_, _, mid_hi)) = in_x_order(long, mid) else {
+                    return false;
+                };
+                if mid_hi.x < lo.x {
                     j = mid + 1;
                 } else {
                     top = mid;
                 }
             }
             while j < nl {
-                let (other, olo, ohi) = in_x_order(long, j);
+                let Some((other, olo, ohi)) = in_x_order(long, j) else {
+                    return false;
+                };
                 if olo.x > hi.x {
                     break;
                 }
