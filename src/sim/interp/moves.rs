@@ -535,15 +535,7 @@ impl PlainWords {
         self.words += 1;
         let slot = match letter {
             'G' if self.mode.is_none() => {
-                // G0 and G1 as written are told apart without `tenths`' arithmetic.
-                let code = if v == 0.0 {
-                    Some(0)
-                } else if v == 1.0 {
-                    Some(10)
-                } else {
-                    tenths(v)
-                };
-                self.mode = match code {
+                self.mode = match tenths(v) {
                     Some(0) => Some(Mode::Rapid),
                     Some(10) => Some(Mode::Linear),
                     _ => return false,
