@@ -145,6 +145,9 @@ pub fn parse_canon(text: &str) -> Program {
     let mut g92 = DVec3::ZERO;
     let mut tlo = DVec3::ZERO;
     let mut plane = [0usize, 1, 2];
+    // The pocket mark in force: the last one read (rs274 prints comments in the order it
+    // runs the blocks).
+    let mut group: Option<u32> = None;
     for (idx, raw) in text.lines().enumerate() {
         prog.lines = idx + 1;
         let Some(c) = parse_line(raw) else {
@@ -230,7 +233,7 @@ pub fn parse_canon(text: &str) -> Program {
                 feed,
                 tool,
                 line,
-                group: None,
+                group,
             }),
             "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" | "STRAIGHT_PROBE" => {
                 let (Some(x), Some(y), Some(z)) = (num(0), num(1), num(2)) else {
@@ -252,7 +255,7 @@ pub fn parse_canon(text: &str) -> Program {
                         feed,
                         tool,
                         line,
-                        group: None,
+                        group,
                     });
                 }
                 pos = to;
@@ -293,7 +296,7 @@ pub fn parse_canon(text: &str) -> Program {
                             feed,
                             tool,
                             line,
-                            group: None,
+                            group,
                         });
                         pos = pt;
                     }
@@ -309,7 +312,7 @@ pub fn parse_canon(text: &str) -> Program {
                     feed,
                     tool,
                     line,
-                    group: None,
+                    group,
                 });
                 pos = to;
             }
@@ -323,7 +326,11 @@ pub fn parse_canon(text: &str) -> Program {
             // cuts of one pocket (and line cuts) cross, as the built-in interpreter reads them.
             "COMMENT" => {
                 if let Some(text) = comment_text(raw) {
+                    let marks = prog.group_marks.len();
                     note_group_marks(&[text.to_string()], line, &mut prog.group_marks);
+                    if let Some(&(_, g)) = prog.group_marks.get(marks..).and_then(|m| m.last()) {
+                        group = g;
+                    }
                 }
             }
             _ => {}
@@ -419,6 +426,8 @@ N10 G2 X1 Y1 I5
         let canon = "    1 N1     COMMENT(\"skinpath:group 3\")\n    2 N2     STRAIGHT_FEED(1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)\n    3 N3     COMMENT(\"skinpath:group none\")\n    4 N4     COMMENT(\"a (note), with \"quotes\"\")\n";
         let p = parse_canon(canon);
         assert_eq!(p.group_marks, vec![(1, Some(3)), (3, None)]);
+        // The move between the marks was cut under the first.
+        assert_eq!(p.motions.first().map(|m| m.group), Some(Some(3)));
         assert_eq!(
             comment_text(canon.lines().nth(3).unwrap()),
             Some("a (note), with \"quotes\"")

@@ -34,6 +34,7 @@ pub(crate) mod interp;
 pub(crate) mod linuxcnc;
 pub(crate) mod motion;
 pub(crate) mod ngc;
+pub(crate) mod piped;
 pub(crate) mod report;
 pub(crate) mod rs274;
 pub(crate) mod stream;
@@ -49,6 +50,7 @@ pub use linuxcnc::{number_lines, parse_canon};
 pub use motion::{
     Event, Motion, MotionKind, Motions, Program, ProgramEnd, Spindle, ToolState, Units,
 };
+pub use piped::{StageTimes, THREAD_ABOVE_BYTES};
 pub use report::{Report, Stats};
 pub use rs274::{Rs274Error, Rs274Options, Rs274Output, run as run_rs274};
 pub use stream::{STREAM_ABOVE_BYTES, check_stream};
@@ -104,17 +106,24 @@ pub fn load_with(
         Backend::LinuxCnc => linuxcnc::parse_canon(text),
     };
     if backend == Backend::Builtin {
-        if text.trim().is_empty() {
-            prog.unusable = Some(if text.is_empty() {
-                "the file is empty".into()
-            } else {
-                "the file holds only blank lines".into()
-            });
-        } else if memchr::memchr(0, text.as_bytes()).is_some() {
-            prog.unusable = Some("the file holds NUL bytes: it is binary, not G-code".into());
-        }
+        prog.unusable = unusable_text(text);
     }
     prog
+}
+
+/// Why G-code text cannot be used at all (empty, only blank lines, binary), if so.
+fn unusable_text(text: &str) -> Option<String> {
+    if text.trim().is_empty() {
+        Some(if text.is_empty() {
+            "the file is empty".into()
+        } else {
+            "the file holds only blank lines".into()
+        })
+    } else if memchr::memchr(0, text.as_bytes()).is_some() {
+        Some("the file holds NUL bytes: it is binary, not G-code".into())
+    } else {
+        None
+    }
 }
 
 /// Reads and checks `text`; see [`load`] and [`check`].
@@ -137,10 +146,40 @@ pub fn check_text_with(
     design: &[DesignBoundary],
     opts: &InterpOptions<'_>,
 ) -> Report {
-    let prog = load_with(backend, text, cfg, opts);
-    let mut r = check(&prog, cfg, design);
+    check_text_timed(backend, text, cfg, design, opts).0
+}
+
+/// [`check_text_with`] and the wall time of its stages. The builtin backend takes the
+/// moves as the interpreter produces them and never stores them (a route of its own, with
+/// the report of [`check`] on the stored program); the LinuxCNC backend's output is read
+/// into a [`Program`] first.
+#[must_use]
+pub fn check_text_timed(
+    backend: Backend,
+    text: &str,
+    cfg: &CheckConfig,
+    design: &[DesignBoundary],
+    opts: &InterpOptions<'_>,
+) -> (Report, StageTimes) {
+    let (mut r, times) = match backend {
+        Backend::Builtin => piped::check_builtin(text, cfg, design, opts),
+        Backend::LinuxCnc => {
+            let clock = std::time::Instant::now();
+            let prog = load_with(backend, text, cfg, opts);
+            let interpret = clock.elapsed().as_secs_f64();
+            let (found, stats, [contours, moves]) = checks_and_stats(&prog, cfg, design);
+            let report = assemble_found(&prog, cfg, found, stats);
+            let times = StageTimes {
+                interpret,
+                contours,
+                moves,
+                total: clock.elapsed().as_secs_f64(),
+            };
+            (report, times)
+        }
+    };
     r.backend = backend.name();
-    r
+    (r, times)
 }
 
 /// Decodes a file's bytes as G-code text: a UTF-8 byte-order mark is skipped and invalid
@@ -243,14 +282,19 @@ pub fn checks_and_stats(
             })
         },
     );
-    let mut found = checks::join(contour, moves);
-    found
+    let found = found_of(prog, checks::join(contour, moves));
+    (found, stats, [t_contours, t_moves])
+}
+
+/// The findings of [`checks_and_stats`]: the interpreter's diagnostics, then `checks`.
+fn found_of(prog: &Program, mut checks: CheckFindings) -> CheckFindings {
+    checks
         .findings
         .splice(0..0, prog.diagnostics.iter().cloned());
-    found
+    checks
         .dropped
         .splice(0..0, prog.diagnostics_dropped.iter().copied());
-    (found, stats, [t_contours, t_moves])
+    checks
 }
 
 /// The value of `f` and the wall seconds it took.
@@ -362,27 +406,14 @@ fn stats_each(
     cfg: &CheckConfig,
     mut f: impl FnMut(&Motion, (DVec3, DVec3)),
 ) -> Stats {
-    let mut s = Stats::default();
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    // One pass over the moves: the estimate hands each to `f` and to the length and bounds
-    // sums.
-    s.time = time::estimate_each(&prog.motions, cfg, |m| {
-        let (a, b) = m.bounds();
-        f(m, (a, b));
-        match m.kind {
-            MotionKind::Rapid => s.rapid_length += m.length(),
-            MotionKind::Feed => s.cut_length += m.length(),
-            MotionKind::Dwell { .. } => return,
-        }
-        s.motions += 1;
-        lo = lo.min(a);
-        hi = hi.max(b);
+    let mut sum = report::StatsSum::new();
+    // One pass over the moves: the estimate hands each to `f` and to the sums.
+    let time = time::estimate_each(&prog.motions, cfg, |m| {
+        let bounds = m.bounds();
+        f(m, bounds);
+        sum.motion(m, bounds);
     });
-    if s.motions > 0 {
-        s.bbox = Some([lo.to_array(), hi.to_array()]);
-    }
-    s
+    sum.finish(time)
 }
 
 #[cfg(test)]

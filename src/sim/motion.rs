@@ -267,6 +267,28 @@ impl Motions {
         self.recs.is_empty()
     }
 
+    /// Removes every move, keeping the tables' room.
+    pub fn clear(&mut self) {
+        self.recs.clear();
+        self.states.clear();
+        self.sides.clear();
+    }
+
+    /// The largest source line of the moves (0 for none).
+    #[must_use]
+    pub fn max_line(&self) -> usize {
+        let line = |r: &Rec| {
+            if r.tag & HAS_SIDE != 0 {
+                self.sides
+                    .get(r.line_or_side as usize)
+                    .map_or(0, |s| s.line)
+            } else {
+                r.line_or_side as usize
+            }
+        };
+        self.recs.iter().map(line).max().unwrap_or(0)
+    }
+
     /// Reserves room for `n` more moves.
     pub fn reserve(&mut self, n: usize) {
         self.recs.reserve(n);
@@ -531,8 +553,10 @@ pub struct Program {
     pub uncertain_from: Option<usize>,
     /// Why nothing usable could be read (empty file, binary data), when that is the case.
     pub unusable: Option<String>,
-    /// Pocket marks `(skinpath:group N)` by line, in line order: the mark in force from that
-    /// line on (None after `(skinpath:group none)`).
+    /// Pocket marks `(skinpath:group N)` with their lines, in the order read (None for
+    /// `(skinpath:group none)`). The checks read the mark each move was cut under from the
+    /// move ([`Motion::group`]): in a loop or a subroutine, the order read is not the
+    /// lines' order.
     pub group_marks: Vec<(usize, Option<u32>)>,
 }
 

@@ -2,6 +2,8 @@
 //! returns. Its findings are [`super::findings::Finding`]s (re-exported here).
 
 pub use super::findings::{Finding, Severity};
+use super::motion::{Motion, MotionKind};
+use glam::DVec3;
 use serde::Serialize;
 use std::fmt;
 
@@ -19,6 +21,50 @@ pub struct Stats {
     pub bbox: Option<[[f64; 3]; 2]>,
     /// Estimated run time.
     pub time: super::time::TimeEstimate,
+}
+
+/// [`Stats`] summed one move at a time, all but the time (which
+/// [`super::time::Estimator`] gives).
+#[derive(Clone, Debug)]
+pub(crate) struct StatsSum {
+    stats: Stats,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl StatsSum {
+    /// No move yet.
+    pub(crate) fn new() -> Self {
+        StatsSum {
+            stats: Stats::default(),
+            lo: DVec3::splat(f64::INFINITY),
+            hi: DVec3::splat(f64::NEG_INFINITY),
+        }
+    }
+
+    /// Adds `m`, whose [`Motion::bounds`] are `(lo, hi)`: its length, and its bounds
+    /// unless it is a dwell.
+    pub(crate) fn motion(&mut self, m: &Motion, (lo, hi): (DVec3, DVec3)) {
+        let s = &mut self.stats;
+        match m.kind {
+            MotionKind::Rapid => s.rapid_length += m.length(),
+            MotionKind::Feed => s.cut_length += m.length(),
+            MotionKind::Dwell { .. } => return,
+        }
+        s.motions += 1;
+        self.lo = self.lo.min(lo);
+        self.hi = self.hi.max(hi);
+    }
+
+    /// The statistics of the moves added, with the run time `time`.
+    pub(crate) fn finish(self, time: super::time::TimeEstimate) -> Stats {
+        let mut s = self.stats;
+        s.time = time;
+        if s.motions > 0 {
+            s.bbox = Some([self.lo.to_array(), self.hi.to_array()]);
+        }
+        s
+    }
 }
 
 /// The result of checking one program.

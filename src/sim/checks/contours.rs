@@ -7,7 +7,7 @@
 //! of the outline document).
 
 use super::Capped;
-use super::intersect::{Across, MAX_CONTACTS, SegmentSet};
+use super::intersect::{Across, MAX_CONTACTS, OpenPolyline, SegmentSet};
 use crate::geom::DVec2;
 use crate::sim::config::{CheckConfig, Dialect, MachineKind};
 use crate::sim::findings::{Finding, Severity};
@@ -63,27 +63,19 @@ pub fn note_group_marks(comments: &[String], line: usize, marks: &mut Vec<(usize
     }
 }
 
-/// The pocket mark in force at `line`: the last mark on an earlier line (marks sit on
-/// lines of their own, before the moves they cover).
-pub fn group_at(marks: &[(usize, Option<u32>)], line: usize) -> Option<u32> {
-    let k = marks.partition_point(|(l, _)| *l < line);
-    if k == 0 { None } else { marks[k - 1].1 }
-}
-
 /// The cut contours of a program, arcs flattened to `cfg.flatten_tolerance` (mm).
 pub fn cut_contours(motions: &Motions, cfg: &CheckConfig) -> Vec<SimContour> {
-    cut_contours_marked(motions, &[], cfg)
+    let mut out = Vec::new();
+    for_each_cut_contour(motions, false, cfg, |c| out.push(c.clone()));
+    out
 }
 
-/// [`cut_contours`] with the program's pocket marks: a contour also ends where the mark
-/// changes, and carries the mark it was cut under.
-pub fn cut_contours_marked(
-    motions: &Motions,
-    marks: &[(usize, Option<u32>)],
-    cfg: &CheckConfig,
-) -> Vec<SimContour> {
+/// [`cut_contours`] with the pocket marks the moves were cut under ([`Motion::group`]): a
+/// contour also ends where the mark changes, and carries the mark it was cut under.
+#[cfg(test)]
+pub fn cut_contours_marked(motions: &Motions, cfg: &CheckConfig) -> Vec<SimContour> {
     let mut out = Vec::new();
-    for_each_cut_contour(motions, marks, cfg, |c| out.push(c.clone()));
+    for_each_cut_contour(motions, true, cfg, |c| out.push(c.clone()));
     out
 }
 
@@ -94,14 +86,15 @@ pub fn cut_contours_marked(
 /// the checks stop with a [`check_limit`] finding.
 pub const MAX_CONTOUR_SEGMENTS: usize = 1 << 23;
 
-/// Calls `f` with each contour of [`cut_contours_marked`] in order, built in one buffer
+/// Calls `f` with each contour of [`cut_contours`] (of `cut_contours_marked` when
+/// `marked`) in order, built in one buffer
 /// reused from contour to contour: a caller that does not keep the contours whole (the
 /// checks keep their segments) needs no memory for all of them at once. Stops before the
 /// move whose flattened segments would take the contours past [`MAX_CONTOUR_SEGMENTS`]
 /// and returns its index (None when every move was taken).
 pub fn for_each_cut_contour(
     motions: &Motions,
-    marks: &[(usize, Option<u32>)],
+    marked: bool,
     cfg: &CheckConfig,
     mut f: impl FnMut(&SimContour),
 ) -> Option<usize> {
@@ -112,7 +105,7 @@ pub fn for_each_cut_contour(
         session: 0,
         group: None,
     };
-    for_each_cut_point(motions, marks, cfg, |e| match e {
+    for_each_cut_point(motions, marked, cfg, |e| match e {
         CutPoint::Start {
             point,
             z,
@@ -122,7 +115,7 @@ pub fn for_each_cut_contour(
             cur.points.push(point);
             (cur.z, cur.session, cur.group) = (z, session, group);
         }
-        CutPoint::Next { point, source } => {
+        CutPoint::Next { point, source, .. } => {
             cur.points.push(point);
             cur.sources.push(source);
         }
@@ -145,8 +138,13 @@ enum CutPoint {
         session: u32,
         group: Option<u32>,
     },
-    /// The contour's next point, the end of a segment of motion `source`.
-    Next { point: DVec2, source: u32 },
+    /// The contour's next point, the end of a segment of motion `source`, on program
+    /// line `line`.
+    Next {
+        point: DVec2,
+        source: u32,
+        line: usize,
+    },
     /// The contour ends.
     End,
 }
@@ -155,34 +153,62 @@ enum CutPoint {
 /// million moves is one contour). Same stop and return value.
 fn for_each_cut_point(
     motions: &Motions,
-    marks: &[(usize, Option<u32>)],
+    marked: bool,
     cfg: &CheckConfig,
     mut f: impl FnMut(CutPoint),
 ) -> Option<usize> {
-    // The open contour's tool session and pocket mark, while one is open.
-    let mut open: Option<(u32, Option<u32>)> = None;
-    let close = |open: &mut Option<(u32, Option<u32>)>, f: &mut dyn FnMut(CutPoint)| {
-        if open.take().is_some() {
-            f(CutPoint::End);
-        }
-    };
-    // Segments handed out so far (one per line, the chords of arcs).
-    let mut total = 0usize;
+    let mut cut = CutPoints::new(marked);
     for (k, m) in motions.iter().enumerate() {
+        cut.motion(k, &m, cfg, &mut f);
+        if cut.stopped.is_some() {
+            break;
+        }
+    }
+    cut.close(&mut f);
+    cut.stopped.map(|(k, _)| k)
+}
+
+/// [`for_each_cut_point`] move by move: what it keeps between two moves.
+#[derive(Clone, Copy, Debug)]
+struct CutPoints {
+    /// Whether contours carry the pocket marks of their moves (else none).
+    marked: bool,
+    /// The open contour's tool session and pocket mark, while one is open.
+    open: Option<(u32, Option<u32>)>,
+    /// Segments handed out so far (one per line, the chords of arcs).
+    total: usize,
+    /// Index and line of the move that would have taken the contours past
+    /// [`MAX_CONTOUR_SEGMENTS`]: no point is handed out from it on.
+    stopped: Option<(usize, usize)>,
+}
+
+impl CutPoints {
+    /// Nothing handed out yet.
+    fn new(marked: bool) -> Self {
+        CutPoints {
+            marked,
+            open: None,
+            total: 0,
+            stopped: None,
+        }
+    }
+
+    /// Hands `f` the points move `m` (index `k`) adds to the contours.
+    fn motion(&mut self, k: usize, m: &Motion, cfg: &CheckConfig, f: &mut impl FnMut(CutPoint)) {
+        if self.stopped.is_some() || matches!(m.kind, MotionKind::Dwell { .. }) {
+            return;
+        }
         let planar = m.from.z == m.to.z;
-        if matches!(m.kind, MotionKind::Dwell { .. }) {
-            continue;
+        if !(is_cutting(m, cfg) && planar) {
+            self.close(f);
+            return;
         }
-        if !(is_cutting(&m, cfg) && planar) {
-            close(&mut open, &mut f);
-            continue;
+        let group = if self.marked { m.group } else { None };
+        if self.open.is_some_and(|o| o != (m.tool.session, group)) {
+            self.close(f);
         }
-        let group = group_at(marks, m.line);
-        if open.is_some_and(|o| o != (m.tool.session, group)) {
-            close(&mut open, &mut f);
-        }
-        if open.is_none() {
-            open = Some((m.tool.session, group));
+        if self.open.is_none() {
+            self.open = Some((m.tool.session, group));
             f(CutPoint::Start {
                 point: m.from.truncate(),
                 z: m.from.z,
@@ -193,28 +219,37 @@ fn for_each_cut_point(
         let chords = m
             .arc
             .map_or(1, |a| a.chords_for_tolerance(cfg.flatten_tolerance));
-        total += chords;
-        if total > MAX_CONTOUR_SEGMENTS {
-            close(&mut open, &mut f);
-            return Some(k);
+        self.total += chords;
+        if self.total > MAX_CONTOUR_SEGMENTS {
+            self.close(f);
+            self.stopped = Some((k, m.line));
+            return;
         }
+        let (source, line) = (k as u32, m.line);
         if m.arc.is_none() {
             // A line flattens to its two ends: no point list to build.
             f(CutPoint::Next {
                 point: m.to.truncate(),
-                source: k as u32,
+                source,
+                line,
             });
         } else {
             for p in m.flatten_xy(cfg.flatten_tolerance).into_iter().skip(1) {
                 f(CutPoint::Next {
                     point: p,
-                    source: k as u32,
+                    source,
+                    line,
                 });
             }
         }
     }
-    close(&mut open, &mut f);
-    None
+
+    /// Ends the open contour, if any.
+    fn close(&mut self, f: &mut impl FnMut(CutPoint)) {
+        if self.open.take().is_some() {
+            f(CutPoint::End);
+        }
+    }
 }
 
 /// The finding of contour checks stopped at [`MAX_CONTOUR_SEGMENTS`], on `line`: the
@@ -237,44 +272,101 @@ pub fn check_limit(line: usize) -> Finding {
 pub struct ContourStart {
     /// First point.
     pub point: DVec2,
-    /// Motion index of its first segment (None for a contour of one point).
-    pub source: Option<u32>,
+    /// Program line of its first segment (None for a contour of one point).
+    pub line: Option<usize>,
     /// Height (z, mm).
     pub z: f64,
 }
 
 /// The segments of the cut contours ([`cut_contours_marked`]) for the intersection check
-/// ([`intersection_findings`]) and each contour's start, in one pass that does not keep
-/// the contours' point lists (a second copy of every point, 20 bytes a segment).
-/// Also the [`check_limit`] finding when the contours were cut short at
-/// [`MAX_CONTOUR_SEGMENTS`].
+/// ([`intersection_findings`]), each tagged with its program line (saturated at
+/// `u32::MAX`), and each contour's start, in one pass that does not keep the contours'
+/// point lists (a second copy of every point, 20 bytes a segment). Also the
+/// [`check_limit`] finding when the contours were cut short at [`MAX_CONTOUR_SEGMENTS`].
+/// The checks gather them move by move ([`SegmentGather`]); the tests from stored moves.
+#[cfg(test)]
 pub fn contour_segments(
     motions: &Motions,
-    marks: &[(usize, Option<u32>)],
     cfg: &CheckConfig,
 ) -> (SegmentSet, Vec<ContourStart>, Option<Finding>) {
-    let mut set = new_set(cfg);
-    // At most one segment per straight move: arcs may need more (the vector grows then).
-    set.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
-    let mut starts: Vec<ContourStart> = Vec::new();
-    let mut open = None;
-    let stop = for_each_cut_point(motions, marks, cfg, |e| match e {
+    let mut gather = SegmentGather::new(cfg);
+    gather.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
+    for (k, m) in motions.iter().enumerate() {
+        gather.motion(k, &m, cfg);
+        if gather.cut.stopped.is_some() {
+            break;
+        }
+    }
+    gather.finish()
+}
+
+/// [`contour_segments`] move by move, for callers that do not store the moves.
+#[derive(Clone, Debug)]
+pub(crate) struct SegmentGather {
+    set: SegmentSet,
+    starts: Vec<ContourStart>,
+    open: Option<OpenPolyline>,
+    cut: CutPoints,
+}
+
+impl SegmentGather {
+    /// Nothing gathered yet.
+    pub(crate) fn new(cfg: &CheckConfig) -> Self {
+        SegmentGather {
+            set: new_set(cfg),
+            starts: Vec::new(),
+            open: None,
+            cut: CutPoints::new(true),
+        }
+    }
+
+    /// Reserves room for `n` more segments (straight moves give at most one each).
+    pub(crate) fn reserve(&mut self, n: usize) {
+        self.set.reserve(n);
+    }
+
+    /// Adds the segments of move `m` (index `k`), under the pocket mark it was cut under;
+    /// none once the contours were cut short.
+    pub(crate) fn motion(&mut self, k: usize, m: &Motion, cfg: &CheckConfig) {
+        let (set, starts, open) = (&mut self.set, &mut self.starts, &mut self.open);
+        self.cut
+            .motion(k, m, cfg, &mut |e| gather_point(set, starts, open, e));
+    }
+
+    /// The segment set, the contour starts and the [`check_limit`] finding (see
+    /// [`contour_segments`]).
+    pub(crate) fn finish(mut self) -> (SegmentSet, Vec<ContourStart>, Option<Finding>) {
+        let (set, starts, open) = (&mut self.set, &mut self.starts, &mut self.open);
+        self.cut.close(&mut |e| gather_point(set, starts, open, e));
+        let limit = self.cut.stopped.map(|(_, line)| check_limit(line));
+        (self.set, self.starts, limit)
+    }
+}
+
+/// Adds cut point `e` to `set` and `starts`, `open` the contour being added.
+fn gather_point(
+    set: &mut SegmentSet,
+    starts: &mut Vec<ContourStart>,
+    open: &mut Option<OpenPolyline>,
+    e: CutPoint,
+) {
+    match e {
         CutPoint::Start {
             point, z, group, ..
         } => {
-            open = Some(set.begin_polyline(point, group));
+            *open = Some(set.begin_polyline(point, group));
             starts.push(ContourStart {
                 point,
-                source: None,
+                line: None,
                 z,
             });
         }
-        CutPoint::Next { point, source } => {
+        CutPoint::Next { point, line, .. } => {
             if let Some(s) = starts.last_mut() {
-                s.source.get_or_insert(source);
+                s.line.get_or_insert(line);
             }
             if let Some(o) = open.as_mut() {
-                set.polyline_to(o, point, source);
+                set.polyline_to(o, point, u32::try_from(line).unwrap_or(u32::MAX));
             }
         }
         CutPoint::End => {
@@ -282,9 +374,7 @@ pub fn contour_segments(
                 set.end_polyline(o);
             }
         }
-    });
-    let limit = stop.map(|k| check_limit(motions.get(k).map_or(0, |m| m.line)));
-    (set, starts, limit)
+    }
 }
 
 /// The empty segment set of the intersection check under `cfg`.
@@ -582,11 +672,9 @@ impl<'p> ContactFolder<'p> {
 pub(crate) fn intersection_findings(
     set: &SegmentSet,
     starts: &[ContourStart],
-    motions: &Motions,
     cfg: &CheckConfig,
     out: &mut Capped,
 ) {
-    let line_of = |src: u32| motions.get(src as usize).map(|m| m.line).unwrap_or(0);
     let passes = pass_numbers(&path_keys(set));
     let mut folder = ContactFolder::new(&passes, cfg);
     // The search may stop once the report is full: every id that can still be found has
@@ -611,7 +699,8 @@ pub(crate) fn intersection_findings(
             let side = |g: super::Seg, k: usize| Side {
                 contour: g.contour,
                 index: g.index,
-                line: line_of(set.source(k)),
+                // Tagged with its line by [`contour_segments`].
+                line: set.source(k) as usize,
             };
             let z = starts.get(s.contour as usize).map(|k| k.z).unwrap_or(0.0);
             folder.contact(
@@ -625,7 +714,7 @@ pub(crate) fn intersection_findings(
             return true;
         }
         let counts = folder.counts();
-        let [own_max, across_max] = *bounds.get_or_insert_with(|| finding_bounds(set, &line_of));
+        let [own_max, across_max] = *bounds.get_or_insert_with(|| finding_bounds(set));
         exhausted = [counts[0] >= own_max, !crossings || counts[1] >= across_max];
         let done = |k: usize| exhausted[k] || counts[k] > cap;
         let full = done(0) && done(1);
@@ -654,20 +743,17 @@ pub(crate) fn intersection_findings(
 /// contour (no fewer than its distinct lines). A finding count that reaches its bound
 /// is the whole count: an arc of 100,000 turns on one line makes one finding however
 /// often it crosses itself.
-fn finding_bounds(set: &SegmentSet, line_of: &impl Fn(u32) -> usize) -> [usize; 2] {
+fn finding_bounds(set: &SegmentSet) -> [usize; 2] {
     let (mut own, mut runs, mut squares) = (0u128, 0u128, 0u128);
     let mut at = 0usize;
     for &(n, _) in &set.contours {
         let mut r = 0u128;
-        let (mut source, mut line) = (None, None);
+        // Segments are tagged with their lines ([`contour_segments`]).
+        let mut line = None;
         for k in at..at + n as usize {
-            let src = set.source(k);
-            if source != Some(src) {
-                source = Some(src);
-                let l = line_of(src);
-                r += u128::from(line != Some(l));
-                line = Some(l);
-            }
+            let l = set.source(k);
+            r += u128::from(line != Some(l));
+            line = Some(l);
         }
         at += n as usize;
         own += r * (r + 1) / 2;

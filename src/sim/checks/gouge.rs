@@ -1,12 +1,12 @@
 //! Gouge check: the tool centre must stay at least `tool_radius − gouge_tolerance` away from
 //! the design boundary, on the side the profile asks for.
 
-use super::contours::{ContourStart, is_cutting};
+use super::contours::ContourStart;
 use crate::geom::predicates::edge_winding;
 use crate::geom::{DVec2, Line};
 use crate::sim::config::CheckConfig;
 use crate::sim::findings::{Finding, Severity};
-use crate::sim::motion::{Motion, Motions};
+use crate::sim::motion::Motion;
 use rstar::primitives::{GeomWithData, Line as RLine};
 use rstar::{AABB, RTree};
 use serde::{Deserialize, Serialize};
@@ -138,6 +138,13 @@ impl<'d> GougeIndex<'d> {
         )
     }
 
+    /// The findings of [`GougeIndex::contour_start`] for every contour start, in order.
+    pub fn contour_starts(&self, starts: &[ContourStart]) -> Vec<Finding> {
+        (starts.iter())
+            .filter_map(|c| self.contour_start(c.point, c.line.unwrap_or(0), c.z))
+            .collect()
+    }
+
     /// The gouge of a contour starting at `p` (cut at height `z`, first move on `line`) on
     /// the wrong side of the nearest boundary.
     pub fn contour_start(&self, p: DVec2, line: usize, z: f64) -> Option<Finding> {
@@ -164,35 +171,6 @@ impl<'d> GougeIndex<'d> {
             .at([p.x, p.y, z])
         })
     }
-}
-
-/// Gouges: cutting moves whose flattened xy path (sagitta ≤ `cfg.flatten_tolerance`) comes
-/// closer than `tool_radius − gouge_tolerance` to any boundary, and contours whose start
-/// lies on the wrong side of the nearest boundary. One finding per offending line.
-pub fn gouge_findings(
-    motions: &Motions,
-    contours: &[ContourStart],
-    design: &[DesignBoundary],
-    cfg: &CheckConfig,
-) -> Vec<Finding> {
-    let Some(index) = GougeIndex::new(design, cfg) else {
-        return Vec::new();
-    };
-    let mut out = Vec::new();
-    if index.clearance > 0.0 {
-        for m in motions {
-            out.extend(index.motion(&m, is_cutting(&m, cfg)));
-        }
-    }
-    for c in contours {
-        let line = c
-            .source
-            .and_then(|s| motions.get(s as usize))
-            .map(|m| m.line)
-            .unwrap_or(0);
-        out.extend(index.contour_start(c.point, line, c.z));
-    }
-    out
 }
 
 #[cfg(test)]

@@ -132,21 +132,70 @@ pub fn contour_findings(
     cfg: &CheckConfig,
     design: &[DesignBoundary],
 ) -> CheckFindings {
-    let (set, starts, limit) = contours::contour_segments(&prog.motions, &prog.group_marks, cfg);
-    let mut inter = Capped::new(cfg.max_findings_per_check);
-    if let Some(f) = limit {
-        inter.push(f);
+    let mut pass = ContourPass::new(cfg, design);
+    pass.gather
+        .reserve(prog.motions.len().min(contours::MAX_CONTOUR_SEGMENTS));
+    for (k, m) in prog.motions.iter().enumerate() {
+        pass.motion(k, &m);
     }
-    contours::intersection_findings(&set, &starts, &prog.motions, cfg, &mut inter);
-    drop(set);
-    let dropped = inter.dropped().collect();
-    let at_least = inter.lower_bounds();
-    let mut findings = inter.kept;
-    findings.extend(gouge::gouge_findings(&prog.motions, &starts, design, cfg));
-    CheckFindings {
-        findings,
-        dropped,
-        at_least,
+    pass.finish()
+}
+
+/// [`contour_findings`] fed move by move, for callers that do not store the moves: the
+/// segments are gathered and each move's gouges found as the moves come, the contacts
+/// and the contour starts' gouges looked for at the end.
+pub(crate) struct ContourPass<'c> {
+    cfg: &'c CheckConfig,
+    gather: contours::SegmentGather,
+    gouge: Option<gouge::GougeIndex<'c>>,
+    /// The gouges of the moves so far.
+    gouges: Vec<Finding>,
+}
+
+impl<'c> ContourPass<'c> {
+    /// No move seen yet (`cfg` in mm, `design` in mm).
+    pub(crate) fn new(cfg: &'c CheckConfig, design: &'c [DesignBoundary]) -> Self {
+        ContourPass {
+            cfg,
+            gather: contours::SegmentGather::new(cfg),
+            gouge: gouge::GougeIndex::new(design, cfg),
+            gouges: Vec::new(),
+        }
+    }
+
+    /// Takes the next move, `k` its index.
+    pub(crate) fn motion(&mut self, k: usize, m: &Motion) {
+        self.gather.motion(k, m, self.cfg);
+        if let Some(g) = &self.gouge
+            && let Some(f) = g.motion(m, is_cutting(m, self.cfg))
+        {
+            self.gouges.push(f);
+        }
+    }
+
+    /// The findings: contacts (capped, counted beyond the cap), the moves' gouges, the
+    /// contour starts' gouges.
+    pub(crate) fn finish(self) -> CheckFindings {
+        let cfg = self.cfg;
+        let (set, starts, limit) = self.gather.finish();
+        let mut inter = Capped::new(cfg.max_findings_per_check);
+        if let Some(f) = limit {
+            inter.push(f);
+        }
+        contours::intersection_findings(&set, &starts, cfg, &mut inter);
+        drop(set);
+        let dropped = inter.dropped().collect();
+        let at_least = inter.lower_bounds();
+        let mut findings = inter.kept;
+        findings.extend(self.gouges);
+        if let Some(g) = &self.gouge {
+            findings.extend(g.contour_starts(&starts));
+        }
+        CheckFindings {
+            findings,
+            dropped,
+            at_least,
+        }
     }
 }
 
@@ -506,7 +555,7 @@ mod tests {
         assert_eq!(own.len(), 1, "{r}");
         assert_eq!(own[0].lines, vec![4, 4]);
         let prog = crate::sim::load(Backend::Builtin, src, &cfg.in_mm());
-        let (set, _, _) = contours::contour_segments(&prog.motions, &prog.group_marks, &cfg);
+        let (set, _, _) = contours::contour_segments(&prog.motions, &cfg);
         let n = set.len();
         assert!(n >= intersect::ROUNDS_MIN, "{n}");
         let first = (0..n)
@@ -713,9 +762,9 @@ mod tests {
         }
         .in_mm();
         let prog = crate::sim::load(Backend::Builtin, src, &cfg);
-        let kept = contours::cut_contours_marked(&prog.motions, &prog.group_marks, &cfg);
+        let kept = contours::cut_contours_marked(&prog.motions, &cfg);
         assert!(kept.len() >= 4, "{kept:?}");
-        let (set, starts, _) = contours::contour_segments(&prog.motions, &prog.group_marks, &cfg);
+        let (set, starts, _) = contours::contour_segments(&prog.motions, &cfg);
         let mut want = SegmentSet::new();
         for c in &kept {
             want.push_polyline_in(&c.points, &c.sources, c.group);
@@ -729,7 +778,11 @@ mod tests {
             .iter()
             .map(|c| contours::ContourStart {
                 point: c.points[0],
-                source: c.sources.first().copied(),
+                line: c
+                    .sources
+                    .first()
+                    .and_then(|&s| prog.motions.get(s as usize))
+                    .map(|m| m.line),
                 z: c.z,
             })
             .collect();

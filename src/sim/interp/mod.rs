@@ -175,10 +175,6 @@ struct CallFrame {
 }
 
 struct Interp<'a, 'o> {
-    /// Streaming route ([`interpret_stream`]): moves wait in `pending` until the line is
-    /// done and go to the caller's sink instead of into `prog`.
-    streaming: bool,
-    pending: Vec<Motion>,
     cfg: &'o CheckConfig,
     opts: &'o Options<'o>,
     syn: Syntax,
@@ -341,8 +337,6 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
         },
     };
     let mut it = Interp {
-        streaming: false,
-        pending: Vec::new(),
         cfg,
         opts,
         syn,
@@ -382,23 +376,46 @@ fn new_interp<'a, 'o>(cfg: &'o CheckConfig, opts: &'o Options<'o>) -> Interp<'a,
 /// table, loop budget and IJ radius tolerance apply.
 #[must_use]
 pub fn interpret_with(src: &str, cfg: &CheckConfig, opts: &Options<'_>) -> Program {
+    interpret_text(src, cfg, opts, None)
+}
+
+/// [`interpret_with`], handing the moves to `sink` in chunks as they are produced instead
+/// of keeping them: the returned program has no motions.
+pub fn interpret_each(
+    src: &str,
+    cfg: &CheckConfig,
+    opts: &Options<'_>,
+    sink: MotionSink<'_>,
+) -> Program {
+    interpret_text(src, cfg, opts, Some(sink))
+}
+
+/// [`interpret_with`] storing the moves, or [`interpret_each`] handing them to `sink`.
+fn interpret_text(
+    src: &str,
+    cfg: &CheckConfig,
+    opts: &Options<'_>,
+    sink: Option<MotionSink<'_>>,
+) -> Program {
     let mut it = new_interp(cfg, opts);
     it.add_source("program".into(), Cow::Borrowed(src));
-    // About one move per line: reserving it up front avoids the doubling growth whose
-    // spare capacity would count against an address-space limit on long programs; the
-    // unused part is returned at the end.
-    let lines = it.sources.first().map_or(0, |s| s.len());
-    it.prog.motions.reserve(lines);
-    it.run(None);
+    if sink.is_none() {
+        // About one move per line: reserving it up front avoids the doubling growth whose
+        // spare capacity would count against an address-space limit on long programs; the
+        // unused part is returned at the end.
+        let lines = it.sources.first().map_or(0, |s| s.len());
+        it.prog.motions.reserve(lines);
+    }
+    it.run(sink);
     it.prog.motions.shrink_to_fit();
     it.prog.final_tool = it.st.tool;
     it.prog
 }
 
 /// Interprets a program read line by line from `input` (never held whole in memory), handing
-/// every move to `sink` as it is produced (with the pocket marks read so far) instead of
-/// storing it: the returned program has no motions. `cfg` as for [`interpret_with`]. Returns the pre-scan's facts beside it, or
-/// the read error.
+/// the moves to `sink` as they are produced instead of keeping them: the returned program
+/// has no motions. `cfg` as for [`interpret_with`]. Returns the pre-scan's facts beside it,
+/// or the read error.
 pub fn interpret_stream<'a>(
     mut input: Box<dyn ReadSeek + 'a>,
     cfg: &CheckConfig,
@@ -422,7 +439,6 @@ pub fn interpret_stream<'a>(
         body: Body::Stream(Box::new(stream)),
     };
     it.push_source(src, owords);
-    it.streaming = true;
     it.run(Some(sink));
     it.prog.final_tool = it.st.tool;
     let error = match it.sources.first().map(|s| &s.body) {
@@ -443,11 +459,7 @@ enum Flow {
 
 impl<'a> Interp<'a, '_> {
     fn emit(&mut self, m: Motion) {
-        if self.streaming {
-            self.pending.push(m);
-        } else {
-            self.prog.motions.push(m);
-        }
+        self.prog.motions.push(m);
     }
 
     fn finding(&self, id: &'static str, sev: Severity, col: Option<usize>, msg: String) -> Finding {

@@ -113,9 +113,16 @@ impl<'a> Source<'a> {
     }
 }
 
-/// Where [`interpret_stream`] hands each move, with the pocket marks read so far (see
-/// [`Program::group_marks`]).
-pub type MotionSink<'s> = &'s mut dyn FnMut(Motion, &[(usize, Option<u32>)]);
+/// Where [`interpret_each`] and [`interpret_stream`] hand the moves instead of keeping them:
+/// `take` gets the moves produced since it was last called, before a line is read once
+/// there are at least `chunk` of them, and after the last line. Moves `take` leaves in the
+/// list are dropped.
+pub struct MotionSink<'s> {
+    /// Takes the moves out of the list (swapping in an empty one, or reading them).
+    pub take: &'s mut dyn FnMut(&mut crate::sim::motion::Motions),
+    /// Moves gathered before `take` is called (1: after every line that moved).
+    pub chunk: usize,
+}
 
 /// Both [`std::io::Read`] and [`std::io::Seek`].
 pub trait ReadSeek: std::io::Read + std::io::Seek {}
@@ -350,11 +357,14 @@ impl<'a> Interp<'a, '_> {
 
     /// Runs the program from its first line.
     pub(super) fn run(&mut self, mut sink: Option<MotionSink<'_>>) {
-        let mut drain = |it: &mut Self| {
-            if let Some(f) = sink.as_mut() {
-                for m in it.pending.drain(..) {
-                    f(m, &it.prog.group_marks);
-                }
+        let chunk = sink.as_ref().map_or(usize::MAX, |s| s.chunk);
+        // Hands the moves to the sink once there are at least `chunk` of them.
+        let mut drain = |it: &mut Self, chunk: usize| {
+            if let Some(s) = sink.as_mut()
+                && it.prog.motions.len() >= chunk.max(1)
+            {
+                (s.take)(&mut it.prog.motions);
+                it.prog.motions.clear();
             }
         };
         let (mut src, mut i) = (0usize, 0usize);
@@ -369,7 +379,7 @@ impl<'a> Interp<'a, '_> {
             None
         };
         while !self.stop {
-            drain(self);
+            drain(self, chunk);
             if i >= self.sources[src].len() {
                 if src != 0 {
                     self.err(
@@ -468,7 +478,7 @@ impl<'a> Interp<'a, '_> {
                 }
             }
         }
-        drain(self);
+        drain(self, 1);
     }
 
     /// Reports (once) that non-blank lines follow the end and are ignored.

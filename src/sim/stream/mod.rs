@@ -29,11 +29,10 @@ use super::config::CheckConfig;
 use super::findings::Finding;
 use super::interp::{self, ReadSeek};
 use super::motion::{Motion, MotionKind, Program};
-use super::report::{Report, Stats};
+use super::report::{Report, Stats, StatsSum};
 use super::time::Estimator;
 use crate::geom::DVec2;
 use crate::geom::predicates::orient2d;
-use glam::DVec3;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
 
@@ -85,8 +84,19 @@ pub fn check_stream_tiled<'a>(
     let mm = cfg.in_mm();
     let mut ck = Checker::new(&mm, design)?;
     ck.tile_entries = tile_entries.max(1);
-    let (mut prog, scan) =
-        interp::interpret_stream(input, &mm, opts, &mut |m, marks| ck.motion(m, marks))?;
+    let (mut prog, scan) = interp::interpret_stream(
+        input,
+        &mm,
+        opts,
+        interp::MotionSink {
+            take: &mut |moves| {
+                for m in &*moves {
+                    ck.motion(m);
+                }
+            },
+            chunk: 1,
+        },
+    )?;
     ck.finish_contour();
     if let Some(e) = ck.error.take() {
         return Err(e);
@@ -299,9 +309,7 @@ struct Checker<'d> {
     fp: machine::FeedPower,
     limits: machine::Limits,
     scratch: Vec<Finding>,
-    stats: Stats,
-    lo: DVec3,
-    hi: DVec3,
+    stats: StatsSum,
     time: Estimator,
     cur: Option<Cur>,
     contours: u32,
@@ -335,9 +343,7 @@ impl<'d> Checker<'d> {
             fp: machine::FeedPower::default(),
             limits: machine::Limits::new(cfg),
             scratch: Vec::new(),
-            stats: Stats::default(),
-            lo: DVec3::splat(f64::INFINITY),
-            hi: DVec3::splat(f64::NEG_INFINITY),
+            stats: StatsSum::new(),
             time: Estimator::new(cfg),
             cur: None,
             contours: 0,
@@ -355,20 +361,9 @@ impl<'d> Checker<'d> {
         })
     }
 
-    fn motion(&mut self, m: Motion, marks: &[(usize, Option<u32>)]) {
+    fn motion(&mut self, m: Motion) {
         let cfg = &self.cfg;
-        // Statistics (as super::stats).
-        match m.kind {
-            MotionKind::Rapid => self.stats.rapid_length += m.length(),
-            MotionKind::Feed => self.stats.cut_length += m.length(),
-            MotionKind::Dwell { .. } => {}
-        }
-        if !matches!(m.kind, MotionKind::Dwell { .. }) {
-            self.stats.motions += 1;
-            let (a, b) = m.bounds();
-            self.lo = self.lo.min(a);
-            self.hi = self.hi.max(b);
-        }
+        self.stats.motion(&m, m.bounds());
         self.time.motion(&m);
         let cutting = contours::is_cutting(&m, cfg);
         if let Some(g) = &self.gouge
@@ -385,11 +380,11 @@ impl<'d> Checker<'d> {
         for f in self.scratch.drain(..) {
             self.feed_power.push(f);
         }
-        self.contour_step(&m, cutting, marks);
+        self.contour_step(&m, cutting);
     }
 
     /// [`contours::cut_contours_marked`] and [`SegmentSet::push_polyline`], move by move.
-    fn contour_step(&mut self, m: &Motion, cutting: bool, marks: &[(usize, Option<u32>)]) {
+    fn contour_step(&mut self, m: &Motion, cutting: bool) {
         if matches!(m.kind, MotionKind::Dwell { .. }) {
             return;
         }
@@ -398,7 +393,7 @@ impl<'d> Checker<'d> {
             self.finish_contour();
             return;
         }
-        let group = contours::group_at(marks, m.line);
+        let group = m.group;
         if self
             .cur
             .as_ref()
@@ -674,11 +669,7 @@ impl<'d> Checker<'d> {
             dropped.extend(st.dropped());
             all.extend(st.kept);
         }
-        let mut stats = self.stats;
-        stats.time = self.time.finish();
-        if stats.motions > 0 {
-            stats.bbox = Some([self.lo.to_array(), self.hi.to_array()]);
-        }
+        let stats = self.stats.finish(self.time.finish());
         Ok(super::assemble_with(prog, cfg, all, stats, &dropped))
     }
 }

@@ -1,5 +1,6 @@
-//! The streaming route of `check` gives the report of the in-memory route, finding for
-//! finding and bit for bit in the statistics: on every program of the sim corpus and the
+//! The streaming route of `check`, and the piped route of the in-memory check (moves never
+//! stored, see [`crate::sim::piped`]), give the report of the in-memory check of the stored
+//! moves, finding for finding and bit for bit in the statistics: on every program of the sim corpus and the
 //! golden G-code files (under each config and design the corpus gives), and on generated
 //! programs with the cases that stress it (retraced and coincident contours, crossings
 //! across tiles, arcs, dwells, pocket marks, loops, findings beyond the cap, odd bytes).
@@ -49,12 +50,33 @@ fn corpus_header(src: &str) -> (CheckConfig, Vec<DesignBoundary>) {
     (toml::from_str(&toml_cfg).expect("config lines"), design)
 }
 
-/// The report of the in-memory route as the CLI builds it (decode, check, the UTF-8
-/// warning first), as JSON.
+/// The report of the in-memory route on the stored moves ([`sim::check`] of
+/// [`sim::load_with`]) as the CLI builds it (decode, check, the UTF-8 warning first), as
+/// JSON.
 fn in_memory(bytes: &[u8], cfg: &CheckConfig, design: &[DesignBoundary]) -> String {
     let (text, decode) = sim::decode(bytes);
     let opts = InterpOptions::default();
-    let mut r = sim::check_text_with(Backend::Builtin, &text, cfg, design, &opts);
+    let prog = sim::load_with(Backend::Builtin, &text, cfg, &opts);
+    let mut r = sim::check(&prog, cfg, design);
+    if r.usable {
+        r.findings.splice(0..0, decode);
+    }
+    serde_json::to_string_pretty(&r).expect("json")
+}
+
+/// [`in_memory`] on the piped route ([`crate::sim::piped`]): the moves handed over `chunk`
+/// at a time, to a thread of their own when `threaded`.
+fn piped(
+    bytes: &[u8],
+    cfg: &CheckConfig,
+    design: &[DesignBoundary],
+    threaded: bool,
+    chunk: usize,
+) -> String {
+    let (text, decode) = sim::decode(bytes);
+    let opts = InterpOptions::default();
+    let (mut r, _) = sim::piped::check_piped(&text, cfg, design, &opts, threaded, chunk);
+    r.backend = Backend::Builtin.name();
     if r.usable {
         r.findings.splice(0..0, decode);
     }
@@ -82,20 +104,44 @@ fn streamed_unlocked(
     serde_json::to_string_pretty(&r).expect("json")
 }
 
+/// The stored, piped and streamed routes give `name` the same report. The piped route is
+/// run as [`sim::check_text_with`] runs it and on a thread of its own with chunks of one
+/// and of 7 moves; the streamed one with tiles of every size.
 fn same_on_both_routes(name: &str, bytes: &[u8], cfg: &CheckConfig, design: &[DesignBoundary]) {
     let want = in_memory(bytes, cfg, design);
+    let mut routes: Vec<(String, String)> = Vec::new();
+    let (text, decode) = sim::decode(bytes);
+    let mut r = sim::check_text_with(Backend::Builtin, &text, cfg, design, &Default::default());
+    if r.usable {
+        r.findings.splice(0..0, decode);
+    }
+    routes.push((
+        "piped as check_text".into(),
+        serde_json::to_string_pretty(&r).expect("json"),
+    ));
+    for (threaded, chunk) in [(true, 1), (true, 7), (false, 3)] {
+        routes.push((
+            format!("piped, threaded {threaded}, chunks of {chunk}"),
+            piped(bytes, cfg, design, threaded, chunk),
+        ));
+    }
     for tiles in [u64::MAX, 64, 1] {
-        let got = streamed(bytes, cfg, design, tiles);
+        routes.push((
+            format!("streamed, tiles of {tiles}"),
+            streamed(bytes, cfg, design, tiles),
+        ));
+    }
+    for (route, got) in routes {
         if got != want {
             let diff: Vec<String> = want
                 .lines()
                 .zip(got.lines())
                 .filter(|(a, b)| a != b)
                 .take(6)
-                .map(|(a, b)| format!("  memory {a}\n  stream {b}"))
+                .map(|(a, b)| format!("  stored {a}\n  route  {b}"))
                 .collect();
             panic!(
-                "{name} (tiles of {tiles}): the routes differ\n{}\n--- in memory:\n{want}\n--- streamed:\n{got}",
+                "{name} ({route}): the routes differ\n{}\n--- stored moves:\n{want}\n--- {route}:\n{got}",
                 diff.join("\n")
             );
         }
@@ -214,6 +260,23 @@ fn generated_programs_agree() {
             "{head}o100 sub\nG1 X[#1] Y[#1]\nG1 X[#1+5] Y[#1]\no100 endsub\n#2=0\n\
              o101 while [#2 LT 30]\nG0 X[#2] Y0\nM4 S400\no100 call [#2]\nM5\n#2=[#2+1]\n\
              o101 endwhile\no102 repeat [5]\nG0 X1 Y1\no102 endrepeat\nM2\n"
+        ),
+    ));
+    // Pocket marks read again in a loop, and out of line order in a subroutine called
+    // after the moves below it: the piped route checks the stored program instead.
+    cases.push((
+        "marks-in-loops",
+        format!(
+            "{head}#1=0\no5 while [#1 LT 3]\n(skinpath:group 2)\nG0 X[#1*10] Y0\nM4 S400\n\
+             G1 X[#1*10+5] Y0\nG1 X[#1*10+5] Y5\nG1 X[#1*10] Y-1\nM5\n(skinpath:group none)\n\
+             #1=[#1+1]\no5 endwhile\nM2\n"
+        ),
+    ));
+    cases.push((
+        "marks-in-a-subroutine",
+        format!(
+            "{head}o9 sub\n(skinpath:group 4)\nG0 X0 Y10\nM4 S400\nG1 X10 Y0\nM5\no9 endsub\n\
+             G0 X0 Y0\nM4 S400\nG1 X10 Y10\nM5\no9 call\n(skinpath:group none)\nM2\n"
         ),
     ));
     // Many lines between a loop's start and its end (seeking past checkpoints).

@@ -109,7 +109,7 @@ pub struct SegmentSet {
     firsts: Vec<u32>,
     /// Per segment of a tile: its contour and its position in it (empty for whole sets).
     ids: Vec<(u32, u32)>,
-    /// Per segment: the caller's tag (a motion index; none in a tile, read as 0).
+    /// Per segment: the caller's tag (the check's program line; none in a tile, read as 0).
     sources: Vec<u32>,
     /// The pocket marks ([`SegmentSet::push_polyline_in`]): per contour, or per segment
     /// in a tile (whose contours are not held).
