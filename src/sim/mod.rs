@@ -6,7 +6,10 @@
 //! ```
 //!
 //! [`check`] runs everything on a [`Program`]; [`check_text`] reads G-code (builtin
-//! backend) or rs274 canon output (LinuxCNC backend) first. [`check_stream`] gives the same
+//! backend) or rs274 canon output (LinuxCNC backend) first. On the builtin backend it never
+//! stores the moves: they go from the interpreter to the checks in chunks, the checks
+//! running beside it (`piped`, the same report as [`check`] of the stored program).
+//! [`check_stream`] gives the same
 //! report in bounded memory, reading the program line by line and checking each move as it
 //! is read (the CLI's route for programs above [`STREAM_ABOVE_BYTES`]). For
 //! [`Backend::LinuxCnc`], [`run_rs274`] runs LinuxCNC's `rs274 -n 0 -g` on
@@ -22,8 +25,7 @@
 //!
 //! Module layering (imports only go down): findings (leaf) ← motion ← config ← time ←
 //! report; the interpreter (`interp`, `ngc`), the checks and [`check`] sit on top. The CLI
-//! times the stages separately through [`load_with`], [`checks_and_stats`] and
-//! [`assemble_found`].
+//! times the stages through [`check_text_timed`].
 //!
 //! The public front is what this module re-exports; its submodules are internal.
 
