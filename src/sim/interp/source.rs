@@ -19,7 +19,10 @@ pub(super) enum Body<'a> {
 /// `text.split('\n')` without a trailing `\r` ([`line_end`], [`cut`]). Reading in order
 /// walks the text from the last line read; a read out of order (a jump back, a forward
 /// jump past unread lines) goes through the [`LineStarts`], built at the first such read,
-/// so a program read straight through never builds them (4 bytes a line).
+/// so a program read straight through never builds them (4 bytes a line) nor makes a pass
+/// of its own: the plain route's scan finds the end of the lines it takes
+/// ([`ngc::plain_words`] stops at the `\n`; [`MemText::record_read`]), [`line_end`] that
+/// of the others.
 pub(super) struct MemText<'a> {
     pub(super) text: Cow<'a, str>,
     /// The line read last: (index, first byte, end: the byte offset of its `\n` or the
