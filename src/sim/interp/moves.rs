@@ -136,13 +136,15 @@ impl Interp<'_, '_> {
         self.plain_run(&p)
     }
 
-    /// [`Interp::plain_block`] of the line `raw` read straight from its text by
-    /// [`ngc::plain_words`], with no [`Line`] built: the same outcome as parsing it
-    /// ([`ngc::parse_line_into`]) and running that, for the lines both take; false, having
-    /// changed nothing, for the others (comments among them), which take that route.
-    pub(super) fn plain_text(&mut self, raw: &str) -> bool {
+    /// [`Interp::plain_block`] of the line that `text` starts with, read straight from the
+    /// text by [`ngc::plain_words`], with no [`Line`] built: the same outcome as parsing it
+    /// ([`ngc::parse_line_into`]) and running that, for the lines both take, and the line's
+    /// length (up to its `\n`); None, having changed nothing, for the others (comments
+    /// among them), which take that route.
+    pub(super) fn plain_text(&mut self, text: &[u8]) -> Option<usize> {
         let mut p = PlainWords::default();
-        ngc::plain_words(raw, self.syn, |letter, v| p.add(letter, v)) && self.plain_run(&p)
+        let len = ngc::plain_words(text, self.syn, |letter, v| p.add(letter, v))?;
+        self.plain_run(&p).then_some(len)
     }
 
     /// Runs the plain block `p` (see [`Interp::plain_block`]); false, having changed

@@ -9,15 +9,26 @@ pub(super) struct Source<'a> {
 }
 
 pub(super) enum Body<'a> {
-    /// The whole text, with the byte offset of each line start.
-    Mem {
-        text: Cow<'a, str>,
-        /// Shared with [`Interp::run`], which reads plain lines without borrowing the
-        /// source ([`Source::borrowed`]).
-        starts: std::rc::Rc<LineStarts>,
-    },
+    /// The whole text, read line by line in memory.
+    Mem(MemText<'a>),
     /// A program read line by line from a seekable stream ([`interpret_stream`]).
     Stream(Box<LineStream<'a>>),
+}
+
+/// An in-memory text read by line index. Line `i` is the `i`th piece of
+/// `text.split('\n')` without a trailing `\r` ([`line_end`], [`cut`]). Reading in order
+/// walks the text from the last line read; a read out of order (a jump back, a forward
+/// jump past unread lines) goes through the [`LineStarts`], built at the first such read,
+/// so a program read straight through never builds them (4 bytes a line) nor makes a pass
+/// of its own: the plain route's scan finds the end of the lines it takes
+/// ([`ngc::plain_words`] stops at the `\n`; [`MemText::record_read`]), [`line_end`] that
+/// of the others.
+pub(super) struct MemText<'a> {
+    pub(super) text: Cow<'a, str>,
+    /// The line read last: (index, first byte, end: the byte offset of its `\n` or the
+    /// text's length).
+    last: Option<(usize, usize, usize)>,
+    starts: Option<LineStarts>,
 }
 
 /// The byte offset of each line start of an in-memory text: 4 bytes a line for texts
@@ -59,56 +70,165 @@ impl LineStarts {
             LineStarts::Wide(v) => v.get(i).copied(),
         }
     }
+}
 
-    /// Line `i` of `text` (the text these are the starts of), without its `\n` and a
-    /// trailing `\r`: the `i`th piece of `text.split('\n')`, empty past the last.
-    pub(super) fn line<'t>(&self, text: &'t str, i: usize) -> &'t str {
-        let a = self.get(i).unwrap_or(text.len());
-        let b = self.get(i + 1).map_or(text.len(), |e| e - 1);
-        let l = text.get(a..b.max(a)).unwrap_or_default();
-        l.strip_suffix('\r').unwrap_or(l)
+/// The end of the line of `text` that starts at byte `start`: the offset of the next `\n`,
+/// or the text's length when none follows (the last line).
+pub(super) fn line_end(text: &[u8], start: usize) -> usize {
+    text.get(start..)
+        .and_then(|rest| memchr::memchr(b'\n', rest))
+        .map_or(text.len(), |k| start + k)
+}
+
+/// The line of `text` from byte `start` to its end `end` ([`line_end`]), without a
+/// trailing `\r`.
+pub(super) fn cut(text: &str, start: usize, end: usize) -> &str {
+    let l = text.get(start..end).unwrap_or_default();
+    l.strip_suffix('\r').unwrap_or(l)
+}
+
+impl<'a> MemText<'a> {
+    pub(super) fn new(text: Cow<'a, str>) -> Self {
+        MemText {
+            text,
+            last: None,
+            starts: None,
+        }
     }
 
-    /// Index of the line holding byte `at`.
-    pub(super) fn line_of(&self, at: usize) -> usize {
-        let k = match self {
-            LineStarts::Narrow(v) => v.partition_point(|&st| st as usize <= at),
-            LineStarts::Wide(v) => v.partition_point(|&st| st <= at),
+    /// The first byte of line `i`, None past the last line: the last line read or the one
+    /// after it from the cursor, any other through the line starts.
+    #[inline]
+    fn start_of(&mut self, i: usize) -> Option<usize> {
+        match self.last {
+            None if i == 0 => return Some(0),
+            Some((l, s, _)) if l == i => return Some(s),
+            // The line after one that ends at a `\n` starts after it.
+            Some((l, _, e)) if l.checked_add(1) == Some(i) => {
+                return (e < self.text.len()).then_some(e + 1);
+            }
+            _ => {}
+        }
+        self.starts
+            .get_or_insert_with(|| LineStarts::of(self.text.as_bytes()))
+            .get(i)
+    }
+
+    /// Line `i` (see [`MemText`]), None past the last line.
+    pub(super) fn line(&mut self, i: usize) -> Option<&str> {
+        let (s, e) = match self.last {
+            Some((l, s, e)) if l == i => (s, e),
+            _ => {
+                let s = self.start_of(i)?;
+                let e = line_end(self.text.as_bytes(), s);
+                self.last = Some((i, s, e));
+                (s, e)
+            }
         };
-        k.saturating_sub(1)
+        Some(cut(&self.text, s, e))
+    }
+
+    /// The first byte of line `i` and the text from there on, when the text is borrowed
+    /// for `'a` (the program of [`interpret_with`]): where [`Interp::plain_text`] reads the
+    /// line from, and finds its end, without borrowing the source. None past the last line
+    /// and for an owned text.
+    #[inline]
+    pub(super) fn text_from_line(&mut self, i: usize) -> Option<(usize, &'a [u8])> {
+        let text: &'a str = match &self.text {
+            Cow::Borrowed(t) => t,
+            Cow::Owned(_) => return None,
+        };
+        let s = self.start_of(i)?;
+        Some((s, text.as_bytes().get(s..)?))
+    }
+
+    /// Line `i` holds a comment (a `(` or `;`), found by one search that stops at the
+    /// line's end or the comment. A line with one is recorded as read (its end searched
+    /// from the comment on), so that [`MemText::line`] gives it without searching again.
+    pub(super) fn has_comment(&mut self, i: usize) -> bool {
+        let Some(s) = self.start_of(i) else {
+            return false;
+        };
+        let b = self.text.as_bytes();
+        let Some(k) = b
+            .get(s..)
+            .and_then(|rest| memchr::memchr3(b'\n', b'(', b';', rest))
+            .map(|k| s + k)
+            .filter(|&k| b[k] != b'\n')
+        else {
+            return false;
+        };
+        self.last = Some((i, s, line_end(b, k)));
+        true
+    }
+
+    /// Records line `i`, read from its first byte `start` ([`MemText::text_from_line`]), as
+    /// `len` bytes long (up to its `\n`): the last line read.
+    #[inline]
+    pub(super) fn record_read(&mut self, i: usize, start: usize, len: usize) {
+        self.last = Some((i, start, start + len));
     }
 }
 
 impl<'a> Source<'a> {
     pub(super) fn new(name: String, text: Cow<'a, str>) -> Self {
-        let starts = std::rc::Rc::new(LineStarts::of(text.as_bytes()));
         Source {
             name,
-            body: Body::Mem { text, starts },
-        }
-    }
-    pub(super) fn len(&self) -> usize {
-        match &self.body {
-            Body::Mem { starts, .. } => starts.len(),
-            Body::Stream(s) => s.len,
-        }
-    }
-    pub(super) fn line(&mut self, i: usize) -> &str {
-        match &mut self.body {
-            Body::Mem { text, starts } => starts.line(text, i),
-            Body::Stream(s) => s.line(i),
+            body: Body::Mem(MemText::new(text)),
         }
     }
 
-    /// The text and its line starts when the source holds text borrowed for `'a` (the
-    /// program of [`interpret_with`]): lines read from it do not borrow the source.
-    pub(super) fn borrowed(&self) -> Option<(&'a str, std::rc::Rc<LineStarts>)> {
+    /// Number of lines (one more than the number of `\n`).
+    pub(super) fn len(&self) -> usize {
         match &self.body {
-            Body::Mem {
-                text: Cow::Borrowed(text),
-                starts,
-            } => Some((text, std::rc::Rc::clone(starts))),
-            _ => None,
+            Body::Mem(m) => m.starts.as_ref().map_or_else(
+                || memchr::memchr_iter(b'\n', m.text.as_bytes()).count() + 1,
+                LineStarts::len,
+            ),
+            Body::Stream(s) => s.len,
+        }
+    }
+
+    /// Line `i` exists.
+    #[inline]
+    pub(super) fn has_line(&mut self, i: usize) -> bool {
+        match &mut self.body {
+            Body::Mem(m) => m.start_of(i).is_some(),
+            Body::Stream(s) => i < s.len,
+        }
+    }
+
+    /// [`MemText::text_from_line`] of an in-memory source; None for a stream.
+    #[inline]
+    pub(super) fn text_from_line(&mut self, i: usize) -> Option<(usize, &'a [u8])> {
+        match &mut self.body {
+            Body::Mem(m) => m.text_from_line(i),
+            Body::Stream(_) => None,
+        }
+    }
+
+    /// [`MemText::has_comment`] of an in-memory source; false for a stream.
+    pub(super) fn has_comment(&mut self, i: usize) -> bool {
+        match &mut self.body {
+            Body::Mem(m) => m.has_comment(i),
+            Body::Stream(_) => false,
+        }
+    }
+
+    /// [`MemText::record_read`] of an in-memory source.
+    #[inline]
+    pub(super) fn record_read(&mut self, i: usize, start: usize, len: usize) {
+        if let Body::Mem(m) = &mut self.body {
+            m.record_read(i, start, len);
+        }
+    }
+
+    /// Line `i`, without its `\n` and a trailing `\r`; None past the last line.
+    pub(super) fn line(&mut self, i: usize) -> Option<&str> {
+        match &mut self.body {
+            Body::Mem(m) => m.line(i),
+            Body::Stream(s) if i < s.len => Some(s.line(i)),
+            Body::Stream(_) => None,
         }
     }
 }
@@ -282,33 +402,38 @@ pub(super) fn memchr_lines(b: &[u8]) -> impl Iterator<Item = usize> + '_ {
     memchr::memchr_iter(b'\n', b).map(|i| i + 1)
 }
 
-/// Indexes of the lines of `s` holding an `o` or `O` (the only ones that can hold an O-word),
-/// in order, each once.
-pub(super) fn lines_with_o(text: &str, starts: &LineStarts) -> Vec<usize> {
-    let mut out: Vec<usize> = Vec::new();
-    for at in memchr::memchr2_iter(b'o', b'O', text.as_bytes()) {
-        let line = starts.line_of(at);
-        if out.last() != Some(&line) {
-            out.push(line);
-        }
+/// The lines of `text` holding an `o` or `O` (the only ones that can hold an O-word), in
+/// order, each once: (index, line as [`MemText`] gives it). Found without line starts: the
+/// `\n`s before each are counted.
+pub(super) fn lines_with_o(text: &str) -> Vec<(usize, &str)> {
+    let b = text.as_bytes();
+    let mut out = Vec::new();
+    // `start` is the first byte of line `line`.
+    let (mut line, mut start) = (0usize, 0usize);
+    while let Some(k) = b
+        .get(start..)
+        .and_then(|rest| memchr::memchr2(b'o', b'O', rest))
+    {
+        let at = start + k;
+        let s = memchr::memrchr(b'\n', &b[start..at]).map_or(start, |j| start + j + 1);
+        line += memchr::memchr_iter(b'\n', &b[start..s]).count();
+        let e = line_end(b, s);
+        out.push((line, cut(text, s, e)));
+        line += 1;
+        start = e + 1;
     }
     out
 }
 
 impl<'a> Interp<'a, '_> {
     pub(super) fn add_source(&mut self, name: String, text: Cow<'a, str>) -> usize {
-        let mut s = Source::new(name, text);
-        let owords: Vec<(usize, ngc::OStmt)> = if self.syn.ngc {
-            let lines = match &s.body {
-                Body::Mem { text, starts } => lines_with_o(text, starts),
-                Body::Stream(_) => Vec::new(),
-            };
-            lines
+        let s = Source::new(name, text);
+        let owords: Vec<(usize, ngc::OStmt)> = match &s.body {
+            Body::Mem(m) if self.syn.ngc => lines_with_o(&m.text)
                 .into_iter()
-                .filter_map(|i| ngc::parse_line(s.line(i), self.syn).oword.map(|o| (i, o)))
-                .collect()
-        } else {
-            Vec::new()
+                .filter_map(|(i, l)| ngc::parse_line(l, self.syn).oword.map(|o| (i, o)))
+                .collect(),
+            _ => Vec::new(),
         };
         self.push_source(s, owords)
     }
@@ -371,16 +496,15 @@ impl<'a> Interp<'a, '_> {
         let mut started = false;
         let mut percent_open = false;
         let mut scratch = Line::default();
-        // Plain motion lines of the main program read for the first time are run straight
-        // from its text ([`Interp::plain_text`]); the others are parsed.
-        let main_text = if self.plain_moves {
-            self.sources.first().and_then(Source::borrowed)
-        } else {
-            None
-        };
+        // The plain route refuses a line with a comment only when it meets the comment,
+        // after the words before it, which the general route then reads again. Programs
+        // that comment a line tend to comment the next: after a fresh line with a comment,
+        // the next is searched for one first ([`Source::has_comment`]) and, holding one, goes
+        // to the general route straight.
+        let mut comment_before = false;
         while !self.stop {
             drain(self, chunk);
-            if i >= self.sources[src].len() {
+            if !self.sources[src].has_line(i) {
                 if src != 0 {
                     self.err(
                         "o-word",
@@ -399,16 +523,23 @@ impl<'a> Interp<'a, '_> {
                 self.prog.lines = i + 1;
             }
             let fresh = src == 0 && i >= self.high_water[src];
-            if let Some((text, starts)) = main_text.as_ref().filter(|_| fresh)
-                && self.plain_text(starts.line(text, i))
+            // Plain motion lines of the main program read for the first time are run
+            // straight from its text ([`Interp::plain_text`]); the others are parsed.
+            if self.plain_moves
+                && fresh
+                && !(comment_before && self.sources[0].has_comment(i))
+                && let Some((start, text)) = self.sources[0].text_from_line(i)
+                && let Some(len) = self.plain_text(text)
             {
+                self.sources[0].record_read(i, start, len);
+                comment_before = false;
                 self.high_water[src] = i + 1;
                 started = true;
                 self.jumped = false;
                 i += 1;
                 continue;
             }
-            let text = self.sources[src].line(i);
+            let text = self.sources[src].line(i).unwrap_or_default();
             if text.trim().is_empty() {
                 i += 1;
                 continue;
@@ -428,6 +559,7 @@ impl<'a> Interp<'a, '_> {
             } else {
                 self.high_water[src] = i + 1;
                 ngc::parse_line_into(text, self.syn, &mut scratch);
+                comment_before = !scratch.comments.is_empty();
                 None
             };
             let parsed: &Line = cached.as_deref().unwrap_or(&scratch);
@@ -488,17 +620,23 @@ impl<'a> Interp<'a, '_> {
         }
         let s = &mut self.sources[0];
         let syn = self.syn;
-        if let Some(l) = (from..s.len()).find(|&l| {
-            let t = s.line(l).trim();
-            if t.is_empty() || t == "%" {
-                return false;
+        let mut l = from;
+        let ignored = loop {
+            let Some(t) = s.line(l) else { break None };
+            let t = t.trim();
+            if !(t.is_empty() || t == "%") {
+                let p = ngc::parse_line(t, syn);
+                if !(p.words.is_empty()
+                    && p.assigns.is_empty()
+                    && p.oword.is_none()
+                    && p.errors.is_empty())
+                {
+                    break Some(l);
+                }
             }
-            let p = ngc::parse_line(t, syn);
-            !(p.words.is_empty()
-                && p.assigns.is_empty()
-                && p.oword.is_none()
-                && p.errors.is_empty())
-        }) {
+            l += 1;
+        };
+        if let Some(l) = ignored {
             let end = self.line;
             self.prog.diagnostics.push(
                 Finding::new(

@@ -23,6 +23,11 @@ fn run_general(src: &str, cfg: &CheckConfig) -> Program {
     it.prog
 }
 
+/// Line ends mixed into the programs the plain route is tested on: CRLF, an empty line, a
+/// comment after the words (the plain route refuses the line only where it meets it), a
+/// `\r` left inside the line (CR CR LF).
+const LINE_ENDS: [&str; 7] = ["\n", "\n", "\r\n", "\n\n", " ; c\n", " (c)\n", "\r\r\n"];
+
 /// Lines the plain route takes or must refuse, mixed with the modal state they depend on.
 const PLAIN_MIX: [&str; 42] = [
     "N10 G1 X1 Y1",
@@ -126,6 +131,8 @@ proptest::proptest! {
     fn plain_blocks_match_the_general_route(
         picks in proptest::collection::vec(0usize..PLAIN_MIX.len(), 1..40),
         values in proptest::collection::vec(-50i32..50, 40),
+        ends in proptest::collection::vec(0usize..LINE_ENDS.len(), 40),
+        last in 0usize..3,
         d in 0usize..5,
     ) {
         let mut src = String::new();
@@ -133,9 +140,10 @@ proptest::proptest! {
             // Vary the numbers: every digit string a value of `values`.
             let v = f64::from(values[k % values.len()]) / 8.0;
             src += &PLAIN_MIX[p].replace("0.5", &format!("{v}"));
-            src.push('\n');
+            src += LINE_ENDS[ends[k % ends.len()]];
         }
-        src += "M2\n";
+        // The end: M2 and a line feed, M2 as the text's last line, or no M2.
+        src += ["M2\n", "M2", ""][last];
         let dialect = [
             Dialect::Generic,
             Dialect::Linuxcnc,
@@ -149,7 +157,12 @@ proptest::proptest! {
         };
         let fast = run_cfg(&src, &cfg);
         let general = run_general(&src, &cfg);
-        proptest::prop_assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{}", src);
+        proptest::prop_assert_eq!(format!("{fast:?}"), format!("{general:?}"), "{:?}", src);
+        // The lines are the pieces of `split('\n')` without a trailing `\r`: the text
+        // rejoined with bare line feeds is the same program.
+        let lf: Vec<&str> = src.split('\n').map(|l| l.strip_suffix('\r').unwrap_or(l)).collect();
+        let lf = run_cfg(&lf.join("\n"), &cfg);
+        proptest::prop_assert_eq!(format!("{fast:?}"), format!("{lf:?}"), "{:?}", src);
     }
 }
 
@@ -508,8 +521,8 @@ fn called_files_from_the_loader() {
     assert!(p.diagnostics[0].message.contains("nope.ngc"));
 }
 
-/// Both layouts of [`source::LineStarts`] give the lines `str::split('\n')` gives, and
-/// the line holding every byte.
+/// Both layouts of [`source::LineStarts`] hold the line starts of `str::split('\n')`, and
+/// the O-word pre-scan finds the lines holding an o.
 #[test]
 fn line_starts_narrow_and_wide_agree_with_split() {
     let text = "G1 X1\r\n\n(o-word o100)\nG0 Y2\n  \nlast";
@@ -532,14 +545,85 @@ fn line_starts_narrow_and_wide_agree_with_split() {
             assert_eq!(starts.get(i), Some(b));
         }
         assert_eq!(starts.get(lines.len()), None);
-        for k in 0..text.len() {
-            let want = begin.iter().rposition(|&b| b <= k).unwrap_or(0);
-            assert_eq!(starts.line_of(k), want, "byte {k}");
-        }
     }
     // The O-word pre-scan finds the one line holding an o (line 2), once.
-    assert_eq!(source::lines_with_o(text, &narrow), vec![2]);
-    assert_eq!(source::lines_with_o(text, &wide), vec![2]);
+    assert_eq!(source::lines_with_o(text), vec![(2, "(o-word o100)")]);
+}
+
+/// One read of a [`source::Source`] in a test sequence.
+#[derive(Clone, Copy, Debug)]
+enum Read {
+    /// [`source::Source::line`].
+    Line,
+    /// [`source::Source::has_line`].
+    Has,
+    /// [`source::Source::has_comment`], then the line.
+    Comment,
+    /// The plain route: [`source::Source::text_from_line`], the line's end found by the caller,
+    /// [`source::Source::record_read`], then the line.
+    From,
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(1024))]
+    /// An in-memory source gives line `i` as the `i`th piece of `str::split('\n')` without
+    /// a trailing `\r`, and None past the last, whatever the order of the reads (in order,
+    /// again, back, forward past unread lines), through every way the loop reads it; the
+    /// O-word pre-scan finds the lines holding an o. Texts: empty, without a final `\n`,
+    /// CRLF, lone `\r`, comments, multi-byte characters.
+    #[test]
+    fn in_memory_lines_are_the_pieces_of_split(
+        text in "[\n\r(;oOG1 é]{0,40}",
+        reads in proptest::collection::vec((0usize..4, proptest::bool::ANY, 0usize..16), 0..48),
+        borrowed in proptest::bool::ANY,
+    ) {
+        let want: Vec<&str> = text
+            .split('\n')
+            .map(|l| l.strip_suffix('\r').unwrap_or(l))
+            .collect();
+        let with_o: Vec<(usize, &str)> = want
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.contains(['o', 'O']))
+            .map(|(i, &l)| (i, l))
+            .collect();
+        proptest::prop_assert_eq!(source::lines_with_o(&text), with_o);
+        let body = if borrowed {
+            Cow::Borrowed(text.as_str())
+        } else {
+            Cow::Owned(text.clone())
+        };
+        let mut s = source::Source::new("t".into(), body);
+        proptest::prop_assert_eq!(s.len(), want.len());
+        let mut next = 0usize;
+        for (kind, in_order, j) in reads {
+            let i = if in_order { next } else { j };
+            let read = [Read::Line, Read::Has, Read::Comment, Read::From][kind];
+            let w = want.get(i).copied();
+            match read {
+                Read::Line => {}
+                Read::Has => {
+                    proptest::prop_assert_eq!(s.has_line(i), w.is_some(), "{:?} {}", text, i);
+                    continue;
+                }
+                Read::Comment => {
+                    let c = w.is_some_and(|l| l.contains(['(', ';']));
+                    proptest::prop_assert_eq!(s.has_comment(i), c, "{:?} {}", text, i);
+                }
+                Read::From => match s.text_from_line(i) {
+                    Some((start, rest)) => {
+                        proptest::prop_assert!(borrowed);
+                        proptest::prop_assert_eq!(rest, &text.as_bytes()[start..]);
+                        let len = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+                        s.record_read(i, start, len);
+                    }
+                    None => proptest::prop_assert!(!borrowed || w.is_none()),
+                },
+            }
+            proptest::prop_assert_eq!(s.line(i), w, "{:?} {} {:?}", text, i, read);
+            next = i + 1;
+        }
+    }
 }
 
 /// Every program of the sim corpus (tests/sim_corpus) and a generated spiral of plain `G1`

@@ -41,6 +41,9 @@ pub(super) fn parse_plain(
     words: &mut Vec<PWord>,
     comments: &mut Vec<String>,
 ) -> bool {
+    if raw.len() > PLAIN_MAX {
+        return false;
+    }
     let mut count = 0usize;
     let whole = scan_plain(
         raw,
@@ -73,85 +76,88 @@ pub(super) fn parse_plain(
             }
             ok
         },
-    );
+    ) == Some(raw.len());
     if whole {
         words.truncate(count);
     }
     whole
 }
 
-/// The words of a plain line without comments, as [`parse_plain`] reads them (upper-case
-/// letter, value): each handed to `word`, which returns false to stop. True when the
-/// whole line was read and every word taken; false at a comment or anything
-/// [`parse_plain`] does not read (the line then takes [`parse_line_into`]). The
-/// interpreter's route for plain motion blocks, with no [`Line`] built.
-pub fn plain_words(raw: &str, syn: Syntax, mut word: impl FnMut(char, f64) -> bool) -> bool {
-    let raw = raw.as_bytes();
-    // A comment is refused before any word is read: a line with one is read twice otherwise.
-    memchr::memchr2(b'(', b';', raw).is_none()
-        && scan_plain(raw, syn, |c, v, _| word(c, v), |_| false)
+/// The words of the plain line that `text` starts with (up to its first `\n`, or all of
+/// `text`), as [`parse_plain`] reads them (upper-case letter, value): each handed to
+/// `word`, which returns false to stop. The line's length (the offset of its `\n`, or
+/// `text.len()`) when the whole line was read and every word taken; None at a comment or
+/// anything [`parse_plain`] does not read, a line longer than [`PLAIN_MAX`] (a trailing
+/// `\r` not counted) among them; the line then takes [`parse_line_into`]. The
+/// interpreter's route for plain motion blocks: the line's end is found by the scan, and no
+/// [`Line`] is built.
+pub fn plain_words(
+    text: &[u8],
+    syn: Syntax,
+    mut word: impl FnMut(char, f64) -> bool,
+) -> Option<usize> {
+    // A line of PLAIN_MAX bytes, a `\r` and its `\n` at most.
+    let raw = text.get(..PLAIN_MAX + 2).unwrap_or(text);
+    let end = scan_plain(raw, syn, |c, v, _| word(c, v), |_| false)?;
+    let at_end = end < raw.len() || raw.len() == text.len();
+    let len = end - usize::from(raw[..end].ends_with(b"\r"));
+    (at_end && len <= PLAIN_MAX).then_some(end)
 }
 
 /// The scanner of [`parse_plain`]: hands each word (upper-case letter, value, 1-based
 /// column) to `word` and each comment's text (between the parentheses, or after `;`) to
-/// `comment`, in line order; either returns false to stop. True when the whole line was
-/// read.
+/// `comment`, in line order; either returns false to stop. The line is `raw` up to its
+/// first `\n` (all of `raw` when it has none): its length when the whole line was read,
+/// None when stopped.
 fn scan_plain(
     raw: &[u8],
     syn: Syntax,
     mut word: impl FnMut(char, f64, usize) -> bool,
     mut comment: impl FnMut(&[u8]) -> bool,
-) -> bool {
-    if raw.len() > PLAIN_MAX {
-        return false;
-    }
+) -> Option<usize> {
     let n = raw.len();
     let mut k = 0usize;
     loop {
         while k < n && matches!(raw[k], b' ' | b'\t' | b'\r') {
             k += 1;
         }
-        if k == n {
-            return true;
+        if k == n || raw[k] == b'\n' {
+            return Some(k);
         }
         let c = raw[k];
         if c == b'(' {
-            let Some(e) = memchr::memchr(b')', &raw[k + 1..]) else {
-                return false;
-            };
+            let e = memchr::memchr(b')', &raw[k + 1..])?;
             if !comment(&raw[k + 1..k + 1 + e]) {
-                return false;
+                return None;
             }
             k += e + 2;
             continue;
         }
         if c == b';' {
             if !comment(&raw[k + 1..]) {
-                return false;
+                return None;
             }
             k = n;
             continue;
         }
         if !c.is_ascii_alphabetic() || (syn.ngc && (c == b'o' || c == b'O')) {
-            return false;
+            return None;
         }
         let column = k + 1;
         k += 1;
-        let Some((v, end)) = plain_number(raw, k) else {
-            return false;
-        };
+        let (v, end) = plain_number(raw, k)?;
         // The number must end at a blank, the next letter, a comment or the end of the line.
         if end < n
             && !matches!(
                 raw[end],
-                b' ' | b'\t' | b'\r' | b'(' | b';' | b'a'..=b'z' | b'A'..=b'Z'
+                b' ' | b'\t' | b'\r' | b'\n' | b'(' | b';' | b'a'..=b'z' | b'A'..=b'Z'
             )
         {
-            return false;
+            return None;
         }
         k = end;
         if !word(char::from(c.to_ascii_uppercase()), v, column) {
-            return false;
+            return None;
         }
     }
 }

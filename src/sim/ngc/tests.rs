@@ -261,3 +261,70 @@ proptest::proptest! {
         proptest::prop_assert_eq!(norm(fast), norm(parse_line(&line, syn)));
     }
 }
+
+/// [`plain_words`] takes a line of up to [`PLAIN_MAX`] bytes, a trailing `\r` not counted,
+/// whether a `\n` and more text follow or the text ends there, as [`parse_plain`] takes
+/// the line cut out.
+#[test]
+fn plain_words_take_lines_up_to_the_longest_plain_line() {
+    for len in PLAIN_MAX - 2..PLAIN_MAX + 3 {
+        // `G1` and blanks: one word whatever the length.
+        let line = format!("G1{}", " ".repeat(len - 2));
+        let mut cut = Line::default();
+        let plain = parse_plain(line.as_bytes(), NGC, &mut cut.words, &mut cut.comments);
+        assert_eq!(plain, len <= PLAIN_MAX, "{len}");
+        for cr in ["", "\r"] {
+            for after in ["", "\n", "\nG0 X1"] {
+                let text = format!("{line}{cr}{after}");
+                let mut n = 0;
+                let end = plain_words(text.as_bytes(), NGC, |_, _| {
+                    n += 1;
+                    true
+                });
+                let want = plain.then_some(len + cr.len());
+                assert_eq!(end, want, "{len} {cr:?} {after:?}");
+                assert_eq!(n, 1, "{len} {cr:?} {after:?}");
+            }
+        }
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(1024))]
+    /// [`plain_words`] reads the line a text starts with up to its `\n` (or the text's end)
+    /// as [`parse_plain`] reads that line cut out (a trailing `\r` dropped): the same words
+    /// bit for bit, the line's length where it takes the line, and None where it does not
+    /// (lines over [`PLAIN_MAX`] among them, a trailing `\r` not counted) or the line
+    /// has a comment. The text after the `\n` is never read.
+    #[test]
+    fn plain_words_read_to_the_line_end(
+        words in "([GXYZFSgoM][-+]?[0-9]{0,9}(\\.[0-9]{0,9})?[ \t\r]{0,2}){0,12}",
+        cr in "\r{0,2}",
+        comment in "(\\(c\\)|;c)?",
+        after in proptest::option::of("[GX0-9 .\r\n(;]{0,12}"),
+        d in 0..3usize,
+    ) {
+        let syn = DIALECTS[d];
+        let raw = format!("{words}{comment}{cr}");
+        let text = match &after {
+            Some(rest) => format!("{raw}\n{rest}"),
+            None => raw.clone(),
+        };
+        let line = raw.strip_suffix('\r').unwrap_or(&raw);
+        let mut want = Line::default();
+        let plain = comment.is_empty()
+            && parse_plain(line.as_bytes(), syn, &mut want.words, &mut want.comments);
+        let mut got = Vec::new();
+        let end = plain_words(text.as_bytes(), syn, |c, v| {
+            got.push((c, v.to_bits()));
+            true
+        });
+        if plain {
+            proptest::prop_assert_eq!(end, Some(raw.len()), "{:?}", text);
+            let want: Vec<(char, u64)> = word_bits(&want).iter().map(|w| (w.0, w.1)).collect();
+            proptest::prop_assert_eq!(got, want, "{:?}", text);
+        } else {
+            proptest::prop_assert_eq!(end, None, "{:?}", text);
+        }
+    }
+}
