@@ -40,12 +40,15 @@ pub fn install() {
     let Ok(mut signals) = Signals::new([SIGINT, SIGTERM]) else {
         return;
     };
-    std::thread::spawn(move || {
+    let waiter = std::thread::Builder::new().spawn(move || {
         if let Some(signal) = signals.forever().next() {
             remove_own_temporaries();
             std::process::exit(EXIT_SIGNAL_BASE + signal);
         }
     });
+    // A thread that cannot be started (the thread or address-space limit reached) drops
+    // `signals` unstarted, which gives the signals their default action back.
+    drop(waiter);
 }
 
 /// Removes every temporary file and folder of this process (see the module docs).
