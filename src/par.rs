@@ -41,9 +41,42 @@ where
     T: Send,
     S: Send,
 {
+    // The consumer on a scoped thread, items handed over by channels.
     #[cfg(feature = "parallel")]
     if threaded {
-        return threaded_pipeline(state, consume, produce);
+        use std::sync::mpsc;
+        // The consumer and its state move into the thread and come back when it ends, or are
+        // taken back here unused when the thread cannot be started.
+        let slot = std::sync::Mutex::new(Some((state, consume)));
+        let take = || slot.lock().ok().and_then(|mut s| s.take());
+        return std::thread::scope(|scope| {
+            let (full_tx, full_rx) = mpsc::sync_channel::<T>(PIPELINE_AHEAD);
+            let (done_tx, done_rx) = mpsc::channel::<T>();
+            let worker = std::thread::Builder::new().spawn_scoped(scope, move || {
+                let (mut state, mut consume) = take()?;
+                for mut item in full_rx {
+                    consume(&mut state, &mut item);
+                    // The producer may have stopped listening: the item is then dropped.
+                    let _ = done_tx.send(item);
+                }
+                Some(state)
+            });
+            let Ok(worker) = worker else {
+                let (state, consume) = take().expect("a consumer whose thread did not start");
+                return sequential_pipeline(state, consume, produce);
+            };
+            let r = produce(&mut |item| {
+                // A consumer that panicked no longer receives: its panic is raised below.
+                let _ = full_tx.send(item);
+                done_rx.try_recv().ok()
+            });
+            drop(full_tx);
+            match worker.join() {
+                Ok(Some(state)) => (r, state),
+                Ok(None) => unreachable!("a started consumer thread takes its state first"),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        });
     }
     let _ = threaded;
     sequential_pipeline(state, consume, produce)
@@ -60,52 +93,6 @@ fn sequential_pipeline<T, S, R>(
         Some(item)
     });
     (r, state)
-}
-
-/// [`pipeline`] with the consumer on a scoped thread, items handed over by channels.
-#[cfg(feature = "parallel")]
-fn threaded_pipeline<T, S, R>(
-    state: S,
-    consume: impl FnMut(&mut S, &mut T) + Send,
-    produce: impl FnOnce(&mut dyn FnMut(T) -> Option<T>) -> R,
-) -> (R, S)
-where
-    T: Send,
-    S: Send,
-{
-    use std::sync::mpsc;
-    // The consumer and its state move into the thread and come back when it ends, or are
-    // taken back here unused when the thread cannot be started.
-    let slot = std::sync::Mutex::new(Some((state, consume)));
-    let take = || slot.lock().ok().and_then(|mut s| s.take());
-    std::thread::scope(|scope| {
-        let (full_tx, full_rx) = mpsc::sync_channel::<T>(PIPELINE_AHEAD);
-        let (done_tx, done_rx) = mpsc::channel::<T>();
-        let worker = std::thread::Builder::new().spawn_scoped(scope, move || {
-            let (mut state, mut consume) = take()?;
-            for mut item in full_rx {
-                consume(&mut state, &mut item);
-                // The producer may have stopped listening: the item is then dropped.
-                let _ = done_tx.send(item);
-            }
-            Some(state)
-        });
-        let Ok(worker) = worker else {
-            let (state, consume) = take().expect("a consumer whose thread did not start");
-            return sequential_pipeline(state, consume, produce);
-        };
-        let r = produce(&mut |item| {
-            // A consumer that panicked no longer receives: its panic is raised below.
-            let _ = full_tx.send(item);
-            done_rx.try_recv().ok()
-        });
-        drop(full_tx);
-        match worker.join() {
-            Ok(Some(state)) => (r, state),
-            Ok(None) => unreachable!("a started consumer thread takes its state first"),
-            Err(panic) => std::panic::resume_unwind(panic),
-        }
-    })
 }
 
 /// `use crate::par::prelude::*;` in place of `use rayon::prelude::*;`.
