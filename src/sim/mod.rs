@@ -165,23 +165,32 @@ pub fn check_text_timed(
 ) -> (Report, StageTimes) {
     let (mut r, times) = match backend {
         Backend::Builtin => piped::check_builtin(text, cfg, design, opts),
-        Backend::LinuxCnc => {
-            let clock = std::time::Instant::now();
-            let prog = load_with(backend, text, cfg, opts);
-            let interpret = clock.elapsed().as_secs_f64();
-            let (found, stats, [contours, moves]) = checks_and_stats(&prog, cfg, design);
-            let report = assemble_found(&prog, cfg, found, stats);
-            let times = StageTimes {
-                interpret,
-                contours,
-                moves,
-                total: clock.elapsed().as_secs_f64(),
-            };
-            (report, times)
-        }
+        Backend::LinuxCnc => check_stored(backend, text, cfg, design, opts),
     };
     r.backend = backend.name();
     (r, times)
+}
+
+/// [`check_text_timed`] of the program read whole into a [`Program`], moves stored.
+fn check_stored(
+    backend: Backend,
+    text: &str,
+    cfg: &CheckConfig,
+    design: &[DesignBoundary],
+    opts: &InterpOptions<'_>,
+) -> (Report, StageTimes) {
+    let clock = std::time::Instant::now();
+    let prog = load_with(backend, text, cfg, opts);
+    let interpret = clock.elapsed().as_secs_f64();
+    let (found, stats, [contours, moves]) = checks_and_stats(&prog, cfg, design);
+    let report = assemble_found(&prog, cfg, found, stats);
+    let times = StageTimes {
+        interpret,
+        contours,
+        moves,
+        total: clock.elapsed().as_secs_f64(),
+    };
+    (report, times)
 }
 
 /// Decodes a file's bytes as G-code text: a UTF-8 byte-order mark is skipped and invalid

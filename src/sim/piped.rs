@@ -1,13 +1,16 @@
 //! The in-memory route of the builtin backend's check that never stores the moves: the
-//! interpreter hands its moves over in chunks, and every check, the statistics and the time
-//! estimate take them as they come, beside it on a thread of their own (for texts of
-//! [`THREAD_ABOVE_BYTES`] and more). The cut contours' segments are gathered on the way;
-//! the contacts between them are looked for after the last move. The report is
-//! [`super::check`]'s of the stored program, finding for finding.
+//! interpreter hands its moves over in chunks, and the per-move checks, the statistics and
+//! the time estimate take them as they come, beside it on a thread of their own (for texts
+//! of [`THREAD_ABOVE_BYTES`] and more). The contour checks gather the chunks' segments (and
+//! gouges) on one side or the other, whichever balances the two: beside the estimate where
+//! the moves are lines (interpreting costs most), on the interpreter's thread where they
+//! are mostly arcs (the estimate and the contours both flatten them, and interpreting
+//! costs least). The contacts between the segments are looked for after the last move.
+//! The report is [`super::check`]'s of the stored program, finding for finding.
 //!
 //! ```text
 //! text ─► interp::interpret_each ─► chunks of moves ─► MovePass: stats, estimate,
-//!                                                     per-move checks, contour segments
+//!                          (ContourGather on either side)   per-move checks
 //!                                                     ─► contacts, gouges ─► Report
 //! ```
 
@@ -43,38 +46,70 @@ pub struct StageTimes {
     pub total: f64,
 }
 
-/// Everything done move by move: statistics, time estimate, per-move checks, and the
-/// contour checks' gathering.
+/// A chunk of moves, and with the first the contour checks' gathering when it goes beside.
+struct Chunk<'c> {
+    moves: Motions,
+    contours: Option<ContourGather<'c>>,
+}
+
+/// The contour checks fed chunk by chunk: the [`ContourPass`] and the index of the next
+/// move.
+struct ContourGather<'c> {
+    pass: ContourPass<'c>,
+    next: usize,
+}
+
+impl ContourGather<'_> {
+    fn motion(&mut self, m: &Motion) {
+        self.pass.motion(self.next, m);
+        self.next += 1;
+    }
+}
+
+/// Moves with an arc beyond which the contours are gathered on the interpreter's thread:
+/// one in 8 (see the module docs).
+const ARCS_PER_MOVE_BESIDE_MAX: usize = 8;
+
+/// Whether the contour checks go beside the estimate: the moves of the first chunk are
+/// mostly lines (see the module docs).
+fn contours_beside(moves: &Motions) -> bool {
+    let arcs = moves.iter().filter(|m| m.arc.is_some()).count();
+    arcs * ARCS_PER_MOVE_BESIDE_MAX <= moves.len()
+}
+
+/// The per-move side: statistics, time estimate, per-move checks, and the contour checks
+/// when they came along.
 struct MovePass<'c> {
     stats: StatsSum,
     time: Estimator,
     checks: MoveChecks<'c>,
-    contours: ContourPass<'c>,
-    /// Index of the next move.
-    next: usize,
+    contours: Option<ContourGather<'c>>,
     /// Wall seconds spent on the moves.
     busy: f64,
 }
 
 impl<'c> MovePass<'c> {
-    fn new(cfg: &'c CheckConfig, design: &'c [DesignBoundary]) -> Self {
+    fn new(cfg: &'c CheckConfig) -> Self {
         MovePass {
             stats: StatsSum::new(),
             time: Estimator::new(cfg),
             checks: MoveChecks::new(cfg),
-            contours: ContourPass::new(cfg, design),
-            next: 0,
+            contours: None,
             busy: 0.0,
         }
     }
 
-    /// Takes the moves of `chunk` and leaves it empty for reuse.
-    fn chunk(&mut self, chunk: &mut Motions) {
+    /// Takes the moves of `chunk` (and the contour checks, when it brings them) and leaves
+    /// it empty for reuse.
+    fn chunk(&mut self, chunk: &mut Chunk<'c>) {
         let clock = Instant::now();
-        for m in &*chunk {
+        if let Some(c) = chunk.contours.take() {
+            self.contours = Some(c);
+        }
+        for m in &chunk.moves {
             self.motion(&m);
         }
-        chunk.clear();
+        chunk.moves.clear();
         self.busy += clock.elapsed().as_secs_f64();
     }
 
@@ -84,8 +119,9 @@ impl<'c> MovePass<'c> {
         self.checks.motion_in(m, bounds);
         self.stats.motion(m, bounds);
         self.time.motion(m);
-        self.contours.motion(self.next, m);
-        self.next += 1;
+        if let Some(c) = self.contours.as_mut() {
+            c.motion(m);
+        }
     }
 }
 
@@ -98,11 +134,12 @@ pub(super) fn check_builtin(
     opts: &Options<'_>,
 ) -> (Report, StageTimes) {
     let threaded = text.len() >= THREAD_ABOVE_BYTES;
-    check_piped(text, cfg, design, opts, threaded, CHUNK_MOVES)
+    check_piped(text, cfg, design, opts, threaded, CHUNK_MOVES, None)
 }
 
 /// [`check_builtin`] with the per-move work on a thread of its own or not (`threaded`),
-/// handed `chunk` moves at a time; the report does not depend on either (for the tests).
+/// handed `chunk` moves at a time, the contour checks beside it or not (`beside`; None:
+/// as the first chunk says). The report does not depend on any of them (for the tests).
 pub(crate) fn check_piped(
     text: &str,
     cfg: &CheckConfig,
@@ -110,6 +147,7 @@ pub(crate) fn check_piped(
     opts: &Options<'_>,
     threaded: bool,
     chunk: usize,
+    beside: Option<bool>,
 ) -> (Report, StageTimes) {
     let mut times = StageTimes::default();
     if let Some(reason) = super::unusable_text(text) {
@@ -122,16 +160,32 @@ pub(crate) fn check_piped(
     let mm = cfg.in_mm();
     let start = Instant::now();
     let clock = start;
-    let (prog, pass) = crate::par::pipeline(
-        threaded,
-        MovePass::new(&mm, design),
-        MovePass::chunk,
-        |send| {
+    // The contour checks, while they are on the interpreter's thread.
+    let mut here = Some(ContourGather {
+        pass: ContourPass::new(&mm, design),
+        next: 0,
+    });
+    let mut first = true;
+    let (prog, mut pass) =
+        crate::par::pipeline(threaded, MovePass::new(&mm), MovePass::chunk, |send| {
             let mut take = |moves: &mut Motions| {
-                let full = std::mem::take(moves);
-                if let Some(used) = send(full) {
+                let mut chunk = Chunk {
+                    moves: std::mem::take(moves),
+                    contours: None,
+                };
+                if std::mem::take(&mut first)
+                    && beside.unwrap_or_else(|| contours_beside(&chunk.moves))
+                {
+                    chunk.contours = here.take();
+                }
+                if let Some(c) = here.as_mut() {
+                    for m in &chunk.moves {
+                        c.motion(&m);
+                    }
+                }
+                if let Some(used) = send(chunk) {
                     // Its room is taken again for the moves to come.
-                    *moves = used;
+                    *moves = used.moves;
                 }
             };
             let sink = interp::MotionSink {
@@ -139,12 +193,15 @@ pub(crate) fn check_piped(
                 chunk,
             };
             interp::interpret_each(text, &mm, opts, sink)
-        },
-    );
+        });
     times.interpret = clock.elapsed().as_secs_f64();
     times.moves = pass.busy;
     let clock = Instant::now();
-    let contour = pass.contours.finish();
+    // Exactly one side holds the contour checks (the interpreter's, when no chunk came).
+    let Some(contours) = here.or(pass.contours.take()) else {
+        return super::check_stored(super::Backend::Builtin, text, cfg, design, opts);
+    };
+    let contour = contours.pass.finish();
     times.contours = clock.elapsed().as_secs_f64();
     let moves: CheckFindings = pass.checks.finish(&prog);
     let stats = pass.stats.finish(pass.time.finish());

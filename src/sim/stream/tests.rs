@@ -65,17 +65,20 @@ fn in_memory(bytes: &[u8], cfg: &CheckConfig, design: &[DesignBoundary]) -> Stri
 }
 
 /// [`in_memory`] on the piped route ([`crate::sim::piped`]): the moves handed over `chunk`
-/// at a time, to a thread of their own when `threaded`.
+/// at a time, to a thread of their own when `threaded`, the contour checks beside them
+/// when `beside`.
 fn piped(
     bytes: &[u8],
     cfg: &CheckConfig,
     design: &[DesignBoundary],
     threaded: bool,
     chunk: usize,
+    beside: bool,
 ) -> String {
     let (text, decode) = sim::decode(bytes);
     let opts = InterpOptions::default();
-    let (mut r, _) = sim::piped::check_piped(&text, cfg, design, &opts, threaded, chunk);
+    let (mut r, _) =
+        sim::piped::check_piped(&text, cfg, design, &opts, threaded, chunk, Some(beside));
     r.backend = Backend::Builtin.name();
     if r.usable {
         r.findings.splice(0..0, decode);
@@ -105,8 +108,9 @@ fn streamed_unlocked(
 }
 
 /// The stored, piped and streamed routes give `name` the same report. The piped route is
-/// run as [`sim::check_text_with`] runs it and on a thread of its own with chunks of one
-/// and of 7 moves; the streamed one with tiles of every size.
+/// run as [`sim::check_text_with`] runs it, and on a thread of its own with chunks of one
+/// and of 7 moves, the contour checks on either side; the streamed one with tiles of every
+/// size.
 fn same_on_both_routes(name: &str, bytes: &[u8], cfg: &CheckConfig, design: &[DesignBoundary]) {
     let want = in_memory(bytes, cfg, design);
     let mut routes: Vec<(String, String)> = Vec::new();
@@ -119,10 +123,10 @@ fn same_on_both_routes(name: &str, bytes: &[u8], cfg: &CheckConfig, design: &[De
         "piped as check_text".into(),
         serde_json::to_string_pretty(&r).expect("json"),
     ));
-    for (threaded, chunk) in [(true, 1), (true, 7), (false, 3)] {
+    for (threaded, chunk, beside) in [(true, 1, true), (true, 7, false), (false, 3, true)] {
         routes.push((
-            format!("piped, threaded {threaded}, chunks of {chunk}"),
-            piped(bytes, cfg, design, threaded, chunk),
+            format!("piped, threaded {threaded}, chunks of {chunk}, contours beside {beside}"),
+            piped(bytes, cfg, design, threaded, chunk, beside),
         ));
     }
     for tiles in [u64::MAX, 64, 1] {
