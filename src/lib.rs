@@ -108,16 +108,14 @@ pub mod toolpath;
 pub(crate) mod units;
 
 // Dependencies of the `skinpath` binary only (argument parsing, error chains, progress
-// bars, signal handling, its allocator): the library does not use them, and
-// `unused_crate_dependencies` would otherwise name them.
+// bars, signal handling): the library does not use them, and `unused_crate_dependencies`
+// would otherwise name them.
 #[cfg(feature = "cli")]
 use anyhow as _;
 #[cfg(feature = "cli")]
 use clap as _;
 #[cfg(feature = "cli")]
 use indicatif as _;
-#[cfg(feature = "cli")]
-use mimalloc as _;
 #[cfg(feature = "cli")]
 use signal_hook as _;
 // The benches' harness: a dependency only with `internals` (every `[[bench]]` requires it),

@@ -2,14 +2,6 @@
 
 #![forbid(unsafe_code)]
 
-/// The command's allocator. mimalloc reuses freed memory within the process and backs its
-/// arenas with transparent huge pages where the system allows them (Linux in `madvise`
-/// mode): `check` of a 20 MB program touches some 90 MB, which glibc's allocator takes
-/// from the system 4 KiB at a time (about 15,000 page faults, a fifth of the CPU time),
-/// mimalloc in a few hundred faults. The library itself leaves the choice to its users.
-#[global_allocator]
-static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 /// `eprintln!` that never panics: the standard macro panics when stderr cannot be written
 /// (`2>/dev/full`, a closed pipe), which ended `import` and `build` with status 101 before
 /// they wrote their output. Messages on stderr are a courtesy; a failure to show one is
