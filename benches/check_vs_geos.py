@@ -14,6 +14,8 @@ Two programs, each cut with a laser and written as `G1 X… Y…` lines of about
 
 Run (release binary built first):
     python3 benches/check_vs_geos.py --segments 1000000 --skinpath target/release/skinpath
+`--pairs 15` also times 15 alternated (GEOS, check, GEOS) runs per program and prints the
+median and best ratios, steadier than the ratio of two best-of figures on a busy machine.
 Not part of CI: it needs shapely and prints wall times, which are machine-dependent.
 """
 
@@ -116,6 +118,8 @@ def bench(a, polys, path):
             f"GEOS is_simple (points in memory): wall {geos:.3f} s, CPU {geos_cpu:.3f} s; "
             f"skinpath/GEOS wall {ours / geos:.2f}, CPU {ours_cpu / geos_cpu:.2f}"
         )
+        if a.pairs:
+            paired(a, path, lambda: shapely.is_simple(geom))
     except ImportError:
         print("GEOS: shapely not installed (pip install shapely): skipped")
 
@@ -139,6 +143,29 @@ def bench(a, polys, path):
     return row
 
 
+def paired(a, path, geos):
+    """Ratios of `check` to GEOS in `a.pairs` alternated runs of (GEOS, check, GEOS), each
+    check against the faster GEOS of its pair: on a machine whose speed drifts between runs
+    the ratio of one pair is steadier than the ratio of two best-of figures."""
+    ratios = []
+    for _ in range(a.pairs):
+        g1 = best_of(1, geos)
+        ours = best_of(
+            1,
+            lambda: subprocess.run(
+                [a.skinpath, "check", path], stdout=subprocess.DEVNULL, check=False
+            ),
+        )
+        g2 = best_of(1, geos)
+        ratios.append((ours[0] / min(g1[0], g2[0]), ours[1] / min(g1[1], g2[1])))
+    wall = sorted(r[0] for r in ratios)
+    cpu = sorted(r[1] for r in ratios)
+    print(
+        f"{a.pairs} alternated pairs: check/GEOS wall median {wall[len(wall) // 2]:.2f} "
+        f"(best {wall[0]:.2f}), CPU median {cpu[len(cpu) // 2]:.2f} (best {cpu[0]:.2f})"
+    )
+
+
 def table(rows):
     """The README's ratios table (best of the runs, seconds) from the rows of `bench`."""
     print("\n| program | check wall | check CPU | GEOS wall | GEOS CPU | wall ratio | CPU ratio |")
@@ -160,6 +187,12 @@ def main():
     ap.add_argument("--skinpath", default="target/release/skinpath")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--keep", help="write the programs into this folder and keep them")
+    ap.add_argument(
+        "--pairs",
+        type=int,
+        default=0,
+        help="also time this many alternated (GEOS, check, GEOS) runs and print the ratios",
+    )
     a = ap.parse_args()
 
     tmp = tempfile.mkdtemp(prefix="skinpath-bench-")
