@@ -9,9 +9,12 @@
 //! The report is [`super::check`]'s of the stored program, finding for finding.
 //!
 //! ```text
-//! text ─► interp::interpret_each ─► chunks of moves ─► MovePass: stats, estimate,
-//!                          (ContourGather on either side)   per-move checks
-//!                                                     ─► contacts, gouges ─► Report
+//! text ─► interp::interpret_each ─► chunks of moves ─► MovePass (its own thread): stats,
+//!              │                                      estimate, per-move checks, and the
+//!              │                                      ContourGather for programs of lines
+//!              └─ ContourGather (interpreter's thread) for programs of arcs
+//! ContourGather ─► contacts, gouges ─┐
+//! MovePass ──────────────────────────┴─► Report
 //! ```
 
 use super::checks::{self, CheckFindings, ContourPass, DesignBoundary, MoveChecks};
@@ -66,15 +69,15 @@ impl ContourGather<'_> {
     }
 }
 
-/// Moves with an arc beyond which the contours are gathered on the interpreter's thread:
-/// one in 8 (see the module docs).
-const ARCS_PER_MOVE_BESIDE_MAX: usize = 8;
+/// Moves per arc in the first chunk from which the contour checks go beside the estimate:
+/// with fewer arcs than one in 8 moves the program is mostly lines (see the module docs).
+const MOVES_PER_ARC_BESIDE: usize = 8;
 
 /// Whether the contour checks go beside the estimate: the moves of the first chunk are
 /// mostly lines (see the module docs).
 fn contours_beside(moves: &Motions) -> bool {
     let arcs = moves.iter().filter(|m| m.arc.is_some()).count();
-    arcs * ARCS_PER_MOVE_BESIDE_MAX <= moves.len()
+    arcs * MOVES_PER_ARC_BESIDE <= moves.len()
 }
 
 /// The per-move side: statistics, time estimate, per-move checks, and the contour checks
