@@ -274,21 +274,6 @@ impl Motions {
         self.sides.clear();
     }
 
-    /// The largest source line of the moves (0 for none).
-    #[must_use]
-    pub fn max_line(&self) -> usize {
-        let line = |r: &Rec| {
-            if r.tag & HAS_SIDE != 0 {
-                self.sides
-                    .get(r.line_or_side as usize)
-                    .map_or(0, |s| s.line)
-            } else {
-                r.line_or_side as usize
-            }
-        };
-        self.recs.iter().map(line).max().unwrap_or(0)
-    }
-
     /// Reserves room for `n` more moves.
     pub fn reserve(&mut self, n: usize) {
         self.recs.reserve(n);
