@@ -65,8 +65,6 @@ pub use time::TimeEstimate;
 /// [`remove_left_behind`] those of runs that were killed.
 pub const TEMP_PREFIXES: [&str; 2] = [stream::TEMP_PREFIX, rs274::TMP_PREFIX];
 
-use glam::DVec3;
-
 /// Which interpreter reads the program.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -287,9 +285,11 @@ pub fn checks_and_stats(
         || timed(|| checks::contour_findings(prog, &mm, design)),
         || {
             timed(|| {
-                let mut checks = checks::MoveChecks::new(&mm);
-                let stats = stats_each(prog, &mm, |m, bounds| checks.motion_in(m, bounds));
-                (checks.finish(prog), stats)
+                let mut pass = piped::MovePass::new(&mm);
+                for m in &prog.motions {
+                    pass.motion(&m);
+                }
+                pass.finish(prog)
             })
         },
     );
@@ -407,23 +407,9 @@ pub fn assemble_with(
 /// Move count, cut and rapid lengths (helical lengths for arcs), bounds, time.
 #[must_use]
 pub fn stats(prog: &Program, cfg: &CheckConfig) -> Stats {
-    stats_each(prog, cfg, |_, _| {})
-}
-
-/// [`stats`], handing every move (dwells too) to `f` on the way, with its
-/// [`Motion::bounds`] (computed once for both).
-fn stats_each(
-    prog: &Program,
-    cfg: &CheckConfig,
-    mut f: impl FnMut(&Motion, (DVec3, DVec3)),
-) -> Stats {
     let mut sum = report::StatsSum::new();
-    // One pass over the moves: the estimate hands each to `f` and to the sums.
-    let time = time::estimate_each(&prog.motions, cfg, |m| {
-        let bounds = m.bounds();
-        f(m, bounds);
-        sum.motion(m, bounds);
-    });
+    // One pass over the moves: the estimate hands each to the sums.
+    let time = time::estimate_each(&prog.motions, cfg, |m| sum.motion(m, m.bounds()));
     sum.finish(time)
 }
 

@@ -11,9 +11,9 @@
 //! ```text
 //! text ─► interp::interpret_each ─► chunks of moves ─► MovePass (its own thread): stats,
 //!              │                                      estimate, per-move checks, and the
-//!              │                                      ContourGather for programs of lines
-//!              └─ ContourGather (interpreter's thread) for programs of arcs
-//! ContourGather ─► contacts, gouges ─┐
+//!              │                                      ContourPass for programs of lines
+//!              └─ ContourPass (interpreter's thread) for programs of arcs
+//! ContourPass ───► contacts, gouges ─┐
 //! MovePass ──────────────────────────┴─► Report
 //! ```
 
@@ -21,7 +21,7 @@ use super::checks::{self, CheckFindings, ContourPass, DesignBoundary, MoveChecks
 use super::config::CheckConfig;
 use super::interp::{self, Options};
 use super::motion::{Motion, Motions, Program};
-use super::report::{Report, StatsSum};
+use super::report::{Report, Stats, StatsSum};
 use super::time::Estimator;
 use std::time::Instant;
 
@@ -49,24 +49,10 @@ pub struct StageTimes {
     pub total: f64,
 }
 
-/// A chunk of moves, and with the first the contour checks' gathering when it goes beside.
+/// A chunk of moves, and with the first the contour checks when they go beside.
 struct Chunk<'c> {
     moves: Motions,
-    contours: Option<ContourGather<'c>>,
-}
-
-/// The contour checks fed chunk by chunk: the [`ContourPass`] and the index of the next
-/// move.
-struct ContourGather<'c> {
-    pass: ContourPass<'c>,
-    next: usize,
-}
-
-impl ContourGather<'_> {
-    fn motion(&mut self, m: &Motion) {
-        self.pass.motion(self.next, m);
-        self.next += 1;
-    }
+    contours: Option<ContourPass<'c>>,
 }
 
 /// Moves per arc in the first chunk from which the contour checks go beside the estimate:
@@ -81,18 +67,19 @@ fn contours_beside(moves: &Motions) -> bool {
 }
 
 /// The per-move side: statistics, time estimate, per-move checks, and the contour checks
-/// when they came along.
-struct MovePass<'c> {
+/// when they came along. [`super::checks_and_stats`] runs it over stored moves too.
+pub(super) struct MovePass<'c> {
     stats: StatsSum,
     time: Estimator,
     checks: MoveChecks<'c>,
-    contours: Option<ContourGather<'c>>,
+    contours: Option<ContourPass<'c>>,
     /// Wall seconds spent on the moves.
     busy: f64,
 }
 
 impl<'c> MovePass<'c> {
-    fn new(cfg: &'c CheckConfig) -> Self {
+    /// No move yet (`cfg` in mm).
+    pub(super) fn new(cfg: &'c CheckConfig) -> Self {
         MovePass {
             stats: StatsSum::new(),
             time: Estimator::new(cfg),
@@ -116,8 +103,8 @@ impl<'c> MovePass<'c> {
         self.busy += clock.elapsed().as_secs_f64();
     }
 
-    /// As [`super::checks_and_stats`] takes each stored move.
-    fn motion(&mut self, m: &Motion) {
+    /// Takes the next move.
+    pub(super) fn motion(&mut self, m: &Motion) {
         let bounds = m.bounds();
         self.checks.motion_in(m, bounds);
         self.stats.motion(m, bounds);
@@ -125,6 +112,13 @@ impl<'c> MovePass<'c> {
         if let Some(c) = self.contours.as_mut() {
             c.motion(m);
         }
+    }
+
+    /// The per-move checks' findings (the program end's last) and the statistics with the
+    /// time estimate.
+    pub(super) fn finish(self, prog: &Program) -> (CheckFindings, Stats) {
+        let stats = self.stats.finish(self.time.finish());
+        (self.checks.finish(prog), stats)
     }
 }
 
@@ -164,10 +158,7 @@ pub(crate) fn check_piped(
     let start = Instant::now();
     let clock = start;
     // The contour checks, while they are on the interpreter's thread.
-    let mut here = Some(ContourGather {
-        pass: ContourPass::new(&mm, design),
-        next: 0,
-    });
+    let mut here = Some(ContourPass::new(&mm, design));
     let mut first = true;
     let (prog, mut pass) =
         crate::par::pipeline(threaded, MovePass::new(&mm), MovePass::chunk, |send| {
@@ -204,10 +195,9 @@ pub(crate) fn check_piped(
     let Some(contours) = here.or(pass.contours.take()) else {
         return super::check_stored(super::Backend::Builtin, text, cfg, design, opts);
     };
-    let contour = contours.pass.finish();
+    let contour = contours.finish();
     times.contours = clock.elapsed().as_secs_f64();
-    let moves: CheckFindings = pass.checks.finish(&prog);
-    let stats = pass.stats.finish(pass.time.finish());
+    let (moves, stats) = pass.finish(&prog);
     let found = super::found_of(&prog, checks::join(contour, moves));
     let report = super::assemble_found(&prog, cfg, found, stats);
     times.total = start.elapsed().as_secs_f64();

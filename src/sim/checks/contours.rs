@@ -158,8 +158,8 @@ fn for_each_cut_point(
     mut f: impl FnMut(CutPoint),
 ) -> Option<usize> {
     let mut cut = CutPoints::new(marked);
-    for (k, m) in motions.iter().enumerate() {
-        cut.motion(k, &m, cfg, &mut f);
+    for m in motions {
+        cut.motion(&m, cfg, &mut f);
         if cut.stopped.is_some() {
             break;
         }
@@ -177,6 +177,8 @@ struct CutPoints {
     open: Option<(u32, Option<u32>)>,
     /// Segments handed out so far (one per line, the chords of arcs).
     total: usize,
+    /// Index of the next move (the moves taken so far).
+    next: usize,
     /// Index and line of the move that would have taken the contours past
     /// [`MAX_CONTOUR_SEGMENTS`]: no point is handed out from it on.
     stopped: Option<(usize, usize)>,
@@ -189,12 +191,15 @@ impl CutPoints {
             marked,
             open: None,
             total: 0,
+            next: 0,
             stopped: None,
         }
     }
 
-    /// Hands `f` the points move `m` (index `k`) adds to the contours.
-    fn motion(&mut self, k: usize, m: &Motion, cfg: &CheckConfig, f: &mut impl FnMut(CutPoint)) {
+    /// Hands `f` the points the next move, `m`, adds to the contours.
+    fn motion(&mut self, m: &Motion, cfg: &CheckConfig, f: &mut impl FnMut(CutPoint)) {
+        let k = self.next;
+        self.next += 1;
         if self.stopped.is_some() || matches!(m.kind, MotionKind::Dwell { .. }) {
             return;
         }
@@ -267,7 +272,7 @@ pub fn check_limit(line: usize) -> Finding {
 }
 
 /// Where a cut contour starts and the height it is cut at: what the gouge check reads of
-/// it ([`super::gouge::gouge_findings`]).
+/// it ([`super::gouge::GougeIndex::contour_starts`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContourStart {
     /// First point.
@@ -291,8 +296,8 @@ pub fn contour_segments(
 ) -> (SegmentSet, Vec<ContourStart>, Option<Finding>) {
     let mut gather = SegmentGather::new(cfg);
     gather.reserve(motions.len().min(MAX_CONTOUR_SEGMENTS));
-    for (k, m) in motions.iter().enumerate() {
-        gather.motion(k, &m, cfg);
+    for m in motions {
+        gather.motion(&m, cfg);
         if gather.cut.stopped.is_some() {
             break;
         }
@@ -325,12 +330,12 @@ impl SegmentGather {
         self.set.reserve(n);
     }
 
-    /// Adds the segments of move `m` (index `k`), under the pocket mark it was cut under;
+    /// Adds the segments of the next move, `m`, under the pocket mark it was cut under;
     /// none once the contours were cut short.
-    pub(crate) fn motion(&mut self, k: usize, m: &Motion, cfg: &CheckConfig) {
+    pub(crate) fn motion(&mut self, m: &Motion, cfg: &CheckConfig) {
         let (set, starts, open) = (&mut self.set, &mut self.starts, &mut self.open);
         self.cut
-            .motion(k, m, cfg, &mut |e| gather_point(set, starts, open, e));
+            .motion(m, cfg, &mut |e| gather_point(set, starts, open, e));
     }
 
     /// The segment set, the contour starts and the [`check_limit`] finding (see

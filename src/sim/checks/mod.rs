@@ -135,8 +135,8 @@ pub fn contour_findings(
     let mut pass = ContourPass::new(cfg, design);
     pass.gather
         .reserve(prog.motions.len().min(contours::MAX_CONTOUR_SEGMENTS));
-    for (k, m) in prog.motions.iter().enumerate() {
-        pass.motion(k, &m);
+    for m in &prog.motions {
+        pass.motion(&m);
     }
     pass.finish()
 }
@@ -163,9 +163,9 @@ impl<'c> ContourPass<'c> {
         }
     }
 
-    /// Takes the next move, `k` its index.
-    pub(crate) fn motion(&mut self, k: usize, m: &Motion) {
-        self.gather.motion(k, m, self.cfg);
+    /// Takes the next move.
+    pub(crate) fn motion(&mut self, m: &Motion) {
+        self.gather.motion(m, self.cfg);
         if let Some(g) = &self.gouge
             && let Some(f) = g.motion(m, is_cutting(m, self.cfg))
         {
